@@ -1,0 +1,192 @@
+"""Start the lecture app: a viser server, one `Session` per browser, and a 60 Hz loop.
+
+    python -m app [--host 127.0.0.1] [--port 8080]
+    rigid-body-lab [--host ...] [--port ...]
+
+The server binds to loopback by default (viser's own default is 0.0.0.0, with no
+authentication); pass `--host 0.0.0.0` deliberately to show it on a lecture-room network.
+`create_server` builds the same app for tests: the loop runs in a thread, `App.stop()`
+ends both the loop and the server.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import threading
+import time
+from collections.abc import Callable, Sequence
+
+import viser
+
+from app.explorer import INITIAL_CAMERA, INITIAL_FOV_DEG
+from app.session import Session
+
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "create_server", "main"]
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_HOST = "127.0.0.1"
+DEFAULT_PORT = 8080
+TICK_HZ = 60.0
+MAX_TICK_DT = 0.1  # [s] a tick never advances more than this (after a stall, or a laptop sleep)
+
+
+class App:
+    """A running lecture app: the server, the sessions by client id, and the tick loop.
+
+    Attributes:
+        server: the `viser.ViserServer`.
+        sessions: {client_id: Session}, one per connected browser.
+        tick_count: number of loop iterations so far.
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        *,
+        tick_hz: float = TICK_HZ,
+        session_factory: Callable[[viser.ClientHandle], Session] = Session,
+    ) -> None:
+        self.server = server
+        self.sessions: dict[int, Session] = {}
+        self.tick_hz = tick_hz
+        self.tick_count = 0
+        self._session_factory = session_factory
+        self._sessions_lock = threading.Lock()
+        self._sessions_changed = threading.Condition(self._sessions_lock)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
+        server.on_client_connect(self._on_client_connect)
+        server.on_client_disconnect(self._on_client_disconnect)
+
+    # ------------------------------------------------------------------ sessions
+    def _on_client_connect(self, client: viser.ClientHandle) -> None:
+        """Build this client's session (runs on viser's thread pool); never raises."""
+        try:
+            session = self._session_factory(client)
+        except Exception as error:  # noqa: BLE001 - a broken session must not break the server
+            logger.exception("client %d: could not build the session", client.client_id)
+            try:
+                client.add_notification(
+                    "Error", f"Could not build the scene: {type(error).__name__}: {error}",
+                    color="red", with_close_button=True,
+                )
+            except Exception:  # noqa: BLE001
+                pass
+            return
+        with self._sessions_changed:
+            if client.client_id not in self.server.get_clients():
+                session.close()  # disconnected while we were building
+                return
+            self.sessions[client.client_id] = session
+            self._sessions_changed.notify_all()
+        logger.info("client %d: session started (%d open)", client.client_id, len(self.sessions))
+
+    def _on_client_disconnect(self, client: viser.ClientHandle) -> None:
+        with self._sessions_changed:
+            session = self.sessions.pop(client.client_id, None)
+            self._sessions_changed.notify_all()
+        if session is not None:
+            session.close()
+        logger.info("client %d: session ended (%d open)", client.client_id, len(self.sessions))
+
+    def wait_for_sessions(self, count: int, timeout: float = 10.0) -> dict[int, Session]:
+        """Block until exactly `count` sessions exist; a copy of them.  TimeoutError if not."""
+        with self._sessions_changed:
+            if not self._sessions_changed.wait_for(lambda: len(self.sessions) == count, timeout):
+                raise TimeoutError(f"{len(self.sessions)} sessions after {timeout} s, wanted {count}")
+            return dict(self.sessions)
+
+    # ------------------------------------------------------------------ loop
+    def start(self) -> App:
+        """Start the tick loop thread; returns self."""
+        self._thread.start()
+        return self
+
+    def _run_loop(self) -> None:
+        """Call every session's `tick(dt)` at `tick_hz`, paced (never a busy loop)."""
+        period = 1.0 / self.tick_hz
+        last = next_time = time.perf_counter()
+        while not self._stop.is_set():
+            now = time.perf_counter()
+            dt = min(now - last, MAX_TICK_DT)
+            last = now
+            with self._sessions_lock:
+                sessions = list(self.sessions.values())
+            for session in sessions:
+                try:
+                    session.tick(dt)  # reports its own errors; this is a second net
+                except Exception:  # noqa: BLE001
+                    logger.exception("client %d: tick failed", session.client_id)
+            self.tick_count += 1
+            next_time += period
+            delay = next_time - time.perf_counter()
+            if delay < -5 * period:  # fell far behind: skip frames instead of bursting
+                next_time = time.perf_counter()
+                delay = 0.0
+            self._stop.wait(max(delay, 0.0))
+
+    def stop(self) -> None:
+        """Stop the loop and the server (idempotent)."""
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join(timeout=2.0)
+        self.server.stop()
+
+    @property
+    def port(self) -> int:
+        """The port the server really listens on (viser moves up if the port is busy)."""
+        return self.server.get_port()
+
+
+def create_server(
+    host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True
+) -> App:
+    """Build the app on (host, port) and start its loop.  port=0: an ephemeral port."""
+    server = viser.ViserServer(host=host, port=port, verbose=verbose)
+    server.gui.configure_theme(
+        show_share_button=False,  # sharing needs an external tunnel: useless offline
+        control_width="large",
+        control_layout="floating",
+        brand_color=(200, 110, 0),
+    )
+    server.initial_camera.position = INITIAL_CAMERA["position"]
+    server.initial_camera.look_at = INITIAL_CAMERA["look_at"]
+    server.initial_camera.up = INITIAL_CAMERA["up"]
+    server.initial_camera.fov = math.radians(INITIAL_FOV_DEG)
+    app = App(server)
+    if start_loop:
+        app.start()
+    return app
+
+
+def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="rigid-body-lab", description="Rigid-body mechanics in the browser (viser)."
+    )
+    parser.add_argument("--host", default=DEFAULT_HOST,
+                        help="interface to bind (default %(default)s; 0.0.0.0 exposes it to the network)")
+    parser.add_argument("--port", type=int, default=DEFAULT_PORT,
+                        help="port (default %(default)s; viser tries the next one if busy)")
+    return parser.parse_args(argv)
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Command-line entry point (`rigid-body-lab`, `python -m app`): serve until Ctrl-C."""
+    args = _parse_args(argv)
+    logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    app = create_server(args.host, args.port)
+    logger.info("open http://%s:%d in a browser", args.host, app.port)
+    try:
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        app.stop()
+
+
+if __name__ == "__main__":
+    main()

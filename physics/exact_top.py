@@ -1,0 +1,569 @@
+"""Exact solution of the heavy symmetric (Lagrange) top on a fixed pivot.
+
+The reference every heavy-top integrator is measured against, and the app's exact "ghost".
+
+Conventions (PHYSICS.md, CASEFILE.md):
+
+* ``R_space_body`` maps body components to space components, ``x = R x'`` (the memo's D).
+  z-x-z Euler angles: ``R = Rz(φ) Rx(θ) Rz(ψ)``.
+* Principal moments about the PIVOT: I1 = I2 (transverse), I3 (symmetry axis z').  The centre
+  of mass sits on the body +z' axis at distance ℓ; gravity points along space -z, so
+  ``V = mgl cos θ = mgl R[2, 2]`` and the torque about the pivot is ``-mgl (e_z' × e_z)``.
+* ``omega_body`` is ω_b with ``hat(ω_b) = Rᵀ Ṙ`` (usual sign).
+* Conserved: E = ½ ω_b·I ω_b + mgl cos θ, p_φ = L·e_z = I1 φ̇ sin²θ + I3 ω3 cos θ and
+  p_ψ = I3 ω3 (ω3 = ω_b[2] is constant).
+
+Method.  u = cos θ obeys u̇² = f(u) = (1 - u²)(α - βu) - (b' - a'u)², a cubic with roots
+u1 ≤ u2 ≤ 1 ≤ u3 (β = 2 mgl / I1, a' = p_ψ / I1, b' = p_φ / I1); u oscillates in [u1, u2]:
+
+    u = u1 + (u2 - u1) sn²(τ | m),  τ = λ t + τ0,  m = (u2 - u1) / (u3 - u1),
+    λ = √(β (u3 - u1)) / 2.
+
+The attitude is never built from φ and ψ (undefined at θ = 0, π).  It is the unit quaternion
+(Cayley-Klein parameters)
+
+    q = (c cos A, s cos B, s sin B, c sin A),  c = cos(θ/2), s = sin(θ/2),
+    A = (φ + ψ)/2,  B = (φ - ψ)/2,
+
+whose phases have the regular rates
+
+    2 Ȧ = ω3 - a' + (b' + a') / (1 + u),   2 Ḃ = a' - ω3 + (b' - a') / (1 - u).
+
+(b' + a') vanishes when the axis reaches θ = π, (b' - a') when it reaches θ = 0; then the
+phase rate is constant and c (or s) is continued with a sign, c ∝ sn τ (s ∝ cn τ), so a top
+passing through the vertical moves smoothly where φ jumps by π.)  The time integrals of
+1/(1 ± u) are incomplete elliptic integrals of the third kind, evaluated with Carlson's
+R_F, R_J (`scipy.special.elliprf`, `elliprj`) in forms with only positive terms; the integral
+of 1/(1 + u) is taken in the variable τ - K so that its characteristic stays in [m, 1].  Time
+is reduced modulo the nutation period and whole periods add the complete integrals.
+
+All the small distances that matter, 1 - u2, 1 + u1, u2 - u0, u0 - u1 (and u3 - u2 through
+Vieta), are found as roots of the cubic written in the shifted variables ε = 1 - u, δ = 1 + u,
+x = u - u0, whose coefficients are computed from the initial state without cancellation, and
+the Jacobi functions take the complementary parameter 1 - m, so near-sleeping, near-vertical
+and near-separatrix tops keep full relative precision.
+
+Special cases handled exactly: steady precession (u1 = u2, including the sleeping top and a
+top hanging straight down), a top started exactly at θ = 0 or π, passage through θ = 0 or π,
+mgl = 0 (the free symmetric body), and the separatrix u2 = u3 = 1 (infinite period).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.special import elliprf, elliprj
+
+from physics._types import Array, Mat3, Vec3
+
+__all__ = ["HeavySymmetricTopExact"]
+
+_ORTHO_TOL = 1e-9  # ‖R0ᵀ R0 - 1‖ allowed before R0 is refused (CASEFILE.md)
+_AGM_MAX_STEPS = 40
+
+
+# --------------------------------------------------------------------------------------------
+# Quaternions (w, x, y, z), Hamilton product, active: R(q) v = q v q̄.
+# --------------------------------------------------------------------------------------------
+
+
+def _quat_from_matrix(R: Mat3) -> Array:
+    """Unit quaternion (4,) (w, x, y, z) of the rotation R (3, 3) (Shepperd's method)."""
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    diag = (tr, R[0, 0], R[1, 1], R[2, 2])
+    k = int(np.argmax(diag))
+    if k == 0:
+        w = 0.5 * math.sqrt(1.0 + tr)
+        q = [w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)]
+    elif k == 1:
+        x = 0.5 * math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
+        q = [(R[2, 1] - R[1, 2]) / (4 * x), x, (R[0, 1] + R[1, 0]) / (4 * x), (R[0, 2] + R[2, 0]) / (4 * x)]
+    elif k == 2:
+        y = 0.5 * math.sqrt(1.0 - R[0, 0] + R[1, 1] - R[2, 2])
+        q = [(R[0, 2] - R[2, 0]) / (4 * y), (R[0, 1] + R[1, 0]) / (4 * y), y, (R[1, 2] + R[2, 1]) / (4 * y)]
+    else:
+        z = 0.5 * math.sqrt(1.0 - R[0, 0] - R[1, 1] + R[2, 2])
+        q = [(R[1, 0] - R[0, 1]) / (4 * z), (R[0, 2] + R[2, 0]) / (4 * z), (R[1, 2] + R[2, 1]) / (4 * z), z]
+    qa = np.array(q)
+    return qa / np.linalg.norm(qa)
+
+
+def _matrix_from_quat(w: Array, x: Array, y: Array, z: Array) -> Array:
+    """Rotation matrices (..., 3, 3) of the quaternions (w, x, y, z) (any shape, normalised here)."""
+    n = np.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    R = np.empty(np.shape(w) + (3, 3))
+    R[..., 0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    R[..., 0, 1] = 2.0 * (x * y - w * z)
+    R[..., 0, 2] = 2.0 * (x * z + w * y)
+    R[..., 1, 0] = 2.0 * (x * y + w * z)
+    R[..., 1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    R[..., 1, 2] = 2.0 * (y * z - w * x)
+    R[..., 2, 0] = 2.0 * (x * z - w * y)
+    R[..., 2, 1] = 2.0 * (y * z + w * x)
+    R[..., 2, 2] = 1.0 - 2.0 * (x * x + y * y)
+    return R
+
+
+# --------------------------------------------------------------------------------------------
+# Polynomial roots by bisection in a shifted variable (relative precision near the anchor).
+# --------------------------------------------------------------------------------------------
+
+
+def _horner(coeffs: tuple[float, float, float, float]) -> Callable[[float], float]:
+    """p(x) = c0 + c1 x + c2 x² + c3 x³ for coeffs = (c0, c1, c2, c3)."""
+    c0, c1, c2, c3 = coeffs
+
+    def p(x: float) -> float:
+        return c0 + x * (c1 + x * (c2 + x * c3))
+
+    return p
+
+
+def _sign_right_of_zero(coeffs: tuple[float, float, float, float]) -> float:
+    """Sign of the polynomial just right of x = 0: the sign of its first non-zero coefficient."""
+    for c in coeffs:
+        if c != 0.0:
+            return math.copysign(1.0, c)
+    return 0.0
+
+
+def _bisect(p: Callable[[float], float], hi: float, sign_lo: float) -> float:
+    """Root of p in (0, hi] where p has sign `sign_lo` just right of 0 and not at hi.
+
+    Plain bisection to the last bit: the root keeps the relative precision with which p can
+    be evaluated near it, however close it is to 0 (the anchor of the shifted variable).
+    """
+    lo = 0.0
+    for _ in range(2200):
+        mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:
+            break
+        val = p(mid)
+        if val == 0.0:
+            return mid
+        if math.copysign(1.0, val) == sign_lo:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def _root_between(
+    near: tuple[float, float, float, float], far: tuple[float, float, float, float], width: float
+) -> tuple[float, float]:
+    """The root of a cubic on [anchor_near, anchor_far], |anchor_far - anchor_near| = width.
+
+    `near` are the coefficients in the variable y measured from the near anchor towards the far
+    one (the cubic is ≥ 0 just beyond y = 0 unless the root is the anchor itself); `far` in the
+    variable z measured from the far anchor back towards the near one (the cubic is ≤ 0 at
+    z = 0).  Returns (y, z) = distances of the root from both anchors, each to full relative
+    precision (the smaller one is solved for directly).
+    """
+    if width == 0.0:
+        return 0.0, 0.0
+    if _sign_right_of_zero(near) < 0.0:
+        return 0.0, width
+    half = 0.5 * width
+    p_near = _horner(near)
+    if p_near(half) <= 0.0:
+        y = _bisect(p_near, half, 1.0)
+        return y, width - y
+    s_far = _sign_right_of_zero(far)
+    if s_far > 0.0:  # the cubic vanishes at the far anchor and is positive before it
+        return width, 0.0
+    p_far = _horner(far)
+    if p_far(half) < 0.0:  # rounding disagreement: the root is at the midpoint
+        return half, half
+    z = _bisect(p_far, half, -1.0)
+    return width - z, z
+
+
+# --------------------------------------------------------------------------------------------
+# Jacobi elliptic functions with the complementary parameter m1 = 1 - m given exactly.
+# --------------------------------------------------------------------------------------------
+
+
+def _sncndn_small(u: Array, m: float, m1: float) -> tuple[Array, Array, Array]:
+    """sn, cn, dn (u | m) for |u| ≤ K/2 by the AGM (descending Landen), m1 = 1 - m exact."""
+    if m == 0.0:
+        return np.sin(u), np.cos(u), np.ones_like(u)
+    a_list = [1.0]
+    c_list = [math.sqrt(m)]
+    a, b = 1.0, math.sqrt(m1)
+    for _ in range(_AGM_MAX_STEPS):
+        if c_list[-1] <= 1e-17 * a:
+            break
+        a_next = 0.5 * (a + b)
+        c_next = c_list[-1] ** 2 / (4.0 * a_next)
+        b = math.sqrt(a * b)
+        a = a_next
+        a_list.append(a)
+        c_list.append(c_next)
+    n = len(a_list) - 1
+    phi = (2.0**n) * a_list[n] * u
+    for i in range(n, 0, -1):
+        phi = 0.5 * (phi + np.arcsin(c_list[i] * np.sin(phi) / a_list[i]))
+    cn = np.cos(phi)
+    return np.sin(phi), cn, np.sqrt(m1 + m * cn * cn)
+
+
+def _sncndn_reduced(r: Array, m: float, m1: float, K: float) -> tuple[Array, Array, Array]:
+    """sn, cn, dn (r | m) for |r| ≤ K; for |r| > K/2 through v = K - |r| (relative precision).
+
+    sn(K - v) = cn v / dn v, cn(K - v) = k' sn v / dn v, dn(K - v) = k' / dn v.
+    """
+    ar = np.abs(r)
+    far = ar > 0.5 * K
+    arg = np.where(far, K - ar, ar)
+    s, c, d = _sncndn_small(arg, m, m1)
+    kp = math.sqrt(m1)
+    sn = np.where(far, c / d, s)
+    cn = np.where(far, kp * s / d, c)
+    dn = np.where(far, kp / d, d)
+    return np.where(r < 0.0, -sn, sn), cn, dn
+
+
+def _carlson_pi(s: Array, c: Array, dn: Array, n: float, p: Array) -> Array:
+    """Π(n; φ | m) for |φ| ≤ π/2 from s = sin φ, c = cos φ ≥ 0, dn = √(1 - m s²), p = 1 - n s².
+
+    Π = s R_F(c², dn², 1) + (n/3) s³ R_J(c², dn², 1, p): all terms share the sign of s.
+    """
+    c2, d2 = c * c, dn * dn
+    out = s * elliprf(c2, d2, 1.0)
+    if n != 0.0:
+        out = out + (n / 3.0) * s**3 * elliprj(c2, d2, 1.0, p)
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# The top.
+# --------------------------------------------------------------------------------------------
+
+
+class HeavySymmetricTopExact:
+    """Exact motion of the heavy symmetric top on a fixed pivot (Lagrange top).
+
+    Args:
+        I1: transverse principal moment about the pivot (I1 = I2) [kg m^2], > 0.
+        I3: principal moment about the symmetry axis z' [kg m^2], > 0.
+        mgl: m g ℓ [N m] ≥ 0; mgl = 0 is the free symmetric body (about the pivot).
+        R0: (3, 3) R_space_body at t = 0 (orthogonal to 1e-9; it is re-orthonormalised).
+        omega0_body: (3,) ω_b at t = 0 [rad/s], usual sign (hat(ω_b) = Rᵀ Ṙ).
+
+    Attributes for drawing:
+        u1, u2: turning points u1 ≤ cos θ(t) ≤ u2.
+        theta_min, theta_max: the nutation range [rad], θ_min = arccos u2.
+        nutation_period: period of θ(t) [s] (inf on the separatrix; for steady precession
+            the small-oscillation limit 2π/√(β (u3 - u1))).
+        energy [J], p_phi [kg m^2/s] (= L·e_z), p_psi (= I3 ω3), omega3 [rad/s].
+        steady: True when u is constant (steady precession, sleeping or hanging top).
+    """
+
+    def __init__(self, I1: float, I3: float, mgl: float, R0: ArrayLike, omega0_body: ArrayLike) -> None:
+        I1, I3, mgl = float(I1), float(I3), float(mgl)
+        R0a = np.asarray(R0, dtype=float)
+        om = np.asarray(omega0_body, dtype=float)
+        if not (math.isfinite(I1) and math.isfinite(I3) and I1 > 0.0 and I3 > 0.0):
+            raise ValueError(f"moments must be finite and positive, got I1={I1}, I3={I3}")
+        if not (math.isfinite(mgl) and mgl >= 0.0):
+            raise ValueError(f"mgl must be finite and >= 0, got {mgl}")
+        if R0a.shape != (3, 3) or not np.all(np.isfinite(R0a)):
+            raise ValueError("R0 must be a finite (3, 3) matrix")
+        if np.linalg.norm(R0a.T @ R0a - np.eye(3)) > _ORTHO_TOL or np.linalg.det(R0a) < 0.0:
+            raise ValueError("R0 is not a rotation (orthogonal with det +1 to 1e-9)")
+        if om.shape != (3,) or not np.all(np.isfinite(om)):
+            raise ValueError("omega0_body must be a finite (3,) vector")
+
+        self.I1, self.I3, self.mgl = I1, I3, mgl
+        q0 = _quat_from_matrix(R0a)
+        w0, x0, y0, z0 = (float(v) for v in q0)
+        self.R0: Mat3 = _matrix_from_quat(np.float64(w0), np.float64(x0), np.float64(y0), np.float64(z0))
+        self.omega0_body: Vec3 = om.copy()
+        om1, om2, om3 = (float(v) for v in om)
+
+        # ---- invariants, in 1/s^2-type units, without cancellation -------------------------
+        c0 = math.hypot(w0, z0)  # cos(θ0/2)
+        s0 = math.hypot(x0, y0)  # sin(θ0/2)
+        eps0 = 2.0 * s0 * s0  # 1 - u0
+        del0 = 2.0 * c0 * c0  # 1 + u0
+        u0 = (c0 - s0) * (c0 + s0)
+        g1 = 2.0 * (x0 * z0 - w0 * y0)  # R[2, 0] = sin θ sin ψ
+        g2 = 2.0 * (y0 * z0 + w0 * x0)  # R[2, 1] = sin θ cos ψ
+        beta = 2.0 * mgl / I1
+        ap = I3 * om3 / I1  # a' = p_ψ / I1
+        kperp = om1 * om1 + om2 * om2  # θ̇² + φ̇² sin²θ
+        wv = om1 * g1 + om2 * g2  # b' - a' u0 = φ̇ sin²θ
+        v0 = g1 * om2 - g2 * om1  # u̇0
+        bma = wv - ap * eps0  # b' - a'
+        bpa = wv + ap * del0  # b' + a'
+        h_top = kperp - beta * eps0  # α - β
+        h_bot = kperp + beta * del0  # α + β
+
+        self.omega3 = om3
+        self.p_psi = I3 * om3
+        self.p_phi = I1 * wv + I3 * om3 * u0
+        self.energy = 0.5 * (I1 * kperp + I3 * om3 * om3) + mgl * u0
+
+        # f(u0 + x) = f0 + f1 x + f2 x² + β x³ ; f(1 - ε) ; f(-1 + δ)
+        f0 = v0 * v0
+        f1 = -2.0 * u0 * kperp - beta * eps0 * del0 + 2.0 * ap * wv
+        f2 = -kperp + 2.0 * u0 * beta - ap * ap
+        p_mid_up = (f0, f1, f2, beta)
+        p_mid_down = (f0, -f1, f2, -beta)  # f(u0 - y)
+        p_top = (-bma * bma, 2.0 * (h_top - ap * bma), 2.0 * beta - h_top - ap * ap, -beta)
+        p_bot = (-bpa * bpa, 2.0 * (h_bot + ap * bpa), -2.0 * beta - h_bot - ap * ap, beta)
+
+        if f0 == 0.0 and f1 == 0.0:  # u̇0 = ü0 = 0: u ≡ u0 (steady precession / equilibrium)
+            x2, e2, y1, e1 = 0.0, eps0, 0.0, del0
+        else:
+            x2, e2 = _root_between(p_mid_up, p_top, eps0)
+            y1, e1 = _root_between(p_mid_down, p_bot, del0)
+        d = x2 + y1  # u2 - u1
+        if e2 == 0.0:
+            bma = 0.0  # the axis reaches θ = 0: s is continued with a sign
+        if e1 == 0.0:
+            bpa = 0.0  # the axis reaches θ = π: c is continued with a sign
+        D = e2 + d  # 1 - u1
+        E = e1 + d  # 1 + u2
+
+        # g = β (u3 - u1), g3 = β (u3 - u2) (Vieta on f(1 - ε), no cancellation near u3 = u2)
+        if d > 0.0 and D > 0.0:
+            c1 = p_top[1]
+            bq3 = (c1 + beta * e2 * D) / (e2 + D)  # β (u3 - 1)
+            bq3 = max(bq3, 0.0)
+            g3 = bq3 + beta * e2
+            g = bq3 + beta * D
+        else:
+            g = max(-f2, 0.0)  # β (u3 - u0) with u1 = u2 = u0
+            g3 = g
+        self.u1 = -1.0 + e1 if e1 < 1.0 else u0 - y1
+        self.u2 = 1.0 - e2 if e2 < 1.0 else u0 + x2
+        self.theta_min = 2.0 * math.asin(min(1.0, math.sqrt(0.5 * e2)))
+        self.theta_max = 2.0 * math.acos(min(1.0, math.sqrt(0.5 * e1)))
+        self.steady = d == 0.0
+
+        self._e1, self._e2, self._d, self._D, self._E = e1, e2, d, D, E
+        self._bma, self._bpa, self._ap = bma, bpa, ap
+        self._signed_c = e1 == 0.0
+        self._signed_s = e2 == 0.0
+
+        # ---- elliptic parameters ----------------------------------------------------------
+        if d > 0.0 and g > 0.0:
+            self._lam = 0.5 * math.sqrt(g)
+            self._mu = beta / g  # m = μ d
+            m = min(1.0, beta * d / g)
+            m1 = max(0.0, min(1.0, g3 / g))
+            if m1 == 0.0:
+                m = 1.0
+        else:  # steady: any λ > 0 gives the same answer with m = 0
+            self._lam, self._mu, m, m1 = 1.0, 0.0, 0.0, 1.0
+        self._m, self._m1 = m, m1
+        self._separatrix = m1 == 0.0
+        if self.steady:
+            self.nutation_period = 2.0 * math.pi / math.sqrt(g) if g > 0.0 else math.inf
+        elif self._separatrix:
+            self.nutation_period = math.inf
+        else:
+            self._K = float(elliprf(0.0, m1, 1.0))
+            self.nutation_period = 2.0 * self._K / self._lam
+
+        # ---- initial phase τ0 of u = u1 + d sn²(τ) -----------------------------------------
+        sgn_v = 1.0 if v0 >= 0.0 else -1.0
+        if self.steady:
+            tau0 = 0.0
+        elif self._separatrix:  # sn = tanh: sinh² τ0 = (u0 - u1) / (u2 - u0)
+            tau0 = sgn_v * math.asinh(math.sqrt(y1 / x2)) if x2 > 0.0 else sgn_v * 40.0
+        else:
+            K = self._K
+            sn2, cn2 = y1 / d, x2 / d
+            dn2 = m1 + m * cn2
+            if sn2 * (1.0 + math.sqrt(m1)) <= 1.0:  # τ0 ≤ K/2: τ0 = F(arcsin √sn2)
+                tau0 = math.sqrt(sn2) * float(elliprf(cn2, dn2, 1.0))
+            else:  # K - τ0 = F(arcsin(cn/dn)) (complement, relative precision near K)
+                sv = math.sqrt(cn2 / dn2)
+                v = sv * float(elliprf(m1 * sn2 / dn2, m1 / dn2, 1.0))
+                tau0 = K - v
+            tau0 *= sgn_v
+        self._tau0 = tau0
+
+        # ---- initial phases A0, B0 ---------------------------------------------------------
+        q0dot = 0.5 * np.array([  # q̇ = ½ q ⊗ (0, ω_b)
+            -x0 * om1 - y0 * om2 - z0 * om3,
+            w0 * om1 + y0 * om3 - z0 * om2,
+            w0 * om2 + z0 * om1 - x0 * om3,
+            w0 * om3 + x0 * om2 - y0 * om1,
+        ])
+        self._B_rate = 0.5 * (ap - om3)
+        self._A_rate = 0.5 * (om3 - ap)
+        self._kB = 0.0
+        self._kA = 0.0
+        if not self.steady and not self._separatrix:
+            K, lam = self._K, self._lam
+            if bma != 0.0:
+                self._nB = d / D
+                self._PicB = K + (self._nB / 3.0) * float(elliprj(0.0, m1, 1.0, e2 / D))
+                self._kB = bma / (2.0 * lam * D)
+            if bpa != 0.0:
+                self._nA = (e1 * m + d) / E
+                self._PicA = K + (self._nA / 3.0) * float(elliprj(0.0, m1, 1.0, e1 * m1 / E))
+                self._kA = bpa * m1 / (2.0 * lam * E * (1.0 + self._mu * e1))
+                self._A_rate += 0.5 * bpa * self._mu / (1.0 + self._mu * e1)
+        elif self._separatrix and bpa != 0.0:
+            self._kA = bpa / (2.0 * self._lam)
+        elif self.steady:  # u ≡ u0: 1 + u = e1, 1 - u = e2
+            if bpa != 0.0:
+                self._A_rate += 0.5 * bpa / e1
+            if bma != 0.0:
+                self._B_rate += 0.5 * bma / e2
+        self._A0 = 0.0
+        self._B0 = 0.0
+        self._PhiA0 = 0.0
+        self._PhiB0 = 0.0
+        st0 = self._state(np.array([0.0]))
+        c_f, s_f, cdot_f, sdot_f = st0["c"][0], st0["s"][0], st0["cdot"][0], st0["sdot"][0]
+        self._PhiA0 = float(st0["PhiA"][0])
+        self._PhiB0 = float(st0["PhiB"][0])
+        if c_f != 0.0:
+            sg = math.copysign(1.0, c_f)
+            self._A0 = math.atan2(sg * z0, sg * w0)
+        elif cdot_f != 0.0:
+            sg = math.copysign(1.0, cdot_f)
+            self._A0 = math.atan2(sg * q0dot[3], sg * q0dot[0])
+        if s_f != 0.0:
+            sg = math.copysign(1.0, s_f)
+            self._B0 = math.atan2(sg * y0, sg * x0)
+        elif sdot_f != 0.0:
+            sg = math.copysign(1.0, sdot_f)
+            self._B0 = math.atan2(sg * q0dot[2], sg * q0dot[1])
+
+    # ----------------------------------------------------------------------------------------
+
+    def _state(self, t: Array) -> dict[str, Array]:
+        """c, s (cos, sin θ/2, signed where continued), their rates, u, and the phase integrals."""
+        lam, d, e1, e2 = self._lam, self._d, self._e1, self._e2
+        m, m1 = self._m, self._m1
+        tau = lam * t + self._tau0
+        zero = np.zeros_like(t)
+        if self.steady:
+            sn, cn, dn = zero, np.ones_like(t), np.ones_like(t)
+            PhiA, PhiB = zero, zero
+        elif self._separatrix:
+            sn, cn = np.tanh(tau), 1.0 / np.cosh(tau)
+            dn = cn
+            PhiB = zero
+            if self._kA != 0.0:
+                rho = math.sqrt(d / e1)
+                PhiA = (tau + rho * np.arctan(rho * sn)) / (e1 + d)
+            else:
+                PhiA = zero
+        else:
+            K = self._K
+            j = np.floor((tau + K) / (2.0 * K))
+            r = tau - 2.0 * K * j
+            sn_r, cn_r, dn = _sncndn_reduced(r, m, m1, K)
+            parity = 1.0 - 2.0 * np.mod(j, 2.0)
+            sn, cn = parity * sn_r, parity * cn_r
+            if self._kB != 0.0:
+                pB = (e2 + d * cn_r * cn_r) / self._D
+                PhiB = 2.0 * j * self._PicB + _carlson_pi(sn_r, cn_r, dn, self._nB, pB)
+            else:
+                PhiB = zero
+            if self._kA != 0.0:
+                # σ = τ - K: sn σ = -sgn(r) cn r/dn r, cn σ = k'|sn r|/dn r, dn σ = k'/dn r
+                kp = math.sqrt(m1)
+                pos = r >= 0.0
+                jA = np.where(pos, j, j - 1.0)
+                sA = np.where(pos, -cn_r, cn_r) / dn
+                cA = kp * np.abs(sn_r) / dn
+                dA = kp / dn
+                pA = (e1 * dA * dA + d * cA * cA) / self._E
+                PhiA = 2.0 * jA * self._PicA + _carlson_pi(sA, cA, dA, self._nA, pA)
+            else:
+                PhiA = zero
+        lam_d = lam * d
+        half_d = math.sqrt(0.5 * d)
+        snd = sn * cn * dn
+        if self._signed_c:
+            c = half_d * sn
+            cdot = half_d * lam * cn * dn
+        else:
+            c = np.sqrt(0.5 * (e1 + d * sn * sn))
+            cdot = lam_d * snd / (2.0 * c)
+        if self._signed_s:
+            s = half_d * cn
+            sdot = -half_d * lam * sn * dn
+        else:
+            s = np.sqrt(0.5 * (e2 + d * cn * cn))
+            sdot = -lam_d * snd / (2.0 * s)
+        return {"c": c, "s": s, "cdot": cdot, "sdot": sdot, "PhiA": PhiA, "PhiB": PhiB,
+                "sn2": sn * sn, "cn2": cn * cn}
+
+    def _quaternion(self, t: Array) -> tuple[Array, Array, Array, Array, dict[str, Array]]:
+        st = self._state(t)
+        A = self._A0 + self._A_rate * t + self._kA * (st["PhiA"] - self._PhiA0)
+        B = self._B0 + self._B_rate * t + self._kB * (st["PhiB"] - self._PhiB0)
+        cA, sA, cB, sB = np.cos(A), np.sin(A), np.cos(B), np.sin(B)
+        c, s = st["c"], st["s"]
+        st["cosA"], st["sinA"], st["cosB"], st["sinB"] = cA, sA, cB, sB
+        return c * cA, s * cB, s * sB, c * sA, st
+
+    @staticmethod
+    def _times(t: ArrayLike) -> tuple[Array, bool]:
+        ta = np.asarray(t, dtype=float)
+        if ta.ndim > 1:
+            raise ValueError("t must be a scalar or a 1-D array of times [s]")
+        return np.atleast_1d(ta), ta.ndim == 0
+
+    def cos_theta(self, t: ArrayLike) -> Array:
+        """u = cos θ = R[2, 2] at time(s) t [s]: scalar or (N,); in [u1, u2]."""
+        ta, scalar = self._times(t)
+        st = self._state(ta)
+        u = 0.5 * (self._e1 - self._e2) + 0.5 * self._d * (st["sn2"] - st["cn2"])
+        return u[0] if scalar else u
+
+    def attitude(self, t: ArrayLike) -> Array:
+        """R_space_body at time(s) t [s]: (3, 3) for scalar t, (N, 3, 3) for t of shape (N,)."""
+        ta, scalar = self._times(t)
+        w, x, y, z, _ = self._quaternion(ta)
+        R = _matrix_from_quat(w, x, y, z)
+        return R[0] if scalar else R
+
+    def omega_body(self, t: ArrayLike) -> Array:
+        """ω_b [rad/s] (usual sign) at time(s) t [s]: (3,) or (N, 3)."""
+        return self(t)[1]
+
+    def axis_space(self, t: ArrayLike) -> Array:
+        """Symmetry axis e_z' in space components (the tip path on the unit sphere): (3,) or (N, 3)."""
+        R = self.attitude(t)
+        return R[..., :, 2]
+
+    def __call__(self, t: ArrayLike) -> tuple[Array, Array]:
+        """(R_space_body, ω_b) at time(s) t [s]: ((3, 3), (3,)) or ((N, 3, 3), (N, 3))."""
+        ta, scalar = self._times(t)
+        w, x, y, z, st = self._quaternion(ta)
+        c, s = st["c"], st["s"]
+        cA, sA, cB, sB = st["cosA"], st["sinA"], st["cosB"], st["sinB"]
+        # c Ȧ and s Ḃ written so that nothing divides by a vanishing c or s
+        half_w = 0.5 * (self.omega3 - self._ap)
+        c_safe = np.where(c == 0.0, 1.0, c)
+        s_safe = np.where(s == 0.0, 1.0, s)
+        cAdot = half_w * c + (0.0 if self._bpa == 0.0 else 0.25 * self._bpa / c_safe)
+        sBdot = -half_w * s + (0.0 if self._bma == 0.0 else 0.25 * self._bma / s_safe)
+        cdot, sdot = st["cdot"], st["sdot"]
+        wd = cdot * cA - cAdot * sA
+        zd = cdot * sA + cAdot * cA
+        xd = sdot * cB - sBdot * sB
+        yd = sdot * sB + sBdot * cB
+        # ω_b = 2 vec(q̄ ⊗ q̇) / |q|²
+        n2 = w * w + x * x + y * y + z * z
+        o1 = 2.0 * (w * xd - wd * x - (y * zd - z * yd)) / n2
+        o2 = 2.0 * (w * yd - wd * y - (z * xd - x * zd)) / n2
+        omega = np.stack([o1, o2, np.full_like(o1, self.omega3)], axis=-1)
+        R = _matrix_from_quat(w, x, y, z)
+        if scalar:
+            return R[0], omega[0]
+        return R, omega

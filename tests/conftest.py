@@ -1,0 +1,156 @@
+"""Fixtures for the app tests: the app on a loopback ephemeral port, raw websocket clients
+(no browser) and, for tests marked `browser`, Debian's Chromium driven by Playwright.
+
+Browser: /usr/lib/chromium/chromium (override with $CHROMIUM), launched with the flags of
+shared/VISER.md.  If playwright or Chromium is missing the browser tests are skipped with
+a hint (`apt-get install chromium`), except under CI=true, where that is a failure.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import msgspec.msgpack
+import pytest
+import viser
+from viser import _messages
+
+from app.main import App, create_server
+
+CHROMIUM = os.environ.get("CHROMIUM", "/usr/lib/chromium/chromium")
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--enable-unsafe-swiftshader",
+    "--use-angle=swiftshader",
+    "--run-all-compositor-stages-before-draw",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+INSTALL_HINT = "install it with `apt-get install chromium` (and `pip install playwright`)"
+
+
+def wait_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01) -> Any:
+    """Poll `predicate` until it returns a truthy value; that value, or AssertionError."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"condition not met within {timeout} s")
+        time.sleep(interval)
+
+
+@pytest.fixture
+def app() -> Iterator[App]:
+    """The lecture app on 127.0.0.1 and an ephemeral port, its 60 Hz loop running."""
+    running = create_server("127.0.0.1", 0, verbose=False)
+    try:
+        yield running
+    finally:
+        running.stop()
+
+
+class RawClient:
+    """A browser stand-in speaking viser's websocket protocol (VISER.md §3).
+
+    It sends the first ViewerCameraMessage (without which viser does not register a client)
+    and then GUI updates; a thread drains (and ignores) what the server sends.
+    """
+
+    def __init__(self, port: int) -> None:
+        from websockets.sync.client import connect
+
+        self._ws = connect(
+            f"ws://127.0.0.1:{port}", subprotocols=[f"viser-v{viser.__version__}"],
+            max_size=None, open_timeout=10,
+        )
+        self.frames_received = 0
+        self._reader = threading.Thread(target=self._drain, daemon=True)
+        self._reader.start()
+        self.send(_messages.ViewerCameraMessage(
+            wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, 3.0, 3.0), fov=math.radians(50.0),
+            near=0.01, far=100.0, image_height=600, image_width=800,
+            look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0),
+        ))
+
+    def _drain(self) -> None:
+        try:
+            for _frame in self._ws:
+                self.frames_received += 1
+        except Exception:  # noqa: BLE001 - closed
+            pass
+
+    def send(self, message: _messages.Message) -> None:
+        self._ws.send(msgspec.msgpack.encode(message.as_serializable_dict()))
+
+    def set_value(self, handle: Any, value: Any) -> None:
+        """What a browser sends when the user moves the GUI element `handle` to `value`."""
+        self.send(_messages.GuiUpdateMessage(handle._impl.uuid, {"value": value}))
+
+    def close(self) -> None:
+        self._ws.close()
+        self._reader.join(timeout=5.0)
+
+
+@pytest.fixture
+def connect(app: App) -> Iterator[Callable[[], RawClient]]:
+    """Factory of raw websocket clients to `app`; all are closed after the test."""
+    clients: list[RawClient] = []
+
+    def make() -> RawClient:
+        client = RawClient(app.port)
+        clients.append(client)
+        return client
+
+    yield make
+    for client in clients:
+        client.close()
+
+
+def _browser_missing() -> str | None:
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "python playwright is not installed"
+    if not Path(CHROMIUM).exists():
+        return f"Chromium is not installed at {CHROMIUM}"
+    return None
+
+
+@pytest.fixture(scope="session")
+def browser() -> Iterator[Any]:
+    """Headless Debian Chromium (SwiftShader WebGL) via Playwright, one per test session."""
+    missing = _browser_missing()
+    if missing is not None:
+        message = f"{missing}: {INSTALL_HINT}"
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail(f"CI=true and the browser tests cannot run: {message}", pytrace=False)
+        pytest.skip(message)
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        chromium = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
+        try:
+            yield chromium
+        finally:
+            chromium.close()
+
+
+@pytest.fixture
+def page(browser: Any) -> Iterator[Any]:
+    """A fresh 1280x800 page; closed after the test."""
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    try:
+        yield context.new_page()
+    finally:
+        context.close()

@@ -1,0 +1,115 @@
+"""`python -m physics` behaves as CASEFILE.md says, bad-input rules included."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+EXAMPLE = {"model": "free", "inertia": [1.0, 2.0, 3.0], "euler0": [0.3, 1.1, -0.4],
+           "euler_rates0": [0.5, 0.2, 1.5], "t_end": 5.0, "n_samples": 21}
+TRAJ_KEYS = {"t", "R", "omega_body", "euler_zxz", "energy", "L_space", "evaluations", "wall_s", "method"}
+
+
+def run_cli(tmp_path: Path, case: dict | str, *args: str) -> tuple[subprocess.CompletedProcess, Path]:
+    case_path, out = tmp_path / "case.json", tmp_path / "traj.npz"
+    case_path.write_text(case if isinstance(case, str) else json.dumps(case))
+    result = subprocess.run([sys.executable, "-m", "physics", "simulate", str(case_path), "--out", str(out), *args],
+                            capture_output=True, text=True, timeout=120)
+    return result, out
+
+
+def test_methods_lists_each_method_with_one_line():
+    result = subprocess.run([sys.executable, "-m", "physics", "methods"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0
+    names = [line.split()[0] for line in result.stdout.splitlines()]
+    assert {"exact", "splitting4", "adaptive", "dop853", "euler_lagrange", "realtime"} <= set(names)
+
+
+def test_example_case_writes_every_key(tmp_path):
+    result, out = run_cli(tmp_path, EXAMPLE)
+    assert result.returncode == 0, result.stderr
+    traj = np.load(out)
+    assert TRAJ_KEYS <= set(traj.files)
+    n = EXAMPLE["n_samples"]
+    assert traj["R"].shape == (n, 3, 3) and traj["omega_body"].shape == (n, 3)
+    assert traj["euler_zxz"].shape == (n, 3) and traj["L_space"].shape == (n, 3)
+    assert str(traj["method"]) == "exact"
+    np.testing.assert_allclose(traj["t"], np.linspace(0.0, 5.0, n), rtol=0, atol=0)
+    # Initial attitude from the z-x-z angles, against SciPy's intrinsic "ZXZ".
+    np.testing.assert_allclose(traj["R"][0], Rotation.from_euler("ZXZ", EXAMPLE["euler0"]).as_matrix(), atol=1e-14)
+    # Torque-free: energy and L_space constant (relative 1e-12).
+    assert np.ptp(traj["energy"]) <= 1e-12 * abs(traj["energy"][0])
+    assert np.ptp(traj["L_space"], axis=0).max() <= 1e-12 * np.linalg.norm(traj["L_space"][0])
+    # euler_zxz reproduces R (continuous branch, unwrapped angles).
+    R_from_angles = Rotation.from_euler("ZXZ", traj["euler_zxz"]).as_matrix()
+    np.testing.assert_allclose(R_from_angles, traj["R"], atol=1e-12)
+
+
+@pytest.mark.parametrize("method", ["splitting4", "adaptive", "dop853", "euler_lagrange"])
+def test_each_method_agrees_with_the_exact_solution(tmp_path, method):
+    exact, out_exact = run_cli(tmp_path, EXAMPLE)
+    reference = np.load(out_exact)["R"].copy()
+    result, out = run_cli(tmp_path, EXAMPLE, "--method", method)
+    assert result.returncode == 0, result.stderr
+    traj = np.load(out)
+    assert str(traj["method"]) == method
+    angle_error = Rotation.from_matrix(np.swapaxes(reference, 1, 2) @ traj["R"]).magnitude().max()
+    assert angle_error < 1e-6, f"{method}: {angle_error:.2e} rad"
+
+
+def test_realtime_writes_one_sample_per_frame(tmp_path):
+    result, out = run_cli(tmp_path, EXAMPLE, "--realtime", "--frame-dt", "0.05")
+    assert result.returncode == 0, result.stderr
+    traj = np.load(out)
+    np.testing.assert_allclose(np.diff(traj["t"]), 0.05, rtol=1e-12)
+    assert traj["t"][-1] == pytest.approx(5.0)
+    assert np.ptp(traj["energy"]) <= 1e-6 * traj["energy"][0]
+
+
+BAD_CASES = {
+    "unknown key": ({**EXAMPLE, "inertai": [1, 2, 3]}, "unknown key"),
+    "triangle": ({**EXAMPLE, "inertia": [1.0, 1.0, 3.0]}, "I"),
+    "negative moment": ({**EXAMPLE, "inertia": [-1.0, 2.0, 2.0]}, "positive"),
+    "nan": ('{"model": "free", "inertia": [1, 2, NaN], "euler0": [0, 1, 0], "euler_rates0": [0, 0, 1],'
+            ' "t_end": 1, "n_samples": 3}', "non-finite"),
+    "non-increasing": ({k: v for k, v in EXAMPLE.items() if k not in ("t_end", "n_samples")} | {"t": [0, 1, 1]},
+                       "increasing"),
+    "non-orthogonal R0": ({"model": "free", "inertia": [1, 2, 3], "R0": [[1, 0, 0], [0, 1, 0], [0, 0, 1.001]],
+                           "omega0_body": [0, 0, 1], "t_end": 1, "n_samples": 3}, "orthogonal"),
+    "reflection": ({"model": "free", "inertia": [1, 2, 3], "R0": [[1, 0, 0], [0, 1, 0], [0, 0, -1]],
+                    "omega0_body": [0, 0, 1], "t_end": 1, "n_samples": 3}, "det"),
+    "unknown model": ({**EXAMPLE, "model": "magnetic"}, "model"),
+    "missing mgl": ({**EXAMPLE, "model": "heavy_top"}, "mgl"),
+    "not json": ("{model: free", "JSON"),
+}
+
+
+@pytest.mark.parametrize("name", BAD_CASES)
+def test_bad_input_exits_2_with_one_line_and_no_file(tmp_path, name):
+    case, phrase = BAD_CASES[name]
+    result, out = run_cli(tmp_path, case)
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and phrase in lines[0], result.stderr
+    assert not out.exists()
+
+
+def test_lamina_is_a_valid_body(tmp_path):
+    result, _ = run_cli(tmp_path, {**EXAMPLE, "inertia": [1.0, 2.0, 3.0 * (1 + 0)]})
+    assert result.returncode == 0, result.stderr
+
+
+def test_euler_lagrange_through_the_pole_fails_clearly_and_fast(tmp_path):
+    case = {"model": "free", "inertia": [1.0, 1.0, 1.5], "R0": np.eye(3).tolist(),
+            "omega0_body": [0.0, 0.0, 1.0], "t_end": 1.0, "n_samples": 3}
+    start = time.perf_counter()
+    result, out = run_cli(tmp_path, case, "--method", "euler_lagrange")
+    assert time.perf_counter() - start < 30.0
+    assert result.returncode == 1 and "θ" in result.stderr and not out.exists()

@@ -1,0 +1,22 @@
+"""The README's first commands are the ones CI runs."""
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _readme_commands() -> list[str]:
+    return re.findall(r"```bash\n(.+?)\n```", (ROOT / "README.md").read_text())
+
+
+def test_readme_starts_with_the_app_and_test_commands():
+    app_command, test_command = _readme_commands()[:2]
+    assert app_command.endswith("python -m app")
+    assert "pytest" in test_command and '".[test]"' in test_command
+
+
+def test_ci_runs_the_readme_test_command_verbatim():
+    test_command = _readme_commands()[1]
+    ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
+    assert test_command in ci_lines
