@@ -30,6 +30,8 @@ from physics.so3 import rot_x, rot_z
 __all__ = [
     "ANGLE_RANGES_DEG",
     "GIMBAL_LOCK_DEG",
+    "INITIAL_ANGLES_DEG",
+    "PRESETS_DEG",
     "INITIAL_CAMERA",
     "INITIAL_FOV_DEG",
     "ExplorerScene",
@@ -45,6 +47,12 @@ ANGLE_RANGES_DEG: dict[str, tuple[float, float]] = {
     "phi": (-180.0, 180.0),
     "theta": (0.0, 180.0),
     "psi": (-180.0, 180.0),
+}
+INITIAL_ANGLES_DEG = (30.0, 50.0, 20.0)  # a generic pose: every element of the picture visible
+PRESETS_DEG: dict[str, tuple[float, float, float]] = {  # button label -> (φ, θ, ψ) [deg]
+    "30°, 50°, 20°": INITIAL_ANGLES_DEG,
+    "D = 1": (0.0, 0.0, 0.0),
+    "gimbal lock": (30.0, 0.0, 20.0),
 }
 GIMBAL_LOCK_DEG = 2.0  # within this of θ = 0° or 180° the line of nodes is shown undefined
 MOMENT_RANGE = (0.1, 5.0)  # [kg m²] slider range of each principal moment
@@ -65,7 +73,7 @@ ARC_SEGMENTS = 48
 SPACE_COLORS = ((225, 35, 35), (30, 160, 45), (35, 75, 230))
 BODY_COLORS = ((150, 0, 0), (0, 105, 20), (0, 30, 150))
 FRAME_COLORS = ((240, 160, 160), (150, 215, 160), (160, 180, 245))
-NODES_COLOR = (255, 140, 0)
+NODES_COLOR = (235, 180, 0)  # gold
 NODES_FADED_COLOR = (205, 205, 205)
 BODY_COLOR = (235, 170, 70)
 BODY_OPACITY = 0.7
@@ -138,7 +146,7 @@ class ExplorerScene:
     def __init__(self, client: viser.ClientHandle, guard: Guard) -> None:
         self.client = client
         self._guard = guard
-        self.angles_deg: list[float] = [0.0, 0.0, 0.0]
+        self.angles_deg: list[float] = list(INITIAL_ANGLES_DEG)
         self.moments: tuple[float, float, float] = INITIAL_MOMENTS
         self.R_space_body: Mat3 = np.eye(3)
         self._build_scene()
@@ -164,7 +172,7 @@ class ExplorerScene:
             scene.add_label(
                 f"{root}/space_labels/{name}", name,
                 position=tuple((SPACE_AXIS_LENGTH + 0.12) * np.eye(3)[k]),
-                font_screen_scale=1.7, anchor="center-center",
+                font_screen_scale=2.0, anchor="center-center",
             )
 
         # The body: a frame node whose orientation is D; the box, axes, labels are children.
@@ -181,7 +189,7 @@ class ExplorerScene:
             scene.add_label(
                 f"{root}/body/labels/{k}", name,
                 position=tuple((BODY_AXIS_LENGTH + 0.14) * np.eye(3)[k]),
-                font_screen_scale=1.7, anchor="center-center",
+                font_screen_scale=2.0, anchor="center-center",
             )
 
         # Intermediate frames of the decomposition: thin, faint, toggleable.
@@ -205,7 +213,7 @@ class ExplorerScene:
             thickness=6.0, thickness_units="screen",
         )
         self.nodes_label = scene.add_label(
-            f"{root}/line_of_nodes_label", "line of nodes", font_screen_scale=1.5,
+            f"{root}/line_of_nodes_label", "line of nodes", font_screen_scale=1.7,
             anchor="center-left",
         )
 
@@ -218,7 +226,7 @@ class ExplorerScene:
                 thickness=4.0, thickness_units="screen",
             )
             self.arc_labels[key] = scene.add_label(
-                f"{root}/arc_labels/{key}", GREEK[key], font_screen_scale=1.4,
+                f"{root}/arc_labels/{key}", GREEK[key], font_screen_scale=1.6,
                 anchor="center-center",
             )
 
@@ -235,25 +243,26 @@ class ExplorerScene:
         with self.folder_angles:
             marks_full = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
             self.gui_phi = gui.add_slider(
-                "φ [deg]", -180.0, 180.0, 1.0, 0.0, marks=marks_full,
+                "φ [deg]", *ANGLE_RANGES_DEG["phi"], 1.0, INITIAL_ANGLES_DEG[0], marks=marks_full,
                 hint="precession about the space z axis (applied first)",
             )
             self.gui_theta = gui.add_slider(
-                "θ [deg]", 0.0, 180.0, 1.0, 0.0,
+                "θ [deg]", *ANGLE_RANGES_DEG["theta"], 1.0, INITIAL_ANGLES_DEG[1],
                 marks=((0.0, "0°"), (45.0, "45°"), (90.0, "90°"), (135.0, "135°"), (180.0, "180°")),
                 hint="nutation about the line of nodes (applied second)",
             )
             self.gui_psi = gui.add_slider(
-                "ψ [deg]", -180.0, 180.0, 1.0, 0.0, marks=marks_full,
+                "ψ [deg]", *ANGLE_RANGES_DEG["psi"], 1.0, INITIAL_ANGLES_DEG[2], marks=marks_full,
                 hint="spin about the body z′ axis (applied last)",
             )
             self.gui_gimbal_note = gui.add_markdown("", visible=False)
-            self.gui_reset_angles = gui.add_button("Reset angles", icon=viser.Icon.REFRESH)
+            self.gui_presets = gui.add_button_group("Set φ θ ψ", tuple(PRESETS_DEG))
         for index, (key, handle) in enumerate(
             (("phi", self.gui_phi), ("theta", self.gui_theta), ("psi", self.gui_psi))
         ):
             handle.on_update(guard(f"{GREEK[key]} slider", self._angle_callback(index, key, handle)))
-        self.gui_reset_angles.on_click(guard("reset angles", lambda _event: self.set_angles_deg(0.0, 0.0, 0.0)))
+        self.gui_presets.on_click(guard("angle presets", lambda event: self.set_angles_deg(
+            *PRESETS_DEG.get(event.target.value, INITIAL_ANGLES_DEG))))
 
         self.folder_matrix = gui.add_folder("Rotation matrix")
         with self.folder_matrix:
@@ -284,7 +293,7 @@ class ExplorerScene:
             gui.add_markdown(
                 "Thin red/green/blue arrows: space axes x y z.  \n"
                 "Dark arrows: body axes x′ y′ z′ (the columns of D).  \n"
-                "Orange: line of nodes e_n = (cos φ, sin φ, 0).  \n"
+                "Gold: line of nodes e_n = (cos φ, sin φ, 0).  \n"
                 "Faint: intermediate frames (η after φ, η′ after θ)."
             )
         self.gui_show_frames.on_update(guard("frames toggle", lambda _event: self.render()))
@@ -350,15 +359,15 @@ class ExplorerScene:
     def _reshape_body(self, moments: Vec3) -> None:
         """Box with edges proportional to the box of these moments; the longest is BODY_SIZE."""
         edges = np.asarray(box_extents_from_moments(moments, mass=1.0), dtype=float)
-        ratio = edges / edges.max()
-        self.moments = tuple(float(m) for m in moments)  # type: ignore[assignment]
-        self.body_box.dimensions = tuple(np.maximum(BODY_SIZE * ratio, MIN_EDGE))
-        shape = ", ".join(f"{r:.2f}" for r in ratio / ratio[ratio > 0].min()) if ratio.min() > 1e-3 \
-            else ", ".join(f"{r:.2f}" for r in ratio)
-        flat = "  \n(a flat lamina: one triangle inequality holds with equality)" if ratio.min() < 1e-3 else ""
-        self.gui_moments_status.content = (
-            f"Uniform box with edges along x′, y′, z′ in the ratio **{shape}**.{flat}"
-        )
+        ratio = edges / edges.max()  # shape only: the moments fix the box up to its mass
+        self.moments = (float(moments[0]), float(moments[1]), float(moments[2]))
+        self.body_box.dimensions = tuple(float(d) for d in np.maximum(BODY_SIZE * ratio, MIN_EDGE))
+        flat = ratio.min() < 1e-3
+        shown = ratio if flat else ratio / ratio.min()  # smallest edge 1, unless it is 0
+        status = f"Uniform box with edges along x′, y′, z′ in the ratio **{', '.join(f'{r:.2f}' for r in shown)}**."
+        if flat:
+            status += "  \nA flat lamina: one triangle inequality holds with equality."
+        self.gui_moments_status.content = status
 
     def tick(self, dt: float) -> None:
         """The explorer has no dynamics: nothing moves unless a slider does."""
@@ -394,7 +403,7 @@ class ExplorerScene:
             self.nodes_line.colors = np.array([[NODES_FADED_COLOR if locked else NODES_COLOR] * 2],
                                               dtype=np.uint8)
             self.nodes_label.position = tuple((NODES_HALF_LENGTH + 0.05) * e_n)
-            self.nodes_label.text = "line of nodes (undefined)" if locked else "line of nodes"
+            self.nodes_label.text = "line of nodes\n(undefined)" if locked else "line of nodes"
 
             arcs = {
                 "phi": [rot_z(t) @ np.array([ARC_RADII["phi"], 0.0, 0.0])

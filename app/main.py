@@ -152,6 +152,14 @@ def create_server(
         control_layout="floating",
         brand_color=(200, 110, 0),
     )
+    # Lighting without an HDRI environment map: it looks the same here, and the map's
+    # prefiltering costs ~10 s before the first frame under software WebGL (SwiftShader,
+    # i.e. a laptop or projector PC without a usable GPU).
+    server.scene.configure_environment_map(hdri=None)
+    server.scene.configure_default_lights(enabled=True, cast_shadow=False)
+    server.scene.add_light_hemisphere(
+        "/lights/hemisphere", sky_color=(255, 255, 255), ground_color=(150, 150, 150), intensity=1.5
+    )
     server.initial_camera.position = INITIAL_CAMERA["position"]
     server.initial_camera.look_at = INITIAL_CAMERA["look_at"]
     server.initial_camera.up = INITIAL_CAMERA["up"]

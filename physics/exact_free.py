@@ -47,6 +47,7 @@ __all__ = [
     "elliptic_k",
     "jacobi_amplitude",
     "jacobi_sn_cn_dn",
+    "jacobi_third_kind",
 ]
 
 _LANDEN_STOP = 1e-9  # stop the Landen descent when k < this: then m < 1e-18 and sn = sin to rounding
@@ -205,6 +206,99 @@ def jacobi_amplitude(u: float | Array, m: float, m1: float | None = None) -> Arr
 
 
 # ----------------------------------------------------------------------------------------------
+# The incomplete elliptic integral of the third kind, in Jacobi's argument u
+# ----------------------------------------------------------------------------------------------
+
+
+class _ThirdKind:
+    """P(u) = ∫_0^u du' / (1 - ν sn²(u'|m)) for ν ≤ 0, on 0 ≤ u ≤ K (and its complete value).
+
+    Three cancellation-free forms, each a sum of terms of one sign (R_J: Carlson, scipy):
+    * u ≤ K/2, |ν| ≤ √m (direct):   P = u + (ν/3) sn³ R_J(cn², dn², 1, 1 - ν sn²).
+    * u ≤ K/2, |ν| > √m (n ↔ m/n):  with n' = m/ν, q = √((1-ν)(1-n')),
+          1/(1-ν sn²) + 1/(1-n' sn²) - 1 = d/du [atan(q sn/(cn dn))/q], so
+          P = -(n'/3) sn³ R_J(cn², dn², 1, 1 - n' sn²) + atan2(q sn, cn dn)/q.
+    * u > K/2 (shift to v = K - u, sn(K - v) = cd v; here μ = -ν ≥ 0):
+          P = P_c - [v + μ m1 S/(3(1+μ))]/(1+μ),
+          S = sn³v R_J(cn²v, dn²v, 1, cn²v + m1 sn²v/(1+μ)),
+      whose R_J arguments stay ≥ √m1/2 (scipy's R_J fails when two of them are < 1e-155).
+    """
+
+    def __init__(self, nu: float, m: float, m1: float, ld: _Landen) -> None:
+        if nu > 0.0:
+            raise ValueError(f"characteristic nu must be <= 0, got {nu}")
+        self.nu, self.m, self.m1, self.K = nu, m, m1, ld.K
+        self.reciprocal = nu != 0.0 and -nu > math.sqrt(m)
+        if nu == 0.0:
+            self.complete = ld.K
+        elif self.reciprocal:
+            n_r = m / nu
+            self.n_r, self.q = n_r, math.sqrt((1.0 - nu) * (1.0 - n_r))
+            self.complete = -n_r / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 - n_r)) + 0.5 * math.pi / self.q
+        else:
+            self.complete = ld.K + nu / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 - nu))
+
+    def __call__(self, a: Array, K_minus_a: Array, sn: Array, cn: Array, dn: Array) -> Array:
+        """P(a) for 0 ≤ a ≤ K, given K - a and the Jacobi functions at a (all (N,))."""
+        nu = self.nu
+        if nu == 0.0:
+            return np.array(a, dtype=float, copy=True)
+        low = a <= K_minus_a
+        P = np.empty_like(a)
+        if np.any(low):
+            s, c, d = sn[low], cn[low], dn[low]
+            s2 = s * s
+            if self.reciprocal:
+                rj = elliprj(c * c, d * d, 1.0, 1.0 - self.n_r * s2)
+                P[low] = -self.n_r / 3.0 * s2 * s * rj + np.arctan2(self.q * s, c * d) / self.q
+            else:
+                rj = elliprj(c * c, d * d, 1.0, 1.0 - nu * s2)
+                P[low] = a[low] + nu / 3.0 * s2 * s * rj
+        high = ~low
+        if np.any(high):
+            s, c, d = sn[high], cn[high], dn[high]
+            kp = math.sqrt(self.m1)
+            sv, cv, dv = c / d, kp * s / d, kp / d  # sn, cn, dn at v = K - a
+            mu = -nu
+            S = sv**3 * elliprj(cv * cv, dv * dv, 1.0, cv * cv + self.m1 * sv * sv / (1.0 + mu))
+            Q = (K_minus_a[high] + mu * self.m1 * S / (3.0 * (1.0 + mu))) / (1.0 + mu)
+            P[high] = self.complete - Q
+        return P
+
+
+def _pi_separatrix(u: Array, nu: float) -> Array:
+    """m = 1: ∫_0^u du'/(1 - ν tanh²u') = (u + √μ atan(√μ tanh u))/(1 + μ), μ = -ν ≥ 0."""
+    mu = -nu
+    rt = math.sqrt(mu)
+    return (u + rt * np.arctan(rt * np.tanh(u))) / (1.0 + mu)
+
+
+def jacobi_third_kind(
+    u: float | Array, nu: float, m: float, m1: float | None = None
+) -> Array:
+    """∫_0^u du' / (1 - ν sn²(u'|m)) for real u and ν ≤ 0, i.e. Legendre's Π(ν; am u | m).
+
+    Quasi-periodic: value(u + 2K) = value(u) + 2 value(K).  Arguments m, m1 as
+    `jacobi_sn_cn_dn`; m = 1 uses the elementary closed form.
+    """
+    m, m1 = _parameters(m, m1)
+    u = np.asarray(u, dtype=float)
+    if nu > 0.0:
+        raise ValueError(f"characteristic nu must be <= 0, got {nu}")
+    if m1 == 0.0:
+        return _pi_separatrix(u, nu)
+    ld = _landen(m, m1)
+    P3 = _ThirdKind(nu, m, m1, ld)
+    flat = u.reshape(-1)
+    j = np.round(flat / (2.0 * ld.K))
+    r = flat - j * (2.0 * ld.K)
+    a = np.abs(r)
+    sn, cn, dn = _sn_cn_dn_half(a, ld.K - a, ld)
+    P = np.sign(r) * P3(a, ld.K - a, sn, cn, dn) + 2.0 * j * P3.complete
+    return P.reshape(u.shape)
+
+
+# ----------------------------------------------------------------------------------------------
 # The free rigid body
 # ----------------------------------------------------------------------------------------------
 
@@ -358,71 +452,60 @@ class FreeBodyExact:
         self._nu = nu
         self._kappa = kappa
         self._sigma = sigma
-        # φ̇ = a_phi + c_phi/(1 - ν sn²), with a_phi + c_phi = |L|/I_p.
+        # φ̇ = a_phi + c_phi / (1 - ν sn²u)  (a_phi + c_phi = |L|/I_p).
         self._a_phi = L_norm / Ir * scale
         self._c_phi = L_norm * (Ir - Ip) / (Ir * Ip) * scale
-        self._rate_p = L_norm / Ip * scale
-        self._W0 = self._third_kind_correction(
-            np.array([sn0]), np.array([cn0]), np.array([dn0])
-        )[0]
-        self._Pi0 = self._separatrix_pi(np.array([u0]))[0] if m1 == 0.0 else 0.0
-        if self._ld is not None:
-            K = self._ld.K
-            self.omega_period = 4.0 * K / self._lam
-            # Precession per half period 2K/λ of am: (|L|/I_p)(2K/λ) + (c_phi ν/(3λ)) 2 R_J(0, m1, 1, 1-ν)
-            rj = float(elliprj(0.0, m1, 1.0, 1.0 - nu)) if nu != 0.0 else 0.0
-            self._dphi_half = (self._rate_p * 2.0 * K + self._c_phi * nu / 3.0 * 2.0 * rj) / self._lam
-        else:
+        one = np.ones(1)
+        if self._ld is None:  # separatrix: no period
             self.omega_period = math.inf
-            self._dphi_half = 0.0
+            self._P0 = float(_pi_separatrix(np.array([u0]), nu)[0])
+        else:
+            K = self._ld.K
+            self._P3 = _ThirdKind(nu, m, m1, self._ld)
+            a0 = abs(u0)
+            P0 = self._P3(a0 * one, (K - a0) * one, abs(sn0) * one, cn0 * one, dn0 * one)[0]
+            self._P0 = math.copysign(P0, u0)
+            self._half_period = 2.0 * K / self._lam  # of am(u): ω_x, ω_y change sign, ω_z repeats
+            self.omega_period = 2.0 * self._half_period
+            # Precession about L during one half period (every one is the same).
+            self._dphi_half = self._a_phi * self._half_period + 2.0 * self._c_phi * self._P3.complete / self._lam
 
         # Fixed frame S = R0 B (Rx(θ0) Rz(ψ0))ᵀ, so that φ(0) = 0.
-        E0 = self._euler_part(np.zeros(1), np.array([sn0]), np.array([cn0]), np.array([dn0]))[0]
+        E0 = self._euler_part(np.zeros(1), sn0 * one, cn0 * one, dn0 * one)[0]
         self._S = R0 @ B @ E0.T
 
     # --- pieces -------------------------------------------------------------------------------
 
-    def _third_kind_correction(self, sn: Array, cn: Array, dn: Array) -> Array:
-        """W(u) = sn³ R_J(cn², dn², 1, 1 - ν sn²), so ∫_0^u du'/(1 - ν sn²) = u + (ν/3) W(u),
-        for |u| ≤ K (cn ≥ 0)."""
-        if self._nu == 0.0:
-            return np.zeros_like(sn)
-        return sn**3 * elliprj(cn * cn, dn * dn, 1.0, 1.0 - self._nu * sn * sn)
-
-    def _separatrix_pi(self, u: Array) -> Array:
-        """m = 1: ∫_0^u du'/(1 - ν tanh²u') = (u + √μ atan(√μ tanh u))/(1 + μ), μ = -ν ≥ 0."""
-        mu = -self._nu
-        rt = math.sqrt(mu)
-        return (u + rt * np.arctan(rt * np.tanh(u))) / (1.0 + mu)
-
     def _phases(self, t: Array, want_phi: bool = True) -> tuple[Array, Array, Array, Array]:
         """(sn, cn, dn, φ) at times t (N,): Jacobi functions of u = λ t + u0 and the precession
-        angle φ [rad] (reduced mod 2π for long times; zeros unless `want_phi`)."""
-        u = self._u0 + self._lam * t
+        angle φ [rad] about L (reduced mod 2π for long times; zeros unless `want_phi`)."""
+        lam = self._lam
         if self._ld is None:  # separatrix
+            u = self._u0 + lam * t
             sn, cn, dn = np.tanh(u), _sech(u), _sech(u)
             phi = np.zeros_like(u)
             if want_phi:
-                phi = self._a_phi * t + self._c_phi / self._lam * (
-                    self._separatrix_pi(u) - self._Pi0
-                )
+                dP = _pi_separatrix(u, self._nu) - self._P0
+                phi = self._a_phi * t + self._c_phi / lam * dP
             return sn, cn, dn, phi
         K = self._ld.K
-        j = np.round(u / (2.0 * K))
-        r = u - j * (2.0 * K)
-        a = np.abs(r)
-        sn_r, cn_r, dn = _sn_cn_dn_half(a, K - a, self._ld)
-        sn_r = np.where(r < 0.0, -sn_r, sn_r)
-        parity = 1.0 - 2.0 * np.mod(j, 2.0)
+        # t = j T_half + tau with u(tau) = u0 + λ tau in [-K, K]: phases never lose precision.
+        j = np.round((self._u0 + lam * t) / (2.0 * K))
+        tau = t - j * self._half_period
+        r = self._u0 + lam * tau
+        a = np.minimum(np.abs(r), K)
+        K_minus_a = K - a
+        sn_a, cn_r, dn = _sn_cn_dn_half(a, K_minus_a, self._ld)
+        sign_r = np.where(r < 0.0, -1.0, 1.0)
+        parity = 1.0 - 2.0 * np.mod(j, 2.0)  # sn, cn change sign every half period
+        sn, cn = sign_r * sn_a * parity, cn_r * parity
         if not want_phi:
-            return sn_r * parity, cn_r * parity, dn, np.zeros_like(u)
-        W = self._third_kind_correction(sn_r, cn_r, dn)
-        # Whole half periods: j Δφ, reduced modulo 2π (the rest is bounded by one period).
+            return sn, cn, dn, np.zeros_like(t)
+        P = sign_r * self._P3(a, K_minus_a, sn_a, cn_r, dn)
+        # Whole half periods add j Δφ, reduced modulo 2π; the rest spans at most one period.
         whole = np.remainder(j * self._dphi_half, 2.0 * math.pi)
-        phi = (
-            self._rate_p * (r - self._u0) + self._c_phi * self._nu / 3.0 * (W - self._W0)
-        ) / self._lam + whole
-        return sn_r * parity, cn_r * parity, dn, phi
+        phi = self._a_phi * tau + self._c_phi / lam * (P - self._P0) + whole
+        return sn, cn, dn, phi
 
     def _euler_part(self, phi: Array, sn: Array, cn: Array, dn: Array) -> Array:
         """Rz(φ) Rx(θ) Rz(ψ) (N, 3, 3), with θ, ψ the direction of L in the frame B:

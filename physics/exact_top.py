@@ -62,7 +62,7 @@ from physics._types import Array, Mat3, Vec3
 __all__ = ["HeavySymmetricTopExact"]
 
 _ORTHO_TOL = 1e-9  # ‖R0ᵀ R0 - 1‖ allowed before R0 is refused (CASEFILE.md)
-_AGM_MAX_STEPS = 40
+_LANDEN_MAX_LEVELS = 40
 
 
 # --------------------------------------------------------------------------------------------
@@ -188,27 +188,43 @@ def _root_between(
 
 
 def _sncndn_small(u: Array, m: float, m1: float) -> tuple[Array, Array, Array]:
-    """sn, cn, dn (u | m) for |u| ≤ K/2 by the AGM (descending Landen), m1 = 1 - m exact."""
+    """sn, cn, dn (u | m) for |u| ≤ K/2, with m1 = 1 - m given exactly.
+
+    Descending Landen transformation applied to the function values (Abramowitz & Stegun
+    16.12.2-4), with k = √μ of each level and 1 - k carried separately:
+
+        sn(u|m) = (1 + k) sn(v|μ) / (1 + k sn²),  cn(u|m) = cn(v|μ) dn(v|μ) / (1 + k sn²),
+        dn(u|m) = (cn² + (1 - k) sn²) / (1 + k sn²),  v = u / (1 + k),
+
+    down to μ < 1e-18 (sin, cos plus the first-order term of A&S 16.13).  Every step is a
+    product or a sum of positive terms, so sn, cn, dn keep their relative precision (about
+    K · 1e-16) for any m, also m → 1 where cn(K/2) = √(k'/(1 + k')) is tiny.
+    """
+    u = np.asarray(u, dtype=float)
     if m == 0.0:
         return np.sin(u), np.cos(u), np.ones_like(u)
-    a_list = [1.0]
-    c_list = [math.sqrt(m)]
-    a, b = 1.0, math.sqrt(m1)
-    for _ in range(_AGM_MAX_STEPS):
-        if c_list[-1] <= 1e-17 * a:
+    kp = math.sqrt(m1)  # k' of the current level
+    m_cur = m
+    levels: list[tuple[float, float]] = []  # (k, 1 - k) of the successive levels
+    scale = 1.0
+    for _ in range(_LANDEN_MAX_LEVELS):
+        k_new = m_cur / (1.0 + kp) ** 2  # (1 - k') / (1 + k')
+        levels.append((k_new, 2.0 * kp / (1.0 + kp)))
+        scale *= 1.0 + k_new
+        kp = 2.0 * math.sqrt(kp) / (1.0 + kp)
+        m_cur = k_new * k_new
+        if k_new < 1e-9:
             break
-        a_next = 0.5 * (a + b)
-        c_next = c_list[-1] ** 2 / (4.0 * a_next)
-        b = math.sqrt(a * b)
-        a = a_next
-        a_list.append(a)
-        c_list.append(c_next)
-    n = len(a_list) - 1
-    phi = (2.0**n) * a_list[n] * u
-    for i in range(n, 0, -1):
-        phi = 0.5 * (phi + np.arcsin(c_list[i] * np.sin(phi) / a_list[i]))
-    cn = np.cos(phi)
-    return np.sin(phi), cn, np.sqrt(m1 + m * cn * cn)
+    v = u / scale
+    sn, cn = np.sin(v), np.cos(v)
+    corr = 0.25 * m_cur * (v - sn * cn)
+    sn, cn = sn - corr * cn, cn + corr * sn
+    dn = 1.0 - 0.5 * m_cur * sn * sn
+    for k, one_minus_k in reversed(levels):
+        s2 = sn * sn
+        den = 1.0 + k * s2
+        sn, cn, dn = (1.0 + k) * sn / den, cn * dn / den, (cn * cn + one_minus_k * s2) / den
+    return sn, cn, dn
 
 
 def _sncndn_reduced(r: Array, m: float, m1: float, K: float) -> tuple[Array, Array, Array]:
@@ -340,8 +356,9 @@ class HeavySymmetricTopExact:
         else:
             g = max(-f2, 0.0)  # β (u3 - u0) with u1 = u2 = u0
             g3 = g
-        self.u1 = -1.0 + e1 if e1 < 1.0 else u0 - y1
-        self.u2 = 1.0 - e2 if e2 < 1.0 else u0 + x2
+        # each turning point from its nearest anchor (-1, u0 or +1)
+        self.u1 = -1.0 + e1 if e1 < y1 else u0 - y1
+        self.u2 = max(self.u1, 1.0 - e2 if e2 < x2 else u0 + x2)
         self.theta_min = 2.0 * math.asin(min(1.0, math.sqrt(0.5 * e2)))
         self.theta_max = 2.0 * math.acos(min(1.0, math.sqrt(0.5 * e1)))
         self.steady = d == 0.0
@@ -376,7 +393,8 @@ class HeavySymmetricTopExact:
         if self.steady:
             tau0 = 0.0
         elif self._separatrix:  # sn = tanh: sinh² τ0 = (u0 - u1) / (u2 - u0)
-            tau0 = sgn_v * math.asinh(math.sqrt(y1 / x2)) if x2 > 0.0 else sgn_v * 40.0
+            # (x2 > 0: u0 = 1 on the separatrix is the equilibrium, caught above as f0 = f1 = 0)
+            tau0 = sgn_v * math.asinh(math.sqrt(y1 / x2))
         else:
             K = self._K
             sn2, cn2 = y1 / d, x2 / d
@@ -452,7 +470,8 @@ class HeavySymmetricTopExact:
             sn, cn, dn = zero, np.ones_like(t), np.ones_like(t)
             PhiA, PhiB = zero, zero
         elif self._separatrix:
-            sn, cn = np.tanh(tau), 1.0 / np.cosh(tau)
+            ex = np.exp(-2.0 * np.abs(tau))  # sech τ without overflow for large |τ|
+            sn, cn = np.tanh(tau), 2.0 * np.sqrt(ex) / (1.0 + ex)
             dn = cn
             PhiB = zero
             if self._kA != 0.0:
@@ -522,7 +541,9 @@ class HeavySymmetricTopExact:
         """u = cos θ = R[2, 2] at time(s) t [s]: scalar or (N,); in [u1, u2]."""
         ta, scalar = self._times(t)
         st = self._state(ta)
-        u = 0.5 * (self._e1 - self._e2) + 0.5 * self._d * (st["sn2"] - st["cn2"])
+        one_minus = self._e2 + self._d * st["cn2"]
+        one_plus = self._e1 + self._d * st["sn2"]
+        u = np.where(one_minus < one_plus, 1.0 - one_minus, one_plus - 1.0)
         return u[0] if scalar else u
 
     def attitude(self, t: ArrayLike) -> Array:

@@ -153,12 +153,14 @@ def lagrange_accelerations(M: Array, dM_dq: Array, Q: Array, qdot: Array, extra_
     qdot = np.asarray(qdot, dtype=float)
     M_dot = np.einsum("kij,k->ij", dM_dq, qdot)
     dT_dq = 0.5 * np.einsum("i,kij,j->k", qdot, dM_dq, qdot)
-    rhs = np.asarray(Q, dtype=float) - M_dot @ qdot - dT_dq
+    rhs = np.asarray(Q, dtype=float) - M_dot @ qdot + dT_dq
     if extra_rhs is not None:
         rhs = rhs + extra_rhs
     M = np.asarray(M, dtype=float)
     if not (np.all(np.isfinite(rhs)) and np.all(np.isfinite(M))):
-        raise ValueError(f"non-finite terms in Lagrange's equations: Q = {np.asarray(Q).tolist()}, q̇ = {qdot.tolist()}")
+        raise ValueError(
+            f"non-finite terms in Lagrange's equations: Q = {np.asarray(Q).tolist()}, q̇ = {qdot.tolist()}"
+        )
     return _solve_spd(M, rhs)
 
 
@@ -398,7 +400,9 @@ def integrate_euler_lagrange(
         raise ValueError(f"state0 must hold R (3, 3) and omega_body (3,), got {R0.shape}, {omega0.shape}")
     t0 = float(state0.t)
     if not (np.all(np.isfinite(R0)) and np.all(np.isfinite(omega0)) and math.isfinite(t0)):
-        raise IntegrationError(f"non-finite initial state at t = {t0}: R0 = {R0.tolist()}, omega_body = {omega0.tolist()}")
+        raise IntegrationError(
+            f"non-finite initial state at t = {t0}: R0 = {R0.tolist()}, omega_body = {omega0.tolist()}"
+        )
     if not np.all(np.isfinite(t_eval)):
         raise ValueError("t_eval must be finite")
     if np.any(np.diff(t_eval) <= 0.0) or t_eval[0] < t0:

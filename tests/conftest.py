@@ -14,14 +14,14 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import msgspec.msgpack
 import pytest
-import viser
-from viser import _messages
 
-from app.main import App, create_server
+if TYPE_CHECKING:  # imported lazily below, so the physics tests never load viser
+    from viser import _messages
+
+    from app.main import App
 
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/lib/chromium/chromium")
 CHROMIUM_ARGS = [
@@ -38,7 +38,7 @@ CHROMIUM_ARGS = [
 INSTALL_HINT = "install it with `apt-get install chromium` (and `pip install playwright`)"
 
 
-def wait_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01) -> Any:
+def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01) -> Any:
     """Poll `predicate` until it returns a truthy value; that value, or AssertionError."""
     deadline = time.monotonic() + timeout
     while True:
@@ -51,8 +51,16 @@ def wait_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: flo
 
 
 @pytest.fixture
+def wait_until() -> Callable[..., Any]:
+    """`poll_until(predicate, timeout=5.0)`: wait for something the server does asynchronously."""
+    return poll_until
+
+
+@pytest.fixture
 def app() -> Iterator[App]:
     """The lecture app on 127.0.0.1 and an ephemeral port, its 60 Hz loop running."""
+    from app.main import create_server
+
     running = create_server("127.0.0.1", 0, verbose=False)
     try:
         yield running
@@ -68,6 +76,8 @@ class RawClient:
     """
 
     def __init__(self, port: int) -> None:
+        import viser
+        from viser import _messages
         from websockets.sync.client import connect
 
         self._ws = connect(
@@ -91,10 +101,14 @@ class RawClient:
             pass
 
     def send(self, message: _messages.Message) -> None:
+        import msgspec.msgpack
+
         self._ws.send(msgspec.msgpack.encode(message.as_serializable_dict()))
 
     def set_value(self, handle: Any, value: Any) -> None:
         """What a browser sends when the user moves the GUI element `handle` to `value`."""
+        from viser import _messages
+
         self.send(_messages.GuiUpdateMessage(handle._impl.uuid, {"value": value}))
 
     def close(self) -> None:

@@ -21,9 +21,9 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 import app.main as app_main
+from app.explorer import INITIAL_ANGLES_DEG, INITIAL_CAMERA
 from app.main import App
 from app.session import Session
-from tests.conftest import wait_until
 
 ATOL_POSE = 1e-6  # viser keeps poses as float32-exact numbers at worst
 ATOL_READOUT = 0.6e-4  # the matrix readout has 4 decimals
@@ -50,7 +50,7 @@ def set_angles(session: Session, phi: float, theta: float, psi: float) -> None:
 
 
 # ---------------------------------------------------------------------------- sessions
-def test_each_client_gets_its_own_session_gui_and_body(app: App, connect) -> None:
+def test_each_client_gets_its_own_session_gui_and_body(wait_until, app: App, connect) -> None:
     a = connect()
     (s1,) = app.wait_for_sessions(1).values()
     connect()
@@ -61,9 +61,10 @@ def test_each_client_gets_its_own_session_gui_and_body(app: App, connect) -> Non
     a.set_value(s1.scene.gui_theta, 60.0)  # a browser moves ITS θ slider
     wait_until(lambda: s1.scene.angles_deg[1] == 60.0)
     time.sleep(0.1)
-    assert s2.scene.angles_deg == [0.0, 0.0, 0.0]
-    np.testing.assert_allclose(body_matrix(s2), np.eye(3), atol=ATOL_POSE)
-    np.testing.assert_allclose(body_matrix(s1), D_reference(0, 60, 0), atol=ATOL_POSE)
+    phi0, theta0, psi0 = INITIAL_ANGLES_DEG
+    assert s2.scene.angles_deg == [phi0, theta0, psi0]
+    np.testing.assert_allclose(body_matrix(s2), D_reference(phi0, theta0, psi0), atol=ATOL_POSE)
+    np.testing.assert_allclose(body_matrix(s1), D_reference(phi0, 60, psi0), atol=ATOL_POSE)
 
     a.close()
     remaining = app.wait_for_sessions(1)
@@ -162,15 +163,17 @@ def test_intermediate_frames_toggle(app: App, connect) -> None:
 
 # ---------------------------------------------------------------------------- clamping
 def test_out_of_range_server_values_are_clamped(app: App, connect) -> None:
-    scene = one_session(app, connect).scene
+    session = one_session(app, connect)
+    scene = session.scene
     scene.gui_theta.value = 500.0
     assert scene.gui_theta.value == 180.0 and scene.angles_deg[1] == 180.0
     scene.gui_phi.value = -1e9
     assert scene.gui_phi.value == -180.0
-    np.testing.assert_allclose(body_matrix(app.sessions[0]), D_reference(-180.0, 180.0, 0.0), atol=ATOL_POSE)
+    psi0 = INITIAL_ANGLES_DEG[2]
+    np.testing.assert_allclose(body_matrix(session), D_reference(-180.0, 180.0, psi0), atol=ATOL_POSE)
 
 
-def test_out_of_range_and_nan_from_a_client_are_clamped(app: App, connect) -> None:
+def test_out_of_range_and_nan_from_a_client_are_clamped(wait_until, app: App, connect) -> None:
     client = connect()
     session = next(iter(app.wait_for_sessions(1).values()))
     scene = session.scene
@@ -227,7 +230,7 @@ def test_invalid_moments_keep_the_last_valid_body_and_say_why(app: App, connect)
 
 # ---------------------------------------------------------------------------- robustness
 def test_a_raising_callback_is_shown_and_the_server_keeps_serving(
-    app: App, connect, caplog: pytest.LogCaptureFixture
+    wait_until, app: App, connect, caplog: pytest.LogCaptureFixture
 ) -> None:
     client = connect()
     session = next(iter(app.wait_for_sessions(1).values()))
@@ -250,7 +253,7 @@ def test_a_raising_callback_is_shown_and_the_server_keeps_serving(
     wait_until(lambda: app.tick_count > ticks + 5)
 
 
-def test_a_raising_tick_does_not_stop_the_loop_or_other_sessions(app: App, connect) -> None:
+def test_a_raising_tick_does_not_stop_the_loop_or_other_sessions(wait_until, app: App, connect) -> None:
     connect(), connect()
     s1, s2 = app.wait_for_sessions(2).values()
     good: list[float] = []
@@ -313,3 +316,26 @@ def test_create_server_hides_share_button_and_sets_camera(monkeypatch: pytest.Mo
     look_at = np.asarray(app.server.initial_camera.look_at)
     assert np.linalg.norm(position - look_at) > 3.0  # the whole scene in view, not inside it
     assert position[2] > look_at[2]  # looking down on the xy plane
+
+
+def test_angle_presets_from_server_and_client(wait_until, app: App, connect) -> None:
+    client = connect()
+    session = next(iter(app.wait_for_sessions(1).values()))
+    scene = session.scene
+    scene.gui_presets.value = "D = 1"
+    np.testing.assert_allclose(body_matrix(session), np.eye(3), atol=ATOL_POSE)
+    client.set_value(scene.gui_presets, "gimbal lock")
+    wait_until(lambda: scene.angles_deg == [30.0, 0.0, 20.0])
+    assert scene.gui_gimbal_note.visible
+    client.set_value(scene.gui_presets, "no such preset")  # a client can send any string
+    wait_until(lambda: scene.angles_deg == list(INITIAL_ANGLES_DEG))
+    assert session.last_error is None
+
+
+def test_reset_view_and_remove(app: App, connect) -> None:
+    session = one_session(app, connect)
+    session.client.camera.position = (9.0, 9.0, 9.0)
+    session.scene.reset_view()
+    np.testing.assert_allclose(session.client.camera.position, INITIAL_CAMERA["position"], atol=1e-9)
+    session.scene.remove()  # the next issue swaps scenes; removing must work
+    assert session.last_error is None
