@@ -4,31 +4,39 @@ Conventions (PHYSICS.md): ``x_space = R_space_body @ x_body``; ``hat(ω_b) = R�
 Euler's equations ``I ω̇_b = (I ω_b) × ω_b``; ``L_space = R I ω_b`` and ``2T = ω_b · I ω_b``
 are conserved.  Times in [s], rates in [rad/s], moments in [kg m^2].
 
-Method (after Celledoni, Fassò, Säfström, Zanna, SIAM J. Sci. Comput. 30 (2008) 2084, with
-every sign re-derived here and checked by the tests):
+Method (the approach of Celledoni, Fassò, Säfström, Zanna, SIAM J. Sci. Comput. 30 (2008)
+2084; every sign re-derived here and checked by tests/test_exact_free.py):
 
-1. Body axes are relabelled (p, q, r) so that the elliptic parameter m is in [0, 1]:
-   with D = |L|² - 2T I_mid, r is the largest axis if D > 0 and the smallest if D < 0
-   (p the other extreme, q the intermediate axis).  A right-handed body frame
-   B = [s_p e_p, ±e_q, s_r e_r] makes ω_z > 0 and ω_x(0) ≥ 0.  In B,
+1. Body axes are relabelled (p, q, r) so that the elliptic parameter m is in [0, 1]: with
+   D = |L|² - 2T I_mid (summed exactly, in rationals), r is the largest axis if D > 0 and the
+   smallest if D < 0; p is the other extreme and q the intermediate axis.  The right-handed
+   body frame B = [s_p e_p, ±e_q, s_r e_r] makes ω_z > 0 and ω_x(0) ≥ 0.  In B,
        ω = (A_p cn u, σ A_q sn u, A_r dn u),   u = λ t + u0,
    σ = +1 if r is the largest axis, -1 if it is the smallest.
-2. The attitude is written with z-x-z angles relative to the fixed direction of L_space:
+2. The attitude is written with z-x-z angles about the fixed direction of L_space:
        R(t) = S · Rz(φ(t)) Rx(θ(t)) Rz(ψ(t)) · Bᵀ,    S = R0 B (Rx(θ0) Rz(ψ0))ᵀ,
-   θ, ψ are algebraic in (sn, cn, dn) (the direction of L in the body), and the precession
-   angle about L obeys
+   where θ, ψ give the direction of L in the body (algebraic in sn, cn, dn) and the angle of
+   precession about L obeys
        φ̇ = |L| (I_p ω_x² + I_q ω_y²) / (L_x² + L_y²)
-         = |L|/I_r + |L| (I_r - I_p)/(I_r I_p) / (1 - ν sn²u),   ν = I_r(I_q - I_p)/(I_p(I_q - I_r)) ≤ 0,
-   i.e. an incomplete elliptic integral of the third kind, evaluated with Carlson's R_J:
-       ∫_0^u du'/(1 - ν sn²u') = u + (ν/3) sn³u R_J(cn²u, dn²u, 1, 1 - ν sn²u),  |u| ≤ K.
-3. Long times: u is reduced modulo 2K (half a period of ω_b); each whole half period adds
-   the same precession Δφ, accumulated as j·Δφ.  On the separatrix (m = 1 exactly) the
-   functions are tanh/sech and the third-kind integral is elementary.
+         = |L|/I_r + |L| (I_r - I_p)/(I_r I_p) / (1 - ν sn²u),
+       ν = I_r (I_q - I_p) / (I_p (I_q - I_r)) ≤ 0,
+   i.e. an incomplete elliptic integral of the third kind ∫ du/(1 - ν sn²u), evaluated with
+   Carlson's R_J in forms free of cancellation (`_ThirdKind`).
+3. Long times: t = j T_half + τ with T_half = 2K/λ; each whole half period adds the same
+   precession Δφ (accumulated as j Δφ mod 2π), so the phases never lose precision.
+   On the separatrix (m = 1 exactly) the functions are tanh/sech and ∫ is elementary.
+   Steady rotations (ω_b an eigenvector of I, or 0) are R0 exp(t hat(ω_b)).
 
-Jacobi's sn, cn, dn are computed here (`jacobi_sn_cn_dn`) by the descending Landen (Gauss)
-transformation written in the ratios sc = sn/cn and cs = cn/sn.  It takes the complementary
-parameter m1 = 1 - m as input, so cn and dn keep their relative accuracy for m → 1, where
-``scipy.special.ellipj`` does not (scipy issue 8480).
+Jacobi's sn, cn, dn (`jacobi_sn_cn_dn`) use the descending Landen (Gauss) transformation
+written in the ratios sc = sn/cn and cs = cn/sn, with the complementary parameter m1 = 1 - m
+as input: cn and dn keep their relative accuracy for m → 1, where ``scipy.special.ellipj``
+does not (scipy issue 8480).
+
+Known limits: when λ is tiny compared with |L|/I (ω_b nearly frozen, e.g. nearly symmetric
+bodies spinning near the degenerate plane) the attitude error grows to ~1e-16 |L|/(I λ) rad.
+Components of ω_b(0) below 1e-145 |ω_b(0)| are treated as 0 and |D|/|L|² below ~1e-290 as
+exactly on the separatrix: near the intermediate axis this changes the motion only after
+~330/λ seconds, the time such a perturbation needs to grow.
 """
 
 from __future__ import annotations
@@ -50,7 +58,8 @@ __all__ = [
     "jacobi_third_kind",
 ]
 
-_LANDEN_STOP = 1e-9  # stop the Landen descent when k < this: then m < 1e-18 and sn = sin to rounding
+# Stop the Landen descent when k < 1e-9: then m < 1e-18 and sn = sin, cn = cos to rounding.
+_LANDEN_STOP = 1e-9
 _MAX_LANDEN_LEVELS = 64
 
 
@@ -120,9 +129,7 @@ def elliptic_k(m: float, m1: float | None = None) -> float:
     return _landen(m, m1).K
 
 
-def _sn_cn_dn_half(
-    u: Array, K_minus_u: Array, ld: _Landen
-) -> tuple[Array, Array, Array]:
+def _sn_cn_dn_half(u: Array, K_minus_u: Array, ld: _Landen) -> tuple[Array, Array, Array]:
     """sn, cn, dn for 0 ≤ u ≤ K.  ``K_minus_u`` = K - u, given separately so that cn keeps its
     precision near u = K.  Gauss/Landen recursion in sc = sn/cn (u ≤ K/2) and cs = cn/sn
     (u > K/2): only products, quotients and sums of positive terms, hence cn and dn are
@@ -132,7 +139,7 @@ def _sn_cn_dn_half(
     x = np.tan(u_N)  # sc (low) or cs (high) at the bottom level, where sn = sin, cn = cos
     s_N2 = np.where(low, np.sin(u_N) ** 2, np.cos(u_N) ** 2)  # sn² at the bottom level
     d = 1.0 - 0.5 * ld.m_last * s_N2
-    for k_i, one_minus, one_plus in reversed(ld.levels):
+    for _k_i, one_minus, one_plus in reversed(ld.levels):
         x2 = x * x
         # sc(z,k) = (1+k1) sc1/dn1,  dn = (1 + (1-k1) sc1²)/(1 + (1+k1) sc1²)
         x_low = one_plus * x / d
@@ -210,18 +217,27 @@ def jacobi_amplitude(u: float | Array, m: float, m1: float | None = None) -> Arr
 # ----------------------------------------------------------------------------------------------
 
 
-class _ThirdKind:
-    """P(u) = ∫_0^u du' / (1 - ν sn²(u'|m)) for ν ≤ 0, on 0 ≤ u ≤ K (and its complete value).
+_TINY_COMPONENT = 1e-145  # relative size of ω_b components treated as zero
+_M1_SEPARATRIX = 1e-290  # below this 1 - m, the free body is taken to be on the separatrix
+_SHIFT_BELOW_M1 = 1e-100  # below this m1, P(u > K/2) is evaluated at v = K - u (see _ThirdKind)
 
-    Three cancellation-free forms, each a sum of terms of one sign (R_J: Carlson, scipy):
-    * u ≤ K/2, |ν| ≤ √m (direct):   P = u + (ν/3) sn³ R_J(cn², dn², 1, 1 - ν sn²).
-    * u ≤ K/2, |ν| > √m (n ↔ m/n):  with n' = m/ν, q = √((1-ν)(1-n')),
+
+class _ThirdKind:
+    """P(u) = ∫_0^u du' / (1 - ν sn²(u'|m)) for ν ≤ 0, 0 ≤ u ≤ K, written P = lin·u + rest.
+
+    Forms without cancellation (R_J: Carlson's integral, scipy.special.elliprj):
+    * |ν| ≤ √m (direct):        P = u + (ν/3) sn³ R_J(cn², dn², 1, 1 - ν sn²).
+    * |ν| > √m (n ↔ m/n):       with n' = m/ν, q = √((1-ν)(1-n')),
           1/(1-ν sn²) + 1/(1-n' sn²) - 1 = d/du [atan(q sn/(cn dn))/q], so
-          P = -(n'/3) sn³ R_J(cn², dn², 1, 1 - n' sn²) + atan2(q sn, cn dn)/q.
-    * u > K/2 (shift to v = K - u, sn(K - v) = cd v; here μ = -ν ≥ 0):
-          P = P_c - [v + μ m1 S/(3(1+μ))]/(1+μ),
-          S = sn³v R_J(cn²v, dn²v, 1, cn²v + m1 sn²v/(1+μ)),
-      whose R_J arguments stay ≥ √m1/2 (scipy's R_J fails when two of them are < 1e-155).
+          P = -(n'/3) sn³ R_J(cn², dn², 1, 1 - n' sn²) + atan2(q sn, cn dn)/q   (lin = 0).
+      Both are sums of terms of one sign; the second keeps P's relative accuracy when |ν| ≫ 1
+      (then P ≪ u and the direct form would cancel).
+    * m1 < 1e-100 and u > K/2: scipy's R_J fails when two arguments are < ~1e-155, and cn², dn²
+      are ~m1 near u = K.  With v = K - u, sn(K - v) = cd v and μ = -ν:
+          P = P_c - [v + μ m1 S/(3(1+μ))]/(1+μ),  S = sn³v R_J(cn²v, dn²v, 1, cn²v + m1 sn²v/(1+μ)),
+      whose R_J arguments stay ≥ √m1/2.
+    Splitting off lin·u lets a caller form P(u) - P(u0) = lin (u - u0) + ... without losing
+    the small difference u - u0 = λ t when λ is tiny.
     """
 
     def __init__(self, nu: float, m: float, m1: float, ld: _Landen) -> None:
@@ -234,26 +250,34 @@ class _ThirdKind:
         elif self.reciprocal:
             n_r = m / nu
             self.n_r, self.q = n_r, math.sqrt((1.0 - nu) * (1.0 - n_r))
-            self.complete = -n_r / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 - n_r)) + 0.5 * math.pi / self.q
+            rj = float(elliprj(0.0, m1, 1.0, 1.0 - n_r))
+            self.complete = -n_r / 3.0 * rj + 0.5 * math.pi / self.q
         else:
             self.complete = ld.K + nu / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 - nu))
+        self.shift = nu != 0.0 and m1 < _SHIFT_BELOW_M1
+        mu = -nu
+        self._high_const = self.complete - ld.K / (1.0 + mu)
 
-    def __call__(self, a: Array, K_minus_a: Array, sn: Array, cn: Array, dn: Array) -> Array:
-        """P(a) for 0 ≤ a ≤ K, given K - a and the Jacobi functions at a (all (N,))."""
+    def parts(
+        self, a: Array, K_minus_a: Array, sn: Array, cn: Array, dn: Array
+    ) -> tuple[Array, Array]:
+        """(lin, rest) with P(a) = lin·a + rest, for 0 ≤ a ≤ K, given K - a and the Jacobi
+        functions at a (all (N,))."""
         nu = self.nu
         if nu == 0.0:
-            return np.array(a, dtype=float, copy=True)
-        low = a <= K_minus_a
-        P = np.empty_like(a)
+            return np.ones_like(a), np.zeros_like(a)
+        low = a <= K_minus_a if self.shift else np.ones(a.shape, dtype=bool)
+        lin, rest = np.empty_like(a), np.empty_like(a)
         if np.any(low):
             s, c, d = sn[low], cn[low], dn[low]
             s2 = s * s
             if self.reciprocal:
                 rj = elliprj(c * c, d * d, 1.0, 1.0 - self.n_r * s2)
-                P[low] = -self.n_r / 3.0 * s2 * s * rj + np.arctan2(self.q * s, c * d) / self.q
+                lin[low] = 0.0
+                rest[low] = -self.n_r / 3.0 * s2 * s * rj + np.arctan2(self.q * s, c * d) / self.q
             else:
-                rj = elliprj(c * c, d * d, 1.0, 1.0 - nu * s2)
-                P[low] = a[low] + nu / 3.0 * s2 * s * rj
+                lin[low] = 1.0
+                rest[low] = nu / 3.0 * s2 * s * elliprj(c * c, d * d, 1.0, 1.0 - nu * s2)
         high = ~low
         if np.any(high):
             s, c, d = sn[high], cn[high], dn[high]
@@ -261,21 +285,30 @@ class _ThirdKind:
             sv, cv, dv = c / d, kp * s / d, kp / d  # sn, cn, dn at v = K - a
             mu = -nu
             S = sv**3 * elliprj(cv * cv, dv * dv, 1.0, cv * cv + self.m1 * sv * sv / (1.0 + mu))
-            Q = (K_minus_a[high] + mu * self.m1 * S / (3.0 * (1.0 + mu))) / (1.0 + mu)
-            P[high] = self.complete - Q
-        return P
+            lin[high] = 1.0 / (1.0 + mu)
+            rest[high] = self._high_const - mu * self.m1 * S / (3.0 * (1.0 + mu) ** 2)
+        return lin, rest
+
+    def __call__(self, a: Array, K_minus_a: Array, sn: Array, cn: Array, dn: Array) -> Array:
+        """P(a) for 0 ≤ a ≤ K."""
+        lin, rest = self.parts(a, K_minus_a, sn, cn, dn)
+        return lin * a + rest
+
+
+def _pi_separatrix_parts(u: Array, nu: float) -> tuple[float, Array]:
+    """m = 1: ∫_0^u du'/(1 - ν tanh²u') = (u + √μ atan(√μ tanh u))/(1 + μ), μ = -ν ≥ 0,
+    returned as (lin, rest) with the integral = lin·u + rest."""
+    mu = -nu
+    rt = math.sqrt(mu)
+    return 1.0 / (1.0 + mu), rt * np.arctan(rt * np.tanh(u)) / (1.0 + mu)
 
 
 def _pi_separatrix(u: Array, nu: float) -> Array:
-    """m = 1: ∫_0^u du'/(1 - ν tanh²u') = (u + √μ atan(√μ tanh u))/(1 + μ), μ = -ν ≥ 0."""
-    mu = -nu
-    rt = math.sqrt(mu)
-    return (u + rt * np.arctan(rt * np.tanh(u))) / (1.0 + mu)
+    lin, rest = _pi_separatrix_parts(u, nu)
+    return lin * u + rest
 
 
-def jacobi_third_kind(
-    u: float | Array, nu: float, m: float, m1: float | None = None
-) -> Array:
+def jacobi_third_kind(u: float | Array, nu: float, m: float, m1: float | None = None) -> Array:
     """∫_0^u du' / (1 - ν sn²(u'|m)) for real u and ν ≤ 0, i.e. Legendre's Π(ν; am u | m).
 
     Quasi-periodic: value(u + 2K) = value(u) + 2 value(K).  Arguments m, m1 as
@@ -330,12 +363,11 @@ def _sandwich(S: Mat3, M: Array, T: Mat3) -> Array:
 
 def _rotation_about(axis: Vec3, angle: Array) -> Array:
     """exp(angle hat(axis)) for a unit axis (3,) and angles (N,) [rad] -> (N, 3, 3) (Rodrigues)."""
-    K = np.array(
-        [[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]]
-    )
+    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
     s = np.sin(angle)[..., None, None]
     h = np.sin(0.5 * angle)[..., None, None]
-    return np.eye(3) + s * K + (2.0 * h * h) * (K @ K)
+    R: Array = np.eye(3) + s * K + (2.0 * h * h) * (K @ K)
+    return R
 
 
 class FreeBodyExact:
@@ -379,29 +411,26 @@ class FreeBodyExact:
         order = np.argsort(inertia, kind="stable")
         a, b, c = (int(i) for i in order)
         I = inertia
-        w = omega0
+        # Components below 1e-145 |ω| are dropped: they would matter only after ~330/λ s (near
+        # the intermediate axis) and their squares leave the floating-point range.
+        w = np.where(np.abs(omega0) < _TINY_COMPONENT * np.max(np.abs(omega0)), 0.0, omega0)
         # D = |L|² - 2T I_b (the b term is exactly zero), in exact rational arithmetic on the
         # given floats: near the separatrix D is a small difference and m1 = 1 - m ∝ D.
         Fa, Fb, Fc = (Fraction(float(x)) for x in (I[a], I[b], I[c]))
-        D_exact = Fa * (Fa - Fb) * Fraction(float(w[a])) ** 2 + Fc * (Fc - Fb) * Fraction(
-            float(w[c])
-        ) ** 2
+        D_exact = (
+            Fa * (Fa - Fb) * Fraction(float(w[a])) ** 2
+            + Fc * (Fc - Fb) * Fraction(float(w[c])) ** 2
+        )
         separatrix = D_exact == 0 and I[a] < I[b] < I[c] and w[a] != 0.0 and w[c] != 0.0
         self._steady = bool(D_exact == 0 and not separatrix) or not np.any(w != 0.0)
         if self._steady:
-            # ω_b is an eigenvector of I (or zero): ω_b constant, R = R0 exp(t hat(ω_b)).
-            self.m = 0.0
-            self.omega_period = 0.0
-            speed = float(np.linalg.norm(w))
-            self._spin_rate = speed
-            self._spin_axis = w / speed if speed > 0.0 else np.array([0.0, 0.0, 1.0])
+            self._init_steady()
             return
 
         if D_exact >= 0:
             r, p, q, sigma = c, a, b, 1.0
         else:
             r, p, q, sigma = a, c, b, -1.0
-        self._separatrix = bool(separatrix)
 
         # Work with ω scaled to O(1); rates are multiplied back by `scale`.
         scale = float(np.max(np.abs(w)))
@@ -418,17 +447,28 @@ class FreeBodyExact:
         A_q = math.sqrt(g_r / (Iq * (Iq - Ir)))
         A_r = math.sqrt(g_p / (Ir * (Ir - Ip)))
         lam = math.sqrt((Ir - Iq) * g_p / (Ip * Iq * Ir))
-        m1 = max(0.0, g_q * (Ir - Ip) / ((Ir - Iq) * g_p))
+        if lam == 0.0:
+            # Only when the deviation from a steady rotation underflows (e.g. ω = (0, 1, 1e-285)
+            # on a symmetric body): ω_b changes at a rate below 1e-300 rad/s², treat as steady.
+            self._steady = True
+            self._init_steady()
+            return
+        m1 = min(1.0, max(0.0, g_q * (Ir - Ip) / ((Ir - Iq) * g_p)))
         m = min(1.0, max(0.0, (Iq - Ip) * g_r / ((Iq - Ir) * g_p)))
-        if separatrix:
+        # m + m1 = 1; keep whichever is small as computed (it carries the relative accuracy)
+        m, m1 = (m, 1.0 - m) if m < 0.5 else (1.0 - m1, m1)
+        if separatrix or m1 < _M1_SEPARATRIX:
+            # m1 < 1e-290 (|D|/|L|² below ~1e-290, beyond scipy's R_J and near underflow) is
+            # taken as the separatrix: the two motions differ only after ~330/λ seconds.  If it
+            # starts at the saddle itself (cn0 = 0 below), the rotation is taken as steady.
             m, m1 = 1.0, 0.0
         nu = Ir * (Iq - Ip) / (Ip * (Iq - Ir))
         kappa = math.sqrt(Iq * (Ip - Ir) / (Ip * (Iq - Ir)))  # = sqrt(1 - ν) = I_q A_q/(I_p A_p)
         L_norm = math.sqrt(float(np.sum((I * ws) ** 2)))
 
         # Right-handed body frame B = [b1 b2 b3] (columns, body components).
-        s_r = 1.0 if ws[r] > 0.0 else -1.0
-        s_p = 1.0 if ws[p] >= 0.0 else -1.0
+        s_r = 1.0 if w[r] > 0.0 else -1.0
+        s_p = 1.0 if w[p] >= 0.0 else -1.0
         e = np.eye(3)
         b3, b1 = s_r * e[r], s_p * e[p]
         B = np.column_stack([b1, np.cross(b3, b1), b3])
@@ -438,12 +478,21 @@ class FreeBodyExact:
         y0, x0 = sigma * wB[1] * A_p, wB[0] * A_q
         h = math.hypot(y0, x0)
         sn0, cn0 = (y0 / h, x0 / h) if h > 0.0 else (0.0, 1.0)
-        dn0 = math.sqrt(m1 + m * cn0 * cn0)
-        u0 = sn0 * float(elliprf(cn0 * cn0, dn0 * dn0, 1.0))  # F(am u0 | m), |am u0| ≤ π/2
+        if m1 == 0.0 and cn0 == 0.0:
+            self._steady = True
+            self._init_steady()
+            return
+        if m1 == 0.0:  # sn = tanh u, cn = sech u
+            u0 = math.asinh(sn0 / cn0)
+        else:  # F(am u0 | m), |am u0| ≤ π/2
+            dn0 = math.sqrt(m1 + m * cn0 * cn0)
+            u0 = sn0 * float(elliprf(cn0 * cn0, dn0 * dn0, 1.0))
 
         self.m = m
         self._m1 = m1
         self._ld = None if m1 == 0.0 else _landen(m, m1)
+        if self._ld is not None:  # |u0| ≤ K (R_F and the Landen product may differ by an ulp)
+            u0 = min(max(u0, -self._ld.K), self._ld.K)
         self._B = B
         self._amp = np.array([A_p, sigma * A_q, A_r]) * scale  # ω_B = amp * (cn, sn, dn)
         self._Ipqr = np.array([Ip, Iq, Ir])
@@ -455,41 +504,56 @@ class FreeBodyExact:
         # φ̇ = a_phi + c_phi / (1 - ν sn²u)  (a_phi + c_phi = |L|/I_p).
         self._a_phi = L_norm / Ir * scale
         self._c_phi = L_norm * (Ir - Ip) / (Ir * Ip) * scale
-        one = np.ones(1)
         if self._ld is None:  # separatrix: no period
             self.omega_period = math.inf
-            self._P0 = float(_pi_separatrix(np.array([u0]), nu)[0])
+            self._half_period = math.inf
         else:
             K = self._ld.K
             self._P3 = _ThirdKind(nu, m, m1, self._ld)
-            a0 = abs(u0)
-            P0 = self._P3(a0 * one, (K - a0) * one, abs(sn0) * one, cn0 * one, dn0 * one)[0]
-            self._P0 = math.copysign(P0, u0)
             self._half_period = 2.0 * K / self._lam  # of am(u): ω_x, ω_y change sign, ω_z repeats
             self.omega_period = 2.0 * self._half_period
             # Precession about L during one half period (every one is the same).
-            self._dphi_half = self._a_phi * self._half_period + 2.0 * self._c_phi * self._P3.complete / self._lam
+            self._dphi_half = (
+                self._a_phi * self._half_period + 2.0 * self._c_phi * self._P3.complete / self._lam
+            )
+        # The Jacobi functions and P at u0, computed exactly as at later times, so that
+        # R(0) = R0 and φ(0) = 0 to rounding.
+        self._lin0, self._rest0 = 0.0, 0.0
+        jac0 = self._jacobi_and_pi(np.zeros(1), want_pi=True)
+        self._lin0, self._rest0 = float(jac0[5][0]), float(jac0[6][0])
 
         # Fixed frame S = R0 B (Rx(θ0) Rz(ψ0))ᵀ, so that φ(0) = 0.
-        E0 = self._euler_part(np.zeros(1), sn0 * one, cn0 * one, dn0 * one)[0]
+        E0 = self._euler_part(np.zeros(1), jac0[0], jac0[1], jac0[2])[0]
         self._S = R0 @ B @ E0.T
+
+    def _init_steady(self) -> None:
+        """ω_b is an eigenvector of I (or zero): ω_b constant, R = R0 exp(t hat(ω_b))."""
+        w = self.omega0_body
+        self.m = 0.0
+        self.omega_period = 0.0
+        speed = float(np.linalg.norm(w))
+        self._spin_rate = speed
+        self._spin_axis = w / speed if speed > 0.0 else np.array([0.0, 0.0, 1.0])
 
     # --- pieces -------------------------------------------------------------------------------
 
-    def _phases(self, t: Array, want_phi: bool = True) -> tuple[Array, Array, Array, Array]:
-        """(sn, cn, dn, φ) at times t (N,): Jacobi functions of u = λ t + u0 and the precession
-        angle φ [rad] about L (reduced mod 2π for long times; zeros unless `want_phi`)."""
+    def _jacobi_and_pi(
+        self, t: Array, want_pi: bool
+    ) -> tuple[Array, Array, Array, Array, Array, Array, Array]:
+        """At times t (N,): (sn, cn, dn) of u = λ t + u0, the reduced time τ = t - j T_half,
+        the half-period count j, and the signed parts (lin, rest) of P(r), r = u0 + λ τ
+        (zeros unless `want_pi`)."""
         lam = self._lam
-        if self._ld is None:  # separatrix
+        if self._ld is None:  # separatrix: u = r, no reduction
             u = self._u0 + lam * t
             sn, cn, dn = np.tanh(u), _sech(u), _sech(u)
-            phi = np.zeros_like(u)
-            if want_phi:
-                dP = _pi_separatrix(u, self._nu) - self._P0
-                phi = self._a_phi * t + self._c_phi / lam * dP
-            return sn, cn, dn, phi
+            lin, rest = (np.zeros_like(u), np.zeros_like(u))
+            if want_pi:
+                lin_s, rest = _pi_separatrix_parts(u, self._nu)
+                lin = np.full_like(u, lin_s)
+            return sn, cn, dn, t, np.zeros_like(t), lin, rest
         K = self._ld.K
-        # t = j T_half + tau with u(tau) = u0 + λ tau in [-K, K]: phases never lose precision.
+        # t = j T_half + τ with r = u0 + λ τ in [-K, K]: phases never lose precision.
         j = np.round((self._u0 + lam * t) / (2.0 * K))
         tau = t - j * self._half_period
         r = self._u0 + lam * tau
@@ -499,12 +563,26 @@ class FreeBodyExact:
         sign_r = np.where(r < 0.0, -1.0, 1.0)
         parity = 1.0 - 2.0 * np.mod(j, 2.0)  # sn, cn change sign every half period
         sn, cn = sign_r * sn_a * parity, cn_r * parity
+        lin, rest = np.zeros_like(t), np.zeros_like(t)
+        if want_pi:
+            lin, rest = self._P3.parts(a, K_minus_a, sn_a, cn_r, dn)
+            rest = sign_r * rest
+        return sn, cn, dn, tau, j, lin, rest
+
+    def _phases(self, t: Array, want_phi: bool = True) -> tuple[Array, Array, Array, Array]:
+        """(sn, cn, dn, φ) at times t (N,): Jacobi functions of u = λ t + u0 and the precession
+        angle φ [rad] about L (reduced mod 2π for long times; zeros unless `want_phi`).
+
+        φ = a_φ t + (c_φ/λ) (P(u) - P(u0)); with P = lin·u + rest and u - u0 = λ τ + 2jK,
+        P(u) - P(u0) = lin λ τ + (lin - lin0) u0 + rest - rest0 + 2j P_c, and the whole half
+        periods j contribute j Δφ, reduced modulo 2π."""
+        sn, cn, dn, tau, j, lin, rest = self._jacobi_and_pi(t, want_phi)
         if not want_phi:
             return sn, cn, dn, np.zeros_like(t)
-        P = sign_r * self._P3(a, K_minus_a, sn_a, cn_r, dn)
-        # Whole half periods add j Δφ, reduced modulo 2π; the rest spans at most one period.
-        whole = np.remainder(j * self._dphi_half, 2.0 * math.pi)
-        phi = self._a_phi * tau + self._c_phi / lam * (P - self._P0) + whole
+        dP = lin * (self._lam * tau) + (lin - self._lin0) * self._u0 + (rest - self._rest0)
+        phi = self._a_phi * tau + self._c_phi / self._lam * dP
+        if self._ld is not None:
+            phi = phi + np.remainder(j * self._dphi_half, 2.0 * math.pi)
         return sn, cn, dn, phi
 
     def _euler_part(self, phi: Array, sn: Array, cn: Array, dn: Array) -> Array:

@@ -1,12 +1,17 @@
-"""Screenshot of the Euler-angle explorer in headless Chromium, for the docs.
+"""Screenshots of the lecture app's scenes in headless Chromium, for the docs.
 
-    python3 scripts/screenshot.py [--out docs/img/explorer.png] [--angles 30 50 20]
-                                  [--size 1280x800] [--chromium /usr/lib/chromium/chromium]
+    python3 scripts/screenshot.py                       # all three into docs/img/
+    python3 scripts/screenshot.py --scenes top --outdir /tmp/shots --size 1920x1080
+
+Shots (each from the running app, through a real browser):
+    scene_euler.png  Euler angles at (30°, 50°, 20°), ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′ drawn, D read out.
+    scene_free.png   the Dzhanibekov preset playing, caught mid-flip, with the Plots tab open.
+    scene_top.png    the heavy top's "Loop" preset after a few seconds, with its tip trace.
 
 Starts the app on a loopback ephemeral port, opens it in Debian's Chromium through Playwright
-(software WebGL via SwiftShader, the flags of shared/VISER.md), sets the angles server-side on
-that browser's session, waits for the scene to settle and writes the PNG.  Needs
-`apt-get install chromium` and `pip install playwright` (no `playwright install` step).
+(software WebGL via SwiftShader, the flags of shared/VISER.md), drives that browser's session
+from the server side (scene, preset, play), waits for the scene to settle and writes the PNGs.
+Needs `apt-get install chromium` and `pip install playwright` (no `playwright install` step).
 """
 
 from __future__ import annotations
@@ -14,7 +19,9 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -33,58 +40,104 @@ CHROMIUM_ARGS = [
     "--disable-component-update",
     "--disable-sync",
 ]
+SCENES = ("euler", "free", "top")
 
 
-def take_screenshot(
-    out: Path,
-    angles_deg: tuple[float, float, float] | None,
+def _wait_for(predicate: Callable[[], Any], timeout: float) -> None:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise TimeoutError("the scene did not reach the state for the screenshot")
+        time.sleep(0.01)
+
+
+def _close_toasts(page: Any) -> None:
+    toasts = page.locator(".mantine-Notification-closeButton")  # "software WebGL" notice
+    for i in range(toasts.count()):
+        toasts.nth(i).click(force=True)
+
+
+def _prepare(page: Any, session: Any, scene: str) -> None:
+    """Bring `session` (the page's) to the state of the shot; returns when it is time to shoot."""
+    if scene == "euler":
+        session.scene.set_angles_deg(30.0, 50.0, 20.0)
+        page.get_by_role("tab", name="ω").click()
+        time.sleep(1.5)
+        return
+    if scene == "free":
+        session.select_scene("Free body")
+        session.apply_preset("Dzhanibekov")
+        page.get_by_text("Free body (no torque)").wait_for(timeout=30_000)
+        page.get_by_role("tab", name="Plots").click()
+        time.sleep(1.5)
+        session.play()
+        # Mid-flip: ω_y′ (the intermediate axis) on its way through zero for the first time;
+        # then slow motion (0.1x), so that the software renderer's frame matches the labels.
+        _wait_for(lambda: session.scene.state.omega_body[1] < 2.5, 30.0)
+        session.scene.controls.gui_time_scale.value = 0.1
+        time.sleep(2.0)
+        return
+    if scene == "top":
+        session.select_scene("Heavy top")
+        session.apply_preset("Loop")
+        page.get_by_text("Heavy symmetric top").wait_for(timeout=30_000)
+        time.sleep(1.0)
+        session.play()
+        _wait_for(lambda: session.scene.state.t > 5.5, 60.0)
+        session.scene.controls.gui_time_scale.value = 0.1
+        time.sleep(2.0)
+        return
+    raise ValueError(f"unknown scene {scene!r}; choose from {', '.join(SCENES)}")
+
+
+def take_screenshots(
+    outdir: Path,
+    scenes: tuple[str, ...] = SCENES,
     width: int = 1280,
     height: int = 800,
     chromium: str = CHROMIUM,
-    expand: tuple[str, ...] = (),
-) -> Path:
-    """Start the app, shoot one PNG of it into `out`, stop the app; returns `out`."""
+) -> list[Path]:
+    """Start the app, shoot one PNG per scene into `outdir`, stop the app; the paths."""
     from playwright.sync_api import sync_playwright
 
     app = create_server("127.0.0.1", 0, verbose=False)
+    written = []
     try:
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=chromium, headless=True, args=CHROMIUM_ARGS)
             try:
-                page = browser.new_page(viewport={"width": width, "height": height})
-                page.goto(f"http://127.0.0.1:{app.port}")
-                session = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
-                page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-                if angles_deg is not None:
-                    session.scene.set_angles_deg(*angles_deg)
-                for label in expand:
-                    page.get_by_text(label, exact=True).first.click()
-                time.sleep(2.0)  # objects fade in (VISER.md pitfall 6)
-                toasts = page.locator(".mantine-Notification-closeButton")
-                for i in range(toasts.count()):
-                    toasts.nth(i).click(force=True)
-                time.sleep(1.0)
-                out.parent.mkdir(parents=True, exist_ok=True)
-                page.screenshot(path=str(out))
+                for scene in scenes:
+                    page = browser.new_page(viewport={"width": width, "height": height})
+                    page.goto(f"http://127.0.0.1:{app.port}")
+                    session = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
+                    page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
+                    time.sleep(1.0)
+                    _close_toasts(page)
+                    _prepare(page, session, scene)
+                    _close_toasts(page)
+                    out = outdir / f"scene_{scene}.png"
+                    out.parent.mkdir(parents=True, exist_ok=True)
+                    page.screenshot(path=str(out))
+                    written.append(out)
+                    page.close()
+                    app.wait_for_sessions(0, timeout=10.0)
             finally:
                 browser.close()
     finally:
         app.stop()
-    return out
+    return written
 
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "img" / "explorer.png")
-    parser.add_argument("--angles", type=float, nargs=3, metavar=("PHI", "THETA", "PSI"),
-                        default=(30.0, 50.0, 20.0), help="z-x-z angles [deg] set before the shot")
+    parser.add_argument("--outdir", type=Path, default=ROOT / "docs" / "img")
+    parser.add_argument("--scenes", nargs="*", default=list(SCENES), choices=SCENES)
     parser.add_argument("--size", default="1280x800", help="viewport WIDTHxHEIGHT [px]")
     parser.add_argument("--chromium", default=CHROMIUM)
-    parser.add_argument("--expand", nargs="*", default=[], help="GUI folder titles to click open")
     args = parser.parse_args(argv)
     width, height = (int(n) for n in args.size.lower().split("x"))
-    path = take_screenshot(args.out, tuple(args.angles), width, height, args.chromium, tuple(args.expand))
-    print(path)
+    for path in take_screenshots(args.outdir, tuple(args.scenes), width, height, args.chromium):
+        print(path)
 
 
 if __name__ == "__main__":

@@ -131,6 +131,36 @@ def connect(app: App) -> Iterator[Callable[[], RawClient]]:
         client.close()
 
 
+class Manual:
+    """The app without its loop (the test ticks by hand), one raw client and its session."""
+
+    def __init__(self, app: App) -> None:
+        self.app = app
+        self.client = RawClient(app.port)
+        self.session = next(iter(app.wait_for_sessions(1).values()))
+
+    def tick(self, seconds: float, dt: float = 1.0 / 60.0) -> None:
+        """Tick the session as the loop would, `seconds` of wall time in steps of dt."""
+        for _ in range(int(round(seconds / dt))):
+            self.session.tick(dt)
+
+
+@pytest.fixture
+def manual() -> Iterator[Manual]:
+    """The app on an ephemeral port with its loop NOT running, one RawClient connected."""
+    from app.main import create_server
+
+    running = create_server("127.0.0.1", 0, verbose=False, start_loop=False)
+    harness = None
+    try:
+        harness = Manual(running)
+        yield harness
+    finally:
+        if harness is not None:
+            harness.client.close()
+        running.stop()
+
+
 def _browser_missing() -> str | None:
     try:
         import playwright.sync_api  # noqa: F401

@@ -1,8 +1,13 @@
-"""End-to-end: the explorer in headless Chromium (SwiftShader WebGL), driven by Playwright.
+"""End-to-end: the lecture app in headless Chromium (SwiftShader WebGL), driven by Playwright.
 
-One test (~10 s): the page loads, the θ slider is moved with the keyboard on its Mantine
-thumb, the server sees the new value, and the rendered scene changes (clipped screenshots
-before and after differ).  Needs Debian's Chromium: `apt-get install chromium`.
+Two tests, each combining several checks (a browser test costs ~10-15 s on 2 cores):
+1. Euler angles: the page loads; θ moved with the keyboard on its Mantine thumb reaches the
+   server and changes the rendered scene (clipped screenshots differ); Play makes the body
+   move and the θ slider follow (its aria-valuenow changes, with no feedback loop).
+2. Free body in one browser context, a second context alongside: the scene is chosen in the
+   dropdown, the Dzhanibekov preset played; invalid moments typed into the I3 box show a
+   message while the body keeps moving; the other context's session is untouched.
+Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
@@ -20,7 +25,7 @@ from app.main import App
 pytestmark = pytest.mark.browser
 
 SCENE_CLIP = {"x": 0, "y": 0, "width": 860, "height": 800}  # left of the GUI panel
-MIN_CHANGED_FRACTION = 0.005  # θ 50° -> 179° turns the body over: far more than 0.5 % of pixels
+MIN_CHANGED_FRACTION = 0.005  # a visible change of the body: far more than 0.5 % of pixels
 
 
 def changed_fraction(png_a: bytes, png_b: bytes) -> float:
@@ -30,13 +35,27 @@ def changed_fraction(png_a: bytes, png_b: bytes) -> float:
     return float(np.mean(np.any(np.abs(a - b) > 8, axis=-1)))
 
 
-def test_theta_slider_in_the_browser_moves_the_body(wait_until, app: App, page) -> None:
+def open_app(page, app: App, sessions: int = 1):
+    """Load the app; its session (the newest one); the software-WebGL toast closed."""
+    before = set(app.sessions)
     page.goto(f"http://127.0.0.1:{app.port}")
-    (session,) = app.wait_for_sessions(1, timeout=30.0).values()
+    current = app.wait_for_sessions(sessions, timeout=30.0)
+    (session,) = (s for cid, s in current.items() if cid not in before)
     page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    toasts = page.locator(".mantine-Notification-closeButton")  # "software WebGL" notice
+    toasts = page.locator(".mantine-Notification-closeButton")
     for i in range(toasts.count()):
         toasts.nth(i).click(force=True)
+    return session
+
+
+def slider_thumb(page, handle):
+    """The Mantine thumb of a viser slider (its root's id is the GUI uuid)."""
+    return page.locator(f'[id="{handle._impl.uuid}"] [role="slider"]')
+
+
+def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    scene = session.scene
     time.sleep(1.5)  # nodes fade in
     before = page.screenshot(clip=SCENE_CLIP)
     time.sleep(0.5)
@@ -45,19 +64,74 @@ def test_theta_slider_in_the_browser_moves_the_body(wait_until, app: App, page) 
 
     # The slider root's id is the GUI uuid; its <label for=...> carries the text.
     uuid = page.locator("label", has_text=re.compile(r"^θ")).first.get_attribute("for")
-    assert uuid == session.scene.gui_theta._impl.uuid
-    thumb = page.locator(f'[id="{uuid}"] [role="slider"]')
+    assert uuid == scene.gui_theta._impl.uuid
+    thumb = slider_thumb(page, scene.gui_theta)
     thumb.focus()
     page.keyboard.press("End")
-    wait_until(lambda: session.scene.angles_deg[1] == 180.0, timeout=10.0)
+    wait_until(lambda: scene.angles_deg[1] == 180.0, timeout=10.0)
     assert thumb.get_attribute("aria-valuenow") == "180"
-    page.get_by_text("Gimbal lock").wait_for(timeout=5_000)  # θ = 180°: the GUI says so
-
+    page.get_by_text("Gimbal lock").first.wait_for(timeout=5_000)  # θ = 180°: the GUI says so
     page.keyboard.press("ArrowLeft")  # one step: 179°
-    wait_until(lambda: session.scene.angles_deg[1] == 179.0, timeout=10.0)
+    wait_until(lambda: scene.angles_deg[1] == 179.0, timeout=10.0)
     time.sleep(1.0)
-    after = page.screenshot(clip=SCENE_CLIP)
-    changed = changed_fraction(before, after)
-    print(f"changed pixels: still {unchanged:.4%}, after θ 50° -> 179° {changed:.2%}")
+    turned = page.screenshot(clip=SCENE_CLIP)
+    changed = changed_fraction(before, turned)
     assert changed > MIN_CHANGED_FRACTION
+
+    # Play: θ advances at dθ/dt = 10°/s (wrapping below 180°); the slider follows.
+    page.get_by_role("button", name="Play").click()
+    wait_until(lambda: scene.playing, timeout=10.0)
+    wait_until(lambda: thumb.get_attribute("aria-valuenow") not in ("179", "180"), timeout=10.0)
+    value = float(thumb.get_attribute("aria-valuenow"))
+    assert 150.0 < value < 179.0
+    assert scene.playing  # the slider's own update did not pause (no feedback)
+    moving = page.screenshot(clip=SCENE_CLIP)
+    time.sleep(0.7)
+    assert changed_fraction(moving, page.screenshot(clip=SCENE_CLIP)) > MIN_CHANGED_FRACTION
+    print(f"changed pixels: still {unchanged:.4%}, θ 50° -> 179° {changed:.2%}; slider followed to {value}")
     assert session.last_error is None
+
+
+def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
+    wait_until, app: App, browser
+) -> None:
+    contexts = [browser.new_context(viewport={"width": 1280, "height": 800}) for _ in range(2)]
+    try:
+        page, other_page = (context.new_page() for context in contexts)
+        session = open_app(page, app, sessions=1)
+        other = open_app(other_page, app, sessions=2)
+        assert other is not session
+
+        page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
+        page.get_by_role("option", name="Free body").click()
+        wait_until(lambda: session.scene.title == "Free body", timeout=10.0)
+        page.get_by_role("button", name="Dzhanibekov").click()
+        page.get_by_role("button", name="Play").click()
+        scene = session.scene
+        wait_until(lambda: scene.playing and scene.state.t > 0.3, timeout=10.0)
+        theta = slider_thumb(page, scene.gui_angles[1])
+        first = theta.get_attribute("aria-valuenow")
+        wait_until(lambda: theta.get_attribute("aria-valuenow") != first, timeout=10.0)  # follows
+
+        # I3 = 4.9 > I1 + I2: typed into the number box beside the slider.
+        box = page.locator(f'[id="{scene.gui_params[2]._impl.uuid}"]').locator("xpath=..").locator(
+            "input.mantine-NumberInput-input")
+        box.fill("4.9")
+        box.press("Enter")
+        page.get_by_text("Not a rigid body").first.wait_for(timeout=10_000)
+        assert scene.model.inertia == (0.3, 0.75, 1.0) and scene.playing
+        t = scene.state.t
+        time.sleep(0.3)
+        shot = page.screenshot(clip=SCENE_CLIP)
+        time.sleep(0.7)
+        assert changed_fraction(shot, page.screenshot(clip=SCENE_CLIP)) > MIN_CHANGED_FRACTION
+        assert scene.state.t > t + 0.5  # the body keeps moving
+
+        # The other browser: its own session, still the Euler scene, not playing, unchanged.
+        assert other.scene.title == "Euler angles" and not other.scene.playing
+        assert other.scene.angles_deg == [30.0, 50.0, 20.0]
+        assert other_page.locator(f'[id="{other.gui_scene._impl.uuid}"]').input_value() == "Euler angles"
+        assert session.last_error is None and other.last_error is None
+    finally:
+        for context in contexts:
+            context.close()

@@ -1,0 +1,280 @@
+"""The heavy symmetric top on a fixed pivot ("Heavy top" scene).
+
+Models only what it needs: `Model(inertia=(I1, I1, I3), mgl=m g ℓ)`: I1 = I2 about the pivot,
+the centre of mass on the body z′ axis at ℓ from the pivot, gravity along space −z, so the
+torque about the pivot is M = −mgl e_z′ × e_z and V = mgl cos θ.  Conserved: E = T + V,
+L_z = L·e_z (= p_φ) and ω_z′ (p_ψ = I3 ω_z′).  The closed form (`exact`) exists for every
+parameter set of this scene, since it is always symmetric (I1 = I2).
+
+Drawn: a disc on a rod (pivot at the origin, on a stand), the disc painted in sectors so the
+spin shows, and the trace of the symmetry-axis tip: a polyline of the last TRACE_SECONDS of
+simulated time, stored in chunks of CHUNK_POINTS points so that a frame only sends the short
+newest chunk (bounded memory: at most TRACE_SECONDS / TRACE_SPACING points).
+
+Presets: the classic patterns of the tip with θ̇(0) = 0 at θ(0) = 60° (I1 = 1, I3 = 0.5,
+mgl = 6, ω_z′ = 12 rad/s): steady precession (φ̇(0) on the slow root of
+I1 cos θ φ̇² − I3 ω_z′ φ̇ + mgl = 0), waves (φ̇(0) = half of it), loops (φ̇(0) = minus half) and
+cusps (φ̇(0) = 0: the tip starts at rest at the top turning point); a sleeping top (near θ = 0,
+ω_z′² > 4 I1 mgl / I3²) and one spinning too slowly to sleep.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from app.common import GIMBAL_LOCK_DEG, CameraView, polyline_segments, striped_parts
+from app.simulation import LABEL_SCALE, Preset, SimulationScene, SliderSpec
+from physics._types import Vec3
+from physics.dynamics import Model, State, angular_momentum_space
+from physics.euler import euler_rates_from_omega_body, omega_body_from_euler_rates
+
+__all__ = ["HeavyTopScene", "PRESETS", "TipTrace", "steady_precession_rate"]
+
+ROD_LENGTH = 1.3  # [scene units] pivot to the tip of the symmetry axis (the traced point)
+DISC_CENTER = 0.85  # [scene units] along z′
+DISC_THICKNESS = 0.1
+STAND_HEIGHT = 1.3  # the stand's base (and the grid) at z = -STAND_HEIGHT
+TRACE_SECONDS = 12.0  # [s] of simulated time kept in the trace
+TRACE_SPACING = 1.0 / 60.0  # [s] of simulated time between stored trace points
+CHUNK_POINTS = 30
+TRACE_COLOR = (200, 0, 120)
+STRIPES = ((200, 40, 40), (250, 235, 210))
+ROD_COLOR = (90, 90, 100)
+
+
+def steady_precession_rate(I1: float, I3: float, mgl: float, spin: float, theta: float) -> float:
+    """The slow steady-precession rate φ̇ [rad/s] at θ [rad] (θ̇ = θ̈ = 0).
+
+    From θ̈ = 0 in Lagrange's equation of θ: mgl = φ̇ (I3 ω_z′ − I1 φ̇ cos θ), i.e.
+    I1 cos θ φ̇² − I3 ω_z′ φ̇ + mgl = 0; the root that tends to mgl / (I3 ω_z′) for a fast top.
+    ValueError if the spin is too slow for steady precession at this θ.
+    """
+    a, b, c = I1 * math.cos(theta), I3 * spin, mgl
+    if abs(a) < 1e-12:
+        return c / b
+    disc = b * b - 4.0 * a * c
+    if disc < 0.0:
+        raise ValueError(f"no steady precession at θ = {math.degrees(theta):g}° with ω_z′ = {spin:g} rad/s")
+    return 2.0 * c / (b + math.copysign(math.sqrt(disc), b))  # the small root, without cancellation
+
+
+_I1, _I3, _MGL, _SPIN, _THETA0 = 1.0, 0.5, 6.0, 12.0, 60.0
+_STEADY_DEG = math.degrees(steady_precession_rate(_I1, _I3, _MGL, _SPIN, math.radians(_THETA0)))
+PRESETS = (
+    Preset("Steady", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, _STEADY_DEG, 0.0),
+           f"Steady precession: started with dφ/dt = {_STEADY_DEG:.2f}°/s, the slow root of "
+           "I1 cos θ (dφ/dt)² − I3 ω_z′ (dφ/dt) + mgl = 0.  θ stays at 60°; the tip draws a circle."),
+    Preset("Wave", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, 0.5 * _STEADY_DEG, 0.0),
+           "Started at θ = 60° with half the steady dφ/dt and dθ/dt = 0: θ nods between two circles "
+           "while dφ/dt keeps its sign — a wavy trace."),
+    Preset("Loop", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, -0.5 * _STEADY_DEG, 0.0),
+           "Started with dφ/dt against the precession: dφ/dt changes sign during each nod — loops."),
+    Preset("Cusp", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, 0.0, 0.0),
+           "Released at rest (dφ/dt = dθ/dt = 0) at θ = 60°: the top turning point; the tip stops "
+           "there (dφ/dt = 0) every nod — cusps.  This is how a top you let go of moves."),
+    Preset("Sleeping", (_I1, _I3, _MGL), (0.0, 1.5, 0.0), (_SPIN, 0.0, 0.0),
+           "Nearly upright and fast: ω_z′² > 4 I1 mgl / I3² (here 144 > 96), so it stays up.  "
+           "θ < 2°: gimbal lock — only φ + ψ is defined."),
+    Preset("Too slow", (_I1, _I3, _MGL), (0.0, 1.5, 0.0), (6.0, 0.0, 0.0),
+           "The same start spinning at 6 rad/s: 36 < 96, the upright top is unstable and falls "
+           "over within ~2 s, passing out of gimbal lock without a jump."),
+)
+
+
+class TipTrace:
+    """A bounded polyline of the last `seconds` of a moving point, sent in small chunks.
+
+    Full chunks are fixed scene nodes; only the newest (head) chunk changes per frame.
+    Chunks older than `seconds` are removed.  Points are stored at least `spacing` [s]
+    apart in simulated time; the head always ends at the current point.
+    """
+
+    def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], *,
+                 seconds: float = TRACE_SECONDS, spacing: float = TRACE_SPACING,
+                 chunk_points: int = CHUNK_POINTS) -> None:
+        self._scene = scene
+        self._parent = parent
+        self._color = color
+        self.seconds = seconds
+        self.spacing = spacing
+        self.chunk_points = chunk_points
+        self._chunks: deque[tuple[Any, float]] = deque()  # (node, newest time)
+        self._head: Any = None
+        self._head_points: list[np.ndarray] = []
+        self._last_t = -math.inf
+        self._counter = 0
+
+    @property
+    def point_count(self) -> int:
+        """Stored points (chunks and head), for tests of the bound."""
+        return len(self._chunks) * self.chunk_points + len(self._head_points)
+
+    @property
+    def chunk_count(self) -> int:
+        return len(self._chunks)
+
+    def clear(self) -> None:
+        for node, _ in self._chunks:
+            node.remove()
+        self._chunks.clear()
+        if self._head is not None:
+            self._head.remove()
+        self._head = None
+        self._head_points = []
+        self._last_t = -math.inf
+
+    def add(self, t: float, point: np.ndarray) -> None:
+        """The point at simulated time t [s] (non-decreasing between clears)."""
+        point = np.array(point, dtype=np.float32)
+        committed = t - self._last_t >= self.spacing - 1e-12 or not self._head_points
+        if committed:
+            self._head_points.append(point)
+            self._last_t = t
+        points = self._head_points if committed else [*self._head_points, point]
+        if len(points) >= 2:
+            segments = polyline_segments(np.array(points))
+            if self._head is None:
+                self._counter += 1
+                self._head = self._scene.add_line_segments(
+                    f"{self._parent}/{self._counter}", segments, self._color,
+                    thickness=3.5, thickness_units="screen")
+            else:
+                self._head.points = segments
+        if len(self._head_points) >= self.chunk_points:
+            self._chunks.append((self._head, t))
+            self._head = None
+            self._head_points = [point]  # the next chunk starts where this one ends
+        while self._chunks and self._chunks[0][1] < t - self.seconds:
+            node, _ = self._chunks.popleft()
+            node.remove()
+
+
+def _disc_on_rod(disc_radius: float) -> list[tuple[np.ndarray, np.ndarray, tuple[int, int, int]]]:
+    """(vertices, faces, colour) parts of the top in body coordinates (pivot at 0, axis z′)."""
+    rod = trimesh.creation.cylinder(radius=0.035, height=ROD_LENGTH, sections=24)
+    rod.apply_translation((0.0, 0.0, 0.5 * ROD_LENGTH))
+    knob = trimesh.creation.icosphere(subdivisions=2, radius=0.06)
+    knob.apply_translation((0.0, 0.0, ROD_LENGTH))
+    disc = trimesh.creation.cylinder(radius=disc_radius, height=DISC_THICKNESS, sections=64)
+    disc.apply_translation((0.0, 0.0, DISC_CENTER))
+    parts = [(rod.vertices, rod.faces, ROD_COLOR), (knob.vertices, knob.faces, TRACE_COLOR)]
+    for (vertices, faces), color in zip(striped_parts(disc.vertices, disc.faces, 8), STRIPES):
+        parts.append((vertices, faces, color))
+    return parts
+
+
+_MARKS_RATE = ((-360.0, "-360"), (-180.0, "-180"), (0.0, "0"), (180.0, "180"), (360.0, "360"))
+
+
+class HeavyTopScene(SimulationScene):
+    """The heavy symmetric top of one client (see the module docstring)."""
+
+    title = "Heavy top"
+    root = "/top"
+    view = CameraView(position=(5.2, -4.0, 2.4), look_at=(0.55, 0.95, -0.1))
+    intro = (
+        "### Heavy symmetric top (pivot at the origin)\n"
+        "Gravity −g e_z on the centre of mass at ℓ along z′: **M = −mgℓ e_z′ × e_z**, "
+        "V = mgℓ cos θ.  Conserved: E, L_z, ω_z′.  Angles in degrees (z-x-z)."
+    )
+    presets = PRESETS
+    preset_groups = (("Precession", ("Steady", "Wave", "Loop", "Cusp")), ("Upright", ("Sleeping", "Too slow")))
+    param_specs = (
+        SliderSpec("I1", "I1 = I2 [kg m²]", 0.1, 5.0, 0.01, "transverse moment about the pivot",
+                   ((0.1, "0.1"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"))),
+        SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01, "moment about the symmetry axis z′ (≤ 2 I1)",
+                   ((0.05, "0.05"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"))),
+        SliderSpec("mgl", "m g ℓ [N m]", 0.0, 30.0, 0.1, "weight times the pivot-to-centre-of-mass distance",
+                   ((0.0, "0"), (10.0, "10"), (20.0, "20"), (30.0, "30"))),
+    )
+    param_folder = "Top: moments and gravity"
+    rate_specs = (
+        SliderSpec("spin", "spin ω_z′ [rad/s]", -40.0, 40.0, 0.1, "body component of ω along z′ (conserved)",
+                   ((-40.0, "-40"), (0.0, "0"), (12.0, "12"), (40.0, "40"))),
+        SliderSpec("phi_dot", "dφ/dt [deg/s]", -360.0, 360.0, 0.1, "precession rate", _MARKS_RATE),
+        SliderSpec("theta_dot", "dθ/dt [deg/s]", -360.0, 360.0, 0.1, "nutation rate", _MARKS_RATE),
+    )
+    rate_folder = "Spin and Euler rates"
+    momentum_label = "L_z"
+    grid_z = -STAND_HEIGHT
+    body_axis_length = 1.1
+    arrow_lengths = (1.95, 2.45)  # beyond the disc and the tip (ROD_LENGTH), and apart
+
+    def model_from_params(self, params: Sequence[float]) -> Model:
+        I1, I3, mgl = (float(p) for p in params)
+        return Model(inertia=(I1, I1, I3), mgl=mgl)
+
+    def omega_body_from_rates(self, angles: Vec3, rates: Sequence[float]) -> Vec3:
+        spin, phi_dot_deg, theta_dot_deg = (float(r) for r in rates)
+        phi_dot, theta_dot = math.radians(phi_dot_deg), math.radians(theta_dot_deg)
+        psi_dot = spin - phi_dot * math.cos(float(angles[1]))  # ω_z′ = φ̇ cos θ + ψ̇
+        return omega_body_from_euler_rates(angles, (phi_dot, theta_dot, psi_dot))
+
+    def rates_from_state(self, angles: Vec3, state: State) -> tuple[float, ...]:
+        phi_dot, theta_dot, _ = euler_rates_from_omega_body(
+            angles, state.omega_body, min_sin_theta=math.sin(math.radians(GIMBAL_LOCK_DEG)))
+        return float(state.omega_body[2]), math.degrees(phi_dot), math.degrees(theta_dot)
+
+    def momentum(self, R: np.ndarray, omega_body: Vec3) -> float:
+        """L_z = L·e_z (= p_φ), conserved by gravity about the vertical through the pivot."""
+        return float(angular_momentum_space(self.model, R, omega_body)[2])
+
+    # ------------------------------------------------------------------ drawing
+    def build_body(self, parent: str) -> None:
+        I1, _, I3 = self.model.inertia
+        # Shape only: the disc is wider for a larger I3 / I1 (not to scale).
+        radius = min(max(0.75 * math.sqrt(I3 / I1), 0.2), 0.85)
+        self._disc_radius = radius
+        for index, (vertices, faces, color) in enumerate(_disc_on_rod(radius)):
+            self.client.scene.add_mesh_simple(f"{parent}/part_{index}", vertices, faces, color=color,
+                                              flat_shading=index >= 2, cast_shadow=False, receive_shadow=False)
+
+    def build_extras(self) -> None:
+        scene = self.client.scene
+        root = self.root
+        stand = trimesh.creation.cone(radius=0.3, height=STAND_HEIGHT, sections=32)
+        stand.apply_translation((0.0, 0.0, -STAND_HEIGHT))
+        scene.add_mesh_simple(f"{root}/stand", stand.vertices, stand.faces, color=(150, 150, 160),
+                              cast_shadow=False, receive_shadow=False)
+        pivot = trimesh.creation.icosphere(subdivisions=2, radius=0.07)
+        scene.add_mesh_simple(f"{root}/pivot", pivot.vertices, pivot.faces, color=(40, 40, 40))
+        gravity_at = np.array([-1.6, 1.6, 1.0])
+        scene.add_arrows(f"{root}/gravity", np.array([[gravity_at, gravity_at - (0.0, 0.0, 0.8)]]),
+                         (60, 60, 60), shaft_radius=0.02, head_radius=0.06, head_length=0.14)
+        scene.add_label(f"{root}/gravity_label", "g", position=tuple(gravity_at + (0.12, 0.0, -0.3)),
+                        font_screen_scale=LABEL_SCALE, anchor="center-left")
+        self._trace_root = scene.add_frame(f"{root}/trace", show_axes=False)
+        self.trace = TipTrace(scene, f"{root}/trace", TRACE_COLOR)
+
+    def build_display_extras(self, gui: Any) -> None:
+        self.gui_show_trace = gui.add_checkbox("Tip trace", True, hint=f"the last {TRACE_SECONDS:g} s of the z′ tip")
+        self.gui_show_trace.on_update(self._guard("trace toggle", lambda _event: self._show_trace()))
+
+    def _show_trace(self) -> None:
+        self._trace_root.visible = bool(self.gui_show_trace.value)
+
+    def render_extras(self, R: np.ndarray, omega_space: Vec3, L_space: Vec3) -> None:
+        self.trace.add(self.state.t, ROD_LENGTH * np.asarray(R)[:, 2])
+
+    def restart_extras(self) -> None:
+        self.trace.clear()
+
+    def shape_status(self) -> str:
+        I1, _, I3 = self.model.inertia
+        return (f"I3 / I1 = {I3 / I1:.2f} (at most 2).  Drawn as a disc on a rod; the disc's size "
+                "follows I3 / I1, not to scale.  The trace follows the tip of z′.")
+
+    def readout_extras(self, state: State) -> str:
+        R, omega = state.R_space_body, state.omega_body
+        L = angular_momentum_space(self.model, R, omega)
+        I1, _, I3 = self.model.inertia
+        mgl = self.model.mgl
+        critical = 4.0 * I1 * mgl / (I3 * I3)
+        return (f"conserved: p_φ = L_z = {L[2]:.5f} kg m²/s,  p_ψ = I3 ω_z′ = {I3 * omega[2]:.5f} kg m²/s\n"
+                f"sleeping if ω_z′² > 4 I1 mgl / I3² = {critical:.3g}  (now {omega[2] ** 2:.3g})")

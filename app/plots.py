@@ -1,0 +1,143 @@
+"""Live uPlot charts of a simulation: a bounded sliding window of samples.
+
+`SampleBuffer` is a ring buffer (fixed capacity, so memory is bounded however long a lecture
+runs) of the simulated time and named columns.  `LivePlots` draws some of those columns in
+uPlot charts (x axis = simulated time [s], `time=False` so uPlot does not print dates) and
+pushes the window to the browser when asked; the scene asks at most a few times a second.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import viser
+import viser.uplot
+
+__all__ = ["LOG_FLOOR", "PlotSpec", "LivePlots", "SampleBuffer"]
+
+LOG_FLOOR = 1e-17
+"""Values on a log-scale chart are drawn as max(|value|, LOG_FLOOR) (log 0 is undefined)."""
+
+
+@dataclass(frozen=True)
+class PlotSpec:
+    """One chart: title, the buffer columns it shows, their legend labels and CSS colours."""
+
+    title: str
+    columns: tuple[str, ...]
+    labels: tuple[str, ...]
+    colors: tuple[str, ...]
+    log: bool = False  # log-scale y axis of |value| (drifts and errors)
+
+
+class SampleBuffer:
+    """Ring buffer of (t, columns...) samples; `capacity` rows at most.
+
+    Attributes:
+        columns: the column names (besides the time).
+    """
+
+    def __init__(self, columns: Sequence[str], capacity: int) -> None:
+        self.columns = tuple(columns)
+        self.capacity = capacity
+        self._index = {name: k + 1 for k, name in enumerate(self.columns)}
+        self._rows = np.zeros((capacity, len(self.columns) + 1))
+        self._count = 0  # samples ever appended since the last clear
+
+    def __len__(self) -> int:
+        return min(self._count, self.capacity)
+
+    def clear(self) -> None:
+        self._count = 0
+
+    def append(self, t: float, values: Mapping[str, float]) -> None:
+        """Add one sample (missing columns are NaN, drawn as a gap)."""
+        row = self._rows[self._count % self.capacity]
+        row[0] = t
+        row[1:] = np.nan
+        for name, value in values.items():
+            row[self._index[name]] = value
+        self._count += 1
+
+    def index(self, name: str) -> int:
+        """The column's index in the rows of `ordered` (0 is the time)."""
+        return self._index[name]
+
+    def ordered(self) -> np.ndarray:
+        """(n, 1 + columns) rows, oldest first: time, then the columns (a copy)."""
+        return self._ordered().copy()
+
+    def _ordered(self) -> np.ndarray:
+        n = len(self)
+        if self._count <= self.capacity:
+            return self._rows[:n]
+        start = self._count % self.capacity
+        return np.concatenate([self._rows[start:], self._rows[:start]])
+
+    def times(self) -> np.ndarray:
+        """(n,) simulated times [s], oldest first."""
+        return self._ordered()[:, 0].copy()
+
+    def column(self, name: str) -> np.ndarray:
+        """(n,) values of one column, oldest first."""
+        return self._ordered()[:, self._index[name]].copy()
+
+    def last(self, name: str) -> float:
+        """The newest value of a column (NaN if empty)."""
+        if not self._count:
+            return float("nan")
+        return float(self._rows[(self._count - 1) % self.capacity, self._index[name]])
+
+
+class LivePlots:
+    """uPlot charts of `buffer` columns in the current GUI container.
+
+    Attributes:
+        handles: one GuiUplotHandle per spec.
+        pushes: how many times the data were sent (tests check the throttling).
+    """
+
+    def __init__(self, gui: viser.GuiApi | Any, buffer: SampleBuffer, specs: Sequence[PlotSpec],
+                 height: int = 190) -> None:
+        self.buffer = buffer
+        self.specs = tuple(specs)
+        self.pushes = 0
+        self.handles = []
+        for spec in self.specs:
+            series = (viser.uplot.Series(label="t [s]"),) + tuple(
+                viser.uplot.Series(label=label, stroke=color, width=2.0)
+                for label, color in zip(spec.labels, spec.colors)
+            )
+            y_scale = (viser.uplot.Scale(auto=True, distr=3, log=10) if spec.log
+                       else viser.uplot.Scale(auto=True))
+            self.handles.append(gui.add_uplot(
+                data=self._data(spec), series=series, title=spec.title, height=height,
+                scales={"x": viser.uplot.Scale(time=False, auto=True), "y": y_scale},
+                legend=viser.uplot.Legend(show=True, live=True),
+            ))
+
+    def _data(self, spec: PlotSpec, rows: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+        rows = self.buffer.ordered() if rows is None else rows
+        if rows.shape[0] == 0:  # uPlot wants at least one point
+            return (np.zeros(1),) + tuple(np.full(1, np.nan) for _ in spec.columns)
+        columns = []
+        for name in spec.columns:
+            values = rows[:, self.buffer.index(name)]
+            if spec.log:
+                values = np.maximum(np.abs(values), LOG_FLOOR)
+            columns.append(np.ascontiguousarray(values))
+        return (np.ascontiguousarray(rows[:, 0]), *columns)
+
+    def push(self) -> None:
+        """Send the current window to the browser (one message per chart)."""
+        rows = self.buffer.ordered()
+        for spec, handle in zip(self.specs, self.handles):
+            handle.data = self._data(spec, rows)
+        self.pushes += 1
+
+    def set_visible(self, visible: bool) -> None:
+        for handle in self.handles:
+            handle.visible = visible

@@ -1,0 +1,404 @@
+"""Load test: N browser stand-ins watch a physics scene play; frames per second each one receives.
+
+The app runs in a subprocess (its own interpreter, so the clients never share its GIL) on
+127.0.0.1 and an ephemeral port.  The clients are pure-Python viser clients (ws_client.py),
+all on one asyncio loop in this process.  Each one does what a user does in a browser: picks
+the scene in the scene dropdown and clicks Play; nothing is started from the server side.
+
+Measured over `--seconds` after a warm-up, per client: the frames per second it receives, where
+a frame is one 60 Hz update of its moving body (one SetOrientationMessage of its busiest scene
+node; viser culls superseded poses, so each one is a distinct update batch), the longest gap
+between two such frames, and the bytes per second.  For the server process: CPU % (from
+/proc/<pid>/stat; 100 % = one core) and resident memory (VmRSS, peak VmHWM).  The clients'
+own CPU % is printed too: if it nears 100 %, the clients, not the server, limit the figures.
+
+    python benchmarks/load_clients.py                     # 20 clients, free body, 20 s
+    python benchmarks/load_clients.py --clients 40 --scene "Heavy top" --seconds 30
+
+Target (issue): with 20 clients, every client >= 30 fps on a 2-core machine.
+Bounded: at most --clients connections, everything stops after warm-up + seconds (the server
+also exits by itself when this process ends or after a hard time limit).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import dataclasses
+import math
+import os
+import queue
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks.ws_client import AsyncViserClient, ClientState, GuiElement  # noqa: E402
+
+__all__ = [
+    "LoadResult",
+    "ProcessSample",
+    "find_play_control",
+    "find_scene_dropdown",
+    "format_table",
+    "main",
+    "run_load",
+    "sample_process",
+    "scene_option",
+]
+
+SCENES = ("Free body", "Heavy top")
+PLAY_LABEL = re.compile(r"(^|\W)(play|run|start)(\W|$)|▶", re.IGNORECASE)
+PAUSE_LABEL = re.compile(r"pause|stop|⏸", re.IGNORECASE)
+CLK_TCK = os.sysconf("SC_CLK_TCK")
+
+
+# ---------------------------------------------------------------------------- GUI discovery
+def _option_key(text: str) -> str:
+    return re.sub(r"[\W_]+", " ", text).strip().lower()
+
+
+def scene_option(options: tuple[str, ...] | list[str], scene: str, exact: bool = True) -> str | None:
+    """The dropdown option naming `scene`: equal ignoring case and punctuation, or (exact=False)
+    containing it."""
+    wanted = _option_key(scene)
+    for option in options:
+        key = _option_key(option)
+        if key == wanted or (not exact and wanted in key):
+            return option
+    return None
+
+
+def find_scene_dropdown(state: ClientState, scene: str) -> tuple[GuiElement, str] | None:
+    """(the dropdown whose options name `scene`, that option) or None; an exact match in any
+    dropdown wins over a partial one."""
+    with state.lock:
+        dropdowns = [e for e in state.gui.values() if "Dropdown" in e.type]
+    for exact in (True, False):
+        for element in dropdowns:
+            option = scene_option(tuple(element.props.get("options", ())), scene, exact)
+            if option is not None:
+                return element, option
+    return None
+
+
+def find_play_control(state: ClientState, exclude: set[str] | frozenset[str] = frozenset()
+                      ) -> GuiElement | None:
+    """The visible, enabled Play button (or Play/Run checkbox) not in `exclude` (uuids), or None."""
+    with state.lock:
+        elements = [e for e in state.gui.values() if e.uuid not in exclude]
+    for element in reversed(elements):
+        if not element.props.get("visible", True) or element.props.get("disabled", False):
+            continue
+        if ("Button" in element.type and "Group" not in element.type) or "Checkbox" in element.type:
+            if PLAY_LABEL.search(element.label) and not PAUSE_LABEL.search(element.label):
+                return element
+    return None
+
+
+def _gui_send(element: GuiElement, value: Any) -> Any:
+    from benchmarks.ws_client import gui_update_message
+
+    return gui_update_message(element.uuid, value)
+
+
+async def start_playing(client: AsyncViserClient, scene: str, timeout: float = 15.0) -> str:
+    """Select `scene` and press Play through GUI messages, as a browser would; wait until the
+    client sees its body move (>= 5 orientation messages of one node).  Returns the body node.
+
+    Raises:
+        TimeoutError: the dropdown, the Play control or the motion did not appear in time.
+    """
+    state = client.state
+    found = await client.wait_for(lambda: find_scene_dropdown(state, scene), timeout)
+    dropdown, option = found
+    old_uuids: set[str] = set()
+    if dropdown.value != option:
+        old_uuids = set(state.gui)
+        await client.send(_gui_send(dropdown, option))
+        dropdown.value = option
+        # The scene's GUI is rebuilt: wait for ITS Play control (callbacks run on the server's
+        # thread pool, so a click sent earlier could overtake the selection).
+    deadline = time.monotonic() + timeout
+    while True:
+        play = await client.wait_for(lambda: find_play_control(state, old_uuids),
+                                     max(deadline - time.monotonic(), 0.1))
+        await asyncio.sleep(0.2)  # let the rest of the scene's GUI arrive
+        state.reset_pose_stats()
+        await client.send(_gui_send(play, True))
+        try:
+            busiest = await client.wait_for(
+                lambda: (b := state.busiest_node()) is not None and b[1].orientations >= 5 and b, 3.0)
+            return busiest[0]
+        except TimeoutError:
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"{scene}: no motion after pressing {play.label!r}") from None
+
+
+# ---------------------------------------------------------------------------- server process
+@dataclasses.dataclass(frozen=True)
+class ProcessSample:
+    """CPU time (user + system) [s], wall time [s, monotonic], VmRSS and VmHWM [MiB]."""
+
+    cpu_s: float
+    wall_s: float
+    rss_mib: float
+    hwm_mib: float
+
+
+def sample_process(pid: int) -> ProcessSample:
+    """Read /proc/<pid>/stat (utime, stime) and /proc/<pid>/status (VmRSS, VmHWM)."""
+    wall = time.monotonic()
+    stat = Path(f"/proc/{pid}/stat").read_text()
+    fields = stat[stat.rindex(")") + 2:].split()  # after "pid (comm) ": fields from #3 on
+    cpu = (int(fields[11]) + int(fields[12])) / CLK_TCK  # utime #14, stime #15
+    memory = {}
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith(("VmRSS:", "VmHWM:")):
+            key, value, _unit = line.split()
+            memory[key[:-1]] = int(value) / 1024.0
+    return ProcessSample(cpu, wall, memory.get("VmRSS", math.nan), memory.get("VmHWM", math.nan))
+
+
+def cpu_percent(first: ProcessSample, last: ProcessSample) -> float:
+    """CPU % between two samples (100 % = one core busy)."""
+    return 100.0 * (last.cpu_s - first.cpu_s) / max(last.wall_s - first.wall_s, 1e-9)
+
+
+def serve(max_lifetime: float) -> None:
+    """--serve: the app on 127.0.0.1:0; prints 'BENCH_PORT <port>'.  Each line 'stats' on stdin
+    is answered with 'BENCH_STATS <loop iterations> <monotonic time> <sessions> <seconds spent in
+    Session.tick>' (the benchmark times the ticks by wrapping Session.tick).  Exits when
+    stdin closes (this process's parent is gone) or after `max_lifetime` seconds."""
+    from app.main import create_server
+    from app.session import Session
+
+    tick_seconds = [0.0]  # wall time spent in Session.tick (only the app loop's thread calls it)
+    untimed_tick = Session.tick
+
+    def timed_tick(self: Session, dt: float) -> None:
+        start = time.perf_counter()
+        try:
+            untimed_tick(self, dt)
+        finally:
+            tick_seconds[0] += time.perf_counter() - start
+
+    Session.tick = timed_tick  # type: ignore[method-assign]  # this process only
+    app = create_server("127.0.0.1", 0, verbose=False)
+    print(f"BENCH_PORT {app.port}", flush=True)
+    done = threading.Event()
+
+    def commands() -> None:
+        for line in sys.stdin:
+            if line.strip() == "stats":
+                print(f"BENCH_STATS {app.tick_count} {time.monotonic()} {len(app.sessions)} "
+                      f"{tick_seconds[0]}", flush=True)
+        done.set()
+
+    threading.Thread(target=commands, daemon=True).start()
+    done.wait(max_lifetime)
+    app.stop()
+
+
+class ServerProcess:
+    """The app in a subprocess (this file with --serve); `port`, `pid`, `stop()`."""
+
+    def __init__(self, max_lifetime: float, start_timeout: float = 30.0,
+                 argv: list[str] | None = None) -> None:
+        self._log = tempfile.TemporaryFile(mode="w+")
+        argv = argv or [sys.executable, str(Path(__file__).resolve()), "--serve"]
+        self.process = subprocess.Popen(
+            [*argv, "--max-lifetime", str(max_lifetime)],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._log, text=True, cwd=ROOT,
+        )
+        self.pid = self.process.pid
+        self.port = self._read_port(start_timeout)
+
+    def _read_port(self, timeout: float) -> int:
+        self._stats: queue.Queue[tuple[int, float, int, float]] = queue.Queue()
+        found: list[int] = []
+
+        def reader() -> None:
+            assert self.process.stdout is not None
+            for line in self.process.stdout:  # drained to the end (rich prints the URL panel)
+                if line.startswith("BENCH_PORT "):
+                    found.append(int(line.split()[1]))
+                elif line.startswith("BENCH_STATS "):
+                    _tag, ticks, now, sessions, tick_s = line.split()
+                    self._stats.put((int(ticks), float(now), int(sessions), float(tick_s)))
+
+        threading.Thread(target=reader, daemon=True).start()
+        deadline = time.monotonic() + timeout
+        while not found:
+            if self.process.poll() is not None or time.monotonic() > deadline:
+                self.stop()
+                raise RuntimeError(f"the app did not start: {self.log_tail()}")
+            time.sleep(0.02)
+        return found[0]
+
+    def loop_stats(self, timeout: float = 5.0) -> tuple[int, float, int, float]:
+        """(app loop iterations so far, the server's monotonic time [s], open sessions,
+        total time spent in Session.tick [s])."""
+        assert self.process.stdin is not None
+        self.process.stdin.write("stats\n")
+        self.process.stdin.flush()
+        return self._stats.get(timeout=timeout)
+
+    def log_tail(self, chars: int = 2000) -> str:
+        self._log.seek(0)
+        return self._log.read()[-chars:]
+
+    def stop(self) -> None:
+        """Close its stdin (it exits by itself), then wait; terminate only if it hangs."""
+        if self.process.poll() is None:
+            try:
+                assert self.process.stdin is not None
+                self.process.stdin.close()
+                self.process.wait(timeout=10.0)
+            except (subprocess.TimeoutExpired, OSError):
+                self.process.terminate()
+                self.process.wait(timeout=5.0)
+
+
+# ---------------------------------------------------------------------------- the run
+@dataclasses.dataclass
+class LoadResult:
+    """One load run.  fps[i], max_gap_s[i], kbytes_per_s[i]: client i over the window."""
+
+    clients: int
+    scene: str
+    seconds: float
+    fps: list[float]
+    max_gap_s: list[float]
+    kbytes_per_s: list[float]
+    server_cpu_percent: float
+    server_rss_mib: float
+    server_hwm_mib: float
+    server_rss_idle_mib: float
+    client_cpu_percent: float
+    body_nodes: list[str]
+    decode_errors: int
+    loop_hz: float = math.nan
+    loop_busy_percent: float = math.nan  # share of wall time the loop spent in Session.tick
+    sessions: int = -1
+
+    def summary(self) -> dict[str, float]:
+        return {
+            "fps_min": min(self.fps), "fps_median": statistics.median(self.fps),
+            "fps_max": max(self.fps), "clients_below_30": sum(f < 30.0 for f in self.fps),
+            "max_gap_ms": 1e3 * max(self.max_gap_s),
+        }
+
+
+async def _run_clients(server: ServerProcess, clients: int, scene: str, warmup: float, seconds: float
+                       ) -> LoadResult:
+    port, pid = server.port, server.pid
+    idle = sample_process(pid)
+    connected: list[AsyncViserClient] = []
+    try:
+        for _ in range(clients):  # one after the other, as a class of students would arrive
+            connected.append(await AsyncViserClient.connect(port, keep_messages=200))
+        # Building a physics scene takes a while when 20 clients ask at once on a busy machine:
+        # the start-up is not measured, so it gets a generous time limit.
+        bodies = await asyncio.gather(*(start_playing(c, scene, timeout=30.0 + 2.0 * clients)
+                                        for c in connected))
+        await asyncio.sleep(warmup)
+        for c in connected:
+            c.state.reset_pose_stats()
+        bytes0 = [c.state.bytes_received for c in connected]
+        loop0 = await asyncio.to_thread(server.loop_stats)
+        server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
+        await asyncio.sleep(seconds)
+        server1, client_cpu1, t1 = sample_process(pid), time.process_time(), time.monotonic()
+        loop1 = await asyncio.to_thread(server.loop_stats)
+        window = t1 - t0
+        fps, gaps, rates = [], [], []
+        for c, body, b0 in zip(connected, bodies, bytes0):
+            stats = c.state.pose_snapshot().get(body)
+            count = stats.orientations if stats else 0
+            fps.append(count / window)
+            gaps.append(max(stats.max_gap if stats else window, 0.0))
+            rates.append((c.state.bytes_received - b0) / window / 1e3)
+        return LoadResult(
+            clients=clients, scene=scene, seconds=window, fps=fps, max_gap_s=gaps,
+            kbytes_per_s=rates, server_cpu_percent=cpu_percent(server0, server1),
+            server_rss_mib=server1.rss_mib, server_hwm_mib=server1.hwm_mib,
+            server_rss_idle_mib=idle.rss_mib,
+            client_cpu_percent=100.0 * (client_cpu1 - client_cpu0) / window,
+            body_nodes=sorted(set(bodies)), decode_errors=sum(len(c.state.errors) for c in connected),
+            loop_hz=(loop1[0] - loop0[0]) / (loop1[1] - loop0[1]), sessions=loop1[2],
+            loop_busy_percent=100.0 * (loop1[3] - loop0[3]) / (loop1[1] - loop0[1]),
+        )
+    finally:
+        await asyncio.gather(*(c.close() for c in connected), return_exceptions=True)
+
+
+def run_load(clients: int = 20, seconds: float = 20.0, scene: str = "Free body", warmup: float = 3.0,
+             server_argv: list[str] | None = None) -> LoadResult:
+    """Start the app in a subprocess, run `clients` clients playing `scene`, measure, stop.
+
+    server_argv: another server command (it must accept --max-lifetime and print
+    'BENCH_PORT <port>'); default: this file with --serve.
+    """
+    if clients < 1 or not (seconds > 0.0) or warmup < 0.0:
+        raise ValueError("need clients >= 1, seconds > 0, warmup >= 0")
+    server = ServerProcess(max_lifetime=warmup + seconds + 90.0 + 5.0 * clients, argv=server_argv)
+    try:
+        return asyncio.run(_run_clients(server, clients, scene, warmup, seconds))
+    except Exception as error:
+        raise RuntimeError(f"{error}\n--- server log ---\n{server.log_tail()}") from error
+    finally:
+        server.stop()
+
+
+def format_table(results: list[LoadResult]) -> str:
+    """Markdown table, one row per run."""
+    lines = [
+        "| scene | clients | fps min | fps median | fps max | clients < 30 fps | max gap [ms] "
+        "| kB/s per client | app loop [Hz] | loop busy % | server CPU % | server RSS [MiB] (idle → loaded, peak) "
+        "| client CPU % |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in results:
+        s = r.summary()
+        lines.append(
+            f"| {r.scene} | {r.clients} | {s['fps_min']:.1f} | {s['fps_median']:.1f} | {s['fps_max']:.1f} "
+            f"| {s['clients_below_30']} | {s['max_gap_ms']:.0f} | {statistics.median(r.kbytes_per_s):.1f} "
+            f"| {r.loop_hz:.1f} | {r.loop_busy_percent:.0f} | {r.server_cpu_percent:.0f} | {r.server_rss_idle_mib:.0f} → {r.server_rss_mib:.0f}, "
+            f"{r.server_hwm_mib:.0f} | {r.client_cpu_percent:.0f} |"
+        )
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--clients", type=int, default=20, help="number of clients (default %(default)s)")
+    parser.add_argument("--seconds", type=float, default=20.0, help="measured window [s] (default %(default)s)")
+    parser.add_argument("--warmup", type=float, default=3.0, help="warm-up after Play [s] (default %(default)s)")
+    parser.add_argument("--scene", default="Free body", help=f"scene to play, e.g. {' / '.join(SCENES)}")
+    parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--max-lifetime", type=float, default=300.0, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.serve:
+        serve(args.max_lifetime)
+        return
+    load_before = os.getloadavg()[0]
+    result = run_load(args.clients, args.seconds, args.scene, args.warmup)
+    print(format_table([result]))
+    print(f"\nbody node(s): {', '.join(result.body_nodes)}; window {result.seconds:.1f} s after "
+          f"{args.warmup:g} s warm-up; {os.cpu_count()} CPUs, 1-min load average {load_before:.1f} "
+          f"before the run (other jobs may share the machine); decode errors: {result.decode_errors}")
+    print("fps per client: " + " ".join(f"{f:.0f}" for f in sorted(result.fps)))
+
+
+if __name__ == "__main__":
+    main()
