@@ -529,6 +529,8 @@ class SimulationScene:
     def render_all(self) -> None:
         """Everything at once (after an edit, a step, a restart; never per frame)."""
         with self.client.atomic():
+            self.nodes_node.visible = bool(self.gui_show_nodes.value)
+            self.body_axes.visible = bool(self.gui_show_body_axes.value)
             self._render_frame()
             self._sync_state_sliders()
             self._refresh_readout()
@@ -556,8 +558,6 @@ class SimulationScene:
                 self.nodes_line.colors = np.array([[color, color]], dtype=np.uint8)
                 self.nodes_label.text = "line of nodes" if gimbal_note(math.degrees(theta)) is None \
                     else "line of nodes (undefined)"
-            self.nodes_node.visible = bool(self.gui_show_nodes.value)
-            self.body_axes.visible = bool(self.gui_show_body_axes.value)
             self._draw_vector(self.omega_arrow, self.omega_label, omega_space * self.omega_scale, show_omega)
             change = float(np.max(np.abs(L_space - self._drawn_L)))  # NaN before the first frame
             if not change <= 1e-6 * (1.0 + float(np.max(np.abs(L_space)))) or show_L != self.L_arrow.visible:
@@ -569,8 +569,9 @@ class SimulationScene:
     def _draw_vector(arrow: Any, label: Any, tip: np.ndarray, visible: bool) -> None:
         length = float(np.linalg.norm(tip))
         visible = visible and length > 1e-3
-        arrow.visible = visible
-        label.visible = visible
+        if arrow.visible != visible:  # (assigning an unchanged prop still costs a comparison)
+            arrow.visible = visible
+            label.visible = visible
         if visible:
             arrow.points = np.array([[[0.0, 0.0, 0.0], tip]], dtype=np.float32)
             label.position = tuple(tip * (1.0 + 0.16 / length))

@@ -9,11 +9,15 @@ Measured over `--seconds` after a warm-up, per client: the frames per second it 
 a frame is one 60 Hz update of its moving body (one SetOrientationMessage of its busiest scene
 node; viser culls superseded poses, so each one is a distinct update batch), the longest gap
 between two such frames, and the bytes per second.  For the server process: CPU % (from
-/proc/<pid>/stat; 100 % = one core) and resident memory (VmRSS, peak VmHWM).  The clients'
-own CPU % is printed too: if it nears 100 %, the clients, not the server, limit the figures.
+/proc/<pid>/stat; 100 % = one core) and resident memory (VmRSS, peak VmHWM); the app loop's
+rate [Hz] and the share of wall time it spends inside Session.tick ("loop busy", timed by
+wrapping Session.tick in the server process): near 100 % the one loop thread that ticks every
+session is the bottleneck.  The clients' own CPU % is printed too: if it nears 100 %, the
+clients, not the server, limit the figures.
 
     python benchmarks/load_clients.py                     # 20 clients, free body, 20 s
     python benchmarks/load_clients.py --clients 40 --scene "Heavy top" --seconds 30
+    python benchmarks/load_clients.py --clients 1,10,20 --seconds 10   # one row per count
 
 Target (issue): with 20 clients, every client >= 30 fps on a 2-core machine.
 Bounded: at most --clients connections, everything stops after warm-up + seconds (the server
@@ -47,6 +51,10 @@ from benchmarks.ws_client import AsyncViserClient, ClientState, GuiElement  # no
 __all__ = [
     "LoadResult",
     "ProcessSample",
+    "ServerProcess",
+    "cpu_percent",
+    "serve",
+    "start_playing",
     "find_play_control",
     "find_scene_dropdown",
     "format_table",
@@ -312,22 +320,23 @@ async def _run_clients(server: ServerProcess, clients: int, scene: str, warmup: 
         bodies = await asyncio.gather(*(start_playing(c, scene, timeout=30.0 + 2.0 * clients)
                                         for c in connected))
         await asyncio.sleep(warmup)
+        loop0 = await asyncio.to_thread(server.loop_stats)
+        server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
         for c in connected:
             c.state.reset_pose_stats()
         bytes0 = [c.state.bytes_received for c in connected]
-        loop0 = await asyncio.to_thread(server.loop_stats)
-        server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
         await asyncio.sleep(seconds)
+        snapshots = [c.state.pose_snapshot() for c in connected]
+        bytes1 = [c.state.bytes_received for c in connected]
         server1, client_cpu1, t1 = sample_process(pid), time.process_time(), time.monotonic()
         loop1 = await asyncio.to_thread(server.loop_stats)
         window = t1 - t0
         fps, gaps, rates = [], [], []
-        for c, body, b0 in zip(connected, bodies, bytes0):
-            stats = c.state.pose_snapshot().get(body)
-            count = stats.orientations if stats else 0
-            fps.append(count / window)
-            gaps.append(max(stats.max_gap if stats else window, 0.0))
-            rates.append((c.state.bytes_received - b0) / window / 1e3)
+        for snapshot, body, b0, b1 in zip(snapshots, bodies, bytes0, bytes1):
+            stats = snapshot.get(body)
+            fps.append((stats.orientations if stats else 0) / window)
+            gaps.append(stats.max_gap if stats else window)
+            rates.append((b1 - b0) / window / 1e3)
         return LoadResult(
             clients=clients, scene=scene, seconds=window, fps=fps, max_gap_s=gaps,
             kbytes_per_s=rates, server_cpu_percent=cpu_percent(server0, server1),
@@ -381,7 +390,8 @@ def format_table(results: list[LoadResult]) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--clients", type=int, default=20, help="number of clients (default %(default)s)")
+    parser.add_argument("--clients", default="20",
+                        help="number of clients, or a comma-separated list for one row each (default %(default)s)")
     parser.add_argument("--seconds", type=float, default=20.0, help="measured window [s] (default %(default)s)")
     parser.add_argument("--warmup", type=float, default=3.0, help="warm-up after Play [s] (default %(default)s)")
     parser.add_argument("--scene", default="Free body", help=f"scene to play, e.g. {' / '.join(SCENES)}")
@@ -391,13 +401,20 @@ def main(argv: list[str] | None = None) -> None:
     if args.serve:
         serve(args.max_lifetime)
         return
-    load_before = os.getloadavg()[0]
-    result = run_load(args.clients, args.seconds, args.scene, args.warmup)
-    print(format_table([result]))
-    print(f"\nbody node(s): {', '.join(result.body_nodes)}; window {result.seconds:.1f} s after "
-          f"{args.warmup:g} s warm-up; {os.cpu_count()} CPUs, 1-min load average {load_before:.1f} "
-          f"before the run (other jobs may share the machine); decode errors: {result.decode_errors}")
-    print("fps per client: " + " ".join(f"{f:.0f}" for f in sorted(result.fps)))
+    counts = [int(n) for n in str(args.clients).split(",")]
+    if any(n < 1 or n > 200 for n in counts):
+        parser.error("--clients: between 1 and 200")
+    results, loads = [], []
+    for n in counts:
+        loads.append(os.getloadavg()[0])
+        results.append(run_load(n, args.seconds, args.scene, args.warmup))
+    print(format_table(results))
+    print(f"\nbody node(s): {', '.join(sorted({b for r in results for b in r.body_nodes}))}; "
+          f"window {args.seconds:g} s after {args.warmup:g} s warm-up; {os.cpu_count()} CPUs; "
+          f"1-min load average before each run: {', '.join(f'{x:.1f}' for x in loads)} (other jobs "
+          f"may share the machine); decode errors: {sum(r.decode_errors for r in results)}")
+    for r in results:
+        print(f"fps per client ({r.clients}): " + " ".join(f"{f:.0f}" for f in sorted(r.fps)))
 
 
 if __name__ == "__main__":

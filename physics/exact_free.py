@@ -22,8 +22,9 @@ Method (the approach of Celledoni, Fassò, Säfström, Zanna, SIAM J. Sci. Compu
        ν = I_r (I_q - I_p) / (I_p (I_q - I_r)) ≤ 0,
    i.e. an incomplete elliptic integral of the third kind ∫ du/(1 - ν sn²u), evaluated with
    Carlson's R_J in forms free of cancellation (`_ThirdKind`).
-3. Long times: t = j T_half + τ with T_half = 2K/λ; each whole half period adds the same
-   precession Δφ (accumulated as j Δφ mod 2π), so the phases never lose precision.
+3. Long times: u is reduced to r = u - 2jK in [-K, K] (j whole half periods of ω_b); each
+   whole half period adds the same precession (accumulated as j Δφ mod 2π), and the growing
+   part of φ is reduced mod 2π, so the phases never lose precision.
    On the separatrix (m = 1 exactly) the functions are tanh/sech and ∫ is elementary.
    Steady rotations (ω_b an eigenvector of I, or 0) are R0 exp(t hat(ω_b)).
 
@@ -245,29 +246,33 @@ class _ThirdKind:
             raise ValueError(f"characteristic nu must be <= 0, got {nu}")
         self.nu, self.m, self.m1, self.K = nu, m, m1, ld.K
         self.reciprocal = nu != 0.0 and -nu > math.sqrt(m)
+        # complete = P(K); excess_low/high = P(K) - lin K in each branch (computed without
+        # cancellation), the part of the complete integral not carried by lin·u.
         if nu == 0.0:
-            self.complete = ld.K
+            self.complete, self.excess_low = ld.K, 0.0
         elif self.reciprocal:
             n_r = m / nu
             self.n_r, self.q = n_r, math.sqrt((1.0 - nu) * (1.0 - n_r))
             rj = float(elliprj(0.0, m1, 1.0, 1.0 - n_r))
             self.complete = -n_r / 3.0 * rj + 0.5 * math.pi / self.q
+            self.excess_low = self.complete
         else:
-            self.complete = ld.K + nu / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 - nu))
+            self.excess_low = nu / 3.0 * float(elliprj(0.0, m1, 1.0, 1.0 - nu))
+            self.complete = ld.K + self.excess_low
         self.shift = nu != 0.0 and m1 < _SHIFT_BELOW_M1
-        mu = -nu
-        self._high_const = self.complete - ld.K / (1.0 + mu)
+        self.excess_high = self.complete - ld.K / (1.0 - nu)
 
     def parts(
         self, a: Array, K_minus_a: Array, sn: Array, cn: Array, dn: Array
-    ) -> tuple[Array, Array]:
-        """(lin, rest) with P(a) = lin·a + rest, for 0 ≤ a ≤ K, given K - a and the Jacobi
-        functions at a (all (N,))."""
+    ) -> tuple[Array, Array, Array]:
+        """(lin, rest, excess) with P(a) = lin·a + rest and excess = P(K) - lin·K, for
+        0 ≤ a ≤ K, given K - a and the Jacobi functions at a (all (N,))."""
         nu = self.nu
         if nu == 0.0:
-            return np.ones_like(a), np.zeros_like(a)
+            return np.ones_like(a), np.zeros_like(a), np.zeros_like(a)
         low = a <= K_minus_a if self.shift else np.ones(a.shape, dtype=bool)
         lin, rest = np.empty_like(a), np.empty_like(a)
+        excess = np.where(low, self.excess_low, self.excess_high)
         if np.any(low):
             s, c, d = sn[low], cn[low], dn[low]
             s2 = s * s
@@ -286,12 +291,12 @@ class _ThirdKind:
             mu = -nu
             S = sv**3 * elliprj(cv * cv, dv * dv, 1.0, cv * cv + self.m1 * sv * sv / (1.0 + mu))
             lin[high] = 1.0 / (1.0 + mu)
-            rest[high] = self._high_const - mu * self.m1 * S / (3.0 * (1.0 + mu) ** 2)
-        return lin, rest
+            rest[high] = self.excess_high - mu * self.m1 * S / (3.0 * (1.0 + mu) ** 2)
+        return lin, rest, excess
 
     def __call__(self, a: Array, K_minus_a: Array, sn: Array, cn: Array, dn: Array) -> Array:
         """P(a) for 0 ≤ a ≤ K."""
-        lin, rest = self.parts(a, K_minus_a, sn, cn, dn)
+        lin, rest, _ = self.parts(a, K_minus_a, sn, cn, dn)
         return lin * a + rest
 
 
@@ -506,21 +511,14 @@ class FreeBodyExact:
         self._c_phi = L_norm * (Ir - Ip) / (Ir * Ip) * scale
         if self._ld is None:  # separatrix: no period
             self.omega_period = math.inf
-            self._half_period = math.inf
         else:
-            K = self._ld.K
             self._P3 = _ThirdKind(nu, m, m1, self._ld)
-            self._half_period = 2.0 * K / self._lam  # of am(u): ω_x, ω_y change sign, ω_z repeats
-            self.omega_period = 2.0 * self._half_period
-            # Precession about L during one half period (every one is the same).
-            self._dphi_half = (
-                self._a_phi * self._half_period + 2.0 * self._c_phi * self._P3.complete / self._lam
-            )
+            self.omega_period = 4.0 * self._ld.K / self._lam  # ω_z has half this period
         # The Jacobi functions and P at u0, computed exactly as at later times, so that
         # R(0) = R0 and φ(0) = 0 to rounding.
         self._lin0, self._rest0 = 0.0, 0.0
         jac0 = self._jacobi_and_pi(np.zeros(1), want_pi=True)
-        self._lin0, self._rest0 = float(jac0[5][0]), float(jac0[6][0])
+        self._lin0, self._rest0 = float(jac0[4][0]), float(jac0[5][0])
 
         # Fixed frame S = R0 B (Rx(θ0) Rz(ψ0))ᵀ, so that φ(0) = 0.
         E0 = self._euler_part(np.zeros(1), jac0[0], jac0[1], jac0[2])[0]
@@ -537,52 +535,57 @@ class FreeBodyExact:
 
     # --- pieces -------------------------------------------------------------------------------
 
-    def _jacobi_and_pi(
-        self, t: Array, want_pi: bool
-    ) -> tuple[Array, Array, Array, Array, Array, Array, Array]:
-        """At times t (N,): (sn, cn, dn) of u = λ t + u0, the reduced time τ = t - j T_half,
-        the half-period count j, and the signed parts (lin, rest) of P(r), r = u0 + λ τ
-        (zeros unless `want_pi`)."""
+    def _jacobi_and_pi(self, t: Array, want_pi: bool) -> tuple[Array, ...]:
+        """At times t (N,): (sn, cn, dn) of u = λ t + u0, the half-period count j with
+        u = r + 2jK, |r| ≤ K, and the parts (lin, rest, excess) of P(r) = lin·r + rest (signed;
+        zeros unless `want_pi`)."""
         lam = self._lam
-        if self._ld is None:  # separatrix: u = r, no reduction
+        zeros = np.zeros_like(t)
+        if self._ld is None:  # separatrix: no reduction
             u = self._u0 + lam * t
             sn, cn, dn = np.tanh(u), _sech(u), _sech(u)
-            lin, rest = (np.zeros_like(u), np.zeros_like(u))
+            lin, rest = zeros, zeros
             if want_pi:
                 lin_s, rest = _pi_separatrix_parts(u, self._nu)
                 lin = np.full_like(u, lin_s)
-            return sn, cn, dn, t, np.zeros_like(t), lin, rest
+            return sn, cn, dn, zeros, lin, rest, zeros
         K = self._ld.K
-        # t = j T_half + τ with r = u0 + λ τ in [-K, K]: phases never lose precision.
-        j = np.round((self._u0 + lam * t) / (2.0 * K))
-        tau = t - j * self._half_period
-        r = self._u0 + lam * tau
+        # Reduction in u (absolute error ~ulp(u)), never in t: T_half = 2K/λ can be huge.
+        u = self._u0 + lam * t
+        j = np.round(u / (2.0 * K))
+        r = u - j * (2.0 * K)
         a = np.minimum(np.abs(r), K)
         K_minus_a = K - a
         sn_a, cn_r, dn = _sn_cn_dn_half(a, K_minus_a, self._ld)
         sign_r = np.where(r < 0.0, -1.0, 1.0)
         parity = 1.0 - 2.0 * np.mod(j, 2.0)  # sn, cn change sign every half period
         sn, cn = sign_r * sn_a * parity, cn_r * parity
-        lin, rest = np.zeros_like(t), np.zeros_like(t)
+        lin, rest, excess = zeros, zeros, zeros
         if want_pi:
-            lin, rest = self._P3.parts(a, K_minus_a, sn_a, cn_r, dn)
+            lin, rest, excess = self._P3.parts(a, K_minus_a, sn_a, cn_r, dn)
             rest = sign_r * rest
-        return sn, cn, dn, tau, j, lin, rest
+        return sn, cn, dn, j, lin, rest, excess
 
     def _phases(self, t: Array, want_phi: bool = True) -> tuple[Array, Array, Array, Array]:
         """(sn, cn, dn, φ) at times t (N,): Jacobi functions of u = λ t + u0 and the precession
-        angle φ [rad] about L (reduced mod 2π for long times; zeros unless `want_phi`).
+        angle φ [rad] about L (reduced mod 2π; zeros unless `want_phi`).
 
-        φ = a_φ t + (c_φ/λ) (P(u) - P(u0)); with P = lin·u + rest and u - u0 = λ τ + 2jK,
-        P(u) - P(u0) = lin λ τ + (lin - lin0) u0 + rest - rest0 + 2j P_c, and the whole half
-        periods j contribute j Δφ, reduced modulo 2π."""
-        sn, cn, dn, tau, j, lin, rest = self._jacobi_and_pi(t, want_phi)
+        φ = a_φ t + (c_φ/λ)(P(u) - P(u0)) with P(u) = P(r) + 2j P(K), P(r) = lin·r + rest and
+        r = u - 2jK, i.e.
+            φ = (a_φ + c_φ lin) t + j (2c_φ/λ) excess + (c_φ/λ) [(lin - lin0) u0 + rest - rest0],
+        excess = P(K) - lin K.  The first two terms grow with t and are reduced modulo 2π; the
+        last is bounded and, unlike u - u0, never a difference of nearly equal large numbers
+        divided by a small λ."""
+        sn, cn, dn, j, lin, rest, excess = self._jacobi_and_pi(t, want_phi)
         if not want_phi:
             return sn, cn, dn, np.zeros_like(t)
-        dP = lin * (self._lam * tau) + (lin - self._lin0) * self._u0 + (rest - self._rest0)
-        phi = self._a_phi * tau + self._c_phi / self._lam * dP
-        if self._ld is not None:
-            phi = phi + np.remainder(j * self._dphi_half, 2.0 * math.pi)
+        two_pi = 2.0 * math.pi
+        c_over_lam = self._c_phi / self._lam
+        phi = (
+            np.remainder((self._a_phi + self._c_phi * lin) * t, two_pi)
+            + np.remainder(j * (2.0 * c_over_lam * excess), two_pi)
+            + c_over_lam * ((lin - self._lin0) * self._u0 + (rest - self._rest0))
+        )
         return sn, cn, dn, phi
 
     def _euler_part(self, phi: Array, sn: Array, cn: Array, dn: Array) -> Array:

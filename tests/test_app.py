@@ -721,6 +721,30 @@ def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(wait_until, 
     assert scene.trace.point_count <= 1 and scene.state.t == 0.0
 
 
+def test_top_falling_out_of_gimbal_lock_shows_it_and_passes_without_a_jump(manual) -> None:
+    manual.session.select_scene("Heavy top")
+    manual.session.apply_preset("Too slow")  # θ = 1.5°, too slow to sleep: it falls
+    scene = manual.session.scene
+    assert scene.gui_gimbal_note.visible and "only **φ + ψ** is defined" in scene.gui_gimbal_note.content
+    assert "undefined" in scene.nodes_label.text
+    assert np.all(np.asarray(scene.nodes_line.colors).reshape(-1, 3) == NODES_FADED_COLOR)
+    manual.session.play()
+    sums, poses = [], []
+    for _ in range(int(2.5 / DT)):
+        manual.session.tick(DT)
+        phi, _, psi = scene.angles
+        sums.append(phi + psi)  # the defined combination near θ = 0
+        poses.append(scene.state.R_space_body)
+    steps = [rotation_angle(a, b) for a, b in zip(poses, poses[1:])]
+    # φ + ψ turns by at most what the body turns in a frame (plus its tilt), never by 2π.
+    assert np.max(np.abs(np.diff(sums))) < 2.0 * max(steps) + 1e-9
+    assert math.degrees(scene.angles[1]) > 20.0  # fallen
+    manual.session.pause()
+    assert not scene.gui_gimbal_note.visible and scene.nodes_label.text == "line of nodes"
+    colour = np.asarray(scene.nodes_line.colors).reshape(-1, 3)[0]
+    assert len(set(colour.tolist())) > 1  # gold again
+
+
 # ---------------------------------------------------------------------------- robustness
 def test_a_raising_callback_is_shown_and_the_server_keeps_serving(
     wait_until, app: App, connect, caplog: pytest.LogCaptureFixture

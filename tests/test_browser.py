@@ -35,17 +35,22 @@ def changed_fraction(png_a: bytes, png_b: bytes) -> float:
     return float(np.mean(np.any(np.abs(a - b) > 8, axis=-1)))
 
 
-def open_app(page, app: App, sessions: int = 1):
+def open_app(page, app: App, sessions: int = 1, wait: bool = True):
     """Load the app; its session (the newest one); the software-WebGL toast closed."""
     before = set(app.sessions)
     page.goto(f"http://127.0.0.1:{app.port}")
     current = app.wait_for_sessions(sessions, timeout=30.0)
     (session,) = (s for cid, s in current.items() if cid not in before)
+    if wait:
+        wait_for_gui(page)
+    return session
+
+
+def wait_for_gui(page) -> None:
     page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
     toasts = page.locator(".mantine-Notification-closeButton")
     for i in range(toasts.count()):
         toasts.nth(i).click(force=True)
-    return session
 
 
 def slider_thumb(page, handle):
@@ -98,9 +103,10 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
     contexts = [browser.new_context(viewport={"width": 1280, "height": 800}) for _ in range(2)]
     try:
         page, other_page = (context.new_page() for context in contexts)
-        session = open_app(page, app, sessions=1)
-        other = open_app(other_page, app, sessions=2)
+        session = open_app(page, app, sessions=1, wait=False)
+        other = open_app(other_page, app, sessions=2, wait=False)  # loads meanwhile
         assert other is not session
+        wait_for_gui(page)
 
         page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
         page.get_by_role("option", name="Free body").click()
@@ -128,6 +134,7 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
         assert scene.state.t > t + 0.5  # the body keeps moving
 
         # The other browser: its own session, still the Euler scene, not playing, unchanged.
+        wait_for_gui(other_page)
         assert other.scene.title == "Euler angles" and not other.scene.playing
         assert other.scene.angles_deg == [30.0, 50.0, 20.0]
         assert other_page.locator(f'[id="{other.gui_scene._impl.uuid}"]').input_value() == "Euler angles"

@@ -14,8 +14,9 @@ Every reference is independent of the code under test:
   flip half-period 2K(m)/λ (Landau & Lifshitz §37).
 
 Figures measured when these tests were written (2-core machine): attitude error vs DOP853
-<= 1.2e-12 rad over 20 s; vs the long-double reference <= 1e-13 rad (most cases ~1e-15);
-at t = 1e4 s, 2e-12 rad; E and L_space conserved to ~1e-15 relative.
+<= 1.1e-12 rad over 20 s (DOP853's own error); vs the long-double reference <= 3e-15 rad;
+at t = 1e4 s, 2.3e-12 rad; E and L_space conserved to ~1e-15 relative; 1e4 sample times
+in ~5 ms (R and ω_b) or ~1 ms (ω_b only).
 """
 
 from __future__ import annotations
@@ -296,7 +297,7 @@ def _quad_third_kind(u, nu, m, m1):
     return total
 
 
-@pytest.mark.parametrize("m1", [1.0, 0.5, 0.1, 1e-8])
+@pytest.mark.parametrize("m1", [1.0, 0.5, 0.1, 1e-8, 1e-200])
 @pytest.mark.parametrize("nu", [0.0, -1e-7, -0.4, -30.0, -1e4])
 def test_third_kind_matches_quadrature(m1, nu):
     m = 1.0 - m1
@@ -386,7 +387,7 @@ def test_matches_long_double_taylor_reference(inertia, omega0):
     t = np.linspace(0.0, 10.0 / speed, 21)
     R_ref, w_ref = taylor_long_double(I, R0, w0, t, h_max=0.2 / speed)
     R, w = FreeBodyExact(I, R0, w0)(t)
-    assert rotation_angle(R, R_ref.astype(float)).max() <= 1e-12
+    assert rotation_angle(R, R_ref.astype(float)).max() <= 5e-14  # measured <= 3e-15
     assert np.abs(w - w_ref.astype(float)).max() <= 1e-14 * speed
 
 
@@ -426,10 +427,11 @@ def test_energy_and_angular_momentum_are_conserved(body, log_t):
     L = np.einsum("nij,nj->ni", R, I * w)
     L0 = R0 @ (I * w0)
     energy = 0.5 * np.sum(I * w * w, axis=1)
-    assert np.abs(L - L0).max() <= 1e-13 * np.linalg.norm(L0)
-    assert np.abs(energy - exact.energy).max() <= 1e-13 * exact.energy
-    assert np.abs(np.swapaxes(R, 1, 2) @ R - np.eye(3)).max() <= 2e-15
-    assert np.all(np.abs(np.linalg.det(R) - 1.0) <= 4e-15)  # det itself rounds ~2e-15
+    # measured <= 1.1e-15 relative over 3000 examples; the brief asks for 1e-13
+    assert np.abs(L - L0).max() <= 1e-14 * np.linalg.norm(L0)
+    assert np.abs(energy - exact.energy).max() <= 1e-14 * exact.energy
+    assert np.abs(np.swapaxes(R, 1, 2) @ R - np.eye(3)).max() <= 4e-15  # measured <= 1.9e-15
+    assert np.all(np.abs(np.linalg.det(R) - 1.0) <= 5e-15)  # det itself rounds; measured 2.4e-15
     np.testing.assert_allclose(exact(0.0)[0], R0, atol=2e-15)
     np.testing.assert_allclose(exact(0.0)[1], w0, atol=2e-15 * speed)
 
@@ -620,8 +622,8 @@ def test_exactly_on_separatrix(inertia, omega0):
     t = np.linspace(0.0, 12.0, 25)
     R_ref, w_ref = taylor_long_double(I, R0, w0, t)
     R, w = exact(t)
-    assert rotation_angle(R, R_ref.astype(float)).max() <= 1e-12
-    assert np.abs(w - w_ref.astype(float)).max() <= 1e-12
+    assert rotation_angle(R, R_ref.astype(float)).max() <= 1e-13
+    assert np.abs(w - w_ref.astype(float)).max() <= 1e-13
     R_far, w_far = exact(np.array([-1e4, 1e3, 1e4]))  # creeps to the intermediate axis, no NaN
     assert np.all(np.isfinite(R_far)) and np.all(np.isfinite(w_far))
     np.testing.assert_allclose(
@@ -690,7 +692,7 @@ def test_long_times_against_monodromy(inertia, omega0):
         refs.append((expo @ R_tau[k]).astype(float))
     R, w = exact(np.array(times))
     err = rotation_angle(R, np.array(refs))
-    assert err.max() <= 1e-10
+    assert err.max() <= 2e-11  # the brief asks for 1e-10; measured 2.3e-12
     np.testing.assert_allclose(w, w_tau[:3].astype(float), atol=1e-12)
 
 
@@ -732,7 +734,7 @@ def test_ten_thousand_samples_are_fast():
     R, w = exact(t)
     elapsed = time.perf_counter() - start
     assert np.all(np.isfinite(R))
-    assert elapsed < 0.5, f"{elapsed:.3f} s for 1e4 samples"  # measured ~12 ms
+    assert elapsed < 0.5, f"{elapsed:.3f} s for 1e4 samples"  # measured ~5 ms
 
 
 @pytest.mark.parametrize(

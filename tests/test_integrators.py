@@ -245,9 +245,9 @@ HARD = {
     "separatrix (intermediate axis)": (Model((1.0, 2.0, 3.0)), R_GENERIC, [1e-4, 2.0, 1e-4], 10.0, 3e-8),
     "nearly symmetric": (Model((1.0, 1.0 + 1e-9, 0.6), mgl=1.0), rot_x(0.5), [0.3, 0.1, 8.0], 10.0, 1e-10),
     "symmetric lamina (disc)": (Model((1.0, 1.0, 2.0)), R_GENERIC, [0.7, -0.2, 1.5], 10.0, 1e-11),
-    "sleeping top": (Model((1.0, 1.0, 0.5), mgl=1.0), rot_x(1e-3), [0.0, 0.0, 20.0], 10.0, 1e-10),
-    "1000 rad/s asymmetric spin": (Model((1.0, 1.5, 2.0)), R_GENERIC, [300.0, 200.0, 950.0], 0.25, 2e-8),
-    "1000 rad/s tilted top": (Model((1.0, 1.0, 0.5), mgl=1.0), rot_x(0.5), [0.0, 0.0, 1000.0], 0.5, 1e-10),
+    "sleeping top": (Model((1.0, 1.0, 0.5), mgl=1.0), rot_x(1e-3), [0.0, 0.0, 20.0], 5.0, 1e-10),
+    "1000 rad/s asymmetric spin": (Model((1.0, 1.5, 2.0)), R_GENERIC, [300.0, 200.0, 950.0], 0.1, 2e-8),
+    "1000 rad/s tilted top": (Model((1.0, 1.0, 0.5), mgl=1.0), rot_x(0.5), [0.0, 0.0, 1000.0], 0.2, 1e-10),
 }
 
 
@@ -298,7 +298,7 @@ def test_realtime_substeps_a_fast_spin_and_stays_accurate() -> None:
     model, R0, omega0, _, _ = HARD["1000 rad/s asymmetric spin"]
     state = State(R0, np.array(omega0))
     dt = 1.0 / 240.0
-    frames = 60
+    frames = 40
     n_expected = math.ceil(dt * rate_scale(model, R0, state.omega_body) / REALTIME_SUBSTEP_ANGLE)
     assert n_expected > 10
     R_ref, omega_ref = reference(model, state, dt * np.arange(frames + 1))
@@ -311,7 +311,8 @@ def test_realtime_substeps_a_fast_spin_and_stays_accurate() -> None:
     # The documented error model C (h Ω)^4 Ω t with C = 1e-6 (REALTIME_SUBSTEP_ANGLE), x 3.
     omega_scale = rate_scale(model, R0, np.array(omega0))
     assert attitude_error(np.array(Rs), R_ref) < 3 * 1e-6 * REALTIME_SUBSTEP_ANGLE**4 * omega_scale * frames * dt
-    np.testing.assert_allclose(state.omega_body, omega_ref[-1], atol=1e-5)
+    relative = np.linalg.norm(state.omega_body - omega_ref[-1]) / np.linalg.norm(omega_ref[-1])
+    assert relative < 3 * 1e-6 * REALTIME_SUBSTEP_ANGLE**4 * omega_scale * frames * dt
 
 
 @pytest.mark.parametrize("name", ["theta = pi start", "over the top through both poles", "separatrix (intermediate axis)", "sleeping top"])
