@@ -277,6 +277,7 @@ class _Splitting:
     conservative: bool
     mgl: float
     torque_scale: float  # |mgl| + |torque_space| [N m]
+    work_axis: tuple[int, int, int]  # inverse of perm
     tables: dict[tuple[float, int], tuple[list[tuple[float, ...]], ...]] = field(
         default_factory=dict, compare=False, repr=False
     )
@@ -299,9 +300,9 @@ class _Splitting:
     def body_from_work(self, y: Sequence[float]) -> tuple[list[float], list[float]]:
         """(R row-major (9,), ω_b (3,)) from the working-frame y (7,)."""
         rw = _matrix_from_quat(y[0], y[1], y[2], y[3])
-        p, sg, inertia = self.perm, self.sign, self.inertia
-        j0, j1, j2 = (p.index(k) for k in range(3))  # body axis k is work axis j_k
-        s0, s1, s2 = sg[j0], sg[j1], sg[j2]
+        inertia = self.inertia
+        j0, j1, j2 = self.work_axis  # body axis k is sign[j_k] * work axis j_k
+        s0, s1, s2 = self.sign[j0], self.sign[j1], self.sign[j2]
         r = [
             s0 * rw[j0], s1 * rw[j1], s2 * rw[j2],
             s0 * rw[3 + j0], s1 * rw[3 + j1], s2 * rw[3 + j2],
@@ -379,8 +380,9 @@ def _cached_splitting(
 
     conservative = hook is None and not any(tau)
     torque_scale = abs(mgl) + math.sqrt(sum(m * m for m in tau))
+    work_axis = (perm.index(0), perm.index(1), perm.index(2))
     return _Splitting(
-        perm, sign, a, gravity, torque, inertia, hook is not None, conservative, mgl, torque_scale  # type: ignore[arg-type]
+        perm, sign, a, gravity, torque, inertia, hook is not None, conservative, mgl, torque_scale, work_axis  # type: ignore[arg-type]
     )
 
 
@@ -534,14 +536,17 @@ def _advance(
         n = sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
         qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
         if invariant is not None:
-            r = _matrix_from_quat(qw, qx, qy, qz)
             if len(invariant) == 3:  # free body: L_b = Rᵀ L_s
+                r = _matrix_from_quat(qw, qx, qy, qz)
                 lx = r[0] * space_x + r[3] * space_y + r[6] * space_z
                 ly = r[1] * space_x + r[4] * space_y + r[7] * space_z
                 lz = r[2] * space_x + r[5] * space_y + r[8] * space_z
-            else:  # heavy top: restore L·e_z = γ·L_b along γ = Rᵀ e_z
-                d = vertical - (r[6] * lx + r[7] * ly + r[8] * lz)
-                lx, ly, lz = lx + d * r[6], ly + d * r[7], lz + d * r[8]
+            else:  # heavy top: restore L·e_z = γ·L_b along γ = Rᵀ e_z (|γ| = 1)
+                g0 = 2.0 * (qx * qz - qw * qy)
+                g1 = 2.0 * (qy * qz + qw * qx)
+                g2 = 1.0 - 2.0 * (qx * qx + qy * qy)
+                d = vertical - (g0 * lx + g1 * ly + g2 * lz)
+                lx, ly, lz = lx + d * g0, ly + d * g1, lz + d * g2
         _check_finite(t, (qw, qx, qy, qz, lx, ly, lz), sqrt(lx * lx + ly * ly + lz * lz) * inv_i_min, omega_limit)
     return [qw, qx, qy, qz, lx, ly, lz], t
 
