@@ -157,6 +157,8 @@ def manual() -> Iterator[Manual]:
         yield harness
     finally:
         if harness is not None:
+            with harness.session.lock:  # let a callback still running on viser's pool finish
+                pass
             harness.client.close()
         running.stop()
 

@@ -349,8 +349,9 @@ def test_out_of_range_and_nan_are_refused_with_a_message(wait_until, manual) -> 
     client.set_value(scene.controls.gui_time_scale, 100.0)
     wait_until(lambda: "Time scale" in scene.controls.gui_message.content)
     assert scene.time_scale == 1.0 and scene.controls.gui_time_scale.value == 1.0
+    sent = time.time()
     client.set_value(session.gui_scene, "no such scene")  # a client can send any string
-    wait_until(lambda: session.gui_scene.value == "Euler angles")
+    wait_until(lambda: session.gui_scene.update_timestamp > sent and session.gui_scene.value == "Euler angles")
     assert session.last_error is None
 
 
