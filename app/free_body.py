@@ -142,9 +142,9 @@ class FreeBodyScene(SimulationScene):
         R, omega = state.R_space_body, state.omega_body
         L = float(np.linalg.norm(angular_momentum_space(self.model, R, omega)))
         T = energy(self.model, R, omega)
-        lines = [f"conserved: E = T = {T:.5f} J,  |L| = {L:.5f} kg m²/s,  L_s fixed in space"]
+        lines = ["conserved: E = T, L_s (fixed in space)", f"|L| = {L:.5f} kg m²/s"]
         if T > 0.0:
-            I1, I2, I3 = self.model.inertia
-            lines.append(f"|L|²/(2T) = {L * L / (2.0 * T):.4f} kg m²  (I1, I2, I3 = {I1:g}, {I2:g}, {I3:g}; "
-                         "equal to the middle moment on the separatrix)")
+            lines.append(f"|L|²/(2T) = {L * L / (2.0 * T):.4f} kg m²")
+            lines.append("  (= I2, the middle moment, on the")
+            lines.append("   separatrix of the Dzhanibekov flip)")
         return "\n".join(lines)

@@ -276,5 +276,8 @@ class HeavyTopScene(SimulationScene):
         I1, _, I3 = self.model.inertia
         mgl = self.model.mgl
         critical = 4.0 * I1 * mgl / (I3 * I3)
-        return (f"conserved: p_φ = L_z = {L[2]:.5f} kg m²/s,  p_ψ = I3 ω_z′ = {I3 * omega[2]:.5f} kg m²/s\n"
-                f"sleeping if ω_z′² > 4 I1 mgl / I3² = {critical:.3g}  (now {omega[2] ** 2:.3g})")
+        return (f"p_φ = L_z = {L[2]:.5f} kg m²/s\n"
+                f"p_ψ = I3 ω_z′ = {I3 * omega[2]:.5f} kg m²/s\n"
+                "(both conserved)\n"
+                f"sleeps if ω_z′² > 4 I1 mgl / I3² = {critical:.3g}\n"
+                f"  (now ω_z′² = {omega[2] ** 2:.3g})")

@@ -19,7 +19,7 @@ import viser.uplot
 __all__ = ["LOG_FLOOR", "PlotSpec", "LivePlots", "SampleBuffer"]
 
 LOG_FLOOR = 1e-17
-"""Values on a log-scale chart are drawn as max(|value|, LOG_FLOOR) (log 0 is undefined)."""
+"""A `log` chart draws log10(max(|value|, LOG_FLOOR)) (log 0 is undefined)."""
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,8 @@ class PlotSpec:
     columns: tuple[str, ...]
     labels: tuple[str, ...]
     colors: tuple[str, ...]
-    log: bool = False  # log-scale y axis of |value| (drifts and errors)
+    log: bool = False  # draw log10 |value| (drifts and errors) on a linear axis: uPlot's own
+    #                    log axis labels tiny values "0", and its formatters are JavaScript
 
 
 class SampleBuffer:
@@ -111,11 +112,9 @@ class LivePlots:
                 viser.uplot.Series(label=label, stroke=color, width=2.0)
                 for label, color in zip(spec.labels, spec.colors)
             )
-            y_scale = (viser.uplot.Scale(auto=True, distr=3, log=10) if spec.log
-                       else viser.uplot.Scale(auto=True))
             self.handles.append(gui.add_uplot(
                 data=self._data(spec), series=series, title=spec.title, height=height,
-                scales={"x": viser.uplot.Scale(time=False, auto=True), "y": y_scale},
+                scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(auto=True)},
                 legend=viser.uplot.Legend(show=True, live=True),
             ))
 
@@ -127,7 +126,7 @@ class LivePlots:
         for name in spec.columns:
             values = rows[:, self.buffer.index(name)]
             if spec.log:
-                values = np.maximum(np.abs(values), LOG_FLOOR)
+                values = np.log10(np.maximum(np.abs(values), LOG_FLOOR))
             columns.append(np.ascontiguousarray(values))
         return (np.ascontiguousarray(rows[:, 0]), *columns)
 

@@ -357,8 +357,8 @@ class SimulationScene:
                      ("#8c32d2", "#d70078", "#008c8c")),
             PlotSpec("ω, body components [rad/s]", ("w1", "w2", "w3"), ("ω_x′", "ω_y′", "ω_z′"),
                      ("#c00000", "#00802a", "#0030a0")),
-            PlotSpec("Accuracy (log scale)", ("drift_E", "drift_L", "attitude_error"),
-                     ("|ΔE|/E", f"|Δ{self.momentum_label}|/|L₀|", "attitude error [rad]"),
+            PlotSpec("Accuracy: log₁₀ of the errors", ("drift_E", "drift_L", "attitude_error"),
+                     ("|ΔE|/E₀", f"|Δ{self.momentum_label}|/|L₀|", "attitude [rad]"),
                      ("#e65a00", "#7828c8", "black"), log=True),
         ]
 
@@ -745,35 +745,42 @@ class SimulationScene:
         Q = generalized_forces(self.angles, torque)
 
         def row(name: str, v: np.ndarray) -> str:
-            return f"{name:<15}" + "".join(f"{x:11.4f}" for x in (0.0 if abs(x) < 5e-5 else x for x in v))
+            return f"{name:<13}" + "".join(f"{(0.0 if abs(x) < 5e-5 else x):9.4f}" for x in v)
+
+        def clean(x: float) -> float:
+            return 0.0 if abs(x) < 5e-5 else float(x)
 
         note = gimbal_note(theta)
-        lines = [
-            f"t = {self.state.t:.3f} s     z-x-z angles in degrees",
-            f"φ = {phi:8.2f}°   θ = {theta:7.2f}°   ψ = {psi:8.2f}°",
+        lines = [  # at most ~42 characters a line: the panel's width
+            f"t = {self.state.t:.3f} s    (z-x-z, degrees)",
+            f"φ = {phi:.2f}°  θ = {theta:.2f}°  ψ = {psi:.2f}°",
         ]
         if note is not None:
             combined = ("φ + ψ", phi + psi) if theta < 90.0 else ("φ − ψ", phi - psi)
-            lines.append(f"gimbal lock: only {combined[0]} = {wrap_deg(combined[1]):.2f}° is defined")
+            lines.append(f"gimbal lock: only {combined[0]} = {wrap_deg(combined[1]):.2f}°")
         lines += [
             "",
-            "D = Rz(φ) Rx(θ) Rz(ψ)   (columns: x′ y′ z′ in space components)",
+            "D = Rz(φ) Rx(θ) Rz(ψ), columns x′ y′ z′",
             format_matrix(R, 4),
             "",
-            f"{'':<15}{'x | x′':>11}{'y | y′':>11}{'z | z′':>11}",
+            f"{'':<13}{'x | x′':>9}{'y | y′':>9}{'z | z′':>9}",
             row("ω_s [rad/s]", omega_space),
             row("ω_b [rad/s]", omega_body),
             row("L_s [kg m²/s]", L_space),
             row("L_b [kg m²/s]", L_body),
             row("M_s [N m]", torque),
             "",
-            f"T = {T:.5f} J   V = {V:.5f} J   E = T + V = {T + V:.5f} J",
-            f"Q_φ = M·e_z = {Q[0]:.4f}   Q_θ = M·e_n = {Q[1]:.4f}   Q_ψ = M·e_z′ = {Q[2]:.4f}   [N m]",
+            f"T = {T:.5f} J",
+            f"V = {V:.5f} J",
+            f"E = T + V = {T + V:.5f} J",
+            f"Q_φ = M·e_z  = {clean(Q[0]):.4f} N m",
+            f"Q_θ = M·e_n  = {clean(Q[1]):.4f} N m",
+            f"Q_ψ = M·e_z′ = {clean(Q[2]):.4f} N m",
         ]
         extra = self.readout_extras(self.state)
         if extra:
             lines += ["", extra]
-        content = ("ω_s = D ω_b (space components), ω_b (body), L_s = D I ω_b, "
+        content = ("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
                    "Q: generalized forces of φ θ ψ (memo 6.10).\n```\n" + "\n".join(lines) + "\n```")
         if self.gui_readout.content != content:
             self.gui_readout.content = content

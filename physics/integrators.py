@@ -669,7 +669,7 @@ def step_realtime(
         raise ValueError(f"max_substep_angle must be positive and finite, got {max_substep_angle}")
     gammas = _gammas(order)
     sp = _splitting_for(model)
-    last = sp.last
+    last = tuple(sp.last)  # one atomic copy: another thread may step an equal model meanwhile
     if last and state.R_space_body is last[0] and state.omega_body is last[1] and state.t == last[2]:
         # The state this function returned last (its read-only arrays cannot have changed):
         # continue from the exact working-frame quaternion, skipping validation and conversion.

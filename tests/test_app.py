@@ -83,7 +83,8 @@ def parse_readout(content: str) -> dict[str, np.ndarray | float]:
     for name in ("ω_s [rad/s]", "ω_b [rad/s]", "L_s [kg m²/s]", "L_b [kg m²/s]", "M_s [N m]"):
         out[name.split()[0]] = _row(content, name)
     energies = re.search(rf"T = {_NUMBER} J\s+V = {_NUMBER} J\s+E = T \+ V = {_NUMBER} J", content)
-    forces = re.search(rf"Q_φ = M·e_z = {_NUMBER}\s+Q_θ = M·e_n = {_NUMBER}\s+Q_ψ = M·e_z′ = {_NUMBER}", content)
+    forces = re.search(rf"Q_φ = M·e_z\s*= {_NUMBER} N m\s+Q_θ = M·e_n\s*= {_NUMBER} N m\s+"
+                       rf"Q_ψ = M·e_z′\s*= {_NUMBER} N m", content)
     angles = re.search(rf"φ =\s*{_NUMBER}°\s+θ =\s*{_NUMBER}°\s+ψ =\s*{_NUMBER}°", content)
     assert energies and forces and angles, content
     out["T"], out["V"], out["E"] = (float(x) for x in energies.groups())
