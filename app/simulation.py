@@ -276,8 +276,8 @@ class SimulationScene:
             NODES_COLOR, thickness=6.0, thickness_units="screen",
         )
         self.nodes_label = scene.add_label(
-            f"{root}/nodes/label", "line of nodes", position=(NODES_HALF_LENGTH + 0.05, 0.0, 0.0),
-            font_screen_scale=1.6, anchor="center-left",
+            f"{root}/nodes/label", "line of nodes", position=(0.8 * NODES_HALF_LENGTH, 0.0, 0.04),
+            font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
         )
         self.omega_arrow = scene.add_arrows(
             f"{root}/omega", np.zeros((1, 2, 3)), OMEGA_COLOR, shaft_radius=0.03, head_radius=0.08,
@@ -641,12 +641,12 @@ class SimulationScene:
                 model = self.model_from_params(candidate)
             except (InertiaError, ValueError) as error:
                 shown = ", ".join(f"{p:g}" for p in self.params)
-                self.controls.show_message(
-                    f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving.")
                 self.gui_param_status.content = (
                     f"**⚠ Refused:** {error}.  Each moment must be at most the sum of the other two "
                     f"(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
                 )
+                self.controls.show_message(
+                    f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving.")
                 return
             self.controls.clear_message()
             self.params = candidate

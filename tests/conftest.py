@@ -139,6 +139,14 @@ class Manual:
         self.client = RawClient(app.port)
         self.session = next(iter(app.wait_for_sessions(1).values()))
 
+    def wait(self, predicate: Callable[[], Any], timeout: float = 5.0) -> Any:
+        """Poll until `predicate` holds, then until the session's callback that made it hold
+        (on viser's thread pool, under the session lock) has finished."""
+        value = poll_until(predicate, timeout)
+        with self.session.lock:
+            pass
+        return value
+
     def tick(self, seconds: float, dt: float = 1.0 / 60.0) -> None:
         """Tick the session as the loop would, `seconds` of wall time in steps of dt."""
         for _ in range(int(round(seconds / dt))):

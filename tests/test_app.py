@@ -287,12 +287,12 @@ def test_euler_play_advances_angles_and_sliders_follow_without_feedback(manual) 
     assert not scene.playing and not note.visible
 
 
-def test_user_drag_while_playing_pauses_and_sets_the_angle(wait_until, manual) -> None:
+def test_user_drag_while_playing_pauses_and_sets_the_angle(manual) -> None:
     scene = manual.session.scene
     manual.session.play()
     manual.tick(0.5)
     manual.client.set_value(scene.gui_theta, 100.0)  # what a browser sends when dragging
-    wait_until(lambda: scene.angles_deg[1] == 100.0)
+    manual.wait(lambda: scene.angles_deg[1] == 100.0)
     assert not scene.playing
     phi, _, psi = scene.angles_deg
     np.testing.assert_allclose(body_matrix(manual.session), D_reference(phi, 100.0, psi), atol=ATOL_POSE)
@@ -330,7 +330,7 @@ def test_intermediate_frames_toggle(manual) -> None:
 
 
 # ---------------------------------------------------------------------------- bad input
-def test_out_of_range_and_nan_are_refused_with_a_message(wait_until, manual) -> None:
+def test_out_of_range_and_nan_are_refused_with_a_message(manual) -> None:
     client, session = manual.client, manual.session
     scene = session.scene
     scene.gui_theta.value = 500.0  # server side
@@ -338,21 +338,24 @@ def test_out_of_range_and_nan_are_refused_with_a_message(wait_until, manual) -> 
     assert scene.controls.gui_message.visible and "refused" in scene.controls.gui_message.content
 
     client.set_value(scene.gui_theta, 1e6)  # viser itself accepts this (VISER.md pitfall 4)
-    wait_until(lambda: scene.gui_theta.value == 50.0)
+    manual.wait(lambda: "1000000.0 refused" in scene.controls.gui_message.content)
+    assert scene.gui_theta.value == 50.0 and scene.angles_deg[1] == 50.0
     client.set_value(scene.gui_psi, 33.0)
-    wait_until(lambda: scene.angles_deg[2] == 33.0)
+    manual.wait(lambda: scene.angles_deg[2] == 33.0)
     assert not scene.controls.gui_message.visible  # a valid value clears the message
     client.set_value(scene.gui_psi, float("nan"))  # NaN: keep the last valid value
-    wait_until(lambda: scene.gui_psi.value == 33.0)
+    manual.wait(lambda: "nan refused" in scene.controls.gui_message.content)
+    assert scene.gui_psi.value == 33.0 and scene.angles_deg[2] == 33.0
     assert np.all(np.isfinite(np.asarray(scene.body_node.wxyz)))
     client.set_value(scene.gui_moments[0], -3.0)
-    wait_until(lambda: scene.gui_moments[0].value == 1.0)
+    manual.wait(lambda: "-3.0 refused" in scene.controls.gui_message.content)
+    assert scene.gui_moments[0].value == 1.0 and scene.moments[0] == 1.0
     client.set_value(scene.controls.gui_time_scale, 100.0)
-    wait_until(lambda: "Time scale" in scene.controls.gui_message.content)
+    manual.wait(lambda: "Time scale" in scene.controls.gui_message.content)
     assert scene.time_scale == 1.0 and scene.controls.gui_time_scale.value == 1.0
     sent = time.time()
     client.set_value(session.gui_scene, "no such scene")  # a client can send any string
-    wait_until(lambda: session.gui_scene.update_timestamp > sent and session.gui_scene.value == "Euler angles")
+    manual.wait(lambda: session.gui_scene.update_timestamp > sent and session.gui_scene.value == "Euler angles")
     assert session.last_error is None
 
 
@@ -382,21 +385,21 @@ def test_moments_reshape_the_box_and_invalid_ones_are_refused(manual) -> None:
     assert scene.moments == (1.0, 1.5, 2.5) and min(scene.body_box.dimensions) < 0.05
 
 
-def test_angle_presets_from_server_and_client(wait_until, manual) -> None:
+def test_angle_presets_from_server_and_client(manual) -> None:
     client, session = manual.client, manual.session
     scene = session.scene
     scene.gui_presets.value = "D = 1"
     np.testing.assert_allclose(body_matrix(session), np.eye(3), atol=ATOL_POSE)
     client.set_value(scene.gui_presets, "gimbal lock")
-    wait_until(lambda: scene.angles_deg == [30.0, 0.0, 20.0])
+    manual.wait(lambda: scene.angles_deg == [30.0, 0.0, 20.0])
     assert scene.gui_gimbal_note.visible
     client.set_value(scene.gui_presets, "no such preset")  # a client can send any string
-    wait_until(lambda: scene.angles_deg == list(INITIAL_ANGLES_DEG))
+    manual.wait(lambda: scene.angles_deg == list(INITIAL_ANGLES_DEG))
     assert session.last_error is None
 
 
 # ---------------------------------------------------------------------------- scenes
-def test_scene_switching_builds_each_scene_with_its_view_and_removes_the_old(wait_until, manual) -> None:
+def test_scene_switching_builds_each_scene_with_its_view_and_removes_the_old(manual) -> None:
     session = manual.session
     euler = session.scene
     euler_handles = [euler.gui_theta, euler.controls.gui_play]
@@ -407,7 +410,7 @@ def test_scene_switching_builds_each_scene_with_its_view_and_removes_the_old(wai
     np.testing.assert_allclose(session.client.camera.look_at, FreeBodyScene.view.look_at, atol=1e-9)
 
     manual.client.set_value(session.gui_scene, "Heavy top")  # the dropdown, from a browser
-    wait_until(lambda: isinstance(session.scene, HeavyTopScene))
+    manual.wait(lambda: isinstance(session.scene, HeavyTopScene))
     top = session.scene
     np.testing.assert_allclose(session.client.camera.position, HeavyTopScene.view.position, atol=1e-9)
     session.play()
@@ -481,13 +484,13 @@ def test_free_body_readout_matches_independent_formulas(manual) -> None:
     np.testing.assert_allclose(shown["L_s"], L0, atol=2e-4)
 
 
-def test_play_pause_step_reset_and_time_scale(wait_until, manual) -> None:
+def test_play_pause_step_reset_and_time_scale(manual) -> None:
     scene = start_free_body(manual, "Disc")
     R0 = scene.state.R_space_body.copy()
     manual.session.step()
     assert scene.state.t == pytest.approx(DT) and not scene.playing
     manual.client.set_value(scene.controls.gui_time_scale, 2.0)  # from a browser
-    wait_until(lambda: scene.time_scale == 2.0)
+    manual.wait(lambda: scene.time_scale == 2.0)
     manual.session.step()
     assert scene.state.t == pytest.approx(3 * DT)
     manual.session.play()
@@ -502,11 +505,11 @@ def test_play_pause_step_reset_and_time_scale(wait_until, manual) -> None:
     assert scene.state.t == 0.0 and not scene.playing
     np.testing.assert_array_equal(scene.state.R_space_body, R0)
     manual.client.set_value(scene.controls.gui_play, True)  # the Play button, from a browser
-    wait_until(lambda: scene.playing)
+    manual.wait(lambda: scene.playing)
     assert manual.session.last_error is None
 
 
-def test_sliders_follow_the_motion_without_feedback_and_a_drag_sets_the_state(wait_until, manual) -> None:
+def test_sliders_follow_the_motion_without_feedback_and_a_drag_sets_the_state(manual) -> None:
     scene = start_free_body(manual)
     I = np.array(scene.model.inertia)
     R0, omega0 = scene.state.R_space_body.copy(), scene.state.omega_body.copy()
@@ -537,20 +540,20 @@ def test_sliders_follow_the_motion_without_feedback_and_a_drag_sets_the_state(wa
     manual.session.play()
     manual.tick(0.2)
     manual.client.set_value(scene.gui_angles[1], 45.0)  # a browser drags θ while playing
-    wait_until(lambda: not scene.playing and scene.state.t == 0.0)
+    manual.wait(lambda: not scene.playing and scene.state.t == 0.0)
     phi_s, theta_s, psi_s = (h.value for h in scene.gui_angles)
     assert theta_s == 45.0
     np.testing.assert_allclose(scene.state.R_space_body, D_reference(phi_s, 45.0, psi_s), atol=1e-12)
     np.testing.assert_allclose(scene.state.omega_body, [h.value for h in scene.gui_rates], atol=1e-12)
 
 
-def test_invalid_moments_while_playing_show_a_message_and_the_body_keeps_moving(wait_until, manual) -> None:
+def test_invalid_moments_while_playing_show_a_message_and_the_body_keeps_moving(manual) -> None:
     scene = start_free_body(manual)
     model = scene.model
     manual.session.play()
     manual.tick(0.3)
     manual.client.set_value(scene.gui_params[2], 4.9)  # 0.3 + 0.75 < 4.9: not a body
-    wait_until(lambda: scene.controls.gui_message.visible)
+    manual.wait(lambda: scene.controls.gui_message.visible)
     assert "Not a rigid body" in scene.controls.gui_message.content
     assert "I1 + I2 >= I3" in scene.controls.gui_message.content
     assert "Refused" in scene.gui_param_status.content
@@ -561,9 +564,10 @@ def test_invalid_moments_while_playing_show_a_message_and_the_body_keeps_moving(
     assert rotation_angle(R, scene.state.R_space_body) > 0.1  # still turning
 
     manual.client.set_value(scene.gui_params[0], -1.0)  # out of range: refused, slider goes back
-    wait_until(lambda: scene.gui_params[0].value == 0.3)
+    manual.wait(lambda: "-1.0 refused" in scene.controls.gui_message.content)
+    assert scene.gui_params[0].value == 0.3 and scene.playing
     manual.client.set_value(scene.gui_params[2], 1.05)  # valid again: a new body, still playing
-    wait_until(lambda: scene.model.inertia == (0.3, 0.75, 1.05))
+    manual.wait(lambda: scene.model.inertia == (0.3, 0.75, 1.05))
     assert scene.playing and not scene.controls.gui_message.visible
     assert manual.session.last_error is None
 
@@ -702,7 +706,7 @@ def test_heavy_top_readout_torque_and_generalized_forces(manual) -> None:
     assert shown["L_s"][2] == pytest.approx(L0[2], abs=1e-4) and w_b[2] == pytest.approx(w0[2], abs=1e-4)
 
 
-def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(wait_until, manual) -> None:
+def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(manual) -> None:
     manual.session.select_scene("Heavy top")
     scene = manual.session.scene
     scene.controls.gui_time_scale.value = 4.0
@@ -714,7 +718,7 @@ def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(wait_until, 
     assert scene.trace.chunk_count <= kept / CHUNK_POINTS + 1
     assert TRACE_SECONDS / TRACE_SPACING == 720  # the bound at 1x or slower
     manual.client.set_value(scene.gui_params[1], 2.5)  # I3 = 2.5 > 2 I1 = 2: not a body
-    wait_until(lambda: scene.controls.gui_message.visible)
+    manual.wait(lambda: scene.controls.gui_message.visible)
     assert "I1 + I2 >= I3" in scene.controls.gui_message.content and scene.playing
     t = scene.state.t
     manual.tick(0.25)
