@@ -161,7 +161,7 @@ def mujoco_rk4(model: Model, s0, t: np.ndarray, h: float) -> Trajectory:
     start = time.perf_counter()
     steps = 0
     for k, tk in enumerate(t):
-        while d.time < tk - 1e-12:
+        while steps < round(tk / h):  # count steps: d.time accumulates rounding
             mujoco.mj_step(m, d)
             steps += 1
         quat = d.qpos[:4] if model.mgl else d.qpos[3:7]
