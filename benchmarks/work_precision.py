@@ -195,7 +195,7 @@ def ratios_at_equal_error(by_method: dict[str, list[Point]], peer: str) -> dict[
             continue
         if all(p.attitude_error == 0.0 for p in points):
             best = peer_points[0]
-            out[name] = f"{points[0].wall_s / best.wall_s:.3f} against DOP853's best ({best.attitude_error:.0e} rad)"
+            out[name] = f"{points[0].wall_s / best.wall_s:.2g} against DOP853's best ({best.attitude_error:.0e} rad)"
             continue
         cells = []
         for p in peer_points[:3]:
