@@ -28,18 +28,8 @@ sys.path.insert(0, str(ROOT))
 
 from app.main import create_server  # noqa: E402
 
-CHROMIUM = "/usr/lib/chromium/chromium"
-CHROMIUM_ARGS = [
-    "--no-sandbox",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--run-all-compositor-stages-before-draw",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
+from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
+
 SCENES = ("euler", "free", "top")
 
 

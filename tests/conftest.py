@@ -23,19 +23,7 @@ if TYPE_CHECKING:  # imported lazily below, so the physics tests never load vise
 
     from app.main import App
 
-CHROMIUM = os.environ.get("CHROMIUM", "/usr/lib/chromium/chromium")
-CHROMIUM_ARGS = [
-    "--no-sandbox",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--run-all-compositor-stages-before-draw",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
-INSTALL_HINT = "install it with `apt-get install chromium` (and `pip install playwright`)"
+from scripts.chromium import CHROMIUM, CHROMIUM_ARGS, INSTALL_HINT  # noqa: E402
 
 
 def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01) -> Any:
