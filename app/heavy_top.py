@@ -136,8 +136,10 @@ class TipTrace:
         if committed:
             self._head_points.append(point)
             self._last_t = t
-        points = self._head_points if committed else [*self._head_points, point]
-        if len(points) >= 2:
+        points = self._head_points
+        # Redrawn on every other committed point, not every frame: with 20 clients each
+        # message per frame counts, and the head then trails the tip by one point at most.
+        if committed and len(points) >= 2 and (len(points) % 2 == 0 or len(points) >= self.chunk_points):
             segments = polyline_segments(np.array(points))
             if self._head is None:
                 self._counter += 1
