@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from physics.casefile import CaseError, load_case
-from physics.dynamics import IntegrationError, Trajectory, angular_momentum_space, energy
+from physics.dynamics import IntegrationError, Model, Trajectory, angular_momentum_space, energy
 from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
 from physics.methods import default_method, methods, simulate, simulate_realtime
 
@@ -25,7 +25,7 @@ def _euler_along(R: np.ndarray) -> np.ndarray:
     return angles
 
 
-def write_trajectory(path: Path, model, trajectory: Trajectory) -> None:
+def write_trajectory(path: Path, model: Model, trajectory: Trajectory) -> None:
     """TRAJ.npz with the keys of CASEFILE.md."""
     R, omega = trajectory.R_space_body, trajectory.omega_body
     np.savez(

@@ -6,6 +6,7 @@ accurate the project has for that model (the exact solution where one exists).
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -77,14 +78,10 @@ def _registry() -> dict[str, Method]:
     }
 
 
-METHODS: dict[str, Method] = {}
-
-
+@functools.cache
 def methods() -> dict[str, Method]:
-    """The registry (built on first use so importing `physics` stays cheap)."""
-    if not METHODS:
-        METHODS.update(_registry())
-    return METHODS
+    """The registry by name (built on first use so importing `physics` stays cheap)."""
+    return _registry()
 
 
 def default_method(model: Model) -> str:
