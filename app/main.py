@@ -15,12 +15,16 @@ import argparse
 import logging
 import math
 import threading
+import sys
 import time
 from collections.abc import Callable, Sequence
 
 import viser
 
-from app.explorer import INITIAL_CAMERA, INITIAL_FOV_DEG
+from app.kit.presets import PresetError
+from app.kit.room import Room
+from app.scenes import check_presets
+from app.scenes.euler_angles import INITIAL_CAMERA, INITIAL_FOV_DEG
 from app.session import Session
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "create_server", "main"]
@@ -105,21 +109,25 @@ class App:
         self._thread.start()
         return self
 
+    def rooms(self) -> list[Room]:
+        """The rooms shown by the open sessions, each once."""
+        with self._sessions_lock:
+            sessions = list(self.sessions.values())
+        return list({id(s.room): s.room for s in sessions if not s.closed}.values())
+
     def _run_loop(self) -> None:
-        """Call every session's `tick(dt)` at `tick_hz`, paced (never a busy loop)."""
+        """Tick every room at `tick_hz` (its simulation advances once, its views draw), paced."""
         period = 1.0 / self.tick_hz
         last = next_time = time.perf_counter()
         while not self._stop.is_set():
             now = time.perf_counter()
             dt = min(now - last, MAX_TICK_DT)
             last = now
-            with self._sessions_lock:
-                sessions = list(self.sessions.values())
-            for session in sessions:
+            for room in self.rooms():
                 try:
-                    session.tick(dt)  # reports its own errors; this is a second net
+                    room.tick(dt)  # views report their own errors; this is a second net
                 except Exception:  # noqa: BLE001
-                    logger.exception("client %d: tick failed", session.client_id)
+                    logger.exception("%s: tick failed", room.scene.title)
             self.tick_count += 1
             next_time += period
             delay = next_time - time.perf_counter()
@@ -144,7 +152,12 @@ class App:
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True
 ) -> App:
-    """Build the app on (host, port) and start its loop.  port=0: an ephemeral port."""
+    """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
+
+    Reads every scene's presets first: a broken preset file raises PresetError (naming the
+    file and the field) before the server starts.
+    """
+    check_presets()
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     server.gui.configure_theme(
         show_share_button=False,  # sharing needs an external tunnel: useless offline
@@ -185,7 +198,11 @@ def main(argv: Sequence[str] | None = None) -> None:
     """Command-line entry point (`rigid-body-lab`, `python -m app`): serve until Ctrl-C."""
     args = _parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
-    app = create_server(args.host, args.port)
+    try:
+        app = create_server(args.host, args.port)
+    except PresetError as error:
+        print(f"rigid-body-lab: {error}", file=sys.stderr)
+        raise SystemExit(2) from None
     logger.info("open http://%s:%d in a browser", args.host, app.port)
     try:
         while True:

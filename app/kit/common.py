@@ -1,9 +1,9 @@
-"""Small pieces every scene of the lecture app shares: drawing helpers, formatting, colours,
-throttles, slider-value checks and camera views.
+"""Small pieces every scene shares: colours, lengths, formatting, throttles, slider specs and
+value checks, camera views.
 
 No physics formulas live here (they come from `physics`); this module only turns arrays into
-what viser draws and text a projector can show.  Quaternions (w, x, y, z) exist only here and
-where a scene hands an orientation to viser.
+what viser draws and text a projector can show.  No viser import either: the camera is moved
+through the client handle it is given.
 """
 
 from __future__ import annotations
@@ -14,9 +14,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import viser
-
 from physics._types import Mat3, Vec3
+from physics.quaternion import wxyz_from_matrix
 
 __all__ = [
     "BODY_AXIS_COLORS",
@@ -27,7 +26,11 @@ __all__ = [
     "NODES_COLOR",
     "NODES_FADED_COLOR",
     "OMEGA_COLOR",
+    "LABEL_SCALE",
+    "NODES_HALF_LENGTH",
     "SPACE_AXIS_COLORS",
+    "SPACE_AXIS_LENGTH",
+    "SliderSpec",
     "CameraView",
     "Throttle",
     "apply_camera",
@@ -60,31 +63,36 @@ GIMBAL_LOCK_DEG = 2.0
 GIMBAL_FADE_DEG = 15.0
 """The line of nodes fades from full colour at this distance from a pole to grey at the pole."""
 
+LABEL_SCALE = 2.0  # font_screen_scale of the 3D axis labels (readable on a projector)
+SPACE_AXIS_LENGTH = 2.0  # [scene units]
+NODES_HALF_LENGTH = 1.9  # [scene units] the line of nodes is drawn from -this to +this along e_n
 
-def wxyz_from_matrix(R: Mat3) -> np.ndarray:
-    """Unit quaternion (w, x, y, z) (4,) of the rotation matrix R (3, 3), w >= 0, for viser.
 
-    Shepperd's method on Python floats (a few µs: it runs for every pose of every frame).
-    """
-    r00, r01, r02 = float(R[0][0]), float(R[0][1]), float(R[0][2])
-    r10, r11, r12 = float(R[1][0]), float(R[1][1]), float(R[1][2])
-    r20, r21, r22 = float(R[2][0]), float(R[2][1]), float(R[2][2])
-    trace = r00 + r11 + r22
-    if trace >= max(r00, r11, r22):
-        s = 2.0 * math.sqrt(max(1.0 + trace, 0.0))
-        q = (0.25 * s, (r21 - r12) / s, (r02 - r20) / s, (r10 - r01) / s)
-    elif r00 >= r11 and r00 >= r22:
-        s = 2.0 * math.sqrt(max(1.0 + r00 - r11 - r22, 0.0))
-        q = ((r21 - r12) / s, 0.25 * s, (r01 + r10) / s, (r02 + r20) / s)
-    elif r11 >= r22:
-        s = 2.0 * math.sqrt(max(1.0 + r11 - r00 - r22, 0.0))
-        q = ((r02 - r20) / s, (r01 + r10) / s, 0.25 * s, (r12 + r21) / s)
-    else:
-        s = 2.0 * math.sqrt(max(1.0 + r22 - r00 - r11, 0.0))
-        q = ((r10 - r01) / s, (r02 + r20) / s, (r12 + r21) / s, 0.25 * s)
-    norm = math.sqrt(sum(c * c for c in q))
-    sign = 1.0 if q[0] >= 0.0 else -1.0
-    return np.array([sign * c / norm for c in q])
+@dataclass(frozen=True)
+class SliderSpec:
+    """A slider: key, label (with unit), range, step, hint, marks ((value, text), ...)."""
+
+    key: str
+    label: str
+    lo: float
+    hi: float
+    step: float
+    hint: str = ""
+    marks: tuple[tuple[float, str], ...] = ()
+
+    def rounded(self, value: float) -> float:
+        """`value` clamped to the range and rounded to the step (what the slider can show)."""
+        value = min(max(value, self.lo), self.hi)
+        decimals = max(0, -math.floor(math.log10(self.step)) + 1)
+        return round(round(value / self.step) * self.step, decimals)
+
+    def check(self, value: Any) -> float | None:
+        """`value` as a float if finite and in range, else None (refuse it)."""
+        return checked_value(value, self.lo, self.hi)
+
+    def refusal(self, value: Any) -> str:
+        """The message for a refused value."""
+        return f"{self.label} = {value!r} refused: the range is {self.lo:g} to {self.hi:g}."
 
 
 def clamp_finite(value: float, lo: float, hi: float, fallback: float) -> float:
@@ -194,7 +202,7 @@ class CameraView:
     fov_deg: float = 40.0  # three.js' default 75° distorts the axes
 
 
-def apply_camera(client: viser.ClientHandle, view: CameraView) -> None:
+def apply_camera(client: Any, view: CameraView) -> None:
     """Move `client`'s camera to `view`."""
     camera = client.camera
     camera.up_direction = view.up

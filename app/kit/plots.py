@@ -1,14 +1,13 @@
-"""Live uPlot charts of a simulation: a bounded sliding window of samples.
+"""Live uPlot charts of a simulation's samples (`app.kit.samples.SampleBuffer`).
 
-`SampleBuffer` is a ring buffer (fixed capacity, so memory is bounded however long a lecture
-runs) of the simulated time and named columns.  `LivePlots` draws some of those columns in
+`LivePlots` draws some of those columns in
 uPlot charts (x axis = simulated time [s], `time=False` so uPlot does not print dates) and
 pushes the window to the browser when asked; the scene asks at most a few times a second.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -16,7 +15,9 @@ import numpy as np
 import viser
 import viser.uplot
 
-__all__ = ["LOG_FLOOR", "PlotSpec", "LivePlots", "SampleBuffer"]
+from app.kit.samples import SampleBuffer
+
+__all__ = ["LOG_FLOOR", "LivePlots", "PlotSpec"]
 
 LOG_FLOOR = 1e-17
 """A `log` chart draws log10(max(|value|, LOG_FLOOR)) (log 0 is undefined)."""
@@ -32,65 +33,6 @@ class PlotSpec:
     colors: tuple[str, ...]
     log: bool = False  # draw log10 |value| (drifts and errors) on a linear axis: uPlot's own
     #                    log axis labels tiny values "0", and its formatters are JavaScript
-
-
-class SampleBuffer:
-    """Ring buffer of (t, columns...) samples; `capacity` rows at most.
-
-    Attributes:
-        columns: the column names (besides the time).
-    """
-
-    def __init__(self, columns: Sequence[str], capacity: int) -> None:
-        self.columns = tuple(columns)
-        self.capacity = capacity
-        self._index = {name: k + 1 for k, name in enumerate(self.columns)}
-        self._rows = np.zeros((capacity, len(self.columns) + 1))
-        self._count = 0  # samples ever appended since the last clear
-
-    def __len__(self) -> int:
-        return min(self._count, self.capacity)
-
-    def clear(self) -> None:
-        self._count = 0
-
-    def append(self, t: float, values: Mapping[str, float]) -> None:
-        """Add one sample (missing columns are NaN, drawn as a gap)."""
-        row = self._rows[self._count % self.capacity]
-        row[0] = t
-        row[1:] = np.nan
-        for name, value in values.items():
-            row[self._index[name]] = value
-        self._count += 1
-
-    def index(self, name: str) -> int:
-        """The column's index in the rows of `ordered` (0 is the time)."""
-        return self._index[name]
-
-    def ordered(self) -> np.ndarray:
-        """(n, 1 + columns) rows, oldest first: time, then the columns (a copy)."""
-        return self._ordered().copy()
-
-    def _ordered(self) -> np.ndarray:
-        n = len(self)
-        if self._count <= self.capacity:
-            return self._rows[:n]
-        start = self._count % self.capacity
-        return np.concatenate([self._rows[start:], self._rows[:start]])
-
-    def times(self) -> np.ndarray:
-        """(n,) simulated times [s], oldest first."""
-        return self._ordered()[:, 0].copy()
-
-    def column(self, name: str) -> np.ndarray:
-        """(n,) values of one column, oldest first."""
-        return self._ordered()[:, self._index[name]].copy()
-
-    def last(self, name: str) -> float:
-        """The newest value of a column (NaN if empty)."""
-        if not self._count:
-            return float("nan")
-        return float(self._rows[(self._count - 1) % self.capacity, self._index[name]])
 
 
 class LivePlots:

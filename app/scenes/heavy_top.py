@@ -11,11 +11,10 @@ spin shows, and the trace of the symmetry-axis tip: a polyline of the last TRACE
 simulated time, stored in chunks of CHUNK_POINTS points so that a frame only sends the short
 newest chunk (bounded memory: at most TRACE_SECONDS / TRACE_SPACING points).
 
-Presets: the classic patterns of the tip with θ̇(0) = 0 at θ(0) = 60° (I1 = 1, I3 = 0.5,
-mgl = 6, ω_z′ = 12 rad/s): steady precession (φ̇(0) on the slow root of
-I1 cos θ φ̇² − I3 ω_z′ φ̇ + mgl = 0), waves (φ̇(0) = half of it), loops (φ̇(0) = minus half) and
-cusps (φ̇(0) = 0: the tip starts at rest at the top turning point); a sleeping top (near θ = 0,
-ω_z′² > 4 I1 mgl / I3²) and one spinning too slowly to sleep.
+Presets (`assets/presets/heavy_top.json`): the classic patterns of the tip with θ̇(0) = 0 at
+θ(0) = 60° (I1 = 1, I3 = 0.5, mgl = 6, ω_z′ = 12 rad/s): steady precession (φ̇(0) on the slow
+root, `physics.exact_top.steady_precession_rate`), waves (half of it), loops (minus half) and
+cusps (φ̇(0) = 0); a sleeping top (near θ = 0, ω_z′² > 4 I1 mgl / I3²) and one too slow to sleep.
 """
 
 from __future__ import annotations
@@ -28,13 +27,14 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from app.common import GIMBAL_LOCK_DEG, CameraView, polyline_segments, striped_parts
-from app.simulation import LABEL_SCALE, Preset, SimulationScene, SliderSpec
+from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, polyline_segments, striped_parts
+from app.kit.rigid import RigidBodySimulation
+from app.kit.rigid_view import RigidBodyView
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space
 from physics.euler import euler_rates_from_omega_body, omega_body_from_euler_rates
 
-__all__ = ["HeavyTopScene", "PRESETS", "TipTrace", "steady_precession_rate"]
+__all__ = ["CHUNK_POINTS", "TRACE_SECONDS", "TRACE_SPACING", "HeavyTopView", "TipTrace"]
 
 ROD_LENGTH = 1.3  # [scene units] pivot to the tip of the symmetry axis (the traced point)
 DISC_CENTER = 0.85  # [scene units] along z′
@@ -46,53 +46,15 @@ CHUNK_POINTS = 30
 TRACE_COLOR = (200, 0, 120)
 STRIPES = ((200, 40, 40), (250, 235, 210))
 ROD_COLOR = (90, 90, 100)
-
-
-def steady_precession_rate(I1: float, I3: float, mgl: float, spin: float, theta: float) -> float:
-    """The slow steady-precession rate φ̇ [rad/s] at θ [rad] (θ̇ = θ̈ = 0).
-
-    From θ̈ = 0 in Lagrange's equation of θ: mgl = φ̇ (I3 ω_z′ − I1 φ̇ cos θ), i.e.
-    I1 cos θ φ̇² − I3 ω_z′ φ̇ + mgl = 0; the root that tends to mgl / (I3 ω_z′) for a fast top.
-    ValueError if the spin is too slow for steady precession at this θ.
-    """
-    a, b, c = I1 * math.cos(theta), I3 * spin, mgl
-    if abs(a) < 1e-12:
-        return c / b
-    disc = b * b - 4.0 * a * c
-    if disc < 0.0:
-        raise ValueError(f"no steady precession at θ = {math.degrees(theta):g}° with ω_z′ = {spin:g} rad/s")
-    return 2.0 * c / (b + math.copysign(math.sqrt(disc), b))  # the small root, without cancellation
-
-
-_I1, _I3, _MGL, _SPIN, _THETA0 = 1.0, 0.5, 6.0, 12.0, 60.0
-_STEADY_DEG = math.degrees(steady_precession_rate(_I1, _I3, _MGL, _SPIN, math.radians(_THETA0)))
-PRESETS = (
-    Preset("Steady", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, _STEADY_DEG, 0.0),
-           f"Steady precession: started with dφ/dt = {_STEADY_DEG:.2f}°/s, the slow root of "
-           "I1 cos θ (dφ/dt)² − I3 ω_z′ (dφ/dt) + mgl = 0.  θ stays at 60°; the tip draws a circle."),
-    Preset("Wave", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, 0.5 * _STEADY_DEG, 0.0),
-           "Started at θ = 60° with half the steady dφ/dt and dθ/dt = 0: θ nods between two circles "
-           "while dφ/dt keeps its sign — a wavy trace."),
-    Preset("Loop", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, -0.5 * _STEADY_DEG, 0.0),
-           "Started with dφ/dt against the precession: dφ/dt changes sign during each nod — loops."),
-    Preset("Cusp", (_I1, _I3, _MGL), (0.0, _THETA0, 0.0), (_SPIN, 0.0, 0.0),
-           "Released at rest (dφ/dt = dθ/dt = 0) at θ = 60°: the top turning point; the tip stops "
-           "there (dφ/dt = 0) every nod — cusps.  This is how a top you let go of moves."),
-    Preset("Sleeping", (_I1, _I3, _MGL), (0.0, 1.5, 0.0), (_SPIN, 0.0, 0.0),
-           "Nearly upright and fast: ω_z′² > 4 I1 mgl / I3² (here 144 > 96), so it stays up.  "
-           "θ < 2°: gimbal lock — only φ + ψ is defined."),
-    Preset("Too slow", (_I1, _I3, _MGL), (0.0, 1.5, 0.0), (6.0, 0.0, 0.0),
-           "The same start spinning at 6 rad/s: 36 < 96, the upright top is unstable and falls "
-           "over within ~2 s, passing out of gimbal lock without a jump."),
-)
+_MARKS_RATE = ((-360.0, "-360"), (-180.0, "-180"), (0.0, "0"), (180.0, "180"), (360.0, "360"))
 
 
 class TipTrace:
     """A bounded polyline of the last `seconds` of a moving point, sent in small chunks.
 
-    Full chunks are fixed scene nodes; only the newest (head) chunk changes per frame.
-    Chunks older than `seconds` are removed.  Points are stored at least `spacing` [s]
-    apart in simulated time; the head always ends at the current point.
+    Full chunks are fixed scene nodes; only the newest (head) chunk changes, redrawn on every
+    other stored point.  Chunks older than `seconds` are removed.  Points are stored at least
+    `spacing` [s] apart in simulated time.
     """
 
     def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], *,
@@ -131,15 +93,14 @@ class TipTrace:
 
     def add(self, t: float, point: np.ndarray) -> None:
         """The point at simulated time t [s] (non-decreasing between clears)."""
-        point = np.array(point, dtype=np.float32)
-        committed = t - self._last_t >= self.spacing - 1e-12 or not self._head_points
-        if committed:
-            self._head_points.append(point)
-            self._last_t = t
+        if t - self._last_t < self.spacing - 1e-12 and self._head_points:
+            return
+        self._head_points.append(np.array(point, dtype=np.float32))
+        self._last_t = t
         points = self._head_points
-        # Redrawn on every other committed point, not every frame: with 20 clients each
-        # message per frame counts, and the head then trails the tip by one point at most.
-        if committed and len(points) >= 2 and (len(points) % 2 == 0 or len(points) >= self.chunk_points):
+        # Redrawn on every other stored point, not every frame: with many clients each message
+        # per frame counts, and the head then trails the tip by one point at most.
+        if len(points) >= 2 and (len(points) % 2 == 0 or len(points) >= self.chunk_points):
             segments = polyline_segments(np.array(points))
             if self._head is None:
                 self._counter += 1
@@ -148,10 +109,10 @@ class TipTrace:
                     thickness=3.5, thickness_units="screen")
             else:
                 self._head.points = segments
-        if len(self._head_points) >= self.chunk_points:
+        if len(points) >= self.chunk_points:
             self._chunks.append((self._head, t))
             self._head = None
-            self._head_points = [point]  # the next chunk starts where this one ends
+            self._head_points = [points[-1]]  # the next chunk starts where this one ends
         while self._chunks and self._chunks[0][1] < t - self.seconds:
             node, _ = self._chunks.popleft()
             node.remove()
@@ -171,11 +132,8 @@ def _disc_on_rod(disc_radius: float) -> list[tuple[np.ndarray, np.ndarray, tuple
     return parts
 
 
-_MARKS_RATE = ((-360.0, "-360"), (-180.0, "-180"), (0.0, "0"), (180.0, "180"), (360.0, "360"))
-
-
-class HeavyTopScene(SimulationScene):
-    """The heavy symmetric top of one client (see the module docstring)."""
+class HeavyTopView(RigidBodyView):
+    """The heavy symmetric top (see the module docstring)."""
 
     title = "Heavy top"
     root = "/top"
@@ -185,8 +143,7 @@ class HeavyTopScene(SimulationScene):
         "Gravity −g e_z on the centre of mass at ℓ along z′: **M = −mgℓ e_z′ × e_z**, "
         "V = mgℓ cos θ.  Conserved: E, L_z, ω_z′.  Angles in degrees (z-x-z)."
     )
-    presets = PRESETS
-    preset_groups = (("Precession", ("Steady", "Wave", "Loop", "Cusp")), ("Upright", ("Sleeping", "Too slow")))
+    preset_file = "heavy_top.json"
     param_specs = (
         SliderSpec("I1", "I1 = I2 [kg m²]", 0.1, 5.0, 0.01, "transverse moment about the pivot",
                    ((0.1, "0.1"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"))),
@@ -203,39 +160,41 @@ class HeavyTopScene(SimulationScene):
         SliderSpec("theta_dot", "dθ/dt [deg/s]", -360.0, 360.0, 0.1, "nutation rate", _MARKS_RATE),
     )
     rate_folder = "Spin and Euler rates"
+    momentum_kind = "z"
     momentum_label = "L_z"
     grid_z = -STAND_HEIGHT
     body_axis_length = 1.1
     arrow_lengths = (1.95, 2.45)  # beyond the disc and the tip (ROD_LENGTH), and apart
 
-    def model_from_params(self, params: Sequence[float]) -> Model:
+    @classmethod
+    def model_from_params(cls, params: Sequence[float]) -> Model:
         I1, I3, mgl = (float(p) for p in params)
         return Model(inertia=(I1, I1, I3), mgl=mgl)
 
-    def omega_body_from_rates(self, angles: Vec3, rates: Sequence[float]) -> Vec3:
+    @classmethod
+    def params_from_model(cls, model: Model) -> tuple[float, ...]:
+        return model.inertia[0], model.inertia[2], model.mgl
+
+    @classmethod
+    def omega_body_from_rates(cls, angles: Vec3, rates: Sequence[float]) -> Vec3:
         spin, phi_dot_deg, theta_dot_deg = (float(r) for r in rates)
         phi_dot, theta_dot = math.radians(phi_dot_deg), math.radians(theta_dot_deg)
         psi_dot = spin - phi_dot * math.cos(float(angles[1]))  # ω_z′ = φ̇ cos θ + ψ̇
         return omega_body_from_euler_rates(angles, (phi_dot, theta_dot, psi_dot))
 
-    def rates_from_state(self, angles: Vec3, state: State) -> tuple[float, ...]:
+    @classmethod
+    def rates_from_state(cls, angles: Vec3, state: State) -> tuple[float, ...]:
         phi_dot, theta_dot, _ = euler_rates_from_omega_body(
             angles, state.omega_body, min_sin_theta=math.sin(math.radians(GIMBAL_LOCK_DEG)))
         return float(state.omega_body[2]), math.degrees(phi_dot), math.degrees(theta_dot)
 
-    def momentum(self, R: np.ndarray, omega_body: Vec3) -> float:
-        """L_z = L·e_z (= p_φ), conserved by gravity about the vertical through the pivot."""
-        return float(angular_momentum_space(self.model, R, omega_body)[2])
-
     # ------------------------------------------------------------------ drawing
-    def build_body(self, parent: str) -> None:
-        I1, _, I3 = self.model.inertia
-        # Shape only: the disc is wider for a larger I3 / I1 (not to scale).
-        radius = min(max(0.75 * math.sqrt(I3 / I1), 0.2), 0.85)
-        self._disc_radius = radius
+    def build_shape(self, scene: Any, parent: str, model: Model) -> None:
+        I1, _, I3 = model.inertia
+        radius = min(max(0.75 * math.sqrt(I3 / I1), 0.2), 0.85)  # shape only, not to scale
         for index, (vertices, faces, color) in enumerate(_disc_on_rod(radius)):
-            self.client.scene.add_mesh_simple(f"{parent}/part_{index}", vertices, faces, color=color,
-                                              flat_shading=index >= 2, cast_shadow=False, receive_shadow=False)
+            scene.add_mesh_simple(f"{parent}/part_{index}", vertices, faces, color=color,
+                                  flat_shading=index >= 2, cast_shadow=False, receive_shadow=False)
 
     def build_extras(self) -> None:
         scene = self.client.scene
@@ -256,28 +215,27 @@ class HeavyTopScene(SimulationScene):
 
     def build_display_extras(self, gui: Any) -> None:
         self.gui_show_trace = gui.add_checkbox("Tip trace", True, hint=f"the last {TRACE_SECONDS:g} s of the z′ tip")
-        self.gui_show_trace.on_update(self._guard("trace toggle", lambda _event: self._show_trace()))
+        self.gui_show_trace.on_update(self._wrap("trace toggle", lambda _event: self._show_trace()))
 
     def _show_trace(self) -> None:
         self._trace_root.visible = bool(self.gui_show_trace.value)
 
-    def render_extras(self, R: np.ndarray, omega_space: Vec3, L_space: Vec3) -> None:
-        self.trace.add(self.state.t, ROD_LENGTH * np.asarray(R)[:, 2])
+    def draw_extras(self, sim: RigidBodySimulation) -> None:
+        self.trace.add(sim.t, ROD_LENGTH * np.asarray(sim.state.R_space_body)[:, 2])
 
     def restart_extras(self) -> None:
         self.trace.clear()
 
-    def shape_status(self) -> str:
-        I1, _, I3 = self.model.inertia
+    def shape_status(self, model: Model) -> str:
+        I1, _, I3 = model.inertia
         return (f"I3 / I1 = {I3 / I1:.2f} (at most 2).  Drawn as a disc on a rod; the disc's size "
                 "follows I3 / I1, not to scale.  The trace follows the tip of z′.")
 
-    def readout_extras(self, state: State) -> str:
-        R, omega = state.R_space_body, state.omega_body
-        L = angular_momentum_space(self.model, R, omega)
-        I1, _, I3 = self.model.inertia
-        mgl = self.model.mgl
-        critical = 4.0 * I1 * mgl / (I3 * I3)
+    def readout_extras(self, sim: RigidBodySimulation) -> str:
+        R, omega = sim.state.R_space_body, sim.state.omega_body
+        L = angular_momentum_space(sim.model, R, omega)
+        I1, _, I3 = sim.model.inertia
+        critical = 4.0 * I1 * sim.model.mgl / (I3 * I3)
         return (f"p_φ = L_z = {L[2]:.5f} kg m²/s\n"
                 f"p_ψ = I3 ω_z′ = {I3 * omega[2]:.5f} kg m²/s\n"
                 "(both conserved)\n"

@@ -1,0 +1,252 @@
+"""Panel pieces every scene shares, written once: the message line, the transport (play /
+pause / step / reset / time scale / integrator / status), the presets row, the panel tabs
+(Setup / Readout / Plots), a readout that sends only when it changed, and sliders that refuse
+what is out of range.
+
+Each piece builds its handles in the current GUI container and reports user actions through
+callbacks that the view wraps with the session's guard.  Values a browser sends are checked
+here (viser does not: a [0, 10] slider accepts 1e6 or NaN from a hand-written client): a
+refused value goes back to the last valid one and the message line says why.
+
+The tabs are a row of buttons over three folders rather than viser's tab group, because the
+server is told which one is shown: a closed tab's readouts and plots are neither computed nor
+sent (`Tabs.shown`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import viser
+
+from app.kit.common import SliderSpec, checked_value
+from app.kit.presets import Preset
+
+__all__ = [
+    "INTEGRATOR_EXACT",
+    "INTEGRATOR_REALTIME",
+    "PAUSE_LABEL",
+    "PLAY_LABEL",
+    "RESET_LABEL",
+    "STEP_LABEL",
+    "TIME_SCALE_RANGE",
+    "MessageLine",
+    "PresetsRow",
+    "Readout",
+    "Tabs",
+    "Transport",
+    "add_slider",
+]
+
+INTEGRATOR_REALTIME = "splitting4 (real time)"
+"""physics.realtime.RealtimeStepper: 4th-order symplectic splitting with automatic sub-steps."""
+INTEGRATOR_EXACT = "exact"
+"""physics.methods.exact_solution evaluated at the simulated time (closed form)."""
+TIME_SCALE_RANGE = (0.1, 4.0)
+PLAY_LABEL, PAUSE_LABEL = "Play", "Pause"
+STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (⏭ ⏸ are missing)
+
+Callback = Callable[[Any], None]
+Wrap = Callable[[str, Callable[..., Any]], Callable[..., Any]]
+"""The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
+
+
+class MessageLine:
+    """A Markdown line, hidden unless there is something to say (a refusal, a stopped run)."""
+
+    def __init__(self, gui: Any) -> None:
+        self.handle = gui.add_markdown("", visible=False)
+
+    @property
+    def text(self) -> str:
+        return str(self.handle.content) if self.handle.visible else ""
+
+    def show(self, text: str) -> None:
+        content = text if text.startswith("**") else f"**⚠ {text}**"
+        if self.handle.content != content or not self.handle.visible:
+            self.handle.content = content
+            self.handle.visible = True
+
+    def clear(self) -> None:
+        if self.handle.visible:
+            self.handle.visible = False
+            self.handle.content = ""
+
+
+def add_slider(gui: Any, spec: SliderSpec, value: float = 0.0) -> Any:
+    """A slider for `spec` showing `value` (rounded to the step)."""
+    return gui.add_slider(spec.label, spec.lo, spec.hi, spec.step, spec.rounded(value),
+                          marks=spec.marks or None, hint=spec.hint or None)
+
+
+class Transport:
+    """Play/Pause (one toggle), Step · Reset, time scale, integrator (optional), status line.
+
+    The handles only report: `on_toggle()`, `on_step()`, `on_reset()`, `on_time_scale(x)`,
+    `on_integrator(name)`.  `show(playing, time_scale, integrator)` makes them show a room's
+    state (a click never changes them directly, so every view of a room shows the same).
+    """
+
+    def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, *,
+                 on_toggle: Callable[[], None], on_step: Callable[[], None], on_reset: Callable[[], None],
+                 on_time_scale: Callable[[float], None],
+                 integrators: Sequence[str] = (), on_integrator: Callable[[str], None] | None = None) -> None:
+        self._message = message
+        self.gui_play = gui.add_button(PLAY_LABEL, color="green", icon=viser.Icon.PLAYER_PLAY_FILLED,
+                                       hint="start / pause the motion")
+        self.gui_step_reset = gui.add_button_group("Step · Reset", (STEP_LABEL, RESET_LABEL))
+        lo, hi = TIME_SCALE_RANGE
+        self.gui_time_scale = gui.add_slider(
+            "Time scale [×]", lo, hi, 0.05, 1.0,
+            marks=((0.1, "0.1×"), (1.0, "1×"), (2.0, "2×"), (3.0, "3×"), (4.0, "4×")),
+            hint="simulated seconds per second of wall time (slow motion below 1)",
+        )
+        self.gui_integrator = None
+        if integrators:
+            self.gui_integrator = gui.add_dropdown(
+                "Integrator", tuple(integrators), initial_value=integrators[0],
+                hint="splitting4: the real-time symplectic method; exact: the closed form",
+            )
+        self.gui_status = gui.add_markdown("")
+        self._time_scale = 1.0
+        self._integrator = integrators[0] if integrators else ""
+        self._showing = False  # True while the server itself writes the handles
+
+        self.gui_play.on_click(wrap("play button", lambda _event: on_toggle()))
+
+        def step_or_reset(event: Any) -> None:
+            choice = event.target.value
+            if choice == STEP_LABEL:
+                on_step()
+            elif choice == RESET_LABEL:
+                on_reset()
+
+        self.gui_step_reset.on_click(wrap("step/reset buttons", step_or_reset))
+
+        def time_scale(_event: Any) -> None:
+            if self._showing:
+                return
+            value = checked_value(self.gui_time_scale.value, lo, hi)
+            if value is None:
+                message.show(f"Time scale {self.gui_time_scale.value!r} refused: it must be "
+                             f"between {lo:g}× and {hi:g}×.")
+                self._write(self.gui_time_scale, self._time_scale)
+                return
+            on_time_scale(value)
+
+        self.gui_time_scale.on_update(wrap("time scale", time_scale))
+        if self.gui_integrator is not None and on_integrator is not None:
+            integrator = self.gui_integrator
+
+            def choose(_event: Any) -> None:
+                if self._showing:
+                    return
+                if integrator.value not in integrator.options:  # a client can send any string
+                    message.show(f"Integrator {integrator.value!r} refused.")
+                    self._write(integrator, self._integrator)
+                    return
+                on_integrator(str(integrator.value))
+
+            integrator.on_update(wrap("integrator", choose))
+
+    @property
+    def handles(self) -> list[Any]:
+        """All GUI handles, for removal."""
+        out = [self.gui_play, self.gui_step_reset, self.gui_time_scale, self.gui_status]
+        return out + ([self.gui_integrator] if self.gui_integrator is not None else [])
+
+    def _write(self, handle: Any, value: Any) -> None:
+        """Assign a handle's value without its callback acting (viser runs it synchronously)."""
+        self._showing = True
+        try:
+            if handle.value != value:
+                handle.value = value
+        finally:
+            self._showing = False
+
+    def show(self, playing: bool, time_scale: float, integrator: str = "") -> None:
+        """Show a room's transport state: the toggle offers Pause while playing, Play while paused."""
+        label = PAUSE_LABEL if playing else PLAY_LABEL
+        if self.gui_play.label != label:
+            self.gui_play.label = label
+            self.gui_play.icon = viser.Icon.PLAYER_PAUSE_FILLED if playing else viser.Icon.PLAYER_PLAY_FILLED
+            self.gui_play.color = "orange" if playing else "green"
+        self._time_scale = time_scale
+        self._write(self.gui_time_scale, time_scale)
+        if self.gui_integrator is not None and integrator:
+            self._integrator = integrator
+            self._write(self.gui_integrator, integrator)
+
+    def set_status(self, text: str) -> None:
+        if self.gui_status.content != text:
+            self.gui_status.content = text
+
+
+class PresetsRow:
+    """One button row per preset group, and the chosen preset's note below them."""
+
+    def __init__(self, gui: Any, wrap: Wrap, presets: Sequence[Preset], on_preset: Callable[[str], None]) -> None:
+        groups: dict[str, list[str]] = {}
+        for preset in presets:
+            groups.setdefault(preset.group, []).append(preset.name)
+        self.groups = []
+        for label, names in groups.items():
+            group = gui.add_button_group(label, tuple(names))
+            group.on_click(wrap(f"{label} presets", lambda event: on_preset(str(event.target.value))))
+            self.groups.append(group)
+        self.gui_note = gui.add_markdown("")
+
+    def show_note(self, preset: Preset | None) -> None:
+        content = f"**{preset.name}.** {preset.note}" if preset is not None else ""
+        if self.gui_note.content != content:
+            self.gui_note.content = content
+
+
+class Tabs:
+    """Setup / Readout / Plots: a button row over three folders, one shown at a time.
+
+    Use `with tabs.tab("Readout"):` to fill a tab; `shown` is the tab on screen.
+    """
+
+    def __init__(self, gui: Any, wrap: Wrap, names: Sequence[str] = ("Setup", "Readout", "Plots"),
+                 on_change: Callable[[str], None] | None = None) -> None:
+        self.names = tuple(names)
+        self.shown = self.names[0]
+        self.gui_buttons = gui.add_button_group("Show", self.names)
+        self.folders = {name: gui.add_folder(None, visible=name == self.shown) for name in self.names}
+        self._on_change = on_change
+
+        def chosen(event: Any) -> None:
+            self.show(str(event.target.value))
+
+        self.gui_buttons.on_click(wrap("tab buttons", chosen))
+
+    @property
+    def handles(self) -> list[Any]:
+        return [self.gui_buttons, *self.folders.values()]
+
+    def tab(self, name: str) -> Any:
+        return self.folders[name]
+
+    def show(self, name: str) -> None:
+        if name not in self.folders:  # a client can send any string
+            return
+        if name != self.shown:
+            self.folders[self.shown].visible = False
+            self.folders[name].visible = True
+            self.shown = name
+            self.gui_buttons.label = f"Show · {name}"
+            if self._on_change is not None:
+                self._on_change(name)
+
+
+class Readout:
+    """A Markdown element that is sent only when its text changed."""
+
+    def __init__(self, gui: Any, content: str = "") -> None:
+        self.handle = gui.add_markdown(content)
+
+    def set(self, content: str) -> None:
+        if self.handle.content != content:
+            self.handle.content = content

@@ -1,0 +1,177 @@
+"""The simulation of a rigid body for the animated scenes (free body, heavy top): no viser here.
+
+`RigidBodySimulation` owns the model, the state, the integrator (the real-time splitting
+`physics.realtime.RealtimeStepper`, or the closed form of `physics.methods.exact_solution`
+evaluated at the simulated time), the exact solution where one exists (for the attitude
+error), the drift references of this run and the plot samples.  `restart(state)` starts a run
+at t = 0 from a state it is given, `reset()` goes back to this run's own initial state: a
+simulation never reads a widget.  Several views may draw one simulation.
+
+Conventions as in `physics` (docs/CONVENTIONS.md): R = R_space_body, z-x-z Euler angles,
+hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from app.kit.samples import SampleBuffer
+from physics._types import Vec3
+from physics.dynamics import Model, State, angular_momentum_space, energy, kinetic_energy
+from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
+from physics.methods import exact_solution
+from physics.realtime import RealtimeStepper
+from physics.so3 import log_so3
+
+__all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation"]
+
+INTEGRATOR_REALTIME = "splitting4 (real time)"
+INTEGRATOR_EXACT = "exact"
+SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "w2", "w3",
+                  "drift_E", "drift_L", "attitude_error")
+PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
+
+ExactSolution = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+class RigidBodySimulation:
+    """One rigid body in motion.
+
+    Attributes:
+        model: the `physics.dynamics.Model`.  state: the current `State` (t since the restart).
+        initial_state, initial_angles: where `reset` goes back to.
+        angles: continuous z-x-z angles (φ, θ, ψ) [rad] of the state (φ, ψ unwrapped), for display.
+        integrator: INTEGRATOR_REALTIME or INTEGRATOR_EXACT.  substeps: of the last real-time step.
+        momentum_kind: "norm" (|L|, conserved by a free body) or "z" (L_z, by a heavy top).
+        samples: the plot window; max_drift: the largest |drift| of this run per drift column.
+        restarts, version: counters (a view redraws when `version` changed).
+    """
+
+    def __init__(self, model: Model, state: State, *, angles: Vec3 | None = None,
+                 momentum_kind: str = "norm") -> None:
+        self.model = model
+        self.momentum_kind = momentum_kind
+        self.integrator = INTEGRATOR_REALTIME
+        self.substeps = 0
+        self.restarts = 0
+        self.version = 0
+        self.samples = SampleBuffer(SAMPLE_COLUMNS, PLOT_CAPACITY)
+        self.max_drift = {"drift_E": 0.0, "drift_L": 0.0, "attitude_error": 0.0}
+        self.restart(state, angles=angles)
+
+    # ------------------------------------------------------------------ runs
+    @property
+    def t(self) -> float:
+        return self.state.t
+
+    def restart(self, state: State, *, angles: Vec3 | None = None) -> None:
+        """Start a new run from `state` at t = 0; drift references, exact solution and samples
+        start afresh.  angles: the z-x-z angles [rad] to show (e.g. the sliders' values at
+        gimbal lock, where the matrix alone does not fix φ and ψ)."""
+        R = np.array(state.R_space_body, dtype=float)
+        omega = np.array(state.omega_body, dtype=float)
+        self.state = self.initial_state = State(R, omega, 0.0)
+        self.initial_angles = (np.array(angles, dtype=float) if angles is not None
+                               else euler_zxz_from_matrix(R))
+        self.angles = self.initial_angles.copy()
+        self._stepper = RealtimeStepper(self.model, self.state)
+        self._exact: ExactSolution | None = None
+        self.exact_failed: str | None = None
+        self.restarts += 1
+        self._E0 = energy(self.model, R, omega)
+        self._energy_scale = kinetic_energy(self.model, omega) + abs(self.model.mgl)
+        self._momentum0 = self.momentum(R, omega)
+        self._momentum_scale = float(np.linalg.norm(angular_momentum_space(self.model, R, omega)))
+        self.max_drift = dict.fromkeys(self.max_drift, 0.0)
+        if self.integrator == INTEGRATOR_EXACT and self.exact() is None:
+            self.integrator = INTEGRATOR_REALTIME
+        self.samples.clear()
+        self.take_sample()
+        self.version += 1
+
+    def reset(self) -> None:
+        self.restart(self.initial_state, angles=self.initial_angles)
+
+    def set_model(self, model: Model) -> None:
+        """A new body (or gravity) from the current attitude and ω_b: a new run."""
+        self.model = model
+        self.restart(self.state, angles=self.angles)
+
+    def set_integrator(self, name: str) -> str | None:
+        """Use `name`; returns a message (and keeps the real-time method) if there is no closed form."""
+        message = None
+        if name == INTEGRATOR_EXACT and self.exact() is None:
+            message = f"No closed form here ({self.exact_failed}); using {INTEGRATOR_REALTIME}."
+            name = INTEGRATOR_REALTIME
+        if name != self.integrator:
+            self.integrator = name
+            if name == INTEGRATOR_REALTIME:  # go on from where the exact solution is
+                self._stepper = RealtimeStepper(self.model, self.state)
+            self.version += 1
+        return message
+
+    def exact(self) -> ExactSolution | None:
+        """The closed form from this run's initial state (built once per run), or None."""
+        if self._exact is None and self.exact_failed is None:
+            try:
+                self._exact = exact_solution(self.model, self.initial_state)
+            except (ValueError, ArithmeticError) as error:
+                self.exact_failed = str(error)
+        return self._exact
+
+    # ------------------------------------------------------------------ motion
+    def advance(self, dt: float) -> None:
+        """Advance by dt [s] of simulated time (IntegrationError, ValueError on failure)."""
+        if not dt > 0.0:
+            return
+        exact = self.exact() if self.integrator == INTEGRATOR_EXACT else None
+        if exact is not None:
+            t = self.state.t + dt
+            R, omega = exact(np.array([t]))
+            self.state = State(R[0], omega[0], t)
+            self.substeps = 0
+        else:
+            self.state = self._stepper.step(dt)
+            self.substeps = self._stepper.substeps
+        self.angles = euler_zxz_from_matrix_near(self.state.R_space_body, self.angles)
+        self.version += 1
+
+    # ------------------------------------------------------------------ derived quantities
+    def momentum(self, R: np.ndarray, omega_body: Vec3) -> float:
+        """The conserved momentum the accuracy panel follows: |L| or L_z [kg m²/s]."""
+        L = angular_momentum_space(self.model, R, omega_body)
+        return float(L[2]) if self.momentum_kind == "z" else float(np.linalg.norm(L))
+
+    def attitude_error(self) -> float | None:
+        """Angle [rad] of R_exactᵀ R at the current time, 0 for the exact method, None without
+        a closed form."""
+        if self.integrator == INTEGRATOR_EXACT:
+            return 0.0
+        exact = self.exact()
+        if exact is None:
+            return None
+        R_exact, _ = exact(np.array([self.state.t]))
+        return float(np.linalg.norm(log_so3(R_exact[0].T @ self.state.R_space_body)))
+
+    def take_sample(self) -> None:
+        """Append the plot columns of the current state to `samples`."""
+        R, omega = self.state.R_space_body, self.state.omega_body
+        T = kinetic_energy(self.model, omega)
+        V = self.model.potential_energy(R)
+        L = angular_momentum_space(self.model, R, omega)
+        drift_E = (T + V - self._E0) / self._energy_scale if self._energy_scale > 0.0 else 0.0
+        drift_L = ((self.momentum(R, omega) - self._momentum0) / self._momentum_scale
+                   if self._momentum_scale > 0.0 else 0.0)
+        error = self.attitude_error()
+        phi, theta, psi = np.degrees(self.angles)
+        values = {"E": T + V, "T": T, "V": V, "L_norm": float(np.linalg.norm(L)), "L_z": float(L[2]),
+                  "phi": math.remainder(phi, 360.0), "theta": float(theta), "psi": math.remainder(psi, 360.0),
+                  "w1": omega[0], "w2": omega[1], "w3": omega[2], "drift_E": drift_E, "drift_L": drift_L,
+                  "attitude_error": math.nan if error is None else error}
+        for key in self.max_drift:
+            if math.isfinite(values[key]):
+                self.max_drift[key] = max(self.max_drift[key], abs(values[key]))
+        self.samples.append(self.state.t, values)

@@ -1,0 +1,561 @@
+"""The view of a rigid-body simulation (free body, heavy top) for one browser.
+
+`RigidBodyView` draws a `RigidBodySimulation` with the kit's widgets (stage, body, line of
+nodes, ω and L) and the kit's panel (transport, presets, Setup / Readout / Plots tabs), and
+turns the browser's edits into calls on its room.  A scene subclasses it and fills in the
+class attributes and hooks (the model of its parameters, the initial ω from its rate sliders,
+its body's shape, its extras); see `app.scenes.free_body` and `app.scenes.heavy_top`.
+
+Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
+ω arrow (L only when it moved), the scene's extras; nothing at all while paused.  At most 10
+times a second, and only for what is on screen: the sliders follow the motion (Setup tab),
+the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
+tab, live plots on).
+
+Sliders follow the motion without feedback (`_syncing`).  A user's edit of an angle or rate
+slider pauses the room and restarts the run (t = 0) from the sliders' values.  Bad input
+never stops the motion: out-of-range values are refused and the slider goes back; moments
+that are not a body (InertiaError) are refused with a message while the last valid body moves.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Sequence
+from typing import Any, ClassVar
+
+import numpy as np
+import viser
+
+from app.kit.common import (
+    L_COLOR,
+    OMEGA_COLOR,
+    CameraView,
+    SliderSpec,
+    Throttle,
+    apply_camera,
+    format_matrix,
+    gimbal_note,
+    wrap_deg,
+)
+from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
+from app.kit.plots import LivePlots, PlotSpec
+from app.kit.presets import PRESETS_DIR, Preset, load_presets
+from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME, RigidBodySimulation
+from app.kit.room import Room
+from app.kit.widgets import Body, LineOfNodes, Stage, Vector
+from physics._types import Vec3
+from physics.dynamics import Model, State, kinetic_energy
+from physics.euler import GimbalLockError, matrix_from_euler_zxz
+from physics.inertia import InertiaError
+from physics.lagrange import generalized_forces
+
+__all__ = ["ANGLE_SPECS", "RigidBodyView"]
+
+SLIDER_PERIOD = 0.1  # [s] of wall time between slider syncs while playing (10 Hz)
+READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
+STATUS_PERIOD = 0.2  # status line (5 Hz)
+PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
+ARROW_RANGE = (0.5, 2.6)  # [scene units] an arrow outside this at a restart is rescaled
+
+_FULL_MARKS = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
+ANGLE_SPECS = (
+    SliderSpec("phi", "φ [deg]", -180.0, 180.0, 1.0, "precession about the space z axis", _FULL_MARKS),
+    SliderSpec("theta", "θ [deg]", 0.0, 180.0, 1.0, "nutation about the line of nodes",
+               ((0.0, "0°"), (45.0, "45°"), (90.0, "90°"), (135.0, "135°"), (180.0, "180°"))),
+    SliderSpec("psi", "ψ [deg]", -180.0, 180.0, 1.0, "spin about the body z′ axis", _FULL_MARKS),
+)
+
+
+class RigidBodyView:
+    """One browser's view of a room with a `RigidBodySimulation`.  Subclasses fill in:"""
+
+    title: ClassVar[str] = ""
+    root: ClassVar[str] = "/sim"
+    view: ClassVar[CameraView] = CameraView((4.5, -3.6, 2.4), (0.0, 0.0, 0.0))
+    intro: ClassVar[str] = ""
+    preset_file: ClassVar[str] = ""  # under assets/presets/
+    param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+    param_folder: ClassVar[str] = "Body"
+    rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+    rate_folder: ClassVar[str] = "Angular velocity"
+    momentum_kind: ClassVar[str] = "norm"  # "norm": |L| is conserved; "z": L_z
+    momentum_label: ClassVar[str] = "|L|"
+    grid_z: ClassVar[float] = 0.0
+    body_axis_length: ClassVar[float] = 1.0
+    arrow_lengths: ClassVar[tuple[float, float]] = (1.5, 1.5)  # ω and L [scene units] at a rescale
+
+    # ------------------------------------------------------------------ scene hooks
+    @classmethod
+    def model_from_params(cls, params: Sequence[float]) -> Model:
+        """The model of these parameter values; InertiaError / ValueError if they are not one."""
+        raise NotImplementedError
+
+    @classmethod
+    def params_from_model(cls, model: Model) -> tuple[float, ...]:
+        """The parameter sliders' values of a model."""
+        raise NotImplementedError
+
+    @classmethod
+    def omega_body_from_rates(cls, angles: Vec3, rates: Sequence[float]) -> Vec3:
+        """ω_b [rad/s] from the rate sliders' values at angles (φ, θ, ψ) [rad]."""
+        raise NotImplementedError
+
+    @classmethod
+    def rates_from_state(cls, angles: Vec3, state: State) -> tuple[float, ...]:
+        """The rate sliders' values of `state` (GimbalLockError where undefined)."""
+        raise NotImplementedError
+
+    def build_shape(self, scene: Any, parent: str, model: Model) -> None:
+        """Add the body's shape nodes under `parent` (a frame turned by R_space_body)."""
+
+    def shape_status(self, model: Model) -> str:
+        """One line describing the body drawn for this model."""
+        return ""
+
+    def build_extras(self) -> None:
+        """Add scene-specific nodes (once, after the common ones)."""
+
+    def build_display_extras(self, gui: Any) -> None:
+        """Add scene-specific toggles to the Display folder."""
+
+    def draw_extras(self, sim: RigidBodySimulation) -> None:
+        """Per-frame updates of the extras (e.g. the top's trace)."""
+
+    def restart_extras(self) -> None:
+        """Clear what depends on the history (e.g. a trace) at a restart."""
+
+    def readout_extras(self, sim: RigidBodySimulation) -> str:
+        """Extra monospace lines for the readout (e.g. conserved quantities)."""
+        return ""
+
+    # ------------------------------------------------------------------ the scene's simulation
+    @classmethod
+    @functools.cache
+    def presets(cls) -> tuple[Preset, ...]:
+        """The scene's presets from assets/presets/<preset_file> (PresetError if broken)."""
+        return load_presets(PRESETS_DIR / cls.preset_file, cls.param_specs, cls.rate_specs,
+                            check=lambda preset: cls.initial_conditions(preset) and None)
+
+    @classmethod
+    def preset(cls, name: str) -> Preset:
+        for preset in cls.presets():
+            if preset.name == name:
+                return preset
+        raise ValueError(f"{cls.title} has no preset {name!r}; "
+                         f"the presets are {', '.join(p.name for p in cls.presets())}")
+
+    @classmethod
+    def initial_conditions(cls, preset: Preset) -> tuple[Model, State, np.ndarray]:
+        """(model, state at t = 0, angles [rad]) of a preset (InertiaError, ValueError)."""
+        model = cls.model_from_params(preset.params)
+        angles = np.radians(preset.angles_deg)
+        state = State(matrix_from_euler_zxz(*angles), cls.omega_body_from_rates(angles, preset.rates), 0.0)
+        return model, state, angles
+
+    @classmethod
+    def new_simulation(cls) -> RigidBodySimulation:
+        first = cls.presets()[0]
+        model, state, angles = cls.initial_conditions(first)
+        sim = RigidBodySimulation(model, state, angles=angles, momentum_kind=cls.momentum_kind)
+        sim.preset = first.name  # type: ignore[attr-defined]
+        return sim
+
+    @classmethod
+    def apply_preset(cls, room: Room, name: str) -> None:
+        """Load a preset into a room's simulation (keeps playing if it was)."""
+        model, state, angles = cls.initial_conditions(cls.preset(name))
+        sim: RigidBodySimulation = room.sim
+        sim.model = model
+        sim.preset = name  # type: ignore[attr-defined]
+        sim.restart(state, angles=angles)
+        room.refresh()
+
+    # ------------------------------------------------------------------ construction
+    def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
+                 report_error: Callable[[str, BaseException], None] | None = None) -> None:
+        self.client = client
+        self.room = room
+        self.sim: RigidBodySimulation = room.sim
+        self._wrap = wrap
+        self._report_error = report_error
+        self._syncing = False
+        self._drawn_version = -1
+        self._drawn_restarts = -1
+        self._drawn_model: Model | None = None
+        self._drawn_preset: str | None = None
+        self.omega_scale = 0.3  # [scene units per rad/s]
+        self.L_scale = 0.3  # [scene units per kg m²/s]
+        self._slider_throttle = Throttle(SLIDER_PERIOD)
+        self._readout_throttle = Throttle(READOUT_PERIOD)
+        self._status_throttle = Throttle(STATUS_PERIOD)
+        self._plot_throttle = Throttle(PLOT_PERIOD)
+        with client.atomic():
+            self._build_scene()
+            self._build_gui()
+        room.add_view(self)
+        self.refresh()
+
+    def _build_scene(self) -> None:
+        scene = self.client.scene
+        root = self.root
+        self._root_node = scene.add_frame(root, show_axes=False)
+        Stage(scene, root, grid_z=self.grid_z)
+        model = self.sim.model
+        self.body = Body(scene, f"{root}/body", lambda s, parent: self.build_shape(s, parent, model),
+                         axis_length=self.body_axis_length)
+        self._drawn_model = model
+        self.nodes = LineOfNodes(scene, f"{root}/nodes")
+        self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω")
+        self.L = Vector(scene, f"{root}/L", L_COLOR, "L")
+        self.build_extras()
+
+    def _build_gui(self) -> None:
+        gui = self.client.gui
+        wrap = self._wrap
+        room = self.room
+        self.gui_intro = gui.add_markdown(self.intro)
+        self.message = MessageLine(gui)
+        self.transport = Transport(
+            gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step, on_reset=room.reset,
+            on_time_scale=room.set_time_scale, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT),
+            on_integrator=self.set_integrator,
+        )
+        self.tabs = Tabs(gui, wrap, on_change=lambda _name: self.refresh())
+        with self.tabs.tab("Setup"):
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            with gui.add_folder("Euler angles z-x-z [deg]"):
+                self.gui_angles = [add_slider(gui, spec) for spec in ANGLE_SPECS]
+                self.gui_gimbal_note = gui.add_markdown("", visible=False)
+            with gui.add_folder(self.rate_folder):
+                self.gui_rates = [add_slider(gui, spec) for spec in self.rate_specs]
+            with gui.add_folder(self.param_folder):
+                params = self.params_from_model(self.sim.model)
+                self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(self.param_specs, params)]
+                self.gui_param_status = gui.add_markdown(self.shape_status(self.sim.model))
+            with gui.add_folder("Display", expand_by_default=False):
+                self.gui_show_omega = gui.add_checkbox("ω arrow", True)
+                self.gui_show_L = gui.add_checkbox("L arrow", True)
+                self.gui_show_nodes = gui.add_checkbox("Line of nodes", True)
+                self.gui_show_body_axes = gui.add_checkbox("Body axes x′ y′ z′", True)
+                self.build_display_extras(gui)
+                self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
+                self.gui_legend = gui.add_markdown("")
+        with self.tabs.tab("Readout"):
+            self.readout = Readout(gui)
+        with self.tabs.tab("Plots"):
+            self.gui_live_plots = gui.add_checkbox("Live plots", True, hint="turn off to save CPU and bandwidth")
+            self.accuracy = Readout(gui)
+            self.plots = LivePlots(gui, self.sim.samples, self.plot_specs())
+
+        for spec, handle in zip(ANGLE_SPECS, self.gui_angles):
+            handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
+        for spec, handle in zip(self.rate_specs, self.gui_rates):
+            handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
+        for index, handle in enumerate(self.gui_params):
+            handle.on_update(wrap(f"{self.param_specs[index].label} slider", self._param_callback(index, handle)))
+        for handle in (self.gui_show_omega, self.gui_show_L, self.gui_show_nodes, self.gui_show_body_axes):
+            handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
+        self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
+        self.gui_live_plots.on_update(wrap("live plots", lambda _event: self.refresh()))
+        self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
+
+    def plot_specs(self) -> list[PlotSpec]:
+        return [
+            PlotSpec("Energy [J]", ("E", "T", "V"), ("E = T + V", "T", "V"), ("black", "#e65a00", "#2a7ab9")),
+            PlotSpec("Angular momentum [kg m²/s]", ("L_norm", "L_z"), ("|L|", "L_z"), ("#7828c8", "#2a9d8f")),
+            PlotSpec("Euler angles z-x-z [deg]", ("phi", "theta", "psi"), ("φ", "θ", "ψ"),
+                     ("#8c32d2", "#d70078", "#008c8c")),
+            PlotSpec("ω, body components [rad/s]", ("w1", "w2", "w3"), ("ω_x′", "ω_y′", "ω_z′"),
+                     ("#c00000", "#00802a", "#0030a0")),
+            PlotSpec("Accuracy: log₁₀ of the errors", ("drift_E", "drift_L", "attitude_error"),
+                     ("|ΔE|/E₀", f"|Δ{self.momentum_label}|/|L₀|", "attitude [rad]"),
+                     ("#e65a00", "#7828c8", "black"), log=True),
+        ]
+
+    # ------------------------------------------------------------------ view protocol
+    def show_message(self, text: str) -> None:
+        self.message.show(text)
+
+    def report_error(self, where: str, error: BaseException) -> None:
+        if self._report_error is not None:
+            self._report_error(where, error)
+        else:
+            raise error
+
+    def remove(self) -> None:
+        """Remove this view's GUI and scene nodes from the client, and leave the room."""
+        self.room.remove_view(self)
+        for handle in self._gui_roots:
+            handle.remove()
+        self._root_node.remove()
+
+    def reset_view(self) -> None:
+        apply_camera(self.client, self.view)
+
+    def frame(self, dt: float) -> None:
+        """The per-frame update: poses and arrows if the state changed; throttled text."""
+        sim = self.sim
+        with self.client.atomic():
+            if sim.version != self._drawn_version:
+                if sim.restarts != self._drawn_restarts or sim.model != self._drawn_model:
+                    self._restarted()
+                self._drawn_version = sim.version
+                self._draw()
+            if not self.room.playing:
+                return
+            if self._slider_throttle.ready(dt) and self.tabs.shown == "Setup":
+                self._sync_state_sliders()
+                self._refresh_gimbal_note()
+            if self._status_throttle.ready(dt):
+                self._refresh_status()
+            if self._readout_throttle.ready(dt) and self.tabs.shown == "Readout":
+                self._refresh_readout()
+            if self._plot_throttle.ready(dt) and self.tabs.shown == "Plots":
+                self._push_plots()
+
+    def refresh(self) -> None:
+        """Everything at once (after an edit, a step, a restart; never per frame)."""
+        sim = self.sim
+        with self.client.atomic():
+            if sim.restarts != self._drawn_restarts or sim.model != self._drawn_model:
+                self._restarted()
+            self._drawn_version = sim.version
+            self.nodes.visible = bool(self.gui_show_nodes.value)
+            self.body.show_axes(bool(self.gui_show_body_axes.value))
+            self.omega.enabled = bool(self.gui_show_omega.value)
+            self.L.enabled = bool(self.gui_show_L.value)
+            self._draw()
+            self._sync_state_sliders()
+            self._sync(self.gui_params, self.param_specs, self.params_from_model(sim.model))
+            self.transport.show(self.room.playing, self.room.time_scale, sim.integrator)
+            self._refresh_status()
+            self._refresh_gimbal_note()
+            if self.tabs.shown == "Readout":
+                self._refresh_readout()
+            if self.tabs.shown == "Plots":
+                self._push_plots()
+
+    # ------------------------------------------------------------------ drawing
+    def _restarted(self) -> None:
+        """A new run (or a new body) in the simulation: reshape, rescale, clear the history."""
+        sim = self.sim
+        if sim.model != self._drawn_model:
+            model = sim.model
+            self.body.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
+            self.gui_param_status.content = self.shape_status(model)
+            self._drawn_model = model
+        preset = getattr(sim, "preset", None)
+        R, omega = sim.state.R_space_body, sim.state.omega_body
+        if preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega):
+            self._rescale_arrows(R, omega)
+        self._drawn_preset = preset
+        self.presets_row.show_note(self.preset(preset) if preset is not None else None)
+        self._drawn_restarts = sim.restarts
+        self.restart_extras()
+
+    def _draw(self) -> None:
+        """Poses and arrows of the current state: only what changed is sent."""
+        sim = self.sim
+        R = sim.state.R_space_body
+        omega_body = sim.state.omega_body
+        self.body.pose(R)
+        self.nodes.update(float(sim.angles[0]), float(sim.angles[1]))
+        self.omega.update(R @ omega_body * self.omega_scale)
+        L_space = R @ (np.asarray(sim.model.inertia) * omega_body)
+        self.L.update(L_space * self.L_scale, rtol=1e-6)
+        self.draw_extras(sim)
+
+    def _arrows_fit(self, R: np.ndarray, omega_body: Vec3) -> bool:
+        lo, hi = ARROW_RANGE
+        w = float(np.linalg.norm(omega_body)) * self.omega_scale
+        L = float(np.linalg.norm(np.asarray(self.sim.model.inertia) * omega_body)) * self.L_scale
+        return (w == 0.0 or lo <= w <= hi) and (L == 0.0 or lo <= L <= hi)
+
+    def _rescale_arrows(self, R: np.ndarray, omega_body: Vec3) -> None:
+        w = float(np.linalg.norm(omega_body))
+        L = float(np.linalg.norm(np.asarray(self.sim.model.inertia) * omega_body))
+        self.omega_scale = self.arrow_lengths[0] / w if w > 0.0 else self.omega_scale
+        self.L_scale = self.arrow_lengths[1] / L if L > 0.0 else self.L_scale
+        self.gui_legend.content = (
+            f"Arrows from the {'pivot' if self.sim.model.mgl else 'centre of mass'}:  \n"
+            f"**ω** (orange): 1 unit = {1.0 / self.omega_scale:.3g} rad/s  \n"
+            f"**L** (violet): 1 unit = {1.0 / self.L_scale:.3g} kg m²/s  \n"
+            "Gold: line of nodes e_n.  Red/green/blue: space x y z; dark: body x′ y′ z′."
+        )
+
+    # ------------------------------------------------------------------ sliders
+    def _sync(self, handles: Sequence[Any], specs: Sequence[SliderSpec], values: Sequence[float],
+              skip: Any = None) -> None:
+        """Show `values` on sliders without their callbacks acting (no feedback loop)."""
+        self._syncing = True
+        try:
+            for handle, spec, value in zip(handles, specs, values):
+                shown = spec.rounded(value)
+                if handle is not skip and handle.value != shown:
+                    handle.value = shown
+        finally:
+            self._syncing = False
+
+    def displayed_angles_deg(self) -> tuple[float, float, float]:
+        phi, theta, psi = np.degrees(self.sim.angles)
+        return wrap_deg(float(phi)), float(theta), wrap_deg(float(psi))
+
+    def _sync_state_sliders(self, skip: Any = None) -> None:
+        self._sync(self.gui_angles, ANGLE_SPECS, self.displayed_angles_deg(), skip)
+        try:
+            rates = self.rates_from_state(self.sim.angles, self.sim.state)
+        except GimbalLockError:
+            return  # Euler rates are undefined at the pole: the rate sliders keep their values
+        self._sync(self.gui_rates, self.rate_specs, rates, skip)
+
+    def _state_slider_callback(self, handle: Any, spec: SliderSpec) -> Callable[[Any], None]:
+        """An angle or rate slider: the user sets the initial state (pausing the room)."""
+
+        def on_update(_event: Any) -> None:
+            if self._syncing:
+                return  # the server itself is showing the motion on the slider
+            if spec.check(handle.value) is None:
+                self.message.show(spec.refusal(handle.value))
+                self._sync_state_sliders()  # the slider goes back to the state's value
+                return
+            self.message.clear()
+            self.room.playing = False
+            angles = np.radians([h.value for h in self.gui_angles])
+            rates = [h.value for h in self.gui_rates]
+            state = State(matrix_from_euler_zxz(*angles), self.omega_body_from_rates(angles, rates), 0.0)
+            self.sim.preset = None  # type: ignore[attr-defined]
+            self.sim.restart(state, angles=angles)
+            self._sync_state_sliders(skip=handle)  # the others show the state it starts from
+            self.room.refresh()
+
+        return on_update
+
+    def _param_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
+        spec = self.param_specs[index]
+
+        def on_update(_event: Any) -> None:
+            if self._syncing:
+                return
+            current = self.params_from_model(self.sim.model)
+            if spec.check(handle.value) is None:
+                self.message.show(spec.refusal(handle.value))
+                self._sync([handle], [spec], [current[index]])
+                return
+            candidate = tuple(float(h.value) for h in self.gui_params)
+            try:
+                model = self.model_from_params(candidate)
+            except (InertiaError, ValueError) as error:
+                shown = ", ".join(f"{p:g}" for p in current)
+                self.gui_param_status.content = (
+                    f"**⚠ Refused:** {error}.  Each moment must be at most the sum of the other two "
+                    f"(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
+                )
+                self.message.show(f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving.")
+                return
+            self.message.clear()
+            self.sim.set_model(model)  # same R and ω_b, new body; keeps playing
+            self.room.refresh()
+
+        return on_update
+
+    # ------------------------------------------------------------------ actions
+    def choose_preset(self, name: str) -> None:
+        if name not in {p.name for p in self.presets()}:  # a client can send any string
+            self.message.show(f"No preset named {name!r}.")
+            return
+        self.message.clear()
+        self.apply_preset(self.room, name)
+
+    def set_integrator(self, name: str) -> None:
+        message = self.sim.set_integrator(name)
+        if message is not None:
+            self.message.show(message)
+        self.room.refresh()
+
+    # ------------------------------------------------------------------ text
+    def _refresh_status(self) -> None:
+        sim = self.sim
+        state = "▶ playing" if self.room.playing else "paused"
+        method = ("exact (closed form)" if sim.integrator == INTEGRATOR_EXACT
+                  else f"splitting4, {max(sim.substeps, 1)} sub-step(s)/frame")
+        self.transport.set_status(f"**t = {sim.t:.2f} s** · {state} · {self.room.time_scale:g}× · {method}")
+
+    def _refresh_gimbal_note(self) -> None:
+        note = gimbal_note(math.degrees(float(self.sim.angles[1])))
+        if self.gui_gimbal_note.visible != (note is not None):
+            self.gui_gimbal_note.visible = note is not None
+        if note is not None and self.gui_gimbal_note.content != note:
+            self.gui_gimbal_note.content = note
+
+    def _push_plots(self) -> None:
+        sim = self.sim
+        if self.gui_live_plots.value:
+            self.plots.push()
+        error = sim.samples.last("attitude_error")
+        if sim.integrator == INTEGRATOR_EXACT:
+            error_line = "attitude error       —  (the integrator IS the exact solution)"
+        elif math.isnan(error):
+            error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"
+        else:
+            error_line = f"attitude error   {error:9.2e} rad   (max {sim.max_drift['attitude_error']:.2e})"
+        self.accuracy.set(
+            f"**Accuracy** of {sim.integrator} since t = 0 (relative; exact would be 0)\n"
+            "```\n"
+            f"|ΔE| / E₀      {abs(sim.samples.last('drift_E')):9.2e}       (max {sim.max_drift['drift_E']:.2e})\n"
+            f"|Δ{self.momentum_label}| / |L₀|  {abs(sim.samples.last('drift_L')):9.2e}"
+            f"       (max {sim.max_drift['drift_L']:.2e})\n"
+            f"{error_line}\n"
+            "```"
+        )
+
+    def _refresh_readout(self) -> None:
+        sim = self.sim
+        R, omega_body = sim.state.R_space_body, sim.state.omega_body
+        phi, theta, psi = self.displayed_angles_deg()
+        inertia = np.array(sim.model.inertia)
+        L_body = inertia * omega_body
+        T = kinetic_energy(sim.model, omega_body)
+        V = sim.model.potential_energy(R)
+        torque = sim.model.torque_space_at(sim.t, R, omega_body)
+        Q = generalized_forces(sim.angles, torque)
+
+        def clean(x: float) -> float:
+            return 0.0 if abs(x) < 5e-5 else float(x)
+
+        def row(name: str, v: np.ndarray) -> str:
+            return f"{name:<13}" + "".join(f"{clean(x):9.4f}" for x in v)
+
+        lines = [  # at most ~42 characters a line: the panel's width
+            f"t = {sim.t:.3f} s    (z-x-z, degrees)",
+            f"φ = {phi:.2f}°  θ = {theta:.2f}°  ψ = {psi:.2f}°",
+        ]
+        if gimbal_note(theta) is not None:
+            combined = ("φ + ψ", phi + psi) if theta < 90.0 else ("φ − ψ", phi - psi)
+            lines.append(f"gimbal lock: only {combined[0]} = {wrap_deg(combined[1]):.2f}°")
+        lines += [
+            "",
+            "D = Rz(φ) Rx(θ) Rz(ψ), columns x′ y′ z′",
+            format_matrix(R, 4),
+            "",
+            f"{'':<13}{'x | x′':>9}{'y | y′':>9}{'z | z′':>9}",
+            row("ω_s [rad/s]", R @ omega_body),
+            row("ω_b [rad/s]", omega_body),
+            row("L_s [kg m²/s]", R @ L_body),
+            row("L_b [kg m²/s]", L_body),
+            row("M_s [N m]", torque),
+            "",
+            f"T = {T:.5f} J",
+            f"V = {V:.5f} J",
+            f"E = T + V = {T + V:.5f} J",
+            f"Q_φ = M·e_z  = {clean(Q[0]):.4f} N m",
+            f"Q_θ = M·e_n  = {clean(Q[1]):.4f} N m",
+            f"Q_ψ = M·e_z′ = {clean(Q[2]):.4f} N m",
+        ]
+        extra = self.readout_extras(sim)
+        if extra:
+            lines += ["", extra]
+        self.readout.set("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
+                         "Q: generalized forces of φ θ ψ (memo 6.10).\n```\n" + "\n".join(lines) + "\n```")
+        self._refresh_gimbal_note()

@@ -1,0 +1,192 @@
+"""3D pieces every scene shares, written once: the stage (grid, space axes x y z), the body
+(a frame turned by R_space_body with its shape and axes x′ y′ z′; instantiable several times,
+e.g. a solid body and a translucent ghost), the line of nodes with its gimbal-lock fade, and
+vector arrows with a label (ω, L).
+
+Per frame a widget changes only small properties of nodes built once (a pose, an arrow's two
+points, a label's position), and only when they changed: a node is never rebuilt while a scene
+plays.  Everything is drawn through the `scene` it is given (`client.scene`: one browser).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from app.kit.common import (
+    BODY_AXIS_COLORS,
+    GIMBAL_FADE_DEG,
+    GIMBAL_LOCK_DEG,
+    LABEL_SCALE,
+    NODES_COLOR,
+    NODES_FADED_COLOR,
+    NODES_HALF_LENGTH,
+    SPACE_AXIS_COLORS,
+    SPACE_AXIS_LENGTH,
+    axis_segments,
+    fade_color,
+)
+from physics._types import Mat3, Vec3
+from physics.quaternion import wxyz_from_matrix
+
+__all__ = ["FADE_LEVELS", "Body", "LineOfNodes", "Stage", "Vector"]
+
+FADE_LEVELS = 8  # the line of nodes fades in this many steps (one colour message per step)
+
+
+class Stage:
+    """The grid (at height `grid_z`) and the space axes x y z with their labels, under `root`."""
+
+    def __init__(self, scene: Any, root: str, *, grid_z: float = 0.0, size: float = 5.0,
+                 axis_length: float = SPACE_AXIS_LENGTH) -> None:
+        scene.add_grid(
+            f"{root}/grid", width=size, height=size, plane="xy", cell_size=0.5, section_size=1.0,
+            cell_color=(225, 225, 225), section_color=(190, 190, 190), shadow_opacity=0.0,
+            position=(0.0, 0.0, grid_z),
+        )
+        scene.add_arrows(
+            f"{root}/space_axes", axis_segments(np.eye(3), axis_length), np.array(SPACE_AXIS_COLORS),
+            shaft_radius=0.014, head_radius=0.045, head_length=0.11,
+        )
+        for k, name in enumerate("xyz"):
+            scene.add_label(f"{root}/space_labels/{name}", name,
+                            position=tuple((axis_length + 0.14) * np.eye(3)[k]),
+                            font_screen_scale=LABEL_SCALE, anchor="center-center")
+
+
+class Body:
+    """A body: a frame at `name` turned by R_space_body, its shape and its axes x′ y′ z′.
+
+    build_shape(scene, parent) adds the shape's nodes under `parent`; `reshape` swaps them.
+    Two instances with different names draw two bodies (the second, say, translucent).
+    """
+
+    def __init__(self, scene: Any, name: str, build_shape: Callable[[Any, str], None], *,
+                 axis_length: float = 1.0, show_axes: bool = True) -> None:
+        self._scene = scene
+        self.node = scene.add_frame(name, show_axes=False)
+        self._shape_name = f"{name}/shape"
+        self._shape = scene.add_frame(self._shape_name, show_axes=False)
+        build_shape(scene, self._shape_name)
+        self.axes = scene.add_frame(f"{name}/axes", show_axes=False, visible=show_axes)
+        scene.add_arrows(
+            f"{name}/axes/arrows", axis_segments(np.eye(3), axis_length), np.array(BODY_AXIS_COLORS),
+            shaft_radius=0.022, head_radius=0.06, head_length=0.13,
+        )
+        for k, label in enumerate(("x′", "y′", "z′")):
+            scene.add_label(f"{name}/axes/labels/{k}", label, position=tuple((axis_length + 0.15) * np.eye(3)[k]),
+                            font_screen_scale=LABEL_SCALE, anchor="center-center")
+        self._wxyz: tuple[float, ...] = ()
+
+    def pose(self, R_space_body: Mat3) -> None:
+        """Turn the body to R_space_body (3, 3); sent only if it changed."""
+        wxyz = wxyz_from_matrix(R_space_body)
+        if wxyz != self._wxyz:
+            self._wxyz = wxyz
+            self.node.wxyz = wxyz
+
+    def reshape(self, build_shape: Callable[[Any, str], None]) -> None:
+        """Replace the shape (after its parameters changed; never per frame)."""
+        self._shape.remove()
+        self._shape = self._scene.add_frame(self._shape_name, show_axes=False)
+        build_shape(self._scene, self._shape_name)
+
+    def show_axes(self, visible: bool) -> None:
+        if self.axes.visible != visible:
+            self.axes.visible = visible
+
+
+class LineOfNodes:
+    """The line of nodes e_n = (cos φ, sin φ, 0): a frame turned by Rz(φ) with the line along
+    its x axis, fading to grey within GIMBAL_FADE_DEG of θ = 0° or 180° and labelled
+    "(undefined)" within GIMBAL_LOCK_DEG, where only φ ± ψ is defined."""
+
+    def __init__(self, scene: Any, name: str, *, half_length: float = NODES_HALF_LENGTH) -> None:
+        self.node = scene.add_frame(name, show_axes=False)
+        self.line = scene.add_line_segments(
+            f"{name}/line", np.array([[[-half_length, 0.0, 0.0], [half_length, 0.0, 0.0]]]),
+            NODES_COLOR, thickness=6.0, thickness_units="screen",
+        )
+        self.label = scene.add_label(
+            f"{name}/label", "line of nodes", position=(0.8 * half_length, 0.0, 0.04),
+            font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
+        )
+        self._level = -1
+        self._phi = math.nan
+
+    @staticmethod
+    def fade_level(theta: float) -> int:
+        """0 (grey, at a pole) .. FADE_LEVELS (full colour) for the nutation θ [rad]."""
+        distance_deg = math.degrees(min(theta, math.pi - theta))
+        return max(0, min(FADE_LEVELS, int(FADE_LEVELS * distance_deg / GIMBAL_FADE_DEG)))
+
+    def update(self, phi: float, theta: float) -> None:
+        """Show e_n for the angles φ, θ [rad]; messages only for what changed."""
+        if phi != self._phi:
+            self._phi = phi
+            self.node.wxyz = (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
+        level = self.fade_level(theta)
+        if level != self._level:
+            self._level = level
+            color = fade_color(NODES_COLOR, NODES_FADED_COLOR, level / FADE_LEVELS)
+            self.line.colors = np.array([[color, color]], dtype=np.uint8)
+            locked = math.degrees(min(theta, math.pi - theta)) < GIMBAL_LOCK_DEG
+            self.label.text = "line of nodes (undefined)" if locked else "line of nodes"
+
+    @property
+    def visible(self) -> bool:
+        return bool(self.node.visible)
+
+    @visible.setter
+    def visible(self, visible: bool) -> None:
+        if self.node.visible != visible:
+            self.node.visible = visible
+
+
+class Vector:
+    """An arrow from `origin` to a tip, with a label just beyond the tip (ω, L, ...)."""
+
+    def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, *,
+                 origin: Vec3 = (0.0, 0.0, 0.0), shaft_radius: float = 0.03, head_radius: float = 0.08,
+                 head_length: float = 0.16, font_scale: float = 2.4, label_at_middle: bool = False) -> None:
+        self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3)), color, shaft_radius=shaft_radius,
+                                      head_radius=head_radius, head_length=head_length, visible=False)
+        self.label = scene.add_label(f"{name}_label", text, font_screen_scale=font_scale,
+                                     anchor="center-left" if label_at_middle else "center-center", visible=False)
+        self.origin = np.asarray(origin, dtype=float)
+        self.label_at_middle = label_at_middle  # else just beyond the tip
+        self.enabled = True  # the user's display toggle
+        self._tip: np.ndarray | None = None
+
+    @property
+    def visible(self) -> bool:
+        return bool(self.arrow.visible)
+
+    def update(self, vector: Vec3, *, start: Vec3 | None = None, rtol: float = 0.0) -> None:
+        """Draw `vector` [scene units] from `start` (default: the origin given at construction);
+        hidden if shorter than 1e-3 or disabled.
+
+        rtol: skip the update if the tip moved by less than rtol times its length (a conserved
+        vector, such as a free body's L, is then sent once, not every frame).
+        """
+        origin = self.origin if start is None else np.asarray(start, dtype=float)
+        tip = origin + np.asarray(vector, dtype=float)
+        length = float(np.linalg.norm(vector))
+        visible = self.enabled and length > 1e-3
+        if self.arrow.visible != visible:
+            self.arrow.visible = visible
+            self.label.visible = visible
+            self._tip = None
+        if not visible:
+            return
+        if self._tip is not None and float(np.max(np.abs(tip - self._tip))) <= rtol * length:
+            return
+        self._tip = tip
+        self.arrow.points = np.array([[origin, tip]], dtype=np.float32)
+        if self.label_at_middle:
+            self.label.position = tuple(0.5 * (origin + tip) + 0.06)
+        else:
+            self.label.position = tuple(tip + np.asarray(vector) * (0.16 / length))

@@ -1,0 +1,590 @@
+"""The z-x-z Euler-angle explorer ("Euler angles" scene).
+
+What it shows (docs/CONVENTIONS.md, "Euler angles", "Angular velocity"): the space axes x y z,
+a box whose proportions follow its principal moments, its body axes x′ y′ z′, the line of nodes
+e_n = (cos φ, sin φ, 0), the two intermediate frames of D = Rz(φ) Rx(θ) Rz(ψ) (after φ:
+ξηζ = Rz(φ); after θ: ξ′η′ζ′ = Rz(φ) Rx(θ)), arcs for φ, θ, ψ, and the angular velocity
+ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′ (memo 1.17) drawn head to tail: φ̇ e_z from the origin, θ̇ e_n
+from its tip, ψ̇ e_z′ from that one, and the resultant ω from the origin to the end.
+Readouts: D, its three factors, and ω with its space (ω_s) and body (ω_b) components.
+
+The simulation (`EulerAnglesSimulation`, no viser) advances the angles at the set rates
+(φ, θ, ψ grow linearly; a θ outside [0°, 180°] is shown as the equivalent
+(φ + 180°, 360° − θ, ψ + 180°), so the sliders wrap).  Near θ = 0° or 180° the line of nodes
+fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every formula comes from
+`physics`; degrees on the sliders, radians everywhere else.  Presets:
+`assets/presets/euler_angles.json`.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+import viser
+
+from app.kit.common import (
+    OMEGA_COLOR,
+    CameraView,
+    SliderSpec,
+    Throttle,
+    apply_camera,
+    axis_segments,
+    format_matrix,
+    format_vector,
+    gimbal_note,
+    polyline_segments,
+    wrap_deg,
+)
+from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
+from app.kit.presets import PRESETS_DIR, Preset, load_presets
+from app.kit.room import Room
+from app.kit.widgets import Body, LineOfNodes, Stage, Vector
+from physics.euler import (
+    body_z_axis,
+    euler_frames,
+    line_of_nodes,
+    omega_body_from_euler_rates,
+    omega_space_from_euler_rates,
+)
+from physics.inertia import InertiaError, box_extents_from_moments, validate_principal_moments
+from physics.quaternion import wxyz_from_matrix
+from physics.so3 import rot_x, rot_z
+
+__all__ = [
+    "ANGLE_SPECS",
+    "INITIAL_ANGLES_DEG",
+    "INITIAL_CAMERA",
+    "INITIAL_FOV_DEG",
+    "RATE_ARROW_SCALE",
+    "VIEW",
+    "EulerAnglesSimulation",
+    "EulerAnglesView",
+    "canonical_angles_deg",
+]
+
+_FULL_MARKS = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
+ANGLE_SPECS = (
+    SliderSpec("phi", "φ [deg]", -180.0, 180.0, 1.0, "precession about the space z axis (applied first)",
+               _FULL_MARKS),
+    SliderSpec("theta", "θ [deg]", 0.0, 180.0, 1.0, "nutation about the line of nodes (applied second)",
+               ((0.0, "0°"), (45.0, "45°"), (90.0, "90°"), (135.0, "135°"), (180.0, "180°"))),
+    SliderSpec("psi", "ψ [deg]", -180.0, 180.0, 1.0, "spin about the body z′ axis (applied last)", _FULL_MARKS),
+)
+_RATE_MARKS = ((-180.0, "-180"), (-90.0, "-90"), (0.0, "0"), (90.0, "90"), (180.0, "180"))
+RATE_SPECS = tuple(
+    SliderSpec(f"{key}_dot", f"d{greek}/dt [deg/s]", -180.0, 180.0, 1.0,
+               f"d{greek}/dt: Play advances {greek} at this rate", _RATE_MARKS)
+    for key, greek in (("phi", "φ"), ("theta", "θ"), ("psi", "ψ"))
+)
+MOMENT_SPECS = tuple(
+    SliderSpec(f"I{k + 1}", f"I{k + 1} [kg m²]", 0.1, 5.0, 0.05, f"principal moment about the body {'xyz'[k]}′ axis")
+    for k in range(3)
+)
+INITIAL_ANGLES_DEG = (30.0, 50.0, 20.0)  # the first preset's pose
+INITIAL_MOMENTS = (1.0, 2.0, 2.6)  # box with edges a : b : c = 3 : 2 : 1
+BODY_SIZE = 1.25  # display length [scene units] of the body's longest edge
+MIN_EDGE = 0.02  # display thickness of a flat body (a lamina: I1 + I2 = I3)
+BODY_AXIS_LENGTH = 1.35
+FRAME_AXIS_LENGTH = 1.1
+ARC_RADII = {"phi": 1.2, "theta": 1.05, "psi": 0.95}
+ARC_SEGMENTS = 48
+RATE_ARROW_SCALE = 1.0 / 30.0  # [scene units per deg/s]: 30°/s is one unit long
+FRAME_COLORS = ((240, 160, 160), (150, 215, 160), (160, 180, 245))
+BODY_COLOR = (235, 170, 70)
+BODY_OPACITY = 0.7
+ARC_COLORS = {"phi": (140, 50, 210), "theta": (215, 0, 120), "psi": (0, 140, 140)}
+GREEK = {"phi": "φ", "theta": "θ", "psi": "ψ"}
+KEYS = ("phi", "theta", "psi")
+
+# Seen from x > 0, y < 0 so that x, y, the line of nodes and x′ are all visible for typical
+# angles (φ ≈ 30°), with the origin left of centre to clear the GUI panel on the right.
+VIEW = CameraView(position=(5.9, -2.0, 3.3), look_at=(0.5, 1.15, 0.25), fov_deg=40.0)
+INITIAL_CAMERA = {"position": VIEW.position, "look_at": VIEW.look_at, "up": VIEW.up}
+INITIAL_FOV_DEG = VIEW.fov_deg
+
+ARC_PERIOD = 1.0 / 20.0  # [s] arcs and their labels while playing (20 Hz)
+SLIDER_PERIOD = 0.1  # sliders follow at 10 Hz
+READOUT_PERIOD = 0.2  # readouts at 5 Hz
+
+
+def canonical_angles_deg(phi: float, theta: float, psi: float) -> tuple[float, float, float]:
+    """The same rotation with θ in [0, 180] and φ, ψ in (-180, 180] [deg].
+
+    Rz(φ) Rx(θ) Rz(ψ) = Rz(φ + 180°) Rx(−θ) Rz(ψ + 180°), so a θ in (180°, 360°) becomes
+    360° − θ with φ and ψ turned by 180°.
+    """
+    theta = theta % 360.0
+    if theta > 180.0:
+        theta, phi, psi = 360.0 - theta, phi + 180.0, psi + 180.0
+    return wrap_deg(phi), theta, wrap_deg(psi)
+
+
+class EulerAnglesSimulation:
+    """Angles advancing at constant Euler rates (no viser).
+
+    Attributes:
+        angles_deg: [φ, θ, ψ] [deg] in the principal ranges (what the sliders show).
+        rates_deg: [φ̇, θ̇, ψ̇] [deg/s].  moments: (I1, I2, I3) [kg m²] of the box drawn.
+        t: seconds played since the angles were last set.  version: bumped on every change.
+    """
+
+    def __init__(self, angles_deg: Sequence[float], rates_deg: Sequence[float],
+                 moments: Sequence[float] = INITIAL_MOMENTS) -> None:
+        self.rates_deg = [float(r) for r in rates_deg]
+        self.moments = tuple(float(m) for m in validate_principal_moments(moments))
+        self.preset: str | None = None
+        self.version = 0
+        self.set_angles(angles_deg)
+
+    def set_angles(self, angles_deg: Sequence[float]) -> None:
+        """Set (φ, θ, ψ) [deg]: playing and Reset start from here (t = 0)."""
+        self._initial_deg = np.array(angles_deg, dtype=float)
+        self.reset()
+
+    def set_rates(self, rates_deg: Sequence[float]) -> None:
+        self.rates_deg = [float(r) for r in rates_deg]
+        self.version += 1
+
+    def set_moments(self, moments: Sequence[float]) -> None:
+        """InertiaError (nothing changes) if the moments are not a body."""
+        self.moments = tuple(float(m) for m in validate_principal_moments(moments))
+        self.version += 1
+
+    def reset(self) -> None:
+        self._played_deg = self._initial_deg.copy()
+        self.t = 0.0
+        self.angles_deg = list(canonical_angles_deg(*self._played_deg))
+        self.version += 1
+
+    def advance(self, dt: float) -> None:
+        played = self._played_deg + np.array(self.rates_deg) * dt
+        played[[0, 2]] = [wrap_deg(a) for a in played[[0, 2]]]
+        played[1] %= 360.0
+        self._played_deg = played
+        self.t += dt
+        self.angles_deg = list(canonical_angles_deg(*played))
+        self.version += 1
+
+    @property
+    def angles(self) -> tuple[float, float, float]:
+        """(φ, θ, ψ) [rad]."""
+        phi, theta, psi = (math.radians(a) for a in self.angles_deg)
+        return phi, theta, psi
+
+    @property
+    def R_space_body(self) -> np.ndarray:
+        return euler_frames(*self.angles).body
+
+
+def _box_edges(moments: Sequence[float]) -> np.ndarray:
+    """The drawn box's edges (3,) [scene units]: the uniform box of these moments, scaled so the
+    longest edge is BODY_SIZE (a flat lamina is drawn MIN_EDGE thick)."""
+    edges = np.asarray(box_extents_from_moments(moments, mass=1.0), dtype=float)
+    return np.maximum(BODY_SIZE * edges / edges.max(), MIN_EDGE)
+
+
+class EulerAnglesView:
+    """One browser's view of a room with an `EulerAnglesSimulation`."""
+
+    title = "Euler angles"
+    view = VIEW
+    preset_file = "euler_angles.json"
+
+    @classmethod
+    @functools.cache
+    def presets(cls) -> tuple[Preset, ...]:
+        return load_presets(PRESETS_DIR / cls.preset_file, rate_specs=RATE_SPECS)
+
+    @classmethod
+    def new_simulation(cls) -> EulerAnglesSimulation:
+        first = cls.presets()[0]
+        sim = EulerAnglesSimulation(first.angles_deg, first.rates)
+        sim.preset = first.name
+        return sim
+
+    @classmethod
+    def apply_preset(cls, room: Room, name: str) -> None:
+        preset = next((p for p in cls.presets() if p.name == name), None)
+        if preset is None:
+            raise ValueError(f"{cls.title} has no preset {name!r}; "
+                             f"the presets are {', '.join(p.name for p in cls.presets())}")
+        sim: EulerAnglesSimulation = room.sim
+        room.playing = False
+        sim.set_rates(preset.rates)
+        sim.set_angles(preset.angles_deg)
+        sim.preset = name
+        room.refresh()
+
+    def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
+                 report_error: Callable[[str, BaseException], None] | None = None) -> None:
+        self.client = client
+        self.room = room
+        self.sim: EulerAnglesSimulation = room.sim
+        self._wrap = wrap
+        self._report_error = report_error
+        self._syncing = False
+        self._drawn_version = -1
+        self._drawn_moments: tuple[float, ...] = ()
+        self._arc_throttle = Throttle(ARC_PERIOD)
+        self._slider_throttle = Throttle(SLIDER_PERIOD)
+        self._readout_throttle = Throttle(READOUT_PERIOD)
+        with client.atomic():
+            self._build_scene()
+            self._build_gui()
+        room.add_view(self)
+        self.refresh()
+
+    # ------------------------------------------------------------------ building
+    def _build_scene(self) -> None:
+        scene = self.client.scene
+        root = "/explorer"
+        self._root_node = scene.add_frame(root, show_axes=False)
+        Stage(scene, root, size=4.0)
+        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH)
+        # Intermediate frames of the decomposition: thin, faint, toggleable.
+        self.after_phi_node = scene.add_frame(f"{root}/after_phi", show_axes=False)
+        self.after_theta_node = scene.add_frame(f"{root}/after_theta", show_axes=False)
+        for node, prime in ((self.after_phi_node, ""), (self.after_theta_node, "′")):
+            scene.add_line_segments(
+                f"{node.name}/axes", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
+                np.repeat(np.array(FRAME_COLORS, dtype=np.uint8)[:, None, :], 2, axis=1),
+                thickness=2.5, thickness_units="screen",
+            )
+            scene.add_label(f"{node.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
+                            font_screen_scale=1.3, anchor="center-center")
+        self.nodes = LineOfNodes(scene, f"{root}/nodes")
+        self.arcs: dict[str, Any] = {}
+        self.arc_labels: dict[str, Any] = {}
+        for key in KEYS:
+            self.arcs[key] = scene.add_line_segments(f"{root}/arcs/{key}", np.zeros((1, 2, 3)), ARC_COLORS[key],
+                                                     thickness=4.0, thickness_units="screen")
+            self.arc_labels[key] = scene.add_label(f"{root}/arc_labels/{key}", GREEK[key], font_screen_scale=1.6,
+                                                   anchor="center-center")
+        # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).
+        self.rate_vectors = {
+            key: Vector(scene, f"{root}/omega/{key}", ARC_COLORS[key], f"d{GREEK[key]}/dt", shaft_radius=0.018,
+                        head_radius=0.05, head_length=0.1, font_scale=1.4, label_at_middle=True)
+            for key in KEYS
+        }
+        self.omega = Vector(scene, f"{root}/omega/resultant", OMEGA_COLOR, "ω", shaft_radius=0.032,
+                            head_radius=0.085, head_length=0.16)
+
+    def _build_box(self, scene: Any, parent: str) -> None:
+        self.body_box = scene.add_box(
+            f"{parent}/box", color=BODY_COLOR, dimensions=tuple(float(e) for e in _box_edges(self.sim.moments)),
+            opacity=BODY_OPACITY, flat_shading=True, cast_shadow=False, receive_shadow=False,
+        )
+        self._drawn_moments = self.sim.moments
+
+    def _build_gui(self) -> None:
+        gui = self.client.gui
+        wrap = self._wrap
+        room = self.room
+        self.gui_intro = gui.add_markdown(
+            "### Euler angles, z-x-z convention\n"
+            "**D = Rz(φ) Rx(θ) Rz(ψ)**, body → space (x = D x′).  \n"
+            "φ: precession about z · θ: nutation about the line of nodes · "
+            "ψ: spin about z′.  Angles in **degrees**.  \n"
+            "**ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′** (orange, head to tail)."
+        )
+        self.message = MessageLine(gui)
+        self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
+                                   on_reset=room.reset, on_time_scale=room.set_time_scale)
+        self.folder_angles = gui.add_folder("Euler angles z-x-z [deg]")
+        with self.folder_angles:
+            self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(ANGLE_SPECS, self.sim.angles_deg)]
+            self.gui_gimbal_note = gui.add_markdown("", visible=False)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+        self.folder_rates = gui.add_folder("Euler rates [deg/s]")
+        with self.folder_rates:
+            self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(RATE_SPECS, self.sim.rates_deg)]
+        self.folder_readout = gui.add_folder("Readout")
+        with self.folder_readout:
+            tabs = gui.add_tab_group()  # three short texts: all three are sent at 5 Hz at most
+            with tabs.add_tab("D"):
+                self.readout_matrix = Readout(gui)
+            with tabs.add_tab("Factors"):
+                self.readout_factors = Readout(gui)
+            with tabs.add_tab("ω"):
+                self.readout_omega = Readout(gui)
+        self.folder_body = gui.add_folder("Body: principal moments [kg m²]", expand_by_default=False)
+        with self.folder_body:
+            self.gui_moments = [add_slider(gui, spec, value) for spec, value in zip(MOMENT_SPECS, self.sim.moments)]
+            self.gui_moments_status = gui.add_markdown("")
+        self.folder_display = gui.add_folder("Display", expand_by_default=False)
+        with self.folder_display:
+            self.gui_show_frames = gui.add_checkbox("Intermediate frames", True,
+                                                    hint="ξηζ = Rz(φ) and ξ′η′ζ′ = Rz(φ) Rx(θ)")
+            self.gui_show_arcs = gui.add_checkbox("Angle arcs", True)
+            self.gui_show_omega = gui.add_checkbox("ω and its components", True)
+            self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
+            gui.add_markdown(
+                "Thin red/green/blue arrows: space axes x y z.  \n"
+                "Dark arrows: body axes x′ y′ z′ (the columns of D).  \n"
+                "Gold: line of nodes e_n = (cos φ, sin φ, 0).  \n"
+                "Faint: intermediate frames (η after φ, η′ after θ).  \n"
+                f"ω arrows: 1 unit = {1.0 / RATE_ARROW_SCALE:g}°/s."
+            )
+        for index, handle in enumerate(self.gui_angles):
+            handle.on_update(wrap(f"{GREEK[KEYS[index]]} slider", self._angle_callback(index, handle)))
+        for index, handle in enumerate(self.gui_rates):
+            handle.on_update(wrap("rate slider", self._rate_callback(index, handle)))
+        for index, handle in enumerate(self.gui_moments):
+            handle.on_update(wrap(f"I{index + 1} slider", self._moment_callback(index, handle)))
+        for handle in (self.gui_show_frames, self.gui_show_arcs, self.gui_show_omega):
+            handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
+        self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
+        self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, self.folder_angles,
+                           self.folder_rates, self.folder_readout, self.folder_body, self.folder_display]
+
+    # ------------------------------------------------------------------ callbacks
+    def _refuse(self, spec: SliderSpec, handle: Any, last: float) -> None:
+        self.message.show(spec.refusal(handle.value))
+        self._write(handle, last)
+
+    def _write(self, handle: Any, value: float) -> None:
+        """Show `value` on a slider without its callback acting (no feedback)."""
+        self._syncing = True
+        try:
+            if handle.value != value:
+                handle.value = value
+        finally:
+            self._syncing = False
+
+    def _angle_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
+        spec = ANGLE_SPECS[index]
+
+        def on_update(_event: Any) -> None:
+            if self._syncing:
+                return  # the server itself is showing the motion on the slider
+            value = spec.check(handle.value)
+            if value is None:
+                self._refuse(spec, handle, self.sim.angles_deg[index])
+                return
+            self.message.clear()
+            self.room.playing = False
+            angles = list(self.sim.angles_deg)
+            angles[index] = value
+            self.sim.preset = None
+            self.sim.set_angles(angles)
+            self.room.refresh()
+
+        return on_update
+
+    def _rate_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
+        spec = RATE_SPECS[index]
+
+        def on_update(_event: Any) -> None:
+            if self._syncing:
+                return
+            value = spec.check(handle.value)
+            if value is None:
+                self._refuse(spec, handle, self.sim.rates_deg[index])
+                return
+            self.message.clear()
+            rates = list(self.sim.rates_deg)
+            rates[index] = value
+            self.sim.set_rates(rates)
+            self.room.refresh()
+
+        return on_update
+
+    def _moment_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
+        spec = MOMENT_SPECS[index]
+
+        def on_update(_event: Any) -> None:
+            if self._syncing:
+                return
+            if spec.check(handle.value) is None:
+                self._refuse(spec, handle, self.sim.moments[index])
+                return
+            try:
+                self.sim.set_moments([float(h.value) for h in self.gui_moments])
+            except InertiaError as error:
+                self.gui_moments_status.content = (
+                    f"**⚠ Not a rigid body:** {error}  \n"
+                    "Each moment must be at most the sum of the other two "
+                    "(I1 + I2 ≥ I3 and cyclic).  Showing the last valid body, "
+                    f"I = ({', '.join(f'{m:.2f}' for m in self.sim.moments)}) kg m²."
+                )
+                return
+            self.room.refresh()
+
+        return on_update
+
+    def choose_preset(self, name: str) -> None:
+        if name not in {p.name for p in self.presets()}:  # a client can send any string
+            self.message.show(f"No preset named {name!r}.")
+            return
+        self.message.clear()
+        self.apply_preset(self.room, name)
+
+    def set_angles_deg(self, phi: float, theta: float, psi: float) -> None:
+        """Set (φ, θ, ψ) [deg], as dragging the three sliders does."""
+        self.room.playing = False
+        self.sim.set_angles((phi, theta, psi))
+        self.room.refresh()
+
+    def reset_view(self) -> None:
+        apply_camera(self.client, VIEW)
+
+    # ------------------------------------------------------------------ view protocol
+    def show_message(self, text: str) -> None:
+        self.message.show(text)
+
+    def report_error(self, where: str, error: BaseException) -> None:
+        if self._report_error is None:
+            raise error
+        self._report_error(where, error)
+
+    def remove(self) -> None:
+        self.room.remove_view(self)
+        for handle in self._gui_roots:
+            handle.remove()
+        self._root_node.remove()  # removes its descendants, the whole scene
+
+    def frame(self, dt: float) -> None:
+        """The per-frame update while the angles move; arcs, sliders and text throttled."""
+        if self.sim.version == self._drawn_version:
+            return
+        self._drawn_version = self.sim.version
+        with self.client.atomic():
+            self.render_pose()
+            if self._arc_throttle.ready(dt):
+                self.render_arcs()
+            if self._slider_throttle.ready(dt):
+                self._sync_sliders()
+            if self._readout_throttle.ready(dt):
+                self.render_readout()
+                self._refresh_status()
+
+    def refresh(self) -> None:
+        """Redraw everything from the simulation (all formulas from `physics`)."""
+        self._drawn_version = self.sim.version
+        with self.client.atomic():
+            if self.sim.moments != self._drawn_moments:
+                self.body.reshape(self._build_box)
+            self._refresh_moments_status()
+            self.transport.show(self.room.playing, self.room.time_scale)
+            self.presets_row.show_note(next((p for p in self.presets() if p.name == self.sim.preset), None))
+            self._sync_sliders()
+            self.render_pose()
+            self.render_arcs()
+            self.render_readout()
+            self._refresh_status()
+
+    # ------------------------------------------------------------------ drawing
+    def _sync_sliders(self) -> None:
+        for handle, value in zip(self.gui_angles, self.sim.angles_deg):
+            self._write(handle, float(round(value)))
+        for handle, value in zip(self.gui_rates, self.sim.rates_deg):
+            self._write(handle, value)
+        for handle, value in zip(self.gui_moments, self.sim.moments):
+            self._write(handle, value)
+
+    def _refresh_status(self) -> None:
+        state = "▶ playing" if self.room.playing else "paused"
+        self.transport.set_status(f"**t = {self.sim.t:.2f} s** · {state} · {self.room.time_scale:g}×")
+
+    def _refresh_moments_status(self) -> None:
+        edges = _box_edges(self.sim.moments)
+        flat = edges.min() <= MIN_EDGE
+        shown = edges / edges.min()
+        status = f"Uniform box with edges along x′, y′, z′ in the ratio **{', '.join(f'{r:.2f}' for r in shown)}**."
+        if flat:
+            status += "  \nA flat lamina: one triangle inequality holds with equality."
+        if self.gui_moments_status.content != status:
+            self.gui_moments_status.content = status
+
+    def render_pose(self) -> None:
+        """The per-frame part: body, intermediate frames, line of nodes, ω arrows."""
+        phi, theta, psi = self.sim.angles
+        frames = euler_frames(phi, theta, psi)
+        e_n = line_of_nodes(phi)
+        show_frames = bool(self.gui_show_frames.value)
+        self.body.pose(frames.body)
+        self.after_phi_node.wxyz = wxyz_from_matrix(frames.after_phi)
+        self.after_theta_node.wxyz = wxyz_from_matrix(frames.after_theta)
+        if self.after_phi_node.visible != show_frames:
+            self.after_phi_node.visible = show_frames
+            self.after_theta_node.visible = show_frames
+        self.nodes.update(phi, theta)
+        # ω head to tail: φ̇ e_z, then θ̇ e_n, then ψ̇ e_z′ (each scaled to scene units).
+        dphi, dtheta, dpsi = (RATE_ARROW_SCALE * r for r in self.sim.rates_deg)
+        components = {"phi": dphi * np.array([0.0, 0.0, 1.0]), "theta": dtheta * e_n,
+                      "psi": dpsi * body_z_axis(phi, theta)}
+        show = bool(self.gui_show_omega.value)
+        start = np.zeros(3)
+        for key in KEYS:
+            self.rate_vectors[key].enabled = show
+            self.rate_vectors[key].update(components[key], start=start)
+            start = start + components[key]
+        self.omega.enabled = show
+        self.omega.update(start)
+
+    def render_arcs(self) -> None:
+        """Arcs for φ, θ, ψ and their labels."""
+        phi, theta, psi = self.sim.angles
+        frames = euler_frames(phi, theta, psi)
+        show_arcs = bool(self.gui_show_arcs.value)
+        arcs = {
+            "phi": [rot_z(t) @ np.array([ARC_RADII["phi"], 0.0, 0.0]) for t in np.linspace(0.0, phi, ARC_SEGMENTS + 1)],
+            "theta": [frames.after_phi @ rot_x(t) @ np.array([0.0, 0.0, ARC_RADII["theta"]])
+                      for t in np.linspace(0.0, theta, ARC_SEGMENTS + 1)],
+            "psi": [frames.after_theta @ rot_z(t) @ np.array([ARC_RADII["psi"], 0.0, 0.0])
+                    for t in np.linspace(0.0, psi, ARC_SEGMENTS + 1)],
+        }
+        for key, angle_deg in zip(KEYS, self.sim.angles_deg):
+            points = np.array(arcs[key])
+            visible = show_arcs and abs(angle_deg) >= 0.5
+            self.arcs[key].points = polyline_segments(points)
+            self.arcs[key].visible = visible
+            self.arc_labels[key].position = tuple(1.18 * points[ARC_SEGMENTS // 2])
+            self.arc_labels[key].text = f"{GREEK[key]} = {angle_deg:.0f}°"
+            self.arc_labels[key].visible = visible
+
+    def render_readout(self) -> None:
+        """D, its factors, ω (space and body components) and the gimbal-lock note."""
+        phi, theta, psi = self.sim.angles
+        R = euler_frames(phi, theta, psi).body
+        e_n = line_of_nodes(phi)
+        e_z_body = body_z_axis(phi, theta)
+        angles_deg = self.sim.angles_deg
+        note = gimbal_note(angles_deg[1])
+        if self.gui_gimbal_note.visible != (note is not None):
+            self.gui_gimbal_note.visible = note is not None
+        if note is not None and self.gui_gimbal_note.content != note:
+            self.gui_gimbal_note.content = note
+        self.readout_matrix.set(
+            "D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components\n"
+            f"```\n{format_matrix(R, 4)}\n```\n"
+            f"e_n = (cos φ, sin φ, 0) = {format_vector(e_n)}  \n"
+            f"e_z′ = D e_z = {format_vector(e_z_body)}"
+        )
+        factors = ((f"Rz(φ), φ = {angles_deg[0]:g}°", rot_z(phi)),
+                   (f"Rx(θ), θ = {angles_deg[1]:g}°", rot_x(theta)),
+                   (f"Rz(ψ), ψ = {angles_deg[2]:g}°", rot_z(psi)))
+        self.readout_factors.set("\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors))
+        rates = tuple(math.radians(r) for r in self.sim.rates_deg)
+        omega_space = np.degrees(omega_space_from_euler_rates((phi, theta, psi), rates))
+        omega_body = np.degrees(omega_body_from_euler_rates((phi, theta, psi), rates))
+        dphi, dtheta, dpsi = self.sim.rates_deg
+
+        def row(name: str, v: Any) -> str:
+            return f"{name:<14}" + "".join(f"{(0.0 if abs(x) < 5e-4 else x):10.3f}" for x in v)
+
+        self.readout_omega.set(
+            "ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b\n```\n"
+            f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [deg/s]\n\n"
+            f"{'':<14}{'x | x′':>10}{'y | y′':>10}{'z | z′':>10}\n"
+            f"{row('(dφ/dt) e_z', (0.0, 0.0, dphi))}\n"
+            f"{row('(dθ/dt) e_n', dtheta * e_n)}\n"
+            f"{row('(dψ/dt) e_z′', dpsi * e_z_body)}\n"
+            f"{row('ω_s (space)', omega_space)}\n"
+            f"{row('ω_b (body)', omega_body)}\n"
+            f"|ω| = {float(np.linalg.norm(omega_space)):.3f} deg/s\n```"
+        )
