@@ -26,13 +26,13 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
+import app.kit.rigid as rigid
 import app.main as app_main
-import app.simulation as simulation
-from app.common import NODES_FADED_COLOR, wxyz_from_matrix
-from app.controls import INTEGRATOR_EXACT, INTEGRATOR_REALTIME
-from app.explorer import INITIAL_ANGLES_DEG, INITIAL_CAMERA, RATE_ARROW_SCALE
-from app.free_body import FreeBodyScene
-from app.heavy_top import CHUNK_POINTS, TRACE_SECONDS, TRACE_SPACING, HeavyTopScene
+from app.kit.common import NODES_FADED_COLOR
+from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME
+from app.scenes.euler_angles import INITIAL_ANGLES_DEG, INITIAL_CAMERA, RATE_ARROW_SCALE
+from app.scenes.free_body import FreeBodyView
+from app.scenes.heavy_top import CHUNK_POINTS, TRACE_SECONDS, TRACE_SPACING, HeavyTopView
 from app.main import App
 from app.session import Session
 from physics.dynamics import IntegrationError
@@ -48,7 +48,7 @@ def D_reference(phi_deg: float, theta_deg: float, psi_deg: float) -> np.ndarray:
 
 def body_matrix(session: Session) -> np.ndarray:
     """The body node's orientation as the client receives it (wxyz), as a matrix."""
-    wxyz = np.asarray(session.scene.body_node.wxyz, dtype=float)
+    wxyz = np.asarray(session.scene.body.node.wxyz, dtype=float)
     return Rotation.from_quat(wxyz, scalar_first=True).as_matrix()
 
 
@@ -58,8 +58,9 @@ def one_session(app: App, connect) -> Session:
 
 
 def set_angles(session: Session, phi: float, theta: float, psi: float) -> None:
-    scene = session.scene
-    scene.gui_phi.value, scene.gui_theta.value, scene.gui_psi.value = phi, theta, psi
+    """Set the explorer's angles [deg] as a drag of the three sliders does (the sliders show
+    them rounded to 1°, so assigning the sliders could find an unchanged value)."""
+    session.scene.set_angles_deg(phi, theta, psi)
 
 
 def _matrices_in(markdown: str) -> list[np.ndarray]:
@@ -113,11 +114,11 @@ def rotation_angle(A: np.ndarray, B: np.ndarray) -> float:
     return float(Rotation.from_matrix(A.T @ B).magnitude())
 
 
-def start_free_body(manual, preset: str = "Dzhanibekov") -> FreeBodyScene:
+def start_free_body(manual, preset: str = "Dzhanibekov") -> FreeBodyView:
     manual.session.select_scene("Free body")
     manual.session.apply_preset(preset)
     scene = manual.session.scene
-    assert isinstance(scene, FreeBodyScene)
+    assert isinstance(scene, FreeBodyView)
     return scene
 
 
@@ -128,22 +129,22 @@ def test_each_client_gets_its_own_session_gui_and_body(wait_until, app: App, con
     connect()
     (s2,) = (s for s in app.wait_for_sessions(2).values() if s is not s1)
     assert s1.client is not s2.client
-    assert s1.scene.gui_theta._impl.uuid != s2.scene.gui_theta._impl.uuid
+    assert s1.scene.gui_angles[1]._impl.uuid != s2.scene.gui_angles[1]._impl.uuid
 
-    a.set_value(s1.scene.gui_theta, 60.0)  # a browser moves ITS θ slider
-    wait_until(lambda: s1.scene.angles_deg[1] == 60.0)
+    a.set_value(s1.scene.gui_angles[1], 60.0)  # a browser moves ITS θ slider
+    wait_until(lambda: s1.scene.sim.angles_deg[1] == 60.0)
     time.sleep(0.1)
     phi0, theta0, psi0 = INITIAL_ANGLES_DEG
-    assert s2.scene.angles_deg == [phi0, theta0, psi0]
+    assert s2.scene.sim.angles_deg == [phi0, theta0, psi0]
     np.testing.assert_allclose(body_matrix(s2), D_reference(phi0, theta0, psi0), atol=ATOL_POSE)
     np.testing.assert_allclose(body_matrix(s1), D_reference(phi0, 60, psi0), atol=ATOL_POSE)
 
     # One client plays a free body; the other's scene does not change or move.
     s1.select_scene("Free body")
     s1.play()
-    wait_until(lambda: s1.scene.state.t > 0.2)
-    assert s2.scene.title == "Euler angles" and not s2.scene.playing
-    assert s2.scene.angles_deg == [phi0, theta0, psi0]
+    wait_until(lambda: s1.scene.sim.state.t > 0.2)
+    assert s2.scene.title == "Euler angles" and not s2.scene.room.playing
+    assert s2.scene.sim.angles_deg == [phi0, theta0, psi0]
 
     a.close()
     remaining = app.wait_for_sessions(1)
@@ -154,25 +155,13 @@ def test_each_client_gets_its_own_session_gui_and_body(wait_until, app: App, con
 def test_sessions_are_ticked_by_a_paced_60hz_loop(app: App, connect) -> None:
     session = one_session(app, connect)
     dts: list[float] = []
-    session.scene.tick = dts.append  # type: ignore[method-assign]
+    session.room.tick = dts.append  # type: ignore[method-assign]
     time.sleep(1.0)
     # 60 Hz nominal; generous lower bound for a loaded 2-core machine, strict upper bound
     # (a busy loop would give thousands).
     assert 30 <= len(dts) <= 70, len(dts)
     assert max(dts) <= app_main.MAX_TICK_DT
     assert 1 / 75 < float(np.median(dts)) < 1 / 30
-
-
-@settings(max_examples=40, deadline=None)
-@given(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0), st.floats(-1.0, 1.0), st.floats(0.0, math.pi))
-def test_wxyz_from_matrix_matches_scipy(x: float, y: float, z: float, angle: float) -> None:
-    axis = np.array([x, y, z])
-    if np.linalg.norm(axis) < 1e-3:
-        axis = np.array([0.0, 0.0, 1.0])
-    R = Rotation.from_rotvec(angle * axis / np.linalg.norm(axis)).as_matrix()
-    q = wxyz_from_matrix(R)
-    assert q[0] >= 0.0
-    np.testing.assert_allclose(Rotation.from_quat(q, scalar_first=True).as_matrix(), R, atol=1e-12)
 
 
 # ---------------------------------------------------------------------------- Euler angles
@@ -182,16 +171,18 @@ def test_wxyz_from_matrix_matches_scipy(x: float, y: float, z: float, angle: flo
     theta=st.floats(0.0, 180.0),
     psi=st.floats(-180.0, 180.0),
 )
-def test_sliders_turn_body_as_scipy_zxz(manual, phi: float, theta: float, psi: float) -> None:
+def test_angles_turn_body_as_scipy_zxz(manual, phi: float, theta: float, psi: float) -> None:
     session = manual.session
     set_angles(session, phi, theta, psi)
     np.testing.assert_allclose(body_matrix(session), D_reference(phi, theta, psi), atol=ATOL_POSE)
 
-    # Line of nodes: the segment through the origin along (cos φ, sin φ, 0).
-    start, end = np.asarray(session.scene.nodes_line.points, dtype=float)[0]
+    # Line of nodes: a segment through the origin along the x axis of a frame turned to
+    # (cos φ, sin φ, 0).
+    start, end = np.asarray(session.scene.nodes.line.points, dtype=float)[0]
     np.testing.assert_allclose(start, -end, atol=ATOL_POSE)
+    frame = Rotation.from_quat(np.asarray(session.scene.nodes.node.wxyz), scalar_first=True)
     expected = np.array([math.cos(math.radians(phi)), math.sin(math.radians(phi)), 0.0])
-    np.testing.assert_allclose(end / np.linalg.norm(end), expected, atol=ATOL_POSE)
+    np.testing.assert_allclose(frame.apply(end / np.linalg.norm(end)), expected, atol=ATOL_POSE)
 
     # Intermediate frames: Rz(φ) and Rz(φ) Rx(θ), again from SciPy.
     after_phi = Rotation.from_quat(np.asarray(session.scene.after_phi_node.wxyz), scalar_first=True)
@@ -206,15 +197,15 @@ def test_readout_shows_D_and_its_three_factors(manual) -> None:
     session = manual.session
     phi, theta, psi = 30.0, 50.0, 20.0
     set_angles(session, phi, theta, psi)
-    (D_shown,) = _matrices_in(session.scene.gui_matrix.content)
+    (D_shown,) = _matrices_in(session.scene.readout_matrix.handle.content)
     np.testing.assert_allclose(D_shown, D_reference(phi, theta, psi), atol=ATOL_READOUT)
-    factors = _matrices_in(session.scene.gui_factors.content)
+    factors = _matrices_in(session.scene.readout_factors.handle.content)
     expected = [Rotation.from_euler(axis, angle, degrees=True).as_matrix()
                 for axis, angle in (("z", phi), ("x", theta), ("z", psi))]
     assert len(factors) == 3
     for shown, reference in zip(factors, expected):
         np.testing.assert_allclose(shown, reference, atol=ATOL_READOUT)
-    assert "-0.0000" not in session.scene.gui_matrix.content
+    assert "-0.0000" not in session.scene.readout_matrix.handle.content
 
 
 def _omega_by_finite_differences(angles_deg, rates_deg, h: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
@@ -236,16 +227,16 @@ def test_euler_rates_draw_omega_head_to_tail_and_read_out(manual) -> None:
     omega_s, omega_b = _omega_by_finite_differences(angles, rates)
 
     # Head to tail: each component starts where the previous ended; the resultant is ω_s.
-    chain = [np.asarray(scene.rate_arrows[key].points, dtype=float)[0] for key in ("phi", "theta", "psi")]
+    chain = [np.asarray(scene.rate_vectors[key].arrow.points, dtype=float)[0] for key in ("phi", "theta", "psi")]
     np.testing.assert_allclose(chain[0][0], 0.0, atol=ATOL_POSE)
     np.testing.assert_allclose(chain[1][0], chain[0][1], atol=ATOL_POSE)
     np.testing.assert_allclose(chain[2][0], chain[1][1], atol=ATOL_POSE)
-    resultant = np.asarray(scene.omega_arrow.points, dtype=float)[0]
+    resultant = np.asarray(scene.omega.arrow.points, dtype=float)[0]
     np.testing.assert_allclose(resultant[1], chain[2][1], atol=ATOL_POSE)
     np.testing.assert_allclose(resultant[1] / RATE_ARROW_SCALE, omega_s, atol=1e-3)
     np.testing.assert_allclose(chain[0][1] / RATE_ARROW_SCALE, [0.0, 0.0, rates[0]], atol=1e-3)  # φ̇ e_z
 
-    content = scene.gui_omega.content
+    content = scene.readout_omega.handle.content
     np.testing.assert_allclose(_row(content, "ω_s (space)"), omega_s, atol=2e-3)
     np.testing.assert_allclose(_row(content, "ω_b (body)"), omega_b, atol=2e-3)
 
@@ -258,13 +249,13 @@ def test_euler_play_advances_angles_and_sliders_follow_without_feedback(manual) 
     session.play()
     manual.tick(1.0)
     # Exactly initial + rate t: the sliders' 10 Hz sync (whole degrees) did not feed back.
-    assert scene.angles_deg == pytest.approx([30.0, 60.0, 65.0], abs=1e-9)
+    assert scene.sim.angles_deg == pytest.approx([30.0, 60.0, 65.0], abs=1e-9)
     assert [h.value for h in scene.gui_angles] == pytest.approx([30.0, 60.0, 65.0], abs=0.5 + 0.1 * 45)
-    assert scene.playing and session.last_error is None
+    assert scene.room.playing and session.last_error is None
 
-    scene.controls.gui_time_scale.value = 0.5  # slow motion: half the angle per wall second
+    scene.transport.gui_time_scale.value = 0.5  # slow motion: half the angle per wall second
     manual.tick(1.0)
-    assert scene.angles_deg == pytest.approx([40.0, 60.0, 87.5], abs=1e-9)
+    assert scene.sim.angles_deg == pytest.approx([40.0, 60.0, 87.5], abs=1e-9)
 
     # θ through 180°: the sliders wrap (θ back below 180, φ and ψ turned by 180°) and the
     # body passes without a jump: D equals Rz(φ) Rx(θ) Rz(ψ) of the unwrapped angles.
@@ -272,35 +263,35 @@ def test_euler_play_advances_angles_and_sliders_follow_without_feedback(manual) 
     set_angles(session, 10.0, 170.0, 20.0)
     for handle, rate in zip(scene.gui_rates, (0.0, 20.0, 0.0)):
         handle.value = rate
-    scene.controls.gui_time_scale.value = 1.0
+    scene.transport.gui_time_scale.value = 1.0
     session.play()
     poses = []
     for _ in range(60):
         session.tick(DT)
         poses.append(body_matrix(session))
-    assert scene.angles_deg == pytest.approx([-170.0, 170.0, -160.0], abs=1e-6)
+    assert scene.sim.angles_deg == pytest.approx([-170.0, 170.0, -160.0], abs=1e-6)
     np.testing.assert_allclose(poses[-1], D_reference(10.0, 190.0, 20.0), atol=ATOL_POSE)
     steps = [rotation_angle(a, b) for a, b in zip(poses, poses[1:])]
     assert max(steps) < math.radians(20.0 / 60.0) * 1.01 + 1e-6  # one frame's turn, no jump
     note = scene.gui_gimbal_note
     session.step()  # θ = 170 - 1/3: not locked
-    assert not scene.playing and not note.visible
+    assert not scene.room.playing and not note.visible
 
 
 def test_user_drag_while_playing_pauses_and_sets_the_angle(manual) -> None:
     scene = manual.session.scene
     manual.session.play()
     manual.tick(0.5)
-    manual.client.set_value(scene.gui_theta, 100.0)  # what a browser sends when dragging
-    manual.wait(lambda: scene.angles_deg[1] == 100.0)
-    assert not scene.playing
-    phi, _, psi = scene.angles_deg
+    manual.client.set_value(scene.gui_angles[1], 100.0)  # what a browser sends when dragging
+    manual.wait(lambda: scene.sim.angles_deg[1] == 100.0)
+    assert not scene.room.playing
+    phi, _, psi = scene.sim.angles_deg
     np.testing.assert_allclose(body_matrix(manual.session), D_reference(phi, 100.0, psi), atol=ATOL_POSE)
     manual.session.play()
     manual.tick(0.2)
-    assert scene.angles_deg[1] != 100.0  # plays on from the dragged pose (θ̇ = 10°/s)
+    assert scene.sim.angles_deg[1] != 100.0  # plays on from the dragged pose (θ̇ = 10°/s)
     manual.session.reset()
-    assert scene.angles_deg == pytest.approx([phi, 100.0, psi], abs=1e-9) and not scene.playing
+    assert scene.sim.angles_deg == pytest.approx([phi, 100.0, psi], abs=1e-9) and not scene.room.playing
 
 
 @pytest.mark.parametrize(
@@ -311,14 +302,14 @@ def test_gimbal_lock_fades_line_of_nodes_and_says_what_is_defined(manual, theta:
     set_angles(manual.session, 40.0, theta, 10.0)
     assert scene.gui_gimbal_note.visible
     assert "Gimbal lock" in scene.gui_gimbal_note.content and note in scene.gui_gimbal_note.content
-    assert "undefined" in scene.nodes_label.text
-    faded = np.asarray(scene.nodes_line.colors).reshape(-1, 3)
+    assert "undefined" in scene.nodes.label.text
+    faded = np.asarray(scene.nodes.line.colors).reshape(-1, 3)
     assert np.all(faded == NODES_FADED_COLOR)  # grey
 
-    scene.gui_theta.value = 90.0
+    scene.gui_angles[1].value = 90.0
     assert not scene.gui_gimbal_note.visible
-    assert scene.nodes_label.text == "line of nodes"
-    colour = np.asarray(scene.nodes_line.colors).reshape(-1, 3)[0]
+    assert scene.nodes.label.text == "line of nodes"
+    colour = np.asarray(scene.nodes.line.colors).reshape(-1, 3)[0]
     assert len(set(colour.tolist())) > 1  # not grey
 
 
@@ -333,26 +324,26 @@ def test_intermediate_frames_toggle(manual) -> None:
 def test_out_of_range_and_nan_are_refused_with_a_message(manual) -> None:
     client, session = manual.client, manual.session
     scene = session.scene
-    scene.gui_theta.value = 500.0  # server side
-    assert scene.gui_theta.value == 50.0 and scene.angles_deg[1] == 50.0
-    assert scene.controls.gui_message.visible and "refused" in scene.controls.gui_message.content
+    scene.gui_angles[1].value = 500.0  # server side
+    assert scene.gui_angles[1].value == 50.0 and scene.sim.angles_deg[1] == 50.0
+    assert scene.message.handle.visible and "refused" in scene.message.handle.content
 
-    client.set_value(scene.gui_theta, 1e6)  # viser itself accepts this (VISER.md pitfall 4)
-    manual.wait(lambda: "1000000.0 refused" in scene.controls.gui_message.content)
-    assert scene.gui_theta.value == 50.0 and scene.angles_deg[1] == 50.0
-    client.set_value(scene.gui_psi, 33.0)
-    manual.wait(lambda: scene.angles_deg[2] == 33.0)
-    assert not scene.controls.gui_message.visible  # a valid value clears the message
-    client.set_value(scene.gui_psi, float("nan"))  # NaN: keep the last valid value
-    manual.wait(lambda: "nan refused" in scene.controls.gui_message.content)
-    assert scene.gui_psi.value == 33.0 and scene.angles_deg[2] == 33.0
-    assert np.all(np.isfinite(np.asarray(scene.body_node.wxyz)))
+    client.set_value(scene.gui_angles[1], 1e6)  # viser itself accepts this (VISER.md pitfall 4)
+    manual.wait(lambda: "1000000.0 refused" in scene.message.handle.content)
+    assert scene.gui_angles[1].value == 50.0 and scene.sim.angles_deg[1] == 50.0
+    client.set_value(scene.gui_angles[2], 33.0)
+    manual.wait(lambda: scene.sim.angles_deg[2] == 33.0)
+    assert not scene.message.handle.visible  # a valid value clears the message
+    client.set_value(scene.gui_angles[2], float("nan"))  # NaN: keep the last valid value
+    manual.wait(lambda: "nan refused" in scene.message.handle.content)
+    assert scene.gui_angles[2].value == 33.0 and scene.sim.angles_deg[2] == 33.0
+    assert np.all(np.isfinite(np.asarray(scene.body.node.wxyz)))
     client.set_value(scene.gui_moments[0], -3.0)
-    manual.wait(lambda: "-3.0 refused" in scene.controls.gui_message.content)
-    assert scene.gui_moments[0].value == 1.0 and scene.moments[0] == 1.0
-    client.set_value(scene.controls.gui_time_scale, 100.0)
-    manual.wait(lambda: "Time scale" in scene.controls.gui_message.content)
-    assert scene.time_scale == 1.0 and scene.controls.gui_time_scale.value == 1.0
+    manual.wait(lambda: "-3.0 refused" in scene.message.handle.content)
+    assert scene.gui_moments[0].value == 1.0 and scene.sim.moments[0] == 1.0
+    client.set_value(scene.transport.gui_time_scale, 100.0)
+    manual.wait(lambda: "Time scale" in scene.message.handle.content)
+    assert scene.room.time_scale == 1.0 and scene.transport.gui_time_scale.value == 1.0
     sent = time.time()
     client.set_value(session.gui_scene, "no such scene")  # a client can send any string
     manual.wait(lambda: session.gui_scene.update_timestamp > sent and session.gui_scene.value == "Euler angles")
@@ -377,50 +368,50 @@ def test_moments_reshape_the_box_and_invalid_ones_are_refused(manual) -> None:
 
     before = tuple(scene.body_box.dimensions)
     scene.gui_moments[2].value = 4.0  # 1 + 1.5 < 4: breaks I1 + I2 >= I3
-    assert tuple(scene.body_box.dimensions) == before and scene.moments == (1.0, 1.5, 2.0)
+    assert tuple(scene.body_box.dimensions) == before and scene.sim.moments == (1.0, 1.5, 2.0)
     status = scene.gui_moments_status.content
     assert "Not a rigid body" in status and "I1 + I2 >= I3" in status
     assert session.last_error is None  # a refused input is not an error of the app
     scene.gui_moments[2].value = 2.5  # 1 + 1.5 = 2.5: a flat lamina, allowed
-    assert scene.moments == (1.0, 1.5, 2.5) and min(scene.body_box.dimensions) < 0.05
+    assert scene.sim.moments == (1.0, 1.5, 2.5) and min(scene.body_box.dimensions) < 0.05
 
 
 def test_angle_presets_from_server_and_client(manual) -> None:
     client, session = manual.client, manual.session
     scene = session.scene
-    scene.gui_presets.value = "D = 1"
+    scene.presets_row.groups[0].value = "D = 1"
     np.testing.assert_allclose(body_matrix(session), np.eye(3), atol=ATOL_POSE)
-    client.set_value(scene.gui_presets, "gimbal lock")
-    manual.wait(lambda: scene.angles_deg == [30.0, 0.0, 20.0])
+    client.set_value(scene.presets_row.groups[0], "gimbal lock")
+    manual.wait(lambda: scene.sim.angles_deg == [30.0, 0.0, 20.0])
     assert scene.gui_gimbal_note.visible
-    client.set_value(scene.gui_presets, "no such preset")  # a client can send any string
-    manual.wait(lambda: scene.angles_deg == list(INITIAL_ANGLES_DEG))
-    assert session.last_error is None
+    client.set_value(scene.presets_row.groups[0], "no such preset")  # a client can send any string
+    manual.wait(lambda: "No preset named 'no such preset'" in scene.message.text)
+    assert scene.sim.angles_deg == [30.0, 0.0, 20.0] and session.last_error is None
 
 
 # ---------------------------------------------------------------------------- scenes
 def test_scene_switching_builds_each_scene_with_its_view_and_removes_the_old(manual) -> None:
     session = manual.session
     euler = session.scene
-    euler_handles = [euler.gui_theta, euler.controls.gui_play]
+    euler_handles = [euler.gui_angles[1], euler.transport.gui_play]
     session.select_scene("Free body")
-    assert isinstance(session.scene, FreeBodyScene)
+    assert isinstance(session.scene, FreeBodyView)
     assert all(handle._impl.removed for handle in euler_handles)
-    np.testing.assert_allclose(session.client.camera.position, FreeBodyScene.view.position, atol=1e-9)
-    np.testing.assert_allclose(session.client.camera.look_at, FreeBodyScene.view.look_at, atol=1e-9)
+    np.testing.assert_allclose(session.client.camera.position, FreeBodyView.view.position, atol=1e-9)
+    np.testing.assert_allclose(session.client.camera.look_at, FreeBodyView.view.look_at, atol=1e-9)
 
     manual.client.set_value(session.gui_scene, "Heavy top")  # the dropdown, from a browser
-    manual.wait(lambda: isinstance(session.scene, HeavyTopScene))
+    manual.wait(lambda: isinstance(session.scene, HeavyTopView))
     top = session.scene
-    np.testing.assert_allclose(session.client.camera.position, HeavyTopScene.view.position, atol=1e-9)
+    np.testing.assert_allclose(session.client.camera.position, HeavyTopView.view.position, atol=1e-9)
     session.play()
     manual.tick(0.5)
-    assert top.state.t == pytest.approx(0.5)
+    assert top.sim.state.t == pytest.approx(0.5)
     session.select_scene("Euler angles")
-    assert session.scene.title == "Euler angles" and top.controls.gui_play._impl.removed
+    assert session.scene.title == "Euler angles" and top.transport.gui_play._impl.removed
     np.testing.assert_allclose(session.client.camera.position, INITIAL_CAMERA["position"], atol=1e-9)
     manual.tick(0.2)  # the removed top is not ticked, and nothing raises
-    assert top.state.t == pytest.approx(0.5) and session.last_error is None
+    assert top.sim.state.t == pytest.approx(0.5) and session.last_error is None
     with pytest.raises(ValueError, match="unknown scene"):
         session.select_scene("Nope")
 
@@ -441,32 +432,33 @@ def test_each_scene_loads_with_its_body_in_view(manual) -> None:
 # ---------------------------------------------------------------------------- free body
 def test_dzhanibekov_preset_flips_and_matches_an_independent_solution(manual) -> None:
     scene = start_free_body(manual)
-    I = np.array(scene.model.inertia)
+    I = np.array(scene.sim.model.inertia)
     assert I[0] < I[1] < I[2]  # spun about the intermediate axis y′
-    R0, omega0 = scene.state.R_space_body.copy(), scene.state.omega_body.copy()
+    R0, omega0 = scene.sim.state.R_space_body.copy(), scene.sim.state.omega_body.copy()
     assert abs(omega0[1]) > 20 * max(abs(omega0[0]), abs(omega0[2]))
     manual.session.play()
     flipped_at = None
     for _ in range(int(4.0 / DT)):
         manual.session.tick(DT)
-        if flipped_at is None and np.sign(scene.state.omega_body[1]) != np.sign(omega0[1]):
-            flipped_at = scene.state.t
+        if flipped_at is None and np.sign(scene.sim.state.omega_body[1]) != np.sign(omega0[1]):
+            flipped_at = scene.sim.state.t
     assert flipped_at is not None and flipped_at < 3.0, flipped_at  # visibly, within a few seconds
-    R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.state.t)
-    np.testing.assert_allclose(scene.state.omega_body, omega_ref, atol=1e-5)
-    assert rotation_angle(scene.state.R_space_body, R_ref) < 1e-5
+    R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.sim.state.t)
+    np.testing.assert_allclose(scene.sim.state.omega_body, omega_ref, atol=1e-5)
+    assert rotation_angle(scene.sim.state.R_space_body, R_ref) < 1e-5
     assert manual.session.last_error is None
 
 
 def test_free_body_readout_matches_independent_formulas(manual) -> None:
     scene = start_free_body(manual, "Rod")
+    scene.tabs.show("Readout")
     manual.session.play()
     manual.tick(0.7)
     manual.session.pause()  # the readout shows the paused state
-    shown = parse_readout(scene.gui_readout.content)
-    I = np.array(scene.model.inertia)
+    shown = parse_readout(scene.readout.handle.content)
+    I = np.array(scene.sim.model.inertia)
     D = shown["D"]
-    np.testing.assert_allclose(D, scene.state.R_space_body, atol=ATOL_READOUT)
+    np.testing.assert_allclose(D, scene.sim.state.R_space_body, atol=ATOL_READOUT)
     np.testing.assert_allclose(D, body_matrix(manual.session), atol=ATOL_READOUT)
     np.testing.assert_allclose(D, D_reference(*shown["angles"]), atol=1e-3)  # angles: 2 decimals
     w_b = shown["ω_b"]
@@ -478,144 +470,153 @@ def test_free_body_readout_matches_independent_formulas(manual) -> None:
     np.testing.assert_allclose(shown["Q"], 0.0, atol=1e-12)
     np.testing.assert_allclose(shown["M_s"], 0.0, atol=1e-12)
     # L is fixed in space: the arrow drawn now is the arrow drawn at t = 0.
-    L0 = scene.initial_state.R_space_body @ (I * scene.initial_state.omega_body)
-    tip = np.asarray(scene.L_arrow.points, dtype=float)[0, 1]
+    L0 = scene.sim.initial_state.R_space_body @ (I * scene.sim.initial_state.omega_body)
+    tip = np.asarray(scene.L.arrow.points, dtype=float)[0, 1]
     np.testing.assert_allclose(tip / np.linalg.norm(tip), L0 / np.linalg.norm(L0), atol=1e-6)
     np.testing.assert_allclose(shown["L_s"], L0, atol=2e-4)
 
 
 def test_play_pause_step_reset_and_time_scale(manual) -> None:
     scene = start_free_body(manual, "Disc")
-    R0 = scene.state.R_space_body.copy()
+    R0 = scene.sim.state.R_space_body.copy()
     manual.session.step()
-    assert scene.state.t == pytest.approx(DT) and not scene.playing
-    manual.client.set_value(scene.controls.gui_time_scale, 2.0)  # from a browser
-    manual.wait(lambda: scene.time_scale == 2.0)
+    assert scene.sim.state.t == pytest.approx(DT) and not scene.room.playing
+    manual.client.set_value(scene.transport.gui_time_scale, 2.0)  # from a browser
+    manual.wait(lambda: scene.room.time_scale == 2.0)
     manual.session.step()
-    assert scene.state.t == pytest.approx(3 * DT)
+    assert scene.sim.state.t == pytest.approx(3 * DT)
     manual.session.play()
     manual.tick(0.5)
-    assert scene.state.t == pytest.approx(3 * DT + 1.0)
-    assert scene.controls.gui_play.label == "Pause"  # the toggle now offers Pause
+    assert scene.sim.state.t == pytest.approx(3 * DT + 1.0)
+    assert scene.transport.gui_play.label == "Pause"  # the toggle now offers Pause
     manual.session.pause()
     manual.tick(0.5)
-    assert scene.state.t == pytest.approx(3 * DT + 1.0)
-    assert "t = 1.05 s" in scene.controls.gui_status.content and scene.controls.gui_play.label == "Play"
+    assert scene.sim.state.t == pytest.approx(3 * DT + 1.0)
+    assert "t = 1.05 s" in scene.transport.gui_status.content and scene.transport.gui_play.label == "Play"
     manual.session.reset()
-    assert scene.state.t == 0.0 and not scene.playing
-    np.testing.assert_array_equal(scene.state.R_space_body, R0)
-    manual.client.set_value(scene.controls.gui_play, True)  # the Play button, from a browser
-    manual.wait(lambda: scene.playing)
+    assert scene.sim.state.t == 0.0 and not scene.room.playing
+    np.testing.assert_array_equal(scene.sim.state.R_space_body, R0)
+    manual.client.set_value(scene.transport.gui_play, True)  # the Play button, from a browser
+    manual.wait(lambda: scene.room.playing)
     assert manual.session.last_error is None
 
 
 def test_sliders_follow_the_motion_without_feedback_and_a_drag_sets_the_state(manual) -> None:
     scene = start_free_body(manual)
-    I = np.array(scene.model.inertia)
-    R0, omega0 = scene.state.R_space_body.copy(), scene.state.omega_body.copy()
-    restarts = scene.restarts
+    I = np.array(scene.sim.model.inertia)
+    R0, omega0 = scene.sim.state.R_space_body.copy(), scene.sim.state.omega_body.copy()
+    restarts = scene.sim.restarts
     manual.session.play()
 
     def check_sliders(slack_deg: float, slack_rate: float) -> None:
         """The sliders show the state: angles from SciPy, ω_b, within the given slack."""
-        angles = Rotation.from_matrix(scene.state.R_space_body).as_euler("ZXZ", degrees=True)
+        angles = Rotation.from_matrix(scene.sim.state.R_space_body).as_euler("ZXZ", degrees=True)
         for value, reference in zip([h.value for h in scene.gui_angles], angles):
             assert abs((value - reference + 180.0) % 360.0 - 180.0) <= slack_deg, (value, reference)
-        np.testing.assert_allclose([h.value for h in scene.gui_rates], scene.state.omega_body, atol=slack_rate)
+        np.testing.assert_allclose([h.value for h in scene.gui_rates], scene.sim.state.omega_body, atol=slack_rate)
 
     motion = []
     for _ in range(int(1.2 / DT)):
         manual.session.tick(DT)
         motion.append(np.array([h.value for h in scene.gui_angles]))
         # At most 0.1 s (10 Hz) behind: |ω| 0.1 s in degrees, plus the 1° step of the slider.
-        check_sliders(0.5 + 0.1 * math.degrees(float(np.linalg.norm(scene.state.omega_body))), 0.005 + 1.0)
+        check_sliders(0.5 + 0.1 * math.degrees(float(np.linalg.norm(scene.sim.state.omega_body))), 0.005 + 1.0)
     assert len({tuple(m) for m in motion}) >= 8  # they moved, about ten times a second
-    assert scene.restarts == restarts and scene.state.t == pytest.approx(1.2)
+    assert scene.sim.restarts == restarts and scene.sim.state.t == pytest.approx(1.2)
     # Not disturbed by the sliders' (rounded) values: still the independent solution.
-    R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.state.t)
-    np.testing.assert_allclose(scene.state.omega_body, omega_ref, atol=1e-6)
+    R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.sim.state.t)
+    np.testing.assert_allclose(scene.sim.state.omega_body, omega_ref, atol=1e-6)
     manual.session.pause()
     check_sliders(0.5 + 1e-9, 0.005 + 1e-9)  # paused: exactly the state, to the slider step
 
     manual.session.play()
     manual.tick(0.2)
     manual.client.set_value(scene.gui_angles[1], 45.0)  # a browser drags θ while playing
-    manual.wait(lambda: not scene.playing and scene.state.t == 0.0)
+    manual.wait(lambda: not scene.room.playing and scene.sim.state.t == 0.0)
     phi_s, theta_s, psi_s = (h.value for h in scene.gui_angles)
     assert theta_s == 45.0
-    np.testing.assert_allclose(scene.state.R_space_body, D_reference(phi_s, 45.0, psi_s), atol=1e-12)
-    np.testing.assert_allclose(scene.state.omega_body, [h.value for h in scene.gui_rates], atol=1e-12)
+    np.testing.assert_allclose(scene.sim.state.R_space_body, D_reference(phi_s, 45.0, psi_s), atol=1e-12)
+    np.testing.assert_allclose(scene.sim.state.omega_body, [h.value for h in scene.gui_rates], atol=1e-12)
 
 
 def test_invalid_moments_while_playing_show_a_message_and_the_body_keeps_moving(manual) -> None:
     scene = start_free_body(manual)
-    model = scene.model
+    model = scene.sim.model
     manual.session.play()
     manual.tick(0.3)
     manual.client.set_value(scene.gui_params[2], 4.9)  # 0.3 + 0.75 < 4.9: not a body
-    manual.wait(lambda: scene.controls.gui_message.visible)
-    assert "Not a rigid body" in scene.controls.gui_message.content
-    assert "I1 + I2 >= I3" in scene.controls.gui_message.content
+    manual.wait(lambda: scene.message.handle.visible)
+    assert "Not a rigid body" in scene.message.handle.content
+    assert "I1 + I2 >= I3" in scene.message.handle.content
     assert "Refused" in scene.gui_param_status.content
-    assert scene.model is model and scene.playing
-    t, R = scene.state.t, scene.state.R_space_body.copy()
+    assert scene.sim.model is model and scene.room.playing
+    t, R = scene.sim.state.t, scene.sim.state.R_space_body.copy()
     manual.tick(0.5)
-    assert scene.playing and scene.state.t == pytest.approx(t + 0.5)
-    assert rotation_angle(R, scene.state.R_space_body) > 0.1  # still turning
+    assert scene.room.playing and scene.sim.state.t == pytest.approx(t + 0.5)
+    assert rotation_angle(R, scene.sim.state.R_space_body) > 0.1  # still turning
 
     manual.client.set_value(scene.gui_params[0], -1.0)  # out of range: refused, slider goes back
-    manual.wait(lambda: "-1.0 refused" in scene.controls.gui_message.content)
-    assert scene.gui_params[0].value == 0.3 and scene.playing
+    manual.wait(lambda: "-1.0 refused" in scene.message.handle.content)
+    assert scene.gui_params[0].value == 0.3 and scene.room.playing
     manual.client.set_value(scene.gui_params[2], 1.05)  # valid again: a new body, still playing
-    manual.wait(lambda: scene.model.inertia == (0.3, 0.75, 1.05))
-    assert scene.playing and not scene.controls.gui_message.visible
+    manual.wait(lambda: scene.sim.model.inertia == (0.3, 0.75, 1.05))
+    assert scene.room.playing and not scene.message.handle.visible
     assert manual.session.last_error is None
 
 
 def test_exact_integrator_and_the_accuracy_readout(manual) -> None:
     scene = start_free_body(manual)
-    I = np.array(scene.model.inertia)
-    R0, omega0 = scene.state.R_space_body.copy(), scene.state.omega_body.copy()
-    assert scene.integrator == INTEGRATOR_REALTIME
+    I = np.array(scene.sim.model.inertia)
+    R0, omega0 = scene.sim.state.R_space_body.copy(), scene.sim.state.omega_body.copy()
+    assert scene.sim.integrator == INTEGRATOR_REALTIME
+    scene.tabs.show("Plots")
     manual.session.play()
     manual.tick(2.0)
     manual.session.step()  # pauses and samples the current state for the accuracy panel
-    R_ref, _ = free_body_reference(I, R0, omega0, scene.state.t)
-    independent = rotation_angle(R_ref, scene.state.R_space_body)
-    reported = float(re.search(rf"attitude error\s+{_NUMBER} rad", scene.gui_accuracy.content).group(1))
+    R_ref, _ = free_body_reference(I, R0, omega0, scene.sim.state.t)
+    independent = rotation_angle(R_ref, scene.sim.state.R_space_body)
+    reported = float(re.search(rf"attitude error\s+{_NUMBER} rad", scene.accuracy.handle.content).group(1))
     assert reported < 1e-6 and abs(reported - independent) < 1e-9, (reported, independent)
     E = lambda w: 0.5 * float(w @ (I * w))  # noqa: E731
-    drift = float(re.search(rf"\|ΔE\| / E₀\s+{_NUMBER}", scene.gui_accuracy.content).group(1))
-    expected = abs(E(scene.state.omega_body) - E(omega0)) / E(omega0)
+    drift = float(re.search(rf"\|ΔE\| / E₀\s+{_NUMBER}", scene.accuracy.handle.content).group(1))
+    expected = abs(E(scene.sim.state.omega_body) - E(omega0)) / E(omega0)
     assert drift == pytest.approx(expected, rel=0.05, abs=1e-15)
 
-    scene.controls.gui_integrator.value = INTEGRATOR_EXACT
-    assert scene.integrator == INTEGRATOR_EXACT
+    scene.transport.gui_integrator.value = INTEGRATOR_EXACT
+    assert scene.sim.integrator == INTEGRATOR_EXACT
     manual.session.play()
     manual.tick(1.0)
-    R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.state.t)
-    assert rotation_angle(R_ref, scene.state.R_space_body) < 1e-8
-    np.testing.assert_allclose(scene.state.omega_body, omega_ref, atol=1e-8)
+    R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.sim.state.t)
+    assert rotation_angle(R_ref, scene.sim.state.R_space_body) < 1e-8
+    np.testing.assert_allclose(scene.sim.state.omega_body, omega_ref, atol=1e-8)
     manual.session.step()
-    assert "IS the exact solution" in scene.gui_accuracy.content
+    assert "IS the exact solution" in scene.accuracy.handle.content
 
 
-def test_plots_are_throttled_and_bounded(manual) -> None:
+def test_plots_are_throttled_bounded_and_closed_tabs_cost_nothing(manual) -> None:
     scene = start_free_body(manual, "Sphere")
     readouts = []
     original = scene._refresh_readout
     scene._refresh_readout = lambda: (readouts.append(1), original())[1]  # type: ignore[method-assign]
+    scene.tabs.show("Plots")
     pushes = scene.plots.pushes
     manual.session.play()
     manual.tick(1.0)
     assert scene.plots.pushes - pushes <= 5  # 4 Hz
-    assert len(readouts) <= 6  # 5 Hz
-    assert len(scene.samples) <= 12  # 10 Hz, plus the one at t = 0
+    assert readouts == []  # the Readout tab is closed: not computed, not sent
+    assert len(scene.sim.samples) <= 12  # 10 Hz, plus the one at t = 0
+    scene.tabs.show("Readout")
+    pushes = scene.plots.pushes
+    readout = scene.readout.handle.content
+    manual.tick(1.0)
+    assert scene.plots.pushes == pushes and 5 <= len(readouts) <= 12  # 10 Hz
+    assert scene.readout.handle.content != readout
+    scene.tabs.show("Plots")
     manual.tick(40.0)
-    assert len(scene.samples) == simulation.PLOT_CAPACITY  # a sliding window, bounded
+    assert len(scene.sim.samples) == rigid.PLOT_CAPACITY  # a sliding window, bounded
     for handle in scene.plots.handles:
         t, *series = handle.data
-        assert len(t) == simulation.PLOT_CAPACITY and np.all(np.diff(t) > 0)
+        assert len(t) == rigid.PLOT_CAPACITY and np.all(np.diff(t) > 0)
         assert all(len(s) == len(t) for s in series)
     energy = scene.plots.handles[0].data[1]  # E = T for the free ball: constant
     np.testing.assert_allclose(energy, 0.5 * (1 + 4 + 9), rtol=1e-9)
@@ -633,26 +634,26 @@ def test_a_physics_failure_pauses_with_a_message(monkeypatch: pytest.MonkeyPatch
     def failing(*_args, **_kwargs):
         raise IntegrationError("non-finite state at t = 0.1 s")
 
-    monkeypatch.setattr(simulation, "step_realtime", failing)
+    monkeypatch.setattr(scene.sim._stepper, "step", failing)
     manual.tick(0.1)
-    assert not scene.playing
-    assert "non-finite state" in scene.controls.gui_message.content and scene.controls.gui_message.visible
+    assert not scene.room.playing
+    assert "non-finite state" in scene.message.handle.content and scene.message.handle.visible
     assert manual.session.last_error is None  # a stopped simulation, not a crash
 
 
 # ---------------------------------------------------------------------------- heavy top
-def _run_top(manual, preset: str, seconds: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, HeavyTopScene]:
+def _run_top(manual, preset: str, seconds: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, HeavyTopView]:
     """(t, θ [deg], φ̇ [deg/s]) of a preset played for `seconds`: angles from SciPy's ZXZ of
     each frame's pose, φ̇ by central differences of the unwrapped φ."""
     manual.session.select_scene("Heavy top")
     manual.session.apply_preset(preset)
     scene = manual.session.scene
     manual.session.play()
-    times, angles = [0.0], [Rotation.from_matrix(scene.state.R_space_body).as_euler("ZXZ")]
+    times, angles = [0.0], [Rotation.from_matrix(scene.sim.state.R_space_body).as_euler("ZXZ")]
     for _ in range(int(seconds / DT)):
         manual.session.tick(DT)
-        times.append(scene.state.t)
-        angles.append(Rotation.from_matrix(scene.state.R_space_body).as_euler("ZXZ"))
+        times.append(scene.sim.state.t)
+        angles.append(Rotation.from_matrix(scene.sim.state.R_space_body).as_euler("ZXZ"))
     angles = np.array(angles)
     t = np.array(times)
     phi_dot = np.gradient(np.unwrap(angles[:, 0]), t)
@@ -683,13 +684,14 @@ def test_heavy_top_readout_torque_and_generalized_forces(manual) -> None:
     manual.session.select_scene("Heavy top")
     manual.session.apply_preset("Loop")
     scene = manual.session.scene
+    scene.tabs.show("Readout")
     manual.session.play()
     manual.tick(0.8)
     manual.session.pause()
-    shown = parse_readout(scene.gui_readout.content)
+    shown = parse_readout(scene.readout.handle.content)
     D = shown["D"]
-    I1, _, I3 = scene.model.inertia
-    mgl = scene.model.mgl
+    I1, _, I3 = scene.sim.model.inertia
+    mgl = scene.sim.model.mgl
     e_z_body = D[:, 2]
     cos_theta = e_z_body[2]
     sin_theta = math.hypot(e_z_body[0], e_z_body[1])
@@ -699,7 +701,7 @@ def test_heavy_top_readout_torque_and_generalized_forces(manual) -> None:
     w_b = shown["ω_b"]
     assert shown["T"] == pytest.approx(0.5 * (I1 * (w_b[0] ** 2 + w_b[1] ** 2) + I3 * w_b[2] ** 2), rel=1e-3)
     # Conserved by the motion: E, L_z (= p_φ) and ω_z′ against their initial values.
-    R0, w0 = scene.initial_state.R_space_body, scene.initial_state.omega_body
+    R0, w0 = scene.sim.initial_state.R_space_body, scene.sim.initial_state.omega_body
     L0 = R0 @ (np.array([I1, I1, I3]) * w0)
     E0 = 0.5 * float(w0 @ (np.array([I1, I1, I3]) * w0)) + mgl * R0[2, 2]
     assert shown["E"] == pytest.approx(E0, abs=1e-4)
@@ -709,7 +711,7 @@ def test_heavy_top_readout_torque_and_generalized_forces(manual) -> None:
 def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(manual) -> None:
     manual.session.select_scene("Heavy top")
     scene = manual.session.scene
-    scene.controls.gui_time_scale.value = 4.0
+    scene.transport.gui_time_scale.value = 4.0
     manual.session.play()
     manual.tick(6.0)  # 360 frames, 24 s of simulated time at 4x: one trace point a frame
     # Only the last TRACE_SECONDS of simulated time are kept (in chunks): 12 s / (4/60 s).
@@ -718,13 +720,13 @@ def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(manual) -> N
     assert scene.trace.chunk_count <= kept / CHUNK_POINTS + 1
     assert TRACE_SECONDS / TRACE_SPACING == 720  # the bound at 1x or slower
     manual.client.set_value(scene.gui_params[1], 2.5)  # I3 = 2.5 > 2 I1 = 2: not a body
-    manual.wait(lambda: scene.controls.gui_message.visible)
-    assert "I1 + I2 >= I3" in scene.controls.gui_message.content and scene.playing
-    t = scene.state.t
+    manual.wait(lambda: scene.message.handle.visible)
+    assert "I1 + I2 >= I3" in scene.message.handle.content and scene.room.playing
+    t = scene.sim.state.t
     manual.tick(0.25)
-    assert scene.state.t == pytest.approx(t + 1.0) and scene.model.inertia[2] == 0.5
+    assert scene.sim.state.t == pytest.approx(t + 1.0) and scene.sim.model.inertia[2] == 0.5
     manual.session.reset()
-    assert scene.trace.point_count <= 1 and scene.state.t == 0.0
+    assert scene.trace.point_count <= 1 and scene.sim.state.t == 0.0
 
 
 def test_top_falling_out_of_gimbal_lock_shows_it_and_passes_without_a_jump(manual) -> None:
@@ -732,22 +734,22 @@ def test_top_falling_out_of_gimbal_lock_shows_it_and_passes_without_a_jump(manua
     manual.session.apply_preset("Too slow")  # θ = 1.5°, too slow to sleep: it falls
     scene = manual.session.scene
     assert scene.gui_gimbal_note.visible and "only **φ + ψ** is defined" in scene.gui_gimbal_note.content
-    assert "undefined" in scene.nodes_label.text
-    assert np.all(np.asarray(scene.nodes_line.colors).reshape(-1, 3) == NODES_FADED_COLOR)
+    assert "undefined" in scene.nodes.label.text
+    assert np.all(np.asarray(scene.nodes.line.colors).reshape(-1, 3) == NODES_FADED_COLOR)
     manual.session.play()
     sums, poses = [], []
     for _ in range(int(2.5 / DT)):
         manual.session.tick(DT)
-        phi, _, psi = scene.angles
+        phi, _, psi = scene.sim.angles
         sums.append(phi + psi)  # the defined combination near θ = 0
-        poses.append(scene.state.R_space_body)
+        poses.append(scene.sim.state.R_space_body)
     steps = [rotation_angle(a, b) for a, b in zip(poses, poses[1:])]
     # φ + ψ turns by at most what the body turns in a frame (plus its tilt), never by 2π.
     assert np.max(np.abs(np.diff(sums))) < 2.0 * max(steps) + 1e-9
-    assert math.degrees(scene.angles[1]) > 20.0  # fallen
+    assert math.degrees(scene.sim.angles[1]) > 20.0  # fallen
     manual.session.pause()
-    assert not scene.gui_gimbal_note.visible and scene.nodes_label.text == "line of nodes"
-    colour = np.asarray(scene.nodes_line.colors).reshape(-1, 3)[0]
+    assert not scene.gui_gimbal_note.visible and scene.nodes.label.text == "line of nodes"
+    colour = np.asarray(scene.nodes.line.colors).reshape(-1, 3)[0]
     assert len(set(colour.tolist())) > 1  # gold again
 
 
@@ -761,11 +763,11 @@ def test_a_raising_callback_is_shown_and_the_server_keeps_serving(
     def broken_render() -> None:
         raise RuntimeError("boom in render")
 
-    session.scene.render = broken_render  # type: ignore[method-assign]
+    session.scene.refresh = broken_render  # type: ignore[method-assign]
     with caplog.at_level(logging.ERROR, logger="app.session"):
-        client.set_value(session.scene.gui_theta, 45.0)  # runs on viser's thread pool
+        client.set_value(session.scene.gui_angles[1], 45.0)  # runs on viser's thread pool
         wait_until(lambda: session.gui_error.visible)
-        session.scene.gui_phi.value = 10.0  # server-side assignment: must not raise either
+        session.scene.gui_angles[0].value = 10.0  # server-side assignment: must not raise either
     assert "boom in render" in session.gui_error.content
     assert any("boom in render" in str(r.exc_info[1]) for r in caplog.records if r.exc_info)
 
@@ -784,8 +786,8 @@ def test_a_raising_tick_does_not_stop_the_loop_or_other_sessions(wait_until, app
     def broken_tick(dt: float) -> None:
         raise ValueError("tick failed")
 
-    s1.scene.tick = broken_tick  # type: ignore[method-assign]
-    s2.scene.tick = good.append  # type: ignore[method-assign]
+    s1.scene.frame = broken_tick  # type: ignore[method-assign]
+    s2.scene.frame = good.append  # type: ignore[method-assign]
     wait_until(lambda: len(good) > 20)
     assert s1.gui_error.visible and "tick failed" in s1.gui_error.content
     assert s1.error_count > 1  # ticked again after failing

@@ -81,4 +81,5 @@ class LivePlots:
 
     def set_visible(self, visible: bool) -> None:
         for handle in self.handles:
-            handle.visible = visible
+            if handle.visible != visible:
+                handle.visible = visible

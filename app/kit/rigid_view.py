@@ -334,6 +334,7 @@ class RigidBodyView:
             self._refresh_gimbal_note()
             if self.tabs.shown == "Readout":
                 self._refresh_readout()
+            self.plots.set_visible(bool(self.gui_live_plots.value))
             if self.tabs.shown == "Plots":
                 self._push_plots()
 

@@ -1,0 +1,45 @@
+"""The scene kit: what every scene of the lecture app is built from.  The recipe for a new scene:
+
+1. **A simulation** with no viser in it (`app.kit.room.Simulation`): the state, `advance(dt)`
+   [s of simulated time], `reset()` back to its own initial conditions (never read from a
+   widget), `t`, and `version`, bumped whenever what is drawn changes.  It may keep plot
+   samples (`take_sample()`, called by the room at 10 Hz of wall time into an
+   `app.kit.samples.SampleBuffer`).  A rigid body already has one:
+   `app.kit.rigid.RigidBodySimulation`.  Physics formulas live in `physics/`, with tests.
+
+2. **A view class** in one file under `app/scenes/`.  The class is the scene: class attributes
+   `title` (the dropdown option), `view` (a `CameraView`) and `preset_file`; classmethods
+   `presets()` (`app.kit.presets.load_presets`), `new_simulation()` (at the first preset) and
+   `apply_preset(room, name)`; an instance draws the room's simulation for one client:
+   `__init__(client, room, wrap, report_error)` builds its nodes under one root frame and its
+   panel, then `room.add_view(self)`; `frame(dt)` sends, per frame, only what changed since
+   the last one and what is on screen; `refresh()` redraws everything after an edit;
+   `show_message(text)`; `report_error(where, error)`; `remove()`.  A rigid-body scene
+   subclasses `app.kit.rigid_view.RigidBodyView` and only fills in its parameters, rate
+   sliders, shape and extras (see `app/scenes/free_body.py`, about 150 lines).
+
+   Build it from the shared pieces, never a copy of them:
+   - panel (`app.kit.gui`): `MessageLine` (refusals), `Transport` (Play / Pause, ▶| Step,
+     ⟲ Reset, time scale, integrator, status; it calls the room), `PresetsRow`, `Tabs` (Setup /
+     Readout / Plots; the server knows which is shown, so a closed tab costs nothing),
+     `Readout` (sent only when its text changed), `add_slider` with `SliderSpec` (range
+     checks and refusal messages), and `app.kit.plots.LivePlots`;
+   - 3D (`app.kit.widgets`): `Stage` (grid, space axes), `Body` (a frame turned by
+     R_space_body, its shape, its axes; instantiate it twice for a second body), `LineOfNodes`
+     (with its gimbal-lock fade), `Vector` (an arrow and its label: ω, L);
+   - `app.kit.common`: colours, lengths, `Throttle`, formatting, `gimbal_note`.
+
+   Every callback goes through `wrap(where, fn)` (the session's guard: the room's lock, errors
+   shown, never raised).  A user's edit changes the room's simulation and calls
+   `room.refresh()`, so every view of the room shows it.
+
+3. **Presets** as data: `assets/presets/<scene>.json` (format in `app.kit.presets`), checked
+   at start.
+
+4. **One line** in `app/scenes/__init__.py` (`SCENES`), which builds the dropdown.  The test
+   `tests/test_scene_kit.py` then builds the scene, applies every preset, plays, steps,
+   resets and removes it.
+
+The loop (`app.main.App`) ticks each room once per frame: its simulation advances once, then
+each of its views draws (`app.kit.room.Room.tick`).
+"""

@@ -1,0 +1,233 @@
+"""The scene kit: every registered scene builds, plays and goes; one simulation, several views;
+presets are data checked at start; simulations carry no viser; a frame sends only what changed.
+
+Sessions come from real websocket connections (`RawClient`, conftest) with the app's loop not
+running: the tests tick by hand.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from app.kit.presets import PRESETS_DIR, PresetError, load_presets
+from app.kit.room import Room
+from app.scenes import SCENES
+from app.scenes.free_body import FreeBodyView
+from app.scenes.heavy_top import HeavyTopView
+from conftest import RawClient
+from physics.exact_top import steady_precession_rate
+
+DT = 1.0 / 60.0
+
+
+def _state_vector(sim) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """Every number a simulation's state holds, for a finiteness check."""
+    if hasattr(sim, "state"):
+        return np.concatenate([np.ravel(sim.state.R_space_body), sim.state.omega_body, [sim.t]])
+    return np.array([*sim.angles_deg, *sim.rates_deg, sim.t])
+
+
+@pytest.mark.parametrize("title", list(SCENES))
+def test_every_scene_builds_plays_every_preset_steps_resets_and_goes(manual, title: str) -> None:
+    session = manual.session
+    session.select_scene(title)
+    view = session.scene
+    assert view.title == title and view in session.room.views
+    for preset in SCENES[title].presets():
+        session.apply_preset(preset.name)
+        session.play()
+        manual.tick(0.5)
+        assert session.room.playing, (title, preset.name, session.last_error)
+        session.step()
+        assert not session.room.playing
+        t = session.simulation.t
+        session.reset()
+        assert session.simulation.t == 0.0 and t > 0.0
+        assert np.all(np.isfinite(_state_vector(session.simulation))), (title, preset.name)
+    assert session.error_count == 0, session.last_error
+    other = next(name for name in SCENES if name != title)
+    session.select_scene(other)  # the scene is removed: its panel and nodes go
+    assert view not in view.room.views and view.transport.gui_play._impl.removed
+
+
+def test_a_preset_the_scene_does_not_have_is_a_clear_error_through_the_guard(manual) -> None:
+    session = manual.session
+    assert session.scene.title == "Euler angles"
+    session.apply_preset("Disc")  # a free-body preset, asked of the Euler-angles scene
+    assert session.error_count == 1
+    assert "Euler angles has no preset 'Disc'" in session.last_error and "gimbal lock" in session.last_error
+    assert session.scene.sim.angles_deg == [30.0, 50.0, 20.0]  # nothing changed
+
+
+def test_one_simulation_drawn_by_two_views_advances_once_per_frame(manual) -> None:
+    """A second browser watches the first one's room: both draw the same motion, and the
+    simulation advances once per frame however many views it has."""
+    second = RawClient(manual.app.port)
+    try:
+        sessions = manual.app.wait_for_sessions(2)
+        a = manual.session
+        (b,) = (s for s in sessions.values() if s is not a)
+        a.select_scene("Free body")
+        a.apply_preset("Dzhanibekov")
+        b.watch(a.room)
+        assert b.room is a.room and len(a.room.views) == 2 and b.scene is not a.scene
+        assert manual.app.rooms() == [a.room]
+        a.play()
+        for _ in range(30):  # what the loop does: each room once
+            for room in manual.app.rooms():
+                room.tick(DT)
+        assert a.room.ticks == 30 and a.simulation.t == pytest.approx(30 * DT)
+        pose_a = Rotation.from_quat(np.asarray(a.scene.body.node.wxyz), scalar_first=True).as_matrix()
+        pose_b = Rotation.from_quat(np.asarray(b.scene.body.node.wxyz), scalar_first=True).as_matrix()
+        np.testing.assert_allclose(pose_a, a.simulation.state.R_space_body, atol=1e-6)
+        np.testing.assert_allclose(pose_b, pose_a, atol=1e-12)
+        # The watcher's panel shows the room's transport; its Pause pauses the room for both.
+        assert b.scene.transport.gui_play.label == "Pause"
+        b.pause()
+        assert not a.room.playing and a.scene.transport.gui_play.label == "Play"
+        b.select_scene("Euler angles")  # the watcher leaves: the room keeps its first view
+        assert a.room.views == [a.scene] and a.error_count == b.error_count == 0
+    finally:
+        second.close()
+
+
+def test_a_view_can_draw_two_bodies(manual) -> None:
+    """The kit's Body is instantiable twice (a solid body and, say, a ghost) on one client."""
+    from app.kit.widgets import Body
+
+    session = manual.session
+    session.select_scene("Free body")
+    view = session.scene
+    ghost = Body(session.client.scene, "/free/ghost", lambda scene, parent: view.build_shape(scene, parent,
+                                                                                           view.sim.model))
+    R = Rotation.from_euler("ZXZ", [10, 20, 30], degrees=True).as_matrix()
+    ghost.pose(R)
+    view.body.pose(np.eye(3))
+    np.testing.assert_allclose(Rotation.from_quat(np.asarray(ghost.node.wxyz), scalar_first=True).as_matrix(), R,
+                               atol=1e-12)
+    assert tuple(view.body.node.wxyz) == (1.0, 0.0, 0.0, 0.0)
+
+
+def test_a_paused_frame_sends_nothing_and_a_free_body_sends_L_once(manual, monkeypatch) -> None:
+    session = manual.session
+    session.select_scene("Free body")
+    sent: list[tuple[str, tuple[str, ...]]] = []
+    api = session.client.scene
+    original = api._queue_scene_message
+
+    def recording(message):  # type: ignore[no-untyped-def]
+        updates = getattr(message, "updates", None)
+        sent.append((getattr(message, "name", ""), tuple(updates) if updates else (type(message).__name__,)))
+        return original(message)
+
+    monkeypatch.setattr(api, "_queue_scene_message", recording)
+    manual.tick(0.5)
+    assert sent == []  # paused: nothing at all
+    session.play()
+    manual.tick(0.5)
+    assert [u for u in sent if u[0] == "/free/body"] == [("/free/body", ("SetOrientationMessage",))] * 30  # every frame
+    assert [u for u in sent if u[0].startswith("/free/L")] == []  # L is fixed in space: never resent
+    assert {name for name, _ in sent} <= {"/free/body", "/free/nodes", "/free/omega", "/free/omega_label"}
+
+
+# ---------------------------------------------------------------------------- presets
+def test_every_preset_file_is_valid_and_steady_is_the_slow_root() -> None:
+    for scene in SCENES.values():
+        assert scene.presets()
+    steady = HeavyTopView.preset("Steady")
+    I1, I3, mgl = steady.params
+    spin, phi_dot_deg, theta_dot_deg = steady.rates
+    expected = steady_precession_rate(I1, I3, mgl, spin, math.radians(steady.angles_deg[1]))
+    assert math.radians(phi_dot_deg) == pytest.approx(expected, rel=1e-12) and theta_dot_deg == 0.0
+    assert HeavyTopView.preset("Wave").rates[1] == pytest.approx(0.5 * phi_dot_deg, rel=1e-12)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda d: d["presets"][1]["params"].update(I3=7.0), r"presets\[1\]\.params\.I3: 7\.0 is outside \[0\.05, 5\]"),
+    (lambda d: d["presets"][0]["params"].update(I3=2.0), r"presets\[0\] \(Dzhanibekov\): .*I1 \+ I2 >= I3"),
+    (lambda d: d["presets"][2].pop("angles_deg"), r"presets\[2\]\.angles_deg: missing"),
+    (lambda d: d["presets"][0]["rates"].update(w9=1.0), r"presets\[0\]\.rates: unknown key 'w9'"),
+    (lambda d: d["presets"][3].update(name="Disc"), r"presets\[3\]\.name: 'Disc' appears twice"),
+    (lambda d: d["presets"][0]["rates"].update(w1="fast"), r"presets\[0\]\.rates\.w1: 'fast' is not a number"),
+    (lambda d: d.update(presets=[]), r"presets: missing or empty"),
+])
+def test_a_broken_preset_file_is_refused_naming_file_and_field(tmp_path: Path, edit, message: str) -> None:
+    data = json.loads((PRESETS_DIR / FreeBodyView.preset_file).read_text(encoding="utf-8"))
+    edit(data)
+    path = tmp_path / "free_body.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    with pytest.raises(PresetError, match=str(path).replace(".", r"\.") + ": " + message):
+        load_presets(path, FreeBodyView.param_specs, FreeBodyView.rate_specs,
+                     check=lambda preset: FreeBodyView.initial_conditions(preset) and None)
+
+
+def test_an_unreadable_preset_file_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "x.json"
+    path.write_text("{ not json", encoding="utf-8")
+    with pytest.raises(PresetError, match="not readable JSON"):
+        load_presets(path)
+    with pytest.raises(PresetError, match="no such file"):
+        load_presets(tmp_path / "missing.json")
+
+
+def test_the_app_refuses_to_start_with_a_broken_preset_file(monkeypatch: pytest.MonkeyPatch) -> None:
+    import app.main as app_main
+
+    def broken() -> None:
+        raise PresetError("assets/presets/free_body.json: presets[0].params.I1: missing")
+
+    monkeypatch.setattr(app_main, "check_presets", broken)
+    with pytest.raises(PresetError, match="presets\\[0\\]"):
+        app_main.create_server("127.0.0.1", 0, verbose=False, start_loop=False)
+
+
+# ---------------------------------------------------------------------------- layering
+def test_simulations_and_physics_import_no_viser() -> None:
+    code = ("import sys, app.kit.rigid, app.kit.samples, app.kit.presets, physics.realtime; "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in {'viser', 'trimesh'}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=Path(__file__).resolve().parents[1]).stdout.strip()
+    assert out == "[]"
+
+
+def test_room_pauses_and_tells_every_view_when_the_simulation_fails() -> None:
+    class Failing:
+        t, version = 0.0, 0
+
+        def advance(self, dt: float) -> None:
+            raise ArithmeticError("non-finite state at t = 0.1 s")
+
+        def reset(self) -> None:
+            pass
+
+    class Recorder:
+        def __init__(self) -> None:
+            self.messages: list[str] = []
+            self.frames = 0
+
+        def frame(self, dt: float) -> None:
+            self.frames += 1
+
+        def refresh(self) -> None:
+            pass
+
+        def show_message(self, text: str) -> None:
+            self.messages.append(text)
+
+    room = Room(None, Failing())
+    views = [Recorder(), Recorder()]
+    for view in views:
+        room.add_view(view)
+    room.play()
+    room.tick(DT)
+    assert not room.playing and room.ticks == 0
+    assert all(v.messages == ["The simulation stopped: non-finite state at t = 0.1 s"] for v in views)
+    assert all(v.frames == 1 for v in views)
