@@ -10,8 +10,12 @@ when the timed ticks began; the scene-update share is the difference of the medi
 
     python benchmarks/frame_cost.py                 # 2000 frames per scene, paced (~70 s)
     python benchmarks/frame_cost.py --frames 600 --unpaced
+    python benchmarks/frame_cost.py --baseline 2cce6d0   # and the same at that commit, side by side
 
-Target (issue): median <= 2 ms per frame.  Times in ms; p95 and max include garbage collection
+--baseline REF checks REF out in a temporary git worktree and runs REF's own frame_cost.py
+there, in a subprocess, right before this tree's run: the same machine, the same minute.
+
+Target (scene-kit issue): tick median <= 0.4 ms per frame, one client.  Times in ms; p95 and max include garbage collection
 and whatever else shares the machine.  "tick CPU" is the ticking thread's own CPU time
 (`time.thread_time`): the wall time also holds waits for the GIL, which viser's event-loop
 thread takes when a tick's atomic block ends and wakes it to send the frame.
@@ -23,9 +27,12 @@ import argparse
 import contextlib
 import dataclasses
 import io
+import os
 import math
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -205,13 +212,32 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--frames", type=int, default=2000, help="timed frames per scene (default %(default)s)")
     parser.add_argument("--scene", action="append", help=f"scene(s) to time (default: {', '.join(SCENES)})")
     parser.add_argument("--unpaced", action="store_true", help="tick back to back instead of at 60 Hz")
+    parser.add_argument("--baseline", metavar="REF", help="also run REF's frame_cost.py (a git commit) first")
     args = parser.parse_args(argv)
     if args.frames < 1:
         parser.error("--frames must be >= 1")
+    if args.baseline:
+        print(f"## baseline: {args.baseline}\n")
+        print(run_baseline(args.baseline, [a for a in (argv if argv is not None else sys.argv[1:])
+                                           if not a.startswith("--baseline") and a != args.baseline]))
+        print("\n## this tree\n")
     results = [measure_scene(scene, args.frames, paced=not args.unpaced) for scene in (args.scene or SCENES)]
     print(format_table(results))
     print(f"\n{'paced at 60 Hz' if not args.unpaced else 'back to back'}; one connected client; "
-          "target: tick median <= 2 ms.")
+          "target: tick median <= 0.4 ms.")
+
+
+def run_baseline(ref: str, argv: list[str]) -> str:
+    """REF's own frame_cost.py run in a temporary worktree of REF (its output, as printed)."""
+    with tempfile.TemporaryDirectory(prefix="frame_cost_") as tmp:
+        tree = Path(tmp) / "tree"
+        subprocess.run(["git", "worktree", "add", "--detach", "--quiet", str(tree), ref], cwd=ROOT, check=True)
+        try:
+            out = subprocess.run([sys.executable, "benchmarks/frame_cost.py", *argv], cwd=tree, check=True,
+                                 capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(tree)})
+            return out.stdout.strip()
+        finally:
+            subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, check=False)
 
 
 if __name__ == "__main__":

@@ -10,8 +10,8 @@ a frame is one 60 Hz update of its moving body (one SetOrientationMessage of its
 node; viser culls superseded poses, so each one is a distinct update batch), the longest gap
 between two such frames, and the bytes per second.  For the server process: CPU % (from
 /proc/<pid>/stat; 100 % = one core) and resident memory (VmRSS, peak VmHWM); the app loop's
-rate [Hz] and the share of wall time it spends inside Session.tick ("loop busy", timed by
-wrapping Session.tick in the server process): near 100 % the one loop thread that ticks every
+rate [Hz] and the share of wall time it spends inside Room.tick ("loop busy", timed by
+wrapping Room.tick in the server process): near 100 % the one loop thread that ticks every
 session is the bottleneck.  The clients' own CPU % is printed too: if it nears 100 %, the
 clients, not the server, limit the figures.
 
@@ -185,22 +185,22 @@ def cpu_percent(first: ProcessSample, last: ProcessSample) -> float:
 def serve(max_lifetime: float) -> None:
     """--serve: the app on 127.0.0.1:0; prints 'BENCH_PORT <port>'.  Each line 'stats' on stdin
     is answered with 'BENCH_STATS <loop iterations> <monotonic time> <sessions> <seconds spent in
-    Session.tick>' (the benchmark times the ticks by wrapping Session.tick).  Exits when
+    Room.tick>' (the benchmark times the ticks by wrapping Room.tick).  Exits when
     stdin closes (this process's parent is gone) or after `max_lifetime` seconds."""
+    from app.kit.room import Room
     from app.main import create_server
-    from app.session import Session
 
-    tick_seconds = [0.0]  # wall time spent in Session.tick (only the app loop's thread calls it)
-    untimed_tick = Session.tick
+    tick_seconds = [0.0]  # wall time spent in Room.tick (only the app loop's thread calls it)
+    untimed_tick = Room.tick
 
-    def timed_tick(self: Session, dt: float) -> None:
+    def timed_tick(self: Room, dt: float) -> None:
         start = time.perf_counter()
         try:
             untimed_tick(self, dt)
         finally:
             tick_seconds[0] += time.perf_counter() - start
 
-    Session.tick = timed_tick  # type: ignore[method-assign]  # this process only
+    Room.tick = timed_tick  # type: ignore[method-assign]  # this process only
     app = create_server("127.0.0.1", 0, verbose=False)
     print(f"BENCH_PORT {app.port}", flush=True)
     done = threading.Event()
@@ -255,7 +255,7 @@ class ServerProcess:
 
     def loop_stats(self, timeout: float = 5.0) -> tuple[int, float, int, float]:
         """(app loop iterations so far, the server's monotonic time [s], open sessions,
-        total time spent in Session.tick [s])."""
+        total time spent in Room.tick [s])."""
         assert self.process.stdin is not None
         self.process.stdin.write("stats\n")
         self.process.stdin.flush()
@@ -296,7 +296,7 @@ class LoadResult:
     body_nodes: list[str]
     decode_errors: int
     loop_hz: float = math.nan
-    loop_busy_percent: float = math.nan  # share of wall time the loop spent in Session.tick
+    loop_busy_percent: float = math.nan  # share of wall time the loop spent in Room.tick
     sessions: int = -1
 
     def summary(self) -> dict[str, float]:

@@ -58,13 +58,13 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         session.select_scene("Free body")
         session.apply_preset("Dzhanibekov")
         page.get_by_text("Free body (no torque)").wait_for(timeout=30_000)
-        page.get_by_role("tab", name="Plots").click()
+        page.get_by_role("button", name="Plots").click()
         time.sleep(1.5)
         session.play()
         # Mid-flip: ω_y′ (the intermediate axis) on its way through zero for the first time;
         # then slow motion (0.1x), so that the software renderer's frame matches the labels.
-        _wait_for(lambda: session.scene.state.omega_body[1] < 2.5, 30.0)
-        session.scene.controls.gui_time_scale.value = 0.1
+        _wait_for(lambda: session.simulation.state.omega_body[1] < 2.5, 30.0)
+        session.scene.transport.gui_time_scale.value = 0.1
         time.sleep(2.0)
         return
     if scene == "top":
@@ -73,8 +73,8 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         page.get_by_text("Heavy symmetric top").wait_for(timeout=30_000)
         time.sleep(1.0)
         session.play()
-        _wait_for(lambda: session.scene.state.t > 5.5, 60.0)
-        session.scene.controls.gui_time_scale.value = 0.1
+        _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
+        session.scene.transport.gui_time_scale.value = 0.1
         time.sleep(2.0)
         return
     raise ValueError(f"unknown scene {scene!r}; choose from {', '.join(SCENES)}")

@@ -69,15 +69,15 @@ def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until,
 
     # The slider root's id is the GUI uuid; its <label for=...> carries the text.
     uuid = page.locator("label", has_text=re.compile(r"^θ")).first.get_attribute("for")
-    assert uuid == scene.gui_theta._impl.uuid
-    thumb = slider_thumb(page, scene.gui_theta)
+    assert uuid == scene.gui_angles[1]._impl.uuid
+    thumb = slider_thumb(page, scene.gui_angles[1])
     thumb.focus()
     page.keyboard.press("End")
-    wait_until(lambda: scene.angles_deg[1] == 180.0, timeout=10.0)
+    wait_until(lambda: scene.sim.angles_deg[1] == 180.0, timeout=10.0)
     assert thumb.get_attribute("aria-valuenow") == "180"
     page.get_by_text("Gimbal lock").first.wait_for(timeout=5_000)  # θ = 180°: the GUI says so
     page.keyboard.press("ArrowLeft")  # one step: 179°
-    wait_until(lambda: scene.angles_deg[1] == 179.0, timeout=10.0)
+    wait_until(lambda: scene.sim.angles_deg[1] == 179.0, timeout=10.0)
     time.sleep(1.0)
     turned = page.screenshot(clip=SCENE_CLIP)
     changed = changed_fraction(before, turned)
@@ -85,11 +85,11 @@ def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until,
 
     # Play: θ advances at dθ/dt = 10°/s (wrapping below 180°); the slider follows.
     page.get_by_role("button", name="Play").click()
-    wait_until(lambda: scene.playing, timeout=10.0)
+    wait_until(lambda: scene.room.playing, timeout=10.0)
     wait_until(lambda: thumb.get_attribute("aria-valuenow") not in ("179", "180"), timeout=10.0)
     value = float(thumb.get_attribute("aria-valuenow"))
     assert 150.0 < value < 179.0
-    assert scene.playing  # the slider's own update did not pause (no feedback)
+    assert scene.room.playing  # the slider's own update did not pause (no feedback)
     moving = page.screenshot(clip=SCENE_CLIP)
     time.sleep(0.7)
     assert changed_fraction(moving, page.screenshot(clip=SCENE_CLIP)) > MIN_CHANGED_FRACTION
@@ -114,7 +114,7 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
         page.get_by_role("button", name="Dzhanibekov").click()
         page.get_by_role("button", name="Play").click()
         scene = session.scene
-        wait_until(lambda: scene.playing and scene.state.t > 0.3, timeout=10.0)
+        wait_until(lambda: scene.room.playing and scene.sim.state.t > 0.3, timeout=10.0)
         theta = slider_thumb(page, scene.gui_angles[1])
         first = theta.get_attribute("aria-valuenow")
         wait_until(lambda: theta.get_attribute("aria-valuenow") != first, timeout=10.0)  # follows
@@ -125,18 +125,18 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
         box.fill("4.9")
         box.press("Enter")
         page.get_by_text("Not a rigid body").first.wait_for(timeout=10_000)
-        assert scene.model.inertia == (0.3, 0.75, 1.0) and scene.playing
-        t = scene.state.t
+        assert scene.sim.model.inertia == (0.3, 0.75, 1.0) and scene.room.playing
+        t = scene.sim.state.t
         time.sleep(0.3)
         shot = page.screenshot(clip=SCENE_CLIP)
         time.sleep(0.7)
         assert changed_fraction(shot, page.screenshot(clip=SCENE_CLIP)) > MIN_CHANGED_FRACTION
-        assert scene.state.t > t + 0.5  # the body keeps moving
+        assert scene.sim.state.t > t + 0.5  # the body keeps moving
 
         # The other browser: its own session, still the Euler scene, not playing, unchanged.
         wait_for_gui(other_page)
-        assert other.scene.title == "Euler angles" and not other.scene.playing
-        assert other.scene.angles_deg == [30.0, 50.0, 20.0]
+        assert other.scene.title == "Euler angles" and not other.scene.room.playing
+        assert other.scene.sim.angles_deg == [30.0, 50.0, 20.0]
         assert other_page.locator(f'[id="{other.gui_scene._impl.uuid}"]').input_value() == "Euler angles"
         assert session.last_error is None and other.last_error is None
     finally:
