@@ -634,7 +634,10 @@ def test_a_physics_failure_pauses_with_a_message(monkeypatch: pytest.MonkeyPatch
     def failing(*_args, **_kwargs):
         raise IntegrationError("non-finite state at t = 0.1 s")
 
-    monkeypatch.setattr(scene.sim._stepper, "step", failing)
+    class Failing:
+        step = staticmethod(failing)
+
+    monkeypatch.setattr(scene.sim, "_stepper", Failing())
     manual.tick(0.1)
     assert not scene.room.playing
     assert "non-finite state" in scene.message.handle.content and scene.message.handle.visible

@@ -231,3 +231,40 @@ def test_room_pauses_and_tells_every_view_when_the_simulation_fails() -> None:
     assert not room.playing and room.ticks == 0
     assert all(v.messages == ["The simulation stopped: non-finite state at t = 0.1 s"] for v in views)
     assert all(v.frames == 1 for v in views)
+
+
+def test_fast_pose_and_points_writes_queue_what_the_public_setters_queue(manual, monkeypatch) -> None:
+    from app.kit import fastprops
+
+    assert fastprops.FAST  # viser 1.1's internals are there (pyproject pins viser to 1.1.x)
+    scene = manual.session.client.scene
+    frame = scene.add_frame("/probe/frame", show_axes=False)
+    label = scene.add_label("/probe/label", "x")
+    arrow = scene.add_arrows("/probe/arrow", np.zeros((1, 2, 3)), (1, 2, 3))
+    queued: list = []
+    original = scene._queue_scene_message
+    monkeypatch.setattr(scene, "_queue_scene_message", lambda m: (queued.append(m), original(m))[1])
+
+    def wire(message) -> dict:  # type: ignore[no-untyped-def]
+        out = message.as_serializable_dict()
+        return {k: (np.asarray(v).tolist() if k != "type" else v) for k, v in out.items()}
+
+    q = (math.cos(0.3), 0.0, math.sin(0.3), 0.0)
+    points = np.array([[[0.0, 0.0, 0.0], [1.0, 2.0, 3.0]]], dtype=np.float32)
+    for public, fast, value in (
+        (lambda v: setattr(frame, "wxyz", v), lambda v: fastprops.set_wxyz(frame, v), q),
+        (lambda v: setattr(label, "position", v), lambda v: fastprops.set_position(label, v), (1.0, 2.0, 3.0)),
+        (lambda v: setattr(arrow, "points", v), lambda v: fastprops.set_points(arrow, v), points),
+    ):
+        public(value)
+        by_setter = wire(queued[-1])
+        stored = (np.array(frame.wxyz), np.array(label.position), np.array(arrow.points))
+        queued.clear()
+        fast(value)  # the same value again: the public setter would skip it, the fast one sends
+        assert wire(queued[-1]) == by_setter
+        np.testing.assert_array_equal(np.array(frame.wxyz), stored[0])
+        np.testing.assert_array_equal(np.array(label.position), stored[1])
+        np.testing.assert_array_equal(np.array(arrow.points), stored[2])
+    frame.remove()
+    with pytest.raises(RuntimeError, match="removed"):
+        fastprops.set_wxyz(frame, q)

@@ -29,6 +29,7 @@ from app.kit.common import (
     axis_segments,
     fade_color,
 )
+from app.kit.fastprops import set_points, set_position, set_wxyz
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
 
@@ -86,7 +87,7 @@ class Body:
         wxyz = wxyz_from_matrix(R_space_body)
         if wxyz != self._wxyz:
             self._wxyz = wxyz
-            self.node.wxyz = wxyz
+            set_wxyz(self.node, wxyz)
 
     def reshape(self, build_shape: Callable[[Any, str], None]) -> None:
         """Replace the shape (after its parameters changed; never per frame)."""
@@ -127,7 +128,7 @@ class LineOfNodes:
         """Show e_n for the angles φ, θ [rad]; messages only for what changed."""
         if phi != self._phi:
             self._phi = phi
-            self.node.wxyz = (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
+            set_wxyz(self.node, (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi)))
         level = self.fade_level(theta)
         if level != self._level:
             self._level = level
@@ -156,10 +157,10 @@ class Vector:
                                       head_radius=head_radius, head_length=head_length, visible=False)
         self.label = scene.add_label(f"{name}_label", text, font_screen_scale=font_scale,
                                      anchor="center-left" if label_at_middle else "center-center", visible=False)
-        self.origin = np.asarray(origin, dtype=float)
+        self.origin = (float(origin[0]), float(origin[1]), float(origin[2]))
         self.label_at_middle = label_at_middle  # else just beyond the tip
         self.enabled = True  # the user's display toggle
-        self._tip: np.ndarray | None = None
+        self._tip: tuple[float, float, float] | None = None
 
     @property
     def visible(self) -> bool:
@@ -172,9 +173,10 @@ class Vector:
         rtol: skip the update if the tip moved by less than rtol times its length (a conserved
         vector, such as a free body's L, is then sent once, not every frame).
         """
-        origin = self.origin if start is None else np.asarray(start, dtype=float)
-        tip = origin + np.asarray(vector, dtype=float)
-        length = float(np.linalg.norm(vector))
+        ox, oy, oz = self.origin if start is None else start
+        vx, vy, vz = float(vector[0]), float(vector[1]), float(vector[2])
+        tip = (ox + vx, oy + vy, oz + vz)
+        length = math.sqrt(vx * vx + vy * vy + vz * vz)
         visible = self.enabled and length > 1e-3
         if self.arrow.visible != visible:
             self.arrow.visible = visible
@@ -182,11 +184,13 @@ class Vector:
             self._tip = None
         if not visible:
             return
-        if self._tip is not None and float(np.max(np.abs(tip - self._tip))) <= rtol * length:
+        if self._tip is not None and max(abs(a - b) for a, b in zip(tip, self._tip)) <= rtol * length:
             return
         self._tip = tip
-        self.arrow.points = np.array([[origin, tip]], dtype=np.float32)
+        set_points(self.arrow, np.array([[(ox, oy, oz), tip]], dtype=np.float32))
         if self.label_at_middle:
-            self.label.position = tuple(0.5 * (origin + tip) + 0.06)
+            set_position(self.label, (0.5 * (ox + tip[0]) + 0.06, 0.5 * (oy + tip[1]) + 0.06,
+                                      0.5 * (oz + tip[2]) + 0.06))
         else:
-            self.label.position = tuple(tip + np.asarray(vector) * (0.16 / length))
+            k = 1.0 + 0.16 / length
+            set_position(self.label, (ox + k * vx, oy + k * vy, oz + k * vz))
