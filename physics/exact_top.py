@@ -68,6 +68,7 @@ from numpy.typing import ArrayLike
 from scipy.special import elliprf, elliprj
 
 from physics._types import Array, Mat3, Vec3
+from physics.quaternion import matrices_from_wxyz, wxyz_from_matrix
 
 __all__ = ["HeavySymmetricTopExact"]
 
@@ -79,49 +80,6 @@ _POLE_PASSAGE = 1e-60  # 1 - u2 (or 1 + u1) below this, p_φ ≠ ±p_ψ: a passa
 _M1_FLOOR = 1e-60  # 0 < 1 - m below this is raised to it (energy moved by ~1e-60 of its scale)
 _SNAP_TO_POLE = 1e-60  # sin(θ0/2) (or cos(θ0/2)) below this: the start is put on the pole
 _NEAR_POLE = 1e-25  # |sin(θ/2)| (or |cos(θ/2)|) below this: initial phase from the velocity
-
-
-# --------------------------------------------------------------------------------------------
-# Quaternions (w, x, y, z), Hamilton product, active: R(q) v = q v q̄.
-# --------------------------------------------------------------------------------------------
-
-
-def _quat_from_matrix(R: Mat3) -> Array:
-    """Unit quaternion (4,) (w, x, y, z) of the rotation R (3, 3) (Shepperd's method)."""
-    tr = R[0, 0] + R[1, 1] + R[2, 2]
-    diag = (tr, R[0, 0], R[1, 1], R[2, 2])
-    k = int(np.argmax(diag))
-    if k == 0:
-        w = 0.5 * math.sqrt(1.0 + tr)
-        q = [w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)]
-    elif k == 1:
-        x = 0.5 * math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
-        q = [(R[2, 1] - R[1, 2]) / (4 * x), x, (R[0, 1] + R[1, 0]) / (4 * x), (R[0, 2] + R[2, 0]) / (4 * x)]
-    elif k == 2:
-        y = 0.5 * math.sqrt(1.0 - R[0, 0] + R[1, 1] - R[2, 2])
-        q = [(R[0, 2] - R[2, 0]) / (4 * y), (R[0, 1] + R[1, 0]) / (4 * y), y, (R[1, 2] + R[2, 1]) / (4 * y)]
-    else:
-        z = 0.5 * math.sqrt(1.0 - R[0, 0] - R[1, 1] + R[2, 2])
-        q = [(R[1, 0] - R[0, 1]) / (4 * z), (R[0, 2] + R[2, 0]) / (4 * z), (R[1, 2] + R[2, 1]) / (4 * z), z]
-    qa = np.array(q)
-    return qa / np.linalg.norm(qa)
-
-
-def _matrix_from_quat(w: Array, x: Array, y: Array, z: Array) -> Array:
-    """Rotation matrices (..., 3, 3) of the quaternions (w, x, y, z) (any shape, normalised here)."""
-    n = np.sqrt(w * w + x * x + y * y + z * z)
-    w, x, y, z = w / n, x / n, y / n, z / n
-    R = np.empty(np.shape(w) + (3, 3))
-    R[..., 0, 0] = 1.0 - 2.0 * (y * y + z * z)
-    R[..., 0, 1] = 2.0 * (x * y - w * z)
-    R[..., 0, 2] = 2.0 * (x * z + w * y)
-    R[..., 1, 0] = 2.0 * (x * y + w * z)
-    R[..., 1, 1] = 1.0 - 2.0 * (x * x + z * z)
-    R[..., 1, 2] = 2.0 * (y * z - w * x)
-    R[..., 2, 0] = 2.0 * (x * z - w * y)
-    R[..., 2, 1] = 2.0 * (y * z + w * x)
-    R[..., 2, 2] = 1.0 - 2.0 * (x * x + y * y)
-    return R
 
 
 # --------------------------------------------------------------------------------------------
@@ -330,14 +288,13 @@ class HeavySymmetricTopExact:
             raise ValueError("omega0_body must be a finite (3,) vector")
 
         self.I1, self.I3, self.mgl = I1, I3, mgl
-        q0 = _quat_from_matrix(R0a)
-        w0, x0, y0, z0 = (float(v) for v in q0)
+        w0, x0, y0, z0 = wxyz_from_matrix(R0a)
         # An axis within 2e-60 rad of a pole is put on it (squares of such tilts underflow).
         if math.hypot(x0, y0) < _SNAP_TO_POLE:
             w0, x0, y0, z0 = w0 / math.hypot(w0, z0), 0.0, 0.0, z0 / math.hypot(w0, z0)
         elif math.hypot(w0, z0) < _SNAP_TO_POLE:
             w0, x0, y0, z0 = 0.0, x0 / math.hypot(x0, y0), y0 / math.hypot(x0, y0), 0.0
-        self.R0: Mat3 = _matrix_from_quat(np.float64(w0), np.float64(x0), np.float64(y0), np.float64(z0))
+        self.R0: Mat3 = matrices_from_wxyz(np.array([w0, x0, y0, z0]))
         self.omega0_body: Vec3 = om.copy()
         om1, om2, om3 = (float(v) for v in om)
 
@@ -603,7 +560,7 @@ class HeavySymmetricTopExact:
         """R_space_body at time(s) t [s]: (3, 3) for scalar t, (N, 3, 3) for t of shape (N,)."""
         ta, scalar = self._times(t)
         w, x, y, z, _ = self._quaternion(ta)
-        R = _matrix_from_quat(w, x, y, z)
+        R = matrices_from_wxyz(np.stack([w, x, y, z], axis=-1))
         return R[0] if scalar else R
 
     def omega_body(self, t: ArrayLike) -> Array:
@@ -637,7 +594,7 @@ class HeavySymmetricTopExact:
         o1 = 2.0 * (w * xd - wd * x - (y * zd - z * yd)) / n2
         o2 = 2.0 * (w * yd - wd * y - (z * xd - x * zd)) / n2
         omega = np.stack([o1, o2, np.full_like(o1, self.omega3)], axis=-1)
-        R = _matrix_from_quat(w, x, y, z)
+        R = matrices_from_wxyz(np.stack([w, x, y, z], axis=-1))
         if scalar:
             return R[0], omega[0]
         return R, omega

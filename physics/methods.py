@@ -102,21 +102,22 @@ def simulate(model: Model, state0: State, t: np.ndarray, method: str | None = No
 
 
 def simulate_realtime(model: Model, state0: State, t_end: float, frame_dt: float = 1.0 / 60.0) -> Trajectory:
-    """Advance frame by frame exactly as the app does (`integrators.step_realtime`, its
+    """Advance frame by frame exactly as the app does (one `realtime.RealtimeStepper`, its
     sub-steps included), one sample per frame from t = 0 to the last frame <= t_end."""
-    from physics.integrators import step_realtime
+    from physics.realtime import RealtimeStepper
 
     if not frame_dt > 0.0:
         raise ValueError(f"frame dt must be positive, got {frame_dt}")
     n_frames = int(np.floor(t_end / frame_dt + 1e-9)) + 1
     R = np.empty((n_frames, 3, 3))
     omega = np.empty((n_frames, 3))
-    state, evaluations = state0, 0
     start = time.perf_counter()
+    stepper = RealtimeStepper(model, state0)
+    state, evaluations = state0, 0
     for k in range(n_frames):
         if k:
-            state, used = step_realtime(model, state, frame_dt)
-            evaluations += used
+            state = stepper.step(frame_dt)
+            evaluations += stepper.evaluations
         R[k], omega[k] = state.R_space_body, state.omega_body
     wall = time.perf_counter() - start
     return Trajectory(state0.t + frame_dt * np.arange(n_frames), R, omega, evaluations, wall, "realtime")
