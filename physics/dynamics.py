@@ -32,6 +32,7 @@ __all__ = [
     "Trajectory",
     "angular_momentum_space",
     "energy",
+    "kinetic_energy",
     "omega_body_dot",
 ]
 
@@ -148,6 +149,13 @@ def energy(model: Model, R_space_body: Mat3, omega_body: Vec3) -> float:
     """T + V [J]: T = ½ Σ I_k ω_bk² (6.4), V = mgl R[2, 2]."""
     inertia = np.array(model.inertia)
     return 0.5 * float(np.sum(inertia * omega_body**2)) + model.potential_energy(R_space_body)
+
+
+def kinetic_energy(model: Model, omega_body: Vec3) -> float:
+    """T = ½ Σ I_k ω_bk² [J] (memo 6.4), ω_b (3,) [rad/s]: `energy` without the potential."""
+    i1, i2, i3 = model.inertia
+    w1, w2, w3 = (float(w) for w in omega_body)
+    return 0.5 * (i1 * w1 * w1 + i2 * w2 * w2 + i3 * w3 * w3)
 
 
 def angular_momentum_space(model: Model, R_space_body: Mat3, omega_body: Vec3) -> Vec3:

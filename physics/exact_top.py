@@ -70,7 +70,7 @@ from scipy.special import elliprf, elliprj
 from physics._types import Array, Mat3, Vec3
 from physics.quaternion import matrices_from_wxyz, wxyz_from_matrix
 
-__all__ = ["HeavySymmetricTopExact"]
+__all__ = ["HeavySymmetricTopExact", "steady_precession_rate"]
 
 _ORTHO_TOL = 1e-9  # ‖R0ᵀ R0 - 1‖ allowed before R0 is refused (CASEFILE.md)
 _LANDEN_MAX_LEVELS = 40
@@ -80,6 +80,39 @@ _POLE_PASSAGE = 1e-60  # 1 - u2 (or 1 + u1) below this, p_φ ≠ ±p_ψ: a passa
 _M1_FLOOR = 1e-60  # 0 < 1 - m below this is raised to it (energy moved by ~1e-60 of its scale)
 _SNAP_TO_POLE = 1e-60  # sin(θ0/2) (or cos(θ0/2)) below this: the start is put on the pole
 _NEAR_POLE = 1e-25  # |sin(θ/2)| (or |cos(θ/2)|) below this: initial phase from the velocity
+
+
+def steady_precession_rate(I1: float, I3: float, mgl: float, spin: float, theta: float) -> float:
+    """The slow steady-precession rate φ̇ [rad/s] of the heavy symmetric top at nutation θ [rad].
+
+    I1 about the pivot, I3 about the symmetry axis [kg m²], mgl [N m], spin = ω_z' = ω_b[2]
+    [rad/s] (= φ̇ cos θ + ψ̇).  Steady precession (θ̇ = θ̈ = 0) needs, from Lagrange's equation of
+    θ, mgl = φ̇ (I3 ω_z' - I1 φ̇ cos θ), i.e.
+
+        I1 cos θ φ̇² - I3 ω_z' φ̇ + mgl = 0;
+
+    this returns the root that tends to mgl / (I3 ω_z') for a fast top (the slow precession),
+    computed without cancellation; at cos θ = 0 the equation is linear.  Started with this φ̇,
+    θ̇ = 0 and this spin, the top keeps θ constant.
+
+    Raises:
+        ValueError: no real root (the spin is too slow for steady precession at this θ), or a
+            non-finite argument, or spin = 0 with cos θ = 0.
+    """
+    a, b, c = I1 * math.cos(theta), I3 * spin, mgl
+    if not all(math.isfinite(v) for v in (a, b, c)):
+        raise ValueError(f"arguments must be finite, got I1 = {I1}, I3 = {I3}, mgl = {mgl}, spin = {spin}, θ = {theta}")
+    if a == 0.0:
+        if b == 0.0:
+            raise ValueError(f"no steady precession at θ = {math.degrees(theta):g}° without spin")
+        return c / b
+    disc = b * b - 4.0 * a * c
+    if disc < 0.0:
+        raise ValueError(f"no steady precession at θ = {math.degrees(theta):g}° with ω_z′ = {spin:g} rad/s")
+    q = b + math.copysign(math.sqrt(disc), b)
+    if q == 0.0:  # b = 0 and disc = 0: c = 0, the top with no gravity and no spin
+        return 0.0
+    return 2.0 * c / q  # the small root c/(a x_large) = 2c / (b + sign(b) sqrt(disc))
 
 
 # --------------------------------------------------------------------------------------------

@@ -33,6 +33,7 @@ __all__ = [
     "MeshError",
     "box_extents_from_moments",
     "box_inertia",
+    "cylinder_dimensions_from_moments",
     "inertia_tensor_of_particles",
     "mesh_mass_properties",
     "parallel_axis",
@@ -444,3 +445,28 @@ def box_extents_from_moments(moments: ArrayLike, mass: float) -> Vec3:
     m = _positive("mass", mass)
     squares = 6.0 / m * np.array([I2 + I3 - I1, I3 + I1 - I2, I1 + I2 - I3])
     return np.sqrt(np.clip(squares, 0.0, None))
+
+
+def cylinder_dimensions_from_moments(I1: float, I3: float, mass: float = 1.0) -> tuple[float, float]:
+    """(radius, height) [m] of the uniform solid cylinder about z' with these principal moments.
+
+    Inverts `solid_cylinder_inertia`: I3 = m r²/2 and I1 = I2 = m (3 r² + h²)/12 give
+    ``r² = 2 I3/m`` and ``h² = 12 I1/m - 3 r² = (12 I1 - 6 I3)/m``.  I1 = I3/2 is the flat disc
+    (h = 0); I1 < I3/2 is no cylinder (the triangle inequality 2 I1 >= I3 of a symmetric body).
+
+    Raises:
+        InertiaError (a ValueError): I1, I3 not finite and positive, or I1 < I3/2 (beyond
+            rounding: a squared height of -1e-15 relative is taken as 0).
+        ValueError: mass not finite and positive.
+    """
+    m = _positive("mass", mass)
+    i1, i3 = float(I1), float(I3)
+    if not (math.isfinite(i1) and math.isfinite(i3) and i1 > 0.0 and i3 > 0.0):
+        raise InertiaError(f"moments must be finite and > 0, got I1 = {_fmt(i1)}, I3 = {_fmt(i3)}")
+    height_squared = (12.0 * i1 - 6.0 * i3) / m
+    if height_squared < -1e-15 * 12.0 * i1 / m:
+        raise InertiaError(
+            f"no uniform cylinder has I1 = {_fmt(i1)} < I3/2 = {_fmt(i3 / 2)} (the flat disc has I1 = I3/2)"
+        )
+    return math.sqrt(2.0 * i3 / m), math.sqrt(max(height_squared, 0.0))
+

@@ -23,7 +23,8 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 from scipy.special import ellipj, ellipkm1, elliprf
 
-from physics.exact_top import HeavySymmetricTopExact, _sncndn_reduced
+from physics.dynamics import Model, omega_body_dot
+from physics.exact_top import HeavySymmetricTopExact, _sncndn_reduced, steady_precession_rate
 from physics.so3 import rot_x, rot_z
 
 ODE_TOL = 1e-13  # rtol = atol of the DOP853 reference
@@ -512,3 +513,48 @@ def test_jacobi_helper_relative_precision_near_m_equal_1(m1: float) -> None:
                 # relative error ~K ulp, plus the rounding ulp(K) of the argument itself
                 slope = float(mpmath.diff(lambda y, kind=kind: mpmath.ellipfun(kind, y, m=m), xm))
                 assert abs(got - exact) <= 2e-15 * K * abs(exact) + abs(slope) * 4e-16 * K
+
+
+# --- steady_precession_rate --------------------------------------------------------------------
+
+
+def _theta_range_of_motion(I1: float, I3: float, mgl: float, spin: float, theta: float, phidot: float) -> float:
+    """max |θ(t) - θ0| over 5 s, by solve_ivp on Ṙ = R hat(ω_b) and Euler's equations (no
+    closed form, no code under test), started at ψ = 0 with θ̇ = 0:
+    ω_b = (0, φ̇ sin θ, ω_z') (docs/CONVENTIONS.md, body components from Euler rates)."""
+    model = Model((I1, I1, I3), mgl=mgl)
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        R, w = y[:9].reshape(3, 3), y[9:]
+        W = np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+        return np.concatenate([(R @ W).ravel(), omega_body_dot(model, t, R, w)])
+
+    y0 = np.concatenate([euler(0.0, theta, 0.0).ravel(), [0.0, phidot * math.sin(theta), spin]])
+    sol = solve_ivp(rhs, (0.0, 5.0), y0, method="DOP853", rtol=1e-12, atol=1e-12, t_eval=np.linspace(0.0, 5.0, 501))
+    cos_theta = np.clip(sol.y[8], -1.0, 1.0)  # R[2, 2]
+    return float(np.max(np.abs(np.arccos(cos_theta) - theta)))
+
+
+@pytest.mark.parametrize(("theta", "spin"), [(1.0472, 12.0), (0.3, 20.0), (2.5, 15.0), (math.pi / 2, 8.0)])
+def test_steady_precession_keeps_theta_constant(theta: float, spin: float) -> None:
+    I1, I3, mgl = 1.0, 0.5, 6.0
+    phidot = steady_precession_rate(I1, I3, mgl, spin, theta)
+    assert _theta_range_of_motion(I1, I3, mgl, spin, theta, phidot) < 1e-8
+    # a 10% different rate nods: the check above can fail
+    assert _theta_range_of_motion(I1, I3, mgl, spin, theta, 0.9 * phidot) > 1e-4
+    # it is the slow root of I1 cos θ φ̇² - I3 ω φ̇ + mgl = 0
+    a, b = I1 * math.cos(theta), -I3 * spin
+    assert a * phidot**2 + b * phidot + mgl == pytest.approx(0.0, abs=1e-12 * mgl)
+    roots = np.roots([a, b, mgl]) if abs(a) > 1e-12 else np.array([phidot])
+    assert abs(phidot) == pytest.approx(np.min(np.abs(roots)), rel=1e-12)
+
+
+def test_steady_precession_fast_top_limit_and_no_root() -> None:
+    I1, I3, mgl, theta = 1.0, 0.5, 6.0, 0.7
+    for spin in (1e3, 1e5):
+        rate = steady_precession_rate(I1, I3, mgl, spin, theta)
+        # φ̇ = mgl/(I3 ω) (1 + O(I1 cos θ mgl / (I3 ω)²))
+        assert rate == pytest.approx(mgl / (I3 * spin), rel=2 * I1 * math.cos(theta) * mgl / (I3 * spin) ** 2)
+    with pytest.raises(ValueError, match="no steady precession"):
+        steady_precession_rate(I1, I3, mgl, 1.0, 0.3)  # (I3 ω)² < 4 I1 cos θ mgl: too slow
+    assert steady_precession_rate(I1, I3, mgl, -12.0, 1.0) == -steady_precession_rate(I1, I3, mgl, 12.0, 1.0)

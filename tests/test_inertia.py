@@ -24,6 +24,7 @@ from physics.inertia import (
     MeshError,
     box_extents_from_moments,
     box_inertia,
+    cylinder_dimensions_from_moments,
     inertia_tensor_of_particles,
     mesh_mass_properties,
     parallel_axis,
@@ -512,3 +513,30 @@ def test_box_extents_of_lamina_and_rejections() -> None:
         box_extents_from_moments([1.0, 1.0, 3.0], 1.0)
     with pytest.raises(ValueError, match="mass"):
         box_extents_from_moments([1.0, 1.0, 1.0], 0.0)
+
+
+# --- cylinder_dimensions_from_moments against trimesh's mesh inertia -------------------------
+
+
+@pytest.mark.parametrize(("radius", "height", "mass"), [(0.5, 1.2, 1.0), (1.0, 0.1, 3.0), (0.2, 2.0, 0.5)])
+def test_cylinder_dimensions_invert_trimesh_cylinder_moments(radius: float, height: float, mass: float) -> None:
+    """A fine trimesh cylinder's moments (scaled to `mass`) give back its radius and height."""
+    mesh = trimesh.creation.cylinder(radius=radius, height=height, sections=1024)
+    moments = np.diag(mesh.moment_inertia) * mass / mesh.mass  # about the centroid, axis z
+    assert moments[0] == pytest.approx(moments[1], rel=1e-9)
+    r, h = cylinder_dimensions_from_moments(moments[0], moments[2], mass=mass)
+    # a 1024-gon has 1e-5 less area than the circle: dimensions agree to ~1e-5
+    assert r == pytest.approx(radius, rel=1e-4)
+    assert h == pytest.approx(height, rel=1e-4)
+    np.testing.assert_allclose(solid_cylinder_inertia(mass, r, h), [moments[0], moments[0], moments[2]], rtol=1e-12)
+
+
+def test_cylinder_dimensions_edge_cases() -> None:
+    r, h = cylinder_dimensions_from_moments(0.5, 1.0)  # I1 = I3/2: the flat disc
+    assert (r, h) == (math.sqrt(2.0), 0.0)
+    with pytest.raises(InertiaError, match="I3/2"):
+        cylinder_dimensions_from_moments(0.4, 1.0)
+    with pytest.raises(ValueError):
+        cylinder_dimensions_from_moments(-1.0, 1.0)
+    with pytest.raises(ValueError, match="mass"):
+        cylinder_dimensions_from_moments(1.0, 1.0, mass=0.0)

@@ -20,7 +20,15 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from physics.dynamics import IntegrationError, Model, State, angular_momentum_space, energy, omega_body_dot
+from physics.dynamics import (
+    IntegrationError,
+    Model,
+    State,
+    angular_momentum_space,
+    energy,
+    kinetic_energy,
+    omega_body_dot,
+)
 from physics.integrators import (
     COMPOSITIONS,
     REALTIME_SUBSTEP_ANGLE,
@@ -408,3 +416,16 @@ def test_output_at_the_start_time_is_the_initial_state() -> None:
         traj = run(HEAVY, state, np.array([2.0]))
         np.testing.assert_allclose(traj.R_space_body[0], R_GENERIC, atol=1e-15)
         np.testing.assert_allclose(traj.omega_body[0], state.omega_body, atol=0.0)
+
+
+def test_kinetic_energy_is_half_omega_dot_I_omega() -> None:
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        inertia = np.sort(rng.uniform(1.0, 1.9, 3))  # physical: I1 + I2 >= I3
+        model = Model(tuple(inertia), mgl=rng.uniform(0.0, 3.0))
+        omega = rng.normal(size=3) * 5.0
+        expected = 0.5 * float(omega @ np.diag(inertia) @ omega)  # ½ ω·I ω (memo 3.6)
+        assert kinetic_energy(model, omega) == pytest.approx(expected, rel=1e-14)
+        R = Rotation.random(random_state=rng).as_matrix()
+        assert kinetic_energy(model, omega) == pytest.approx(energy(model, R, omega) - model.mgl * R[2, 2], rel=1e-12)
+    assert type(kinetic_energy(HEAVY, np.array([1.0, 2.0, 3.0]))) is float
