@@ -47,6 +47,11 @@ def exact_solution(model: Model, state0: State) -> Callable[[np.ndarray], tuple[
 
 
 def _run_exact(model: Model, state0: State, t: np.ndarray) -> Trajectory:
+    """The closed form, timed like the integrators: the solution's set-up and evaluation, not
+    the imports (`exact_solution` imports its module on first use, outside the clock)."""
+    import physics.exact_free  # noqa: F401
+    import physics.exact_top  # noqa: F401
+
     start = time.perf_counter()
     solution = exact_solution(model, state0)
     R, omega = solution(np.asarray(t) - state0.t)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -106,10 +105,27 @@ def test_lamina_is_a_valid_body(tmp_path):
     assert result.returncode == 0, result.stderr
 
 
-def test_euler_lagrange_through_the_pole_fails_clearly_and_fast(tmp_path):
+def test_euler_lagrange_through_the_pole_fails_clearly(tmp_path):
+    """Exit 1 with one line naming the singularity (how quickly: tests/test_lagrange.py counts
+    the work done before it stops)."""
     case = {"model": "free", "inertia": [1.0, 1.0, 1.5], "R0": np.eye(3).tolist(),
             "omega0_body": [0.0, 0.0, 1.0], "t_end": 1.0, "n_samples": 3}
-    start = time.perf_counter()
     result, out = run_cli(tmp_path, case, "--method", "euler_lagrange")
-    assert time.perf_counter() - start < 30.0
     assert result.returncode == 1 and "θ" in result.stderr and not out.exists()
+    assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_wall_s_counts_the_computation_not_imports_or_set_up(tmp_path):
+    """wall_s of an exact free-body run against the same solve timed in this process once the
+    modules are imported and warm.  Timing the imports and first-use set-up as well gave ~9 ms
+    for a ~0.5 ms solve; allowed here: 2x the in-process time + 1 ms (best of 3 each)."""
+    from physics.casefile import load_case
+    from physics.methods import simulate
+
+    case_path = tmp_path / "case.json"
+    case_path.write_text(json.dumps({**EXAMPLE, "n_samples": 101}))
+    case = load_case(case_path)
+    simulate(case.model, case.state0, case.t)  # imports and first use, untimed
+    in_process = min(simulate(case.model, case.state0, case.t).wall_s for _ in range(3))
+    cli = min(float(np.load(run_cli(tmp_path, json.loads(case_path.read_text()))[1])["wall_s"]) for _ in range(3))
+    assert cli <= 2.0 * in_process + 1e-3, (cli, in_process)

@@ -8,7 +8,6 @@ balls), the transformation law I' = R I Rᵀ, and constructed tensors Q diag(m) 
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -407,18 +406,11 @@ def test_annulus_non_convex_matches_trimesh() -> None:
     _assert_matches_trimesh(trimesh.creation.annulus(r_min=0.5, r_max=1.0, height=0.4), 1.7)
 
 
-def test_mesh_twenty_thousand_faces_is_fast() -> None:
-    sphere = trimesh.creation.icosphere(subdivisions=5)  # 20480 faces
-    vertices, faces = np.asarray(sphere.vertices), np.asarray(sphere.faces)
-    assert len(faces) == 20480
-    best = min(_timed(lambda: mesh_mass_properties(vertices, faces)) for _ in range(5))
-    assert best < 0.1  # [s]; measured ~7 ms on the 2-core CI machine
-
-
-def _timed(fn) -> float:
-    start = time.perf_counter()
-    fn()
-    return time.perf_counter() - start
+def test_mesh_twenty_thousand_faces_matches_trimesh() -> None:
+    """A 20480-face sphere (its speed: benchmarks/physics_timings.py) against trimesh."""
+    sphere = trimesh.creation.icosphere(subdivisions=5)
+    assert len(sphere.faces) == 20480
+    _assert_matches_trimesh(sphere, 1.0, rtol=1e-10)
 
 
 def test_mass_properties_is_frozen() -> None:

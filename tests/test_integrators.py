@@ -4,14 +4,13 @@ References (none of them the code under test): scipy solve_ivp DOP853 at rtol 1e
 Ṙ = R hat(ω_b) with Euler's equations from physics.dynamics.omega_body_dot (a 3x3 matrix ODE,
 no quaternions), SciPy's Rotation for quaternion <-> matrix, closed forms (a planar pendulum's
 energy, a principal-axis spin), the conservation laws of the exact flow, and error ratios when
-the step is halved (the order).  Timings are only checked as "stops within a second".
+the step is halved (the order).  No timings: "stops early" is checked by counting the work.
 """
 
 from __future__ import annotations
 
 import itertools
 import math
-import time
 
 import numpy as np
 import pytest
@@ -368,10 +367,21 @@ def test_bad_initial_state_raises_at_once(method: str, bad: str) -> None:
         R = R * (1.0 + 1e-6)
     else:
         R = R @ np.diag([1.0, 1.0, -1.0])
-    start = time.perf_counter()
+    hook = CountingHook(lambda t, R, w: np.zeros(3))
     with pytest.raises(IntegrationError, match="non-finite|orthogonal|reflection"):
-        METHODS[method](HEAVY, State(R, omega), np.linspace(0.0, 1.0, 3))
-    assert time.perf_counter() - start < 1.0
+        METHODS[method](Model(HEAVY.inertia, HEAVY.mgl, extra_torque=hook), State(R, omega), np.linspace(0.0, 1.0, 3))
+    assert hook.calls == 0  # refused before any work
+
+
+class CountingHook:
+    """A torque hook that counts its calls: the work a run did, without a clock."""
+
+    def __init__(self, torque: object) -> None:
+        self.torque, self.calls = torque, 0
+
+    def __call__(self, t: float, R: np.ndarray, w: np.ndarray) -> np.ndarray:
+        self.calls += 1
+        return self.torque(t, R, w)  # type: ignore[operator,no-any-return]
 
 
 def unstable_hook(t: float, R: np.ndarray, omega: np.ndarray) -> np.ndarray:
@@ -385,12 +395,14 @@ def nan_hook(t: float, R: np.ndarray, omega: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("method", list(METHODS))
 @pytest.mark.parametrize("hook", [unstable_hook, nan_hook], ids=["blow-up", "nan torque"])
-def test_blow_up_or_nan_torque_stops_within_a_second(method: str, hook: object) -> None:
-    model = Model((1.0, 1.5, 2.0), extra_torque=hook)  # type: ignore[arg-type]
-    start = time.perf_counter()
+def test_blow_up_or_nan_torque_stops_early(method: str, hook: object) -> None:
+    """Stopped by the guards after a bounded amount of work (measured <= 15530 hook calls, the
+    real-time stepping of the blow-up; 62-310 for a NaN), naming the time."""
+    counted = CountingHook(hook)
+    model = Model((1.0, 1.5, 2.0), extra_torque=counted)
     with pytest.raises(IntegrationError, match=r"blow-up|non-finite|sub-steps") as info:
         METHODS[method](model, State(R_GENERIC, np.array([0.3, 0.2, 3.0])), np.linspace(0.0, 5.0, 11))
-    assert time.perf_counter() - start < 1.0
+    assert counted.calls < 20_000
     assert "t = " in str(info.value)
 
 

@@ -9,7 +9,6 @@ rotations, and scipy solve_ivp DOP853 at rtol 1e-12 on Ṙ = R hat(ω_b) + Euler
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -354,11 +353,24 @@ def test_energy_is_conserved_to_the_tolerance_only():
 
 @pytest.mark.parametrize("R0", [np.eye(3), np.diag([1.0, -1.0, -1.0]), R_scipy(np.array([0.4, 1e-7, 0.2]))])
 def test_start_at_gimbal_lock_raises_immediately(R0):
-    start = time.perf_counter()
+    """Refused before the first evaluation of the equations (a zero hook counts them)."""
+    hook = CountingHook(lambda t, R, w: np.zeros(3))
     message = r"Lagrangian is singular at θ = .*t = 0 s.*use another method"
     with pytest.raises(EulerLagrangeSingularityError, match=message):
-        integrate_euler_lagrange(Model((1.0, 2.0, 2.5)), State(R0, np.array([1.0, 0.5, 0.2])), np.linspace(0, 1, 5))
-    assert time.perf_counter() - start < 0.5
+        integrate_euler_lagrange(Model((1.0, 2.0, 2.5), extra_torque=hook), State(R0, np.array([1.0, 0.5, 0.2])),
+                                 np.linspace(0, 1, 5))
+    assert hook.calls == 0
+
+
+class CountingHook:
+    """A torque hook that counts its calls: the work a run did, without a clock."""
+
+    def __init__(self, torque):
+        self.torque, self.calls = torque, 0
+
+    def __call__(self, t, R, w):
+        self.calls += 1
+        return self.torque(t, R, w)
 
 
 def steady_rotation_near_pole(axis_z: float, theta0: float, w: float):
@@ -384,11 +396,10 @@ def test_trajectory_through_pole_stops_at_the_right_time(pole):
     model, state0, sin_theta = steady_rotation_near_pole(1e-4, theta0, w)
     assert sin_theta(0.5) == pytest.approx(1e-4, rel=1e-6)
     t_hit = brentq(lambda t: sin_theta(t) - SIN_THETA_STOP, 0.0, 0.5, xtol=1e-14)
-    start = time.perf_counter()
+    hook = CountingHook(lambda t, R, w: np.zeros(3))  # counts the evaluations (measured ~1300)
     with pytest.raises(EulerLagrangeSingularityError, match="singular at θ") as info:
-        integrate_euler_lagrange(model, state0, np.linspace(0.0, 3.0, 61))
-    elapsed = time.perf_counter() - start
-    assert elapsed < 2.0
+        integrate_euler_lagrange(Model(model.inertia, extra_torque=hook), state0, np.linspace(0.0, 3.0, 61))
+    assert hook.calls < 5000  # stops at the threshold instead of grinding into the pole
     assert info.value.t == pytest.approx(t_hit, abs=1e-8)
     assert math.sin(info.value.theta) == pytest.approx(SIN_THETA_STOP, rel=1e-6)
     assert (info.value.theta < 0.5) == (pole == "north")
@@ -402,7 +413,7 @@ def test_trajectory_just_outside_threshold_integrates():
     traj = integrate_euler_lagrange(model, state0, t_eval)
     R_exact = np.array([state0.R_space_body @ Rotation.from_rotvec([-2.0 * t, 0, 0]).as_matrix() for t in t_eval])
     assert np.abs(traj.R_space_body - R_exact).max() < 1e-8
-    assert traj.wall_s < 2.0
+    assert traj.evaluations < 5000  # measured ~1950: the near-pole stretch does not stall the solver
 
 
 @pytest.mark.parametrize("bad", ["R", "omega"])
@@ -418,12 +429,11 @@ def test_nan_input_raises(bad):
 
 
 def test_non_finite_torque_during_run_stops_with_time():
-    model = Model((1.0, 2.0, 2.5), extra_torque=lambda t, R, w: np.full(3, np.nan) if t > 0.5 else np.zeros(3))
-    start = time.perf_counter()
+    hook = CountingHook(lambda t, R, w: np.full(3, np.nan) if t > 0.5 else np.zeros(3))
     with pytest.raises(IntegrationError, match=r"at t = 0\.5.*non-finite"):
         state0 = State(R_scipy(np.array([0.3, 1.1, -0.4])), np.array([0.5, 0.2, 1.5]))
-        integrate_euler_lagrange(model, state0, np.linspace(0, 2, 5))
-    assert time.perf_counter() - start < 1.0
+        integrate_euler_lagrange(Model((1.0, 2.0, 2.5), extra_torque=hook), state0, np.linspace(0, 2, 5))
+    assert hook.calls < 500  # stops at the first NaN (measured ~85), does not keep shrinking the step
 
 
 def test_bad_times_are_refused():
