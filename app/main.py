@@ -21,6 +21,7 @@ from collections.abc import Callable, Sequence
 
 import viser
 
+from app.backpressure import FramePacer, PacerStats
 from app.kit.presets import PresetError
 from app.kit.room import Room
 from app.scenes import check_presets
@@ -57,6 +58,7 @@ class App:
         self.sessions: dict[int, Session] = {}
         self.tick_hz = tick_hz
         self.tick_count = 0
+        self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
         self._session_factory = session_factory
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
@@ -116,25 +118,37 @@ class App:
         return list({id(s.room): s.room for s in sessions if not s.closed}.values())
 
     def _run_loop(self) -> None:
-        """Tick every room at `tick_hz` (its simulation advances once, its views draw), paced."""
-        period = 1.0 / self.tick_hz
-        last = next_time = time.perf_counter()
+        """Advance every room once a frame and draw its views, paced by a `FramePacer`.
+
+        A view whose previous frame is still queued in viser (a slow or stalled client, or an
+        overloaded server) skips this frame and later draws the current state, its throttles
+        fed the time it skipped.  Under overload the whole loop slows down, so every client
+        drops frames evenly, and the loop sleeps (GIL released) while viser's sender runs.
+        """
+        pacer = FramePacer(self.tick_hz, sleep=self._stop.wait)
+        owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
         while not self._stop.is_set():
-            now = time.perf_counter()
-            dt = min(now - last, MAX_TICK_DT)
-            last = now
-            for room in self.rooms():
-                try:
-                    room.tick(dt)  # views report their own errors; this is a second net
-                except Exception:  # noqa: BLE001
-                    logger.exception("%s: tick failed", room.scene.title)
+            dt = min(pacer.begin(), MAX_TICK_DT)
+            rooms = self.rooms()
+            views = [(room, view) for room in rooms for view in list(room.views)]
+            drawn = []
+            with pacer.hold(view.client for _, view in views):
+                for room in rooms:
+                    try:
+                        room.advance(dt)
+                    except Exception:  # noqa: BLE001 - a second net; rooms report their own errors
+                        logger.exception("%s: advance failed", room.scene.title)
+                for room, view in views:
+                    owed[id(view)] = owed.get(id(view), 0.0) + dt
+                    if pacer.ready(view.client):
+                        room.draw(view, owed.pop(id(view)))
+                        drawn.append(view.client)
+            if len(owed) > 2 * len(views) + 16:  # views that left
+                live = {id(view) for _, view in views}
+                owed = {key: value for key, value in owed.items() if key in live}
             self.tick_count += 1
-            next_time += period
-            delay = next_time - time.perf_counter()
-            if delay < -5 * period:  # fell far behind: skip frames instead of bursting
-                next_time = time.perf_counter()
-                delay = 0.0
-            self._stop.wait(max(delay, 0.0))
+            self.pacer_stats = pacer.stats
+            pacer.end(drawn)
 
     def stop(self) -> None:
         """Stop the loop and the server (idempotent)."""

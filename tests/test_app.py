@@ -155,7 +155,7 @@ def test_each_client_gets_its_own_session_gui_and_body(wait_until, app: App, con
 def test_sessions_are_ticked_by_a_paced_60hz_loop(app: App, connect) -> None:
     session = one_session(app, connect)
     dts: list[float] = []
-    session.room.tick = dts.append  # type: ignore[method-assign]
+    session.room.advance = dts.append  # type: ignore[method-assign]
     time.sleep(1.0)
     # 60 Hz nominal; generous lower bound for a loaded 2-core machine, strict upper bound
     # (a busy loop would give thousands).

@@ -15,7 +15,8 @@
 
 All of a room's work runs under `room.lock` (re-entrant: assigning a handle's value on the
 server runs its callback synchronously), taken by the loop's tick and by the session's guard
-around every callback.
+around every callback.  The app loop calls `advance` once per frame and `draw` for each view
+whose previous frame has left (`app.backpressure.FramePacer`); `tick` does both for one room.
 """
 
 from __future__ import annotations
@@ -184,8 +185,9 @@ class Room:
         if take_sample is not None:
             take_sample()
 
-    def tick(self, dt: float) -> None:
-        """One frame of the app loop: dt [s] of wall time; the simulation advances once."""
+    def advance(self, dt: float) -> None:
+        """The simulation's part of a frame: dt [s] of wall time times the time scale, if playing
+        (once per frame, whatever the number of views); plot samples at SAMPLE_PERIOD."""
         with self.lock:
             if self.playing and self._advance(dt * self.time_scale):
                 self.ticks += 1
@@ -193,8 +195,19 @@ class Room:
                 if self._since_sample >= SAMPLE_PERIOD * (1.0 - 1e-9):
                     self._since_sample = 0.0
                     self._sample()
+
+    def draw(self, view: Any, dt: float) -> None:
+        """One view's part of a frame (dt [s] of wall time since it last drew); its errors go
+        to its own session, never to the loop or the other views."""
+        with self.lock:
+            try:
+                view.frame(dt)
+            except Exception as error:  # noqa: BLE001 - one broken view must not stop the others
+                view.report_error("frame", error)
+
+    def tick(self, dt: float) -> None:
+        """One frame: the simulation advances once, then every view draws."""
+        with self.lock:
+            self.advance(dt)
             for view in list(self.views):
-                try:
-                    view.frame(dt)
-                except Exception as error:  # noqa: BLE001 - one broken view must not stop the others
-                    view.report_error("frame", error)
+                self.draw(view, dt)
