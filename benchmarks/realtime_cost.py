@@ -72,7 +72,9 @@ def stepper_run(model: Model, state0: State, dt: float) -> Callable[[int], None]
     return run
 
 
-def function_run(step: Callable[..., tuple[State, int]], model: Model, state0: State, dt: float) -> Callable[[int], None]:
+def function_run(
+    step: Callable[..., tuple[State, int]], model: Model, state0: State, dt: float
+) -> Callable[[int], None]:
     def run(frames: int) -> None:
         state = state0
         for _ in range(frames):
@@ -88,7 +90,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     old = baseline_module(args.baseline) if args.baseline else None
     print(f"ms of wall per simulated second (best of {RUNS} runs of {args.seconds:g} s)")
-    print(f"| case | frame dt [s] | RealtimeStepper.step | step_realtime (stateless) | old step_realtime @ {args.baseline} |")
+    print("| case | frame dt [s] | RealtimeStepper.step | step_realtime (stateless) | "
+          f"old step_realtime @ {args.baseline} |")
     print("|---|---|---|---|---|")
     for name in CASES:
         case = load_case(ROOT / "benchmarks" / "cases" / f"{name}.json")
@@ -100,7 +103,9 @@ def main(argv: list[str] | None = None) -> int:
             cells = [f"{new:.2f}", f"{stateless:.2f}"]
             if old is not None:
                 old_step = old.step_realtime  # type: ignore[attr-defined]
-                cells.append(f"{ms_per_simulated_second(function_run(old_step, case.model, case.state0, dt), frames, args.seconds):.2f}")
+                old_ms = ms_per_simulated_second(function_run(old_step, case.model, case.state0, dt), frames,
+                                                 args.seconds)
+                cells.append(f"{old_ms:.2f}")
             else:
                 cells.append("n/a")
             print(f"| {name} | 1/{round(1 / dt)} | " + " | ".join(cells) + " |", flush=True)

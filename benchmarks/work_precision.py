@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
-import json
 import math
 import platform
 import sys
@@ -243,7 +242,7 @@ def plot(points: list[Point], path: Path) -> None:
               "exact": ("tab:green", "*"), "mujoco rk4": ("tab:purple", "d")}
     for ax, name in zip(axes.flat, names):
         for method, (color, marker) in styles.items():
-            pts = sorted((p.wall_s, max(p.attitude_error, 1e-17)) for p in points if p.case == name and p.method == method)
+            pts = sorted((p.wall_s, max(p.attitude_error, 1e-17)) for p in points if p.case == name and p.method == method)  # noqa: E501
             if pts:
                 ax.loglog(*zip(*pts), marker=marker, color=color, label=method, ms=8 if marker == "*" else 5)
         ax.set_title(name.replace("_", " "))
@@ -275,7 +274,7 @@ def main(argv: list[str] | None = None) -> int:
              f"Python {platform.python_version()}. Errors are the maximum over the case's output times.",
              ""]
     lines += ["## Work-precision", "",
-              "| case | reference | method | setting | attitude error [rad] | max ΔE/E | max ΔL/L (free: norm, top: L_z) | evaluations | wall [s] |",
+              "| case | reference | method | setting | attitude error [rad] | max ΔE/E | max ΔL/L (free: norm, top: L_z) | evaluations | wall [s] |",  # noqa: E501
               "|---|---|---|---|---|---|---|---|---|"]
     ratio_lines = ["", "## Wall-time ratio against DOP853 at equal error", "",
                    "Each cell: this method's wall time / DOP853's, at DOP853's error (its three most accurate runs). "
@@ -289,13 +288,13 @@ def main(argv: list[str] | None = None) -> int:
         for method, runs in sweeps(case, args.quick).items():
             for setting, thunk in runs:
                 try:
-                    p = run_point(name, case, R_ref, method, setting, lambda: best_of(1 if args.quick or case.t[-1] > 1000.0 else 2, thunk))
+                    p = run_point(name, case, R_ref, method, setting, lambda case=case, thunk=thunk: best_of(1 if args.quick or case.t[-1] > 1000.0 else 2, thunk))  # noqa: E501
                 except Exception as error:  # a method that fails on a case is reported, not hidden
                     lines.append(f"| {name} | {how} | {method} | {setting} | fails: {error} | | | | |")
                     continue
                 points.append(p)
                 by_method.setdefault(method, []).append(p)
-                lines.append(f"| {name} | {how} | {method} | {setting} | {p.attitude_error:.2e} | {p.energy_drift:.1e} | "
+                lines.append(f"| {name} | {how} | {method} | {setting} | {p.attitude_error:.2e} | {p.energy_drift:.1e} | "  # noqa: E501
                              f"{p.L_drift:.1e} | {p.evaluations} | {p.wall_s:.4f} |")
                 print(lines[-1], flush=True)
         for method, cell in ratios_at_equal_error(by_method, "dop853 (scipy)").items():
@@ -308,16 +307,16 @@ def main(argv: list[str] | None = None) -> int:
     for name in names:
         case = load_case(CASES / f"{name}.json")
         row = realtime_rows(name, case, 1.0 / 240.0, t_end=2.0 if args.quick else 100.0)
-        lines.append(f"| {name} | {row['error']:.1e} | {row['energy']:.1e} | {row['L']:.1e} | {row['ms_per_s']:.2f} | {row['evals']} |")
+        lines.append(f"| {name} | {row['error']:.1e} | {row['energy']:.1e} | {row['L']:.1e} | {row['ms_per_s']:.2f} | {row['evals']} |")  # noqa: E501
         print(lines[-1], flush=True)
 
     if "long_run" in names and not args.quick:
         case = load_case(CASES / "long_run.json")
         row = long_run_drift(case)
         lines += ["", f"## Long run ({case.t[-1]:.0f} s, splitting4 at its default step)", "",
-                  "| max ΔE/E | linear trend of ΔE/E over the run | max ΔL/L | attitude error [rad] | wall [s] | evaluations |",
+                  "| max ΔE/E | linear trend of ΔE/E over the run | max ΔL/L | attitude error [rad] | wall [s] | evaluations |",  # noqa: E501
                   "|---|---|---|---|---|---|",
-                  f"| {row['max_dE']:.1e} | {row['trend']:.1e} | {row['L']:.1e} | {row['error']:.1e} | {row['wall']:.2f} | {row['evals']} |"]
+                  f"| {row['max_dE']:.1e} | {row['trend']:.1e} | {row['L']:.1e} | {row['error']:.1e} | {row['wall']:.2f} | {row['evals']} |"]  # noqa: E501
         print(lines[-1], flush=True)
 
     args.out.write_text("\n".join(lines) + "\n")

@@ -85,7 +85,9 @@ def main(argv: list[str] | None = None) -> int:
         if not args.realtime and name not in methods():
             raise CaseError(f"--method: unknown {name!r}; choose one of {', '.join(methods())}")
         if not args.realtime and not methods()[name].applies(case.model):
-            raise CaseError(f"--method {name}: does not apply to a {case.model.kind} model with inertia {case.model.inertia}")
+            raise CaseError(
+                f"--method {name}: does not apply to a {case.model.kind} model with inertia {case.model.inertia}"
+            )
     except CaseError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2

@@ -1,7 +1,7 @@
 """Array type aliases used in signatures. Shapes are given in each docstring."""
 
-from numpy.typing import NDArray
 import numpy as np
+from numpy.typing import NDArray
 
 Vec3 = NDArray[np.float64]  # (3,)
 Mat3 = NDArray[np.float64]  # (3, 3)

@@ -407,7 +407,7 @@ def box_inertia(mass: float, extents: ArrayLike) -> Vec3:
     m = _positive("mass", mass)
     e = np.asarray(extents, dtype=float)
     if e.shape != (3,) or not np.all(np.isfinite(e)) or np.any(e < 0.0):
-        raise ValueError(f"extents must be (3,) finite and >= 0, got {extents}")
+        raise ValueError(f"extents must be (3,) finite and >= 0, got {e.tolist()}")
     a2, b2, c2 = e * e
     return m / 12.0 * np.array([b2 + c2, a2 + c2, a2 + b2])
 

@@ -447,6 +447,7 @@ def integrate_euler_lagrange(
             rhs, (t0, float(t_eval[-1])), y0, method="DOP853", t_eval=t_eval, events=near_pole, rtol=rtol, atol=atol
         )
         if sol.status == 1:
+            assert sol.t_events is not None and sol.y_events is not None  # events were given
             t_hit, y_hit = float(sol.t_events[0][0]), sol.y_events[0][0]
             raise EulerLagrangeSingularityError(t_hit, float(y_hit[1]), f" (sin θ fell to {min_sin_theta:g})")
         if sol.status != 0:

@@ -39,7 +39,7 @@ def exact_solution(model: Model, state0: State) -> Callable[[np.ndarray], tuple[
     from physics.exact_top import HeavySymmetricTopExact
 
     if model.kind == "free":
-        return FreeBodyExact(model.inertia, state0.R_space_body, state0.omega_body)
+        return FreeBodyExact(np.array(model.inertia), state0.R_space_body, state0.omega_body)
     if _has_closed_form(model):
         I1, _, I3 = model.inertia
         return HeavySymmetricTopExact(I1, I3, model.mgl, state0.R_space_body, state0.omega_body)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from math import sqrt
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -71,7 +72,8 @@ def wxyz_from_matrix(R_space_body: ArrayLike) -> Wxyz:
     """
     if isinstance(R_space_body, np.ndarray):
         return wxyz_from_row_major(R_space_body.ravel().tolist())
-    return wxyz_from_row_major([float(v) for row in R_space_body for v in row])  # type: ignore[union-attr]
+    rows = cast(Sequence[Sequence[float]], R_space_body)
+    return wxyz_from_row_major([float(v) for row in rows for v in row])
 
 
 def row_major_from_wxyz(w: float, x: float, y: float, z: float) -> list[float]:

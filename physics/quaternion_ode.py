@@ -35,7 +35,7 @@ def quaternion_rhs(model: Model) -> Rhs:
 
     if kind == "free":
 
-        def rhs(
+        def rhs_free(
             t: float, qw: float, qx: float, qy: float, qz: float, w1: float, w2: float, w3: float
         ) -> tuple[float, ...]:
             h1, h2, h3 = 0.5 * w1, 0.5 * w2, 0.5 * w3
@@ -49,12 +49,12 @@ def quaternion_rhs(model: Model) -> Rhs:
                 k3 * w1 * w2,
             )
 
-        return rhs
+        return rhs_free
 
     if kind == "heavy_top":
         c1, c2 = 2.0 * mgl / i1, 2.0 * mgl / i2
 
-        def rhs(
+        def rhs_top(
             t: float, qw: float, qx: float, qy: float, qz: float, w1: float, w2: float, w3: float
         ) -> tuple[float, ...]:
             h1, h2, h3 = 0.5 * w1, 0.5 * w2, 0.5 * w3
@@ -69,7 +69,7 @@ def quaternion_rhs(model: Model) -> Rhs:
                 k3 * w1 * w2,
             )
 
-        return rhs
+        return rhs_top
 
     tx, ty, tz = model.torque_space
     hook = model.extra_torque

@@ -124,7 +124,8 @@ class RealtimeStepper:
         if n > MAX_SUBSTEPS:
             raise IntegrationError(
                 f"at t = {self._t:.9g} s the rate scale {self._rate:.3g} rad/s needs {n} sub-steps per display "
-                f"step of {dt:g} s, more than MAX_SUBSTEPS = {MAX_SUBSTEPS}: a blow-up, or a spin too fast for real time"
+                f"step of {dt:g} s, more than MAX_SUBSTEPS = {MAX_SUBSTEPS}: a blow-up, or a spin too fast for "
+                "real time"
             )
         t0 = self._t
         key = (dt, n)

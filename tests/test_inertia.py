@@ -398,7 +398,8 @@ def test_random_convex_hull_and_rigid_motion(seed: int) -> None:
     moved = mesh_mass_properties(hull.vertices @ R.T + t, hull.faces, density)
     assert moved.mass == pytest.approx(props.mass, rel=1e-12)
     np.testing.assert_allclose(moved.center_of_mass, R @ props.center_of_mass + t, atol=1e-11)
-    np.testing.assert_allclose(moved.inertia_cm, R @ props.inertia_cm @ R.T, atol=1e-11 * np.abs(props.inertia_cm).max())
+    scale = np.abs(props.inertia_cm).max()
+    np.testing.assert_allclose(moved.inertia_cm, R @ props.inertia_cm @ R.T, atol=1e-11 * scale)
     validate_inertia_tensor(props.inertia_cm)
 
 
