@@ -198,6 +198,8 @@ class ClientState:
         self.gui: dict[str, GuiElement] = {}
         self.replay_done = False
         self.errors: collections.deque[str] = collections.deque(maxlen=100)
+        self.count_only = False  # True: frames are counted, not decoded (load tests)
+        self.max_frame_gap = 0.0  # [s] longest time between two frames since `count_only` was set
         self.first_frame_time = math.nan
         self.last_frame_time = math.nan
 
@@ -205,6 +207,14 @@ class ClientState:
     def ingest(self, data: bytes | str, now: float | None = None) -> None:
         """Decode one server frame and update the tables (errors are recorded, not raised)."""
         now = time.monotonic() if now is None else now
+        if self.count_only:  # a load client that has pressed what it needs: count, do not decode
+            with self.lock:
+                self.frames += 1
+                self.bytes_received += len(data)
+                if self.last_frame_time == self.last_frame_time:  # not NaN
+                    self.max_frame_gap = max(self.max_frame_gap, now - self.last_frame_time)
+                self.last_frame_time = now
+            return
         if isinstance(data, str):
             data = data.encode()
         try:
