@@ -1,5 +1,5 @@
 """Command line: `python -m physics simulate CASE.json --out TRAJ.npz` and `python -m physics
-methods` (CASEFILE.md).  Exit 0 on success, 2 for a case that is not a physical problem (one
+methods` (docs/CASEFILE.md).  Exit 0 on success, 2 for a case that is not a physical problem (one
 line on stderr, no output file), 1 when a run fails (a non-finite state, a singularity)."""
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ def _euler_along(R: np.ndarray) -> np.ndarray:
 
 
 def write_trajectory(path: Path, model: Model, trajectory: Trajectory) -> None:
-    """TRAJ.npz with the keys of CASEFILE.md."""
+    """TRAJ.npz with the keys of docs/CASEFILE.md."""
     R, omega = trajectory.R_space_body, trajectory.omega_body
     np.savez(
         path,
@@ -59,7 +59,7 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m physics", description=__doc__.split("\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
     run = commands.add_parser("simulate", help="integrate a case file and write TRAJ.npz")
-    run.add_argument("case", type=Path, help="CASE.json (see CASEFILE.md)")
+    run.add_argument("case", type=Path, help="CASE.json (see docs/CASEFILE.md)")
     run.add_argument("--out", type=Path, required=True, help="output TRAJ.npz")
     run.add_argument("--method", help="a name from `python -m physics methods` (default: the most accurate)")
     run.add_argument("--realtime", action="store_true", help="step frame by frame as the app does")

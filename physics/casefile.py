@@ -1,4 +1,4 @@
-"""Case files (CASEFILE.md): one rigid-body problem as JSON -> (Model, State, output times).
+"""Case files (docs/CASEFILE.md): one rigid-body problem as JSON -> (Model, State, output times).
 
 Every problem with the input raises `CaseError` with a one-line message naming it; nothing
 is computed for a case that is not a physical problem.
@@ -23,7 +23,7 @@ __all__ = ["Case", "CaseError", "case_from_dict", "load_case"]
 _KEYS = {"model", "inertia", "mgl", "torque_space", "R0", "omega0_body", "euler0", "euler_rates0",
          "t", "t_end", "n_samples"}
 _MODELS = ("free", "heavy_top", "const_torque")
-ORTHOGONALITY_TOL = 1e-9  # ‖R0ᵀR0 − 1‖ above this is not a rotation (CASEFILE.md)
+ORTHOGONALITY_TOL = 1e-9  # ‖R0ᵀR0 − 1‖ above this is not a rotation (docs/CASEFILE.md)
 
 
 class CaseError(ValueError):

@@ -1,6 +1,6 @@
 """The rigid body's model and state, and the quantities every integrator shares (memo §6).
 
-Equations (PHYSICS.md), body axes = principal axes, no Euler angles:
+Equations (docs/CONVENTIONS.md), body axes = principal axes, no Euler angles:
     Ṙ = R hat(ω_b),    I ω̇_b + ω_b × (I ω_b) = Rᵀ M,
 with R = R_space_body (the memo's D), ω_b the body components of ω (usual sign), I = diag(I1,
 I2, I3) about the centre of mass (or about the fixed pivot of a top) and M the torque in space

@@ -1,6 +1,6 @@
 """z-x-z Euler angles (memo §1): attitude, its geometry, and angular velocity.
 
-Conventions (PHYSICS.md):
+Conventions (docs/CONVENTIONS.md):
 
 * ``R_space_body = exp(φ A3) exp(θ A1) exp(ψ A3) = Rz(φ) Rx(θ) Rz(ψ)`` (1.13), the memo's D;
   equal to ``Rotation.from_euler("ZXZ", [φ, θ, ψ]).as_matrix()`` (upper case: intrinsic).

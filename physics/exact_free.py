@@ -1,6 +1,6 @@
 """Exact torque-free motion of a rigid body: the reference ("ghost") for every integrator.
 
-Conventions (PHYSICS.md): ``x_space = R_space_body @ x_body``; ``hat(ω_b) = Rᵀ Ṙ``;
+Conventions (docs/CONVENTIONS.md): ``x_space = R_space_body @ x_body``; ``hat(ω_b) = Rᵀ Ṙ``;
 Euler's equations ``I ω̇_b = (I ω_b) × ω_b``; ``L_space = R I ω_b`` and ``2T = ω_b · I ω_b``
 are conserved.  Times in [s], rates in [rad/s], moments in [kg m^2].
 
@@ -344,7 +344,7 @@ def jacobi_third_kind(u: float | Array, nu: float, m: float, m1: float | None = 
 def _matrix_zxz(phi: Array, c2: Array, s2: Array, c3: Array, s3: Array) -> Array:
     """Rz(φ) Rx(θ) Rz(ψ), vectorised: φ (N,), (cos θ, sin θ, cos ψ, sin ψ) (N,) -> (N, 3, 3).
 
-    Same matrix as `physics.euler.matrix_from_euler_zxz` (PHYSICS.md (1.13))."""
+    Same matrix as `physics.euler.matrix_from_euler_zxz` (docs/CONVENTIONS.md (1.13))."""
     c1, s1 = np.cos(phi), np.sin(phi)
     M = np.empty(phi.shape + (3, 3))
     M[..., 0, 0] = c1 * c3 - s1 * c2 * s3

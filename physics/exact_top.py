@@ -2,7 +2,7 @@
 
 The reference every heavy-top integrator is measured against, and the app's exact "ghost".
 
-Conventions (PHYSICS.md, CASEFILE.md):
+Conventions (docs/CONVENTIONS.md, docs/CASEFILE.md):
 
 * ``R_space_body`` maps body components to space components, ``x = R x'`` (the memo's D).
   z-x-z Euler angles: ``R = Rz(φ) Rx(θ) Rz(ψ)``.
@@ -72,7 +72,7 @@ from physics.quaternion import matrices_from_wxyz, wxyz_from_matrix
 
 __all__ = ["HeavySymmetricTopExact", "steady_precession_rate"]
 
-_ORTHO_TOL = 1e-9  # ‖R0ᵀ R0 - 1‖ allowed before R0 is refused (CASEFILE.md)
+_ORTHO_TOL = 1e-9  # ‖R0ᵀ R0 - 1‖ allowed before R0 is refused (docs/CASEFILE.md)
 _LANDEN_MAX_LEVELS = 40
 # Below these scales the model is changed by far less than the rounding of the data, so that
 # every argument of Carlson's R_J stays >= ~1e-121, where SciPy's elliprj is exact to rounding:

@@ -1,6 +1,6 @@
 """Inertia tensors (memo §3): particles, polyhedral meshes, principal axes, validation.
 
-Conventions (PHYSICS.md, memo 3.1-3.8):
+Conventions (docs/CONVENTIONS.md, memo 3.1-3.8):
 
 * The inertia tensor about a point O of particles at x_i (vectors from O, space or body
   components alike) is ``I = Σ m_i (|x_i|² 1 - x_i x_iᵀ)`` (3.5), so that ``L = I ω`` and

@@ -8,7 +8,7 @@ Generic system (memo 5.1-5.13).  Generalized coordinates q (m,), kinetic energy
     T(t, q, q̇) = ½ q̇ᵀ M(q) q̇ + b(t, q)·q̇ + T0(t, q),
 
 generalized forces Q_j = Σ_i F_i · ∂x_i/∂q_j (5.12) given as a function Q(t, q, q̇).  Lagrange's
-equations d/dt ∂T/∂q̇ - ∂T/∂q = Q (5.13) in matrix form (PHYSICS.md):
+equations d/dt ∂T/∂q̇ - ∂T/∂q = Q (5.13) in matrix form (docs/CONVENTIONS.md):
 
     M q̈ = Q - Ṁ q̇ + ∂T/∂q                                  (b = T0 = 0)
     M q̈ = Q - Ṁ q̇ + ½ q̇ᵀ(∂M/∂q)q̇ - (B - Bᵀ) q̇ - ∂b/∂t + ∂T0/∂q     (general)

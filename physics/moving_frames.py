@@ -1,6 +1,6 @@
 """Moving frames (memo §1, §4): velocity, acceleration and inertial forces seen from C'.
 
-Conventions (PHYSICS.md):
+Conventions (docs/CONVENTIONS.md):
 
 * A particle has space coordinates x (frame C, inertial) and body coordinates x' (frame C',
   moving): ``x = a + R_space_body x'`` (1.13), ``R_space_body`` the memo's D, a [m] the

@@ -1,6 +1,6 @@
 """Rotations in SO(3) as 3x3 matrices, and the skew ("hat") map of the memo (§1).
 
-Conventions used throughout `physics` (see PHYSICS.md):
+Conventions used throughout `physics` (see docs/CONVENTIONS.md):
 
 * Active rotations on column vectors: ``x_space = R_space_body @ x_body`` (the memo's
   x = a + D x'). ``R_space_body`` is the memo's D.

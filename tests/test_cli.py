@@ -1,4 +1,4 @@
-"""`python -m physics` behaves as CASEFILE.md says, bad-input rules included."""
+"""`python -m physics` behaves as docs/CASEFILE.md says, bad-input rules included."""
 
 from __future__ import annotations
 

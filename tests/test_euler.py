@@ -1,7 +1,7 @@
 """Tests of physics.euler: z-x-z angles, their singularities, frames and angular velocity.
 
 Independent references: scipy.spatial.transform.Rotation (matrices, as_euler, magnitudes),
-scipy.linalg.expm, the closed forms of PHYSICS.md, and finite differences of R(t).
+scipy.linalg.expm, the closed forms of docs/CONVENTIONS.md, and finite differences of R(t).
 
 Tolerances, all visible below:
 * MATRIX_TOL = 4e-15 (absolute on rotation matrices): matrix products vs scipy, and
@@ -411,7 +411,7 @@ def test_memo_omega_is_minus_omega_body(
     R, Rdot, tol = R_and_Rdot(euler, rates)
     # (1.21): hat(ω_memo) = (R⁻¹)˙ R = Ṙᵀ R, by finite differences.
     assert max_err(memo, vee(Rdot.T @ R)) <= tol
-    # = -ω_b, with ω_b written out from PHYSICS.md.
+    # = -ω_b, with ω_b written out from docs/CONVENTIONS.md.
     dphi, dtheta, dpsi = rates
     st_, ct, ss, cs = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
     omega_b = [dphi * st_ * ss + dtheta * cs, dphi * st_ * cs - dtheta * ss, dphi * ct + dpsi]

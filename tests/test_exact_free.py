@@ -10,7 +10,7 @@ Every reference is independent of the code under test:
   accurate, for the cases where DOP853 is not accurate enough (near the separatrix an error
   ε in the state is amplified by ~1/|δ|, δ = (|L|² - 2T I2)/|L|²: DOP853 and its own
   tighter/looser runs differ by ~5e-16/|δ|, so its tolerance below is written that way);
-* closed forms: symmetric top (PHYSICS.md), steady rotation R0 expm(t hat(ω)), the textbook
+* closed forms: symmetric top (docs/CONVENTIONS.md), steady rotation R0 expm(t hat(ω)), the textbook
   flip half-period 2K(m)/λ (Landau & Lifshitz §37).
 
 Figures measured when these tests were written (2-core machine): attitude error vs DOP853
@@ -457,7 +457,7 @@ def test_euler_equations_and_kinematics_by_finite_differences(body, t0):
 
 
 def symmetric_closed_form(I, R0, w0, axis, t):
-    """PHYSICS.md: I_⊥ = the two equal moments, e the symmetry axis.  In space the body turns
+    """docs/CONVENTIONS.md: I_⊥ = the two equal moments, e the symmetry axis.  In space the body turns
     about L at |L|/I_⊥; in the body ω turns about e at Ω = (I_e - I_⊥) ω_e / I_⊥:
     R(t) = exp(|L| t/I_⊥ hat(l)) R0 exp(-Ω t hat(e)),  ω_b(t) = exp(Ω t hat(e)) ω0."""
     I_perp, I_e = I[(axis + 1) % 3], I[axis]
