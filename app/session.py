@@ -60,6 +60,7 @@ class Session:
         self.gui_scene = gui.add_dropdown("Scene", tuple(SCENES), initial_value=scene,
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))
+        self._guarded_tick = self.guard("tick", self._tick)
         self.room = Room(SCENES[scene], SCENES[scene].new_simulation())
         self.scene: Any = self._new_view(self.room)
 
@@ -175,7 +176,10 @@ class Session:
     def tick(self, dt: float) -> None:
         """Advance the session's room by dt [s] of wall time (what the loop does for every room)."""
         if not self.closed:
-            self.guard("tick", lambda: self.room.tick(dt))()
+            self._guarded_tick(dt)
+
+    def _tick(self, dt: float) -> None:
+        self.room.tick(dt)
 
     def close(self) -> None:
         """Leave the room (its client is gone; viser drops the client's nodes)."""

@@ -5,7 +5,7 @@ loop NOT running, connects one pure-Python client (ws_client.py), selects the sc
 Play through the GUI messages a browser sends, and then calls `Session.tick(1/60)` itself,
 `--frames` times, paced at 60 Hz (as the app's loop does; --unpaced runs them back to back),
 timing each call with `time.perf_counter`.  The "physics only" column replays the same motion
-with `physics.integrators.step_realtime` alone, from the same model and state the scene had
+with `physics.realtime.RealtimeStepper` alone (one kept stepper, as the app does), from the same model and state the scene had
 when the timed ticks began; the scene-update share is the difference of the medians.
 
     python benchmarks/frame_cost.py                 # 2000 frames per scene, paced (~70 s)
@@ -44,6 +44,10 @@ if str(ROOT) not in sys.path:
 from benchmarks.load_clients import SCENES, find_play_control, find_scene_dropdown  # noqa: E402
 from benchmarks.ws_client import ViserClient, gui_update_message  # noqa: E402
 from physics.dynamics import Model, State  # noqa: E402
+try:  # the app keeps one stepper per simulation
+    from physics.realtime import RealtimeStepper  # noqa: E402
+except ImportError:  # an older tree (--baseline): the stateless function
+    RealtimeStepper = None  # type: ignore[assignment,misc]
 from physics.integrators import step_realtime  # noqa: E402
 
 __all__ = ["FrameCost", "find_model_and_state", "format_table", "main", "measure_scene"]
@@ -130,7 +134,7 @@ def _start_playing(app: Any, client: ViserClient, scene: str, timeout: float = 1
     client.send(gui_update_message(play.uuid, True))
     # The click's callback runs on viser's thread pool; check that it took effect.
     deadline = time.monotonic() + timeout
-    while not getattr(session.scene, "playing", False):
+    while not (session.room.playing if hasattr(session, "room") else getattr(session.scene, "playing", False)):
         if time.monotonic() > deadline:
             raise TimeoutError(f"{scene}: the session is not playing after clicking {play.label!r}")
         time.sleep(0.01)
@@ -178,10 +182,14 @@ def measure_scene(scene: str, frames: int = 2000, paced: bool = True, warmup: in
 
     physics_ms: list[float] = []
     state = State(state0.R_space_body.copy(), state0.omega_body.copy(), state0.t)
+    stepper = RealtimeStepper(model, state) if RealtimeStepper is not None else None
     next_time = time.perf_counter()
     for _ in range(frames):
         start = time.perf_counter()
-        state, _evaluations = step_realtime(model, state, FRAME_DT)
+        if stepper is not None:
+            stepper.step(FRAME_DT)
+        else:
+            state, _evaluations = step_realtime(model, state, FRAME_DT)
         physics_ms.append(1e3 * (time.perf_counter() - start))
         if paced:
             next_time += FRAME_DT

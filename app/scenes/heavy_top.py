@@ -20,7 +20,6 @@ cusps (φ̇(0) = 0); a sleeping top (near θ = 0, ω_z′² > 4 I1 mgl / I3²) a
 from __future__ import annotations
 
 import math
-from collections import deque
 from collections.abc import Sequence
 from typing import Any
 
@@ -28,6 +27,7 @@ import numpy as np
 import trimesh
 
 from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, polyline_segments, striped_parts
+from app.kit.fastprops import set_points
 from app.kit.rigid import RigidBodySimulation
 from app.kit.rigid_view import RigidBodyView
 from physics._types import Vec3
@@ -52,42 +52,45 @@ _MARKS_RATE = ((-360.0, "-360"), (-180.0, "-180"), (0.0, "0"), (180.0, "180"), (
 class TipTrace:
     """A bounded polyline of the last `seconds` of a moving point, sent in small chunks.
 
-    Full chunks are fixed scene nodes; only the newest (head) chunk changes, redrawn on every
-    other stored point.  Chunks older than `seconds` are removed.  Points are stored at least
-    `spacing` [s] apart in simulated time.
+    The chunks are a ring of line-segment nodes built once (creating a node costs viser ~2 ms):
+    only the newest (head) chunk changes, redrawn on every other stored point; when it is full
+    the next node of the ring becomes the head, and chunks older than `seconds` are hidden.
+    Points are stored at least `spacing` [s] of simulated time apart, so a chunk spans at least
+    chunk_points * spacing and the ring never needs more than seconds / that + 2 nodes.
     """
 
     def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], *,
                  seconds: float = TRACE_SECONDS, spacing: float = TRACE_SPACING,
                  chunk_points: int = CHUNK_POINTS) -> None:
-        self._scene = scene
-        self._parent = parent
-        self._color = color
         self.seconds = seconds
         self.spacing = spacing
         self.chunk_points = chunk_points
-        self._chunks: deque[tuple[Any, float]] = deque()  # (node, newest time)
-        self._head: Any = None
+        size = math.ceil(seconds / (chunk_points * spacing)) + 2
+        idle = np.zeros((1, 2, 3), dtype=np.float32)
+        self._nodes = [scene.add_line_segments(f"{parent}/{k}", idle, color, thickness=3.5,
+                                               thickness_units="screen", visible=False)
+                       for k in range(size)]
+        self._newest = [-math.inf] * size  # the newest time in each node
+        self._shown = [False] * size  # each node's visibility, as last sent
+        self._head = 0
         self._head_points: list[np.ndarray] = []
         self._last_t = -math.inf
-        self._counter = 0
 
     @property
     def point_count(self) -> int:
-        """Stored points (chunks and head), for tests of the bound."""
-        return len(self._chunks) * self.chunk_points + len(self._head_points)
+        """Points shown (full chunks and head), for tests of the bound."""
+        return self.chunk_count * self.chunk_points + len(self._head_points)
 
     @property
     def chunk_count(self) -> int:
-        return len(self._chunks)
+        """Full chunks shown."""
+        return sum(1 for k, shown in enumerate(self._shown) if shown and k != self._head)
 
     def clear(self) -> None:
-        for node, _ in self._chunks:
-            node.remove()
-        self._chunks.clear()
-        if self._head is not None:
-            self._head.remove()
-        self._head = None
+        for k, node in enumerate(self._nodes):
+            if self._shown[k]:
+                node.visible = self._shown[k] = False
+        self._newest = [-math.inf] * len(self._nodes)
         self._head_points = []
         self._last_t = -math.inf
 
@@ -98,24 +101,25 @@ class TipTrace:
         self._head_points.append(np.array(point, dtype=np.float32))
         self._last_t = t
         points = self._head_points
+        head = self._nodes[self._head]
+        self._newest[self._head] = t
         # Redrawn on every other stored point, not every frame: with many clients each message
         # per frame counts, and the head then trails the tip by one point at most.
         if len(points) >= 2 and (len(points) % 2 == 0 or len(points) >= self.chunk_points):
-            segments = polyline_segments(np.array(points))
-            if self._head is None:
-                self._counter += 1
-                self._head = self._scene.add_line_segments(
-                    f"{self._parent}/{self._counter}", segments, self._color,
-                    thickness=3.5, thickness_units="screen")
-            else:
-                self._head.points = segments
+            set_points(head, polyline_segments(np.array(points)))
+            if not self._shown[self._head]:
+                head.visible = self._shown[self._head] = True
         if len(points) >= self.chunk_points:
-            self._chunks.append((self._head, t))
-            self._head = None
+            self._head = (self._head + 1) % len(self._nodes)
             self._head_points = [points[-1]]  # the next chunk starts where this one ends
-        while self._chunks and self._chunks[0][1] < t - self.seconds:
-            node, _ = self._chunks.popleft()
-            node.remove()
+        size = len(self._nodes)
+        for step in range(1, size):  # from the oldest chunk on: they leave in the order they came
+            k = (self._head + step) % size
+            if not self._shown[k]:
+                continue
+            if self._newest[k] >= t - self.seconds:
+                break
+            self._nodes[k].visible = self._shown[k] = False
 
 
 def _disc_on_rod(disc_radius: float) -> list[tuple[np.ndarray, np.ndarray, tuple[int, int, int]]]:
