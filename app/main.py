@@ -14,8 +14,8 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import threading
 import sys
+import threading
 import time
 from collections.abc import Callable, Sequence
 

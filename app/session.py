@@ -124,7 +124,7 @@ class Session:
     def _scene_chosen(self) -> None:
         title = self.gui_scene.value
         if title not in SCENES:  # a client can send any string
-            self.gui_scene.value = self.room.scene.title
+            self.gui_scene.value = self.room.scene.title  # type: ignore[misc]  # viser's setter
             return
         if title != self.room.scene.title:
             scene = SCENES[title]
@@ -141,7 +141,7 @@ class Session:
                 self.room = room
                 self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
-                self.gui_scene.value = room.scene.title  # runs _scene_chosen: the titles match now
+                self.gui_scene.value = room.scene.title  # type: ignore[misc]  # the titles match now
 
     def watch(self, room: Room) -> None:
         """Show another session's room: this client becomes one more view of its simulation."""
@@ -154,7 +154,7 @@ class Session:
         self.guard("scene", self._select)(title)
 
     def _select(self, title: str) -> None:
-        self.gui_scene.value = title  # runs _scene_chosen synchronously
+        self.gui_scene.value = title  # type: ignore[misc]  # runs _scene_chosen synchronously
 
     def apply_preset(self, name: str) -> None:
         """Load a preset of the active scene; a name it does not have is an error (through the guard)."""

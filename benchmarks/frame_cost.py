@@ -5,8 +5,9 @@ loop NOT running, connects one pure-Python client (ws_client.py), selects the sc
 Play through the GUI messages a browser sends, and then calls `Session.tick(1/60)` itself,
 `--frames` times, paced at 60 Hz (as the app's loop does; --unpaced runs them back to back),
 timing each call with `time.perf_counter`.  The "physics only" column replays the same motion
-with `physics.realtime.RealtimeStepper` alone (one kept stepper, as the app does), from the same model and state the scene had
-when the timed ticks began; the scene-update share is the difference of the medians.
+with `physics.realtime.RealtimeStepper` alone (one kept stepper, as the app does), from the
+same model and state the scene had when the timed ticks began; the scene-update share is the
+difference of the medians.
 
     python benchmarks/frame_cost.py                 # 2000 frames per scene, paced (~70 s)
     python benchmarks/frame_cost.py --frames 600 --unpaced
@@ -15,8 +16,8 @@ when the timed ticks began; the scene-update share is the difference of the medi
 --baseline REF checks REF out in a temporary git worktree and runs REF's own frame_cost.py
 there, in a subprocess, right before this tree's run: the same machine, the same minute.
 
-Target (scene-kit issue): tick median <= 0.4 ms per frame, one client.  Times in ms; p95 and max include garbage collection
-and whatever else shares the machine.  "tick CPU" is the ticking thread's own CPU time
+Target (scene-kit issue): tick median <= 0.4 ms per frame, one client.  Times in ms; p95 and
+max include garbage collection and whatever else shares the machine.  "tick CPU" is the ticking thread's own CPU time
 (`time.thread_time`): the wall time also holds waits for the GIL, which viser's event-loop
 thread takes when a tick's atomic block ends and wakes it to send the frame.
 """
@@ -27,8 +28,8 @@ import argparse
 import contextlib
 import dataclasses
 import io
-import os
 import math
+import os
 import statistics
 import subprocess
 import sys
@@ -44,6 +45,7 @@ if str(ROOT) not in sys.path:
 from benchmarks.load_clients import SCENES, find_play_control, find_scene_dropdown  # noqa: E402
 from benchmarks.ws_client import ViserClient, gui_update_message  # noqa: E402
 from physics.dynamics import Model, State  # noqa: E402
+
 try:  # the app keeps one stepper per simulation
     from physics.realtime import RealtimeStepper  # noqa: E402
 except ImportError:  # an older tree (--baseline): the stateless function

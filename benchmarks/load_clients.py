@@ -387,7 +387,8 @@ def format_table(results: list[LoadResult]) -> str:
         lines.append(
             f"| {r.scene} | {r.clients} | {s['fps_min']:.1f} | {s['fps_median']:.1f} | {s['fps_max']:.1f} "
             f"| {s['clients_below_30']} | {s['max_gap_ms']:.0f} | {statistics.median(r.kbytes_per_s):.1f} "
-            f"| {r.loop_hz:.1f} | {r.loop_busy_percent:.0f} | {r.server_cpu_percent:.0f} | {r.server_rss_idle_mib:.0f} → {r.server_rss_mib:.0f}, "
+            f"| {r.loop_hz:.1f} | {r.loop_busy_percent:.0f} | {r.server_cpu_percent:.0f} "
+            f"| {r.server_rss_idle_mib:.0f} → {r.server_rss_mib:.0f}, "
             f"{r.server_hwm_mib:.0f} | {r.client_cpu_percent:.0f} |"
         )
     return "\n".join(lines)

@@ -20,3 +20,9 @@ def test_ci_runs_the_readme_test_command_verbatim():
     test_command = _readme_commands()[1]
     ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
     assert test_command in ci_lines
+
+
+def test_ci_runs_ruff_and_mypy_before_the_tests():
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert "ruff check ." in ci and "mypy physics app" in ci
+    assert ci.index("mypy physics app") < ci.index(_readme_commands()[1])

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
 

@@ -24,9 +24,10 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable
-from typing import Any, ClassVar, Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 from app.kit.common import CameraView
+from app.kit.gui import Wrap
 from app.kit.presets import Preset
 
 __all__ = ["Room", "Scene", "Simulation", "View"]
@@ -41,8 +42,12 @@ SAMPLE_PERIOD = 0.1  # [s] of wall time between plot samples while playing (10 H
 class Simulation(Protocol):
     """What a room needs from a simulation (no viser)."""
 
-    t: float
     version: int
+
+    @property
+    def t(self) -> float:
+        """Simulated time [s] since the run started."""
+        ...
 
     def advance(self, dt: float) -> None:
         """Advance by dt [s] of simulated time; raises (e.g. IntegrationError) on failure."""
@@ -74,8 +79,8 @@ class Scene(Protocol):
     """A scene of the dropdown: a view class with its title, camera view, presets, and the
     simulation it starts (see `app.kit` for the recipe)."""
 
-    title: ClassVar[str]
-    view: ClassVar[CameraView]
+    title: str
+    view: CameraView
 
     @classmethod
     def presets(cls) -> tuple[Preset, ...]:
@@ -92,7 +97,7 @@ class Scene(Protocol):
         """Load the preset `name` into the room's simulation (ValueError naming the valid ones)."""
         ...
 
-    def __call__(self, client: Any, room: Room, wrap: Callable[[str, Callable[..., Any]], Any],
+    def __call__(self, client: Any, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> View: ...
 
 

@@ -569,9 +569,9 @@ class EulerAnglesView:
                    (f"Rx(θ), θ = {angles_deg[1]:g}°", rot_x(theta)),
                    (f"Rz(ψ), ψ = {angles_deg[2]:g}°", rot_z(psi)))
         self.readout_factors.set("\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors))
-        rates = tuple(math.radians(r) for r in self.sim.rates_deg)
-        omega_space = np.degrees(omega_space_from_euler_rates((phi, theta, psi), rates))
-        omega_body = np.degrees(omega_body_from_euler_rates((phi, theta, psi), rates))
+        angles, rates = np.array([phi, theta, psi]), np.radians(self.sim.rates_deg)
+        omega_space = np.degrees(omega_space_from_euler_rates(angles, rates))
+        omega_body = np.degrees(omega_body_from_euler_rates(angles, rates))
         dphi, dtheta, dpsi = self.sim.rates_deg
 
         def row(name: str, v: Any) -> str:

@@ -184,7 +184,7 @@ class HeavyTopView(RigidBodyView):
         spin, phi_dot_deg, theta_dot_deg = (float(r) for r in rates)
         phi_dot, theta_dot = math.radians(phi_dot_deg), math.radians(theta_dot_deg)
         psi_dot = spin - phi_dot * math.cos(float(angles[1]))  # ω_z′ = φ̇ cos θ + ψ̇
-        return omega_body_from_euler_rates(angles, (phi_dot, theta_dot, psi_dot))
+        return omega_body_from_euler_rates(angles, np.array([phi_dot, theta_dot, psi_dot]))
 
     @classmethod
     def rates_from_state(cls, angles: Vec3, state: State) -> tuple[float, ...]:
