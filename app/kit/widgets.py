@@ -151,8 +151,9 @@ class Vector:
     """An arrow from `origin` to a tip, with a label just beyond the tip (ω, L, ...)."""
 
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, *,
-                 origin: tuple[float, float, float] = (0.0, 0.0, 0.0), shaft_radius: float = 0.03, head_radius: float = 0.08,
-                 head_length: float = 0.16, font_scale: float = 2.4, label_at_middle: bool = False) -> None:
+                 origin: tuple[float, float, float] = (0.0, 0.0, 0.0), shaft_radius: float = 0.03,
+                 head_radius: float = 0.08, head_length: float = 0.16, font_scale: float = 2.4,
+                 label_at_middle: bool = False) -> None:
         self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3)), color, shaft_radius=shaft_radius,
                                       head_radius=head_radius, head_length=head_length, visible=False)
         self.label = scene.add_label(f"{name}_label", text, font_screen_scale=font_scale,
