@@ -7,16 +7,18 @@
    `app.kit.samples.SampleBuffer`).  A rigid body already has one:
    `app.kit.rigid.RigidBodySimulation`.  Physics formulas live in `physics/`, with tests.
 
-2. **A view class** in one file under `app/scenes/`.  The class is the scene: class attributes
-   `title` (the dropdown option), `view` (a `CameraView`) and `preset_file`; classmethods
-   `presets()` (`app.kit.presets.load_presets`), `new_simulation()` (at the first preset) and
-   `apply_preset(room, name)`; an instance draws the room's simulation for one client:
-   `__init__(client, room, wrap, report_error)` builds its nodes under one root frame and its
-   panel, then `room.add_view(self)`; `frame(dt)` sends, per frame, only what changed since
-   the last one and what is on screen; `refresh()` redraws everything after an edit;
-   `show_message(text)`; `report_error(where, error)`; `remove()`.  A rigid-body scene
-   subclasses `app.kit.rigid_view.RigidBodyView` and only fills in its parameters, rate
-   sliders, shape and extras (see `app/scenes/free_body.py`, about 150 lines).
+2. **A view class** in one file under `app/scenes/`, subclassing `app.kit.view.SceneView`.
+   The class is the scene: class attributes `title` (the dropdown option), `root` (the scene
+   node everything hangs under), `view` (a `CameraView`), `preset_file` (and `param_specs`,
+   `rate_specs` if its presets carry parameters or rates); classmethods `new_simulation()`
+   (at the first preset) and `apply_preset(room, name)` (`presets()` and `preset(name)` come
+   from the base).  An instance draws the room's simulation for one client: `__init__` sets
+   its state and ends with `self.build()`, which calls `_build_scene` and `_build_gui` and
+   joins the room; `frame(dt)` sends, per frame, only what changed since the last one and
+   what is on screen; `refresh()` redraws everything after an edit.  Messages, errors, the
+   camera, removal and quiet slider writes (`self.quiet`, no feedback) come from the base.
+   A rigid-body scene subclasses `app.kit.rigid_view.RigidBodyView` instead and only fills in
+   its parameters, rate sliders, shape and extras (`app/scenes/free_body.py`, ~150 lines).
 
    Build it from the shared pieces, never a copy of them:
    - panel (`app.kit.gui`): `MessageLine` (refusals), `Transport` (Play / Pause, ▶| Step,

@@ -9,20 +9,18 @@ through the client handle it is given.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from physics._types import Mat3, Vec3
-from physics.quaternion import wxyz_from_matrix
 
 __all__ = [
     "BODY_AXIS_COLORS",
     "GIMBAL_FADE_DEG",
     "GIMBAL_LOCK_DEG",
-    "Guard",
     "L_COLOR",
     "NODES_COLOR",
     "NODES_FADED_COLOR",
@@ -37,7 +35,6 @@ __all__ = [
     "apply_camera",
     "axis_segments",
     "checked_value",
-    "clamp_finite",
     "fade_color",
     "format_matrix",
     "format_vector",
@@ -45,11 +42,8 @@ __all__ = [
     "polyline_segments",
     "striped_parts",
     "wrap_deg",
-    "wxyz_from_matrix",
 ]
 
-Guard = Callable[[str, Callable[..., Any]], Callable[..., Any]]
-"""Session.guard: (where, fn) -> fn run under the session lock, exceptions shown, not raised."""
 
 # Colours (RGB 0-255), the same in every scene.
 SPACE_AXIS_COLORS = ((225, 35, 35), (30, 160, 45), (35, 75, 230))  # x y z: red green blue
@@ -94,14 +88,6 @@ class SliderSpec:
     def refusal(self, value: Any) -> str:
         """The message for a refused value."""
         return f"{self.label} = {value!r} refused: the range is {self.lo:g} to {self.hi:g}."
-
-
-def clamp_finite(value: float, lo: float, hi: float, fallback: float) -> float:
-    """`value` clamped to [lo, hi]; `fallback` if it is NaN (viser passes NaN through)."""
-    value = float(value)
-    if math.isnan(value):
-        return fallback
-    return min(max(value, lo), hi)
 
 
 def checked_value(value: Any, lo: float, hi: float) -> float | None:

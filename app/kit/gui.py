@@ -33,6 +33,7 @@ __all__ = [
     "TIME_SCALE_RANGE",
     "MessageLine",
     "PresetsRow",
+    "Quiet",
     "Readout",
     "Tabs",
     "Transport",
@@ -50,6 +51,28 @@ STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (�
 Callback = Callable[[Any], None]
 Wrap = Callable[[str, Callable[..., Any]], Callable[..., Any]]
 """The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
+
+
+class Quiet:
+    """Writes handles' values from the server without their callbacks acting on them.
+
+    viser runs a handle's `on_update` synchronously when the server assigns its value (with
+    `event.client` None); a callback that starts with `if quiet.active: return` then ignores
+    what the server itself shows (a slider following the motion), so there is no feedback loop.
+    """
+
+    def __init__(self) -> None:
+        self.active = False
+
+    def write(self, handle: Any, value: Any) -> None:
+        """`handle.value = value` (only if it differs), callbacks silenced."""
+        if handle.value == value:
+            return
+        self.active = True
+        try:
+            handle.value = value
+        finally:
+            self.active = False
 
 
 class MessageLine:
@@ -111,7 +134,7 @@ class Transport:
         self.gui_status = gui.add_markdown("")
         self._time_scale = 1.0
         self._integrator = integrators[0] if integrators else ""
-        self._showing = False  # True while the server itself writes the handles
+        self.quiet = Quiet()
 
         self.gui_play.on_click(wrap("play button", lambda _event: on_toggle()))
 
@@ -125,13 +148,13 @@ class Transport:
         self.gui_step_reset.on_click(wrap("step/reset buttons", step_or_reset))
 
         def time_scale(_event: Any) -> None:
-            if self._showing:
+            if self.quiet.active:
                 return
             value = checked_value(self.gui_time_scale.value, lo, hi)
             if value is None:
                 message.show(f"Time scale {self.gui_time_scale.value!r} refused: it must be "
                              f"between {lo:g}× and {hi:g}×.")
-                self._write(self.gui_time_scale, self._time_scale)
+                self.quiet.write(self.gui_time_scale, self._time_scale)
                 return
             on_time_scale(value)
 
@@ -140,11 +163,11 @@ class Transport:
             integrator = self.gui_integrator
 
             def choose(_event: Any) -> None:
-                if self._showing:
+                if self.quiet.active:
                     return
                 if integrator.value not in integrator.options:  # a client can send any string
                     message.show(f"Integrator {integrator.value!r} refused.")
-                    self._write(integrator, self._integrator)
+                    self.quiet.write(integrator, self._integrator)
                     return
                 on_integrator(str(integrator.value))
 
@@ -156,15 +179,6 @@ class Transport:
         out = [self.gui_play, self.gui_step_reset, self.gui_time_scale, self.gui_status]
         return out + ([self.gui_integrator] if self.gui_integrator is not None else [])
 
-    def _write(self, handle: Any, value: Any) -> None:
-        """Assign a handle's value without its callback acting (viser runs it synchronously)."""
-        self._showing = True
-        try:
-            if handle.value != value:
-                handle.value = value
-        finally:
-            self._showing = False
-
     def show(self, playing: bool, time_scale: float, integrator: str = "") -> None:
         """Show a room's transport state: the toggle offers Pause while playing, Play while paused."""
         label = PAUSE_LABEL if playing else PLAY_LABEL
@@ -173,10 +187,10 @@ class Transport:
             self.gui_play.icon = viser.Icon.PLAYER_PAUSE_FILLED if playing else viser.Icon.PLAYER_PLAY_FILLED
             self.gui_play.color = "orange" if playing else "green"
         self._time_scale = time_scale
-        self._write(self.gui_time_scale, time_scale)
+        self.quiet.write(self.gui_time_scale, time_scale)
         if self.gui_integrator is not None and integrator:
             self._integrator = integrator
-            self._write(self.gui_integrator, integrator)
+            self.quiet.write(self.gui_integrator, integrator)
 
     def set_status(self, text: str) -> None:
         if self.gui_status.content != text:

@@ -12,7 +12,7 @@ times a second, and only for what is on screen: the sliders follow the motion (S
 the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
 tab, live plots on).
 
-Sliders follow the motion without feedback (`_syncing`).  A user's edit of an angle or rate
+Sliders follow the motion without feedback (`SceneView.quiet`).  A user's edit of an angle or rate
 slider pauses the room and restarts the run (t = 0) from the sliders' values.  Bad input
 never stops the motion: out-of-range values are refused and the slider goes back; moments
 that are not a body (InertiaError) are refused with a message while the last valid body moves.
@@ -20,7 +20,6 @@ that are not a body (InertiaError) are refused with a message while the last val
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
@@ -31,19 +30,18 @@ import viser
 from app.kit.common import (
     L_COLOR,
     OMEGA_COLOR,
-    CameraView,
     SliderSpec,
     Throttle,
-    apply_camera,
     format_matrix,
     gimbal_note,
     wrap_deg,
 )
 from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.plots import LivePlots, PlotSpec
-from app.kit.presets import PRESETS_DIR, Preset, load_presets
+from app.kit.presets import Preset
 from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME, RigidBodySimulation
 from app.kit.room import Room
+from app.kit.view import SceneView
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
 from physics.dynamics import Model, State, kinetic_energy
@@ -68,17 +66,11 @@ ANGLE_SPECS = (
 )
 
 
-class RigidBodyView:
+class RigidBodyView(SceneView):
     """One browser's view of a room with a `RigidBodySimulation`.  Subclasses fill in:"""
 
-    title: ClassVar[str] = ""
-    root: ClassVar[str] = "/sim"
-    view: ClassVar[CameraView] = CameraView((4.5, -3.6, 2.4), (0.0, 0.0, 0.0))
     intro: ClassVar[str] = ""
-    preset_file: ClassVar[str] = ""  # under assets/presets/
-    param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     param_folder: ClassVar[str] = "Body"
-    rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     rate_folder: ClassVar[str] = "Angular velocity"
     momentum_kind: ClassVar[str] = "norm"  # "norm": |L| is conserved; "z": L_z
     momentum_label: ClassVar[str] = "|L|"
@@ -132,19 +124,8 @@ class RigidBodyView:
 
     # ------------------------------------------------------------------ the scene's simulation
     @classmethod
-    @functools.cache
-    def presets(cls) -> tuple[Preset, ...]:
-        """The scene's presets from assets/presets/<preset_file> (PresetError if broken)."""
-        return load_presets(PRESETS_DIR / cls.preset_file, cls.param_specs, cls.rate_specs,
-                            check=lambda preset: cls.initial_conditions(preset) and None)
-
-    @classmethod
-    def preset(cls, name: str) -> Preset:
-        for preset in cls.presets():
-            if preset.name == name:
-                return preset
-        raise ValueError(f"{cls.title} has no preset {name!r}; "
-                         f"the presets are {', '.join(p.name for p in cls.presets())}")
+    def check_preset(cls, preset: Preset) -> None:
+        cls.initial_conditions(preset)
 
     @classmethod
     def initial_conditions(cls, preset: Preset) -> tuple[Model, State, np.ndarray]:
@@ -175,12 +156,8 @@ class RigidBodyView:
     # ------------------------------------------------------------------ construction
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
-        self.client = client
-        self.room = room
+        super().__init__(client, room, wrap, report_error)
         self.sim: RigidBodySimulation = room.sim
-        self._wrap = wrap
-        self._report_error = report_error
-        self._syncing = False
         self._drawn_version = -1
         self._drawn_restarts = -1
         self._drawn_model: Model | None = None
@@ -191,16 +168,11 @@ class RigidBodyView:
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self._status_throttle = Throttle(STATUS_PERIOD)
         self._plot_throttle = Throttle(PLOT_PERIOD)
-        with client.atomic():
-            self._build_scene()
-            self._build_gui()
-        room.add_view(self)
-        self.refresh()
+        self.build()
 
     def _build_scene(self) -> None:
         scene = self.client.scene
         root = self.root
-        self._root_node = scene.add_frame(root, show_axes=False)
         Stage(scene, root, grid_z=self.grid_z)
         model = self.sim.model
         self.body = Body(scene, f"{root}/body", lambda s, parent: self.build_shape(s, parent, model),
@@ -274,26 +246,6 @@ class RigidBodyView:
                      ("#e65a00", "#7828c8", "black"), log=True),
         ]
 
-    # ------------------------------------------------------------------ view protocol
-    def show_message(self, text: str) -> None:
-        self.message.show(text)
-
-    def report_error(self, where: str, error: BaseException) -> None:
-        if self._report_error is not None:
-            self._report_error(where, error)
-        else:
-            raise error
-
-    def remove(self) -> None:
-        """Remove this view's GUI and scene nodes from the client, and leave the room."""
-        self.room.remove_view(self)
-        for handle in self._gui_roots:
-            handle.remove()
-        self._root_node.remove()
-
-    def reset_view(self) -> None:
-        apply_camera(self.client, self.view)
-
     def frame(self, dt: float) -> None:
         """The per-frame update: poses and arrows if the state changed; throttled text."""
         sim = self.sim
@@ -328,7 +280,7 @@ class RigidBodyView:
             self.L.enabled = bool(self.gui_show_L.value)
             self._draw()
             self._sync_state_sliders()
-            self._sync(self.gui_params, self.param_specs, self.params_from_model(sim.model))
+            self.show_values(self.gui_params, self.param_specs, self.params_from_model(sim.model))
             self.transport.show(self.room.playing, self.room.time_scale, sim.integrator)
             self._refresh_status()
             self._refresh_gimbal_note()
@@ -352,7 +304,7 @@ class RigidBodyView:
         if preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega):
             self._rescale_arrows(R, omega)
         self._drawn_preset = preset
-        self.presets_row.show_note(self.preset(preset) if preset is not None else None)
+        self.presets_row.show_note(self.preset_shown())
         self._drawn_restarts = sim.restarts
         self.restart_extras()
 
@@ -387,35 +339,23 @@ class RigidBodyView:
         )
 
     # ------------------------------------------------------------------ sliders
-    def _sync(self, handles: Sequence[Any], specs: Sequence[SliderSpec], values: Sequence[float],
-              skip: Any = None) -> None:
-        """Show `values` on sliders without their callbacks acting (no feedback loop)."""
-        self._syncing = True
-        try:
-            for handle, spec, value in zip(handles, specs, values):
-                shown = spec.rounded(value)
-                if handle is not skip and handle.value != shown:
-                    handle.value = shown
-        finally:
-            self._syncing = False
-
     def displayed_angles_deg(self) -> tuple[float, float, float]:
         phi, theta, psi = np.degrees(self.sim.angles)
         return wrap_deg(float(phi)), float(theta), wrap_deg(float(psi))
 
     def _sync_state_sliders(self, skip: Any = None) -> None:
-        self._sync(self.gui_angles, ANGLE_SPECS, self.displayed_angles_deg(), skip)
+        self.show_values(self.gui_angles, ANGLE_SPECS, self.displayed_angles_deg(), skip)
         try:
             rates = self.rates_from_state(self.sim.angles, self.sim.state)
         except GimbalLockError:
             return  # Euler rates are undefined at the pole: the rate sliders keep their values
-        self._sync(self.gui_rates, self.rate_specs, rates, skip)
+        self.show_values(self.gui_rates, self.rate_specs, rates, skip)
 
     def _state_slider_callback(self, handle: Any, spec: SliderSpec) -> Callable[[Any], None]:
         """An angle or rate slider: the user sets the initial state (pausing the room)."""
 
         def on_update(_event: Any) -> None:
-            if self._syncing:
+            if self.quiet.active:
                 return  # the server itself is showing the motion on the slider
             if spec.check(handle.value) is None:
                 self.message.show(spec.refusal(handle.value))
@@ -437,12 +377,11 @@ class RigidBodyView:
         spec = self.param_specs[index]
 
         def on_update(_event: Any) -> None:
-            if self._syncing:
+            if self.quiet.active:
                 return
             current = self.params_from_model(self.sim.model)
             if spec.check(handle.value) is None:
-                self.message.show(spec.refusal(handle.value))
-                self._sync([handle], [spec], [current[index]])
+                self.refuse(spec, handle, spec.rounded(current[index]))
                 return
             candidate = tuple(float(h.value) for h in self.gui_params)
             try:
@@ -462,13 +401,6 @@ class RigidBodyView:
         return on_update
 
     # ------------------------------------------------------------------ actions
-    def choose_preset(self, name: str) -> None:
-        if name not in {p.name for p in self.presets()}:  # a client can send any string
-            self.message.show(f"No preset named {name!r}.")
-            return
-        self.message.clear()
-        self.apply_preset(self.room, name)
-
     def set_integrator(self, name: str) -> None:
         message = self.sim.set_integrator(name)
         if message is not None:

@@ -18,7 +18,6 @@ fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every for
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -31,7 +30,6 @@ from app.kit.common import (
     CameraView,
     SliderSpec,
     Throttle,
-    apply_camera,
     axis_segments,
     format_matrix,
     format_vector,
@@ -40,8 +38,8 @@ from app.kit.common import (
     wrap_deg,
 )
 from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
-from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
+from app.kit.view import SceneView
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics.euler import (
     body_z_axis,
@@ -187,17 +185,14 @@ def _box_edges(moments: Sequence[float]) -> np.ndarray:
     return np.maximum(BODY_SIZE * edges / edges.max(), MIN_EDGE)
 
 
-class EulerAnglesView:
+class EulerAnglesView(SceneView):
     """One browser's view of a room with an `EulerAnglesSimulation`."""
 
     title = "Euler angles"
+    root = "/explorer"
     view = VIEW
     preset_file = "euler_angles.json"
-
-    @classmethod
-    @functools.cache
-    def presets(cls) -> tuple[Preset, ...]:
-        return load_presets(PRESETS_DIR / cls.preset_file, rate_specs=RATE_SPECS)
+    rate_specs = RATE_SPECS
 
     @classmethod
     def new_simulation(cls) -> EulerAnglesSimulation:
@@ -208,10 +203,7 @@ class EulerAnglesView:
 
     @classmethod
     def apply_preset(cls, room: Room, name: str) -> None:
-        preset = next((p for p in cls.presets() if p.name == name), None)
-        if preset is None:
-            raise ValueError(f"{cls.title} has no preset {name!r}; "
-                             f"the presets are {', '.join(p.name for p in cls.presets())}")
+        preset = cls.preset(name)
         sim: EulerAnglesSimulation = room.sim
         room.playing = False
         sim.set_rates(preset.rates)
@@ -221,28 +213,19 @@ class EulerAnglesView:
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
-        self.client = client
-        self.room = room
+        super().__init__(client, room, wrap, report_error)
         self.sim: EulerAnglesSimulation = room.sim
-        self._wrap = wrap
-        self._report_error = report_error
-        self._syncing = False
         self._drawn_version = -1
         self._drawn_moments: tuple[float, ...] = ()
         self._arc_throttle = Throttle(ARC_PERIOD)
         self._slider_throttle = Throttle(SLIDER_PERIOD)
         self._readout_throttle = Throttle(READOUT_PERIOD)
-        with client.atomic():
-            self._build_scene()
-            self._build_gui()
-        room.add_view(self)
-        self.refresh()
+        self.build()
 
     # ------------------------------------------------------------------ building
     def _build_scene(self) -> None:
         scene = self.client.scene
-        root = "/explorer"
-        self._root_node = scene.add_frame(root, show_axes=False)
+        root = self.root
         Stage(scene, root, size=4.0)
         self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH)
         # Intermediate frames of the decomposition: thin, faint, toggleable.
@@ -342,28 +325,15 @@ class EulerAnglesView:
                            self.folder_rates, self.folder_readout, self.folder_body, self.folder_display]
 
     # ------------------------------------------------------------------ callbacks
-    def _refuse(self, spec: SliderSpec, handle: Any, last: float) -> None:
-        self.message.show(spec.refusal(handle.value))
-        self._write(handle, last)
-
-    def _write(self, handle: Any, value: float) -> None:
-        """Show `value` on a slider without its callback acting (no feedback)."""
-        self._syncing = True
-        try:
-            if handle.value != value:
-                handle.value = value
-        finally:
-            self._syncing = False
-
     def _angle_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
         spec = ANGLE_SPECS[index]
 
         def on_update(_event: Any) -> None:
-            if self._syncing:
+            if self.quiet.active:
                 return  # the server itself is showing the motion on the slider
             value = spec.check(handle.value)
             if value is None:
-                self._refuse(spec, handle, self.sim.angles_deg[index])
+                self.refuse(spec, handle, self.sim.angles_deg[index])
                 return
             self.message.clear()
             self.room.playing = False
@@ -379,11 +349,11 @@ class EulerAnglesView:
         spec = RATE_SPECS[index]
 
         def on_update(_event: Any) -> None:
-            if self._syncing:
+            if self.quiet.active:
                 return
             value = spec.check(handle.value)
             if value is None:
-                self._refuse(spec, handle, self.sim.rates_deg[index])
+                self.refuse(spec, handle, self.sim.rates_deg[index])
                 return
             self.message.clear()
             rates = list(self.sim.rates_deg)
@@ -397,10 +367,10 @@ class EulerAnglesView:
         spec = MOMENT_SPECS[index]
 
         def on_update(_event: Any) -> None:
-            if self._syncing:
+            if self.quiet.active:
                 return
             if spec.check(handle.value) is None:
-                self._refuse(spec, handle, self.sim.moments[index])
+                self.refuse(spec, handle, self.sim.moments[index])
                 return
             try:
                 self.sim.set_moments([float(h.value) for h in self.gui_moments])
@@ -416,36 +386,11 @@ class EulerAnglesView:
 
         return on_update
 
-    def choose_preset(self, name: str) -> None:
-        if name not in {p.name for p in self.presets()}:  # a client can send any string
-            self.message.show(f"No preset named {name!r}.")
-            return
-        self.message.clear()
-        self.apply_preset(self.room, name)
-
     def set_angles_deg(self, phi: float, theta: float, psi: float) -> None:
         """Set (φ, θ, ψ) [deg], as dragging the three sliders does."""
         self.room.playing = False
         self.sim.set_angles((phi, theta, psi))
         self.room.refresh()
-
-    def reset_view(self) -> None:
-        apply_camera(self.client, VIEW)
-
-    # ------------------------------------------------------------------ view protocol
-    def show_message(self, text: str) -> None:
-        self.message.show(text)
-
-    def report_error(self, where: str, error: BaseException) -> None:
-        if self._report_error is None:
-            raise error
-        self._report_error(where, error)
-
-    def remove(self) -> None:
-        self.room.remove_view(self)
-        for handle in self._gui_roots:
-            handle.remove()
-        self._root_node.remove()  # removes its descendants, the whole scene
 
     def frame(self, dt: float) -> None:
         """The per-frame update while the angles move; arcs, sliders and text throttled."""
@@ -470,7 +415,7 @@ class EulerAnglesView:
                 self.body.reshape(self._build_box)
             self._refresh_moments_status()
             self.transport.show(self.room.playing, self.room.time_scale)
-            self.presets_row.show_note(next((p for p in self.presets() if p.name == self.sim.preset), None))
+            self.presets_row.show_note(self.preset_shown())
             self._sync_sliders()
             self.render_pose()
             self.render_arcs()
@@ -480,11 +425,11 @@ class EulerAnglesView:
     # ------------------------------------------------------------------ drawing
     def _sync_sliders(self) -> None:
         for handle, value in zip(self.gui_angles, self.sim.angles_deg):
-            self._write(handle, float(round(value)))
+            self.quiet.write(handle, float(round(value)))
         for handle, value in zip(self.gui_rates, self.sim.rates_deg):
-            self._write(handle, value)
+            self.quiet.write(handle, value)
         for handle, value in zip(self.gui_moments, self.sim.moments):
-            self._write(handle, value)
+            self.quiet.write(handle, value)
 
     def _refresh_status(self) -> None:
         state = "▶ playing" if self.room.playing else "paused"

@@ -1,0 +1,139 @@
+"""What every scene's view shares: its place in a room, its messages, its presets, its removal.
+
+`SceneView` is the base of a scene (see `app.kit` for the recipe).  A subclass sets the class
+attributes `title`, `view` (its camera) and `preset_file`, builds its nodes under `root` and
+its panel in `_build_scene` and `_build_gui` (keeping the top-level GUI handles in
+`_gui_roots` and a `MessageLine` in `message`), implements `frame`, `refresh` and the
+classmethods `new_simulation` and `apply_preset`, and ends its `__init__` with `self.build()`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any, ClassVar
+
+import viser
+
+from app.kit.common import CameraView, SliderSpec, apply_camera
+from app.kit.gui import MessageLine, Quiet, Wrap
+from app.kit.presets import PRESETS_DIR, Preset, load_presets
+from app.kit.room import Room
+
+__all__ = ["SceneView"]
+
+_PRESETS: dict[type, tuple[Preset, ...]] = {}
+
+
+class SceneView:
+    """One browser's view of a room (the shared part of every scene)."""
+
+    title: ClassVar[str] = ""
+    root: ClassVar[str] = "/scene"
+    view: ClassVar[CameraView] = CameraView((4.5, -3.6, 2.4), (0.0, 0.0, 0.0))
+    preset_file: ClassVar[str] = ""  # under assets/presets/
+    param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+    rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+
+    def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
+                 report_error: Callable[[str, BaseException], None] | None = None) -> None:
+        self.client = client
+        self.room = room
+        self.sim: Any = room.sim
+        self._wrap = wrap
+        self._report_error = report_error
+        self.quiet = Quiet()  # the server writing sliders: their callbacks do nothing
+        self.message: MessageLine
+        self._gui_roots: list[Any] = []
+        self._root_node = client.scene.add_frame(self.root, show_axes=False)
+
+    def build(self) -> None:
+        """Build the nodes and the panel (`_build_scene`, `_build_gui`), join the room, draw."""
+        with self.client.atomic():
+            self._build_scene()
+            self._build_gui()
+        self.room.add_view(self)
+        self.refresh()
+
+    def _build_scene(self) -> None:
+        """Add the scene's nodes under `root`."""
+
+    def _build_gui(self) -> None:
+        """Add the panel; keep its top-level handles in `_gui_roots`."""
+
+    # ------------------------------------------------------------------ presets
+    @classmethod
+    def check_preset(cls, preset: Preset) -> None:
+        """A scene's own test of a preset (ValueError with a message); none by default."""
+
+    @classmethod
+    def presets(cls) -> tuple[Preset, ...]:
+        """The scene's presets from assets/presets/<preset_file>, read once (PresetError if broken)."""
+        if cls not in _PRESETS:
+            _PRESETS[cls] = load_presets(PRESETS_DIR / cls.preset_file, cls.param_specs, cls.rate_specs,
+                                         check=cls.check_preset)
+        return _PRESETS[cls]
+
+    @classmethod
+    def preset(cls, name: str) -> Preset:
+        """The preset `name`; ValueError naming the valid ones."""
+        for preset in cls.presets():
+            if preset.name == name:
+                return preset
+        raise ValueError(f"{cls.title} has no preset {name!r}; "
+                         f"the presets are {', '.join(p.name for p in cls.presets())}")
+
+    @classmethod
+    def apply_preset(cls, room: Room, name: str) -> None:
+        raise NotImplementedError
+
+    def choose_preset(self, name: str) -> None:
+        """A preset button: a name the scene does not have (a client can send any) is refused."""
+        if name not in {p.name for p in self.presets()}:
+            self.message.show(f"No preset named {name!r}.")
+            return
+        self.message.clear()
+        self.apply_preset(self.room, name)
+
+    def preset_shown(self) -> Preset | None:
+        """The preset the room's run started from, if it did."""
+        name = getattr(self.sim, "preset", None)
+        return next((p for p in self.presets() if p.name == name), None)
+
+    # ------------------------------------------------------------------ the view protocol
+    def frame(self, dt: float) -> None:
+        raise NotImplementedError
+
+    def refresh(self) -> None:
+        raise NotImplementedError
+
+    def show_message(self, text: str) -> None:
+        self.message.show(text)
+
+    def report_error(self, where: str, error: BaseException) -> None:
+        if self._report_error is None:
+            raise error
+        self._report_error(where, error)
+
+    def reset_view(self) -> None:
+        """Put this client's camera back to the scene's view."""
+        apply_camera(self.client, self.view)
+
+    def remove(self) -> None:
+        """Leave the room and remove this view's panel and nodes from its client."""
+        self.room.remove_view(self)
+        for handle in self._gui_roots:
+            handle.remove()
+        self._root_node.remove()  # and every node below it
+
+    # ------------------------------------------------------------------ sliders
+    def refuse(self, spec: SliderSpec, handle: Any, last: float) -> None:
+        """A value out of range: say so, and put the slider back to `last`."""
+        self.message.show(spec.refusal(handle.value))
+        self.quiet.write(handle, last)
+
+    def show_values(self, handles: Sequence[Any], specs: Sequence[SliderSpec], values: Sequence[float],
+                    skip: Any = None) -> None:
+        """Show `values` on sliders (rounded to their steps), their callbacks silenced."""
+        for handle, spec, value in zip(handles, specs, values):
+            if handle is not skip:
+                self.quiet.write(handle, spec.rounded(value))
