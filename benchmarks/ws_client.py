@@ -482,5 +482,5 @@ class AsyncViserClient(_GuiSender):
         if self._reader is not None:
             try:
                 await asyncio.wait_for(self._reader, 5.0)
-            except (asyncio.TimeoutError, asyncio.CancelledError):
+            except (TimeoutError, asyncio.CancelledError):
                 self._reader.cancel()

@@ -27,7 +27,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from app.main import create_server  # noqa: E402
-
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
 SCENES = ("euler", "free", "top")

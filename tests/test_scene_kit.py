@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import RawClient
 from scipy.spatial.transform import Rotation
 
 from app.kit.presets import PRESETS_DIR, PresetError, load_presets
@@ -22,7 +23,6 @@ from app.kit.room import Room
 from app.scenes import SCENES
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
-from conftest import RawClient
 from physics.exact_top import steady_precession_rate
 
 DT = 1.0 / 60.0
