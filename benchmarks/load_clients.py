@@ -19,6 +19,7 @@ server, limit the figures.
     python benchmarks/load_clients.py                     # 20 clients, free body, 20 s
     python benchmarks/load_clients.py --clients 40 --scene "Heavy top" --seconds 30
     python benchmarks/load_clients.py --clients 1,10,20 --seconds 10   # one row per count
+    python benchmarks/load_clients.py --clients 20,60,80 --baseline 2cce6d0   # and that commit's app
 
 Targets (scene-kit issue): 60 clients >= 30 fps median and >= 27 fps for the slowest; 80
 clients >= 15 fps each, and the total frames delivered do not fall as clients are added.
@@ -189,13 +190,14 @@ def serve(max_lifetime: float) -> None:
     is answered with 'BENCH_STATS <loop iterations> <monotonic time> <sessions> <seconds spent in
     Room.tick>' (the benchmark times the ticks by wrapping Room.tick).  Exits when
     stdin closes (this process's parent is gone) or after `max_lifetime` seconds."""
-    from app.kit.room import Room
+    if os.environ.get("BENCH_APP_ROOT"):  # --baseline: the app of another tree
+        sys.path.insert(0, os.environ["BENCH_APP_ROOT"])
     from app.main import create_server
 
     tick_seconds = [0.0]  # wall time spent in Room.advance and Room.draw (the app loop's thread)
 
     def timed(method: Any) -> Any:
-        def run(self: Room, *args: Any) -> None:
+        def run(self: Any, *args: Any) -> None:
             start = time.perf_counter()
             try:
                 method(self, *args)
@@ -204,8 +206,15 @@ def serve(max_lifetime: float) -> None:
 
         return run
 
-    Room.advance = timed(Room.advance)  # type: ignore[method-assign]  # this process only
-    Room.draw = timed(Room.draw)  # type: ignore[method-assign]
+    try:
+        from app.kit.room import Room
+    except ImportError:  # a tree from before the scene kit: its loop calls Session.tick
+        from app.session import Session
+
+        Session.tick = timed(Session.tick)  # type: ignore[method-assign]
+    else:
+        Room.advance = timed(Room.advance)  # type: ignore[method-assign]  # this process only
+        Room.draw = timed(Room.draw)  # type: ignore[method-assign]
     app = create_server("127.0.0.1", 0, verbose=False)
     print(f"BENCH_PORT {app.port}", flush=True)
     done = threading.Event()
@@ -226,12 +235,13 @@ class ServerProcess:
     """The app in a subprocess (this file with --serve); `port`, `pid`, `stop()`."""
 
     def __init__(self, max_lifetime: float, start_timeout: float = 30.0,
-                 argv: list[str] | None = None) -> None:
+                 argv: list[str] | None = None, app_root: Path | None = None) -> None:
         self._log = tempfile.TemporaryFile(mode="w+")
         argv = argv or [sys.executable, str(Path(__file__).resolve()), "--serve"]
+        env = dict(os.environ, BENCH_APP_ROOT=str(app_root)) if app_root is not None else None
         self.process = subprocess.Popen(
             [*argv, "--max-lifetime", str(max_lifetime)],
-            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._log, text=True, cwd=ROOT,
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._log, text=True, cwd=ROOT, env=env,
         )
         self.pid = self.process.pid
         self.port = self._read_port(start_timeout)
@@ -357,7 +367,7 @@ async def _run_clients(server: ServerProcess, clients: int, scene: str, warmup: 
 
 
 def run_load(clients: int = 20, seconds: float = 20.0, scene: str = "Free body", warmup: float = 3.0,
-             server_argv: list[str] | None = None) -> LoadResult:
+             server_argv: list[str] | None = None, app_root: Path | None = None) -> LoadResult:
     """Start the app in a subprocess, run `clients` clients playing `scene`, measure, stop.
 
     server_argv: another server command (it must accept --max-lifetime and print
@@ -365,7 +375,8 @@ def run_load(clients: int = 20, seconds: float = 20.0, scene: str = "Free body",
     """
     if clients < 1 or not (seconds > 0.0) or warmup < 0.0:
         raise ValueError("need clients >= 1, seconds > 0, warmup >= 0")
-    server = ServerProcess(max_lifetime=warmup + seconds + 90.0 + 5.0 * clients, argv=server_argv)
+    server = ServerProcess(max_lifetime=warmup + seconds + 90.0 + 5.0 * clients, argv=server_argv,
+                           app_root=app_root)
     try:
         return asyncio.run(_run_clients(server, clients, scene, warmup, seconds))
     except Exception as error:
@@ -401,6 +412,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seconds", type=float, default=20.0, help="measured window [s] (default %(default)s)")
     parser.add_argument("--warmup", type=float, default=3.0, help="warm-up after Play [s] (default %(default)s)")
     parser.add_argument("--scene", default="Free body", help=f"scene to play, e.g. {' / '.join(SCENES)}")
+    parser.add_argument("--baseline", metavar="REF",
+                        help="first run the same clients against the app at git commit REF (a worktree)")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--max-lifetime", type=float, default=300.0, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -410,6 +423,24 @@ def main(argv: list[str] | None = None) -> None:
     counts = [int(n) for n in str(args.clients).split(",")]
     if any(n < 1 or n > 200 for n in counts):
         parser.error("--clients: between 1 and 200")
+    if args.baseline:
+        with tempfile.TemporaryDirectory(prefix="load_clients_") as tmp:
+            tree = Path(tmp) / "tree"
+            subprocess.run(["git", "worktree", "add", "--detach", "--quiet", str(tree), args.baseline],
+                           cwd=ROOT, check=True)
+            baseline, failed = [], []
+            try:
+                for n in counts:
+                    try:
+                        baseline.append(run_load(n, args.seconds, args.scene, args.warmup, app_root=tree))
+                    except RuntimeError as error:  # e.g. frozen: the clients never got their Play button
+                        failed.append(f"{n} clients: the run failed: {str(error).splitlines()[0]}")
+            finally:
+                subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, check=False)
+        print(f"## baseline: the app at {args.baseline}, the same clients\n")
+        print(format_table(baseline))
+        print("\n".join(["", *failed]) if failed else "")
+        print("\n## this tree\n")
     results, loads = [], []
     for n in counts:
         loads.append(os.getloadavg()[0])
