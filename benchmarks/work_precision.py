@@ -15,10 +15,12 @@ log-log work-precision curve.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib.util
 import math
 import platform
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -135,7 +137,13 @@ def _timed_exact(model: Model, s0, t: np.ndarray) -> Trajectory:
 
 
 def mujoco_rk4(model: Model, s0, t: np.ndarray, h: float) -> Trajectory:
-    """MuJoCo's RK4 on a free-floating body (free model only; a ball joint for the top)."""
+    """MuJoCo's RK4 on a free-floating body (free model only; a ball joint for the top), run in a
+    temporary working directory: MuJoCo writes its warnings to MUJOCO_LOG.TXT there."""
+    with tempfile.TemporaryDirectory() as tmp, contextlib.chdir(tmp):
+        return _mujoco_rk4(model, s0, t, h)
+
+
+def _mujoco_rk4(model: Model, s0, t: np.ndarray, h: float) -> Trajectory:
     import mujoco
 
     # A top: a ball joint at the pivot, mass 1 at ℓ = 0.1 on z', g = mgl / (m ℓ); MuJoCo takes the

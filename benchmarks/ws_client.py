@@ -1,6 +1,6 @@
 """A browser stand-in for viser 1.1 servers: pure Python, no browser, for load tests and benchmarks.
 
-It speaks viser's websocket protocol (shared/VISER.md §3):
+It speaks viser's websocket protocol (docs/VISER.md §3):
 
 - connects with the subprotocol ``viser-v<viser.__version__>`` (a mismatch is closed with 1002);
 - sends a ``ViewerCameraMessage`` first (until then the server does not register the client and

@@ -1,4 +1,4 @@
-"""Debian's Chromium for headless WebGL screenshots and browser tests (flags of shared/VISER.md).
+"""Debian's Chromium for headless WebGL screenshots and browser tests (flags of docs/VISER.md).
 
 Software WebGL through SwiftShader; `--run-all-compositor-stages-before-draw` makes complete
 frames reliable; the background-networking flags keep it off the closed network.

@@ -9,7 +9,7 @@ Shots (each from the running app, through a real browser):
     scene_top.png    the heavy top's "Loop" preset after a few seconds, with its tip trace.
 
 Starts the app on a loopback ephemeral port, opens it in Debian's Chromium through Playwright
-(software WebGL via SwiftShader, the flags of shared/VISER.md), drives that browser's session
+(software WebGL via SwiftShader, the flags of docs/VISER.md), drives that browser's session
 from the server side (scene, preset, play), waits for the scene to settle and writes the PNGs.
 Needs `apt-get install chromium` and `pip install playwright` (no `playwright install` step).
 """

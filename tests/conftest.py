@@ -2,7 +2,7 @@
 (no browser) and, for tests marked `browser`, Debian's Chromium driven by Playwright.
 
 Browser: /usr/lib/chromium/chromium (override with $CHROMIUM), launched with the flags of
-shared/VISER.md.  If playwright or Chromium is missing the browser tests are skipped with
+docs/VISER.md.  If playwright or Chromium is missing the browser tests are skipped with
 a hint (`apt-get install chromium`), except under CI=true, where that is a failure.
 """
 
@@ -57,7 +57,7 @@ def app() -> Iterator[App]:
 
 
 class RawClient:
-    """A browser stand-in speaking viser's websocket protocol (VISER.md §3).
+    """A browser stand-in speaking viser's websocket protocol (docs/VISER.md §3).
 
     It sends the first ViewerCameraMessage (without which viser does not register a client)
     and then GUI updates; a thread drains (and ignores) what the server sends.

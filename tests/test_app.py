@@ -328,7 +328,7 @@ def test_out_of_range_and_nan_are_refused_with_a_message(manual) -> None:
     assert scene.gui_angles[1].value == 50.0 and scene.sim.angles_deg[1] == 50.0
     assert scene.message.handle.visible and "refused" in scene.message.handle.content
 
-    client.set_value(scene.gui_angles[1], 1e6)  # viser itself accepts this (VISER.md pitfall 4)
+    client.set_value(scene.gui_angles[1], 1e6)  # viser itself accepts this (docs/VISER.md pitfall 4)
     manual.wait(lambda: "1000000.0 refused" in scene.message.handle.content)
     assert scene.gui_angles[1].value == 50.0 and scene.sim.angles_deg[1] == 50.0
     client.set_value(scene.gui_angles[2], 33.0)

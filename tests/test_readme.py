@@ -26,3 +26,16 @@ def test_ci_runs_ruff_and_mypy_before_the_tests():
     ci = (ROOT / ".ci" / "run").read_text()
     assert "ruff check ." in ci and "mypy physics app" in ci
     assert ci.index("mypy physics app") < ci.index(_readme_commands()[1])
+
+
+def test_every_document_cited_exists():
+    """Docstrings and docs cite sheets by name (docs/CONVENTIONS.md, CASEFILE.md, ...): each exists."""
+    cited = set()
+    for path in [*ROOT.glob("*.md"), *ROOT.glob("docs/*.md"), *ROOT.glob("*/**/*.py")]:
+        if ".venv" in path.parts:
+            continue
+        cited |= set(re.findall(r"\b((?:docs/)?[A-Z][A-Z_]+\.md)\b", path.read_text(encoding="utf-8")))
+    assert cited, "no citations found"
+    missing = sorted(name for name in cited
+                     if not (ROOT / name).exists() and not (ROOT / "docs" / name).exists())
+    assert missing == []

@@ -94,7 +94,7 @@ def checked_value(value: Any, lo: float, hi: float) -> float | None:
     """`value` as a float if it is finite and within [lo, hi]; None (refuse it) otherwise.
 
     viser does not validate what a browser sends: a slider with range [0, 10] accepts 1e6
-    or NaN from a hand-written client (VISER.md pitfall 4).
+    or NaN from a hand-written client (docs/VISER.md pitfall 4).
     """
     try:
         number = float(value)
