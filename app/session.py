@@ -75,7 +75,14 @@ class Session:
 
     def _new_view(self, room: Room) -> Any:
         scene: Scene = room.scene
-        return scene(self.client, room, self.guard, self.report_error)
+        view = scene(self.client, room, self.guard, self.report_error)
+        view.open_room = self.open_room
+        return view
+
+    def open_room(self, room: Room) -> None:
+        """Show `room` (another scene's simulation, made by a view) and move the camera to its view."""
+        self.show(room)
+        apply_camera(self.client, room.scene.view)
 
     # ------------------------------------------------------------------ errors
     def guard(self, where: str, fn: Callable[..., R]) -> Callable[..., R | None]:

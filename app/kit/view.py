@@ -33,6 +33,9 @@ class SceneView:
     preset_file: ClassVar[str] = ""  # under assets/presets/
     param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+    open_room: Callable[[Room], None] | None = None
+    """Set by the session: show another room in this browser (e.g. "Spin it" hands a body to the
+    Free body scene: `self.open_room(Room(FreeBodyView, simulation))`)."""
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
