@@ -75,7 +75,7 @@ class Session:
 
     def _new_view(self, room: Room) -> Any:
         scene: Scene = room.scene
-        view = scene(self.client, room, self.guard, self.report_error)
+        view: Any = scene(self.client, room, self.guard, self.report_error)
         view.open_room = self.open_room
         return view
 
