@@ -24,6 +24,7 @@ import viser
 from app.backpressure import FramePacer, PacerStats
 from app.kit.presets import PresetError
 from app.kit.room import Room
+from app.lectern import Lectern
 from app.scenes import check_presets
 from app.scenes.euler_angles import INITIAL_CAMERA, INITIAL_FOV_DEG
 from app.session import Session
@@ -52,14 +53,17 @@ class App:
         server: viser.ViserServer,
         *,
         tick_hz: float = TICK_HZ,
-        session_factory: Callable[[viser.ClientHandle], Session] = Session,
+        session_factory: Callable[[viser.ClientHandle], Session] | None = None,
+        presenter_code: str | None = None,
     ) -> None:
         self.server = server
         self.sessions: dict[int, Session] = {}
         self.tick_hz = tick_hz
         self.tick_count = 0
         self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
-        self._session_factory = session_factory
+        self.lectern = Lectern(server, presenter_code)
+        self.lectern._sessions = lambda: list(self.sessions.values())
+        self._session_factory = session_factory or (lambda client: Session(client, lectern=self.lectern))
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
         self._stop = threading.Event()
@@ -143,6 +147,7 @@ class App:
                     if pacer.ready(view.client):
                         room.draw(view, owed.pop(id(view)))
                         drawn.append(view.client)
+            self.lectern.tick(dt)
             if len(owed) > 2 * len(views) + 16:  # views that left
                 live = {id(view) for _, view in views}
                 owed = {key: value for key, value in owed.items() if key in live}
@@ -164,9 +169,11 @@ class App:
 
 
 def create_server(
-    host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True
+    host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
+    presenter_code: str | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
+    presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
 
     Reads every scene's presets first: a broken preset file raises PresetError (naming the
     file and the field) before the server starts.
@@ -191,7 +198,7 @@ def create_server(
     server.initial_camera.look_at = INITIAL_CAMERA["look_at"]
     server.initial_camera.up = INITIAL_CAMERA["up"]
     server.initial_camera.fov = math.radians(INITIAL_FOV_DEG)
-    app = App(server)
+    app = App(server, presenter_code=presenter_code)
     if start_loop:
         app.start()
     return app
@@ -205,6 +212,8 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="interface to bind (default %(default)s; 0.0.0.0 exposes it to the network)")
     parser.add_argument("--port", type=int, default=DEFAULT_PORT,
                         help="port (default %(default)s; viser tries the next one if busy)")
+    parser.add_argument("--presenter-code", metavar="CODE",
+                        help="the code a browser types to present (default: a random one, printed at start)")
     return parser.parse_args(argv)
 
 
@@ -213,11 +222,11 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = _parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        app = create_server(args.host, args.port)
+        app = create_server(args.host, args.port, presenter_code=args.presenter_code)
     except PresetError as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None
-    logger.info("open http://%s:%d in a browser", args.host, app.port)
+    print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)
     try:
         while True:
             time.sleep(1.0)

@@ -21,13 +21,22 @@ import functools
 import logging
 import threading
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import viser
 
 from app.kit.common import apply_camera
 from app.kit.room import Room, Scene
 from app.scenes import DEFAULT_SCENE, SCENES
+
+if TYPE_CHECKING:
+    from app.lectern import Lectern
+
+
+def fork_simulation(scene: Any, sim: Any) -> Any:
+    from app.lectern import fork_simulation as fork
+
+    return fork(scene, sim)
 
 __all__ = ["SCENES", "Session"]
 
@@ -45,8 +54,12 @@ class Session:
         last_error: the last error message shown, or None; error_count: errors so far.
     """
 
-    def __init__(self, client: viser.ClientHandle, scene: str = DEFAULT_SCENE) -> None:
+    def __init__(self, client: viser.ClientHandle, scene: str = DEFAULT_SCENE, *,
+                 lectern: Lectern | None = None) -> None:
         self.client = client
+        self.lectern = lectern
+        self.mode = "own"  # "own" (its own room), "presenting" or "following"
+        self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
         self.client_id: int = client.client_id
         self.closed = False
         self.last_error: str | None = None
@@ -61,8 +74,17 @@ class Session:
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))
         self._guarded_tick = self.guard("tick", self._tick)
-        self.room = Room(SCENES[scene], SCENES[scene].new_simulation())
-        self.scene: Any = self._new_view(self.room)
+        if lectern is not None:
+            self._build_lecture_panel(gui)
+        self._shadow: Any = None
+        if lectern is not None and lectern.live:
+            self.room = lectern.live_room
+            self.scene: Any = None
+            self.follow()
+        else:
+            self.room = Room(SCENES[scene], SCENES[scene].new_simulation())
+            self.scene = self._new_view(self.room)
+            self._hide_live(True)
 
     @property
     def lock(self) -> threading.RLock:
@@ -146,7 +168,12 @@ class Session:
                 old_view.remove()
             with room.lock:
                 self.room = room
-                self.scene = self._new_view(room)
+                if self.mode == "presenting" and self.lectern is not None:
+                    self.lectern.live_view = None  # removed above; the new one goes live
+                    self.scene = self.lectern.make_live_view(self, room)
+                    self.scene.open_room = self.open_room
+                else:
+                    self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
                 self.gui_scene.value = room.scene.title  # type: ignore[misc]  # the titles match now
 
@@ -163,22 +190,28 @@ class Session:
     def _select(self, title: str) -> None:
         self.gui_scene.value = title  # type: ignore[misc]  # runs _scene_chosen synchronously
 
+    def _controlled_room(self) -> Room:
+        """The room this browser may change (PermissionError while it follows the presenter)."""
+        if self.mode == "following":
+            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
+        return self.room
+
     def apply_preset(self, name: str) -> None:
         """Load a preset of the active scene; a name it does not have is an error (through the guard)."""
-        self.guard("preset", lambda: self.room.scene.apply_preset(self.room, name))()
+        self.guard("preset", lambda: self.room.scene.apply_preset(self._controlled_room(), name))()
 
     def play(self) -> None:
         """Start the motion of the room shown."""
-        self.guard("play", lambda: self.room.play())()
+        self.guard("play", lambda: self._controlled_room().play())()
 
     def pause(self) -> None:
-        self.guard("pause", lambda: self.room.pause())()
+        self.guard("pause", lambda: self._controlled_room().pause())()
 
     def step(self) -> None:
-        self.guard("step", lambda: self.room.step())()
+        self.guard("step", lambda: self._controlled_room().step())()
 
     def reset(self) -> None:
-        self.guard("reset", lambda: self.room.reset())()
+        self.guard("reset", lambda: self._controlled_room().reset())()
 
     def tick(self, dt: float) -> None:
         """Advance the session's room by dt [s] of wall time (what the loop does for every room)."""
@@ -188,9 +221,135 @@ class Session:
     def _tick(self, dt: float) -> None:
         self.room.tick(dt)
 
+    # ------------------------------------------------------------------ the lecture hall
+    def _build_lecture_panel(self, gui: Any) -> None:
+        self.lecture_folder = gui.add_folder("Lecture", expand_by_default=False)
+        with self.lecture_folder:
+            self.gui_code = gui.add_text("Presenter code", "", hint="the code the app printed at start")
+            self.gui_present = gui.add_button("Present", icon=viser.Icon.PRESENTATION,
+                                              hint="show this browser's scene to everyone who follows")
+            self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False)
+            self.gui_follow = gui.add_button("Follow presenter", icon=viser.Icon.USERS, visible=False)
+            self.gui_lecture_note = gui.add_markdown("", visible=False)
+        self.gui_present.on_click(self.guard("present", lambda _event: self.present(str(self.gui_code.value))))
+        self.gui_stop.on_click(self.guard("stop presenting", lambda _event: self.stop_presenting()))
+        self.gui_follow.on_click(self.guard("follow", lambda _event: self.follow()))
+
+    def _lecture_note(self, text: str) -> None:
+        self.gui_lecture_note.content = text
+        self.gui_lecture_note.visible = bool(text)
+
+    def _show_lecture_buttons(self) -> None:
+        lectern = self.lectern
+        if lectern is None:
+            return
+        self.gui_present.visible = self.gui_code.visible = self.mode != "presenting"
+        self.gui_stop.visible = self.mode == "presenting"
+        self.gui_follow.visible = self.mode == "own" and lectern.live
+        self.gui_scene.visible = self.mode != "following"
+
+    def _hide_live(self, hide: bool) -> None:
+        """Hide the shared (presenter's) scene in this browser: an invisible node of the same
+        name in this browser's own scope is drawn instead of the shared one and its children."""
+        from app.lectern import LIVE_ROOT
+
+        if hide and self._shadow is None:
+            self._shadow = self.client.scene.add_frame(LIVE_ROOT, show_axes=False, visible=False)
+        elif not hide and self._shadow is not None:
+            self._shadow.remove()
+            self._shadow = None
+
+    def present(self, code: str) -> None:
+        """Become the presenter with `code`: this browser's room goes live for every follower."""
+        lectern = self.lectern
+        if lectern is None:
+            raise RuntimeError("this app has no lecture hall")
+        refusal = lectern.try_code(self, code)
+        if refusal is not None:
+            self._lecture_note(f"**⚠ {refusal}**")
+            return
+        self._lecture_note("")
+        if self.mode == "following":
+            self.explore()  # a private copy of what is on screen, then it goes live
+        with self._switch_lock:
+            self.gui_code.value = ""
+            room = self.room
+            with room.lock:
+                self.scene.remove()
+                self.scene = lectern.make_live_view(self, room)
+                self.scene.open_room = self.open_room
+            self.mode = "presenting"
+            self._hide_live(False)
+        lectern.start(self)
+        self._show_lecture_buttons()
+
+    def stop_presenting(self) -> None:
+        """Release the lock; the followers keep the last state; this browser keeps the room."""
+        lectern = self.lectern
+        if lectern is None or self.mode != "presenting":
+            return
+        lectern.release(self, disconnected=False)
+        with self._switch_lock:
+            room = self.room
+            with room.lock:
+                self.scene.remove_panel()  # its shared nodes stay: the followers' last state
+                self.mode = "own"
+                self.scene = self._new_view(room)
+            self._hide_live(True)
+        self._show_lecture_buttons()
+
+    def following_by_default(self) -> bool:
+        """A browser with its own room that has not chosen to explore follows a new presenter."""
+        return self.mode == "own" and not self.explored
+
+    def follow(self) -> None:
+        """Follow the presenter (or the last state a presenter left): the shared scene and a
+        read-only panel; this browser's own scene goes."""
+        lectern = self.lectern
+        if lectern is None or not lectern.live or self.mode == "presenting":
+            return
+        with self._switch_lock:
+            if self.scene is not None:
+                with self.room.lock:
+                    self.scene.remove()
+            self.scene = None
+            self.room = lectern.live_room
+            self.mode = "following"
+            self.explored = False
+            self._hide_live(False)
+            self.scene = lectern.add_follower(self)
+        self._show_lecture_buttons()
+
+    def explore(self) -> None:
+        """Leave the presenter: a private copy of the presenter's current state."""
+        lectern = self.lectern
+        if lectern is None or self.mode != "following":
+            return
+        live = self.room
+        with live.lock:
+            sim = fork_simulation(live.scene, live.sim)
+        with self._switch_lock:
+            lectern.remove_follower(self)
+            self.mode = "own"
+            self.explored = True
+            self.room = Room(live.scene, sim)
+            self._hide_live(True)
+            self.scene = self._new_view(self.room)
+            if self.gui_scene.value != live.scene.title:
+                self.gui_scene.value = live.scene.title  # type: ignore[misc]  # titles match: no switch
+        self._show_lecture_buttons()
+
     def close(self) -> None:
-        """Leave the room (its client is gone; viser drops the client's nodes)."""
+        """Leave the room (its client is gone; viser drops the client's nodes); a presenter who
+        leaves releases the lock, the followers keep the last state."""
         self.closed = True
+        if self.lectern is not None:
+            if self.mode == "presenting":
+                self.lectern.release(self, disconnected=True)
+                return
+            if self.mode == "following":
+                self.lectern.followers.pop(self.client_id, None)
+                return
         room = self.room
         with room.lock:
             room.remove_view(self.scene)

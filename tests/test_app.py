@@ -803,11 +803,12 @@ def test_main_binds_loopback_by_default(monkeypatch: pytest.MonkeyPatch) -> None
 
     class FakeApp:
         port = 8080
+        lectern = type("Lectern", (), {"code": "123456"})()
 
         def stop(self) -> None:
             calls.append(("stopped", 0))
 
-    def fake_create_server(host: str, port: int) -> FakeApp:
+    def fake_create_server(host: str, port: int, **_options: object) -> FakeApp:
         calls.append((host, port))
         return FakeApp()
 

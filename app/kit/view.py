@@ -28,7 +28,7 @@ class SceneView:
     """One browser's view of a room (the shared part of every scene)."""
 
     title: ClassVar[str] = ""
-    root: ClassVar[str] = "/scene"
+    root: str = "/scene"  # the scene node everything hangs under (prefixed for a broadcast view)
     view: ClassVar[CameraView] = CameraView((4.5, -3.6, 2.4), (0.0, 0.0, 0.0))
     preset_file: ClassVar[str] = ""  # under assets/presets/
     param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
@@ -40,6 +40,8 @@ class SceneView:
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
         self.client = client
+        # A presenter's view draws into the shared scene under a prefix (app.lectern.Broadcast).
+        self.root = getattr(client, "root_prefix", "") + type(self).root
         self.room = room
         self.sim: Any = room.sim
         self._wrap = wrap
@@ -123,10 +125,22 @@ class SceneView:
 
     def remove(self) -> None:
         """Leave the room and remove this view's panel and nodes from its client."""
+        self.remove_panel()
+        self._root_node.remove()  # and every node below it
+
+    def remove_panel(self) -> None:
+        """Leave the room and remove the panel; the nodes stay as last drawn (a presenter who
+        stops leaves the last state on the followers' screens)."""
         self.room.remove_view(self)
         for handle in self._gui_roots:
             handle.remove()
-        self._root_node.remove()  # and every node below it
+        self._gui_roots = []
+
+    def control_values(self) -> list[tuple[str, str]]:
+        """(label, value) of the view's sliders, for the followers' read-only panel."""
+        handles = [*getattr(self, "gui_angles", ()), *getattr(self, "gui_rates", ()),
+                   *getattr(self, "gui_params", ()), *getattr(self, "gui_moments", ())]
+        return [(str(h.label), f"{h.value:g}") for h in handles]
 
     # ------------------------------------------------------------------ sliders
     def refuse(self, spec: SliderSpec, handle: Any, last: float) -> None:

@@ -1,0 +1,196 @@
+"""The lecture hall: the presenter lock, followers who see and cannot change, explore and follow
+back, a presenter who leaves.  Real websocket clients (`RawClient`), the app's loop not running:
+the tests tick the rooms by hand."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from app.lectern import LIVE_ROOT, MAX_TRIES, Follower, Lectern
+from app.main import App, create_server
+from conftest import RawClient, poll_until
+
+DT = 1.0 / 60.0
+CODE = "424242"
+
+
+class Hall:
+    """The app (loop not running) with a known presenter code and raw clients."""
+
+    def __init__(self) -> None:
+        self.app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE)
+        self.clients: list[RawClient] = []
+
+    def join(self):  # type: ignore[no-untyped-def]
+        """Connect one more browser; its session."""
+        before = set(self.app.sessions)
+        self.clients.append(RawClient(self.app.port))
+        sessions = self.app.wait_for_sessions(len(before) + 1)
+        (new,) = (s for cid, s in sessions.items() if cid not in before)
+        return new
+
+    def frames(self, count: int) -> None:
+        for _ in range(count):
+            for room in self.app.rooms():
+                room.tick(DT)
+            self.app.lectern.tick(DT)
+
+    def close(self) -> None:
+        for client in self.clients:
+            client.close()
+        self.app.stop()
+
+
+@pytest.fixture
+def hall() -> Iterator[Hall]:
+    running = Hall()
+    try:
+        yield running
+    finally:
+        running.close()
+
+
+def _pose(node) -> np.ndarray:  # type: ignore[no-untyped-def]
+    return Rotation.from_quat(np.asarray(node.wxyz), scalar_first=True).as_matrix()
+
+
+def test_a_wrong_code_is_refused_and_tries_are_limited_per_minute() -> None:
+    clock = [0.0]
+    lectern = Lectern(server=None, code=CODE, clock=lambda: clock[0])  # type: ignore[arg-type]
+    browser = type("S", (), {"client_id": 7})()
+    for k in range(MAX_TRIES):
+        refusal = lectern.try_code(browser, "000000")  # type: ignore[arg-type]
+        assert refusal is not None and refusal.startswith("Wrong presenter code")
+    refusal = lectern.try_code(browser, CODE)  # type: ignore[arg-type]
+    assert refusal is not None and "Too many wrong codes" in refusal  # even the right one, for now
+    clock[0] = 61.0
+    assert lectern.try_code(browser, CODE) is None  # type: ignore[arg-type]
+    other = type("S", (), {"client_id": 8})()
+    assert lectern.try_code(other, "000000") is not None and lectern.try_code(other, CODE) is None  # type: ignore[arg-type]
+
+
+def test_followers_see_the_presenters_motion_and_cannot_change_it(hall: Hall) -> None:
+    presenter, follower = hall.join(), hall.join()
+    assert presenter.mode == follower.mode == "own"  # nobody presents: everyone explores alone
+    presenter.select_scene("Free body")
+    presenter.apply_preset("Dzhanibekov")
+    presenter.present("wrong")
+    assert presenter.mode == "own" and "Wrong presenter code" in presenter.gui_lecture_note.content
+    presenter.present(CODE)
+    assert presenter.mode == "presenting" and follower.mode == "following"
+    assert isinstance(follower.scene, Follower) and follower.room is presenter.room
+    live = presenter.scene
+    assert live.root == LIVE_ROOT + "/free" and live.client.scene is hall.app.server.scene
+    presenter.play()
+    hall.frames(30)
+    assert presenter.room.ticks == 30  # one simulation, advanced once a frame
+    np.testing.assert_allclose(_pose(live.body.node), presenter.simulation.state.R_space_body, atol=1e-6)
+    assert "Free body" in follower.scene.gui_status.content and "Dzhanibekov" in follower.scene.gui_status.content
+    # A follower's actions are refused; the presenter's room does not change.
+    t = presenter.simulation.t
+    follower.pause()
+    follower.apply_preset("Disc")
+    assert follower.error_count == 2 and "follows the presenter" in follower.last_error
+    assert presenter.room.playing and presenter.simulation.t == t and presenter.simulation.preset == "Dzhanibekov"
+    # A hand-made browser sends an update for the presenter's time-scale slider: not its handle.
+    hall.clients[1].set_value(live.transport.gui_time_scale, 4.0)
+    hall.clients[1].set_value(follower.scene.gui_follow_camera, False)  # its own handle: sent after
+    poll_until(lambda: follower.scene.gui_follow_camera.value is False)
+    with presenter.room.lock:
+        assert presenter.room.time_scale == 1.0 and live.transport.gui_time_scale.value == 1.0
+    # A second browser with the code cannot take over while someone presents.
+    third = hall.join()
+    assert third.mode == "following"  # joined during the presentation: follows at once
+    third.present(CODE)
+    assert third.mode != "presenting" and "Someone else is presenting" in third.gui_lecture_note.content
+
+
+def test_explore_on_my_own_forks_the_state_and_follow_presenter_comes_back(hall: Hall) -> None:
+    presenter, student = hall.join(), hall.join()
+    presenter.select_scene("Heavy top")
+    presenter.apply_preset("Loop")
+    presenter.present(CODE)
+    presenter.play()
+    hall.frames(20)
+    R_live = presenter.simulation.state.R_space_body.copy()
+    student.explore()
+    assert student.mode == "own" and student.room is not presenter.room
+    np.testing.assert_allclose(student.simulation.state.R_space_body, R_live, atol=1e-15)
+    assert student.simulation.t == 0.0 and student.scene.title == "Heavy top"
+    assert student._shadow is not None  # the shared scene is hidden in this browser
+    student.play()
+    hall.frames(10)
+    assert student.simulation.t > 0.0 and presenter.room.ticks == 30
+    presenter.select_scene("Euler angles")  # a new scene goes live; the explorer stays put
+    assert student.mode == "own" and student.scene.title == "Heavy top"
+    student.follow()
+    assert student.mode == "following" and student.room is presenter.room and student._shadow is None
+    assert "Euler angles" in student.scene.gui_status.content
+
+
+def test_a_presenter_who_leaves_leaves_the_last_state_and_a_new_one_takes_over(hall: Hall) -> None:
+    presenter, follower = hall.join(), hall.join()
+    presenter.select_scene("Free body")
+    presenter.present(CODE)
+    presenter.play()
+    hall.frames(10)
+    live = presenter.scene
+    hall.clients[0].close()  # the presenter's browser goes away
+    poll_until(lambda: len(hall.app.sessions) == 1)
+    assert hall.app.lectern.presenter is None and not live.body.node._impl.removed  # the last state stays
+    hall.frames(40)  # the lectern refreshes the followers' panels
+    assert "The presenter has left" in follower.scene.gui_status.content
+    follower.present(CODE)  # a new presenter takes over with the code, from what is on screen
+    assert follower.mode == "presenting" and live.body.node._impl.removed
+    assert follower.scene.root == LIVE_ROOT + "/free"
+
+
+def test_stop_presenting_keeps_the_room_in_the_presenters_browser(hall: Hall) -> None:
+    presenter, follower = hall.join(), hall.join()
+    presenter.present(CODE)
+    presenter.stop_presenting()
+    assert presenter.mode == "own" and hall.app.lectern.presenter is None
+    assert presenter.scene.root == "/explorer" and presenter._shadow is not None
+    assert follower.mode == "following"  # the last state stays on the followers' screens
+    assert presenter.gui_present.visible and not presenter.gui_stop.visible
+
+
+def test_the_app_prints_the_presenter_code_and_takes_it_from_the_command_line(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import app.main as app_main
+
+    seen: list[object] = []
+
+    class FakeApp:
+        port = 8080
+        lectern = type("L", (), {"code": "777777"})()
+
+        def stop(self) -> None:
+            pass
+
+    def fake_create_server(host: str, port: int, **options: object) -> FakeApp:
+        seen.append(options.get("presenter_code"))
+        return FakeApp()
+
+    def interrupt(_seconds: float) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(app_main, "create_server", fake_create_server)
+    monkeypatch.setattr(app_main.time, "sleep", interrupt)
+    app_main.main(["--presenter-code", "777777"])
+    assert seen == ["777777"] and "presenter code: 777777" in capsys.readouterr().out
+    app_main.main([])
+    assert seen[-1] is None  # the app makes a random code
+
+
+def test_random_codes_differ() -> None:
+    codes = {Lectern(server=None).code for _ in range(20)}  # type: ignore[arg-type]
+    assert len(codes) > 15 and all(len(c) == 6 and c.isdigit() for c in codes)
+
+
+def test_app_api_is_unchanged() -> None:
+    assert {"port", "stop", "wait_for_sessions"} <= set(dir(App))
