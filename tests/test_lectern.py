@@ -8,11 +8,11 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
+from conftest import RawClient, poll_until
 from scipy.spatial.transform import Rotation
 
 from app.lectern import LIVE_ROOT, MAX_TRIES, Follower, Lectern
 from app.main import App, create_server
-from conftest import RawClient, poll_until
 
 DT = 1.0 / 60.0
 CODE = "424242"
@@ -62,7 +62,7 @@ def test_a_wrong_code_is_refused_and_tries_are_limited_per_minute() -> None:
     clock = [0.0]
     lectern = Lectern(server=None, code=CODE, clock=lambda: clock[0])  # type: ignore[arg-type]
     browser = type("S", (), {"client_id": 7})()
-    for k in range(MAX_TRIES):
+    for _ in range(MAX_TRIES):
         refusal = lectern.try_code(browser, "000000")  # type: ignore[arg-type]
         assert refusal is not None and refusal.startswith("Wrong presenter code")
     refusal = lectern.try_code(browser, CODE)  # type: ignore[arg-type]
