@@ -20,6 +20,7 @@ server, limit the figures.
     python benchmarks/load_clients.py --clients 40 --scene "Heavy top" --seconds 30
     python benchmarks/load_clients.py --clients 1,10,20 --seconds 10   # one row per count
     python benchmarks/load_clients.py --clients 20,60,80 --baseline 2cce6d0   # and that commit's app
+    python benchmarks/load_clients.py --followers --clients 50,100,200   # one presenter, followers
 
 Targets (scene-kit issue): 60 clients >= 30 fps median and >= 27 fps for the slowest; 80
 clients >= 15 fps each, and the total frames delivered do not fall as clients are added.
@@ -46,6 +47,7 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
+PRESENTER_CODE = "314159"  # the --serve app's presenter code (--followers)
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
@@ -215,7 +217,7 @@ def serve(max_lifetime: float) -> None:
     else:
         Room.advance = timed(Room.advance)  # type: ignore[method-assign]  # this process only
         Room.draw = timed(Room.draw)  # type: ignore[method-assign]
-    app = create_server("127.0.0.1", 0, verbose=False)
+    app = create_server("127.0.0.1", 0, verbose=False, presenter_code=PRESENTER_CODE)
     print(f"BENCH_PORT {app.port}", flush=True)
     done = threading.Event()
 
@@ -366,6 +368,69 @@ async def _run_clients(server: ServerProcess, clients: int, scene: str, warmup: 
         await asyncio.gather(*(c.close() for c in connected), return_exceptions=True)
 
 
+async def _run_followers(server: ServerProcess, followers: int, scene: str, warmup: float, seconds: float
+                         ) -> LoadResult:
+    """One presenter (types the code, presses Present, picks `scene`, presses Play) and
+    `followers` browsers that join and only count the frames of the shared scene."""
+    port, pid = server.port, server.pid
+    idle = sample_process(pid)
+    presenter = await AsyncViserClient.connect(port, keep_messages=200)
+    connected: list[AsyncViserClient] = []
+    try:
+        await presenter.wait_for_label("Presenter code", 30.0)
+        await presenter.set_value("Presenter code", PRESENTER_CODE)
+        await asyncio.sleep(0.2)
+        await presenter.click("Present")
+        await asyncio.sleep(0.5)
+        await start_playing(presenter, scene, timeout=30.0)
+        presenter.state.count_only = True
+        for _ in range(followers):
+            connected.append(await AsyncViserClient.connect(port, keep_messages=50))
+        await asyncio.gather(*(c.wait_for(lambda c=c: c.state.replay_done, 60.0 + 0.5 * followers)
+                               for c in connected))
+        for c in connected:
+            c.state.count_only = True
+        await asyncio.sleep(warmup)
+        loop0 = await asyncio.to_thread(server.loop_stats)
+        server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
+        for c in connected:
+            c.state.max_frame_gap = 0.0
+        frames0 = [c.state.frames for c in connected]
+        bytes0 = [c.state.bytes_received for c in connected]
+        await asyncio.sleep(seconds)
+        frames1 = [c.state.frames for c in connected]
+        gaps = [c.state.max_frame_gap for c in connected]
+        bytes1 = [c.state.bytes_received for c in connected]
+        server1, client_cpu1, t1 = sample_process(pid), time.process_time(), time.monotonic()
+        loop1 = await asyncio.to_thread(server.loop_stats)
+        window = t1 - t0
+        return LoadResult(
+            clients=followers, scene=f"{scene} (followers)", seconds=window,
+            fps=[(f1 - f0) / window for f0, f1 in zip(frames0, frames1)], max_gap_s=gaps,
+            kbytes_per_s=[(b1 - b0) / window / 1e3 for b0, b1 in zip(bytes0, bytes1)],
+            server_cpu_percent=cpu_percent(server0, server1), server_rss_mib=server1.rss_mib,
+            server_hwm_mib=server1.hwm_mib, server_rss_idle_mib=idle.rss_mib,
+            client_cpu_percent=100.0 * (client_cpu1 - client_cpu0) / window, body_nodes=[],
+            decode_errors=sum(len(c.state.errors) for c in connected),
+            loop_hz=(loop1[0] - loop0[0]) / (loop1[1] - loop0[1]), sessions=loop1[2],
+            loop_busy_percent=100.0 * (loop1[3] - loop0[3]) / (loop1[1] - loop0[1]),
+        )
+    finally:
+        await asyncio.gather(*(c.close() for c in [presenter, *connected]), return_exceptions=True)
+
+
+def run_followers(followers: int, seconds: float = 20.0, scene: str = "Free body", warmup: float = 3.0
+                  ) -> LoadResult:
+    """Start the app in a subprocess, a presenter playing `scene` and `followers` followers; measure."""
+    server = ServerProcess(max_lifetime=warmup + seconds + 120.0 + 1.0 * followers)
+    try:
+        return asyncio.run(_run_followers(server, followers, scene, warmup, seconds))
+    except Exception as error:
+        raise RuntimeError(f"{error}\n--- server log ---\n{server.log_tail()}") from error
+    finally:
+        server.stop()
+
+
 def run_load(clients: int = 20, seconds: float = 20.0, scene: str = "Free body", warmup: float = 3.0,
              server_argv: list[str] | None = None, app_root: Path | None = None) -> LoadResult:
     """Start the app in a subprocess, run `clients` clients playing `scene`, measure, stop.
@@ -412,6 +477,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seconds", type=float, default=20.0, help="measured window [s] (default %(default)s)")
     parser.add_argument("--warmup", type=float, default=3.0, help="warm-up after Play [s] (default %(default)s)")
     parser.add_argument("--scene", default="Free body", help=f"scene to play, e.g. {' / '.join(SCENES)}")
+    parser.add_argument("--followers", action="store_true",
+                        help="one presenter plays, the clients follow it (the lecture hall)")
     parser.add_argument("--baseline", metavar="REF",
                         help="first run the same clients against the app at git commit REF (a worktree)")
     parser.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
@@ -421,8 +488,17 @@ def main(argv: list[str] | None = None) -> None:
         serve(args.max_lifetime)
         return
     counts = [int(n) for n in str(args.clients).split(",")]
-    if any(n < 1 or n > 200 for n in counts):
-        parser.error("--clients: between 1 and 200")
+    if any(n < 1 or n > 400 for n in counts):
+        parser.error("--clients: between 1 and 400")
+    if args.followers:
+        results = [run_followers(n, args.seconds, args.scene, args.warmup) for n in counts]
+        print(format_table(results))
+        print("\nfollowers count websocket messages: the shared scene's frames plus their panel's "
+              "refresh (2 a second)")
+        for r in results:
+            print(f"fps per follower ({r.clients}): min {min(r.fps):.1f}, "
+                  f"deciles {' '.join(f'{q:.0f}' for q in statistics.quantiles(r.fps, n=10))}")
+        return
     if args.baseline:
         with tempfile.TemporaryDirectory(prefix="load_clients_") as tmp:
             tree = Path(tmp) / "tree"
