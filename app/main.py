@@ -55,6 +55,7 @@ class App:
         tick_hz: float = TICK_HZ,
         session_factory: Callable[[viser.ClientHandle], Session] | None = None,
         presenter_code: str | None = None,
+        projector: bool = False,
     ) -> None:
         self.server = server
         self.sessions: dict[int, Session] = {}
@@ -63,7 +64,8 @@ class App:
         self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
         self.lectern = Lectern(server, presenter_code)
         self.lectern._sessions = lambda: list(self.sessions.values())
-        self._session_factory = session_factory or (lambda client: Session(client, lectern=self.lectern))
+        self.projector = projector
+        self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
         self._stop = threading.Event()
@@ -72,6 +74,12 @@ class App:
         server.on_client_disconnect(self._on_client_disconnect)
 
     # ------------------------------------------------------------------ sessions
+    def _new_session(self, client: viser.ClientHandle) -> Session:
+        session = Session(client, lectern=self.lectern)
+        if self.projector:
+            session.guard("projector", session.set_projector)(True)
+        return session
+
     def _on_client_connect(self, client: viser.ClientHandle) -> None:
         """Build this client's session (runs on viser's thread pool); never raises."""
         try:
@@ -170,10 +178,11 @@ class App:
 
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
-    presenter_code: str | None = None,
+    presenter_code: str | None = None, projector: bool = False,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
+    projector: every browser starts in the projector layout (large text, narrow panel).
 
     Reads every scene's presets first: a broken preset file raises PresetError (naming the
     file and the field) before the server starts.
@@ -198,7 +207,7 @@ def create_server(
     server.initial_camera.look_at = INITIAL_CAMERA["look_at"]
     server.initial_camera.up = INITIAL_CAMERA["up"]
     server.initial_camera.fov = math.radians(INITIAL_FOV_DEG)
-    app = App(server, presenter_code=presenter_code)
+    app = App(server, presenter_code=presenter_code, projector=projector)
     if start_loop:
         app.start()
     return app
@@ -214,6 +223,8 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="port (default %(default)s; viser tries the next one if busy)")
     parser.add_argument("--presenter-code", metavar="CODE",
                         help="the code a browser types to present (default: a random one, printed at start)")
+    parser.add_argument("--projector", action="store_true",
+                        help="start every browser in the projector layout (large text, narrow panel)")
     return parser.parse_args(argv)
 
 
@@ -222,7 +233,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = _parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        app = create_server(args.host, args.port, presenter_code=args.presenter_code)
+        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector)
     except PresetError as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import viser
 
-from app.kit.common import apply_camera
+from app.kit.common import CameraView, apply_camera
 from app.kit.room import Room, Scene
 from app.scenes import DEFAULT_SCENE, SCENES
 
@@ -38,11 +38,33 @@ def fork_simulation(scene: Any, sim: Any) -> Any:
 
     return fork(scene, sim)
 
-__all__ = ["SCENES", "Session"]
+__all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Session", "projector_view"]
+
+BRAND_COLOR = (200, 110, 0)
+PROJECTOR_LABEL_SCALE = 1.4
+PROJECTOR_CSS = """<style>
+html { font-size: 20px; }
+label, button, input, .mantine-Text-root, .mantine-Button-label, .mantine-InputWrapper-label,
+.mantine-NumberInput-input, .mantine-Select-input, .mantine-TextInput-input, p, li, td { font-size: 19px !important; }
+code, pre { font-size: 15px !important; }
+.mantine-Slider-markLabel { display: none; }
+.mantine-Flex-root:has(> div > p > label) { flex-wrap: wrap; }
+.mantine-Flex-root > div:has(> p > label) { width: 100% !important; }
+h3 { font-size: 22px !important; }
+</style>"""
 
 logger = logging.getLogger(__name__)
 
 R = TypeVar("R")
+
+
+def projector_view(view: CameraView) -> CameraView:
+    """A scene's camera view for the projector layout: the panel is a narrow side bar there, so
+    the view looks nearer the origin (scenes frame their body left of centre, for the floating
+    panel) and from 10 % farther."""
+    look_at = tuple(0.3 * c for c in view.look_at)
+    position = tuple(a + 1.1 * (p - a) for p, a in zip(view.position, look_at))
+    return CameraView(position, look_at, view.up, view.fov_deg)  # type: ignore[arg-type]
 
 
 class Session:
@@ -74,8 +96,15 @@ class Session:
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))
         self._guarded_tick = self.guard("tick", self._tick)
+        self.gui_projector = gui.add_checkbox("Projector", False, hint="large text, a narrow panel, large 3D labels")
+        self.gui_projector.on_update(self.guard("projector", lambda _event: self.set_projector(
+            bool(self.gui_projector.value))))
         if lectern is not None:
             self._build_lecture_panel(gui)
+        self.projector = False
+        self._projector_style: Any = None
+        self._preset_commands: list[Any] = []
+        self._build_commands(gui)
         self._shadow: Any = None
         if lectern is not None and lectern.live:
             self.room = lectern.live_room
@@ -85,6 +114,7 @@ class Session:
             self.room = Room(SCENES[scene], SCENES[scene].new_simulation())
             self.scene = self._new_view(self.room)
             self._hide_live(True)
+        self._refresh_preset_commands()
 
     @property
     def lock(self) -> threading.RLock:
@@ -99,12 +129,14 @@ class Session:
         scene: Scene = room.scene
         view: Any = scene(self.client, room, self.guard, self.report_error)
         view.open_room = self.open_room
+        if self.projector:
+            self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
         return view
 
     def open_room(self, room: Room) -> None:
         """Show `room` (another scene's simulation, made by a view) and move the camera to its view."""
         self.show(room)
-        apply_camera(self.client, room.scene.view)
+        self.reset_camera()
 
     # ------------------------------------------------------------------ errors
     def guard(self, where: str, fn: Callable[..., R]) -> Callable[..., R | None]:
@@ -158,7 +190,7 @@ class Session:
         if title != self.room.scene.title:
             scene = SCENES[title]
             self.show(Room(scene, scene.new_simulation()))
-            apply_camera(self.client, scene.view)
+            self.reset_camera()
 
     def show(self, room: Room) -> None:
         """Leave the current room and show `room` (a new view of it for this client)."""
@@ -176,6 +208,7 @@ class Session:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
                 self.gui_scene.value = room.scene.title  # type: ignore[misc]  # the titles match now
+        self._refresh_preset_commands()
 
     def watch(self, room: Room) -> None:
         """Show another session's room: this client becomes one more view of its simulation."""
@@ -220,6 +253,75 @@ class Session:
 
     def _tick(self, dt: float) -> None:
         self.room.tick(dt)
+
+    # ------------------------------------------------------------------ keys and the projector
+    def _build_commands(self, gui: Any) -> None:
+        """Keys (viser's command palette, Ctrl/Cmd+K, with hotkeys): space play/pause, S step,
+        R reset; the scene's presets as commands (refreshed when the scene changes)."""
+        for label, key, action in (("Play / pause", "space", lambda room: room.toggle()),
+                                   ("Step", "S", lambda room: room.step()),
+                                   ("Reset", "R", lambda room: room.reset())):
+            command = gui.add_command(label, hotkey=key, description=f"key: {key}")
+            command.on_trigger(self.guard(label, lambda _event, action=action: self._key(action)))
+
+    def _key(self, action: Callable[[Room], None]) -> None:
+        if self.mode == "following":
+            self.client.add_notification("Following the presenter", "Press 'Explore on my own' to drive "
+                                         "your own copy.", auto_close_seconds=3.0)
+            return
+        action(self.room)
+
+    def _refresh_preset_commands(self) -> None:
+        for command in self._preset_commands:
+            command.remove()
+        self._preset_commands = []
+        if self.mode == "following":
+            return
+        scene = self.room.scene
+        for preset in scene.presets():
+            command = self.client.gui.add_command(f"Preset: {preset.name}", description=scene.title)
+            command.on_trigger(self.guard("preset command",
+                                          lambda _event, name=preset.name: self.apply_preset(name)))
+            self._preset_commands.append(command)
+
+    def set_projector(self, on: bool) -> None:
+        """Projector layout for this browser: panel text >= 18 px, a narrower collapsible panel,
+        3D labels PROJECTOR_LABEL_SCALE times larger."""
+        on = bool(on)
+        if on == self.projector:
+            return
+        self.projector = on
+        if on:
+            self._projector_style = self.client.gui.add_html(PROJECTOR_CSS)
+        elif self._projector_style is not None:
+            self._projector_style.remove()
+            self._projector_style = None
+        gui = self.client.gui
+        gui.configure_theme(show_share_button=False, brand_color=BRAND_COLOR,
+                            control_width="small" if on else "large")
+        if on:  # docked on the right, narrow and collapsible: the 3D view keeps >= 70 % of 1024 px
+            gui.main_panel.dock_right()
+        else:
+            gui.main_panel.float()
+        if self.gui_projector.value != on:
+            self.gui_projector.value = on  # type: ignore[misc]
+        view = self.scene
+        if view is not None and hasattr(view, "root"):
+            self._scale_labels(view.root, PROJECTOR_LABEL_SCALE if on else 1.0 / PROJECTOR_LABEL_SCALE)
+        if self.mode != "following":
+            apply_camera(self.client, projector_view(self.room.scene.view) if on else self.room.scene.view)
+
+    def reset_camera(self) -> None:
+        """The scene's camera view (centred for the projector layout)."""
+        view = self.room.scene.view
+        apply_camera(self.client, projector_view(view) if self.projector else view)
+
+    def _scale_labels(self, root: str, factor: float) -> None:
+        """Multiply the screen size of every 3D label under `root` (this browser's nodes)."""
+        handles = getattr(self.client.scene, "_handle_from_node_name", {})
+        for name, handle in list(handles.items()):
+            if name.startswith(root + "/") and hasattr(handle, "font_screen_scale"):
+                handle.font_screen_scale = float(handle.font_screen_scale) * factor
 
     # ------------------------------------------------------------------ the lecture hall
     def _build_lecture_panel(self, gui: Any) -> None:
@@ -319,6 +421,7 @@ class Session:
             self._hide_live(False)
             self.scene = lectern.add_follower(self)
         self._show_lecture_buttons()
+        self._refresh_preset_commands()
 
     def explore(self) -> None:
         """Leave the presenter: a private copy of the presenter's current state."""
@@ -338,6 +441,7 @@ class Session:
             if self.gui_scene.value != live.scene.title:
                 self.gui_scene.value = live.scene.title  # type: ignore[misc]  # titles match: no switch
         self._show_lecture_buttons()
+        self._refresh_preset_commands()
 
     def close(self) -> None:
         """Leave the room (its client is gone; viser drops the client's nodes); a presenter who

@@ -194,3 +194,47 @@ def test_random_codes_differ() -> None:
 
 def test_app_api_is_unchanged() -> None:
     assert {"port", "stop", "wait_for_sessions"} <= set(dir(App))
+
+
+# ---------------------------------------------------------------------------- keys and projector
+def _commands(session) -> dict[str, object]:  # type: ignore[no-untyped-def]
+    return {h._impl.props.label: h for h in session.client.gui._command_handle_from_uuid.values()}
+
+
+def test_keys_drive_play_step_reset_and_presets_are_commands(hall: Hall) -> None:
+    from viser import _messages
+
+    session = hall.join()
+    session.select_scene("Free body")
+    commands = _commands(session)
+    assert commands["Play / pause"]._impl.props.hotkey == "space"  # type: ignore[attr-defined]
+    assert commands["Step"]._impl.props.hotkey == "S" and commands["Reset"]._impl.props.hotkey == "R"  # type: ignore[attr-defined]
+    assert {f"Preset: {p.name}" for p in session.room.scene.presets()} <= set(commands)
+    client = hall.clients[0]
+    client.send(_messages.CommandTriggerMessage(commands["Play / pause"]._impl.uuid))  # type: ignore[attr-defined]
+    poll_until(lambda: session.room.playing)
+    hall.frames(10)
+    client.send(_messages.CommandTriggerMessage(commands["Preset: Disc"]._impl.uuid))  # type: ignore[attr-defined]
+    poll_until(lambda: session.simulation.preset == "Disc")
+    client.send(_messages.CommandTriggerMessage(commands["Step"]._impl.uuid))  # type: ignore[attr-defined]
+    poll_until(lambda: not session.room.playing and session.simulation.t > 0.0)
+    client.send(_messages.CommandTriggerMessage(commands["Reset"]._impl.uuid))  # type: ignore[attr-defined]
+    poll_until(lambda: session.simulation.t == 0.0)
+    session.select_scene("Heavy top")  # the preset commands follow the scene
+    assert "Preset: Loop" in _commands(session) and "Preset: Disc" not in _commands(session)
+    assert session.error_count == 0, session.last_error
+
+
+def test_projector_layout_styles_the_panel_and_enlarges_the_3d_labels(hall: Hall) -> None:
+    session = hall.join()
+    label = session.scene.nodes.label
+    before = float(label.font_screen_scale)
+    session.gui_projector.value = True  # the panel's toggle
+    assert session.projector and session._projector_style is not None
+    assert "font-size: 19px" in session._projector_style.content
+    assert float(label.font_screen_scale) == pytest.approx(1.4 * before)
+    session.select_scene("Heavy top")  # a new scene is built large too
+    assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(1.4 * before)
+    session.set_projector(False)
+    assert session._projector_style is None
+    assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(before)

@@ -76,6 +76,7 @@ class FreeBodyView(RigidBodyView):
     )
     rate_folder = "Angular velocity ω_b, body axes [rad/s]"
     body_axis_length: ClassVar[float] = 1.15
+    arrow_lengths = (1.45, 2.0)  # ω and L start nearly parallel (L = I ω): different lengths keep their labels apart
 
     @classmethod
     def model_from_params(cls, params: Sequence[float]) -> Model:
