@@ -155,6 +155,7 @@ class Lectern:
         self._since_status = 0.0
         self._camera_due = False
         self._since_camera = 0.0
+        self._to_follow: list[Session] = []
 
     # ------------------------------------------------------------------ the lock
     def try_code(self, session: Session, code: str) -> str | None:
@@ -179,9 +180,10 @@ class Lectern:
         with self._lock:
             self.presenter = session
             self.left = False
-        for other in self.sessions():
-            if other is not session and other.following_by_default():
-                other.follow()
+            # The app loop moves them (each in its own guard): not from the presenter's callback,
+            # which holds the presenter's locks.
+            self._to_follow = [other for other in self.sessions()
+                               if other is not session and other.following_by_default()]
         self.refresh_followers()
 
     def release(self, session: Session, *, disconnected: bool) -> None:
@@ -264,8 +266,14 @@ class Lectern:
                 logger.debug("follower refresh failed", exc_info=True)
 
     def tick(self, dt: float) -> None:
-        """Called by the app loop every frame: refresh the followers at FOLLOW_PERIOD, and send
-        the presenter's camera at CAMERA_PERIOD when it moved."""
+        """Called by the app loop every frame: move the browsers that follow a new presenter,
+        refresh the followers at FOLLOW_PERIOD, send the presenter's camera at CAMERA_PERIOD when
+        it moved."""
+        with self._lock:
+            to_follow, self._to_follow = self._to_follow, []
+        for session in to_follow:
+            if not session.closed and session.following_by_default():
+                session.guard("follow the presenter", session.follow)()
         self._since_status += dt
         if self._since_status >= FOLLOW_PERIOD and self.followers:
             self._since_status = 0.0

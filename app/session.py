@@ -87,6 +87,7 @@ class Session:
         self.last_error: str | None = None
         self.error_count = 0
         self._switch_lock = threading.RLock()
+        self._busy = threading.RLock()  # held by the guard for the whole of a callback or an action
         gui = client.gui
         # Created first, so they sit at the top of the panel where they are seen.
         self.gui_error = gui.add_markdown("", visible=False)
@@ -118,8 +119,9 @@ class Session:
 
     @property
     def lock(self) -> threading.RLock:
-        """The lock of the room shown (what the guard takes)."""
-        return self.room.lock
+        """Held for the whole of each of this session's callbacks and actions (the guard takes it,
+        then the lock of the room shown)."""
+        return self._busy
 
     @property
     def simulation(self) -> Any:
@@ -140,21 +142,23 @@ class Session:
 
     # ------------------------------------------------------------------ errors
     def guard(self, where: str, fn: Callable[..., R]) -> Callable[..., R | None]:
-        """`fn` wrapped so that it runs under the room's lock and an exception is logged and shown.
+        """`fn` wrapped so that it runs under this session's lock and the room's, and an exception
+        is logged and shown, never raised.
 
         where: a short name for the message ("θ slider", "tick", ...).
         """
 
         @functools.wraps(fn)
         def guarded(*args: Any, **kwargs: Any) -> R | None:
-            with self._switch_lock:
-                room = self.room
-            with room.lock:
-                try:
-                    return fn(*args, **kwargs)
-                except Exception as error:  # noqa: BLE001 - this is the safety net
-                    self.report_error(where, error)
-                    return None
+            with self._busy:
+                with self._switch_lock:
+                    room = self.room
+                with room.lock:
+                    try:
+                        return fn(*args, **kwargs)
+                    except Exception as error:  # noqa: BLE001 - this is the safety net
+                        self.report_error(where, error)
+                        return None
 
         return guarded
 

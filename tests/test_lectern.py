@@ -81,6 +81,7 @@ def test_followers_see_the_presenters_motion_and_cannot_change_it(hall: Hall) ->
     presenter.present("wrong")
     assert presenter.mode == "own" and "Wrong presenter code" in presenter.gui_lecture_note.content
     presenter.present(CODE)
+    hall.frames(1)  # the loop moves the other browsers
     assert presenter.mode == "presenting" and follower.mode == "following"
     assert isinstance(follower.scene, Follower) and follower.room is presenter.room
     live = presenter.scene
@@ -114,6 +115,7 @@ def test_explore_on_my_own_forks_the_state_and_follow_presenter_comes_back(hall:
     presenter.select_scene("Heavy top")
     presenter.apply_preset("Loop")
     presenter.present(CODE)
+    hall.frames(1)
     presenter.play()
     hall.frames(20)
     R_live = presenter.simulation.state.R_space_body.copy()
@@ -136,6 +138,7 @@ def test_a_presenter_who_leaves_leaves_the_last_state_and_a_new_one_takes_over(h
     presenter, follower = hall.join(), hall.join()
     presenter.select_scene("Free body")
     presenter.present(CODE)
+    hall.frames(1)
     presenter.play()
     hall.frames(10)
     live = presenter.scene
@@ -152,6 +155,7 @@ def test_a_presenter_who_leaves_leaves_the_last_state_and_a_new_one_takes_over(h
 def test_stop_presenting_keeps_the_room_in_the_presenters_browser(hall: Hall) -> None:
     presenter, follower = hall.join(), hall.join()
     presenter.present(CODE)
+    hall.frames(1)
     presenter.stop_presenting()
     assert presenter.mode == "own" and hall.app.lectern.presenter is None
     assert presenter.scene.root == "/explorer" and presenter._shadow is not None
