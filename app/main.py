@@ -22,11 +22,12 @@ from collections.abc import Callable, Sequence
 import viser
 
 from app.backpressure import FramePacer, PacerStats
+from app.kit.common import CameraView
 from app.kit.presets import PresetError
 from app.kit.room import Room
 from app.lectern import Lectern
 from app.scenes import check_presets
-from app.scenes.euler_angles import INITIAL_CAMERA, INITIAL_FOV_DEG
+from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "create_server", "main"]
@@ -176,6 +177,27 @@ class App:
         return self.server.get_port()
 
 
+def configure_scene(server: viser.ViserServer, view: CameraView) -> None:
+    """Theme, lights and the initial camera of a server (the app's, or a recording's)."""
+    server.gui.configure_theme(
+        show_share_button=False,  # sharing needs an external tunnel: useless offline
+        control_width="large",
+        brand_color=(200, 110, 0),
+    )
+    # Lighting without an HDRI environment map: it looks the same here, and the map's
+    # prefiltering costs ~10 s before the first frame under software WebGL (SwiftShader,
+    # i.e. a laptop or projector PC without a usable GPU).
+    server.scene.configure_environment_map(hdri=None)
+    server.scene.configure_default_lights(enabled=True, cast_shadow=False)
+    server.scene.add_light_hemisphere(
+        "/lights/hemisphere", sky_color=(255, 255, 255), ground_color=(150, 150, 150), intensity=1.5
+    )
+    server.initial_camera.position = view.position
+    server.initial_camera.look_at = view.look_at
+    server.initial_camera.up = view.up
+    server.initial_camera.fov = math.radians(view.fov_deg)
+
+
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
     presenter_code: str | None = None, projector: bool = False,
@@ -189,24 +211,7 @@ def create_server(
     """
     check_presets()
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
-    server.gui.configure_theme(
-        show_share_button=False,  # sharing needs an external tunnel: useless offline
-        control_width="large",
-        control_layout="floating",
-        brand_color=(200, 110, 0),
-    )
-    # Lighting without an HDRI environment map: it looks the same here, and the map's
-    # prefiltering costs ~10 s before the first frame under software WebGL (SwiftShader,
-    # i.e. a laptop or projector PC without a usable GPU).
-    server.scene.configure_environment_map(hdri=None)
-    server.scene.configure_default_lights(enabled=True, cast_shadow=False)
-    server.scene.add_light_hemisphere(
-        "/lights/hemisphere", sky_color=(255, 255, 255), ground_color=(150, 150, 150), intensity=1.5
-    )
-    server.initial_camera.position = INITIAL_CAMERA["position"]
-    server.initial_camera.look_at = INITIAL_CAMERA["look_at"]
-    server.initial_camera.up = INITIAL_CAMERA["up"]
-    server.initial_camera.fov = math.radians(INITIAL_FOV_DEG)
+    configure_scene(server, EULER_VIEW)
     app = App(server, presenter_code=presenter_code, projector=projector)
     if start_loop:
         app.start()
@@ -229,8 +234,14 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    """Command-line entry point (`rigid-body-lab`, `python -m app`): serve until Ctrl-C."""
-    args = _parse_args(argv)
+    """Command-line entry point (`rigid-body-lab`, `python -m app`): serve until Ctrl-C;
+    `python -m app export ...` records a scene (`app.export`)."""
+    arguments = list(sys.argv[1:] if argv is None else argv)
+    if arguments[:1] == ["export"]:
+        from app.export import export_main
+
+        raise SystemExit(export_main(arguments[1:]))
+    args = _parse_args(arguments)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
         app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector)

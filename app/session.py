@@ -82,6 +82,8 @@ class Session:
         self.lectern = lectern
         self.mode = "own"  # "own" (its own room), "presenting" or "following"
         self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
+        self.last_recording: tuple[bytes, bytes] | None = None  # (.html, .viser) last offered
+        self.last_screenshot: bytes | None = None  # PNG last offered
         self.client_id: int = client.client_id
         self.closed = False
         self.last_error: str | None = None
@@ -102,6 +104,7 @@ class Session:
             bool(self.gui_projector.value))))
         if lectern is not None:
             self._build_lecture_panel(gui)
+        self._build_notes_panel(gui)
         self.projector = False
         self._projector_style: Any = None
         self._preset_commands: list[Any] = []
@@ -326,6 +329,76 @@ class Session:
         for name, handle in list(handles.items()):
             if name.startswith(root + "/") and hasattr(handle, "font_screen_scale"):
                 handle.font_screen_scale = float(handle.font_screen_scale) * factor
+
+    # ------------------------------------------------------------------ recordings and screenshots
+    def _build_notes_panel(self, gui: Any) -> None:
+        self.notes_folder = gui.add_folder("For the notes", expand_by_default=False)
+        with self.notes_folder:
+            self.gui_record_seconds = gui.add_number("Record [s]", 10.0, min=1.0, max=60.0, step=1.0,
+                                                     hint="simulated seconds from now, computed faster than real time")
+            self.gui_record = gui.add_button("Record", icon=viser.Icon.VIDEO,
+                                             hint="download the motion as .html (plays offline) and .viser")
+            self.gui_record_progress = gui.add_progress_bar(0.0, visible=False)
+            self.gui_screenshot = gui.add_button("Screenshot", icon=viser.Icon.CAMERA,
+                                                 hint="download a PNG of this view, for slides")
+        self.gui_record.on_click(self.guard("record", lambda _event: self.record(self.gui_record_seconds.value)))
+        self.gui_screenshot.on_click(self.guard("screenshot", lambda _event: self.screenshot()))
+
+    def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
+        """Record the next `seconds` of the scene shown, from its current state, and offer it as
+        .html and .viser downloads.  The copy is taken now; the frames are computed in a thread
+        (the scene goes on meanwhile).  ValueError for a value out of range."""
+        from app.export import MAX_SECONDS, record
+        from app.kit.common import checked_value
+
+        value = checked_value(seconds, 1.0, MAX_SECONDS)
+        if value is None:
+            raise ValueError(f"Record: {seconds!r} s refused: between 1 and {MAX_SECONDS:g} s")
+        room = self.room
+        with room.lock:
+            copy = Room(room.scene, fork_simulation(room.scene, room.sim))
+        title = room.scene.title.lower().replace(" ", "_")
+        bar = self.gui_record_progress
+
+        def work() -> None:
+            try:
+                bar.visible = True
+                html = record(copy, value, fmt="html", progress=lambda f: setattr(bar, "value", 50.0 * f))
+                data = record(copy, value, fmt="viser", progress=lambda f: setattr(bar, "value", 50.0 + 50.0 * f))
+                self.client.send_file_download(f"{title}_{value:g}s.html", html)
+                self.client.send_file_download(f"{title}_{value:g}s.viser", data)
+                self.last_recording = (html, data)
+            except Exception as error:  # noqa: BLE001 - shown, never raised into a thread
+                self.report_error("record", error)
+            finally:
+                bar.visible = False
+
+        thread = threading.Thread(target=work, name=f"record-{self.client_id}", daemon=True)
+        thread.start()
+        if wait:
+            thread.join()
+        return thread
+
+    def screenshot(self, *, wait: bool = False) -> threading.Thread:
+        """Ask this browser for a render of its view and offer it as a PNG download (in a
+        thread: the browser answers in a second or so)."""
+
+        def work() -> None:
+            try:
+                import imageio.v3 as iio
+
+                image = self.client.get_render(height=720, width=1280, transport_format="png")
+                png = iio.imwrite("<bytes>", image, extension=".png")
+                self.client.send_file_download("scene.png", png)
+                self.last_screenshot = png
+            except Exception as error:  # noqa: BLE001
+                self.report_error("screenshot", error)
+
+        thread = threading.Thread(target=work, name=f"screenshot-{self.client_id}", daemon=True)
+        thread.start()
+        if wait:
+            thread.join()
+        return thread
 
     # ------------------------------------------------------------------ the lecture hall
     def _build_lecture_panel(self, gui: Any) -> None:

@@ -142,3 +142,38 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
     finally:
         for context in contexts:
             context.close()
+
+
+def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_large(page, tmp_path) -> None:
+    """3. `python -m app export` writes a page that plays the motion from file:// (the picture
+    changes while it plays); and the projector layout's panel text measures >= 18 px at 1024 px."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "loop.html"
+    subprocess.run([sys.executable, "-m", "app", "export", "--scene", "Heavy top", "--preset", "Loop",
+                    "--seconds", "10", "--out", str(out)], check=True, timeout=120, capture_output=True)
+    page.goto(out.as_uri())
+    page.locator("canvas").first.wait_for(timeout=30_000)
+    time.sleep(4.0)
+    clip = {"x": 0, "y": 200, "width": 800, "height": 400}
+    first = page.screenshot(clip=clip)
+    time.sleep(1.5)
+    assert changed_fraction(first, page.screenshot(clip=clip)) > MIN_CHANGED_FRACTION
+
+    from app.main import create_server
+
+    app = create_server("127.0.0.1", 0, verbose=False, projector=True)
+    try:
+        page.set_viewport_size({"width": 1024, "height": 768})
+        page.goto(f"http://127.0.0.1:{app.port}")
+        session = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
+        page.get_by_text("Euler angles, z-x-z").wait_for(timeout=30_000)
+        time.sleep(1.0)
+        sizes = page.evaluate("() => Array.from(document.querySelectorAll('label')).map("
+                              "e => parseFloat(getComputedStyle(e).fontSize))")
+        assert sizes and min(sizes) >= 18.0, sizes
+        panel = page.locator(f'[id="{session.gui_scene._impl.uuid}"]').bounding_box()
+        assert panel is not None and panel["x"] >= 0.7 * 1024 - 20  # the 3D view keeps >= ~70 %
+    finally:
+        app.stop()
