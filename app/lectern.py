@@ -253,6 +253,9 @@ class Lectern:
         preset = getattr(room.sim, "preset", None)
         lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else ""),
                  f"t = {room.sim.t:.1f} s · {room.time_scale:g}×"]
+        lesson = getattr(self.presenter, "lesson_text", "") if self.presenter is not None else ""
+        if lesson:
+            lines.append(lesson)
         values = getattr(view, "control_values", None)
         if values is not None:
             lines.append("  \n".join(f"{label} = {value}" for label, value in values()))

@@ -26,6 +26,7 @@ from app.kit.common import CameraView
 from app.kit.presets import PresetError
 from app.kit.room import Room
 from app.lectern import Lectern
+from app.lessons import LessonError, lessons
 from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
@@ -206,10 +207,11 @@ def create_server(
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
 
-    Reads every scene's presets first: a broken preset file raises PresetError (naming the
-    file and the field) before the server starts.
+    Reads every scene's presets and every lesson first: a broken file raises PresetError or
+    LessonError (naming the file and the field or step) before the server starts.
     """
     check_presets()
+    lessons()  # a broken lesson file: LessonError naming the file and the step
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
     app = App(server, presenter_code=presenter_code, projector=projector)
@@ -245,7 +247,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
         app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector)
-    except PresetError as error:
+    except (PresetError, LessonError) as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None
     print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)

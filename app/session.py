@@ -104,6 +104,7 @@ class Session:
             bool(self.gui_projector.value))))
         if lectern is not None:
             self._build_lecture_panel(gui)
+        self._build_lesson_panel(gui)
         self._build_notes_panel(gui)
         self.projector = False
         self._projector_style: Any = None
@@ -329,6 +330,75 @@ class Session:
         for name, handle in list(handles.items()):
             if name.startswith(root + "/") and hasattr(handle, "font_screen_scale"):
                 handle.font_screen_scale = float(handle.font_screen_scale) * factor
+
+    # ------------------------------------------------------------------ lessons
+    def _build_lesson_panel(self, gui: Any) -> None:
+        from app.lessons import lessons
+
+        self.lessons = {lesson.title: lesson for lesson in lessons()}
+        self.lesson: Any = None
+        self.lesson_step = -1
+        self.lesson_folder = gui.add_folder("Lesson", expand_by_default=False)
+        with self.lesson_folder:
+            self.gui_lesson = gui.add_dropdown("Lesson", ("—", *self.lessons), initial_value="—",
+                                               hint="a walk through one section of the memo")
+            self.gui_lesson_steps = gui.add_button_group("Step", ("◀ Back", "Next ▶"))
+            self.gui_lesson_text = gui.add_markdown("")
+        self.gui_lesson.on_update(self.guard("lesson", lambda _event: self.start_lesson(str(self.gui_lesson.value))))
+        self.gui_lesson_steps.on_click(self.guard("lesson step", lambda event: self.next_step(
+            -1 if str(event.target.value).startswith("◀") else 1)))
+        for label, key, delta in (("Lesson: next step", "arrowright", 1), ("Lesson: back", "arrowleft", -1)):
+            command = gui.add_command(label, hotkey=key, description=f"key: {key}")
+            command.on_trigger(self.guard(label, lambda _event, delta=delta: self.next_step(delta)))
+
+    @property
+    def lesson_text(self) -> str:
+        """The current step's text (shown to the followers of a presenter running a lesson)."""
+        if self.lesson is None or self.lesson_step < 0:
+            return ""
+        return f"**{self.lesson.title}**, step {self.lesson_step + 1}/{len(self.lesson.steps)}: " + \
+            self.lesson.steps[self.lesson_step].text
+
+    def start_lesson(self, title: str) -> None:
+        """Run the lesson `title` from its first step ("—": none)."""
+        if title not in self.lessons:  # "—", or anything a client sends
+            self.lesson, self.lesson_step = None, -1
+            self.gui_lesson_text.content = ""
+            return
+        if self.mode == "following":
+            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
+        self.lesson = self.lessons[title]
+        self.lesson_step = -1
+        self.next_step(1)
+
+    def next_step(self, delta: int) -> None:
+        """Go `delta` steps on (1 Next, -1 Back) in the running lesson, and apply that step."""
+        if self.lesson is None:
+            return
+        if self.mode == "following":
+            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
+        k = min(max(self.lesson_step + delta, 0), len(self.lesson.steps) - 1)
+        self.lesson_step = k
+        step = self.lesson.steps[k]
+        if step.scene != self.room.scene.title:
+            self._select(step.scene)
+        room = self.room
+        if step.preset is not None:
+            room.scene.apply_preset(room, step.preset)
+        view = self.scene
+        toggles = {h.label: h for h in (getattr(view, name) for name in dir(view) if name.startswith("gui_show"))}
+        for label, value in step.display.items():
+            if label in toggles and toggles[label].value != value:
+                toggles[label].value = value  # runs its callback: the view redraws
+        if step.camera is not None:
+            apply_camera(self.client, step.camera)
+        if step.play is True:
+            room.play()
+        elif step.play is False:
+            room.pause()
+        self.gui_lesson_text.content = self.lesson_text
+        if self.lectern is not None and self.lectern.presenter is self:
+            self.lectern.refresh_followers()
 
     # ------------------------------------------------------------------ recordings and screenshots
     def _build_notes_panel(self, gui: Any) -> None:

@@ -1,0 +1,127 @@
+"""Lessons are data: `assets/lessons/*.json`, a sequence of steps a lecturer walks through.
+
+    {"title": "§1 Euler angles and ω", "steps": [
+        {"scene": "Euler angles", "preset": "gimbal lock",        # a scene and (optional) preset
+         "camera": {"position": [5.9, -2.0, 3.3], "look_at": [0, 0, 0]},   # optional
+         "display": {"Angle arcs": true},                        # optional: the scene's toggles
+         "play": false,                                          # optional: play or pause
+         "text": "θ = 0: only φ + ψ is defined (memo 1.13)."}]}
+
+`Next` / `Back` in the panel (and the → / ← keys) apply a step: the scene, the preset, the
+camera, the toggles, play or pause, and the text in the panel.  When a presenter runs a lesson,
+the followers see its motion and its text.  Files are read and checked at start; a broken one
+stops the app with a `LessonError` naming the file and the step (`steps[2].preset: ...`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from app.kit.common import CameraView
+from app.kit.presets import ASSETS
+
+__all__ = ["LESSONS_DIR", "Lesson", "LessonError", "Step", "lessons", "load_lesson", "load_lessons"]
+
+LESSONS_DIR = ASSETS / "lessons"
+
+
+class LessonError(ValueError):
+    """A lesson file that cannot be used; the message names the file and the step."""
+
+
+@dataclass(frozen=True)
+class Step:
+    scene: str
+    text: str
+    preset: str | None = None
+    camera: CameraView | None = None
+    display: dict[str, bool] = field(default_factory=dict)
+    play: bool | None = None
+
+
+@dataclass(frozen=True)
+class Lesson:
+    title: str
+    steps: tuple[Step, ...]
+    path: Path
+
+
+def _vector(value: Any, where: str) -> tuple[float, float, float]:
+    if not isinstance(value, list) or len(value) != 3 or not all(
+            isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value):
+        raise LessonError(f"{where}: three finite numbers wanted, got {value!r}")
+    return float(value[0]), float(value[1]), float(value[2])
+
+
+def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
+    if not isinstance(entry, dict):
+        raise LessonError(f"{where}: not an object")
+    unknown = sorted(set(entry) - {"scene", "preset", "camera", "display", "play", "text"})
+    if unknown:
+        raise LessonError(f"{where}: unknown field {unknown[0]!r}")
+    scene = entry.get("scene")
+    if scene not in scenes:
+        raise LessonError(f"{where}.scene: {scene!r} is not a scene ({', '.join(scenes)})")
+    preset = entry.get("preset")
+    if preset is not None:
+        names = [p.name for p in scenes[scene].presets()]
+        if preset not in names:
+            raise LessonError(f"{where}.preset: {scene} has no preset {preset!r} ({', '.join(names)})")
+    camera = None
+    if "camera" in entry:
+        spec = entry["camera"]
+        if not isinstance(spec, dict):
+            raise LessonError(f"{where}.camera: an object with position and look_at wanted")
+        camera = CameraView(_vector(spec.get("position"), f"{where}.camera.position"),
+                            _vector(spec.get("look_at"), f"{where}.camera.look_at"))
+    display = entry.get("display", {})
+    if not isinstance(display, dict) or not all(isinstance(k, str) and isinstance(v, bool)
+                                                for k, v in display.items()):
+        raise LessonError(f"{where}.display: an object of toggle labels and true/false wanted")
+    play = entry.get("play")
+    if play is not None and not isinstance(play, bool):
+        raise LessonError(f"{where}.play: true or false wanted")
+    text = entry.get("text")
+    if not isinstance(text, str) or not text.strip():
+        raise LessonError(f"{where}.text: missing (what to look at, which equation)")
+    return Step(scene=scene, text=text, preset=preset, camera=camera, display=dict(display), play=play)
+
+
+def load_lesson(path: Path, scenes: dict[str, Any]) -> Lesson:
+    """One lesson file, checked against the scenes and their presets (LessonError if broken)."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise LessonError(f"{path}: not readable JSON: {error}") from None
+    try:
+        if not isinstance(data, dict) or not isinstance(data.get("title"), str):
+            raise LessonError("title: missing")
+        steps = data.get("steps")
+        if not isinstance(steps, list) or not steps:
+            raise LessonError("steps: missing or empty")
+        return Lesson(data["title"], tuple(_step(s, f"steps[{k}]", scenes) for k, s in enumerate(steps)),
+                      Path(path))
+    except LessonError as error:
+        raise LessonError(f"{path}: {error}") from None
+
+
+def load_lessons(scenes: dict[str, Any], directory: Path = LESSONS_DIR) -> tuple[Lesson, ...]:
+    """Every lesson in `directory`, by file name."""
+    return tuple(load_lesson(path, scenes) for path in sorted(Path(directory).glob("*.json")))
+
+
+_LESSONS: tuple[Lesson, ...] | None = None
+
+
+def lessons() -> tuple[Lesson, ...]:
+    """The shipped lessons (assets/lessons), read once, checked against the registered scenes."""
+    global _LESSONS
+    if _LESSONS is None:
+        from app.scenes import SCENES
+
+        _LESSONS = load_lessons(SCENES)
+    return _LESSONS
