@@ -3,7 +3,7 @@
 `RigidBodySimulation` owns the model, the state, the integrator (the real-time splitting
 `physics.realtime.RealtimeStepper`, or the closed form of `physics.methods.exact_solution`
 evaluated at the simulated time), the exact solution where one exists (for the attitude
-error), the drift references of this run and the plot samples.  `restart(state)` starts a run
+error and the "exact ghost"), the drift references of this run and the plot samples.  `restart(state)` starts a run
 at t = 0 from a state it is given, `reset()` goes back to this run's own initial state: a
 simulation never reads a widget.  Several views may draw one simulation.
 
@@ -23,10 +23,12 @@ from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space, energy, kinetic_energy
 from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
 from physics.methods import exact_solution
+from physics.poinsot import flip_times, motion
 from physics.realtime import RealtimeStepper
-from physics.so3 import log_so3
+from physics.so3 import exp_so3, log_so3
 
-__all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation"]
+__all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation",
+           "magnified_attitude"]
 
 INTEGRATOR_REALTIME = "splitting4 (real time)"
 INTEGRATOR_EXACT = "exact"
@@ -35,6 +37,19 @@ SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "
 PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
 
 ExactSolution = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def magnified_attitude(R_exact: np.ndarray, R: np.ndarray, k: float) -> np.ndarray:
+    """The exact attitude turned by k times the error: R_exact exp(k log(R_exactᵀ R)).
+
+    The error log(R_exactᵀ R) is a rotation vector in body components (R = R_exact exp(error));
+    k = 0 gives R_exact, k = 1 gives R itself, k = 10⁶ shows a 1e-7 rad error as 0.1 rad.  The
+    angle k |error| is taken modulo 2π (beyond π the magnified error wraps around).
+    """
+    R_exact = np.asarray(R_exact, dtype=float)
+    if not math.isfinite(k) or k < 0.0:
+        raise ValueError(f"the magnification k must be finite and >= 0, got {k!r}")
+    return R_exact @ exp_so3(k * log_so3(R_exact.T @ np.asarray(R, dtype=float)))
 
 
 class RigidBodySimulation:
@@ -79,6 +94,7 @@ class RigidBodySimulation:
         self.angles = self.initial_angles.copy()
         self._stepper = RealtimeStepper(self.model, self.state)
         self._exact: ExactSolution | None = None
+        self._exact_at: tuple[float, np.ndarray] | None = None  # (t, R_exact(t)), the last one asked
         self.exact_failed: str | None = None
         self.restarts += 1
         self._E0 = energy(self.model, R, omega)
@@ -145,16 +161,46 @@ class RigidBodySimulation:
         L = angular_momentum_space(self.model, R, omega_body)
         return float(L[2]) if self.momentum_kind == "z" else float(np.linalg.norm(L))
 
+    def exact_attitude(self) -> np.ndarray | None:
+        """R_space_body of the exact solution at the current time (3, 3), None without a closed
+        form; evaluated once per simulated time (the ghost and the accuracy panel share it)."""
+        t = self.state.t
+        if self._exact_at is not None and self._exact_at[0] == t:
+            return self._exact_at[1]
+        exact = self.exact()
+        if exact is None:
+            return None
+        R_exact, _ = exact(np.array([t]))
+        self._exact_at = (t, R_exact[0])
+        return R_exact[0]
+
     def attitude_error(self) -> float | None:
         """Angle [rad] of R_exactᵀ R at the current time, 0 for the exact method, None without
         a closed form."""
         if self.integrator == INTEGRATOR_EXACT:
             return 0.0
-        exact = self.exact()
-        if exact is None:
+        R_exact = self.exact_attitude()
+        if R_exact is None:
             return None
-        R_exact, _ = exact(np.array([self.state.t]))
-        return float(np.linalg.norm(log_so3(R_exact[0].T @ self.state.R_space_body)))
+        return float(np.linalg.norm(log_so3(R_exact.T @ self.state.R_space_body)))
+
+    def flips(self, t_lo: float, t_hi: float) -> np.ndarray:
+        """Times [s] in [t_lo, t_hi] at which the exact solution of this run flips (ω along the
+        intermediate axis changes sign; `physics.poinsot.flip_times`): a free body with three
+        different moments off the separatrix only, else empty."""
+        if self.model.kind != "free":
+            return np.zeros(0)
+        inertia = np.asarray(self.model.inertia, dtype=float)
+        omega0 = self.initial_state.omega_body
+        T = kinetic_energy(self.model, omega0)
+        if T <= 0.0 or len(set(inertia.tolist())) < 3:
+            return np.zeros(0)
+        try:
+            if motion(inertia, T, float(np.linalg.norm(inertia * omega0))).kind != "flip":
+                return np.zeros(0)
+            return flip_times(inertia, omega0, 0.0, t_lo, t_hi)
+        except ValueError:
+            return np.zeros(0)
 
     def take_sample(self) -> None:
         """Append the plot columns of the current state to `samples`."""

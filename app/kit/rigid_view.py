@@ -12,6 +12,15 @@ times a second, and only for what is on screen: the sliders follow the motion (S
 the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
 tab, live plots on).
 
+The exact ghost (Display: "Exact ghost", off by default): a second `Body` with the same shape,
+translucent, at the exact solution's attitude while the chosen integrator turns the solid one,
+with the attitude error read out.  "Exaggerate error ×k" draws it at
+R_ghost = R_exact exp(k log(R_exactᵀ R)) (`app.kit.rigid.magnified_attitude`): k = 0 is the
+exact solution, k = 1 lies on the solid body, k = 10⁶ turns a 1e-7 rad drift into 0.1 rad.  Off,
+it costs nothing: built on first use, then hidden, and neither evaluated nor sent.  On the ω plot
+the exact solution's flips (ω along the intermediate axis changing sign, a free body with three
+different moments) are vertical grey segments, at the times `physics.poinsot.flip_times` gives.
+
 Sliders follow the motion without feedback (`SceneView.quiet`).  A user's edit of an angle or rate
 slider pauses the room and restarts the run (t = 0) from the sliders' values.  Bad input
 never stops the motion: out-of-range values are refused and the slider goes back; moments
@@ -26,6 +35,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 import viser
+import viser.uplot
 
 from app.kit.common import (
     L_COLOR,
@@ -39,7 +49,7 @@ from app.kit.common import (
 from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
-from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME, RigidBodySimulation
+from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME, RigidBodySimulation, magnified_attitude
 from app.kit.room import Room
 from app.kit.view import SceneView
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
@@ -49,13 +59,85 @@ from physics.euler import GimbalLockError, matrix_from_euler_zxz
 from physics.inertia import InertiaError
 from physics.lagrange import generalized_forces
 
-__all__ = ["ANGLE_SPECS", "RigidBodyView"]
+__all__ = ["ANGLE_SPECS", "GHOST_K_OPTIONS", "GHOST_OPACITY", "RigidBodyView"]
 
 SLIDER_PERIOD = 0.1  # [s] of wall time between slider syncs while playing (10 Hz)
 READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
 STATUS_PERIOD = 0.2  # status line (5 Hz)
 PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
 ARROW_RANGE = (0.5, 2.6)  # [scene units] an arrow outside this at a restart is rescaled
+
+GHOST_OPACITY = 0.3
+GHOST_K_OPTIONS = {"0 (exact)": 0.0, "1 (= solid)": 1.0, "10": 10.0, "100": 100.0, "10³": 1e3, "10⁴": 1e4,
+                   "10⁵": 1e5, "10⁶": 1e6}
+"""The ghost's error magnifications k (dropdown label -> k)."""
+FLIP_COLOR = "#888888"
+
+
+class Translucent:
+    """A scene API that adds every mesh with `opacity` and no shadows (the ghost's shape is
+    built by the scene's own `build_shape` through it); everything else passes through."""
+
+    def __init__(self, scene: Any, opacity: float) -> None:
+        self._scene = scene
+        self._opacity = opacity
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._scene, name)
+
+    def _translucent(self, kwargs: dict[str, Any]) -> dict[str, Any]:
+        return {**kwargs, "opacity": self._opacity, "cast_shadow": False, "receive_shadow": False}
+
+    def add_mesh_simple(self, *args: Any, **kwargs: Any) -> Any:
+        return self._scene.add_mesh_simple(*args, **self._translucent(kwargs))
+
+    def add_icosphere(self, *args: Any, **kwargs: Any) -> Any:
+        return self._scene.add_icosphere(*args, **self._translucent(kwargs))
+
+    def add_box(self, *args: Any, **kwargs: Any) -> Any:
+        return self._scene.add_box(*args, **self._translucent(kwargs))
+
+    def add_mesh_trimesh(self, name: str, mesh: Any, **kwargs: Any) -> Any:
+        """viser's trimesh node has no opacity: the mesh goes in as a simple one, in its mean colour."""
+        colors = getattr(getattr(mesh, "visual", None), "vertex_colors", None)
+        color = tuple(int(c) for c in np.asarray(colors)[:, :3].mean(axis=0)) if colors is not None else (200, 200, 200)
+        kwargs = {k: v for k, v in kwargs.items() if k in ("scale", "wxyz", "position", "visible")}
+        return self._scene.add_mesh_simple(name, np.asarray(mesh.vertices, dtype=np.float32),
+                                           np.asarray(mesh.faces, dtype=np.uint32), color=color,
+                                           **self._translucent(kwargs))
+
+
+class FlipPlots(LivePlots):
+    """`LivePlots` whose chart `flip_chart` has one more series: a grey line on 0 with a vertical
+    segment (±max |value| of the window) at each time `flips(t_lo, t_hi)` returns."""
+
+    def __init__(self, gui: Any, buffer: Any, specs: Sequence[PlotSpec], flip_chart: int,
+                 flips: Callable[[float, float], np.ndarray]) -> None:
+        self._flip_chart = -1  # plain charts while the base class builds them
+        super().__init__(gui, buffer, specs)
+        self._flip_chart = flip_chart
+        self._flips = flips
+        handle = self.handles[flip_chart]
+        handle.series = (*handle.series, viser.uplot.Series(label="flip (exact)", stroke=FLIP_COLOR, width=1.5,
+                                                            dash=(4.0, 3.0)))
+        handle.data = self._data(self.specs[flip_chart])
+
+    def _data(self, spec: PlotSpec, rows: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+        data = super()._data(spec, rows)
+        if self._flip_chart < 0 or spec is not self.specs[self._flip_chart]:
+            return data
+        x = data[0]
+        flips = self._flips(float(x[0]), float(x[-1])) if x.size > 1 else np.zeros(0)
+        if flips.size == 0:
+            return (*data, np.zeros_like(x))
+        values = np.concatenate([np.abs(c[np.isfinite(c)]) for c in data[1:]] + [np.ones(1)])
+        top = float(values.max())
+        xs = np.concatenate([x, np.repeat(flips, 4)])
+        order = np.argsort(xs, kind="stable")
+        columns = [np.concatenate([c, np.repeat(np.interp(flips, x, c), 4)])[order] for c in data[1:]]
+        marks = np.concatenate([np.zeros_like(x), np.tile([0.0, -top, top, 0.0], flips.size)])[order]
+        return (xs[order], *columns, marks)
+
 
 _FULL_MARKS = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
 ANGLE_SPECS = (
@@ -77,6 +159,11 @@ class RigidBodyView(SceneView):
     grid_z: ClassVar[float] = 0.0
     body_axis_length: ClassVar[float] = 1.0
     arrow_lengths: ClassVar[tuple[float, float]] = (1.5, 1.5)  # ω and L [scene units] at a rescale
+
+    def fixed_omega_scale(self) -> float | None:
+        """[scene units per rad/s] if the scene fixes the ω arrow's scale (Poinsot: ω must end on
+        the ellipsoid drawn at that scale); None: rescaled to `arrow_lengths` at a new run."""
+        return None
 
     # ------------------------------------------------------------------ scene hooks
     @classmethod
@@ -168,6 +255,9 @@ class RigidBodyView(SceneView):
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self._status_throttle = Throttle(STATUS_PERIOD)
         self._plot_throttle = Throttle(PLOT_PERIOD)
+        self.ghost: Body | None = None  # built the first time "Exact ghost" is switched on
+        self._ghost_model: Model | None = None
+        self.ghost_k = 0.0
         self.build()
 
     def _build_scene(self) -> None:
@@ -211,6 +301,12 @@ class RigidBodyView(SceneView):
                 self.gui_show_L = gui.add_checkbox("L arrow", True)
                 self.gui_show_nodes = gui.add_checkbox("Line of nodes", True)
                 self.gui_show_body_axes = gui.add_checkbox("Body axes x′ y′ z′", True)
+                self.gui_ghost = gui.add_checkbox(
+                    "Exact ghost", False, hint="a translucent copy at the exact solution's attitude")
+                self.gui_ghost_k = gui.add_dropdown(
+                    "Exaggerate error ×k", tuple(GHOST_K_OPTIONS), initial_value=next(iter(GHOST_K_OPTIONS)),
+                    visible=False, hint="ghost at R_exact·exp(k·log(R_exactᵀR)): k = 0 exact, k = 1 on the solid body")
+                self.gui_ghost_note = gui.add_markdown("", visible=False)
                 self.build_display_extras(gui)
                 self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
                 self.gui_legend = gui.add_markdown("")
@@ -219,7 +315,10 @@ class RigidBodyView(SceneView):
         with self.tabs.tab("Plots"):
             self.gui_live_plots = gui.add_checkbox("Live plots", True, hint="turn off to save CPU and bandwidth")
             self.accuracy = Readout(gui)
-            self.plots = LivePlots(gui, self.sim.samples, self.plot_specs())
+            specs = self.plot_specs()
+            omega_chart = next(k for k, spec in enumerate(specs) if spec.columns[:1] == ("w1",))
+            self.plots = FlipPlots(gui, self.sim.samples, specs, omega_chart,
+                                   lambda t_lo, t_hi: self.sim.flips(t_lo, t_hi))
 
         for spec, handle in zip(ANGLE_SPECS, self.gui_angles):
             handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
@@ -229,6 +328,8 @@ class RigidBodyView(SceneView):
             handle.on_update(wrap(f"{self.param_specs[index].label} slider", self._param_callback(index, handle)))
         for handle in (self.gui_show_omega, self.gui_show_L, self.gui_show_nodes, self.gui_show_body_axes):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
+        self.gui_ghost.on_update(wrap("exact ghost", self._ghost_callback))
+        self.gui_ghost_k.on_update(wrap("ghost magnification", self._ghost_k_callback))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
         self.gui_live_plots.on_update(wrap("live plots", lambda _event: self.refresh()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
@@ -262,6 +363,7 @@ class RigidBodyView(SceneView):
                 self._refresh_gimbal_note()
             if self._status_throttle.ready(dt):
                 self._refresh_status()
+                self._refresh_ghost_note()
             if self._readout_throttle.ready(dt) and self.tabs.shown == "Readout":
                 self._refresh_readout()
             if self._plot_throttle.ready(dt) and self.tabs.shown == "Plots":
@@ -283,6 +385,7 @@ class RigidBodyView(SceneView):
             self.show_values(self.gui_params, self.param_specs, self.params_from_model(sim.model))
             self.transport.show(self.room.playing, self.room.time_scale, sim.integrator)
             self._refresh_status()
+            self._refresh_ghost_note()
             self._refresh_gimbal_note()
             if self.tabs.shown == "Readout":
                 self._refresh_readout()
@@ -299,6 +402,9 @@ class RigidBodyView(SceneView):
             self.body.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
             self.gui_param_status.content = self.shape_status(model)
             self._drawn_model = model
+            if self.ghost is not None:
+                self.ghost.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
+                self._ghost_model = model
         preset = getattr(sim, "preset", None)
         R, omega = sim.state.R_space_body, sim.state.omega_body
         if preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega):
@@ -318,11 +424,16 @@ class RigidBodyView(SceneView):
         self.omega.update(R @ omega_body * self.omega_scale)
         L_space = R @ (np.asarray(sim.model.inertia) * omega_body)
         self.L.update(L_space * self.L_scale, rtol=1e-6)
+        if self.ghost_shown:
+            self._draw_ghost()
         self.draw_extras(sim)
 
     def _arrows_fit(self, R: np.ndarray, omega_body: Vec3) -> bool:
         lo, hi = ARROW_RANGE
-        w = float(np.linalg.norm(omega_body)) * self.omega_scale
+        fixed = self.fixed_omega_scale()
+        if fixed is not None and fixed != self.omega_scale:
+            return False
+        w = 0.0 if fixed is not None else float(np.linalg.norm(omega_body)) * self.omega_scale
         L = float(np.linalg.norm(np.asarray(self.sim.model.inertia) * omega_body)) * self.L_scale
         return (w == 0.0 or lo <= w <= hi) and (L == 0.0 or lo <= L <= hi)
 
@@ -330,6 +441,9 @@ class RigidBodyView(SceneView):
         w = float(np.linalg.norm(omega_body))
         L = float(np.linalg.norm(np.asarray(self.sim.model.inertia) * omega_body))
         self.omega_scale = self.arrow_lengths[0] / w if w > 0.0 else self.omega_scale
+        fixed = self.fixed_omega_scale()
+        if fixed is not None:
+            self.omega_scale = fixed
         self.L_scale = self.arrow_lengths[1] / L if L > 0.0 else self.L_scale
         self.gui_legend.content = (
             f"Arrows from the {'pivot' if self.sim.model.mgl else 'centre of mass'}:  \n"
@@ -337,6 +451,86 @@ class RigidBodyView(SceneView):
             f"**L** (violet): 1 unit = {1.0 / self.L_scale:.3g} kg m²/s  \n"
             "Gold: line of nodes e_n.  Red/green/blue: space x y z; dark: body x′ y′ z′."
         )
+
+    # ------------------------------------------------------------------ the exact ghost
+    @property
+    def ghost_shown(self) -> bool:
+        return bool(self.gui_ghost.value)
+
+    def set_ghost(self, on: bool) -> None:
+        """Show or hide the exact ghost (what the checkbox does)."""
+        if on and self.ghost is None:
+            model = self.sim.model
+            self.ghost = Body(Translucent(self.client.scene, GHOST_OPACITY), f"{self.root}/ghost",
+                              lambda scene, parent: self.build_shape(scene, parent, model),
+                              axis_length=self.body_axis_length, show_axes=False)
+            self._ghost_model = model
+        self.quiet.write(self.gui_ghost, bool(on))
+        self.gui_ghost_k.visible = bool(on)
+        if self.ghost is not None:
+            self.ghost.node.visible = bool(on)
+        self.room.refresh()
+
+    def set_ghost_k(self, k: float) -> None:
+        """The error magnification k (one of GHOST_K_OPTIONS' values; ValueError otherwise)."""
+        label = next((name for name, value in GHOST_K_OPTIONS.items() if value == k), None)
+        if label is None:
+            raise ValueError(f"k = {k!r} is not one of {sorted(GHOST_K_OPTIONS.values())}")
+        self.ghost_k = float(k)
+        self.quiet.write(self.gui_ghost_k, label)
+        self.room.refresh()
+
+    def _ghost_callback(self, _event: Any) -> None:
+        if self.quiet.active:
+            return
+        value = self.gui_ghost.value
+        if not isinstance(value, bool):  # a client can send anything
+            self.message.show(f"Exact ghost = {value!r} refused: on or off.")
+            self.quiet.write(self.gui_ghost, self.ghost is not None and bool(self.ghost.node.visible))
+            return
+        self.set_ghost(value)
+
+    def _ghost_k_callback(self, _event: Any) -> None:
+        if self.quiet.active:
+            return
+        label = self.gui_ghost_k.value
+        if label not in GHOST_K_OPTIONS:
+            self.message.show(f"Magnification {label!r} refused: choose one of {', '.join(GHOST_K_OPTIONS)}.")
+            self.set_ghost_k(self.ghost_k)
+            return
+        self.set_ghost_k(GHOST_K_OPTIONS[label])
+
+    def _draw_ghost(self) -> None:
+        """Pose the ghost at the exact attitude, turned by k times the error (hidden without a
+        closed form)."""
+        assert self.ghost is not None
+        R_exact = self.sim.exact_attitude()
+        visible = R_exact is not None
+        if bool(self.ghost.node.visible) != visible:
+            self.ghost.node.visible = visible
+        if R_exact is not None:
+            R = self.sim.state.R_space_body
+            self.ghost.pose(R_exact if self.ghost_k == 0.0 else magnified_attitude(R_exact, R, self.ghost_k))
+
+    def _refresh_ghost_note(self) -> None:
+        shown = self.ghost_shown
+        if self.gui_ghost_note.visible != shown:
+            self.gui_ghost_note.visible = shown
+        if not shown:
+            return
+        sim = self.sim
+        k = self.ghost_k
+        k_text = next(name for name, value in GHOST_K_OPTIONS.items() if value == k)
+        error = sim.attitude_error()
+        if error is None:
+            text = f"**Ghost:** no closed form here ({sim.exact_failed})."
+        else:
+            text = (f"**Ghost** (translucent) = R_exact·exp(k·log(R_exactᵀR)): k = 0 is the exact solution, "
+                    f"k = 1 lies on the solid body.  Attitude error **{error:.2e} rad**; "
+                    f"k = {k_text.split(' ')[0]}, drawn as {k * error:.2e} rad"
+                    + (" (beyond π it wraps)." if k * error > math.pi else "."))
+        if self.gui_ghost_note.content != text:
+            self.gui_ghost_note.content = text
 
     # ------------------------------------------------------------------ sliders
     def displayed_angles_deg(self) -> tuple[float, float, float]:
