@@ -7,6 +7,8 @@ Shots (each from the running app, through a real browser):
     scene_euler.png  Euler angles at (30°, 50°, 20°), ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′ drawn, D read out.
     scene_free.png   the Dzhanibekov preset playing, caught mid-flip, with the Plots tab open.
     scene_top.png    the heavy top's "Loop" preset after a few seconds, with its tip trace.
+    scene_poinsot.png  Poinsot's ellipsoid on the invariable plane (Dzhanibekov preset, mid-run),
+                     the polhode, the herpolhode, and the body's L-space picture beside it.
 
 Starts the app on a loopback ephemeral port, opens it in Debian's Chromium through Playwright
 (software WebGL via SwiftShader, the flags of docs/VISER.md), drives that browser's session
@@ -29,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-SCENES = ("euler", "free", "top")
+SCENES = ("euler", "free", "top", "poinsot")
 
 
 def _wait_for(predicate: Callable[[], Any], timeout: float) -> None:
@@ -73,6 +75,16 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         time.sleep(1.0)
         session.play()
         _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
+        session.scene.transport.gui_time_scale.value = 0.1
+        time.sleep(2.0)
+        return
+    if scene == "poinsot":
+        session.select_scene("Poinsot")
+        session.apply_preset("Dzhanibekov")
+        page.get_by_text("Poinsot: the ellipsoid rolls").wait_for(timeout=30_000)
+        time.sleep(1.0)
+        session.play()
+        _wait_for(lambda: session.simulation.state.t > 5.0, 60.0)
         session.scene.transport.gui_time_scale.value = 0.1
         time.sleep(2.0)
         return

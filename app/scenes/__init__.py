@@ -9,6 +9,7 @@ from app.kit.room import Scene
 from app.scenes.euler_angles import EulerAnglesView
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
+from app.scenes.poinsot import PoinsotView
 
 __all__ = ["DEFAULT_SCENE", "SCENES", "check_presets"]
 
@@ -18,6 +19,7 @@ SCENES: dict[str, Scene] = {
         EulerAnglesView,
         FreeBodyView,
         HeavyTopView,
+        PoinsotView,
     )
 }
 """Scene title (the dropdown option) -> scene (a view class with `new_simulation`, `presets`)."""

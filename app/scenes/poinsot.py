@@ -1,0 +1,378 @@
+"""Poinsot's construction of the free body ("Poinsot" scene).
+
+The free body of `app.scenes.free_body` (same simulation, sliders, presets format, ghost), with
+the geometry of `physics.poinsot` drawn around it, in ω units (1 rad/s = `scale` scene units):
+
+* **Poinsot's ellipsoid** ω · I ω = 2T (semi-axes sqrt(2T/I_k)), centred on the fixed point and
+  fixed in the body: a child of the body's frame, so it turns with the body at no cost per frame.
+  The **polhode** (the path of ω on it) is drawn on it, also in the body frame.
+* The **invariable plane** n · x = 2T/|L| (n = L/|L|, fixed in space), on which the ellipsoid
+  rolls without slipping; the contact point is ω itself (the orange ω arrow ends there), and
+  its path on the plane is the **herpolhode** (the last HERPOLHODE_SECONDS of simulated time).
+  The two dashed circles on the plane are the herpolhode's radii ρ_min, ρ_max.
+* Beside it, **body angular-momentum space**: the sphere |L| = const and the energy ellipsoid
+  L · I⁻¹ L = 2T meet along the current polhode (magenta, with the current L_b as a dot), drawn
+  in a family of polhodes of other energies (grey: around the largest and the smallest axis)
+  and the separatrix through ±|L| e_y′ (red, for I1 < I2 < I3).  The "Energy" slider moves the
+  motion to another energy at the same |L| and the same L in space (across the separatrix).
+
+Readouts: T, |L|, the flip period 2K(m)/λ of the current motion (ω_q, the intermediate axis'
+component, changes sign every flip period: half the polhode period) and the time of the next
+flip, from the closed form (`physics.poinsot`).  Nodes are built once; a new run sets their
+scale, points and pose; per frame only the contact point, L_b's dot and the herpolhode's head
+are sent (besides the body, ω and the ghost).  Presets: `assets/presets/poinsot.json` (their
+angles put L along −z, so the plane is a table under the body).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
+from app.kit.fastprops import set_points, set_position
+from app.kit.gui import Readout, add_slider
+from app.kit.rigid import RigidBodySimulation
+from app.scenes.free_body import FreeBodyView
+from app.scenes.heavy_top import TipTrace
+from physics.dynamics import State
+from physics.poinsot import (
+    herpolhode_radii,
+    invariable_plane,
+    motion,
+    polhode_family,
+    polhode_L,
+    polhode_omega,
+    separatrix_L,
+)
+from physics.quaternion import wxyz_from_matrix
+from physics.so3 import exp_so3
+
+__all__ = ["PoinsotView", "energy_setting", "state_at_energy"]
+
+ELLIPSOID_SIZE = 1.5  # [scene units] Poinsot's ellipsoid's largest semi-axis
+SPHERE_RADIUS = 1.1  # [scene units] the |L| sphere of the momentum-space picture
+L_SPACE_AT = (1.55, 3.25, 0.15)  # [scene units] centre of the momentum-space picture
+PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
+HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
+CURVE_POINTS = 256
+FAMILY_POINTS = 128
+ELLIPSOID_COLOR = (120, 170, 230)
+ENERGY_COLOR = (240, 170, 90)
+SPHERE_COLOR = (200, 200, 215)
+PLANE_COLOR = (150, 150, 150)
+POLHODE_COLOR = (210, 0, 140)
+HERPOLHODE_COLOR = (0, 130, 120)
+FAMILY_COLOR = (120, 120, 130)
+SEPARATRIX_COLOR = (220, 30, 30)
+ENERGY_SPEC = SliderSpec(
+    "energy", "Energy: x′ ← 0 → z′", -1.0, 1.0, 0.01,
+    "|L|²/(2T) from I_min (−1: about the smallest-moment axis) through I_mid (0: the separatrix) to "
+    "I_max (+1: about the largest-moment axis); |L| and L in space are kept",
+    ((-1.0, "x′"), (0.0, "sep."), (1.0, "z′")),
+)
+
+
+def _sorted(inertia: Any) -> tuple[float, float, float]:
+    lo, mid, hi = (float(x) for x in np.sort(np.asarray(inertia, dtype=float)))
+    return lo, mid, hi
+
+
+def energy_setting(inertia: Any, T: float, L_norm: float) -> float:
+    """The Energy slider's value of a motion: -1 .. 0 .. 1 as |L|²/(2T) goes I_min .. I_mid .. I_max."""
+    lo, mid, hi = _sorted(inertia)
+    effective = L_norm * L_norm / (2.0 * T)
+    if effective >= mid:
+        return 0.0 if hi == mid else min(1.0, (effective - mid) / (hi - mid))
+    return 0.0 if mid == lo else max(-1.0, (effective - mid) / (mid - lo))
+
+
+def state_at_energy(inertia: Any, state: State, setting: float) -> State:
+    """A state at the Energy setting (−1 .. 1) with the same |L| and L in space: L_b moves to
+    the nearest point of the new polhode and the body turns so that R L_b stays L_s.  ValueError
+    if the body has no such motion (a sphere; the side of an axis that two equal moments close)."""
+    I = np.asarray(inertia, dtype=float)
+    lo, mid, hi = _sorted(I)
+    if not -1.0 <= setting <= 1.0:
+        raise ValueError(f"the energy setting must be in [-1, 1], got {setting!r}")
+    if lo == hi:
+        raise ValueError("a ball (I1 = I2 = I3) turns steadily about any axis: every energy is |L|²/(2I)")
+    if setting < 0.0 and lo == mid or setting > 0.0 and mid == hi:
+        raise ValueError("two equal moments: there is no polhode on that side of the separatrix")
+    L_body = I * state.omega_body
+    L_norm = float(np.linalg.norm(L_body))
+    if L_norm == 0.0:
+        raise ValueError("the body is not turning (|L| = 0)")
+    effective = mid + setting * ((hi - mid) if setting >= 0.0 else (mid - lo))
+    T = L_norm * L_norm / (2.0 * effective)
+    candidates = np.concatenate([polhode_L(I, T, L_norm, CURVE_POINTS, sign) for sign in (1.0, -1.0)])
+    new_L = candidates[int(np.argmin(np.linalg.norm(candidates - L_body, axis=1)))]
+    axis = np.cross(new_L, L_body)
+    angle = math.atan2(float(np.linalg.norm(axis)), float(new_L @ L_body))
+    turn = exp_so3(axis / np.linalg.norm(axis) * angle) if angle > 0.0 else np.eye(3)  # turn @ new_L ∥ L_body
+    return State(state.R_space_body @ turn, new_L / I, 0.0)
+
+
+def _triple(v: np.ndarray) -> tuple[float, float, float]:
+    return float(v[0]), float(v[1]), float(v[2])
+
+
+def _circle(radius: float, n: int = 96) -> np.ndarray:
+    s = np.linspace(0.0, 2.0 * math.pi, n + 1)
+    return np.stack([radius * np.cos(s), radius * np.sin(s), np.zeros_like(s)], axis=1)
+
+
+def _closed_segments(points: np.ndarray) -> np.ndarray:
+    """Segments (N, 2, 3) float32 of a closed curve (N, 3)."""
+    return polyline_segments(np.concatenate([points, points[:1]])).astype(np.float32)
+
+
+class PoinsotView(FreeBodyView):
+    """Poinsot's construction (see the module docstring)."""
+
+    title = "Poinsot"
+    root = "/poinsot"
+    view = CameraView(position=(4.9, -4.6, 3.1), look_at=(0.55, 1.25, -0.35))
+    intro = (
+        "### Poinsot: the ellipsoid rolls on the invariable plane\n"
+        "Poinsot's ellipsoid **ω·Iω = 2T** (blue, fixed in the body) touches the plane **n·ω = 2T/|L|** "
+        "(n = L/|L|, fixed in space) at **ω**: polhode (magenta) on it, herpolhode (teal) on the plane.  "
+        "Right: body L-space, sphere |L| ∩ energy ellipsoid, separatrix red."
+    )
+    preset_file = "poinsot.json"
+    grid_z = -2.2
+    arrow_lengths = (1.45, 2.2)
+
+    def fixed_omega_scale(self) -> float | None:
+        return self._poinsot_scale()
+
+    def _poinsot_scale(self) -> float | None:
+        """[scene units per rad/s] for this run: the ellipsoid's largest semi-axis is ELLIPSOID_SIZE."""
+        omega = self.sim.initial_state.omega_body
+        I = np.asarray(self.sim.model.inertia, dtype=float)
+        T = 0.5 * float(omega @ (I * omega))
+        return ELLIPSOID_SIZE / math.sqrt(2.0 * T / float(I.min())) if T > 0.0 else None
+
+    # ------------------------------------------------------------------ building (once)
+    def build_extras(self) -> None:
+        scene = self.client.scene
+        root = self.root
+        unit = trimesh.creation.icosphere(subdivisions=4, radius=1.0)
+        vertices, faces = unit.vertices.astype(np.float32), unit.faces.astype(np.uint32)
+        idle = np.zeros((1, 2, 3), dtype=np.float32)
+        body = f"{root}/body/poinsot"  # under the body's frame: turned with it, nothing sent per frame
+        self.ellipsoid = scene.add_mesh_simple(f"{body}/ellipsoid", vertices, faces, color=ELLIPSOID_COLOR,
+                                               opacity=0.28, cast_shadow=False, receive_shadow=False)
+        self.polhode = scene.add_line_segments(f"{body}/polhode", idle, POLHODE_COLOR, thickness=4.0,
+                                               thickness_units="screen")
+        self.plane = scene.add_frame(f"{root}/plane", show_axes=False)
+        h = PLANE_HALF
+        square = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]], dtype=np.float32)
+        scene.add_mesh_simple(f"{root}/plane/square", square, np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32),
+                              color=PLANE_COLOR, opacity=0.3, side="double", cast_shadow=False, receive_shadow=False)
+        scene.add_line_segments(f"{root}/plane/edge", _closed_segments(square.astype(float)), (110, 110, 110),
+                                thickness=1.5, thickness_units="screen")
+        self.radii = scene.add_line_segments(f"{root}/plane/radii", idle, HERPOLHODE_COLOR, thickness=1.0,
+                                             thickness_units="screen")
+        self.plane_label = scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.0, -h, 0.05),
+                                           font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center")
+        scene.add_frame(f"{root}/herpolhode", show_axes=False)
+        self.herpolhode = TipTrace(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, seconds=HERPOLHODE_SECONDS,
+                                   spacing=1.0 / 30.0, chunk_points=60)
+        self.contact = scene.add_icosphere(f"{root}/contact", radius=0.045, color=(20, 20, 20), subdivisions=2)
+
+        # Body angular-momentum space, beside it (body components, not turning).
+        ls = f"{root}/Lspace"
+        self.lspace = scene.add_frame(ls, show_axes=False, position=L_SPACE_AT)
+        scene.add_mesh_simple(f"{ls}/sphere", vertices * SPHERE_RADIUS, faces, color=SPHERE_COLOR, opacity=0.22,
+                              cast_shadow=False, receive_shadow=False)
+        self.energy_ellipsoid = scene.add_mesh_simple(f"{ls}/energy", vertices, faces, color=ENERGY_COLOR,
+                                                      opacity=0.18, cast_shadow=False, receive_shadow=False)
+        axes = 1.45 * SPHERE_RADIUS * np.eye(3)
+        scene.add_line_segments(f"{ls}/axes", np.stack([-axes, axes], axis=1).astype(np.float32),
+                                np.array([[c, c] for c in ((150, 0, 0), (0, 105, 20), (0, 30, 150))], dtype=np.uint8),
+                                thickness=2.0, thickness_units="screen")
+        self.axis_labels = [
+            scene.add_label(f"{ls}/label_{k}", name, position=tuple(1.58 * SPHERE_RADIUS * np.eye(3)[k]),
+                            font_screen_scale=LABEL_SCALE * 0.8, anchor="center-center")
+            for k, name in enumerate(("L_x′", "L_y′", "L_z′"))
+        ]
+        scene.add_label(f"{ls}/title", "body L-space: |L| sphere ∩ energy ellipsoid",
+                        position=(0.0, 0.0, 1.85 * SPHERE_RADIUS), font_screen_scale=LABEL_SCALE * 0.8,
+                        anchor="bottom-center")
+        self.family = scene.add_line_segments(f"{ls}/family", idle, FAMILY_COLOR, thickness=1.5,
+                                              thickness_units="screen")
+        self.separatrix = scene.add_line_segments(f"{ls}/separatrix", idle, SEPARATRIX_COLOR, thickness=3.0,
+                                                  thickness_units="screen")
+        self.current = scene.add_line_segments(f"{ls}/current", idle, POLHODE_COLOR, thickness=4.5,
+                                               thickness_units="screen")
+        self.L_dot = scene.add_icosphere(f"{ls}/L_b", radius=0.06, color=(120, 40, 200), subdivisions=2)
+        self._drawn_family: tuple[float, ...] | None = None
+        self._flip_schedule: tuple[float, float] | None = None  # (next flip, period) [s]
+        self._L_scale_space = 1.0  # [scene units per kg m²/s] of the momentum picture
+
+    def build_display_extras(self, gui: Any) -> None:
+        self.gui_show_nodes.value = False  # type: ignore[misc]  # the line of nodes would only clutter this picture
+        self.gui_show_lspace = gui.add_checkbox("Momentum-space picture", True,
+                                                hint="body L-space: the |L| sphere, the energy ellipsoid, the polhodes")
+        self.gui_show_lspace.on_update(self._wrap("momentum picture", lambda _event: self._show_lspace()))
+
+    def _show_lspace(self) -> None:
+        self.lspace.visible = bool(self.gui_show_lspace.value)
+
+    def _build_gui(self) -> None:
+        super()._build_gui()
+        gui = self.client.gui
+        with self.tabs.tab("Setup"), gui.add_folder("Poinsot", order=self.presets_row.gui_note.order + 0.01):
+            self.gui_energy = add_slider(gui, ENERGY_SPEC)
+            self.poinsot_readout = Readout(gui)
+        self.gui_energy.on_update(self._wrap("energy slider", self._energy_callback))
+
+    # ------------------------------------------------------------------ a new run
+    def restart_extras(self) -> None:
+        super().restart_extras()
+        sim = self.sim
+        I = np.asarray(sim.model.inertia, dtype=float)
+        omega = sim.initial_state.omega_body
+        R = sim.initial_state.R_space_body
+        T = 0.5 * float(omega @ (I * omega))
+        L_body = I * omega
+        L_norm = float(np.linalg.norm(L_body))
+        self.herpolhode.clear()
+        active = T > 0.0
+        for node in (self.ellipsoid, self.polhode, self.plane, self.contact, self.energy_ellipsoid, self.current,
+                     self.L_dot):
+            if node.visible != active:
+                node.visible = active
+        if not active:
+            self._flip_schedule = None
+            self.show_values([self.gui_energy], [ENERGY_SPEC], [0.0])
+            return
+        scale = self.omega_scale
+        mo = motion(I, T, L_norm)
+        sign = 1.0 if L_body[mo.r] >= 0.0 else -1.0
+        self.ellipsoid.scale = _triple(scale * np.sqrt(2.0 * T / I))
+        set_points(self.polhode, _closed_segments(polhode_omega(I, T, L_norm, CURVE_POINTS, sign) * scale))
+        normal, distance = invariable_plane(R @ L_body, T)
+        frame = np.column_stack([*self._plane_axes(normal), normal])
+        self.plane.position = _triple(normal * distance * scale)
+        self.plane.wxyz = wxyz_from_matrix(frame)
+        rho = herpolhode_radii(I, T, L_norm)
+        circles = [_closed_segments(_circle(r * scale)[:-1]) for r in rho if r > 0.0]
+        set_points(self.radii, np.concatenate(circles) if circles else np.zeros((1, 2, 3), dtype=np.float32))
+        # The momentum-space picture: sphere radius SPHERE_RADIUS stands for |L|.
+        k = SPHERE_RADIUS / L_norm
+        self._L_scale_space = k
+        self.energy_ellipsoid.scale = _triple(k * np.sqrt(2.0 * T * I))
+        set_points(self.current, _closed_segments(polhode_L(I, T, L_norm, CURVE_POINTS, sign) * k))
+        key = tuple(I.tolist())
+        if key != self._drawn_family:  # depends on the moments only (drawn on the unit sphere)
+            self._drawn_family = key
+            curves = polhode_family(I, 1.0, 3, FAMILY_POINTS)
+            set_points(self.family, np.concatenate([_closed_segments(c * SPHERE_RADIUS) for c in curves])
+                       if curves else np.zeros((1, 2, 3), dtype=np.float32))
+            lo, mid, hi = _sorted(I)
+            if lo < mid < hi:
+                seps = separatrix_L(I, 1.0, CURVE_POINTS)
+                set_points(self.separatrix, np.concatenate([_closed_segments(c * SPHERE_RADIUS) for c in seps]))
+            self.separatrix.visible = lo < mid < hi
+            for j, label in enumerate(self.axis_labels):
+                label.text = f"L_{'xyz'[j]}′ (I{j + 1} = {I[j]:g})"
+        period = mo.flip_period
+        if mo.kind == "flip":
+            flips = sim.flips(0.0, period * 1.0001)
+            self._flip_schedule = (float(flips[0]), period) if flips.size else None
+        else:
+            self._flip_schedule = None
+        self._motion = mo
+        self.show_values([self.gui_energy], [ENERGY_SPEC], [energy_setting(I, T, L_norm)])
+        self._refresh_poinsot_readout()
+
+    @staticmethod
+    def _plane_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Two unit vectors completing `normal` to a right-handed frame (x, y, normal)."""
+        helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        x = np.cross(helper, normal)
+        x /= np.linalg.norm(x)
+        return x, np.cross(normal, x)
+
+    # ------------------------------------------------------------------ per frame
+    def draw_extras(self, sim: RigidBodySimulation) -> None:
+        if not self.contact.visible:
+            return
+        R, omega = sim.state.R_space_body, sim.state.omega_body
+        w = R @ omega * self.omega_scale
+        point = (float(w[0]), float(w[1]), float(w[2]))
+        set_position(self.contact, point)
+        self.herpolhode.add(sim.t, np.array(point))
+        L = np.asarray(sim.model.inertia) * omega * self._L_scale_space
+        set_position(self.L_dot, (float(L[0]), float(L[1]), float(L[2])))
+        if self._flip_schedule is not None and sim.t >= self._flip_schedule[0]:
+            self._refresh_poinsot_readout()
+
+    def _next_flip(self) -> float | None:
+        if self._flip_schedule is None:
+            return None
+        first, period = self._flip_schedule
+        t = self.sim.t
+        return first if t < first else first + period * (math.floor((t - first) / period) + 1)
+
+    def _refresh_poinsot_readout(self) -> None:
+        sim = self.sim
+        omega = sim.initial_state.omega_body
+        I = np.asarray(sim.model.inertia, dtype=float)
+        T = 0.5 * float(omega @ (I * omega))
+        if T == 0.0:
+            self.poinsot_readout.set("The body is at rest: no ellipsoid.")
+            return
+        mo = self._motion
+        L_norm = mo.L_norm
+        lines = [f"T = {T:.5g} J    |L| = {L_norm:.5g} kg m²/s",
+                 f"|L|²/(2T) = {L_norm * L_norm / (2 * T):.5g} kg m²  (I_mid = {_sorted(I)[1]:g})",
+                 f"ω: 1 rad/s = {self.omega_scale:.3g} scene units"]
+        if mo.kind == "flip":
+            next_flip = self._next_flip()
+            lines += [f"flip period 2K(m)/λ = {mo.flip_period:.4f} s",
+                      f"  (m = {mo.m:.6f}, λ = {mo.rate:.4g} rad/s)",
+                      f"next flip at t = {next_flip:.3f} s" if next_flip is not None else ""]
+        elif mo.kind == "symmetric":
+            lines += [f"symmetric body: circular polhode, ω_⊥ turns at λ = {mo.rate:.4g} rad/s; no flip"]
+        elif mo.kind == "separatrix":
+            lines += ["on the separatrix: flip period infinite (m = 1)"]
+        else:
+            lines += ["steady rotation about a principal axis: no flip"]
+        self.poinsot_readout.set("```\n" + "\n".join(line for line in lines if line) + "\n```")
+
+    def readout_extras(self, sim: RigidBodySimulation) -> str:
+        return str(self.poinsot_readout.handle.content).strip("`\n")
+
+    # ------------------------------------------------------------------ the energy slider
+    def _energy_callback(self, _event: Any) -> None:
+        if self.quiet.active:
+            return
+        value = ENERGY_SPEC.check(self.gui_energy.value)
+        if value is None:
+            self.message.show(ENERGY_SPEC.refusal(self.gui_energy.value))
+            self.room.refresh()
+            return
+        self.set_energy(value)
+
+    def set_energy(self, setting: float) -> None:
+        """Move the motion to the Energy setting (−1 .. 1), same |L| and L in space; refused with
+        a message where there is no such motion.  Pauses and starts a new run (t = 0)."""
+        sim = self.sim
+        try:
+            state = state_at_energy(sim.model.inertia, sim.state, setting)
+        except ValueError as error:
+            self.message.show(f"Energy {setting:g} refused: {error}.")
+            self.room.refresh()
+            return
+        self.message.clear()
+        self.room.playing = False
+        sim.preset = None  # type: ignore[attr-defined]
+        sim.restart(state)
+        self.room.refresh()
+
