@@ -66,6 +66,8 @@ from physics.euler import (
 )
 
 __all__ = [
+    "LagrangeTerms",
+    "lagrange_terms",
     "FD_RELATIVE_STEP",
     "MIN_SIN_THETA",
     "SIN_THETA_STOP",
@@ -330,6 +332,62 @@ def euler_accelerations(
     else:
         raise ValueError(f"derivatives must be 'analytic' or 'fd', got {derivatives!r}")
     return lagrange_accelerations(M, dM, Q, rates)
+
+
+@dataclass(frozen=True)
+class LagrangeTerms:
+    """The terms of Lagrange's equations (5.13) for q = (φ, θ, ψ), each (3,), at one state.
+
+    q [rad], qdot [rad/s], qddot [rad/s²] (from the motion itself, see `lagrange_terms`);
+    T, V [J]; dT_dqdot = M q̇ [kg m²/s] (generalized momenta); ddt_dT_dqdot = d/dt ∂T/∂q̇ and
+    dT_dq = ∂T/∂q [N m]; Q = (M·e_z, M·e_n, M·e_z') [N m] (6.10); residual = ddt_dT_dqdot -
+    dT_dq - Q [N m]: zero for a motion that obeys the Newton-Euler equations.
+    """
+
+    q: Vec3
+    qdot: Vec3
+    qddot: Vec3
+    T: float
+    V: float
+    dT_dqdot: Vec3
+    ddt_dT_dqdot: Vec3
+    dT_dq: Vec3
+    Q: Vec3
+    residual: Vec3
+
+
+def lagrange_terms(model: Model, t: float, R_space_body: Mat3, omega_body: Vec3, angles: Vec3,
+                   *, min_sin_theta: float = MIN_SIN_THETA) -> LagrangeTerms:
+    """Lagrange's equations term by term, evaluated on a motion computed WITHOUT them.
+
+    The state (R, ω_b) comes from a singularity-free method; ω̇_b from Euler's equations
+    I ω̇_b = I ω_b × ω_b + Rᵀ M (`physics.dynamics.omega_body_dot`).  With ω_b = J(q) q̇:
+    q̇ = J⁻¹ ω_b and q̈ = J⁻¹ (ω̇_b - J̇ q̇), J̇ = (∂J/∂θ) θ̇ + (∂J/∂ψ) ψ̇.  Then
+    d/dt ∂T/∂q̇ = M q̈ + Ṁ q̇, ∂T/∂q_k = ½ q̇ᵀ (∂M/∂q_k) q̇, and the residual against Q measures
+    how well the two formulations (Newton-Euler and Lagrange, memo §6) agree: rounding only.
+    angles: (φ, θ, ψ) [rad] of R (continuous along a motion); GimbalLockError where
+    |sin θ| < min_sin_theta (q̇ is undefined at gimbal lock).
+    """
+    from physics.dynamics import energy, kinetic_energy, omega_body_dot
+
+    q = np.asarray(angles, dtype=float)
+    omega = np.asarray(omega_body, dtype=float)
+    _check_sin_theta(float(q[1]), min_sin_theta)
+    qdot = np.asarray(euler_rates_from_omega_body(q, omega, min_sin_theta=min_sin_theta), dtype=float)
+    J, dJ_dtheta, dJ_dpsi = _jacobian(float(q[1]), float(q[2]))
+    Jdot = dJ_dtheta * qdot[1] + dJ_dpsi * qdot[2]
+    omega_dot = omega_body_dot(model, t, R_space_body, omega)
+    qddot = np.linalg.solve(J, omega_dot - Jdot @ qdot)
+    inertia = np.array(model.inertia)
+    M = J.T @ (inertia[:, None] * J)
+    dM = mass_matrix_derivatives(q, inertia)
+    Mdot = np.tensordot(qdot, dM, axes=1)
+    dT_dq = 0.5 * np.einsum("i,kij,j->k", qdot, dM, qdot)
+    ddt = M @ qddot + Mdot @ qdot
+    Q = generalized_forces(q, model.torque_space_at(t, R_space_body, omega))
+    T = kinetic_energy(model, omega)
+    return LagrangeTerms(q=q, qdot=qdot, qddot=qddot, T=T, V=energy(model, R_space_body, omega) - T,
+                         dT_dqdot=M @ qdot, ddt_dT_dqdot=ddt, dT_dq=dT_dq, Q=Q, residual=ddt - dT_dq - Q)
 
 
 def rigid_body_system(model: Model, analytic_derivatives: bool = True) -> LagrangianSystem:
