@@ -272,8 +272,10 @@ def time_to_next_flip(inertia: Vec3, omega_body: Vec3) -> float:
     if not math.isfinite(mo.flip_period):
         return math.inf
     L = I * np.asarray(omega_body, dtype=float)
-    # u increases with time: at ω_q = 0, ω̇_q = (I_r - I_p)/I_q ω_r ω_p has the sign of ε L_p.
-    eps = 1.0 if (I[mo.r] - I[mo.p]) * L[mo.r] > 0.0 else -1.0
+    # u increases with time: Euler's I_q ω̇_q = ±(I_r - I_p) ω_r ω_p (+ if (p, q, r) is a cyclic
+    # order of the axes, - otherwise) has, at ω_q = 0, the sign of ε L_p.
+    cyclic = 1.0 if (mo.q - mo.p) % 3 == 1 else -1.0
+    eps = 1.0 if cyclic * (I[mo.r] - I[mo.p]) * L[mo.r] > 0.0 else -1.0
     s = math.atan2(eps * L[mo.q] / mo.a_q, L[mo.p] / mo.a_p)
     u = float(ellipkinc(math.fmod(s + 2.0 * math.pi, math.pi), mo.m))
     half = 0.5 * mo.flip_period * mo.rate  # K(m), the same value the period was made from

@@ -55,7 +55,7 @@ __all__ = ["PoinsotView", "energy_setting", "state_at_energy"]
 
 ELLIPSOID_SIZE = 1.5  # [scene units] Poinsot's ellipsoid's largest semi-axis
 SPHERE_RADIUS = 1.1  # [scene units] the |L| sphere of the momentum-space picture
-L_SPACE_AT = (1.55, 3.25, 0.15)  # [scene units] centre of the momentum-space picture
+L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space picture
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
 HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
 CURVE_POINTS = 256
@@ -135,7 +135,7 @@ class PoinsotView(FreeBodyView):
 
     title = "Poinsot"
     root = "/poinsot"
-    view = CameraView(position=(4.9, -4.6, 3.1), look_at=(0.55, 1.25, -0.35))
+    view = CameraView(position=(2.6, -8.2, 1.9), look_at=(1.1, 0.5, -0.5))
     intro = (
         "### Poinsot: the ellipsoid rolls on the invariable plane\n"
         "Poinsot's ellipsoid **ω·Iω = 2T** (blue, fixed in the body) touches the plane **n·ω = 2T/|L|** "
@@ -177,12 +177,13 @@ class PoinsotView(FreeBodyView):
                                 thickness=1.5, thickness_units="screen")
         self.radii = scene.add_line_segments(f"{root}/plane/radii", idle, HERPOLHODE_COLOR, thickness=1.0,
                                              thickness_units="screen")
-        self.plane_label = scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.0, -h, 0.05),
+        self.plane_label = scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
                                            font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center")
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
         self.herpolhode = TipTrace(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, seconds=HERPOLHODE_SECONDS,
                                    spacing=1.0 / 30.0, chunk_points=60)
-        self.contact = scene.add_icosphere(f"{root}/contact", radius=0.045, color=(20, 20, 20), subdivisions=2)
+        self.contact = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20), subdivisions=2)
+        self.omega.label_at_middle = True  # the contact point at ω's tip stays clear
 
         # Body angular-momentum space, beside it (body components, not turning).
         ls = f"{root}/Lspace"
@@ -200,7 +201,7 @@ class PoinsotView(FreeBodyView):
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="center-center")
             for k, name in enumerate(("L_x′", "L_y′", "L_z′"))
         ]
-        scene.add_label(f"{ls}/title", "body L-space: |L| sphere ∩ energy ellipsoid",
+        scene.add_label(f"{ls}/title", "body L-space",
                         position=(0.0, 0.0, 1.85 * SPHERE_RADIUS), font_screen_scale=LABEL_SCALE * 0.8,
                         anchor="bottom-center")
         self.family = scene.add_line_segments(f"{ls}/family", idle, FAMILY_COLOR, thickness=1.5,
