@@ -843,3 +843,42 @@ def test_create_server_hides_share_button_and_sets_camera(monkeypatch: pytest.Mo
         app.stop()
     assert np.linalg.norm(position - look_at) > 3.0  # the whole scene in view, not inside it
     assert position[2] > look_at[2]  # looking down on the xy plane
+
+
+# ---------------------------------------------------------------------------- Lagrange's equations live
+def test_the_lagrange_tab_balances_at_rounding_and_draws_Q_as_projections_of_M(manual) -> None:
+    manual.session.select_scene("Heavy top")
+    manual.session.apply_preset("Loop")
+    scene = manual.session.scene
+    scene.transport.gui_integrator.value = INTEGRATOR_EXACT
+    scene.tabs.show("Lagrange")
+    manual.session.play()
+    manual.tick(0.7)
+    manual.session.pause()
+    content = scene.lagrange_readout.handle.content
+    residual = [float(x) for x in re.search(r"residual = .*:\n\s+(\S+)\s+(\S+)\s+(\S+)", content).groups()]
+    assert max(abs(r) for r in residual) < 1e-9, content
+    mgl, theta = scene.sim.model.mgl, scene.sim.angles[1]
+    q_theta = np.asarray(scene.q_vectors["theta"].arrow.points, dtype=float)[0]
+    torque = np.asarray(scene.q_vectors["M"].arrow.points, dtype=float)[0, 1]
+    scale = 1.2 / (mgl * math.sin(theta))  # |M| = mgl sin θ is drawn 1.2 units long
+    np.testing.assert_allclose(np.linalg.norm(q_theta[1] - q_theta[0]), mgl * math.sin(theta) * scale, rtol=1e-5)
+    assert np.linalg.norm(torque) == pytest.approx(1.2, rel=1e-5)
+    scene.tabs.show("Setup")  # the Q arrows belong to the Lagrange tab
+    assert not scene.q_vectors["M"].arrow.visible
+
+
+def test_the_euler_angle_lagrangian_stops_at_the_vertical_and_offers_the_splitting(manual) -> None:
+    manual.session.select_scene("Heavy top")
+    manual.session.apply_preset("Through the vertical")
+    scene = manual.session.scene
+    scene.transport.gui_integrator.value = "Euler-angle Lagrangian"
+    assert scene.sim.integrator == "Euler-angle Lagrangian"
+    manual.session.play()
+    manual.tick(1.0)  # θ reaches the vertical at t ≈ 0.59 s
+    assert not scene.room.playing and 0.4 < scene.sim.t < 0.7
+    assert "singular" in scene.message.text and "sin θ in a denominator" in scene.message.text
+    assert scene.sim.integrator == INTEGRATOR_REALTIME and scene.transport.gui_integrator.value == INTEGRATOR_REALTIME
+    manual.session.play()  # goes on with the splitting, through the vertical
+    manual.tick(1.0)
+    assert scene.room.playing and scene.sim.t > 1.4 and manual.session.last_error is None

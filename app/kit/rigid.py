@@ -22,16 +22,20 @@ from app.kit.samples import SampleBuffer
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space, energy, kinetic_energy
 from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
+from physics.lagrange import SIN_THETA_STOP, EulerLagrangeSingularityError, integrate_euler_lagrange
 from physics.methods import exact_solution
 from physics.poinsot import flip_times, motion
 from physics.realtime import RealtimeStepper
 from physics.so3 import exp_so3, log_so3
 
-__all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation",
+__all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_LAGRANGE", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation",
            "magnified_attitude"]
 
 INTEGRATOR_REALTIME = "splitting4 (real time)"
 INTEGRATOR_EXACT = "exact"
+INTEGRATOR_LAGRANGE = "Euler-angle Lagrangian"
+"""physics.lagrange.integrate_euler_lagrange from frame to frame: the memo's (5.13) in φ θ ψ,
+singular where sin θ = 0 (it stops there, and the simulation goes on with splitting4)."""
 SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "w2", "w3",
                   "drift_E", "drift_L", "attitude_error")
 PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
@@ -122,9 +126,13 @@ class RigidBodySimulation:
         if name == INTEGRATOR_EXACT and self.exact() is None:
             message = f"No closed form here ({self.exact_failed}); using {INTEGRATOR_REALTIME}."
             name = INTEGRATOR_REALTIME
+        if name == INTEGRATOR_LAGRANGE and abs(math.sin(float(self.angles[1]))) < SIN_THETA_STOP:
+            message = (f"The Euler-angle equations are singular at θ = {math.degrees(float(self.angles[1])):.2f}° "
+                       f"(sin θ in a denominator); staying with {self.integrator}.")
+            name = self.integrator
         if name != self.integrator:
             self.integrator = name
-            if name == INTEGRATOR_REALTIME:  # go on from where the exact solution is
+            if name == INTEGRATOR_REALTIME:  # go on from where the other method is
                 self._stepper = RealtimeStepper(self.model, self.state)
             self.version += 1
         return message
@@ -148,6 +156,17 @@ class RigidBodySimulation:
             t = self.state.t + dt
             R, omega = exact(np.array([t]))
             self.state = State(R[0], omega[0], t)
+            self.substeps = 0
+        elif self.integrator == INTEGRATOR_LAGRANGE:
+            try:
+                trajectory = integrate_euler_lagrange(self.model, self.state, np.array([self.state.t + dt]))
+            except EulerLagrangeSingularityError as error:
+                self.set_integrator(INTEGRATOR_REALTIME)
+                raise ValueError(
+                    f"the Euler-angle equations are singular near θ = 0° or 180° (sin θ in a "
+                    f"denominator): {error}. Press Play to go on with {INTEGRATOR_REALTIME}, which has no "
+                    "singularity.") from None
+            self.state = State(trajectory.R_space_body[0], trajectory.omega_body[0], float(trajectory.t[0]))
             self.substeps = 0
         else:
             self.state = self._stepper.step(dt)

@@ -38,6 +38,7 @@ import viser
 import viser.uplot
 
 from app.kit.common import (
+    GIMBAL_LOCK_DEG,
     L_COLOR,
     OMEGA_COLOR,
     SliderSpec,
@@ -49,15 +50,21 @@ from app.kit.common import (
 from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
-from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME, RigidBodySimulation, magnified_attitude
+from app.kit.rigid import (
+    INTEGRATOR_EXACT,
+    INTEGRATOR_LAGRANGE,
+    INTEGRATOR_REALTIME,
+    RigidBodySimulation,
+    magnified_attitude,
+)
 from app.kit.room import Room
 from app.kit.view import SceneView
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
 from physics.dynamics import Model, State, kinetic_energy
-from physics.euler import GimbalLockError, matrix_from_euler_zxz
+from physics.euler import GimbalLockError, body_z_axis, line_of_nodes, matrix_from_euler_zxz
 from physics.inertia import InertiaError
-from physics.lagrange import generalized_forces
+from physics.lagrange import LagrangeTerms, generalized_forces, lagrange_terms
 
 __all__ = ["ANGLE_SPECS", "GHOST_K_OPTIONS", "GHOST_OPACITY", "RigidBodyView"]
 
@@ -271,6 +278,15 @@ class RigidBodyView(SceneView):
         self.nodes = LineOfNodes(scene, f"{root}/nodes")
         self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω")
         self.L = Vector(scene, f"{root}/L", L_COLOR, "L")
+        # The Lagrange tab: the torque M and its projections Q_φ e_z, Q_θ e_n, Q_ψ e_z′ (6.10).
+        self.q_vectors = {
+            key: Vector(scene, f"{root}/lagrange/{key}", color, label, shaft_radius=0.02, head_radius=0.06,
+                        head_length=0.12, font_scale=1.6, label_at_middle=key != "M")
+            for key, color, label in (("M", (60, 60, 60), "M"), ("phi", (140, 50, 210), "Q_φ e_z"),
+                                      ("theta", (215, 0, 120), "Q_θ e_n"), ("psi", (0, 140, 140), "Q_ψ e_z′"))
+        }
+        for vector in self.q_vectors.values():
+            vector.enabled = False
         self.build_extras()
 
     def _build_gui(self) -> None:
@@ -281,10 +297,10 @@ class RigidBodyView(SceneView):
         self.message = MessageLine(gui)
         self.transport = Transport(
             gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step, on_reset=room.reset,
-            on_time_scale=room.set_time_scale, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT),
+            on_time_scale=room.set_time_scale, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
             on_integrator=self.set_integrator,
         )
-        self.tabs = Tabs(gui, wrap, on_change=lambda _name: self.refresh())
+        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange"), on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
             self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
             with gui.add_folder("Euler angles z-x-z [deg]"):
@@ -319,6 +335,9 @@ class RigidBodyView(SceneView):
             omega_chart = next(k for k, spec in enumerate(specs) if spec.columns[:1] == ("w1",))
             self.plots = FlipPlots(gui, self.sim.samples, specs, omega_chart,
                                    lambda t_lo, t_hi: self.sim.flips(t_lo, t_hi))
+
+        with self.tabs.tab("Lagrange"):
+            self.lagrange_readout = Readout(gui)
 
         for spec, handle in zip(ANGLE_SPECS, self.gui_angles):
             handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
@@ -364,7 +383,7 @@ class RigidBodyView(SceneView):
             if self._status_throttle.ready(dt):
                 self._refresh_status()
                 self._refresh_ghost_note()
-            if self._readout_throttle.ready(dt) and self.tabs.shown == "Readout":
+            if self._readout_throttle.ready(dt) and self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
             if self._plot_throttle.ready(dt) and self.tabs.shown == "Plots":
                 self._push_plots()
@@ -387,8 +406,12 @@ class RigidBodyView(SceneView):
             self._refresh_status()
             self._refresh_ghost_note()
             self._refresh_gimbal_note()
-            if self.tabs.shown == "Readout":
+            if self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
+            for vector in self.q_vectors.values():
+                vector.enabled = self.tabs.shown == "Lagrange"
+                if not vector.enabled:
+                    vector.update(np.zeros(3))  # hides it (a message only if it was shown)
             self.plots.set_visible(bool(self.gui_live_plots.value))
             if self.tabs.shown == "Plots":
                 self._push_plots()
@@ -638,6 +661,9 @@ class RigidBodyView(SceneView):
         )
 
     def _refresh_readout(self) -> None:
+        if self.tabs.shown == "Lagrange":
+            self._refresh_lagrange()
+            return
         sim = self.sim
         R, omega_body = sim.state.R_space_body, sim.state.omega_body
         phi, theta, psi = self.displayed_angles_deg()
@@ -686,3 +712,62 @@ class RigidBodyView(SceneView):
         self.readout.set("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
                          "Q: generalized forces of φ θ ψ (memo 6.10).\n```\n" + "\n".join(lines) + "\n```")
         self._refresh_gimbal_note()
+
+    def _refresh_lagrange(self) -> None:
+        """The Lagrange tab: q, q̇, T (6.4), V and the terms of (5.13) for φ θ ψ, evaluated on the
+        simulation's motion (`physics.lagrange.lagrange_terms`), and Q drawn as projections of M."""
+        sim = self.sim
+        R, omega_body = sim.state.R_space_body, sim.state.omega_body
+        gimbal = math.sin(math.radians(GIMBAL_LOCK_DEG))
+        try:
+            terms = lagrange_terms(sim.model, sim.t, R, omega_body, sim.angles, min_sin_theta=gimbal)
+        except GimbalLockError:
+            terms = None
+        self._draw_generalized_forces(terms)
+        head = ("Lagrange's equations in q = (φ, θ, ψ) (memo 5.13, 6.4, 6.10), evaluated on the "
+                f"motion computed by **{sim.integrator}**.")
+        if terms is None:
+            self.lagrange_readout.set(
+                head + "\n\n**θ is within 2° of 0° or 180°**: the Euler rates q̇ are undefined there "
+                "(det M = I1 I2 I3 sin²θ): the equations in φ θ ψ are singular; the motion itself is not.")
+            return
+
+        def row(name: str, v: np.ndarray, scale: float = 1.0) -> str:
+            return f"{name:<15}" + "".join(f"{(0.0 if abs(x) < 5e-9 else x) * scale:11.5f}" for x in v)
+
+        lines = [
+            f"t = {sim.t:.3f} s   T = {terms.T:.5f} J   V = {terms.V:.5f} J",
+            "",
+            f"{'':<15}{'φ':>11}{'θ':>11}{'ψ':>11}",
+            row("q [deg]", terms.q, 180.0 / math.pi),
+            row("q̇ [deg/s]", terms.qdot, 180.0 / math.pi),
+            row("∂T/∂q̇", terms.dT_dqdot),
+            row("d/dt ∂T/∂q̇", terms.ddt_dT_dqdot),
+            row("− ∂T/∂q", -terms.dT_dq),
+            row("− Q", -terms.Q),
+            "",
+            "residual = d/dt ∂T/∂q̇ − ∂T/∂q − Q [N m]:",
+            "  " + "  ".join(f"{x:.1e}" for x in terms.residual),
+            "",
+            "Q_φ = M·e_z, Q_θ = M·e_n, Q_ψ = M·e_z′ [N m]",
+        ]
+        self.lagrange_readout.set(head + "\n```\n" + "\n".join(lines) + "\n```\n"
+                                  "∂T/∂q̇ in kg m²/s, the other rows in N m.  q̈ comes from Euler's "
+                                  "equations, not from (5.13): the residual shows that the two agree.")
+
+    def _draw_generalized_forces(self, terms: LagrangeTerms | None) -> None:
+        """M and Q_φ e_z, Q_θ e_n, Q_ψ e_z′ from the pivot, head to tail (hidden for no torque)."""
+        if terms is None:
+            for vector in self.q_vectors.values():
+                vector.update(np.zeros(3))
+            return
+        sim = self.sim
+        torque = sim.model.torque_space_at(sim.t, sim.state.R_space_body, sim.state.omega_body)
+        scale = 1.2 / max(float(np.linalg.norm(torque)), 1e-300) if np.any(torque) else 0.0
+        phi, theta = float(terms.q[0]), float(terms.q[1])
+        axes = (np.array([0.0, 0.0, 1.0]), line_of_nodes(phi), body_z_axis(phi, theta))
+        self.q_vectors["M"].update(torque * scale)
+        start = np.zeros(3)
+        for key, Q, axis in zip(("phi", "theta", "psi"), terms.Q, axes):
+            self.q_vectors[key].update(Q * scale * axis, start=start)
+            start = start + Q * scale * axis
