@@ -11,10 +11,17 @@ Conventions (docs/CONVENTIONS.md):
   ω_memo = -omega_body are the ones below.
 * Vectorised over particles: ``x_body`` and ``x_body_dot`` may be (3,) or (N, 3); the frame
   quantities (a, R, ω) are shared by all particles.  Results have the broadcast shape.
+* A prescribed motion of C' (`FrameMotion`: z-x-z angles quadratic in t, the origin on a
+  straight line plus a point fixed in C') gives every frame quantity at a time t (`FrameState`);
+  `body_from_space`, `space_from_body`, `acceleration_space` change a particle's description
+  between C and C', and `rk4_step` advances particles in C (where Newton's law is simple).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -23,8 +30,15 @@ from numpy.typing import ArrayLike
 from physics._types import Array, Mat3, Vec3
 
 __all__ = [
+    "FrameMotion",
+    "FrameState",
     "InertialForce",
     "acceleration_body",
+    "acceleration_space",
+    "body_from_space",
+    "omega_dot_body_from_euler",
+    "rk4_step",
+    "space_from_body",
     "inertial_force_body",
     "kinetic_energy_particle",
     "velocity_space",
@@ -214,3 +228,186 @@ def kinetic_energy_particle(
     )
     weights = m.reshape(-1) if m.ndim else m  # scalar, or (N,) per particle
     return float(np.sum(weights * per_particle))
+
+
+# ---------------------------------------------------------------------------- a prescribed frame motion
+class FrameState(NamedTuple):
+    """Where C' is, and how it moves, at one instant (space components unless ``_body``).
+
+    a: (3,) [m] origin of C'; a_dot: (3,) [m/s]; a_ddot: (3,) [m/s²];
+    R_space_body: (3, 3), the memo's D; omega_body: (3,) [rad/s], hat(ω_b) = Rᵀ Ṙ;
+    omega_dot_body: (3,) [rad/s²], dω_b/dt; t: [s].
+    """
+
+    t: float
+    a: Vec3
+    a_dot: Vec3
+    a_ddot: Vec3
+    R_space_body: Mat3
+    omega_body: Vec3
+    omega_dot_body: Vec3
+
+    @property
+    def omega_space(self) -> Vec3:
+        """ω_s = R ω_b (3,) [rad/s]."""
+        return self.R_space_body @ self.omega_body
+
+
+def omega_dot_body_from_euler(angles: ArrayLike, rates: ArrayLike, accels: ArrayLike) -> Vec3:
+    """dω_b/dt (3,) [rad/s²] from z-x-z (φ, θ, ψ) [rad], their rates [rad/s] and second
+    derivatives [rad/s²]: the time derivative of
+    ω_b = (φ̇ sin θ sin ψ + θ̇ cos ψ, φ̇ sin θ cos ψ − θ̇ sin ψ, φ̇ cos θ + ψ̇) (1.18).
+    Defined everywhere, gimbal lock included (only the inverse map is singular there).
+    """
+    _, theta, psi = (float(v) for v in _vec3(angles, "angles"))
+    dphi, dtheta, dpsi = (float(v) for v in _vec3(rates, "rates"))
+    ddphi, ddtheta, ddpsi = (float(v) for v in _vec3(accels, "accels"))
+    st, ct, ss, cs = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
+    return np.array([
+        ddphi * st * ss + dphi * (dtheta * ct * ss + dpsi * st * cs) + ddtheta * cs - dtheta * dpsi * ss,
+        ddphi * st * cs + dphi * (dtheta * ct * cs - dpsi * st * ss) - ddtheta * ss - dtheta * dpsi * cs,
+        ddphi * ct - dphi * dtheta * st + ddpsi,
+    ])
+
+
+@dataclass(frozen=True)
+class FrameMotion:
+    """A prescribed motion of C' in C.
+
+    Attitude: z-x-z angles quadratic in time, ``angles(t) = angles0 + rates t + ½ accels t²``,
+    ``R = Rz(φ) Rx(θ) Rz(ψ)``.  Origin: ``a(t) = e s(t) + R(t) b``: a point b fixed in C'
+    (``offset_body``; e.g. (0, 0, r) puts C' on the surface of a globe of radius r turning with
+    it) carried along a straight line e (``line_direction``, unit) by
+    ``s(t) = A (1 − cos Ω t) / Ω²`` (``line_accel`` A [m/s²], ``line_omega`` Ω [rad/s]): s starts
+    at rest with s̈ = A cos Ω t, so C' first accelerates at A, then brakes and comes back with
+    period 2π/Ω; at Ω = 0 it is uniform acceleration, s = A t² / 2.
+
+    Attributes:
+        angles0, rates, accels: (3,) [rad], [rad/s], [rad/s²] for (φ, θ, ψ).
+        offset_body: (3,) [m] b.  line_direction: (3,) e.  line_accel: [m/s²].  line_omega: [rad/s] ≥ 0.
+    """
+
+    angles0: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rates: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    accels: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    offset_body: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    line_direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    line_accel: float = 0.0
+    line_omega: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("angles0", "rates", "accels", "offset_body", "line_direction"):
+            value = getattr(self, name)
+            if len(value) != 3 or not all(math.isfinite(float(v)) for v in value):
+                raise ValueError(f"FrameMotion.{name} must be three finite numbers, got {value!r}")
+        for name in ("line_accel", "line_omega"):
+            if not math.isfinite(float(getattr(self, name))):
+                raise ValueError(f"FrameMotion.{name} must be finite, got {getattr(self, name)!r}")
+        if self.line_omega < 0.0:
+            raise ValueError(f"FrameMotion.line_omega must be >= 0, got {self.line_omega!r}")
+        if abs(float(np.linalg.norm(self.line_direction)) - 1.0) > 1e-9:
+            raise ValueError(f"FrameMotion.line_direction must be a unit vector, got {self.line_direction!r}")
+
+    def angles(self, t: float) -> Vec3:
+        """(φ, θ, ψ) (3,) [rad] at time t [s] (not wrapped)."""
+        return np.array(self.angles0) + np.array(self.rates) * t + 0.5 * np.array(self.accels) * t * t
+
+    def angle_rates(self, t: float) -> Vec3:
+        """(φ̇, θ̇, ψ̇) (3,) [rad/s] at time t [s]."""
+        return np.array(self.rates) + np.array(self.accels) * t
+
+    def line(self, t: float) -> tuple[float, float, float]:
+        """(s, ṡ, s̈) [m, m/s, m/s²] along the line at time t [s] (stable at Ω t → 0)."""
+        A, W = self.line_accel, self.line_omega
+        half = 0.5 * W * t
+        sinc_half = math.sin(half) / half if half != 0.0 else 1.0
+        s = 0.5 * A * t * t * sinc_half * sinc_half  # A (1 - cos Ωt) / Ω² = 2 A sin²(Ωt/2) / Ω²
+        full = W * t
+        s_dot = A * t * (math.sin(full) / full if full != 0.0 else 1.0)  # A sin(Ωt) / Ω
+        return s, s_dot, A * math.cos(full)
+
+    def at(self, t: float) -> FrameState:
+        """Every frame quantity at time t [s].
+
+        ȧ = e ṡ + R (ω_b × b), ä = e s̈ + R (ω̇_b × b + ω_b × (ω_b × b)).
+        """
+        angles, rates = self.angles(t), self.angle_rates(t)
+        phi, theta, psi = (float(v) for v in angles)
+        cf, sf, ct, st, cp, sp = (math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta),
+                                  math.cos(psi), math.sin(psi))
+        R = np.array([  # Rz(φ) Rx(θ) Rz(ψ), written out (this runs several times a frame)
+            [cf * cp - sf * ct * sp, -cf * sp - sf * ct * cp, sf * st],
+            [sf * cp + cf * ct * sp, -sf * sp + cf * ct * cp, -cf * st],
+            [st * sp, st * cp, ct],
+        ])
+        dphi, dtheta, dpsi = (float(v) for v in rates)
+        w = np.array([dphi * st * sp + dtheta * cp, dphi * st * cp - dtheta * sp, dphi * ct + dpsi])
+        w_dot = omega_dot_body_from_euler(angles, rates, self.accels)
+        s, s_dot, s_ddot = self.line(t)
+        e = np.array(self.line_direction)
+        b = np.array(self.offset_body)
+        wxb = np.cross(w, b)
+        return FrameState(
+            t=float(t),
+            a=e * s + R @ b,
+            a_dot=e * s_dot + R @ wxb,
+            a_ddot=e * s_ddot + R @ (np.cross(w_dot, b) + np.cross(w, wxb)),
+            R_space_body=R,
+            omega_body=w,
+            omega_dot_body=w_dot,
+        )
+
+
+def body_from_space(frame: FrameState, x_space: ArrayLike, x_space_dot: ArrayLike) -> tuple[Array, Array]:
+    """A particle's C' description from its C one: (x', ẋ'), each (3,) or (N, 3) [m, m/s].
+
+    ``x' = Rᵀ (x − a)``; ``ẋ' = Rᵀ (ẋ − ȧ) − ω_b × x'`` (1.19 solved for ẋ').
+    """
+    R = frame.R_space_body
+    x_body = (_points(x_space, "x_space") - frame.a) @ R
+    v_body = (_points(x_space_dot, "x_space_dot") - frame.a_dot) @ R - np.cross(frame.omega_body, x_body)
+    return x_body, v_body
+
+
+def space_from_body(frame: FrameState, x_body: ArrayLike, x_body_dot: ArrayLike) -> tuple[Array, Array]:
+    """A particle's C description from its C' one: (x, ẋ), each (3,) or (N, 3) [m, m/s].
+
+    ``x = a + R x'`` (1.13); ``ẋ = ȧ + ω_s × (R x') + R ẋ'`` (1.19).
+    """
+    x = _points(x_body, "x_body")
+    x_space = frame.a + x @ frame.R_space_body.T
+    return x_space, velocity_space(frame.a_dot, frame.R_space_body, frame.omega_space, x, x_body_dot)
+
+
+def acceleration_space(frame: FrameState, x_body: ArrayLike, x_body_dot: ArrayLike,
+                       x_body_ddot: ArrayLike) -> Array:
+    """ẍ in C (3,) or (N, 3) [m/s²] of a particle seen at x', ẋ', ẍ' in C' ((1.28) solved for ẍ):
+
+    ``ẍ = ä + R (ẍ' + ω̇_b × x' + ω_b × (ω_b × x') + 2 ω_b × ẋ')``.  With ẋ' = ẍ' = 0 it is the
+    acceleration of a point fixed in C' (what a force must give a particle to keep it there).
+    """
+    x = _points(x_body, "x_body")
+    v = _points(x_body_dot, "x_body_dot")
+    w, w_dot = frame.omega_body, frame.omega_dot_body
+    body = (_points(x_body_ddot, "x_body_ddot") + np.cross(w_dot, x) + np.cross(w, np.cross(w, x))
+            + 2.0 * np.cross(w, v))
+    return frame.a_ddot + body @ frame.R_space_body.T
+
+
+def rk4_step(
+    acceleration: Callable[[float, Array, Array], Array], t: float, x: Array, v: Array, h: float
+) -> tuple[Array, Array]:
+    """One classical Runge-Kutta step (order 4) of ẍ = acceleration(t, x, ẋ) for particles in C.
+
+    x, v: (N, 3) [m, m/s] at time t [s]; returns (x, v) at t + h.  Local error O(h⁵), global
+    O(h⁴); exact for ẍ = 0 (a free particle moves on its straight line to rounding).
+    """
+    k1x, k1v = v, acceleration(t, x, v)
+    k2x = v + 0.5 * h * k1v
+    k2v = acceleration(t + 0.5 * h, x + 0.5 * h * k1x, k2x)
+    k3x = v + 0.5 * h * k2v
+    k3v = acceleration(t + 0.5 * h, x + 0.5 * h * k2x, k3x)
+    k4x = v + h * k3v
+    k4v = acceleration(t + h, x + h * k3x, k4x)
+    return (x + (h / 6.0) * (k1x + 2.0 * k2x + 2.0 * k3x + k4x),
+            v + (h / 6.0) * (k1v + 2.0 * k2v + 2.0 * k3v + k4v))
