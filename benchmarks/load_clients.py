@@ -324,6 +324,41 @@ class LoadResult:
         }
 
 
+async def _measure(server: ServerProcess, connected: list[AsyncViserClient], scene: str, warmup: float,
+                   seconds: float, idle: ProcessSample, body_nodes: list[str]) -> LoadResult:
+    """Count the frames `connected` clients receive over `seconds` after `warmup` (they only
+    count from now on: decoding would starve the server on these 2 cores), with the server's
+    CPU, memory and loop figures over the same window."""
+    pid = server.pid
+    for c in connected:
+        c.state.count_only = True
+    await asyncio.sleep(warmup)
+    loop0 = await asyncio.to_thread(server.loop_stats)
+    server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
+    for c in connected:
+        c.state.max_frame_gap = 0.0
+    frames0 = [c.state.frames for c in connected]
+    bytes0 = [c.state.bytes_received for c in connected]
+    await asyncio.sleep(seconds)
+    frames1 = [c.state.frames for c in connected]
+    gaps = [c.state.max_frame_gap for c in connected]
+    bytes1 = [c.state.bytes_received for c in connected]
+    server1, client_cpu1, t1 = sample_process(pid), time.process_time(), time.monotonic()
+    loop1 = await asyncio.to_thread(server.loop_stats)
+    window = t1 - t0
+    return LoadResult(
+        clients=len(connected), scene=scene, seconds=window,
+        fps=[(f1 - f0) / window for f0, f1 in zip(frames0, frames1)], max_gap_s=gaps,
+        kbytes_per_s=[(b1 - b0) / window / 1e3 for b0, b1 in zip(bytes0, bytes1)],
+        server_cpu_percent=cpu_percent(server0, server1), server_rss_mib=server1.rss_mib,
+        server_hwm_mib=server1.hwm_mib, server_rss_idle_mib=idle.rss_mib,
+        client_cpu_percent=100.0 * (client_cpu1 - client_cpu0) / window, body_nodes=body_nodes,
+        decode_errors=sum(len(c.state.errors) for c in connected),
+        loop_hz=(loop1[0] - loop0[0]) / (loop1[1] - loop0[1]), sessions=loop1[2],
+        loop_busy_percent=100.0 * (loop1[3] - loop0[3]) / (loop1[1] - loop0[1]),
+    )
+
+
 async def _run_clients(server: ServerProcess, clients: int, scene: str, warmup: float, seconds: float
                        ) -> LoadResult:
     port, pid = server.port, server.pid
@@ -336,34 +371,7 @@ async def _run_clients(server: ServerProcess, clients: int, scene: str, warmup: 
         # the start-up is not measured, so it gets a generous time limit.
         bodies = await asyncio.gather(*(start_playing(c, scene, timeout=30.0 + 2.0 * clients)
                                         for c in connected))
-        for c in connected:  # from now on the clients only count frames (decoding would starve
-            c.state.count_only = True  # the server on these 2 cores)
-        await asyncio.sleep(warmup)
-        loop0 = await asyncio.to_thread(server.loop_stats)
-        server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
-        for c in connected:
-            c.state.max_frame_gap = 0.0
-        frames0 = [c.state.frames for c in connected]
-        bytes0 = [c.state.bytes_received for c in connected]
-        await asyncio.sleep(seconds)
-        frames1 = [c.state.frames for c in connected]
-        gaps = [c.state.max_frame_gap for c in connected]
-        bytes1 = [c.state.bytes_received for c in connected]
-        server1, client_cpu1, t1 = sample_process(pid), time.process_time(), time.monotonic()
-        loop1 = await asyncio.to_thread(server.loop_stats)
-        window = t1 - t0
-        fps = [(f1 - f0) / window for f0, f1 in zip(frames0, frames1)]
-        rates = [(b1 - b0) / window / 1e3 for b0, b1 in zip(bytes0, bytes1)]
-        return LoadResult(
-            clients=clients, scene=scene, seconds=window, fps=fps, max_gap_s=gaps,
-            kbytes_per_s=rates, server_cpu_percent=cpu_percent(server0, server1),
-            server_rss_mib=server1.rss_mib, server_hwm_mib=server1.hwm_mib,
-            server_rss_idle_mib=idle.rss_mib,
-            client_cpu_percent=100.0 * (client_cpu1 - client_cpu0) / window,
-            body_nodes=sorted(set(bodies)), decode_errors=sum(len(c.state.errors) for c in connected),
-            loop_hz=(loop1[0] - loop0[0]) / (loop1[1] - loop0[1]), sessions=loop1[2],
-            loop_busy_percent=100.0 * (loop1[3] - loop0[3]) / (loop1[1] - loop0[1]),
-        )
+        return await _measure(server, connected, scene, warmup, seconds, idle, sorted(set(bodies)))
     finally:
         await asyncio.gather(*(c.close() for c in connected), return_exceptions=True)
 
@@ -388,33 +396,7 @@ async def _run_followers(server: ServerProcess, followers: int, scene: str, warm
             connected.append(await AsyncViserClient.connect(port, keep_messages=50))
         await asyncio.gather(*(c.wait_for(lambda c=c: c.state.replay_done, 60.0 + 0.5 * followers)
                                for c in connected))
-        for c in connected:
-            c.state.count_only = True
-        await asyncio.sleep(warmup)
-        loop0 = await asyncio.to_thread(server.loop_stats)
-        server0, client_cpu0, t0 = sample_process(pid), time.process_time(), time.monotonic()
-        for c in connected:
-            c.state.max_frame_gap = 0.0
-        frames0 = [c.state.frames for c in connected]
-        bytes0 = [c.state.bytes_received for c in connected]
-        await asyncio.sleep(seconds)
-        frames1 = [c.state.frames for c in connected]
-        gaps = [c.state.max_frame_gap for c in connected]
-        bytes1 = [c.state.bytes_received for c in connected]
-        server1, client_cpu1, t1 = sample_process(pid), time.process_time(), time.monotonic()
-        loop1 = await asyncio.to_thread(server.loop_stats)
-        window = t1 - t0
-        return LoadResult(
-            clients=followers, scene=f"{scene} (followers)", seconds=window,
-            fps=[(f1 - f0) / window for f0, f1 in zip(frames0, frames1)], max_gap_s=gaps,
-            kbytes_per_s=[(b1 - b0) / window / 1e3 for b0, b1 in zip(bytes0, bytes1)],
-            server_cpu_percent=cpu_percent(server0, server1), server_rss_mib=server1.rss_mib,
-            server_hwm_mib=server1.hwm_mib, server_rss_idle_mib=idle.rss_mib,
-            client_cpu_percent=100.0 * (client_cpu1 - client_cpu0) / window, body_nodes=[],
-            decode_errors=sum(len(c.state.errors) for c in connected),
-            loop_hz=(loop1[0] - loop0[0]) / (loop1[1] - loop0[1]), sessions=loop1[2],
-            loop_busy_percent=100.0 * (loop1[3] - loop0[3]) / (loop1[1] - loop0[1]),
-        )
+        return await _measure(server, connected, f"{scene} (followers)", warmup, seconds, idle, [])
     finally:
         await asyncio.gather(*(c.close() for c in [presenter, *connected]), return_exceptions=True)
 
