@@ -15,13 +15,9 @@ that: keep one per simulation).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-
-import numpy as np
-
 from physics.dynamics import IntegrationError, Model, State
 from physics.guards import omega_limit, validated_state
-from physics.splitting import STAGES, Splitting, Stage, advance, gammas_of
+from physics.splitting import CHECK_EVERY, STAGES, Kernel, Splitting, gammas_of, state_builder
 
 __all__ = ["MAX_SUBSTEPS", "REALTIME_SUBSTEP_ANGLE", "RealtimeStepper", "step_realtime"]
 
@@ -41,7 +37,7 @@ MAX_SUBSTEPS = 1000
 ~1.5e4 rad/s at 1/60 s (6e4 at 1/240 s), far past anything a display can show, and a frame
 must stay short (1000 sub-steps ~ 15 ms without a hook) even when a torque hook runs away."""
 
-_PROGRAMS_KEPT = 64  # distinct (dt, sub-steps) stage programs a stepper keeps
+_FRAMES_KEPT = 64  # distinct (dt, sub-steps) kernels a stepper keeps
 
 
 class RealtimeStepper:
@@ -63,8 +59,8 @@ class RealtimeStepper:
     """
 
     __slots__ = (
-        "_conservative", "_invariant", "_limit", "_max_angle", "_programs", "_rate", "_sp", "_state",
-        "_t", "_y", "_gammas", "evaluations", "model", "stages_per_substep", "substeps",
+        "_conservative", "_fin", "_frames", "_gammas", "_invariant", "_limit", "_make_state", "_max_angle", "_rate", "_sp",
+        "_state", "_t", "_y", "evaluations", "model", "stages_per_substep", "substeps",
     )  # fmt: skip
 
     def __init__(
@@ -79,15 +75,17 @@ class RealtimeStepper:
         sp = Splitting(model)
         self._sp = sp
         self.model = model
-        self._y = sp.work_from_body(r, w)
+        self._y: tuple[float, ...] = tuple(sp.work_from_body(r, w))
         self._t = t
         self._invariant = sp.invariant(self._y)
         self._rate = sp.rate_scale(r[8], w)
         self._limit = omega_limit(self._rate)
         self._conservative = model.conservative
         self._max_angle = max_substep_angle
-        self._programs: dict[tuple[float, int], list[Stage]] = {}
-        self._state: State | None = state
+        self._fin = sp.finish_args(self._limit, self._invariant)
+        self._frames: dict[object, tuple[Kernel, int, float]] = {}
+        self._make_state = state_builder(sp)
+        self._state: State = state
         self.stages_per_substep = STAGES[order]
         self.substeps = 0
         self.evaluations = 0
@@ -99,27 +97,50 @@ class RealtimeStepper:
 
     @property
     def state(self) -> State:
-        """The current State, built from the internal floats on first access after a step."""
-        state = self._state
-        if state is None:
-            r, w = self._sp.body_from_work(self._y)
-            state = self._state = State(np.array(r).reshape(3, 3), np.array(w), self._t)
-        return state
+        """The current State (the one the last `step` returned, or the initial one)."""
+        return self._state
 
     def step(self, dt: float) -> State:
         """Advance by dt [s] of simulated time (sub-stepping as needed) and return the new state.
+
+        The sub-steps run in generated straight-line code (`Splitting.kernel`), one kernel per
+        (dt, sub-step count) kept by the stepper; the State is built from the floats once.
 
         Raises:
             ValueError: dt not positive and finite.
             IntegrationError: a non-finite state, a blow-up, or more than MAX_SUBSTEPS
                 sub-steps needed (|ω| far beyond anything a display can show).
         """
+        # A conservative model's sub-step count depends on dt only (Ω is fixed): key dt.  A bad
+        # dt (0, negative, inf, NaN) is never a key, so `_frame` validates it.
+        frame = self._frames.get(dt) if self._conservative else None
+        if frame is None:
+            frame = self._frame(dt)
+        kernel, n, h = frame
+        t0 = self._t
+        if n <= CHECK_EVERY:
+            y = kernel(self._y, t0, n, self._fin)
+        else:
+            y, t, done = self._y, t0, 0
+            while done < n:
+                chunk = min(CHECK_EVERY, n - done)
+                y = kernel(y, t, chunk, self._fin)
+                done += chunk
+                t = t0 + done * h
+        self._y = y
+        t = self._t = t0 + dt
+        self.substeps = n
+        self.evaluations = n * self.stages_per_substep
+        state = self._state = self._make_state(y, t)
+        return state
+
+    def _frame(self, dt: float) -> tuple[Kernel, int, float]:
+        """(kernel, sub-steps n, sub-step h) for a display step dt, made and kept on first use."""
         if not 0.0 < dt < math.inf:
             raise ValueError(f"display step dt must be positive and finite, got {dt}")
-        sp = self._sp
         if not self._conservative:
-            r22, w = self._r22_omega()
-            self._rate = sp.rate_scale(r22, w)
+            r, w = self._sp.body_from_work(self._y)
+            self._rate = self._sp.rate_scale(r[8], w)
         n = math.ceil(dt * self._rate / self._max_angle) or 1
         if n > MAX_SUBSTEPS:
             raise IntegrationError(
@@ -127,28 +148,14 @@ class RealtimeStepper:
                 f"step of {dt:g} s, more than MAX_SUBSTEPS = {MAX_SUBSTEPS}: a blow-up, or a spin too fast for "
                 "real time"
             )
-        t0 = self._t
-        key = (dt, n)
-        program = self._programs.get(key)
-        if program is None and n <= 64:
-            if len(self._programs) >= _PROGRAMS_KEPT:
-                self._programs.clear()
-            program = self._programs[key] = sp.program(dt / n, n, self._gammas)
-        if program is not None:
-            y, _ = sp.run(program, self._y, t0)
-            y = sp.finish(y, t0 + dt, self._limit, self._invariant)
-        else:
-            y, _ = advance(sp, self._y, t0, dt / n, n, self._gammas, self._limit, self._invariant)
-        self._y = y
-        self._t = t0 + dt
-        self._state = None
-        self.substeps = n
-        self.evaluations = n * self.stages_per_substep
-        return self.state
-
-    def _r22_omega(self) -> tuple[float, Sequence[float]]:
-        r, w = self._sp.body_from_work(self._y)
-        return r[8], w
+        key: object = dt if self._conservative else (dt, n)
+        frame = self._frames.get(key)
+        if frame is None:
+            if len(self._frames) >= _FRAMES_KEPT:
+                self._frames.clear()
+            h = dt / n
+            frame = self._frames[key] = (self._sp.kernel(h, self._gammas), n, h)
+        return frame
 
 
 def step_realtime(

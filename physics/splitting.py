@@ -38,6 +38,7 @@ Strang stage (heavy top): plain float arithmetic, no numpy in the loop.
 from __future__ import annotations
 
 import math
+import re
 import time
 from collections.abc import Callable, Sequence
 from math import cos, sin, sqrt
@@ -368,6 +369,62 @@ class Splitting:
         return y_new
 
 
+    def kernel(self, h: float, gammas: Sequence[float]) -> Kernel:
+        """The steps of `program` followed by `finish`, as generated straight-line code.
+
+        Returns frame(y, t, n, fin): from y (7,) at t [s], n >= 1 whole steps of size h (the
+        first T_sym(γ_1 h/2) to the closing T_sym(γ_last h/2), as `program(h, n, gammas)`), then
+        q renormalised, the invariant restored and finiteness and the limit checked, with
+        fin = `finish_args(limit, invariant)`; returns the new y (7,).  Equal to `run` +
+        `finish` up to rounding (~1e-16 per step: τ mgl is folded into one factor, the kick
+        times are t + offsets).  Keep n <= CHECK_EVERY per call.
+
+        Without a torque callback a kernel is a pure function of (a, mgl, h, γ), kept in a
+        small module cache shared by all instances (immutable, so sharing is safe).
+        """
+        a_o, a_r, a_s = self.a
+        n = len(gammas)
+        gravity_axis, G = -1, 0.0
+        if self.gravity is not None:
+            gravity_axis = next(j for j in range(3) if self.gravity[j] != 0.0)
+            G = self.gravity[gravity_axis]
+        kind = "space" if not self.kicks else ("vertical" if self.torque is None else None)
+        structure = (n, a_o != a_r, a_s != a_r, self.kicks, gravity_axis, self.torque is not None, self.hook, kind)
+        key = (structure, self.a, G, h, tuple(gammas), self.inv_i_min)
+        if self.torque is None:
+            cached = _KERNELS.get(key)
+            if cached is not None:
+                return cached
+        rem_factor = 1.0 if self.kicks else 2.0
+        deltas = {"1": 0.5 * gammas[0], "wrap": 0.5 * (gammas[-1] + gammas[0]), "close": 0.5 * gammas[-1]}
+        for i in range(2, n + 1):
+            deltas[str(i)] = 0.5 * (gammas[i - 2] + gammas[i - 1])
+        constants: dict[str, object] = {"h": h, "inv_i_min": self.inv_i_min, "fail": check_finite, "torque": self.torque}
+        for k, d in deltas.items():
+            constants[f"ka_{k}"] = a_r * d * h
+            constants[f"kz_{k}"] = (a_s - a_r) * d * h
+        offset = 0.0
+        for i in range(1, n + 1):
+            tau = gammas[i - 1] * h
+            offset += deltas[str(i)] * h
+            constants[f"kx_{i}"] = rem_factor * (a_o - a_r) * 0.5 * gammas[i - 1] * h
+            constants[f"tg_{i}"] = 2.0 * tau * G
+            constants[f"tG_{i}"] = tau * G
+            constants[f"tk_{i}"] = tau
+            constants[f"hk_{i}"] = 0.5 * tau
+            constants[f"ct_{i}"] = offset
+        frame = _factory(structure)(**constants)
+        if self.torque is None:
+            if len(_KERNELS) >= _KERNELS_KEPT:
+                _KERNELS.clear()
+            _KERNELS[key] = frame
+        return frame
+
+    @staticmethod
+    def finish_args(limit: float, invariant: tuple[float, ...] | None) -> tuple[float, ...]:
+        """The `fin` argument of a kernel: (limit [rad/s], *invariant) (see `invariant`)."""
+        return (limit,) if invariant is None else (limit, *invariant)
+
 def advance(
     sp: Splitting,
     y: Sequence[float],
@@ -455,3 +512,198 @@ def integrate_splitting(
     omega = (samples[:, 4:] @ P.T) / np.array(model.inertia)
     wall = time.perf_counter() - start
     return Trajectory(times, R, omega, steps * len(gammas), wall, f"splitting{order}")
+
+
+# --- straight-line code for the hot loop ---------------------------------------------------------
+#
+# `Splitting.run` above interprets a list of stage tuples: readable, and the reference the
+# generated code is tested against (tests/test_splitting_kernel.py).  `Splitting.kernel` returns
+# the same steps as a function generated once per *structure* of the problem (kind of torque,
+# which remainders exist, the gravity axis, the number of stages) and closed over the per-run
+# constants (a_k, γ_i, h, mgl folded into one factor per flow): no loop over stages, no tuple of
+# four floats per quaternion product, no branch on the model inside a step.
+
+Kernel = Callable[[tuple[float, ...], float, int, tuple[float, ...]], tuple[float, ...]]
+"""frame(y (7,), t [s], n, fin) -> y (7,): n whole steps (first T_sym to closing T_sym), then the
+work of `finish` with fin = `Splitting.finish_args(limit, invariant)`."""
+
+_KERNELS: dict[tuple[object, ...], Kernel] = {}
+_KERNELS_KEPT = 256  # kernels (without a torque callback) kept across instances
+
+_FACTORIES: dict[tuple[object, ...], Callable[..., Kernel]] = {}
+"""Generated factories by structure: immutable code shared by every Splitting; the constants
+live in each kernel's closure, so steppers still share no state."""
+
+
+def _rotation_lines(axis: str, k: str) -> list[str]:
+    """R turns about work axis `axis` ('z' or 'x') by 2 (k L_axis), L_b turns back by as much."""
+    lines = [f"half = {k} * l{axis}", "ch = cos(half)", "sh = sin(half)", "c = ch * ch - sh * sh", "s = 2.0 * sh * ch"]
+    if axis == "z":
+        lines += [
+            "qw, qz = qw * ch - qz * sh, qz * ch + qw * sh",
+            "qx, qy = qx * ch + qy * sh, qy * ch - qx * sh",
+            "lx, ly = c * lx + s * ly, c * ly - s * lx",
+        ]
+    else:
+        lines += [
+            "qw, qx = qw * ch - qx * sh, qx * ch + qw * sh",
+            "qy, qz = qy * ch + qz * sh, qz * ch - qy * sh",
+            "ly, lz = c * ly + s * lz, c * lz - s * ly",
+        ]
+    return lines
+
+
+def _kernel_source(structure: tuple[object, ...]) -> str:
+    """Python source of `_factory(**constants) -> frame` for one structure (see `_kernel_key`)."""
+    n_stages, has_rem, has_z, kicks, gravity_axis, torque, midpoint, invariant = structure
+    assert isinstance(n_stages, int)
+
+    def t_sym(k: str) -> list[str]:
+        lines = [
+            "nl2 = lx * lx + ly * ly + lz * lz",
+            "if nl2 > 0.0:",
+            "    nl = sqrt(nl2)",
+            f"    half = ka_{k} * nl",
+            "    cw = cos(half)",
+            "    sf = sin(half) / nl",
+            "    px = sf * lx",
+            "    py = sf * ly",
+            "    pz = sf * lz",
+            "    nw = qw * cw - qx * px - qy * py - qz * pz",
+            "    nx = qw * px + qx * cw + qy * pz - qz * py",
+            "    ny = qw * py - qx * pz + qy * cw + qz * px",
+            "    qz = qw * pz + qx * py - qy * px + qz * cw",
+            "    qw = nw",
+            "    qx = nx",
+            "    qy = ny",
+        ]
+        return lines + (_rotation_lines("z", f"kz_{k}") if has_z else [])
+
+    def kick(i: int) -> list[str]:
+        lines = []
+        if gravity_axis == 2:  # L += τ G (γ × e_z), γ = Rᵀ e_z; tg = 2 τ G, tG = τ G
+            lines += [f"lx += tg_{i} * (qy * qz + qw * qx)", f"ly -= tg_{i} * (qx * qz - qw * qy)"]
+        elif gravity_axis == 1:
+            lines += [f"lx -= tG_{i} - tg_{i} * (qx * qx + qy * qy)", f"lz += tg_{i} * (qx * qz - qw * qy)"]
+        elif gravity_axis == 0:
+            lines += [f"ly += tG_{i} - tg_{i} * (qx * qx + qy * qy)", f"lz -= tg_{i} * (qy * qz + qw * qx)"]
+        if torque:
+            lines.append(f"mx, my, mz = torque(ts + ct_{i}, qw, qx, qy, qz, lx, ly, lz)")
+            if midpoint:
+                lines.append(
+                    f"mx, my, mz = torque(ts + ct_{i}, qw, qx, qy, qz, lx + hk_{i} * mx, ly + hk_{i} * my, "
+                    f"lz + hk_{i} * mz)"
+                )
+            lines += [f"lx += tk_{i} * mx", f"ly += tk_{i} * my", f"lz += tk_{i} * mz"]
+        return lines
+
+    def block(i: int) -> list[str]:
+        rem = _rotation_lines("x", f"kx_{i}") if has_rem else []
+        return rem + kick(i) + rem if kicks else rem
+
+    def step(last: str) -> list[str]:
+        lines: list[str] = []
+        for i in range(1, n_stages + 1):
+            lines += block(i) + t_sym(str(i + 1) if i < n_stages else last)
+        return lines
+
+    body = ["qw, qx, qy, qz, lx, ly, lz = y", "ts = t"]
+    body += t_sym("1")
+    body += ["for _ in range(n - 1):"] + ["    " + line for line in step("wrap")]
+    if torque:
+        body.append("    ts += h")
+    body += step("close")
+    body += [
+        "nq = sqrt(qw * qw + qx * qx + qy * qy + qz * qz)",
+        "qw, qx, qy, qz = qw / nq, qx / nq, qy / nq, qz / nq",
+    ]
+    if invariant == "space":  # free body: L_b = Rᵀ L_s
+        body += [
+            "limit, space_x, space_y, space_z = fin",
+            "s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)",
+            "r0, r1, r2 = 1.0 - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy)",
+            "r3, r4, r5 = s * (qx * qy + qw * qz), 1.0 - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx)",
+            "r6, r7, r8 = s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), 1.0 - s * (qx * qx + qy * qy)",
+            "lx = r0 * space_x + r3 * space_y + r6 * space_z",
+            "ly = r1 * space_x + r4 * space_y + r7 * space_z",
+            "lz = r2 * space_x + r5 * space_y + r8 * space_z",
+        ]
+    elif invariant == "vertical":  # heavy top: L·e_z = γ·L_b along γ = Rᵀ e_z
+        body += [
+            "limit, vertical = fin",
+            "g0 = 2.0 * (qx * qz - qw * qy)",
+            "g1 = 2.0 * (qy * qz + qw * qx)",
+            "g2 = 1.0 - 2.0 * (qx * qx + qy * qy)",
+            "d = vertical - (g0 * lx + g1 * ly + g2 * lz)",
+            "lx, ly, lz = lx + d * g0, ly + d * g1, lz + d * g2",
+        ]
+    else:
+        body.append("limit = fin[0]")
+    body += [
+        "omega = sqrt(lx * lx + ly * ly + lz * lz) * inv_i_min",
+        "if not (omega <= limit and (qw + qx + qy + qz + lx + ly + lz) * 0.0 == 0.0):",
+        "    fail(t + n * h, (qw, qx, qy, qz, lx, ly, lz), omega, limit)",
+        "return (qw, qx, qy, qz, lx, ly, lz)",
+    ]
+    names = sorted(set(re.findall(r"\b(?:ka|kz|kx|tg|tG|tk|hk|ct)_\w+", "\n".join(body))))
+    names += ["h", "inv_i_min", "fail", "torque"]
+    src = [f"def _factory(*, {', '.join(names)}, **_unused):", "    def frame(y, t, n, fin):"]
+    src += ["        " + line for line in body]
+    src += ["    return frame"]
+    return "\n".join(src) + "\n"
+
+
+def _factory(structure: tuple[object, ...]) -> Callable[..., Kernel]:
+    factory = _FACTORIES.get(structure)
+    if factory is None:
+        namespace: dict[str, object] = {"sqrt": sqrt, "sin": sin, "cos": cos}
+        exec(compile(_kernel_source(structure), f"<physics.splitting kernel {structure}>", "exec"), namespace)  # noqa: S102
+        factory = _FACTORIES[structure] = namespace["_factory"]  # type: ignore[assignment]
+    return factory
+
+
+StateBuilder = Callable[[tuple[float, ...], float], State]
+"""state(y (7,), t [s]) -> State: R_space_body (3, 3) and ω_b (3,) in body axes, fresh arrays."""
+
+_STATE_BUILDERS: dict[tuple[object, ...], Callable[..., StateBuilder]] = {}
+
+
+def _state_source(work_axis: tuple[int, int, int], sign: tuple[float, float, float]) -> str:
+    """Source of `_factory(i0, i1, i2, State, fromiter) -> state`, `body_from_work` unrolled."""
+    work = (
+        "1.0 - s * (qy * qy + qz * qz)", "s * (qx * qy - qw * qz)", "s * (qx * qz + qw * qy)",
+        "s * (qx * qy + qw * qz)", "1.0 - s * (qx * qx + qz * qz)", "s * (qy * qz - qw * qx)",
+        "s * (qx * qz - qw * qy)", "s * (qy * qz + qw * qx)", "1.0 - s * (qx * qx + qy * qy)",
+    )  # fmt: skip
+    entries = []
+    for row in range(3):
+        for k in range(3):
+            j = work_axis[k]
+            entries.append(f"-({work[3 * row + j]})" if sign[j] < 0.0 else work[3 * row + j])
+    for k in range(3):
+        j = work_axis[k]
+        entries.append(f"{'-' if sign[j] < 0.0 else ''}l{'xyz'[j]} / i{k}")
+    return "\n".join([
+        "def _factory(i0, i1, i2, State, fromiter):",
+        "    def state(y, t):",
+        "        qw, qx, qy, qz, lx, ly, lz = y",
+        "        s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)",
+        f"        b = fromiter(({', '.join(entries)}), float, 12)",
+        "        return State(b[:9].reshape(3, 3), b[9:], t)",
+        "    return state",
+    ]) + "\n"  # fmt: skip
+
+
+def state_builder(sp: Splitting) -> StateBuilder:
+    """`Splitting.body_from_work` and `State(...)` as one generated function for sp's axes.
+
+    R and ω_b are views of one fresh (12,) array per call, so a State costs one allocation.
+    """
+    key = (sp.work_axis, sp.sign)
+    factory = _STATE_BUILDERS.get(key)
+    if factory is None:
+        namespace: dict[str, object] = {}
+        exec(compile(_state_source(sp.work_axis, sp.sign), f"<physics.splitting state {key}>", "exec"), namespace)  # noqa: S102
+        factory = _STATE_BUILDERS[key] = namespace["_factory"]  # type: ignore[assignment]
+    i0, i1, i2 = sp.inertia
+    return factory(i0, i1, i2, State, np.fromiter)
