@@ -10,7 +10,7 @@ the geometry of `physics.poinsot` drawn around it, in ω units (1 rad/s = `scale
   rolls without slipping; the contact point is ω itself (the orange ω arrow ends there), and
   its path on the plane is the **herpolhode** (the last HERPOLHODE_SECONDS of simulated time).
   The two dashed circles on the plane are the herpolhode's radii ρ_min, ρ_max.
-* Beside it, **body angular-momentum space**: the sphere |L| = const and the energy ellipsoid
+* Beside it (left), **body angular-momentum space**: the sphere |L| = const and the energy ellipsoid
   L · I⁻¹ L = 2T meet along the current polhode (magenta, with the current L_b as a dot), drawn
   in a family of polhodes of other energies (grey: around the largest and the smallest axis)
   and the separatrix through ±|L| e_y′ (red, for I1 < I2 < I3).  The "Energy" slider moves the
@@ -140,7 +140,7 @@ class PoinsotView(FreeBodyView):
         "### Poinsot: the ellipsoid rolls on the invariable plane\n"
         "Poinsot's ellipsoid **ω·Iω = 2T** (blue, fixed in the body) touches the plane **n·ω = 2T/|L|** "
         "(n = L/|L|, fixed in space) at **ω**: polhode (magenta) on it, herpolhode (teal) on the plane.  "
-        "Right: body L-space, sphere |L| ∩ energy ellipsoid, separatrix red."
+        "Left: body L-space, sphere |L| ∩ energy ellipsoid, separatrix red."
     )
     preset_file = "poinsot.json"
     grid_z = -2.2
