@@ -9,6 +9,7 @@ from app.kit.room import Scene
 from app.scenes.euler_angles import EulerAnglesView
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
+from app.scenes.moving_frame import MovingFrameView
 from app.scenes.poinsot import PoinsotView
 
 __all__ = ["DEFAULT_SCENE", "SCENES", "check_presets"]
@@ -20,6 +21,7 @@ SCENES: dict[str, Scene] = {
         FreeBodyView,
         HeavyTopView,
         PoinsotView,
+        MovingFrameView,
     )
 }
 """Scene title (the dropdown option) -> scene (a view class with `new_simulation`, `presets`)."""
