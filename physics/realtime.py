@@ -15,6 +15,7 @@ that: keep one per simulation).
 from __future__ import annotations
 
 import math
+
 from physics.dynamics import IntegrationError, Model, State
 from physics.guards import omega_limit, validated_state
 from physics.splitting import CHECK_EVERY, STAGES, Kernel, Splitting, gammas_of, state_builder
@@ -59,8 +60,8 @@ class RealtimeStepper:
     """
 
     __slots__ = (
-        "_conservative", "_fin", "_frames", "_gammas", "_invariant", "_limit", "_make_state", "_max_angle", "_rate", "_sp",
-        "_state", "_t", "_y", "evaluations", "model", "stages_per_substep", "substeps",
+        "_conservative", "_fin", "_frames", "_gammas", "_invariant", "_limit", "_make_state", "_max_angle", "_rate",
+        "_sp", "_state", "_t", "_y", "evaluations", "model", "stages_per_substep", "substeps",
     )  # fmt: skip
 
     def __init__(
