@@ -1,12 +1,14 @@
 """Wall time per simulated second of the app's real-time stepping, old against new.
 
-    python benchmarks/realtime_cost.py [--baseline REF] [--seconds S]
+    python benchmarks/realtime_cost.py [--baseline REF] [--previous REF] [--seconds S]
 
 For each case (the free asymmetric body and the heavy top of benchmarks/cases, and the
 asymmetric heavy top) and each display step (1/240 s, 1/60 s) it prints the milliseconds of
 wall time per simulated second of
 * `RealtimeStepper.step(dt)`, one stepper kept across frames (what the app does),
 * `step_realtime(model, state, dt)`, the stateless function (a stepper built per frame),
+* the previous stepper: `RealtimeStepper.step(dt)` of physics/realtime.py and physics/splitting.py
+  at git --previous (default b277ef6, the interpreted stage loop before the generated kernel),
 * the baseline: `physics/integrators.py` at git REF (default 026440c, before the split), its
   `step_realtime` called frame after frame as the app did.
 Each figure is the best of 5 runs of S simulated seconds (default 5).  The issue's target is
@@ -36,17 +38,20 @@ FRAME_STEPS = (1.0 / 240.0, 1.0 / 60.0)
 RUNS = 5
 
 
-def baseline_module(ref: str) -> object | None:
-    """physics/integrators.py at git REF, imported as a stand-alone module (None if unavailable)."""
+def baseline_module(ref: str, file: str = "physics/integrators.py", name: str = "baseline_integrators",
+                    replace: tuple[str, str] = ("", "")) -> object | None:
+    """`file` at git REF, imported as the stand-alone module `name` (None if unavailable)."""
     try:
-        source = subprocess.run(["git", "show", f"{ref}:physics/integrators.py"], cwd=ROOT, check=True,
+        source = subprocess.run(["git", "show", f"{ref}:{file}"], cwd=ROOT, check=True,
                                 capture_output=True, text=True).stdout
     except (OSError, subprocess.CalledProcessError) as error:
         print(f"no baseline: {error}", file=sys.stderr)
         return None
-    path = Path(tempfile.mkdtemp()) / "baseline_integrators.py"
+    if replace[0]:
+        source = source.replace(*replace)
+    path = Path(tempfile.mkdtemp()) / f"{name}.py"
     path.write_text(source)
-    spec = importlib.util.spec_from_file_location("baseline_integrators", path)
+    spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses look their module up
@@ -63,9 +68,18 @@ def ms_per_simulated_second(run: Callable[[int], None], frames: int, seconds: fl
     return 1e3 * best / seconds
 
 
-def stepper_run(model: Model, state0: State, dt: float) -> Callable[[int], None]:
+def previous_stepper(ref: str) -> type | None:
+    """RealtimeStepper of physics/realtime.py at REF, on physics/splitting.py at REF."""
+    if baseline_module(ref, "physics/splitting.py", "previous_splitting") is None:
+        return None
+    module = baseline_module(ref, "physics/realtime.py", "previous_realtime",
+                             ("from physics.splitting import", "from previous_splitting import"))
+    return None if module is None else module.RealtimeStepper  # type: ignore[attr-defined,no-any-return]
+
+
+def stepper_run(model: Model, state0: State, dt: float, cls: type = RealtimeStepper) -> Callable[[int], None]:
     def run(frames: int) -> None:
-        stepper = RealtimeStepper(model, state0)
+        stepper = cls(model, state0)
         for _ in range(frames):
             stepper.step(dt)
 
@@ -86,13 +100,15 @@ def function_run(
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--baseline", default="026440c", help="git ref of the old physics/integrators.py")
+    parser.add_argument("--previous", default="b277ef6", help="git ref of the previous RealtimeStepper")
     parser.add_argument("--seconds", type=float, default=5.0, help="simulated seconds per run")
     args = parser.parse_args(argv)
     old = baseline_module(args.baseline) if args.baseline else None
+    previous = previous_stepper(args.previous) if args.previous else None
     print(f"ms of wall per simulated second (best of {RUNS} runs of {args.seconds:g} s)")
-    print("| case | frame dt [s] | RealtimeStepper.step | step_realtime (stateless) | "
-          f"old step_realtime @ {args.baseline} |")
-    print("|---|---|---|---|---|")
+    print(f"| case | frame dt [s] | RealtimeStepper.step | RealtimeStepper.step @ {args.previous} | "
+          f"step_realtime (stateless) | old step_realtime @ {args.baseline} |")
+    print("|---|---|---|---|---|---|")
     for name in CASES:
         case = load_case(ROOT / "benchmarks" / "cases" / f"{name}.json")
         for dt in FRAME_STEPS:
@@ -100,7 +116,14 @@ def main(argv: list[str] | None = None) -> int:
             new = ms_per_simulated_second(stepper_run(case.model, case.state0, dt), frames, args.seconds)
             stateless = ms_per_simulated_second(function_run(step_realtime, case.model, case.state0, dt), frames,
                                                 args.seconds)
-            cells = [f"{new:.2f}", f"{stateless:.2f}"]
+            cells = [f"{new:.2f}"]
+            if previous is not None:
+                before = ms_per_simulated_second(stepper_run(case.model, case.state0, dt, previous), frames,
+                                                 args.seconds)
+                cells.append(f"{before:.2f}")
+            else:
+                cells.append("n/a")
+            cells.append(f"{stateless:.2f}")
             if old is not None:
                 old_step = old.step_realtime  # type: ignore[attr-defined]
                 old_ms = ms_per_simulated_second(function_run(old_step, case.model, case.state0, dt), frames,
