@@ -90,7 +90,11 @@ class Session:
         self.error_count = 0
         self._switch_lock = threading.RLock()
         self._busy = threading.RLock()  # held by the guard for the whole of a callback or an action
-        gui = client.gui
+        with self._busy, client.atomic():  # the first panel leaves at once; clicks wait for it
+            self._build(client.gui, scene)
+
+    def _build(self, gui: Any, scene: str) -> None:
+        lectern = self.lectern
         # Created first, so they sit at the top of the panel where they are seen.
         self.gui_error = gui.add_markdown("", visible=False)
         self.gui_error_dismiss = gui.add_button("Dismiss message", color="red", visible=False)
@@ -193,7 +197,7 @@ class Session:
     def _scene_chosen(self) -> None:
         title = self.gui_scene.value
         if title not in SCENES:  # a client can send any string
-            self.gui_scene.value = self.room.scene.title  # type: ignore[misc]  # viser's setter
+            self.gui_scene.value = self.room.scene.title  # viser's setter
             return
         if title != self.room.scene.title:
             scene = SCENES[title]
@@ -215,7 +219,7 @@ class Session:
                 else:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
-                self.gui_scene.value = room.scene.title  # type: ignore[misc]  # the titles match now
+                self.gui_scene.value = room.scene.title  # the titles match now
         self._refresh_preset_commands()
 
     def watch(self, room: Room) -> None:
@@ -229,7 +233,7 @@ class Session:
         self.guard("scene", self._select)(title)
 
     def _select(self, title: str) -> None:
-        self.gui_scene.value = title  # type: ignore[misc]  # runs _scene_chosen synchronously
+        self.gui_scene.value = title  # runs _scene_chosen synchronously
 
     def _controlled_room(self) -> Room:
         """The room this browser may change (PermissionError while it follows the presenter)."""
@@ -312,7 +316,7 @@ class Session:
         else:
             gui.main_panel.float()
         if self.gui_projector.value != on:
-            self.gui_projector.value = on  # type: ignore[misc]
+            self.gui_projector.value = on
         view = self.scene
         if view is not None and hasattr(view, "root"):
             self._scale_labels(view.root, PROJECTOR_LABEL_SCALE if on else 1.0 / PROJECTOR_LABEL_SCALE)
@@ -586,7 +590,7 @@ class Session:
             self._hide_live(True)
             self.scene = self._new_view(self.room)
             if self.gui_scene.value != live.scene.title:
-                self.gui_scene.value = live.scene.title  # type: ignore[misc]  # titles match: no switch
+                self.gui_scene.value = live.scene.title  # titles match: no switch
         self._show_lecture_buttons()
         self._refresh_preset_commands()
 

@@ -126,6 +126,7 @@ def _start_playing(app: Any, client: ViserClient, scene: str, timeout: float = 1
     """
     session = next(iter(app.wait_for_sessions(1, timeout).values()))
     state = client.state
+    state.wait_for(lambda: find_play_control(state) is not None, timeout)  # the first scene's panel is here
     dropdown, option = state.wait_for(lambda: find_scene_dropdown(state, scene), timeout)
     old_uuids: set[str] = set()
     if dropdown.value != option:

@@ -132,6 +132,7 @@ async def start_playing(client: AsyncViserClient, scene: str, timeout: float = 1
         TimeoutError: the dropdown, the Play control or the motion did not appear in time.
     """
     state = client.state
+    await client.wait_for(lambda: find_play_control(state) is not None, timeout)  # the first panel is here
     found = await client.wait_for(lambda: find_scene_dropdown(state, scene), timeout)
     dropdown, option = found
     old_uuids: set[str] = set()
