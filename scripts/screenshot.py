@@ -9,6 +9,8 @@ Shots (each from the running app, through a real browser):
     scene_top.png    the heavy top's "Loop" preset after a few seconds, with its tip trace.
     scene_poinsot.png  Poinsot's ellipsoid on the invariable plane (Dzhanibekov preset, mid-run),
                      the polhode, the herpolhode, and the body's L-space picture beside it.
+    scene_moving.png   the moving frame's "Turntable" preset after a few seconds: paths in C and C′,
+                       the real and inertial forces on the free particle (`--scenes moving`).
 
 Starts the app on a loopback ephemeral port, opens it in Debian's Chromium through Playwright
 (software WebGL via SwiftShader, the flags of docs/VISER.md), drives that browser's session
@@ -31,7 +33,7 @@ sys.path.insert(0, str(ROOT))
 from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-SCENES = ("euler", "free", "top", "poinsot")
+SCENES = ("euler", "free", "top", "poinsot", "moving")
 
 
 def _wait_for(predicate: Callable[[], Any], timeout: float) -> None:
@@ -85,6 +87,16 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         time.sleep(1.0)
         session.play()
         _wait_for(lambda: session.simulation.state.t > 5.0, 60.0)
+        session.scene.transport.gui_time_scale.value = 0.1
+        time.sleep(2.0)
+        return
+    if scene == "moving":
+        session.select_scene("Moving frame")
+        session.apply_preset("Turntable")
+        page.get_by_text("Moving frame C′").first.wait_for(timeout=30_000)
+        time.sleep(1.0)
+        session.play()
+        _wait_for(lambda: session.simulation.t > 2.6, 60.0)
         session.scene.transport.gui_time_scale.value = 0.1
         time.sleep(2.0)
         return

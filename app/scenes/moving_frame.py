@@ -103,6 +103,7 @@ FORCE_COLORS = {"real": (30, 30, 30), "translational": (120, 120, 0), "euler": (
                 "centrifugal": (230, 90, 0), "coriolis": (150, 40, 220)}
 DISC_COLOR = (210, 205, 190)
 DISC_STRIPE_COLOR = (150, 140, 120)
+LABEL_MIN_LENGTH = 0.25  # [m] a force arrow shorter than this is drawn without its label
 READOUT_PERIOD = 0.2  # [s] of wall time (5 Hz)
 
 _DEG = ((-360.0, "-360"), (0.0, "0"), (360.0, "360"))
@@ -425,8 +426,6 @@ class MovingFrameView(SceneView):
         frame = f"{world}/frame"
         self.radius_rod = scene.add_line_segments(f"{frame}/rod", np.zeros((1, 2, 3)), (110, 110, 120),
                                                   thickness=3.0, thickness_units="screen", visible=False)
-        self.origin_label = scene.add_label(f"{frame}/name", "C′", position=(-0.18, -0.18, 0.0),
-                                            font_screen_scale=1.8, anchor="center-center")
         self.anchor = scene.add_icosphere(f"{frame}/anchor", radius=0.035, color=(90, 90, 90), subdivisions=1,
                                           cast_shadow=False, receive_shadow=False)
         self.spring = scene.add_line_segments(f"{world}/spring", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
@@ -438,7 +437,7 @@ class MovingFrameView(SceneView):
                                    shaft_radius=0.018, head_radius=0.05, head_length=0.1, font_scale=1.5)
                        for key in FORCE_KEYS}
         self.sum_force = Vector(scene, f"{frame}/forces/sum", (200, 0, 0), "m ẍ′", shaft_radius=0.01,
-                                head_radius=0.035, head_length=0.08, font_scale=1.5)
+                                head_radius=0.035, head_length=0.08, font_scale=1.5, label_at_middle=True)
 
     def _build_disc(self, scene: Any, parent: str) -> None:
         radius = self.sim.setup.value("disc_radius")
@@ -659,11 +658,15 @@ class MovingFrameView(SceneView):
         vectors = {"real": report.real[focus], "translational": report.inertial.translational[focus],
                    "euler": report.inertial.euler[focus], "centrifugal": report.inertial.centrifugal[focus],
                    "coriolis": report.inertial.coriolis[focus]}
+        vectors["sum"] = report.m_x_ddot_body[focus]
         for key, vector in vectors.items():
-            self.forces[key].enabled = show
-            self.forces[key].update(scale * vector, start=start)
-        self.sum_force.enabled = show
-        self.sum_force.update(scale * report.m_x_ddot_body[focus], start=start)
+            arrow = self.forces[key] if key != "sum" else self.sum_force
+            arrow.enabled = show
+            arrow.update(scale * vector, start=start)
+            # A short arrow keeps its colour but loses its label: labels of short arrows pile up.
+            labelled = arrow.visible and scale * float(np.linalg.norm(vector)) >= LABEL_MIN_LENGTH
+            if arrow.label.visible != labelled:
+                arrow.label.visible = labelled
         if self._readout_throttle.ready(dt):
             self._render_readout(report, x_body)
             self._refresh_status()
