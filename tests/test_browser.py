@@ -177,3 +177,20 @@ def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_l
         assert panel is not None and panel["x"] >= 0.7 * 1024 - 20  # the 3D view keeps >= ~70 %
     finally:
         app.stop()
+
+
+def test_poinsot_scene_opens_from_the_dropdown_and_its_picture_changes_while_it_plays(
+        wait_until, app: App, page) -> None:
+    """4. The Poinsot scene, chosen in the Scene dropdown: the ellipsoid rolls (the picture
+    changes while it plays) and the session reports no error."""
+    session = open_app(page, app)
+    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
+    page.get_by_role("option", name="Poinsot").click()
+    wait_until(lambda: session.scene.title == "Poinsot", timeout=10.0)
+    page.get_by_text("Poinsot: the ellipsoid rolls").wait_for(timeout=30_000)
+    session.play()
+    time.sleep(2.0)
+    first = page.screenshot(clip=SCENE_CLIP)
+    time.sleep(1.5)
+    assert changed_fraction(first, page.screenshot(clip=SCENE_CLIP)) > MIN_CHANGED_FRACTION
+    assert session.room.playing and session.last_error is None
