@@ -3,7 +3,8 @@
     {"title": "§1 Euler angles and ω", "steps": [
         {"scene": "Euler angles", "preset": "gimbal lock",        # a scene and (optional) preset
          "camera": {"position": [5.9, -2.0, 3.3], "look_at": [0, 0, 0]},   # optional
-         "display": {"Angle arcs": true},                        # optional: the scene's toggles
+         "display": {"Angle arcs": true},                        # optional: the scene's checkboxes
+         "tab": "Lagrange", "integrator": "exact",               # optional: panel tab, integrator
          "play": false,                                          # optional: play or pause
          "text": "θ = 0: only φ + ψ is defined (memo 1.13)."}]}
 
@@ -41,6 +42,8 @@ class Step:
     camera: CameraView | None = None
     display: dict[str, bool] = field(default_factory=dict)
     play: bool | None = None
+    tab: str | None = None
+    integrator: str | None = None
 
 
 @dataclass(frozen=True)
@@ -60,7 +63,7 @@ def _vector(value: Any, where: str) -> tuple[float, float, float]:
 def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
     if not isinstance(entry, dict):
         raise LessonError(f"{where}: not an object")
-    unknown = sorted(set(entry) - {"scene", "preset", "camera", "display", "play", "text"})
+    unknown = sorted(set(entry) - {"scene", "preset", "camera", "display", "play", "text", "tab", "integrator"})
     if unknown:
         raise LessonError(f"{where}: unknown field {unknown[0]!r}")
     scene = entry.get("scene")
@@ -85,10 +88,14 @@ def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
     play = entry.get("play")
     if play is not None and not isinstance(play, bool):
         raise LessonError(f"{where}.play: true or false wanted")
+    for name in ("tab", "integrator"):
+        if name in entry and not isinstance(entry[name], str):
+            raise LessonError(f"{where}.{name}: a name wanted, got {entry[name]!r}")
     text = entry.get("text")
     if not isinstance(text, str) or not text.strip():
         raise LessonError(f"{where}.text: missing (what to look at, which equation)")
-    return Step(scene=scene, text=text, preset=preset, camera=camera, display=dict(display), play=play)
+    return Step(scene=scene, text=text, preset=preset, camera=camera, display=dict(display), play=play,
+                tab=entry.get("tab"), integrator=entry.get("integrator"))
 
 
 def load_lesson(path: Path, scenes: dict[str, Any]) -> Lesson:

@@ -58,6 +58,12 @@ logger = logging.getLogger(__name__)
 R = TypeVar("R")
 
 
+def checkboxes(view: Any) -> dict[str, Any]:
+    """A view's checkboxes by label (what a lesson step may switch)."""
+    handles = (getattr(view, name) for name in dir(view) if name.startswith("gui_"))
+    return {h.label: h for h in handles if isinstance(h, viser.GuiCheckboxHandle)}
+
+
 def projector_view(view: CameraView) -> CameraView:
     """A scene's camera view for the projector layout: the panel is a narrow side bar there, so
     the view looks nearer the origin (scenes frame their body left of centre, for the floating
@@ -390,10 +396,16 @@ class Session:
         if step.preset is not None:
             room.scene.apply_preset(room, step.preset)
         view = self.scene
-        toggles = {h.label: h for h in (getattr(view, name) for name in dir(view) if name.startswith("gui_show"))}
         for label, value in step.display.items():
-            if label in toggles and toggles[label].value != value:
-                toggles[label].value = value  # runs its callback: the view redraws
+            toggle = checkboxes(view).get(label)
+            if toggle is None:
+                raise ValueError(f"lesson step {self.lesson_step + 1}: {step.scene} has no checkbox {label!r}")
+            if toggle.value != value:
+                toggle.value = value  # runs its callback: the view redraws
+        if step.tab is not None and hasattr(view, "tabs"):
+            view.tabs.show(step.tab)
+        if step.integrator is not None and hasattr(view, "set_integrator"):
+            view.set_integrator(step.integrator)
         if step.camera is not None:
             apply_camera(self.client, step.camera)
         if step.play is True:

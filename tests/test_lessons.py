@@ -10,12 +10,13 @@ import pytest
 
 from app.lessons import LESSONS_DIR, LessonError, lessons, load_lesson
 from app.scenes import SCENES
+from app.session import checkboxes
 
 
 def test_the_shipped_lessons_load_and_every_step_applies(manual) -> None:
     shipped = lessons()
-    assert len(shipped) >= 2 and {"§1 Euler angles and ω", "§6 The free body and the heavy top"} <= {
-        lesson.title for lesson in shipped}
+    assert {"§1 Euler angles and ω", "§4 Inertial forces in a moving frame", "§5 Lagrange's equations, live",
+            "§6 The free body and the heavy top"} <= {lesson.title for lesson in shipped}
     session = manual.session
     for lesson in shipped:
         session.gui_lesson.value = lesson.title  # the dropdown: runs its first step
@@ -27,9 +28,12 @@ def test_the_shipped_lessons_load_and_every_step_applies(manual) -> None:
                 assert session.simulation.preset == step.preset
             if step.play is not None:
                 assert session.room.playing is step.play
-            toggles = {h.label: h.value for h in (getattr(session.scene, n) for n in dir(session.scene)
-                                                  if n.startswith("gui_show"))}
+            toggles = {label: h.value for label, h in checkboxes(session.scene).items()}
             assert all(toggles[label] == value for label, value in step.display.items()), (lesson.title, k)
+            if step.tab is not None:
+                assert session.scene.tabs.shown == step.tab
+            if step.integrator is not None:
+                assert session.simulation.integrator == step.integrator
             assert step.text in session.gui_lesson_text.content
             manual.tick(0.2)
         session.next_step(1)  # past the end: stays on the last step
