@@ -7,6 +7,7 @@ Shots (each from the running app, through a real browser):
     scene_euler.png  Euler angles at (30°, 50°, 20°), ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′ drawn, D read out.
     scene_free.png   the Dzhanibekov preset playing, caught mid-flip, with the Plots tab open.
     scene_top.png    the heavy top's "Loop" preset after a few seconds, with its tip trace.
+    projector_1024.png  the same in the projector layout at 1024×768.
     scene_poinsot.png  Poinsot's ellipsoid on the invariable plane (Dzhanibekov preset, mid-run),
                      the polhode, the herpolhode, and the body's L-space picture beside it.
     scene_moving.png   the moving frame's "Turntable" preset after a few seconds: paths in C and C′,
@@ -33,7 +34,8 @@ sys.path.insert(0, str(ROOT))
 from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-SCENES = ("euler", "free", "top", "poinsot", "moving")
+SCENES = ("euler", "free", "top", "poinsot", "moving", "projector")
+PROJECTOR_SIZE = (1024, 768)  # the "projector" shot: a common projector's resolution
 
 
 def _wait_for(predicate: Callable[[], Any], timeout: float) -> None:
@@ -80,6 +82,17 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         session.scene.transport.gui_time_scale.value = 0.1
         time.sleep(2.0)
         return
+    if scene == "projector":
+        session.guard("projector", session.set_projector)(True)
+        session.select_scene("Heavy top")
+        session.apply_preset("Loop")
+        page.get_by_text("Heavy symmetric top").wait_for(timeout=30_000)
+        time.sleep(1.0)
+        session.play()
+        _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
+        session.guard("time scale", lambda: session.room.set_time_scale(0.1))()
+        time.sleep(2.0)
+        return
     if scene == "poinsot":
         session.select_scene("Poinsot")
         session.apply_preset("Dzhanibekov")
@@ -120,7 +133,8 @@ def take_screenshots(
             browser = p.chromium.launch(executable_path=chromium, headless=True, args=CHROMIUM_ARGS)
             try:
                 for scene in scenes:
-                    page = browser.new_page(viewport={"width": width, "height": height})
+                    size = PROJECTOR_SIZE if scene == "projector" else (width, height)
+                    page = browser.new_page(viewport={"width": size[0], "height": size[1]})
                     page.goto(f"http://127.0.0.1:{app.port}")
                     session = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
                     page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
@@ -128,7 +142,7 @@ def take_screenshots(
                     _close_toasts(page)
                     _prepare(page, session, scene)
                     _close_toasts(page)
-                    out = outdir / f"scene_{scene}.png"
+                    out = outdir / ("projector_1024.png" if scene == "projector" else f"scene_{scene}.png")
                     out.parent.mkdir(parents=True, exist_ok=True)
                     page.screenshot(path=str(out))
                     written.append(out)
