@@ -328,6 +328,15 @@ class LoadResult:
         }
 
 
+def run_async(coroutine: Any) -> Any:
+    """asyncio.run(coroutine) in a thread of its own: callers may already run an event loop
+    (pytest after Playwright's sync API, a notebook)."""
+    import concurrent.futures
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as pool:
+        return pool.submit(asyncio.run, coroutine).result()
+
+
 async def _measure(server: ServerProcess, connected: list[AsyncViserClient], scene: str, warmup: float,
                    seconds: float, idle: ProcessSample, body_nodes: list[str]) -> LoadResult:
     """Count the frames `connected` clients receive over `seconds` after `warmup` (they only
@@ -410,7 +419,7 @@ def run_followers(followers: int, seconds: float = 20.0, scene: str = "Free body
     """Start the app in a subprocess, a presenter playing `scene` and `followers` followers; measure."""
     server = ServerProcess(max_lifetime=warmup + seconds + 120.0 + 1.0 * followers)
     try:
-        return asyncio.run(_run_followers(server, followers, scene, warmup, seconds))
+        return run_async(_run_followers(server, followers, scene, warmup, seconds))
     except Exception as error:
         raise RuntimeError(f"{error}\n--- server log ---\n{server.log_tail()}") from error
     finally:
@@ -429,7 +438,7 @@ def run_load(clients: int = 20, seconds: float = 20.0, scene: str = "Free body",
     server = ServerProcess(max_lifetime=warmup + seconds + 90.0 + 5.0 * clients, argv=server_argv,
                            app_root=app_root)
     try:
-        return asyncio.run(_run_clients(server, clients, scene, warmup, seconds))
+        return run_async(_run_clients(server, clients, scene, warmup, seconds))
     except Exception as error:
         raise RuntimeError(f"{error}\n--- server log ---\n{server.log_tail()}") from error
     finally:

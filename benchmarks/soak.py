@@ -32,6 +32,7 @@ if str(ROOT) not in sys.path:
 from benchmarks.load_clients import (  # noqa: E402
     PRESENTER_CODE,
     ServerProcess,
+    run_async,
     sample_process,
     start_playing,
 )
@@ -148,7 +149,7 @@ def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, host
         raise ValueError("need minutes > 0, browsers >= 1, churn > 0")
     server = ServerProcess(max_lifetime=60.0 * minutes + 120.0)
     try:
-        return asyncio.run(_soak(server, minutes, browsers, churn, hostile))
+        return run_async(_soak(server, minutes, browsers, churn, hostile))
     finally:
         server.stop()
 
