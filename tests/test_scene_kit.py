@@ -32,6 +32,8 @@ def _state_vector(sim) -> np.ndarray:  # type: ignore[no-untyped-def]
     """Every number a simulation's state holds, for a finiteness check."""
     if hasattr(sim, "state"):
         return np.concatenate([np.ravel(sim.state.R_space_body), sim.state.omega_body, [sim.t]])
+    if hasattr(sim, "positions"):  # the inertia scene's particles
+        return np.concatenate([sim.masses, np.ravel(sim.positions), [sim.t]])
     return np.array([*sim.angles_deg, *sim.rates_deg, sim.t])
 
 
@@ -54,8 +56,10 @@ def test_every_scene_builds_plays_every_preset_steps_resets_and_goes(manual, tit
         assert np.all(np.isfinite(_state_vector(session.simulation))), (title, preset.name)
     assert session.error_count == 0, session.last_error
     other = next(name for name in SCENES if name != title)
+    panel = list(view._gui_roots)
     session.select_scene(other)  # the scene is removed: its panel and nodes go
-    assert view not in view.room.views and view.transport.gui_play._impl.removed
+    assert view not in view.room.views and panel and all(h._impl.removed for h in panel)
+    assert view._root_node._impl.removed
 
 
 def test_a_preset_the_scene_does_not_have_is_a_clear_error_through_the_guard(manual) -> None:

@@ -73,6 +73,8 @@ class RigidBodySimulation:
                  momentum_kind: str = "norm") -> None:
         self.model = model
         self.momentum_kind = momentum_kind
+        self.preset: str | None = None  # the preset this run started from, if any
+        self.mesh: tuple[np.ndarray, np.ndarray] | None = None  # a body's own mesh (handed on), or None
         self.integrator = INTEGRATOR_REALTIME
         self.substeps = 0
         self.restarts = 0

@@ -234,7 +234,7 @@ class RigidBodyView(SceneView):
         first = cls.presets()[0]
         model, state, angles = cls.initial_conditions(first)
         sim = RigidBodySimulation(model, state, angles=angles, momentum_kind=cls.momentum_kind)
-        sim.preset = first.name  # type: ignore[attr-defined]
+        sim.preset = first.name
         return sim
 
     @classmethod
@@ -243,7 +243,8 @@ class RigidBodyView(SceneView):
         model, state, angles = cls.initial_conditions(cls.preset(name))
         sim: RigidBodySimulation = room.sim
         sim.model = model
-        sim.preset = name  # type: ignore[attr-defined]
+        sim.mesh = None  # a body handed on ("Spin it") gives way to the preset
+        sim.preset = name
         sim.restart(state, angles=angles)
         room.refresh()
 
@@ -583,7 +584,7 @@ class RigidBodyView(SceneView):
             angles = np.radians([h.value for h in self.gui_angles])
             rates = [h.value for h in self.gui_rates]
             state = State(matrix_from_euler_zxz(*angles), self.omega_body_from_rates(angles, rates), 0.0)
-            self.sim.preset = None  # type: ignore[attr-defined]
+            self.sim.preset = None
             self.sim.restart(state, angles=angles)
             self._sync_state_sliders(skip=handle)  # the others show the state it starts from
             self.room.refresh()
@@ -612,6 +613,7 @@ class RigidBodyView(SceneView):
                 self.message.show(f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving.")
                 return
             self.message.clear()
+            self.sim.mesh = None  # new moments: a handed-on mesh no longer fits
             self.sim.set_model(model)  # same R and ω_b, new body; keeps playing
             self.room.refresh()
 

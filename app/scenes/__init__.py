@@ -9,6 +9,7 @@ from app.kit.room import Scene
 from app.scenes.euler_angles import EulerAnglesView
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
+from app.scenes.inertia import InertiaView
 from app.scenes.moving_frame import MovingFrameView
 from app.scenes.poinsot import PoinsotView
 
@@ -18,6 +19,7 @@ SCENES: dict[str, Scene] = {
     scene.title: scene
     for scene in (
         EulerAnglesView,
+        InertiaView,
         FreeBodyView,
         HeavyTopView,
         PoinsotView,

@@ -96,6 +96,13 @@ class FreeBodyView(RigidBodyView):
 
     # ------------------------------------------------------------------ drawing
     def build_shape(self, scene: Any, parent: str, model: Model) -> None:
+        mesh = getattr(self.sim, "mesh", None)  # a body handed on by the Inertia scene ("Spin it")
+        if mesh is not None:
+            vertices, faces = mesh
+            size = float(np.ptp(vertices, axis=0).max()) or 1.0
+            scene.add_mesh_simple(f"{parent}/mesh", np.asarray(vertices) * (BODY_SIZE / size), faces,
+                                  color=(150, 170, 210), flat_shading=True, cast_shadow=False, receive_shadow=False)
+            return
         kind, dimensions = shape_of(model)
         if kind == "box":
             mesh = trimesh.creation.box(extents=dimensions)
@@ -114,6 +121,8 @@ class FreeBodyView(RigidBodyView):
                                   flat_shading=kind == "cylinder", cast_shadow=False, receive_shadow=False)
 
     def shape_status(self, model: Model) -> str:
+        if getattr(self.sim, "mesh", None) is not None:
+            return "Drawn as the mesh handed on from the Inertia scene, in its principal frame (scaled to fit)."
         kind, (a, b, c) = shape_of(model)
         if kind == "ball":
             return "Drawn as a uniform **ball** (I1 = I2 = I3), painted in sectors so its spin shows."

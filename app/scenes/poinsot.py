@@ -373,7 +373,7 @@ class PoinsotView(FreeBodyView):
             return
         self.message.clear()
         self.room.playing = False
-        sim.preset = None  # type: ignore[attr-defined]
+        sim.preset = None
         sim.restart(state)
         self.room.refresh()
 
