@@ -1,6 +1,7 @@
-"""Command line: `python -m physics simulate CASE.json --out TRAJ.npz` and `python -m physics
-methods` (docs/CASEFILE.md).  Exit 0 on success, 2 for a case that is not a physical problem (one
-line on stderr, no output file), 1 when a run fails (a non-finite state, a singularity)."""
+"""Command line: `python -m physics simulate CASE.json --out TRAJ.npz`, `python -m physics
+methods` and `python -m physics inertia FILE [--mass M | --density RHO] [--about X Y Z]`
+(docs/CASEFILE.md).  Exit 0 on success, 2 for input that is not a physical problem (one line on
+stderr, no output file), 1 when a run fails (a non-finite state, a singularity)."""
 
 from __future__ import annotations
 
@@ -65,11 +66,109 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--realtime", action="store_true", help="step frame by frame as the app does")
     run.add_argument("--frame-dt", type=float, default=1.0 / 60.0, help="display step [s] with --realtime")
     commands.add_parser("methods", help="list the methods, their order and what they conserve")
+    inertia = commands.add_parser("inertia", help="mass, centre of mass, inertia tensor and principal axes")
+    inertia.add_argument("file", type=Path, help="a mesh (STL, OBJ, PLY, OFF, GLB) or a JSON of point masses")
+    inertia.add_argument("--mass", type=float, help="[kg] of a mesh (default density 1)")
+    inertia.add_argument("--density", type=float, help="[kg/m³] of a mesh (default 1)")
+    inertia.add_argument("--about", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                         help="the tensor about this point [m] (default: the centre of mass)")
     return parser
+
+
+MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb")
+
+
+def _read_mesh(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) and faces (F, 3) of a mesh file; trimesh is imported here only (physics
+    itself never imports it).  CaseError for a file that is not a readable mesh."""
+    try:
+        import trimesh
+    except ImportError:  # pragma: no cover - trimesh is a dependency of the project
+        raise CaseError("reading a mesh file needs trimesh (pip install trimesh)") from None
+    try:
+        mesh = trimesh.load(path, force="mesh", process=False)
+        vertices = np.asarray(getattr(mesh, "vertices"), dtype=float)  # noqa: B009 - loose types
+        faces = np.asarray(getattr(mesh, "faces"), dtype=np.int64)  # noqa: B009
+    except Exception as error:  # noqa: BLE001 - trimesh raises many kinds for a bad file
+        raise CaseError(f"{path}: not a readable mesh ({type(error).__name__}: {error})") from None
+    if faces.size == 0:
+        raise CaseError(f"{path}: not a readable mesh (no triangles)")
+    merged = trimesh.Trimesh(vertices, faces, process=True)  # STL repeats vertices per face
+    return np.asarray(merged.vertices, dtype=float), np.asarray(merged.faces, dtype=np.int64)
+
+
+def inertia_report(args: argparse.Namespace) -> dict[str, object]:
+    """The JSON object `python -m physics inertia` prints (CaseError for bad input)."""
+    import json
+
+    from physics.inertia import (
+        InertiaError,
+        MeshError,
+        inertia_tensor_of_particles,
+        mesh_mass_properties,
+        parallel_axis,
+        principal_axes,
+    )
+
+    if args.mass is not None and args.density is not None:
+        raise CaseError("--mass and --density exclude each other")
+    for name in ("mass", "density"):
+        value = getattr(args, name)
+        if value is not None and not (np.isfinite(value) and value > 0.0):
+            raise CaseError(f"--{name}: a positive number wanted, got {value}")
+    about = None if args.about is None else np.asarray(args.about, dtype=float)
+    if about is not None and not np.all(np.isfinite(about)):
+        raise CaseError(f"--about: three finite numbers wanted, got {args.about}")
+    path = args.file
+    if not path.exists():
+        raise CaseError(f"{path}: no such file")
+    try:
+        if path.suffix.lower() == ".json":
+            if args.mass is not None or args.density is not None:
+                raise CaseError("--mass and --density are for meshes; point masses carry their own")
+            try:
+                data = json.loads(path.read_text(encoding="utf-8"))
+                masses = np.asarray(data["masses"], dtype=float)
+                positions = np.asarray(data["positions"], dtype=float)
+            except (OSError, ValueError, KeyError, TypeError) as error:
+                raise CaseError(f"{path}: a JSON object with masses (N,) and positions (N, 3) wanted: "
+                                f"{type(error).__name__}: {error}") from None
+            if (masses.ndim != 1 or positions.shape != (len(masses), 3) or not len(masses)
+                    or not np.all(np.isfinite(masses)) or not np.all(masses > 0) or not np.all(np.isfinite(positions))):
+                raise CaseError(f"{path}: masses must be N positive numbers and positions N finite [x, y, z]")
+            mass = float(masses.sum())
+            com = (masses[:, None] * positions).sum(axis=0) / mass
+            I_cm = inertia_tensor_of_particles(masses, positions, about=com)
+        elif path.suffix.lower() in MESH_SUFFIXES:
+            vertices, faces = _read_mesh(path)
+            properties = mesh_mass_properties(vertices, faces, density=1.0 if args.density is None else args.density)
+            scale = 1.0 if args.mass is None else args.mass / properties.mass
+            mass = properties.mass * scale
+            com = np.asarray(properties.center_of_mass)
+            I_cm = np.asarray(properties.inertia_cm) * scale
+        else:
+            raise CaseError(f"{path}: a mesh ({', '.join(MESH_SUFFIXES)}) or a .json of point masses wanted")
+        I = I_cm if about is None else parallel_axis(I_cm, mass, com - about)
+        moments, axes = principal_axes(I)
+    except (MeshError, InertiaError) as error:
+        raise CaseError(f"{path}: {error}") from None
+    return {"mass": mass, "center_of_mass": com.tolist(), "inertia": np.asarray(I).tolist(),
+            "about": (com if about is None else about).tolist(),
+            "principal_moments": np.asarray(moments).tolist(), "principal_axes": np.asarray(axes).tolist()}
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if args.command == "inertia":
+        import json
+
+        try:
+            report = inertia_report(args)
+        except CaseError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return 2
+        print(json.dumps(report))
+        return 0
     if args.command == "methods":
         for method in methods().values():
             print(f"{method.name:15s} {method.summary}")
