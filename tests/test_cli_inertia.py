@@ -104,3 +104,14 @@ def test_physics_imports_trimesh_only_to_read_a_mesh() -> None:
     code = "import sys, physics.__main__, physics.inertia; print('trimesh' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
     assert out.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "assets" / "meshes").glob("*.stl")), ids=lambda p: p.name)
+def test_the_shipped_meshes_are_solids_the_scene_and_the_command_agree_on(path: Path) -> None:
+    from app.scenes.inertia import InertiaSystem, read_mesh
+
+    data = report(str(path), "--mass", "1.0")
+    vertices, faces = read_mesh(path.name, path.read_bytes())
+    system = InertiaSystem([1.0], [[0.0, 0.0, 0.0]])
+    system.set_mesh(path.name, vertices, faces, 1.0)
+    np.testing.assert_allclose(system.properties()["moments"], data["principal_moments"], rtol=1e-9)
