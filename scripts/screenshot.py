@@ -6,6 +6,7 @@
 Shots (each from the running app, through a real browser):
     scene_euler.png  Euler angles at (30°, 50°, 20°), ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′ drawn, D read out.
     scene_free.png   the Dzhanibekov preset playing, caught mid-flip, with the Plots tab open.
+    scene_inertia.png  the L-shape: its tensor, principal frame and momental ellipsoid.
     scene_top.png    the heavy top's "Loop" preset after a few seconds, with its tip trace.
     projector_1024.png  the same in the projector layout at 1024×768.
     scene_poinsot.png  Poinsot's ellipsoid on the invariable plane (Dzhanibekov preset, mid-run),
@@ -34,7 +35,7 @@ sys.path.insert(0, str(ROOT))
 from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-SCENES = ("euler", "free", "top", "poinsot", "moving", "projector")
+SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "projector")
 PROJECTOR_SIZE = (1024, 768)  # the "projector" shot: a common projector's resolution
 
 
@@ -80,6 +81,12 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         session.play()
         _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
         session.scene.transport.gui_time_scale.value = 0.1
+        time.sleep(2.0)
+        return
+    if scene == "inertia":
+        session.select_scene("Inertia")
+        session.apply_preset("L-shape")
+        page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
         time.sleep(2.0)
         return
     if scene == "projector":

@@ -194,3 +194,19 @@ def test_poinsot_scene_opens_from_the_dropdown_and_its_picture_changes_while_it_
     time.sleep(1.5)
     assert changed_fraction(first, page.screenshot(clip=SCENE_CLIP)) > MIN_CHANGED_FRACTION
     assert session.room.playing and session.last_error is None
+
+
+def test_inertia_scene_weighs_a_mass_from_the_browser(wait_until, app: App, page) -> None:
+    """5. The Inertia scene: the mass slider moved with the keyboard reaches the server, the
+    tensor read out changes, and the panel shows the new moments."""
+    session = open_app(page, app)
+    session.select_scene("Inertia")
+    page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
+    view = session.scene
+    before = view.readout.handle.content
+    thumb = slider_thumb(page, view.gui_mass)
+    thumb.focus()
+    page.keyboard.press("End")
+    wait_until(lambda: view.sim.masses[view.selected] == 10.0, timeout=10.0)
+    wait_until(lambda: view.readout.handle.content != before, timeout=10.0)
+    assert session.last_error is None
