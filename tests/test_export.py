@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pytest
 
+from app.scenes import SCENES
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -30,7 +32,7 @@ def test_export_writes_a_standalone_html_and_a_viser_file(tmp_path: Path) -> Non
 
 
 @pytest.mark.parametrize(("args", "message"), [
-    (("--scene", "Nope"), "no scene 'Nope'; the scenes are: Euler angles, Free body, Heavy top"),
+    (("--scene", "Nope"), "no scene 'Nope'; the scenes are: " + ", ".join(SCENES)),
     (("--scene", "Heavy top", "--preset", "Nope"), "Heavy top has no preset 'Nope'; its presets are: Steady"),
     (("--scene", "Heavy top", "--seconds", "-1"), "seconds = -1.0"),
     (("--scene", "Heavy top", "--seconds", "nan"), "seconds = nan"),
