@@ -47,6 +47,12 @@ def _wait_for(predicate: Callable[[], Any], timeout: float) -> None:
         time.sleep(0.01)
 
 
+def _slow_motion(session: Any) -> None:
+    """Time scale 0.1x (through the session's guard: the app's loop draws meanwhile), so that the
+    software renderer's frame matches the labels."""
+    session.guard("time scale", lambda: session.room.set_time_scale(0.1))()
+
+
 def _close_toasts(page: Any) -> None:
     toasts = page.locator(".mantine-Notification-closeButton")  # "software WebGL" notice
     for i in range(toasts.count()):
@@ -70,9 +76,12 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         # Mid-flip: ω_y′ (the intermediate axis) on its way through zero for the first time;
         # then slow motion (0.1x), so that the software renderer's frame matches the labels.
         _wait_for(lambda: session.simulation.state.omega_body[1] < 2.5, 30.0)
-        session.scene.transport.gui_time_scale.value = 0.1
+        _slow_motion(session)
         time.sleep(2.0)
         return
+    if scene == "projector":  # the heavy top's shot, in the projector layout
+        session.guard("projector", session.set_projector)(True)
+        scene = "top"
     if scene == "top":
         session.select_scene("Heavy top")
         session.apply_preset("Loop")
@@ -80,24 +89,13 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         time.sleep(1.0)
         session.play()
         _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
-        session.scene.transport.gui_time_scale.value = 0.1
+        _slow_motion(session)
         time.sleep(2.0)
         return
     if scene == "inertia":
         session.select_scene("Inertia")
         session.apply_preset("L-shape")
         page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
-        time.sleep(2.0)
-        return
-    if scene == "projector":
-        session.guard("projector", session.set_projector)(True)
-        session.select_scene("Heavy top")
-        session.apply_preset("Loop")
-        page.get_by_text("Heavy symmetric top").wait_for(timeout=30_000)
-        time.sleep(1.0)
-        session.play()
-        _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
-        session.guard("time scale", lambda: session.room.set_time_scale(0.1))()
         time.sleep(2.0)
         return
     if scene == "poinsot":
@@ -107,7 +105,7 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         time.sleep(1.0)
         session.play()
         _wait_for(lambda: session.simulation.state.t > 5.0, 60.0)
-        session.scene.transport.gui_time_scale.value = 0.1
+        _slow_motion(session)
         time.sleep(2.0)
         return
     if scene == "moving":
@@ -117,7 +115,7 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         time.sleep(1.0)
         session.play()
         _wait_for(lambda: session.simulation.t > 2.6, 60.0)
-        session.scene.transport.gui_time_scale.value = 0.1
+        _slow_motion(session)
         time.sleep(2.0)
         return
     raise ValueError(f"unknown scene {scene!r}; choose from {', '.join(SCENES)}")
