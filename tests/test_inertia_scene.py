@@ -151,3 +151,18 @@ def test_spin_it_hands_the_body_to_the_free_body_scene(manual) -> None:
     np.testing.assert_allclose(free.sim.model.inertia, expected, rtol=1e-6)  # STL stores float32
     manual.session.apply_preset("Disc")  # a preset: the box gives way
     assert free.sim.mesh is None and manual.session.error_count == 0
+
+
+def test_O_dragged_with_its_gizmo_and_a_mesh_given_by_its_density(manual) -> None:
+    view = _inertia(manual)
+    view.O_gizmo.position = (0.5, 0.5, -0.5)  # dragged (the callback from the server side)
+    view._O_dragged()
+    np.testing.assert_allclose(view.sim.properties()["O"], (0.5, 0.5, -0.5))
+    assert "m(|d|²𝟙 − d dᵀ)" in view.readout.handle.content
+    view.gui_mesh_given.value = "density [kg/m³]"
+    view.gui_mesh_mass.value = 500.0
+    _upload(view, "box.stl", _stl(trimesh.creation.box(extents=(1.0, 2.0, 3.0))))
+    assert view.sim.properties()["mass"] == pytest.approx(3000.0, rel=1e-6)
+    view.gui_mesh_mass.value = -1.0
+    _upload(view, "box.stl", _stl(trimesh.creation.box()))
+    assert "density -1.0: positive wanted" in view.message.text and view.sim.mesh_mass == pytest.approx(3000.0)

@@ -10,8 +10,9 @@ masses on a line through O (a zero principal moment about that line) and equal m
 principal axes are not determined: the frame drawn keeps its last axes, so it never flickers).
 
 Masses are added, removed, weighed and moved in the panel (the selected mass also with a
-transform gizmo).  A solid mesh (STL, OBJ, PLY, OFF, GLB; trimesh reads the file, the exact
-polyhedral integrals of `physics.inertia.mesh_mass_properties` do the rest) replaces the
+transform gizmo); O is typed in or dragged with its own, smaller gizmo.  A solid mesh of a
+given mass or density (STL, OBJ, PLY, OFF, GLB; trimesh reads the file, the exact polyhedral
+integrals of `physics.inertia.mesh_mass_properties` do the rest) replaces the
 particles; a mesh that is open, inside out, unreadable, larger than MAX_UPLOAD_BYTES or
 MAX_FACES is refused with a message saying which, and the last valid body stays.  "Spin it"
 hands the body (its principal moments, and a mesh in its principal frame) to the Free body scene.
@@ -125,13 +126,16 @@ class InertiaSystem:
         self.mesh = None
         self.version += 1
 
-    def set_mesh(self, name: str, vertices: np.ndarray, faces: np.ndarray, mass: float) -> None:
-        """A uniform solid of `mass` [kg]; MeshError (nothing changes) if it bounds no solid."""
-        properties = mesh_mass_properties(vertices, faces, density=1.0)  # raises MeshError
-        if not (math.isfinite(mass) and mass > 0.0):
-            raise ValueError(f"mass {mass!r} kg: positive wanted")
-        del properties
-        self.mesh, self.mesh_name, self.mesh_mass = (vertices, faces), name, float(mass)
+    def set_mesh(self, name: str, vertices: np.ndarray, faces: np.ndarray, mass: float | None = None,
+                 density: float | None = None) -> None:
+        """A uniform solid of `mass` [kg], or of `density` [kg/m³]; MeshError (nothing changes)
+        if it bounds no solid, ValueError for a non-positive mass or density."""
+        unit = mesh_mass_properties(vertices, faces, density=1.0)  # raises MeshError
+        given = mass if density is None else density
+        if given is None or not (math.isfinite(given) and given > 0.0):
+            raise ValueError(f"{'density' if density is not None else 'mass'} {given!r}: positive wanted")
+        total = float(given) if density is None else float(density) * unit.volume
+        self.mesh, self.mesh_name, self.mesh_mass = (vertices, faces), name, total
         self.version += 1
 
     def set_about(self, about: Vec3 | None) -> None:
@@ -290,6 +294,9 @@ class InertiaView(SceneView):
         self.O_label = scene.add_label(f"{root}/O_label", "O", font_screen_scale=1.8, anchor="bottom-right")
         self.gizmo = scene.add_transform_controls(f"{root}/gizmo", scale=0.6, disable_rotations=True)
         self.gizmo.on_update(self._wrap("drag", lambda _event: self._dragged()))
+        self.O_gizmo = scene.add_transform_controls(f"{root}/O_gizmo", scale=0.45, disable_rotations=True,
+                                                    opacity=0.7)
+        self.O_gizmo.on_update(self._wrap("drag O", lambda _event: self._O_dragged()))
 
     def _build_gui(self) -> None:
         gui = self.client.gui
@@ -314,7 +321,10 @@ class InertiaView(SceneView):
             self.gui_O_at_com = gui.add_button("O at the centre of mass")
         self.folder_mesh = gui.add_folder("Solid mesh", expand_by_default=False)
         with self.folder_mesh:
-            self.gui_mesh_mass = gui.add_number("mesh mass [kg]", 1.0, min=0.001, max=1e4, step=0.1)
+            self.gui_mesh_given = gui.add_dropdown("Given", ("mass [kg]", "density [kg/m³]"),
+                                                   initial_value="mass [kg]")
+            self.gui_mesh_mass = gui.add_number("value", 1.0, min=0.001, max=1e5, step=0.1,
+                                                hint="the mesh's mass, or its density (a uniform solid)")
             self.gui_upload = gui.add_upload_button("Upload STL / OBJ / PLY / OFF / GLB", icon=viser.Icon.UPLOAD)
         self.gui_spin = gui.add_button("Spin it", icon=viser.Icon.ROTATE_360,
                                        hint="this body, in the Free body scene")
@@ -414,6 +424,14 @@ class InertiaView(SceneView):
             return
         self._set_about(O)
 
+    def _O_dragged(self) -> None:
+        O = np.clip(np.asarray(self.O_gizmo.position, dtype=float), -COORD_LIMIT, COORD_LIMIT)
+        self._O_from_gizmo = True
+        try:
+            self._set_about(O)
+        finally:
+            self._O_from_gizmo = False
+
     def _set_about(self, O: Vec3 | None) -> None:
         self.message.clear()
         self.sim.set_about(O)
@@ -421,10 +439,14 @@ class InertiaView(SceneView):
 
     def _uploaded(self) -> None:
         upload = self.gui_upload.value
-        mass = float(self.gui_mesh_mass.value)
+        value = float(self.gui_mesh_mass.value)
+        by_density = str(self.gui_mesh_given.value).startswith("density")
         try:
             vertices, faces = read_mesh(str(upload.name), bytes(upload.content))
-            self.sim.set_mesh(str(upload.name), vertices, faces, mass)
+            if by_density:
+                self.sim.set_mesh(str(upload.name), vertices, faces, density=value)
+            else:
+                self.sim.set_mesh(str(upload.name), vertices, faces, mass=value)
         except (MeshError, ValueError) as error:
             self.message.show(f"Mesh refused: {error}. The last valid body stays.")
             return
@@ -482,6 +504,8 @@ class InertiaView(SceneView):
                     self.gizmo.position = tuple(sim.positions[self.selected])
             self.gizmo.visible = particles
             self.quiet.write(self.gui_about, tuple(round(float(v), 4) for v in O))
+            if not getattr(self, "_O_from_gizmo", False):
+                self.O_gizmo.position = (float(O[0]), float(O[1]), float(O[2]))
             self.presets_row.show_note(self.preset_shown())
             self._refresh_readout(props)
 
