@@ -38,6 +38,7 @@ __all__ = [
     "mesh_mass_properties",
     "parallel_axis",
     "principal_axes",
+    "principal_axes_near",
     "solid_cylinder_inertia",
     "solid_sphere_inertia",
     "validate_inertia_tensor",
@@ -219,6 +220,56 @@ def principal_axes(I: ArrayLike) -> tuple[Vec3, Mat3]:
     e3 = np.cross(e1, e2)
     R = np.column_stack([e1, e2, e3])
     return moments.astype(float), R
+
+
+def principal_axes_near(
+    I: ArrayLike, previous: ArrayLike, rtol: float = 1e-6
+) -> tuple[Vec3, Mat3, list[list[int]]]:
+    """Principal moments (3,) ascending, the principal axes (3, 3) closest to `previous`, and
+    the groups of equal moments.
+
+    Where moments are equal (within ``rtol`` times the largest) the eigenvectors are not
+    determined (3.8): any orthonormal basis of the eigenspace is principal.  For each such group
+    of columns this picks the basis closest to the same columns of `previous` in the Frobenius
+    norm (the orthogonal polar factor of Vᵀ P, V an eigenbasis, P the previous columns), so a
+    frame drawn from it does not jump while a body is dragged through an isotropic or symmetric
+    configuration.  A single column gets the sign of its previous one.  det = +1: if the choices
+    above give -1, the column least aligned with its previous one is reversed.
+
+    Args:
+        I: (3, 3) symmetric [kg m²].
+        previous: (3, 3) the axes last used (columns, orthonormal, det +1).
+        rtol: moments within ``rtol * max(|moments|)`` of each other are equal.
+
+    Returns:
+        moments (3,) ascending, R_ref_principal (3, 3) with I = R diag(moments) Rᵀ, and the
+        groups of column indices with equal moments (e.g. ``[[0, 1]]`` when I1 = I2; all
+        three: ``[[0, 1, 2]]``).
+    """
+    moments, axes = principal_axes(I)
+    P = np.asarray(previous, dtype=float)
+    if P.shape != (3, 3) or not np.all(np.isfinite(P)):
+        raise ValueError(f"previous axes must be a finite (3, 3), got shape {P.shape}")
+    tolerance = rtol * float(np.max(np.abs(moments)))
+    groups: list[list[int]] = [[0]]
+    for k in (1, 2):
+        if float(moments[k] - moments[k - 1]) <= tolerance:
+            groups[-1].append(k)
+        else:
+            groups.append([k])
+    R = np.array(axes)
+    for group in groups:
+        V, Pg = axes[:, group], P[:, group]
+        if len(group) == 1:
+            if float(V[:, 0] @ Pg[:, 0]) < 0.0:
+                R[:, group] = -V
+            continue
+        U, _, Wt = np.linalg.svd(V.T @ Pg)
+        R[:, group] = V @ (U @ Wt)
+    if np.linalg.det(R) < 0.0:
+        j = int(np.argmin(np.abs(np.einsum("ij,ij->j", R, P))))
+        R[:, j] = -R[:, j]
+    return moments, R, [g for g in groups if len(g) > 1]
 
 
 # ---------------------------------------------------------------------------------------

@@ -2,24 +2,28 @@
 
 What it shows (memo 3.1-3.8, docs/CONVENTIONS.md "Inertia tensor"): point masses m_i at x_i,
 drawn as balls whose volume follows the mass, their centre of mass c, and a reference point O
-(default c).  About O: the tensor I_O = Σ m_i (|x_i − O|² 𝟙 − (x_i − O)(x_i − O)ᵀ) (3.5) read
-out, its principal moments and principal axes drawn as a right-handed frame at O, and the
-momental ellipsoid (semi-axes ∝ 1/√I_k).  When O leaves c, the parallel-axis term
-m (|d|² 𝟙 − d dᵀ), d = c − O, is read out beside I_cm.  The cases of (3.8) are said in words:
-masses on a line through O (a zero principal moment about that line) and equal moments (the
-principal axes are not determined: the frame drawn keeps its last axes, so it never flickers).
+(default c, draggable).  About O: the tensor I_O = Σ m_i (|x_i − O|² 𝟙 − (x_i − O)(x_i − O)ᵀ)
+(3.5) read out, its principal moments and principal axes drawn as a right-handed frame at O, and
+the momental ellipsoid ω·I_O ω = 1 (semi-axes ∝ 1/√I_k; one mesh, built once, turned and
+scaled).  When O leaves c, the parallel-axis term m (|d|² 𝟙 − d dᵀ), d = c − O, is read out
+beside I_cm.  The cases of (3.8) are said in words: masses on a line through O (a zero principal
+moment about that line, the ellipsoid an endless cylinder, drawn cut) and equal moments (the
+principal axes are not determined: the frame drawn is the eigenbasis closest to the last one,
+`physics.inertia.principal_axes_near`, so it never flickers while a mass is dragged).
 
-Masses are added, removed, weighed and moved in the panel (the selected mass also with a
-transform gizmo); O is typed in or dragged with its own, smaller gizmo.  A solid mesh of a
-given mass or density (STL, OBJ, PLY, OFF, GLB; trimesh reads the file, the exact polyhedral
-integrals of `physics.inertia.mesh_mass_properties` do the rest) replaces the
+Masses are added, removed, weighed and moved in the panel; a click on a ball selects it, and the
+selected mass is dragged with a transform gizmo (O has its own, smaller one).  A solid mesh (STL,
+OBJ, PLY, OFF, GLB; trimesh only reads the file, the exact polyhedral integrals of
+`physics.inertia.mesh_mass_properties` do the rest), given a mass or a density, replaces the
 particles; a mesh that is open, inside out, unreadable, larger than MAX_UPLOAD_BYTES or
-MAX_FACES is refused with a message saying which, and the last valid body stays.  "Spin it"
-hands the body (its principal moments, and a mesh in its principal frame) to the Free body scene.
+MAX_FACES is refused with a message saying which, and the last valid body stays.  The meshes of
+assets/meshes/ load with one click.  A mesh is drawn scaled to fit the view (`display_scale`,
+said in the readout); the numbers are in metres.  "Spin it" hands the body (its principal
+moments, and a mesh in its principal frame) to the Free body scene.
 
-The simulation (`InertiaSystem`, no viser) has no motion: `advance` does nothing; every edit
-bumps `version`.  Presets: `assets/presets/inertia.json` (`params` hold the masses and
-positions, see `PARAM_KEYS`).
+The simulation (`InertiaSystem`, no viser) has no motion: `advance` only counts time; every edit
+bumps `version`.  Presets: `assets/presets/inertia.json`, read by `load_inertia_presets` (each
+entry has `masses` and `positions` instead of the kit's params/angles/rates).
 """
 
 from __future__ import annotations
@@ -28,6 +32,7 @@ import io
 import json
 import math
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -42,46 +47,64 @@ from app.kit.view import SceneView
 from app.kit.widgets import Stage
 from physics._types import Mat3, Vec3
 from physics.dynamics import Model, State
+from physics.euler import matrix_from_euler_zxz
 from physics.inertia import (
+    InertiaError,
     MeshError,
     inertia_tensor_of_particles,
     mesh_mass_properties,
-    parallel_axis,
     principal_axes,
+    principal_axes_near,
+    validate_principal_moments,
 )
 from physics.quaternion import wxyz_from_matrix
 
-__all__ = ["MAX_FACES", "MAX_UPLOAD_BYTES", "InertiaSystem", "InertiaView", "read_mesh"]
+__all__ = ["MAX_FACES", "MAX_UPLOAD_BYTES", "MESHES_DIR", "InertiaSystem", "InertiaView", "load_inertia_presets",
+           "read_mesh"]
 
-MAX_UPLOAD_BYTES = 20 * 1024 * 1024
+MAX_UPLOAD_BYTES = 20 * 1024 * 1024  # 20 MiB
 MAX_FACES = 500_000
 MAX_MASSES = 12
-EQUAL_RTOL = 1e-6  # principal moments closer than this (relative) are "equal"
-ZERO_RTOL = 1e-9  # a principal moment below this times the largest is "zero" (collinear masses)
+MESHES_DIR = Path(__file__).resolve().parents[2] / "assets" / "meshes"
+MESH_SUFFIXES = ("stl", "obj", "ply", "off", "glb")
+EQUAL_RTOL = 1e-6  # principal moments closer than this times the largest are "equal" (3.8)
+ZERO_RTOL = 1e-9  # a principal moment below this times the largest is "zero" (masses on a line)
 MASS_SPEC = SliderSpec("m", "m [kg]", 0.1, 10.0, 0.1, "the selected mass")
+MESH_MASS_RANGE = (1e-3, 1e4)  # [kg] a mesh's mass
+MESH_DENSITY_RANGE = (1.0, 1e5)  # [kg/m³] a mesh's density (air-light foam to osmium x 4)
 COORD_LIMIT = 3.0  # [m] positions and O within ±this
 BALL_RADIUS = 0.12  # [m] drawn radius of a 1 kg ball (∝ m^(1/3))
-ELLIPSOID_SIZE = 1.2  # [scene units] the momental ellipsoid's largest semi-axis
+ELLIPSOID_SIZE = 1.2  # [scene units] the momental ellipsoid's largest drawn semi-axis
+ELLIPSOID_CUT = 4.0  # a semi-axis longer than this times the shortest is drawn cut at it
+MESH_DISPLAY_SIZE = 1.8  # [scene units] a mesh is drawn about this large (display_scale)
+FREE_BODY_MOMENTS = (0.05, 5.0)  # [kg m²] the Free body scene's slider range ("Spin it")
+SPIN_RATE = 4.0  # [rad/s] "Spin it": about the intermediate axis e2, with a small wobble
+SPIN_ANGLES_DEG = (-30.0, 60.0, 0.0)  # "Spin it": the attitude it starts from (as the Dzhanibekov preset)
 
 
 def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
-    """(vertices (V, 3), faces (F, 3)) of an uploaded mesh file; MeshError saying what is wrong."""
+    """(vertices (V, 3), faces (F, 3)) of an uploaded mesh file; MeshError saying what is wrong
+    (too large, not a mesh type, unreadable, too many faces).  Vertices are merged (an STL
+    repeats them per face), faces are kept as they are: an open or inside-out mesh is left for
+    `mesh_mass_properties` to refuse, never repaired."""
     if len(content) > MAX_UPLOAD_BYTES:
         raise MeshError(f"{name}: {len(content) / 2**20:.1f} MiB is larger than {MAX_UPLOAD_BYTES / 2**20:.0f} MiB")
     kind = name.rsplit(".", 1)[-1].lower() if "." in name else ""
-    if kind not in ("stl", "obj", "ply", "off", "glb"):
+    if kind not in MESH_SUFFIXES:
         raise MeshError(f"{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)")
     try:
         mesh = trimesh.load(io.BytesIO(content), file_type=kind, force="mesh", process=False)
+        faces = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), dtype=np.int64)
+        vertices = np.asarray(getattr(mesh, "vertices", np.zeros((0, 3))), dtype=float)
     except Exception as error:  # noqa: BLE001 - trimesh raises many kinds for a bad file
         raise MeshError(f"{name}: unreadable ({type(error).__name__}: {error})") from None
-    faces = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), dtype=np.int64)
-    if faces.size == 0:
+    if faces.ndim != 2 or faces.shape[1:] != (3,) or faces.size == 0 or len(vertices) == 0:
         raise MeshError(f"{name}: unreadable (no triangles in it)")
     if len(faces) > MAX_FACES:
         raise MeshError(f"{name}: {len(faces)} faces, more than {MAX_FACES}")
-    vertices = np.asarray(getattr(mesh, "vertices"), dtype=float)  # noqa: B009 - trimesh's loose types
-    merged = trimesh.Trimesh(vertices, faces, process=True)
+    if not np.all(np.isfinite(vertices)):
+        raise MeshError(f"{name}: unreadable (vertices that are not finite numbers)")
+    merged = trimesh.Trimesh(vertices, faces, process=True)  # merges vertices only (no repair)
     return np.asarray(merged.vertices, dtype=float), np.asarray(merged.faces, dtype=np.int64)
 
 
@@ -91,7 +114,7 @@ class InertiaSystem:
     Attributes:
         masses: (N,) [kg]; positions: (N, 3) [m]; about: O (3,) [m] or None (the centre of mass).
         mesh: (vertices, faces) of a uniform solid of mass `mesh_mass`, or None (particles).
-        version: bumped on every edit.  t: always 0 (nothing moves here).
+        version: bumped on every edit.  t: the time the room let pass (nothing moves here).
     """
 
     def __init__(self, masses: Sequence[float], positions: Any) -> None:
@@ -101,8 +124,10 @@ class InertiaSystem:
         self.mesh: tuple[np.ndarray, np.ndarray] | None = None
         self.mesh_name = ""
         self.mesh_mass = 1.0
+        self._mesh_unit: Any = None  # the mesh's MassProperties at density 1
         self.about: np.ndarray | None = None
         self._axes = np.eye(3)  # the principal axes last drawn (kept where they are not determined)
+        self._cache: tuple[int, dict[str, Any]] | None = None
         self.set_particles(masses, positions)
 
     def advance(self, dt: float) -> None:
@@ -115,124 +140,196 @@ class InertiaSystem:
         self.set_about(None)
 
     def set_particles(self, masses: Sequence[float], positions: Any) -> None:
-        """Masses (N,) [kg] at positions (N, 3) [m]: the body becomes these particles."""
+        """Masses (N,) [kg] at positions (N, 3) [m]: the body becomes these particles.
+        ValueError (nothing changes) unless 1..MAX_MASSES positive masses at finite positions."""
         m = np.asarray(masses, dtype=float)
-        x = np.asarray(positions, dtype=float).reshape(-1, 3)
-        if len(m) != len(x) or not 1 <= len(m) <= MAX_MASSES:
-            raise ValueError(f"1 to {MAX_MASSES} masses, each with a position, wanted")
+        x = np.asarray(positions, dtype=float)
+        if m.ndim != 1 or x.shape != (len(m), 3) or not 1 <= len(m) <= MAX_MASSES:
+            raise ValueError(f"1 to {MAX_MASSES} masses, each with a position [x, y, z], wanted; "
+                             f"got {m.shape} masses and {x.shape} positions")
         if not (np.all(np.isfinite(m)) and np.all(m > 0.0) and np.all(np.isfinite(x))):
             raise ValueError("masses must be positive and positions finite")
-        self.masses, self.positions = m, x
+        self.masses, self.positions = m.copy(), x.copy()
         self.mesh = None
         self.version += 1
 
     def set_mesh(self, name: str, vertices: np.ndarray, faces: np.ndarray, mass: float | None = None,
                  density: float | None = None) -> None:
-        """A uniform solid of `mass` [kg], or of `density` [kg/m³]; MeshError (nothing changes)
-        if it bounds no solid, ValueError for a non-positive mass or density."""
+        """A uniform solid of `mass` [kg] or `density` [kg/m³] (one of them); MeshError if it
+        bounds no solid, ValueError for a bad mass or density; nothing changes then."""
         unit = mesh_mass_properties(vertices, faces, density=1.0)  # raises MeshError
-        given = mass if density is None else density
-        if given is None or not (math.isfinite(given) and given > 0.0):
-            raise ValueError(f"{'density' if density is not None else 'mass'} {given!r}: positive wanted")
-        total = float(given) if density is None else float(density) * unit.volume
-        self.mesh, self.mesh_name, self.mesh_mass = (vertices, faces), name, total
+        total = self._mesh_weight(unit.volume, mass, density)
+        self.mesh, self.mesh_name, self.mesh_mass, self._mesh_unit = (vertices, faces), name, total, unit
         self.version += 1
 
+    def weigh_mesh(self, *, mass: float | None = None, density: float | None = None) -> None:
+        """The current mesh, now of `mass` [kg] or `density` [kg/m³]; ValueError if bad."""
+        if self.mesh is None or self._mesh_unit is None:
+            raise ValueError("no mesh to weigh")
+        self.mesh_mass = self._mesh_weight(self._mesh_unit.volume, mass, density)
+        self.version += 1
+
+    def mesh_volume(self) -> float:
+        """The mesh's volume [m³] (ValueError without a mesh)."""
+        if self.mesh is None or self._mesh_unit is None:
+            raise ValueError("no mesh")
+        return float(self._mesh_unit.volume)
+
+    @staticmethod
+    def _mesh_weight(volume: float, mass: float | None, density: float | None) -> float:
+        if (mass is None) == (density is None):
+            raise ValueError("a mass or a density, not both")
+        value: Any = mass if mass is not None else density
+        (lo, hi), unit = (MESH_MASS_RANGE, "kg") if mass is not None else (MESH_DENSITY_RANGE, "kg/m³")
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
+            raise ValueError(f"{'mass' if mass is not None else 'density'} {value!r} {unit}: "
+                             f"a number from {lo:g} to {hi:g} wanted")
+        return float(value) if mass is not None else float(value) * volume
+
     def set_about(self, about: Vec3 | None) -> None:
-        self.about = None if about is None else np.asarray(about, dtype=float)
+        """O [m] (3,), or None for the centre of mass."""
+        self.about = None if about is None else np.asarray(about, dtype=float).copy()
         self.version += 1
 
     # ------------------------------------------------------------------ the inertia
     def properties(self) -> dict[str, Any]:
         """mass [kg], com (3,), I_cm (3, 3), O (3,), d = com - O, I_O, parallel (the term
-        m(|d|²𝟙 − d dᵀ)), moments (3,) ascending and axes (3, 3) columns about O, notes."""
+        m(|d|²𝟙 − d dᵀ)), moments (3,) ascending and axes (3, 3) columns about O (the
+        eigenbasis closest to the last one where moments are equal), equal (groups of equal
+        moments), zero (which moments are zero), notes (the cases of (3.8) in words).
+        Computed once per version (every view of the room reads the same)."""
+        if self._cache is not None and self._cache[0] == self.version:
+            return self._cache[1]
         if self.mesh is not None:
-            vertices, faces = self.mesh
-            unit = mesh_mass_properties(vertices, faces, density=1.0)
+            unit = self._mesh_unit
             scale = self.mesh_mass / unit.mass
-            mass, com, I_cm = self.mesh_mass, np.asarray(unit.center_of_mass), scale * np.asarray(unit.inertia_cm)
+            mass, com, I_cm = self.mesh_mass, np.array(unit.center_of_mass), scale * np.array(unit.inertia_cm)
+            size = float(np.ptp(self.mesh[0], axis=0).max())
         else:
             mass = float(self.masses.sum())
             com = (self.masses[:, None] * self.positions).sum(axis=0) / mass
             I_cm = inertia_tensor_of_particles(self.masses, self.positions, about=com)
+            size = float(np.abs(self.positions - com).max())
         O = com if self.about is None else self.about
         d = com - O
         parallel = mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
-        I_O = parallel_axis(I_cm, mass, d) if np.any(d) else np.array(I_cm)
-        moments, axes = principal_axes(I_O)
-        axes, notes = self._stable_axes(moments, axes)
-        return {"mass": mass, "com": com, "I_cm": I_cm, "O": O, "d": d, "I_O": I_O, "parallel": parallel,
-                "moments": moments, "axes": axes, "notes": notes}
-
-    def _stable_axes(self, moments: Vec3, axes: Mat3) -> tuple[Mat3, list[str]]:
-        """Principal axes that do not jump: where two or three moments are equal, the eigenbasis
-        is any basis of the eigenspace, so the last drawn axes are kept projected on it."""
-        notes = []
-        largest = max(float(moments[2]), 1e-300)
-        if float(moments[0]) <= ZERO_RTOL * largest:
-            notes.append("A principal moment is **zero**: all masses lie on one line through O (3.8), "
-                         "the axis along that line.")
-        equal = [abs(float(moments[k + 1] - moments[k])) <= EQUAL_RTOL * largest for k in range(2)]
-        if all(equal):
-            notes.append("**All three moments are equal**: every axis through O is principal; "
-                         "the frame drawn is only one choice.")
-            return self._axes, notes
-        if any(equal):
-            k = 0 if equal[0] else 1  # the axes k, k+1 span a degenerate plane
-            notes.append("**Two moments are equal**: any axis in their plane is principal (the frame "
-                         "drawn keeps its last direction there).")
-            distinct = axes[:, 2 if k == 0 else 0]
-            previous = self._axes[:, k]
-            in_plane = previous - (previous @ distinct) * distinct
-            if float(np.linalg.norm(in_plane)) > 1e-6:
-                first = in_plane / np.linalg.norm(in_plane)
-                second = np.cross(distinct, first) if k == 0 else np.cross(first, distinct)
-                columns = [first, second, distinct] if k == 0 else [distinct, first, second]
-                if k == 1:
-                    columns = [distinct, first, np.cross(distinct, first)]
-                axes = np.column_stack(columns)
-        # Signs: closest to the last axes drawn, still right-handed.
-        for j in range(3):
-            if float(axes[:, j] @ self._axes[:, j]) < 0.0:
-                axes[:, j] = -axes[:, j]
-        if np.linalg.det(axes) < 0.0:
-            axes[:, 2] = -axes[:, 2]
+        I_O = I_cm + parallel
+        # I_O = 0 (all the mass at O) up to rounding: relative to m (size + |d| + 1 µm)² [kg m²].
+        nothing = mass * (size + float(np.linalg.norm(d)) + 1e-6) ** 2
+        notes: list[str] = []
+        if float(np.abs(I_O).max()) <= 1e-12 * nothing:
+            moments, axes, equal = np.zeros(3), self._axes, [[0, 1, 2]]
+            zero = [True, True, True]
+            notes.append("**I_O = 0**: all the mass is at O, every moment about O is zero and every axis is "
+                         "principal (the frame drawn is only one choice; no ellipsoid).")
+        else:
+            moments, axes, equal = principal_axes_near(I_O, self._axes, rtol=EQUAL_RTOL)
+            zero = [bool(moments[k] <= ZERO_RTOL * moments[2]) for k in range(3)]
+            if zero[0]:
+                notes.append("A principal moment is **zero**: all the mass lies on one line through O (3.8); "
+                             "e1 is that line, and the momental ellipsoid is an endless cylinder about it "
+                             "(drawn cut).")
+            if equal == [[0, 1, 2]]:
+                notes.append("**All three moments are equal**: every axis through O is principal (3.8); the "
+                             "frame drawn is only one choice (it keeps its last directions).")
+            elif equal and not zero[0]:
+                pair = "I1 = I2" if equal[0] == [0, 1] else "I2 = I3"
+                notes.append(f"**Two moments are equal** ({pair}): any axis in their plane is principal (3.8); "
+                             "the frame drawn keeps its last directions there.")
+            elif equal:
+                notes.append("**Two moments are equal** (I2 = I3): any axis across the line is principal (3.8); "
+                             "the frame drawn keeps its last directions there.")
         self._axes = axes
-        return axes, notes
+        result = {"mass": mass, "com": com, "I_cm": I_cm, "O": O, "d": d, "I_O": I_O, "parallel": parallel,
+                  "moments": moments, "axes": axes, "equal": equal, "zero": zero, "notes": notes, "size": size}
+        self._cache = (self.version, result)
+        return result
+
+    def display_scale(self) -> float:
+        """Scene units per metre the body is drawn at: 1 for particles, a power of ten times 1,
+        2 or 5 for a mesh, so it is about MESH_DISPLAY_SIZE large."""
+        if self.mesh is None:
+            return 1.0
+        size = float(np.ptp(self.mesh[0], axis=0).max())
+        wanted = MESH_DISPLAY_SIZE / size
+        exponent = math.floor(math.log10(wanted))
+        mantissa = max(m for m in (1.0, 2.0, 5.0) if m <= wanted / 10.0**exponent)
+        return mantissa * 10.0**exponent
 
 
-PARAM_KEYS = ()  # the masses are not sliders: their presets carry them in "masses"/"positions"
-
-
-def _load_presets() -> tuple[Preset, ...]:
-    """assets/presets/inertia.json: like the other scenes' files, each preset with `masses` (N,)
-    [kg] and `positions` (N, 3) [m]; PresetError naming the file and the field."""
-    path = PRESETS_DIR / "inertia.json"
+def load_inertia_presets(path: Path) -> tuple[Preset, ...]:
+    """The Inertia scene's presets: like the other scenes' files, but each preset carries
+    `masses` (N,) [kg] and `positions` (N, 3) [m] (they go into `Preset.params`, masses first,
+    then the positions row by row); PresetError "file: presets[i].field: message"."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as error:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise PresetError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
         raise PresetError(f"{path}: not readable JSON: {error}") from None
-    presets = []
-    for k, entry in enumerate(data.get("presets", [])):
-        where = f"{path}: presets[{k}]"
+    entries = data.get("presets") if isinstance(data, dict) else None
+    if not isinstance(entries, list) or not entries:
+        raise PresetError(f"{path}: presets: missing or empty (a list of presets)")
+    presets: list[Preset] = []
+    for index, entry in enumerate(entries):
+        where = f"{path}: presets[{index}]"
+        if not isinstance(entry, dict):
+            raise PresetError(f"{where}: not an object")
+        name = entry.get("name")
+        if not isinstance(name, str) or not name.strip():
+            raise PresetError(f"{where}.name: missing or empty")
+        if any(p.name == name for p in presets):
+            raise PresetError(f"{where}.name: {name!r} appears twice")
+        unknown = sorted(set(entry) - {"name", "group", "note", "masses", "positions"})
+        if unknown:
+            raise PresetError(f"{where}: unknown key {unknown[0]!r} (name, group, note, masses, positions)")
+        masses, positions = entry.get("masses"), entry.get("positions")
         try:
-            system = InertiaSystem(entry["masses"], entry["positions"])
-        except (KeyError, TypeError, ValueError) as error:
-            raise PresetError(f"{where}: masses/positions: {error}") from None
-        if np.any(np.abs(system.positions) > COORD_LIMIT) or np.any(system.masses > MASS_SPEC.hi):
-            raise PresetError(f"{where}: positions within ±{COORD_LIMIT:g} m and masses up to {MASS_SPEC.hi:g} kg")
-        presets.append(Preset(name=str(entry["name"]), group=str(entry.get("group", "Presets")),
-                              note=str(entry.get("note", "")),
-                              params=tuple(float(v) for v in [*system.masses, *system.positions.ravel()]),
-                              angles_deg=(0.0, 0.0, 0.0), rates=()))
-    if not presets:
-        raise PresetError(f"{path}: presets: missing or empty")
+            m = np.asarray(masses, dtype=float)
+        except (TypeError, ValueError):
+            raise PresetError(f"{where}.masses: {masses!r} is not a list of numbers") from None
+        if m.ndim != 1 or not 1 <= len(m) <= MAX_MASSES:
+            raise PresetError(f"{where}.masses: 1 to {MAX_MASSES} numbers wanted")
+        for k, value in enumerate(m):
+            if not (math.isfinite(value) and MASS_SPEC.lo <= value <= MASS_SPEC.hi):
+                raise PresetError(f"{where}.masses[{k}]: {float(value):g} is outside "
+                                  f"[{MASS_SPEC.lo:g}, {MASS_SPEC.hi:g}]")
+        try:
+            x = np.asarray(positions, dtype=float)
+        except (TypeError, ValueError):
+            raise PresetError(f"{where}.positions: {positions!r} is not a list of [x, y, z]") from None
+        if x.shape != (len(m), 3):
+            raise PresetError(f"{where}.positions: {len(m)} points [x, y, z] wanted (one per mass)")
+        bad = ~(np.isfinite(x) & (np.abs(x) <= COORD_LIMIT))
+        if np.any(bad):
+            k, j = (int(v) for v in np.argwhere(bad)[0])
+            raise PresetError(f"{where}.positions[{k}][{j}]: {float(x[k, j]):g} is outside "
+                              f"[-{COORD_LIMIT:g}, {COORD_LIMIT:g}]")
+        presets.append(Preset(name=name, group=str(entry.get("group", "Presets")), note=str(entry.get("note", "")),
+                              params=tuple(float(v) for v in [*m, *x.ravel()]), angles_deg=(0.0, 0.0, 0.0),
+                              rates=()))
     return tuple(presets)
 
 
 def _unpack(preset: Preset) -> tuple[list[float], np.ndarray]:
     n = len(preset.params) // 4
     return list(preset.params[:n]), np.asarray(preset.params[n:], dtype=float).reshape(n, 3)
+
+
+def spin_moments(moments: Vec3) -> tuple[tuple[float, float, float], float]:
+    """The principal moments (ascending) handed to the Free body scene, and the factor k they
+    were multiplied by so that they fit its sliders (FREE_BODY_MOMENTS; k = 1 if they do).
+    Euler's equations are homogeneous in I: k changes T and L by k, never the motion.
+    InertiaError if the moments are no rigid body (a zero moment: masses on a line)."""
+    I = validate_principal_moments(np.asarray(moments, dtype=float))
+    if float(I.min()) <= ZERO_RTOL * float(I.max()):
+        raise InertiaError(f"a principal moment is zero ({float(I.min()):.3g} kg m²)")
+    lo, hi = FREE_BODY_MOMENTS
+    k = 1.0
+    if I.min() < lo or I.max() > hi:
+        k = min(2.0 / float(I.max()), hi / float(I.max()))  # the largest becomes 2 kg m²
+    scaled = k * I
+    return (float(scaled[0]), float(scaled[1]), float(scaled[2])), k
 
 
 class InertiaView(SceneView):
@@ -247,7 +344,7 @@ class InertiaView(SceneView):
     @classmethod
     def presets(cls) -> tuple[Preset, ...]:
         if cls._presets is None:
-            cls._presets = _load_presets()
+            cls._presets = load_inertia_presets(PRESETS_DIR / cls.preset_file)
         return cls._presets
 
     @classmethod
@@ -274,7 +371,9 @@ class InertiaView(SceneView):
         self._drawn_version = -1
         self._balls: list[Any] = []
         self._mesh_node: Any = None
+        self._mesh_drawn: Any = None
         self._ellipsoid: Any = None
+        self._dragging: str | None = None  # "mass" or "O" while that gizmo's edit is drawn
         self.build()
 
     # ------------------------------------------------------------------ building
@@ -282,9 +381,10 @@ class InertiaView(SceneView):
         scene = self.client.scene
         root = self.root
         Stage(scene, root)
-        ball = trimesh.creation.icosphere(subdivisions=1, radius=0.1)
+        ball = trimesh.creation.icosphere(subdivisions=1, radius=0.07)
         self.com_node = scene.add_mesh_simple(f"{root}/com", ball.vertices, ball.faces, color=(20, 20, 20))
-        scene.add_label(f"{root}/com/label", "c", position=(0.13, 0.0, 0.13), font_screen_scale=1.6)
+        scene.add_label(f"{root}/com/label", "c", position=(0.1, 0.0, -0.1), font_screen_scale=1.6,
+                        anchor="top-left")
         self.O_frame = scene.add_frame(f"{root}/O", show_axes=False)
         scene.add_arrows(f"{root}/O/axes", axis_segments(np.eye(3), 1.0), np.array(BODY_AXIS_COLORS),
                          shaft_radius=0.02, head_radius=0.055, head_length=0.12)
@@ -292,10 +392,11 @@ class InertiaView(SceneView):
             scene.add_label(f"{root}/O/labels/{k}", f"e{k + 1}", position=tuple(1.15 * np.eye(3)[k]),
                             font_screen_scale=1.8, anchor="center-center")
         self.O_label = scene.add_label(f"{root}/O_label", "O", font_screen_scale=1.8, anchor="bottom-right")
-        self.gizmo = scene.add_transform_controls(f"{root}/gizmo", scale=0.6, disable_rotations=True)
+        self.gizmo = scene.add_transform_controls(f"{root}/gizmo", scale=0.7, disable_rotations=True,
+                                                  depth_test=False)
         self.gizmo.on_update(self._wrap("drag", lambda _event: self._dragged()))
         self.O_gizmo = scene.add_transform_controls(f"{root}/O_gizmo", scale=0.45, disable_rotations=True,
-                                                    opacity=0.7)
+                                                    depth_test=False, opacity=0.8)
         self.O_gizmo.on_update(self._wrap("drag O", lambda _event: self._O_dragged()))
 
     def _build_gui(self) -> None:
@@ -309,7 +410,9 @@ class InertiaView(SceneView):
         self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
         self.folder_masses = gui.add_folder("Point masses")
         with self.folder_masses:
-            self.gui_selected = gui.add_dropdown("Mass", ("1",), initial_value="1", hint="the mass to edit and drag")
+            self.gui_selected = gui.add_dropdown("Mass", ("1",), initial_value="1",
+                                                 hint="the mass to weigh and move (or click its ball); "
+                                                      "drag it with the large gizmo")
             self.gui_mass = add_slider(gui, MASS_SPEC, 1.0)
             self.gui_position = gui.add_vector3("x [m]", (0.0, 0.0, 0.0), step=0.05,
                                                 min=(-COORD_LIMIT,) * 3, max=(COORD_LIMIT,) * 3)
@@ -317,31 +420,43 @@ class InertiaView(SceneView):
         self.folder_O = gui.add_folder("Reference point O")
         with self.folder_O:
             self.gui_about = gui.add_vector3("O [m]", (0.0, 0.0, 0.0), step=0.05,
-                                             min=(-COORD_LIMIT,) * 3, max=(COORD_LIMIT,) * 3)
+                                             min=(-COORD_LIMIT,) * 3, max=(COORD_LIMIT,) * 3,
+                                             hint="or drag the small gizmo at O")
             self.gui_O_at_com = gui.add_button("O at the centre of mass")
         self.folder_mesh = gui.add_folder("Solid mesh", expand_by_default=False)
         with self.folder_mesh:
             self.gui_mesh_given = gui.add_dropdown("Given", ("mass [kg]", "density [kg/m³]"),
-                                                   initial_value="mass [kg]")
-            self.gui_mesh_mass = gui.add_number("value", 1.0, min=0.001, max=1e5, step=0.1,
-                                                hint="the mesh's mass, or its density (a uniform solid)")
-            self.gui_upload = gui.add_upload_button("Upload STL / OBJ / PLY / OFF / GLB", icon=viser.Icon.UPLOAD)
+                                                initial_value="mass [kg]")
+            self.gui_mesh_mass = gui.add_number("mass [kg]", 1.0, min=MESH_MASS_RANGE[0], max=MESH_DENSITY_RANGE[1],
+                                                  step=0.001)
+            self.gui_upload = gui.add_upload_button("Upload STL / OBJ / PLY / OFF / GLB", icon=viser.Icon.UPLOAD,
+                                                    hint="a closed, outward-oriented triangle mesh, in metres; "
+                                                         f"up to {MAX_UPLOAD_BYTES // 2**20} MiB and {MAX_FACES} faces")
+            self.shipped = {path.stem.replace("_", "-"): path for path in sorted(MESHES_DIR.glob("*.stl"))}
+            self.gui_shipped = gui.add_button_group("Shipped", tuple(self.shipped)) if self.shipped else None
         self.gui_spin = gui.add_button("Spin it", icon=viser.Icon.ROTATE_360,
                                        hint="this body, in the Free body scene")
-        self.readout = Readout(gui)
-        self.gui_selected.on_update(wrap("mass selector", lambda _event: self._select()))
+        self.folder_readout = gui.add_folder("Readout")
+        with self.folder_readout:
+            self.readout = Readout(gui)
+        self.gui_selected.on_update(wrap("mass selector", lambda _event: self._select(self.gui_selected.value)))
         self.gui_mass.on_update(wrap("mass slider", lambda _event: self._mass_edited()))
         self.gui_position.on_update(wrap("position", lambda _event: self._position_edited()))
         self.gui_add_remove.on_click(wrap("add/remove", lambda event: self._add_remove(str(event.target.value))))
         self.gui_about.on_update(wrap("O", lambda _event: self._about_edited()))
         self.gui_O_at_com.on_click(wrap("O at c", lambda _event: self._set_about(None)))
+        self.gui_mesh_given.on_update(wrap("mesh weighed by", lambda _event: self._mesh_by_changed()))
+        self.gui_mesh_mass.on_update(wrap("mesh mass", lambda _event: self._mesh_amount_edited()))
         self.gui_upload.on_upload(wrap("upload", lambda _event: self._uploaded()))
+        if self.gui_shipped is not None:
+            self.gui_shipped.on_click(wrap("shipped mesh", lambda event: self.load_shipped(str(event.target.value))))
         self.gui_spin.on_click(wrap("spin it", lambda _event: self.spin_it()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.presets_row.groups, self.presets_row.gui_note,
-                           self.folder_masses, self.folder_O, self.folder_mesh, self.gui_spin, self.readout.handle]
+                           self.folder_masses, self.folder_O, self.folder_mesh, self.gui_spin, self.folder_readout]
 
     # ------------------------------------------------------------------ edits
     def _coords(self, value: Any, what: str) -> np.ndarray | None:
+        """Three finite numbers within ±COORD_LIMIT, or None (refused with a message)."""
         try:
             x = np.array([float(v) for v in value])
         except (TypeError, ValueError):
@@ -351,13 +466,14 @@ class InertiaView(SceneView):
             return None
         return x
 
-    def _select(self) -> None:
+    def _select(self, value: Any) -> None:
         try:
-            k = int(str(self.gui_selected.value)) - 1
+            k = int(str(value)) - 1
         except ValueError:
             k = -1
-        if not 0 <= k < len(self.sim.masses):
-            self.message.show(f"No mass {self.gui_selected.value!r}.")
+        if self.sim.mesh is not None or not 0 <= k < len(self.sim.masses):
+            self.message.show(f"No mass {value!r}.")
+            self.quiet.write(self.gui_selected, str(self.selected + 1))
             return
         self.selected = k
         self.refresh()
@@ -384,11 +500,31 @@ class InertiaView(SceneView):
         positions[self.selected] = x
         self._edit(self.sim.masses, positions)
 
+    def _gizmo_point(self, handle: Any, what: str) -> np.ndarray | None:
+        """Where a gizmo was dragged, in metres (clipped to ±COORD_LIMIT); None if not a point."""
+        try:
+            x = np.asarray(handle.position, dtype=float) / self.sim.display_scale()
+        except (TypeError, ValueError):
+            x = np.full(3, np.nan)
+        if x.shape != (3,) or not np.all(np.isfinite(x)):
+            self.message.show(f"{what} dragged to {handle.position!r}: refused, not a point.")
+            return None
+        return np.clip(x, -COORD_LIMIT, COORD_LIMIT)
+
     def _dragged(self) -> None:
-        x = np.clip(np.asarray(self.gizmo.position, dtype=float), -COORD_LIMIT, COORD_LIMIT)
+        if self.sim.mesh is not None:
+            return  # the gizmo is hidden with a mesh: a late event from a drag before the upload
+        x = self._gizmo_point(self.gizmo, "the mass")
+        if x is None:
+            return
         positions = self.sim.positions.copy()
         positions[self.selected] = x
-        self._edit(self.sim.masses, positions, from_gizmo=True)
+        self._edit(self.sim.masses, positions, dragging="mass")
+
+    def _O_dragged(self) -> None:
+        O = self._gizmo_point(self.O_gizmo, "O")
+        if O is not None:
+            self._set_about(O, dragging="O")
 
     def _add_remove(self, choice: str) -> None:
         masses, positions = list(self.sim.masses), list(self.sim.positions)
@@ -405,15 +541,23 @@ class InertiaView(SceneView):
                 return
             del masses[self.selected], positions[self.selected]
             self.selected = min(self.selected, len(masses) - 1)
+        else:
+            return  # a client can send any string
         self._edit(masses, positions)
 
-    def _edit(self, masses: Any, positions: Any, from_gizmo: bool = False) -> None:
+    def _edit(self, masses: Any, positions: Any, dragging: str | None = None) -> None:
         self.message.clear()
-        self.sim.set_particles(masses, positions)
+        self.sim.set_particles(masses, np.asarray(positions, dtype=float))
         self.sim.preset = None
-        self._from_gizmo = from_gizmo
-        self.room.refresh()
-        self._from_gizmo = False
+        self._redraw(dragging)
+
+    def _redraw(self, dragging: str | None) -> None:
+        """Every view of the room redraws; this view's gizmo being dragged is not moved back."""
+        self._dragging = dragging
+        try:
+            self.room.refresh()
+        finally:
+            self._dragging = None
 
     def _about_edited(self) -> None:
         if self.quiet.active:
@@ -424,59 +568,114 @@ class InertiaView(SceneView):
             return
         self._set_about(O)
 
-    def _O_dragged(self) -> None:
-        O = np.clip(np.asarray(self.O_gizmo.position, dtype=float), -COORD_LIMIT, COORD_LIMIT)
-        self._O_from_gizmo = True
-        try:
-            self._set_about(O)
-        finally:
-            self._O_from_gizmo = False
-
-    def _set_about(self, O: Vec3 | None) -> None:
+    def _set_about(self, O: Vec3 | None, dragging: str | None = None) -> None:
         self.message.clear()
         self.sim.set_about(O)
+        self._redraw(dragging)
+
+    # ------------------------------------------------------------------ meshes
+    def _weight(self) -> dict[str, float]:
+        """{"mass": …} or {"density": …} from the panel (checked by InertiaSystem)."""
+        try:
+            value = float(self.gui_mesh_mass.value)
+        except (TypeError, ValueError):
+            value = math.nan
+        return {"density": value} if self._by_density() else {"mass": value}
+
+    def _mesh_by_changed(self) -> None:
+        """Mass or density: the number box shows the current mesh's (nothing changes), or a
+        default (1 kg, 1000 kg/m³) while there is no mesh."""
+        self.gui_mesh_mass.label = "density [kg/m³]" if self._by_density() else "mass [kg]"
+        self._show_weight()
+
+    def _by_density(self) -> bool:
+        return str(self.gui_mesh_given.value).startswith("density")
+
+    def _show_weight(self) -> None:
+        sim, by_density = self.sim, self._by_density()
+        if sim.mesh is None:
+            value = 1000.0 if by_density else 1.0
+        else:
+            value = sim.mesh_mass / sim.mesh_volume() if by_density else sim.mesh_mass
+        self.quiet.write(self.gui_mesh_mass, float(f"{value:.6g}"))
+
+    def _mesh_amount_edited(self) -> None:
+        """A new mass or density for the mesh shown (refused with a message if out of range)."""
+        if self.quiet.active or self.sim.mesh is None:
+            return
+        try:
+            self.sim.weigh_mesh(**self._weight())
+        except ValueError as error:
+            self.message.show(f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg.")
+            self._show_weight()
+            return
+        self.message.clear()
         self.room.refresh()
 
     def _uploaded(self) -> None:
         upload = self.gui_upload.value
-        value = float(self.gui_mesh_mass.value)
-        by_density = str(self.gui_mesh_given.value).startswith("density")
+        self.load_mesh(str(upload.name), bytes(upload.content))
+
+    def load_shipped(self, name: str) -> None:
+        """One of the meshes of assets/meshes/ (a button; a client can send any name)."""
+        path = self.shipped.get(name)
+        if path is None:
+            self.message.show(f"No shipped mesh named {name!r}.")
+            return
+        self.load_mesh(path.name, path.read_bytes())
+
+    def load_mesh(self, name: str, content: bytes) -> None:
+        """Read, check and show a mesh file; refused with the reason, the last valid body staying."""
         try:
-            vertices, faces = read_mesh(str(upload.name), bytes(upload.content))
-            if by_density:
-                self.sim.set_mesh(str(upload.name), vertices, faces, density=value)
-            else:
-                self.sim.set_mesh(str(upload.name), vertices, faces, mass=value)
+            vertices, faces = read_mesh(name, content)
+            self.sim.set_mesh(name, vertices, faces, **self._weight())
         except (MeshError, ValueError) as error:
-            self.message.show(f"Mesh refused: {error}. The last valid body stays.")
+            text = str(error) if str(error).startswith(name) else f"{name}: {error}"
+            self.message.show(f"Mesh refused: {text}. The last valid body stays.")
             return
         self.message.clear()
+        self.sim.set_about(None)
         self.sim.preset = None
         self.room.refresh()
 
     def spin_it(self) -> None:
         """Hand this body to the Free body scene: its principal moments about the centre of mass
-        (ascending, along x′ y′ z′) and, for a mesh, the mesh in its principal frame."""
+        (ascending, along x′ y′ z′; scaled to the scene's sliders if needed, said there) and, for
+        a mesh, the mesh in its principal frame (x′ = Rᵀ (x − c))."""
         from app.scenes.free_body import FreeBodyView
 
         properties = self.sim.properties()
         moments, axes = principal_axes(properties["I_cm"])
-        scale = max(float(moments[2]), 1e-300)
+        try:
+            handed, k = spin_moments(moments)
+        except InertiaError as error:
+            self.message.show(f"Nothing to spin: {error} — masses on one line are no rigid body to spin "
+                              "(add a mass off the line).")
+            return
+        if self.open_room is None:
+            self.message.show("This browser cannot open another scene.")
+            return
         sim = FreeBodyView.new_simulation()
-        sim.model = Model(inertia=(float(moments[0]), float(moments[1]), float(moments[2])))
+        sim.model = Model(inertia=handed)
         if self.sim.mesh is not None:
             vertices, faces = self.sim.mesh
             sim.mesh = ((vertices - properties["com"]) @ axes, faces)
-        omega = np.array([0.05, 2.0 * math.sqrt(1.0 / scale) * min(1.0, scale), 0.05])  # about e2
         sim.preset = None
-        sim.restart(State(np.eye(3), omega, 0.0))
-        if self.open_room is None:
-            raise RuntimeError("this view cannot open another scene")
-        self.open_room(Room(FreeBodyView, sim))
+        angles = np.radians(SPIN_ANGLES_DEG)
+        omega = np.array([0.01, 1.0, 0.01]) * SPIN_RATE  # about e2 (y′), slightly off: the flip
+        sim.restart(State(matrix_from_euler_zxz(*angles), omega, 0.0), angles=angles)
+        room = Room(FreeBodyView, sim)
+        what = self.sim.mesh_name or f"{len(self.sim.masses)} point masses"
+        self.open_room(room)
+        text = f"Spun from the Inertia scene: {what}, about its middle axis y′."
+        if k != 1.0:
+            text += (f" Its moments ({', '.join(f'{m:.3g}' for m in moments)} kg m²) are shown ×{k:.3g} to fit the "
+                     "sliders: the motion is the same (Euler's equations are homogeneous in I), T and L are ×k.")
+        room.notify(text)
 
     # ------------------------------------------------------------------ drawing
     def frame(self, dt: float) -> None:
-        """Nothing moves: a frame draws only after an edit (that `refresh` already drew)."""
+        """Nothing moves: a frame draws only after an edit another view made in this room."""
         if self.sim.version != self._drawn_version:
             self.refresh()
 
@@ -484,91 +683,114 @@ class InertiaView(SceneView):
         sim = self.sim
         self._drawn_version = sim.version
         props = sim.properties()
+        k = sim.display_scale()
+        particles = sim.mesh is None
+        if particles:
+            self.selected = min(self.selected, len(sim.masses) - 1)  # another view may have removed masses
         with self.client.atomic():
-            self._draw_bodies(props)
+            self._draw_bodies(k)
             O, axes, moments = props["O"], props["axes"], props["moments"]
-            self.O_frame.position = tuple(O)
+            self.O_frame.position = tuple(k * O)
             self.O_frame.wxyz = wxyz_from_matrix(axes)
-            self.O_label.position = tuple(O)
-            self.com_node.position = tuple(props["com"])
-            self._draw_ellipsoid(O, axes, moments)
-            n = len(sim.masses)
-            particles = sim.mesh is None
+            self.O_label.position = tuple(k * O)
+            self.com_node.position = tuple(k * props["com"])
+            if self._dragging != "O":
+                self.O_gizmo.position = tuple(k * O)
+            self._draw_ellipsoid(k * O, axes, moments, props["zero"])
             self.folder_masses.visible = particles
+            self.gizmo.visible = particles
             if particles:
-                self.gui_selected.options = tuple(str(k + 1) for k in range(n))
+                self.gui_selected.options = tuple(str(j + 1) for j in range(len(sim.masses)))
                 self.quiet.write(self.gui_selected, str(self.selected + 1))
                 self.quiet.write(self.gui_mass, MASS_SPEC.rounded(float(sim.masses[self.selected])))
                 self.quiet.write(self.gui_position, tuple(round(float(v), 4) for v in sim.positions[self.selected]))
-                if not getattr(self, "_from_gizmo", False):
+                if self._dragging != "mass":
                     self.gizmo.position = tuple(sim.positions[self.selected])
-            self.gizmo.visible = particles
             self.quiet.write(self.gui_about, tuple(round(float(v), 4) for v in O))
-            if not getattr(self, "_O_from_gizmo", False):
-                self.O_gizmo.position = (float(O[0]), float(O[1]), float(O[2]))
             self.presets_row.show_note(self.preset_shown())
-            self._refresh_readout(props)
+            self._refresh_readout(props, k)
 
-    def _draw_bodies(self, props: dict[str, Any]) -> None:
+    def _draw_bodies(self, k: float) -> None:
         scene, sim = self.client.scene, self.sim
         if sim.mesh is not None:
             for ball in self._balls:
-                ball.visible = False
-            if self._mesh_node is None or getattr(self, "_mesh_drawn", None) is not sim.mesh:
+                if ball.visible:
+                    ball.visible = False
+            if self._mesh_drawn is not sim.mesh:
                 if self._mesh_node is not None:
                     self._mesh_node.remove()
                 vertices, faces = sim.mesh
                 self._mesh_node = scene.add_mesh_simple(f"{self.root}/mesh", vertices, faces, color=(150, 170, 210),
-                                                        opacity=0.6, flat_shading=True)
+                                                        opacity=0.55, flat_shading=True, scale=k)
                 self._mesh_drawn = sim.mesh
             return
         if self._mesh_node is not None:
             self._mesh_node.remove()
-            self._mesh_node = None
+            self._mesh_node, self._mesh_drawn = None, None
         while len(self._balls) < len(sim.masses):
-            k = len(self._balls)
+            index = len(self._balls)
             sphere = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
-            self._balls.append(scene.add_mesh_simple(f"{self.root}/masses/{k}", sphere.vertices, sphere.faces,
-                                                     color=(230, 120, 40)))
-        for k, ball in enumerate(self._balls):
-            shown = k < len(sim.masses)
+            ball = scene.add_mesh_simple(f"{self.root}/masses/{index}", sphere.vertices, sphere.faces,
+                                         color=(230, 150, 60))
+            ball.on_click(self._wrap("ball click", lambda _event, j=index: self._select(j + 1)))
+            self._balls.append(ball)
+        for index, ball in enumerate(self._balls):
+            shown = index < len(sim.masses)
             if ball.visible != shown:
                 ball.visible = shown
             if shown:
-                ball.position = tuple(sim.positions[k])
-                ball.scale = BALL_RADIUS * float(sim.masses[k]) ** (1.0 / 3.0)
-                ball.color = (200, 60, 20) if k == self.selected else (230, 150, 60)
+                ball.position = tuple(sim.positions[index])
+                ball.scale = BALL_RADIUS * float(sim.masses[index]) ** (1.0 / 3.0)
+                ball.color = (200, 50, 20) if index == self.selected else (230, 150, 60)
 
-    def _draw_ellipsoid(self, O: Vec3, axes: Mat3, moments: Vec3) -> None:
-        """The momental ellipsoid at O: a unit sphere built once, posed by the principal axes and
-        scaled by the semi-axes ∝ 1/√I_k (the largest ELLIPSOID_SIZE)."""
+    def _draw_ellipsoid(self, O: Vec3, axes: Mat3, moments: Vec3, zero: Sequence[bool]) -> None:
+        """The momental ellipsoid ω·I_O ω = 1 at O: a unit sphere built once, turned by the
+        principal axes and scaled by the semi-axes 1/√I_k, all times one factor (the largest
+        drawn ELLIPSOID_SIZE).  A semi-axis more than ELLIPSOID_CUT times the shortest (or
+        endless: a zero moment) is drawn cut at that; with I_O = 0 there is no ellipsoid."""
         if self._ellipsoid is None:
             sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
             self._ellipsoid = self.client.scene.add_mesh_simple(
                 f"{self.root}/ellipsoid", sphere.vertices, sphere.faces, color=(90, 140, 230), opacity=0.25,
                 cast_shadow=False, receive_shadow=False)
-        positive = np.maximum(np.asarray(moments, dtype=float), 1e-12 * max(float(moments[2]), 1e-300))
-        semi = 1.0 / np.sqrt(positive)
-        semi = np.maximum(ELLIPSOID_SIZE * semi / semi.max(), 0.01)
+        if all(zero):
+            if self._ellipsoid.visible:
+                self._ellipsoid.visible = False
+            return
+        if not self._ellipsoid.visible:
+            self._ellipsoid.visible = True
+        semi = self.ellipsoid_semi_axes(moments, zero)
         self._ellipsoid.position = tuple(float(v) for v in O)
         self._ellipsoid.wxyz = wxyz_from_matrix(axes)
         self._ellipsoid.scale = (float(semi[0]), float(semi[1]), float(semi[2]))
 
-    def _refresh_readout(self, props: dict[str, Any]) -> None:
+    @staticmethod
+    def ellipsoid_semi_axes(moments: Vec3, zero: Sequence[bool]) -> np.ndarray:
+        """Drawn semi-axes (3,) along e1 e2 e3: ∝ 1/√I_k, the largest ELLIPSOID_SIZE, each at most
+        ELLIPSOID_CUT times the shortest (a zero moment's endless axis is drawn that long)."""
+        inverse = np.array([math.inf if zero[j] else 1.0 / math.sqrt(float(moments[j])) for j in range(3)])
+        shortest = float(inverse.min())
+        drawn = np.minimum(inverse, ELLIPSOID_CUT * shortest)
+        return ELLIPSOID_SIZE * drawn / float(drawn.max())
+
+    def _refresh_readout(self, props: dict[str, Any], k: float) -> None:
         sim = self.sim
         O, d = props["O"], props["d"]
         what = (f"a uniform solid **{sim.mesh_name}**, m = {props['mass']:.4g} kg" if sim.mesh is not None
                 else f"**{len(sim.masses)} point masses**, m = {props['mass']:.4g} kg")
-        lines = [what + f", centre of mass c = ({', '.join(f'{v:.3f}' for v in props['com'])}) m"]
-        lines.append(f"O = ({', '.join(f'{v:.3f}' for v in O)}) m"
-                     + (" = c" if not np.any(d) else ""))
-        text = "  \n".join(lines) + "\n\n**I_O** [kg m²]\n```\n" + format_matrix(props["I_O"], 4) + "\n```\n"
+        lines = [what, f"centre of mass c = ({', '.join(f'{v:.4g}' for v in props['com'])}) m",
+                 f"O = ({', '.join(f'{v:.4g}' for v in O)}) m" + (" = c" if not np.any(d) else "")]
+        if k != 1.0:
+            lines.append(f"drawn ×{k:g} (its size is {props['size']:.3g} m)")
+        scale = float(np.abs(props["I_O"]).max())
+        decimals = 4 if scale >= 0.01 or scale == 0.0 else max(4, 3 - math.floor(math.log10(scale)))
+        text = "  \n".join(lines) + "\n\n**I_O** [kg m²]\n```\n" + format_matrix(props["I_O"], decimals) + "\n```\n"
         if np.any(d):
-            text += ("**I_cm** [kg m²] + **m(|d|²𝟙 − d dᵀ)**, d = c − O\n```\n" + format_matrix(props["I_cm"], 4)
-                     + "\n+\n" + format_matrix(props["parallel"], 4) + "\n```\n")
+            text += ("**I_O = I_cm + m(|d|²𝟙 − d dᵀ)**, d = c − O:\n```\n" + format_matrix(props["I_cm"], decimals)
+                     + "\n+\n" + format_matrix(props["parallel"], decimals) + "\n```\n")
         moments = props["moments"]
         text += ("Principal moments I1 ≤ I2 ≤ I3 = " + ", ".join(f"{m:.5g}" for m in moments) + " kg m²  \n"
-                 "axes e1 e2 e3 (columns, right-handed)\n```\n" + format_matrix(props["axes"], 4) + "\n```\n")
+                 "principal axes e1 e2 e3 (columns, right-handed)\n```\n" + format_matrix(props["axes"], 4) + "\n```\n")
         for note in props["notes"]:
             text += note + "  \n"
         self.readout.set(text)
