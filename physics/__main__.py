@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -56,6 +57,13 @@ def _warm_up(case: Case, realtime: bool, frame_dt: float, name: str) -> None:
         pass
 
 
+def _one_line_error(message: str) -> NoReturn:
+    """argparse's error for `inertia`: one line on stderr (no usage block), exit 2."""
+    print(f"error: {message} (usage: python -m physics inertia FILE [--mass M | --density RHO] "
+          "[--about X Y Z])", file=sys.stderr)
+    raise SystemExit(2)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m physics", description=__doc__.split("\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
@@ -67,6 +75,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--frame-dt", type=float, default=1.0 / 60.0, help="display step [s] with --realtime")
     commands.add_parser("methods", help="list the methods, their order and what they conserve")
     inertia = commands.add_parser("inertia", help="mass, centre of mass, inertia tensor and principal axes")
+    inertia.error = _one_line_error  # type: ignore[method-assign]  # bad values: one line, exit 2
     inertia.add_argument("file", type=Path, help="a mesh (STL, OBJ, PLY, OFF, GLB) or a JSON of point masses")
     inertia.add_argument("--mass", type=float, help="[kg] of a mesh (default density 1)")
     inertia.add_argument("--density", type=float, help="[kg/m³] of a mesh (default 1)")
