@@ -96,6 +96,8 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         session.select_scene("Inertia")
         session.apply_preset("L-shape")
         page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
+        session.guard("screenshot", session.scene._set_about)((1.0, 0.25, 0.5))  # O off c: the parallel-axis term
+        page.get_by_text("Principal moments I1").scroll_into_view_if_needed()  # the readout on screen
         time.sleep(2.0)
         return
     if scene == "poinsot":

@@ -76,7 +76,7 @@ COORD_LIMIT = 3.0  # [m] positions and O within ±this
 BALL_RADIUS = 0.12  # [m] drawn radius of a 1 kg ball (∝ m^(1/3))
 ELLIPSOID_SIZE = 1.2  # [scene units] the momental ellipsoid's largest drawn semi-axis
 ELLIPSOID_CUT = 4.0  # a semi-axis longer than this times the shortest is drawn cut at it
-MESH_DISPLAY_SIZE = 1.8  # [scene units] a mesh is drawn about this large (display_scale)
+MESH_DISPLAY_SIZE = 2.4  # [scene units] a mesh is drawn about this large (display_scale)
 FREE_BODY_MOMENTS = (0.05, 5.0)  # [kg m²] the Free body scene's slider range ("Spin it")
 SPIN_RATE = 4.0  # [rad/s] "Spin it": about the intermediate axis e2, with a small wobble
 SPIN_ANGLES_DEG = (-30.0, 60.0, 0.0)  # "Spin it": the attitude it starts from (as the Dzhanibekov preset)
@@ -247,13 +247,13 @@ class InertiaSystem:
 
     def display_scale(self) -> float:
         """Scene units per metre the body is drawn at: 1 for particles, a power of ten times 1,
-        2 or 5 for a mesh, so it is about MESH_DISPLAY_SIZE large."""
+        2, 4 or 5 for a mesh, so it is about MESH_DISPLAY_SIZE large."""
         if self.mesh is None:
             return 1.0
         size = float(np.ptp(self.mesh[0], axis=0).max())
         wanted = MESH_DISPLAY_SIZE / size
         exponent = math.floor(math.log10(wanted))
-        mantissa = max(m for m in (1.0, 2.0, 5.0) if m <= wanted / 10.0**exponent)
+        mantissa = max(m for m in (1.0, 2.0, 4.0, 5.0) if m <= wanted / 10.0**exponent)
         return mantissa * 10.0**exponent
 
 
@@ -720,8 +720,8 @@ class InertiaView(SceneView):
                 if self._mesh_node is not None:
                     self._mesh_node.remove()
                 vertices, faces = sim.mesh
-                self._mesh_node = scene.add_mesh_simple(f"{self.root}/mesh", vertices, faces, color=(150, 170, 210),
-                                                        opacity=0.55, flat_shading=True, scale=k)
+                self._mesh_node = scene.add_mesh_simple(f"{self.root}/mesh", vertices, faces, color=(215, 140, 70),
+                                                        opacity=0.85, flat_shading=True, scale=k)
                 self._mesh_drawn = sim.mesh
             return
         if self._mesh_node is not None:
@@ -778,12 +778,15 @@ class InertiaView(SceneView):
         O, d = props["O"], props["d"]
         what = (f"a uniform solid **{sim.mesh_name}**, m = {props['mass']:.4g} kg" if sim.mesh is not None
                 else f"**{len(sim.masses)} point masses**, m = {props['mass']:.4g} kg")
-        lines = [what, f"centre of mass c = ({', '.join(f'{v:.4g}' for v in props['com'])}) m",
-                 f"O = ({', '.join(f'{v:.4g}' for v in O)}) m" + (" = c" if not np.any(d) else "")]
+        def point(x: Vec3) -> str:  # rounding noise (1e-17 of a 0.5 m body) shown as 0
+            return ", ".join(f"{0.0 if abs(v) <= 1e-12 * max(props['size'], 1e-300) else v:.4g}" for v in x)
+
+        lines = [what, f"centre of mass c = ({point(props['com'])}) m",
+                 f"O = ({point(O)}) m" + (" = c" if not np.any(d) else "")]
         if k != 1.0:
             lines.append(f"drawn ×{k:g} (its size is {props['size']:.3g} m)")
         scale = float(np.abs(props["I_O"]).max())
-        decimals = 4 if scale >= 0.01 or scale == 0.0 else max(4, 3 - math.floor(math.log10(scale)))
+        decimals = 4 if scale == 0.0 else min(12, max(4, 4 - math.floor(math.log10(scale))))  # ~5 digits
         text = "  \n".join(lines) + "\n\n**I_O** [kg m²]\n```\n" + format_matrix(props["I_O"], decimals) + "\n```\n"
         if np.any(d):
             text += ("**I_O = I_cm + m(|d|²𝟙 − d dᵀ)**, d = c − O:\n```\n" + format_matrix(props["I_cm"], decimals)
