@@ -209,4 +209,7 @@ def test_inertia_scene_weighs_a_mass_from_the_browser(wait_until, app: App, page
     page.keyboard.press("End")
     wait_until(lambda: view.sim.masses[view.selected] == 10.0, timeout=10.0)
     wait_until(lambda: view.readout.handle.content != before, timeout=10.0)
+    moments = view.sim.properties()["moments"]  # and the browser shows the new moments
+    page.get_by_text("Principal moments I1 ≤ I2 ≤ I3 = " + ", ".join(f"{m:.5g}" for m in moments),
+                     exact=False).wait_for(timeout=10_000)
     assert session.last_error is None
