@@ -263,6 +263,8 @@ class Lectern:
 
     def refresh_followers(self) -> None:
         for follower in list(self.followers.values()):
+            if follower.session.closed:
+                continue
             try:
                 follower.refresh(self)
             except Exception:  # noqa: BLE001 - a follower that just left
