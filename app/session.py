@@ -27,16 +27,11 @@ import viser
 
 from app.kit.common import CameraView, apply_camera
 from app.kit.room import Room, Scene
+from app.lectern import LIVE_ROOT, fork_simulation
 from app.scenes import DEFAULT_SCENE, SCENES
 
 if TYPE_CHECKING:
     from app.lectern import Lectern
-
-
-def fork_simulation(scene: Any, sim: Any) -> Any:
-    from app.lectern import fork_simulation as fork
-
-    return fork(scene, sim)
 
 __all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Session", "projector_view"]
 
@@ -516,8 +511,6 @@ class Session:
     def _hide_live(self, hide: bool) -> None:
         """Hide the shared (presenter's) scene in this browser: an invisible node of the same
         name in this browser's own scope is drawn instead of the shared one and its children."""
-        from app.lectern import LIVE_ROOT
-
         if hide and self._shadow is None:
             self._shadow = self.client.scene.add_frame(LIVE_ROOT, show_axes=False, visible=False)
         elif not hide and self._shadow is not None:
