@@ -385,8 +385,11 @@ def test_browser_opens_the_scene_and_the_camera_toggle_makes_C_prime_stand_still
     assert turned > 0.005  # the world (grid, space axes) turned under the rider
     page.get_by_label("Ride with C′").uncheck()
     wait_until(lambda: not view.riding, timeout=10.0)
-    time.sleep(1.0)
-    back = changed_fraction(inertial, page.screenshot(clip=SCENE_CLIP))
+    back = 1.0
+    deadline = time.monotonic() + 8.0  # the software renderer may take a few frames under load
+    while back >= 0.001 and time.monotonic() < deadline:
+        time.sleep(0.5)
+        back = changed_fraction(inertial, page.screenshot(clip=SCENE_CLIP))
     assert back < 0.001, back  # the inertial view again, as it was
     print(f"changed pixels: still {still:.4%}, riding {turned:.2%}, back {back:.4%}")
     assert session.last_error is None
