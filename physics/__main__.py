@@ -15,6 +15,7 @@ import numpy as np
 from physics.casefile import Case, CaseError, load_case
 from physics.dynamics import IntegrationError, Model, Trajectory, angular_momentum_space, energy
 from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
+from physics.meshfile import MESH_SUFFIXES, read_mesh_file
 from physics.methods import default_method, methods, simulate, simulate_realtime
 
 
@@ -84,28 +85,6 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb")
-
-
-def _read_mesh(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) and faces (F, 3) of a mesh file; trimesh is imported here only (physics
-    itself never imports it).  CaseError for a file that is not a readable mesh."""
-    try:
-        import trimesh
-    except ImportError:  # pragma: no cover - trimesh is a dependency of the project
-        raise CaseError("reading a mesh file needs trimesh (pip install trimesh)") from None
-    try:
-        mesh = trimesh.load(path, force="mesh", process=False)
-        vertices = np.asarray(getattr(mesh, "vertices"), dtype=float)  # noqa: B009 - loose types
-        faces = np.asarray(getattr(mesh, "faces"), dtype=np.int64)  # noqa: B009
-    except Exception as error:  # noqa: BLE001 - trimesh raises many kinds for a bad file
-        raise CaseError(f"{path}: not a readable mesh ({type(error).__name__}: {error})") from None
-    if faces.size == 0:
-        raise CaseError(f"{path}: not a readable mesh (no triangles)")
-    merged = trimesh.Trimesh(vertices, faces, process=True)  # STL repeats vertices per face
-    return np.asarray(merged.vertices, dtype=float), np.asarray(merged.faces, dtype=np.int64)
-
-
 def inertia_report(args: argparse.Namespace) -> dict[str, object]:
     """The JSON object `python -m physics inertia` prints (CaseError for bad input)."""
     import json
@@ -149,7 +128,7 @@ def inertia_report(args: argparse.Namespace) -> dict[str, object]:
             com = (masses[:, None] * positions).sum(axis=0) / mass
             I_cm = inertia_tensor_of_particles(masses, positions, about=com)
         elif path.suffix.lower() in MESH_SUFFIXES:
-            vertices, faces = _read_mesh(path)
+            vertices, faces = read_mesh_file(path)  # NumPy only: physics never imports trimesh
             properties = mesh_mass_properties(vertices, faces, density=1.0 if args.density is None else args.density)
             scale = 1.0 if args.mass is None else args.mass / properties.mass
             mass = properties.mass * scale

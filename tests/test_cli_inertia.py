@@ -148,10 +148,14 @@ def test_bad_input_exits_2_with_one_line(tmp_path: Path, setup, message: str) ->
     assert len(out.stderr.strip().splitlines()) == 1 and out.stdout == ""
 
 
-def test_physics_imports_trimesh_only_to_read_a_mesh() -> None:
-    code = "import sys, physics.__main__, physics.inertia; print('trimesh' in sys.modules)"
+def test_physics_never_imports_trimesh_or_viser_even_to_read_a_mesh() -> None:
+    mesh = ROOT / "assets" / "meshes" / "book.stl"
+    code = ("import sys, contextlib, io, physics.__main__ as cli\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            f"    assert cli.main(['inertia', {str(mesh)!r}, '--mass', '1']) == 0\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in {'trimesh', 'viser'}))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
-    assert out.stdout.strip() == "False"
+    assert out.stdout.strip() == "[]"
 
 
 @pytest.mark.parametrize("path", sorted((ROOT / "assets" / "meshes").glob("*.stl")), ids=lambda p: p.name)
