@@ -26,7 +26,7 @@ from typing import Any
 
 from app.kit.common import SliderSpec
 
-__all__ = ["ASSETS", "PRESETS_DIR", "Preset", "PresetError", "load_presets"]
+__all__ = ["ASSETS", "PRESETS_DIR", "Preset", "PresetError", "load_presets", "preset_entries"]
 
 ASSETS = Path(__file__).resolve().parents[2] / "assets"
 PRESETS_DIR = ASSETS / "presets"
@@ -84,6 +84,33 @@ def _by_key(entry: dict[str, Any], field: str, specs: Sequence[SliderSpec], wher
     return tuple(out)
 
 
+def preset_entries(path: Path) -> list[tuple[str, str, dict[str, Any]]]:
+    """(place, name, entry) of each preset in a file: a JSON object whose `presets` is a non-empty
+    list of objects with unique non-empty names; PresetError "file: presets[i].field: message".
+    The scene's own fields are checked by its loader (`load_presets`, or a scene's own)."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise PresetError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise PresetError(f"{path}: not readable JSON: {error}") from None
+    entries = data.get("presets") if isinstance(data, dict) else None
+    if not isinstance(entries, list) or not entries:
+        raise PresetError(f"{path}: presets: missing or empty (a list of presets)")
+    out: list[tuple[str, str, dict[str, Any]]] = []
+    for index, entry in enumerate(entries):
+        where = f"presets[{index}]"
+        if not isinstance(entry, dict):
+            raise PresetError(f"{path}: {where}: not an object")
+        name = entry.get("name")
+        if not isinstance(name, str) or not name.strip():
+            raise PresetError(f"{path}: {where}.name: missing or empty")
+        if any(other == name for _, other, _ in out):
+            raise PresetError(f"{path}: {where}.name: {name!r} appears twice")
+        out.append((where, name, entry))
+    return out
+
+
 def load_presets(
     path: Path,
     param_specs: Sequence[SliderSpec] = (),
@@ -95,26 +122,9 @@ def load_presets(
     check: a scene's own test of a preset (e.g. that its moments make a body); it raises
     ValueError with a message, which is reported with the preset's place in the file.
     """
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise PresetError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise PresetError(f"{path}: not readable JSON: {error}") from None
-    entries = data.get("presets") if isinstance(data, dict) else None
-    if not isinstance(entries, list) or not entries:
-        raise PresetError(f"{path}: presets: missing or empty (a list of presets)")
     presets: list[Preset] = []
-    for index, entry in enumerate(entries):
-        where = f"presets[{index}]"
-        if not isinstance(entry, dict):
-            raise PresetError(f"{path}: {where}: not an object")
+    for where, name, entry in preset_entries(path):
         try:
-            name = entry.get("name")
-            if not isinstance(name, str) or not name.strip():
-                raise PresetError(f"{where}.name: missing or empty")
-            if any(p.name == name for p in presets):
-                raise PresetError(f"{where}.name: {name!r} appears twice")
             angles = entry.get("angles_deg")
             if not isinstance(angles, list) or len(angles) != 3:
                 raise PresetError(f"{where}.angles_deg: missing (three numbers φ, θ, ψ in degrees)")

@@ -29,7 +29,6 @@ entry has `masses` and `positions` instead of the kit's params/angles/rates).
 from __future__ import annotations
 
 import io
-import json
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -41,7 +40,7 @@ import viser
 
 from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, format_matrix
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
-from app.kit.presets import PRESETS_DIR, Preset, PresetError
+from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
 from app.kit.view import SceneView
 from app.kit.widgets import Stage
@@ -261,25 +260,9 @@ def load_inertia_presets(path: Path) -> tuple[Preset, ...]:
     """The Inertia scene's presets: like the other scenes' files, but each preset carries
     `masses` (N,) [kg] and `positions` (N, 3) [m] (they go into `Preset.params`, masses first,
     then the positions row by row); PresetError "file: presets[i].field: message"."""
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise PresetError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise PresetError(f"{path}: not readable JSON: {error}") from None
-    entries = data.get("presets") if isinstance(data, dict) else None
-    if not isinstance(entries, list) or not entries:
-        raise PresetError(f"{path}: presets: missing or empty (a list of presets)")
     presets: list[Preset] = []
-    for index, entry in enumerate(entries):
-        where = f"{path}: presets[{index}]"
-        if not isinstance(entry, dict):
-            raise PresetError(f"{where}: not an object")
-        name = entry.get("name")
-        if not isinstance(name, str) or not name.strip():
-            raise PresetError(f"{where}.name: missing or empty")
-        if any(p.name == name for p in presets):
-            raise PresetError(f"{where}.name: {name!r} appears twice")
+    for place, name, entry in preset_entries(path):
+        where = f"{path}: {place}"
         unknown = sorted(set(entry) - {"name", "group", "note", "masses", "positions"})
         if unknown:
             raise PresetError(f"{where}: unknown key {unknown[0]!r} (name, group, note, masses, positions)")
