@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from physics.inertia import MeshError
 
-__all__ = ["MESH_SUFFIXES", "read_mesh_file"]
+__all__ = ["MESH_SUFFIXES", "read_mesh_bytes", "read_mesh_file"]
 
 MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb")
 
@@ -220,22 +220,30 @@ def _glb(data: bytes) -> Mesh:
 _READERS = {".stl": _stl, ".obj": _obj, ".off": _off, ".ply": _ply, ".glb": _glb}
 
 
-def read_mesh_file(path: Path) -> Mesh:
-    """(vertices (V, 3), faces (F, 3)) of a mesh file, equal vertices merged; MeshError if the
-    file is not one of MESH_SUFFIXES or cannot be parsed as one."""
-    path = Path(path)
-    reader = _READERS.get(path.suffix.lower())
+def read_mesh_bytes(name: str, data: bytes) -> Mesh:
+    """(vertices (V, 3), faces (F, 3)) of a mesh file's bytes, its kind from the suffix of
+    `name`, equal vertices merged; MeshError naming `name` if the kind is not one of
+    MESH_SUFFIXES or the bytes cannot be parsed as one."""
+    reader = _READERS.get(Path(name).suffix.lower())
     if reader is None:
-        raise MeshError(f"{path}: a mesh ({', '.join(MESH_SUFFIXES)}) wanted")
+        raise MeshError(f"{name}: a mesh ({', '.join(MESH_SUFFIXES)}) wanted")
     try:
-        vertices, faces = reader(path.read_bytes())
-    except MeshError:
-        raise
-    except (OSError, ValueError, IndexError, KeyError, TypeError, UnicodeDecodeError, struct.error) as error:
-        raise MeshError(f"{path}: not a readable mesh ({type(error).__name__}: {error})") from None
+        vertices, faces = reader(data)
+    except (ValueError, IndexError, KeyError, TypeError, UnicodeDecodeError, struct.error) as error:
+        raise MeshError(f"{name}: not a readable mesh ({type(error).__name__}: {error})") from None
     if faces.size == 0 or len(vertices) == 0:
-        raise MeshError(f"{path}: not a readable mesh (no triangles)")
+        raise MeshError(f"{name}: not a readable mesh (no triangles)")
     if faces.min() < 0 or faces.max() >= len(vertices) or not np.all(np.isfinite(vertices)):
-        raise MeshError(f"{path}: not a readable mesh (bad vertex indices or coordinates)")
+        raise MeshError(f"{name}: not a readable mesh (bad vertex indices or coordinates)")
     unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
     return unique, inverse.reshape(-1)[faces]
+
+
+def read_mesh_file(path: Path) -> Mesh:
+    """`read_mesh_bytes` of a file (MeshError naming the path)."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as error:
+        raise MeshError(f"{path}: not a readable mesh ({type(error).__name__}: {error})") from None
+    return read_mesh_bytes(str(path), data)

@@ -28,7 +28,6 @@ entry has `masses` and `positions` instead of the kit's params/angles/rates).
 
 from __future__ import annotations
 
-import io
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -56,6 +55,7 @@ from physics.inertia import (
     principal_axes_near,
     validate_principal_moments,
 )
+from physics.meshfile import read_mesh_bytes
 from physics.quaternion import wxyz_from_matrix
 
 __all__ = ["MAX_FACES", "MAX_UPLOAD_BYTES", "MESHES_DIR", "InertiaSystem", "InertiaView", "load_inertia_presets",
@@ -82,29 +82,22 @@ SPIN_ANGLES_DEG = (-30.0, 60.0, 0.0)  # "Spin it": the attitude it starts from (
 
 
 def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
-    """(vertices (V, 3), faces (F, 3)) of an uploaded mesh file; MeshError saying what is wrong
-    (too large, not a mesh type, unreadable, too many faces).  Vertices are merged (an STL
-    repeats them per face), faces are kept as they are: an open or inside-out mesh is left for
-    `mesh_mass_properties` to refuse, never repaired."""
+    """(vertices (V, 3), faces (F, 3)) of an uploaded mesh file (`physics.meshfile`); MeshError
+    saying what is wrong (too large, not a mesh type, unreadable, too many faces).  Vertices are
+    merged (an STL repeats them per face), faces are kept as they are: an open or inside-out mesh
+    is left for `mesh_mass_properties` to refuse, never repaired."""
     if len(content) > MAX_UPLOAD_BYTES:
         raise MeshError(f"{name}: {len(content) / 2**20:.1f} MiB is larger than {MAX_UPLOAD_BYTES / 2**20:.0f} MiB")
     kind = name.rsplit(".", 1)[-1].lower() if "." in name else ""
     if kind not in MESH_SUFFIXES:
         raise MeshError(f"{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)")
     try:
-        mesh = trimesh.load(io.BytesIO(content), file_type=kind, force="mesh", process=False)
-        faces = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), dtype=np.int64)
-        vertices = np.asarray(getattr(mesh, "vertices", np.zeros((0, 3))), dtype=float)
-    except Exception as error:  # noqa: BLE001 - trimesh raises many kinds for a bad file
-        raise MeshError(f"{name}: unreadable ({type(error).__name__}: {error})") from None
-    if faces.ndim != 2 or faces.shape[1:] != (3,) or faces.size == 0 or len(vertices) == 0:
-        raise MeshError(f"{name}: unreadable (no triangles in it)")
+        vertices, faces = read_mesh_bytes(name, content)  # the same reader as python -m physics inertia
+    except MeshError as error:
+        raise MeshError(f"{name}: unreadable ({str(error).split(' (', 1)[-1].rstrip(')')})") from None
     if len(faces) > MAX_FACES:
         raise MeshError(f"{name}: {len(faces)} faces, more than {MAX_FACES}")
-    if not np.all(np.isfinite(vertices)):
-        raise MeshError(f"{name}: unreadable (vertices that are not finite numbers)")
-    merged = trimesh.Trimesh(vertices, faces, process=True)  # merges vertices only (no repair)
-    return np.asarray(merged.vertices, dtype=float), np.asarray(merged.faces, dtype=np.int64)
+    return vertices, faces
 
 
 class InertiaSystem:
