@@ -13,7 +13,7 @@ principal axes are not determined: the frame drawn is the eigenbasis closest to 
 
 Masses are added, removed, weighed and moved in the panel; a click on a ball selects it, and the
 selected mass is dragged with a transform gizmo (O has its own, smaller one).  A solid mesh (STL,
-OBJ, PLY, OFF, GLB; trimesh only reads the file, the exact polyhedral integrals of
+OBJ, PLY, OFF, GLB; `physics.meshfile` reads the file, the exact polyhedral integrals of
 `physics.inertia.mesh_mass_properties` do the rest), given a mass or a density, replaces the
 particles; a mesh that is open, inside out, unreadable, larger than MAX_UPLOAD_BYTES or
 MAX_FACES is refused with a message saying which, and the last valid body stays.  The meshes of
