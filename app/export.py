@@ -26,6 +26,7 @@ import viser
 
 from app.kit.room import Room
 from app.scenes import SCENES
+from app.theme import configure_scene
 
 __all__ = ["FPS", "MAX_SECONDS", "export_main", "record"]
 
@@ -34,13 +35,16 @@ MAX_SECONDS = 120.0
 
 
 class _Target:
-    """What a view draws into while recording: the private server's shared scene and panel."""
+    """What a view draws into while recording (an `app.kit.target.DrawTarget`): the private
+    server's scene and panel, which no browser sees; no controls (nobody acts on a recording)
+    and no camera."""
 
     root_prefix = ""
 
     def __init__(self, server: viser.ViserServer) -> None:
         self.scene = server.scene
         self.gui = server.gui
+        self.controls = None
         self.camera = None
         self.client_id = -1
         self._server = server
@@ -50,7 +54,7 @@ class _Target:
         with self._server.atomic():
             yield
 
-    def add_notification(self, *_args: Any, **_kwargs: Any) -> None:
+    def add_notification(self, title: str, body: str, **kwargs: Any) -> None:
         return None
 
 
@@ -66,14 +70,11 @@ def record(room: Room, seconds: float, *, fmt: str = "html",
         raise ValueError(f"format {fmt!r}: choose html or viser")
     if not (0.0 < seconds <= MAX_SECONDS) or not math.isfinite(seconds):
         raise ValueError(f"seconds = {seconds!r}: between 0 and {MAX_SECONDS:g}")
-    from app.lectern import fork_simulation
-    from app.main import configure_scene
-
     with contextlib.redirect_stdout(io.StringIO()):  # viser prints its URL panel regardless
         server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
     try:
         configure_scene(server, room.scene.view)
-        copy = Room(room.scene, fork_simulation(room.scene, room.sim)) if fork else room
+        copy = room.fork() if fork else room
         view = room.scene(_Target(server), copy, lambda _where, fn: fn, None)
         serializer = server.get_scene_serializer()
         copy.playing = True

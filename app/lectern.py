@@ -1,43 +1,68 @@
 """The lecture hall: one presenter, protected by a code, and the browsers that follow.
 
+**Who may write what** (the rule every part of the app keeps):
+
+1. A room is changed only by the browser that controls it: its own room by a browser exploring
+   alone, the live room by the presenter.  Nothing a follower's browser sends — GUI updates,
+   gizmo drags, clicks on scene nodes, uploads, keys, camera moves — changes the presenter's
+   room or the shared scene.
+2. This holds by construction, not by checks: viser delivers a GUI event only to handles of the
+   sender's own panel (`client.gui`), and a gizmo drag or node click to the handles of the scope
+   it was addressed to; a handle in the shared scene (`server.scene`) answers *every* browser.
+   So the shared scene holds drawings only: a presenter's view draws its 3D there through a
+   `Broadcast` target, whose panel and whose interactive handles (`controls`: gizmos, clickable
+   nodes) are the presenter's own (`app.kit.target`).  A follower's panel holds only its own
+   things (follow the camera, explore, the projector layout, the presenter code); its session
+   refuses every action on a room while it follows (PermissionError, said in its panel).
+3. Tests: a hostile follower on a raw websocket that drags every gizmo it was sent, clicks every
+   node, sends an update for every GUI id it has seen and uploads a mesh leaves the presenter's
+   simulation bit-identical (tests/test_trust.py), and a browser follower's drags do not move
+   the presenter's numbers (tests/test_browser_lecture.py).
+
+The rest:
+
 - **The lock.**  `Lectern` holds the presenter code (`python -m app --presenter-code CODE`, or a
-  random one printed at start) and the presenting session.  A browser presents by typing the
-  code into `Presenter code` and pressing `Present`: a wrong code is refused with a message, at
-  most MAX_TRIES per minute per browser; one presenter at a time; `Stop presenting` or a
-  disconnect releases the lock.
-- **One simulation, drawn once for everyone.**  The presenter's view draws its 3D into the
-  shared scene (`server.scene`, under LIVE_ROOT) through a `Broadcast` target, and its panel into
-  the presenter's own browser: the room advances and draws once per frame however many browsers
-  follow, and viser sends the same messages to all of them.
+  random one printed at start) and the presenting seat.  A browser presents by typing the code
+  into `Presenter code` and pressing `Present`: a wrong code is refused with a message, at most
+  MAX_TRIES per minute per browser; one presenter at a time; `Stop presenting` or a disconnect
+  releases the lock.
+- **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
+  (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
-  panel (`Follower`) with what the presenter shows (scene, preset, time, the controls' values,
-  read only), a `Follow camera` toggle and `Explore on my own`, which gives it a private copy
-  of the presenter's current state; `Follow presenter` comes back.  A browser that does not
-  follow hides the shared scene with an invisible node of the same name in its own scope
-  (viser draws a browser's own variant of a name over the shared one).
-- **A presenter who leaves** (disconnect) leaves the last state on the followers' screens, with
-  a note; a new presenter takes over with the code.
+  panel (`Follower`): who presents what (scene, preset, lesson step, time, the scene's key
+  numbers), or plainly that the presenter stopped or left; `Follow camera` (the presenter's
+  viewing direction, framed for the follower's own screen) and `Explore on my own`, which gives
+  it an exact copy of the room as shown now (`Room.fork`: state, time, traces, plots, playing).
+  `Follow presenter` comes back to the live scene.  On a narrow screen (a phone) the panel
+  shrinks to one status line and a `Details` button, so the body stays in view.
+- **A presenter who stops or leaves** leaves the last state on the followers' screens (a paused
+  copy, which `Explore` copies), with a note; a new presenter takes over with the code.
+
+The lectern talks to a browser's session through the small `Seat` protocol; it never imports
+the session (layers: kit ← scenes ← lectern ← session ← main).
 """
 
 from __future__ import annotations
 
 import collections
 import contextlib
+import enum
 import logging
+import math
 import secrets
 import threading
 import time
 from collections.abc import Callable, Iterator
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
+import numpy as np
 import viser
 
 from app.kit.common import apply_camera
+from app.kit.room import Room
 
-if TYPE_CHECKING:
-    from app.session import Session
-
-__all__ = ["FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "Broadcast", "Follower", "Lectern", "fork_simulation", "new_code"]
+__all__ = ["CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT", "NARROW_PX", "Broadcast",
+           "Follower", "Hall", "Lectern", "Mode", "Seat", "fitted_camera", "new_code"]
 
 logger = logging.getLogger(__name__)
 
@@ -46,28 +71,63 @@ MAX_TRIES = 5  # wrong codes a browser may try ...
 TRIES_WINDOW = 60.0  # ... per this many seconds
 FOLLOW_PERIOD = 0.5  # [s] the followers' panels refresh this often (they are many)
 CAMERA_PERIOD = 0.1  # [s] the presenter's camera reaches the followers at most this often
+NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
+NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
+DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 
 
-def fork_simulation(scene: Any, sim: Any) -> Any:
-    """A private copy of a simulation's current state, its own run starting there at t = 0."""
-    fork = getattr(sim, "fork", None)
-    if fork is not None:
-        return fork()
-    from app.kit.rigid import RigidBodySimulation
-    from app.scenes.euler_angles import EulerAnglesSimulation
-    from physics.dynamics import State
+class Mode(enum.StrEnum):
+    """What a browser's session shows."""
 
-    copy: Any
-    if isinstance(sim, RigidBodySimulation):
-        copy = RigidBodySimulation(sim.model, State(sim.state.R_space_body, sim.state.omega_body, 0.0),
-                                   angles=sim.angles, momentum_kind=sim.momentum_kind)
-        copy.set_integrator(sim.integrator)
-    elif isinstance(sim, EulerAnglesSimulation):
-        copy = EulerAnglesSimulation(sim.angles_deg, sim.rates_deg, sim.moments)
-    else:
-        return scene.new_simulation()
-    copy.preset = getattr(sim, "preset", None)
-    return copy
+    OWN = "own"  # its own room (exploring alone)
+    PRESENTING = "presenting"  # its room, live for everyone who follows
+    FOLLOWING = "following"  # the live room, read only
+
+
+class Hall(enum.StrEnum):
+    """What the shared screen shows."""
+
+    EMPTY = "empty"  # nobody has presented yet
+    LIVE = "live"  # a presenter is presenting
+    STOPPED = "stopped"  # the presenter pressed Stop presenting: the last state stays
+    LEFT = "left"  # the presenter's browser went away: the last state stays
+
+
+class Seat(Protocol):
+    """What the lectern needs of a browser's session (`app.session.Session` is one)."""
+
+    client: viser.ClientHandle
+    client_id: int
+    closed: bool
+    mode: Mode
+
+    def guard(self, where: str, fn: Callable[..., Any]) -> Callable[..., Any]:
+        """`fn` run under the session's locks, its errors shown in its panel, never raised."""
+        ...
+
+    def following_by_default(self) -> bool:
+        """True if a new presenter should pull this browser along."""
+        ...
+
+    def follow(self) -> None:
+        """Follow the presenter (the lectern calls it when a presenter starts)."""
+        ...
+
+    def explore(self) -> None:
+        """Leave the presenter with an exact copy of the live room (the follower's button)."""
+        ...
+
+    def report_error(self, where: str, error: BaseException) -> None:
+        """Log `error` and show it in the session's panel."""
+        ...
+
+    def lesson_text(self) -> str:
+        """The presenter's current lesson step, or ""."""
+        ...
+
+    def show_own_panel(self, shown: bool) -> None:
+        """Show or hide the session's own folders (a narrow follower hides them)."""
+        ...
 
 
 def new_code() -> str:
@@ -76,11 +136,8 @@ def new_code() -> str:
 
 
 class Broadcast:
-    """What a presenter's view draws to: the shared scene under LIVE_ROOT, the presenter's panel.
-
-    It stands in for a `viser.ClientHandle` in the view: `scene` is `server.scene` (every
-    browser), `gui`, `camera` and notifications are the presenter's, `atomic()` holds both.
-    """
+    """The presenter's draw target (`app.kit.target.DrawTarget`): the 3D into the shared scene
+    under LIVE_ROOT, the panel, the interactive handles and the camera in the presenter's browser."""
 
     root_prefix = LIVE_ROOT
 
@@ -89,6 +146,7 @@ class Broadcast:
         self.presenter = client
         self.scene = server.scene
         self.gui = client.gui
+        self.controls = client.scene  # gizmos and clickable nodes: the presenter's only
         self.camera = client.camera
         self.client_id = client.client_id
 
@@ -97,57 +155,125 @@ class Broadcast:
         with self.server.atomic(), self.presenter.atomic():
             yield
 
-    def add_notification(self, *args: Any, **kwargs: Any) -> Any:
-        return self.presenter.add_notification(*args, **kwargs)
+    def add_notification(self, title: str, body: str, **kwargs: Any) -> Any:
+        return self.presenter.add_notification(title, body, **kwargs)
+
+
+def _aspect(camera: Any) -> float:
+    """Width / height of a browser's 3D view (DEFAULT_ASPECT before it is known)."""
+    try:
+        width, height = float(camera.image_width), float(camera.image_height)
+    except (AttributeError, TypeError, ValueError):
+        return DEFAULT_ASPECT
+    return width / height if width > 0.0 and height > 0.0 else DEFAULT_ASPECT
+
+
+def is_narrow(camera: Any) -> bool:
+    """A phone-like view: at most NARROW_PX wide, or portrait (aspect below NARROW_ASPECT).  (viser
+    reports the view's size in device pixels; a phone's CSS width of ~400 px is 800-1200 of
+    them, which the portrait test catches.)"""
+    try:
+        width = float(camera.image_width)
+    except (AttributeError, TypeError, ValueError):
+        return False
+    return (0.0 < width <= NARROW_PX) or _aspect(camera) < NARROW_ASPECT
+
+
+def fitted_camera(position: Any, look_at: Any, fov_rad: float, aspect_from: float,
+                  aspect_to: float) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """The presenter's camera (position, look_at [scene units], vertical fov [rad], aspect) made
+    to show the same horizontal extent on a narrower view of aspect `aspect_to`: the same
+    viewing direction and look_at, the distance grown by tan(h_from/2) / tan(h_to/2), where the
+    horizontal half-angles follow from tan(h/2) = aspect tan(fov/2).  A view at least as wide
+    keeps the distance (it shows more at the sides)."""
+    eye, target = np.asarray(position, dtype=float), np.asarray(look_at, dtype=float)
+    half = math.tan(0.5 * float(fov_rad))
+    factor = max(1.0, (aspect_from * half) / (aspect_to * half)) if half > 0.0 else 1.0
+    eye = target + factor * (eye - target)
+    return (float(eye[0]), float(eye[1]), float(eye[2])), (float(target[0]), float(target[1]), float(target[2]))
 
 
 class Follower:
-    """A following browser's panel: what the presenter shows, read only, and the way out."""
+    """A following browser's panel: what the presenter shows, read only, and the way out.
 
-    def __init__(self, session: Session, lectern: Lectern) -> None:
-        gui = session.client.gui
-        self.session = session
-        self.folder = gui.add_folder("Following the presenter")
+    Wide screens see the whole status; a narrow one (`is_narrow`) sees one status line and a
+    `Details` button that opens the rest (and the session's own folders)."""
+
+    def __init__(self, seat: Seat, lectern: Lectern) -> None:
+        gui = seat.client.gui
+        self.seat = seat
+        self.narrow = is_narrow(seat.client.camera)
+        self.expanded = not self.narrow
+        self.folder = gui.add_folder("Following the presenter", order=-10.0)
         with self.folder:
+            self.gui_line = gui.add_markdown("")
+            self.gui_details = gui.add_button("Details", icon=viser.Icon.CHEVRON_DOWN,
+                                              hint="the presenter's numbers and your options")
             self.gui_status = gui.add_markdown("")
             self.gui_follow_camera = gui.add_checkbox("Follow camera", True,
                                                       hint="see what the presenter's camera sees")
             self.gui_explore = gui.add_button("Explore on my own", icon=viser.Icon.USER,
-                                              hint="a private copy of the presenter's current state")
-        self.gui_explore.on_click(session.guard("explore", lambda _event: session.explore()))
-        self.gui_follow_camera.on_update(session.guard("follow camera", lambda _event: lectern.send_camera(self)))
+                                              hint="an exact copy of what the presenter shows now, yours to change")
+        self.gui_explore.on_click(seat.guard("explore", lambda _event: seat.explore()))
+        self.gui_details.on_click(seat.guard("details", lambda _event: self.set_expanded(not self.expanded)))
+        self.gui_follow_camera.on_update(seat.guard("follow camera", lambda _event: lectern.send_camera(self)))
+        self._layout()
         self.refresh(lectern)
 
     @property
     def follow_camera(self) -> bool:
         return bool(self.gui_follow_camera.value)
 
+    def set_expanded(self, expanded: bool) -> None:
+        self.expanded = bool(expanded)
+        self._layout()
+
+    def set_narrow(self, narrow: bool) -> None:
+        """The browser's view became narrow (or wide): collapse (or expand) the panel."""
+        if narrow != self.narrow:
+            self.narrow = narrow
+            self.expanded = not narrow
+            self._layout()
+
+    def _layout(self) -> None:
+        full = self.expanded
+        self.gui_line.visible = not full
+        self.gui_details.visible = self.narrow
+        self.gui_details.label = "Hide details" if full else "Details"
+        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore):
+            handle.visible = full
+        self.seat.show_own_panel(full)
+
     def refresh(self, lectern: Lectern) -> None:
-        status = lectern.status()
+        status, line = lectern.status(), lectern.status_line()
         if self.gui_status.content != status:
             self.gui_status.content = status
+        if self.gui_line.content != line:
+            self.gui_line.content = line
 
     def remove(self) -> None:
         self.folder.remove()
+        self.seat.show_own_panel(True)
 
 
 class Lectern:
     """The presenter lock, the live room and the followers (see the module docstring).
 
     Attributes:
-        code: the presenter code.  presenter: the presenting session, or None.
-        live_view: the view drawing the shared scene (kept after the presenter leaves, so the
-            followers keep the last state, until a new presenter starts).
-        left: True when the last presenter disconnected (the followers see the last state).
+        code: the presenter code.  presenter: the presenting seat, or None.
+        hall: what the shared screen shows (`Hall`).
+        live_view: the view drawing the shared scene (kept after the presenter stops or leaves,
+            its nodes the followers' last state, until a new presenter starts).
     """
 
     def __init__(self, server: viser.ViserServer, code: str | None = None,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.server = server
         self.code = code if code else new_code()
-        self.presenter: Session | None = None
+        self.presenter: Seat | None = None
+        self.hall = Hall.EMPTY
         self.live_view: Any = None
-        self.left = False
+        self._live_room: Room | None = None
         self.followers: dict[int, Follower] = {}
         self._tries: dict[int, collections.deque[float]] = collections.defaultdict(collections.deque)
         self._clock = clock
@@ -155,14 +281,17 @@ class Lectern:
         self._since_status = 0.0
         self._camera_due = False
         self._since_camera = 0.0
-        self._to_follow: list[Session] = []
+        self._to_follow: list[Seat] = []
+        self._watched: set[int] = set()  # client ids whose camera the lectern hears
+        self.seats: Callable[[], list[Seat]] = lambda: []
+        """Set by the app: its open sessions."""
 
     # ------------------------------------------------------------------ the lock
-    def try_code(self, session: Session, code: str) -> str | None:
-        """None if `session` may present with `code`, else the refusal (rate limit included)."""
+    def try_code(self, seat: Any, code: str) -> str | None:
+        """None if `seat` may present with `code`, else the refusal (rate limit included)."""
         with self._lock:
             now = self._clock()
-            tries = self._tries[session.client_id]
+            tries = self._tries[seat.client_id]
             while tries and tries[0] < now - TRIES_WINDOW:
                 tries.popleft()
             if len(tries) >= MAX_TRIES:
@@ -171,33 +300,37 @@ class Lectern:
             if not secrets.compare_digest(str(code).strip(), self.code):
                 tries.append(now)
                 return f"Wrong presenter code ({MAX_TRIES - len(tries)} tries left this minute)."
-            if self.presenter is not None and self.presenter is not session:
+            if self.presenter is not None and self.presenter is not seat:
                 return "Someone else is presenting; they must stop first."
             return None
 
-    def start(self, session: Session) -> None:
-        """`session` presents: its room goes live; everyone else follows (or keeps exploring)."""
+    def start(self, seat: Seat) -> None:
+        """`seat` presents: its room goes live; everyone else follows (or keeps exploring)."""
         with self._lock:
-            self.presenter = session
-            self.left = False
+            self.presenter = seat
+            self.hall = Hall.LIVE
             # The app loop moves them (each in its own guard): not from the presenter's callback,
             # which holds the presenter's locks.
-            self._to_follow = [other for other in self.sessions()
-                               if other is not session and other.following_by_default()]
+            self._to_follow = [other for other in self.seats()
+                               if other is not seat and other.following_by_default()]
         self.refresh_followers()
 
-    def release(self, session: Session, *, disconnected: bool) -> None:
+    def release(self, seat: Seat, *, disconnected: bool) -> None:
         """The presenter stops (Stop presenting) or leaves (disconnect): the lock is free.  The
-        followers keep the last state on screen with a note, until a new presenter starts."""
+        followers keep the last state on screen (a paused copy of the room, which is what
+        Explore then copies), with a note, until a new presenter starts."""
         with self._lock:
-            if self.presenter is not session:
+            if self.presenter is not seat:
                 return
             self.presenter = None
-            self.left = disconnected
-            view = self.live_view
-            if view is not None:
-                view.room.remove_view(view)  # detached: its nodes stay, nothing draws them
-                view.room.playing = False
+            self.hall = Hall.LEFT if disconnected else Hall.STOPPED
+            view, room = self.live_view, self._live_room
+            if view is not None and room is not None:
+                with room.lock:
+                    room.remove_view(view)  # detached: its nodes stay, nothing draws them
+                    last = room.fork()
+                last.playing = False
+                self._live_room = last
         self.refresh_followers()
 
     def _forget_live_view(self) -> None:
@@ -207,63 +340,104 @@ class Lectern:
             with contextlib.suppress(Exception):  # its nodes may be gone already
                 view._root_node.remove()
 
-    def make_live_view(self, session: Session, room: Any) -> Any:
-        """The presenter's view of `room`: 3D into the shared scene, panel into its browser."""
+    def make_live_view(self, seat: Seat, room: Room) -> Any:
+        """The presenter's view of `room`: 3D into the shared scene, panel and controls in its browser."""
         with self._lock:
             self._forget_live_view()
-            view = room.scene(Broadcast(self.server, session.client), room, session.guard, session.report_error)
+            view = room.scene(Broadcast(self.server, seat.client), room, seat.guard, seat.report_error)
             self.live_view = view
-        session.client.camera.on_update(lambda _camera: self._camera_moved(session))
+            self._live_room = room
+        self._watch_camera(seat)
         return view
 
+    def _watch_camera(self, seat: Seat) -> None:
+        """Hear `seat`'s camera (once per browser): a presenter's moves reach the followers, a
+        follower's view size sets its layout."""
+        if seat.client_id in self._watched:
+            return
+        self._watched.add(seat.client_id)
+        seat.client.camera.on_update(lambda _camera: self._camera_moved(seat))
+
     # ------------------------------------------------------------------ followers
-    def sessions(self) -> list[Session]:
-        return list(self._sessions())
-
-    _sessions: Callable[[], Any] = staticmethod(lambda: [])  # set by the app: its open sessions
-
     @property
-    def live_room(self) -> Any:
-        return self.live_view.room if self.live_view is not None else None
+    def live_room(self) -> Room | None:
+        """The room on the shared screen now (the presenter's, or the last state one left)."""
+        return self._live_room if self.live_view is not None else None
 
     @property
     def live(self) -> bool:
         """Something is on the shared screen (a presenter, or the last state one left)."""
         return self.live_view is not None
 
-    def add_follower(self, session: Session) -> Follower:
-        follower = Follower(session, self)
-        self.followers[session.client_id] = follower
+    def add_follower(self, seat: Seat) -> Follower:
+        follower = Follower(seat, self)
+        self.followers[seat.client_id] = follower
+        self._watch_camera(seat)
         self.send_camera(follower)
         return follower
 
-    def remove_follower(self, session: Session) -> None:
-        follower = self.followers.pop(session.client_id, None)
+    def remove_follower(self, seat: Seat) -> None:
+        follower = self.followers.pop(seat.client_id, None)
         if follower is not None:
             follower.remove()
 
-    def status(self) -> str:
-        """The followers' panel text: who presents what, and the controls' values (read only)."""
+    def _follower_resized(self, follower: Follower) -> None:
+        """A follower's view changed size (or its camera moved): collapse its panel on a narrow
+        screen, and frame the presenter's view for its aspect."""
+        if self.followers.get(follower.seat.client_id) is not follower:
+            return
+        narrow = is_narrow(follower.seat.client.camera)
+        if narrow != follower.narrow:
+            follower.seat.guard("follower layout", follower.set_narrow)(narrow)
+            self.send_camera(follower)
+
+    def _key_numbers(self) -> list[str]:
         view = self.live_view
         if view is None:
+            return []
+        try:
+            return list(view.key_numbers())
+        except Exception:  # noqa: BLE001 - a status line must not break the followers' refresh
+            logger.debug("key numbers failed", exc_info=True)
+            return []
+
+    def status(self) -> str:
+        """The followers' panel text: who presents what, the lesson step, the time, the scene's
+        key numbers (read only)."""
+        room = self.live_room
+        if room is None:
             return "Nobody is presenting."
-        room = view.room
-        head = ("**The presenter has left**; this is the last state. A new presenter can take over."
-                if self.left else "**Presenter:** " + ("▶ playing" if room.playing else "paused"))
+        head = {
+            Hall.LIVE: "**Presenter:** " + ("▶ playing" if room.playing else "paused"),
+            Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
+                          "Explore it on your own, or wait for the next presenter.",
+            Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
+                       "A new presenter can take over with the code.",
+        }.get(self.hall, "")
         preset = getattr(room.sim, "preset", None)
         lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else ""),
                  f"t = {room.sim.t:.1f} s · {room.time_scale:g}×"]
-        lesson = getattr(self.presenter, "lesson_text", "") if self.presenter is not None else ""
+        presenter = self.presenter
+        lesson = presenter.lesson_text() if presenter is not None and self.hall is Hall.LIVE else ""
         if lesson:
             lines.append(lesson)
-        values = getattr(view, "control_values", None)
-        if values is not None:
-            lines.append("  \n".join(f"{label} = {value}" for label, value in values()))
+        lines.extend(self._key_numbers())
         return "  \n".join(lines)
+
+    def status_line(self) -> str:
+        """One line for a narrow screen."""
+        room = self.live_room
+        if room is None:
+            return "Nobody is presenting."
+        if self.hall is Hall.LIVE:
+            state = "▶" if room.playing else "⏸"
+            return f"**{state} {room.scene.title}** · t = {room.sim.t:.1f} s"
+        word = "stopped" if self.hall is Hall.STOPPED else "left"
+        return f"**Presenter {word}** · last state: {room.scene.title}"
 
     def refresh_followers(self) -> None:
         for follower in list(self.followers.values()):
-            if follower.session.closed:
+            if follower.seat.closed:
                 continue
             try:
                 follower.refresh(self)
@@ -276,9 +450,9 @@ class Lectern:
         it moved."""
         with self._lock:
             to_follow, self._to_follow = self._to_follow, []
-        for session in to_follow:
-            if not session.closed and session.following_by_default():
-                session.guard("follow the presenter", session.follow)()
+        for seat in to_follow:
+            if not seat.closed and seat.following_by_default():
+                seat.guard("follow the presenter", seat.follow)()
         self._since_status += dt
         if self._since_status >= FOLLOW_PERIOD and self.followers:
             self._since_status = 0.0
@@ -290,24 +464,34 @@ class Lectern:
             for follower in list(self.followers.values()):
                 self.send_camera(follower)
 
-    def _camera_moved(self, session: Session) -> None:
-        if session is self.presenter:
+    def _camera_moved(self, seat: Seat) -> None:
+        if seat is self.presenter:
             self._camera_due = True
+            return
+        follower = self.followers.get(seat.client_id)
+        if follower is not None:
+            self._follower_resized(follower)
 
     def send_camera(self, follower: Follower) -> None:
-        """Put a follower's camera where the presenter's is (if it follows the camera)."""
+        """Put a follower's camera where the presenter's is (if it follows the camera): the
+        presenter's viewing direction and look_at, the distance fitted to the follower's aspect
+        (`fitted_camera`) so a phone shows what the presenter's wide view shows."""
         presenter = self.presenter
         if presenter is None or not follower.follow_camera:
             return
         source = presenter.client.camera
         try:
-            camera = follower.session.client.camera
+            camera = follower.seat.client.camera
+            position, look_at = fitted_camera(source.position, source.look_at, float(source.fov),
+                                              _aspect(source), _aspect(camera))
             camera.up_direction = tuple(source.up_direction)
-            camera.position = tuple(source.position)
-            camera.look_at = tuple(source.look_at)
+            camera.position = position
+            camera.look_at = look_at
             camera.fov = float(source.fov)
         except Exception:  # noqa: BLE001 - the presenter's camera is not known yet, or a client left
             logger.debug("camera not sent", exc_info=True)
 
-    def reset_view(self, session: Session) -> None:
-        apply_camera(session.client, self.live_room.scene.view)
+    def reset_view(self, seat: Seat) -> None:
+        room = self.live_room
+        if room is not None:
+            apply_camera(seat.client, room.scene.view)

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
 import sys
 import threading
 import time
@@ -22,7 +21,7 @@ from collections.abc import Callable, Sequence
 import viser
 
 from app.backpressure import FramePacer, PacerStats
-from app.kit.common import CameraView
+from app.export import export_main
 from app.kit.presets import PresetError
 from app.kit.room import Room
 from app.lectern import Lectern
@@ -30,8 +29,9 @@ from app.lessons import LessonError, lessons
 from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
+from app.theme import configure_scene
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "create_server", "main"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "main"]
 
 logger = logging.getLogger(__name__)
 
@@ -65,7 +65,7 @@ class App:
         self.tick_count = 0
         self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
         self.lectern = Lectern(server, presenter_code)
-        self.lectern._sessions = lambda: list(self.sessions.values())
+        self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
@@ -178,27 +178,6 @@ class App:
         return self.server.get_port()
 
 
-def configure_scene(server: viser.ViserServer, view: CameraView) -> None:
-    """Theme, lights and the initial camera of a server (the app's, or a recording's)."""
-    server.gui.configure_theme(
-        show_share_button=False,  # sharing needs an external tunnel: useless offline
-        control_width="large",
-        brand_color=(200, 110, 0),
-    )
-    # Lighting without an HDRI environment map: it looks the same here, and the map's
-    # prefiltering costs ~10 s before the first frame under software WebGL (SwiftShader,
-    # i.e. a laptop or projector PC without a usable GPU).
-    server.scene.configure_environment_map(hdri=None)
-    server.scene.configure_default_lights(enabled=True, cast_shadow=False)
-    server.scene.add_light_hemisphere(
-        "/lights/hemisphere", sky_color=(255, 255, 255), ground_color=(150, 150, 150), intensity=1.5
-    )
-    server.initial_camera.position = view.position
-    server.initial_camera.look_at = view.look_at
-    server.initial_camera.up = view.up
-    server.initial_camera.fov = math.radians(view.fov_deg)
-
-
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
     presenter_code: str | None = None, projector: bool = False,
@@ -240,8 +219,6 @@ def main(argv: Sequence[str] | None = None) -> None:
     `python -m app export ...` records a scene (`app.export`)."""
     arguments = list(sys.argv[1:] if argv is None else argv)
     if arguments[:1] == ["export"]:
-        from app.export import export_main
-
         raise SystemExit(export_main(arguments[1:]))
     args = _parse_args(arguments)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")

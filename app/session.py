@@ -21,19 +21,19 @@ import functools
 import logging
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
+import imageio.v3 as iio
 import viser
 
-from app.kit.common import CameraView, apply_camera
+from app.export import MAX_SECONDS, record
+from app.kit.common import CameraView, apply_camera, checked_value
 from app.kit.room import Room, Scene
-from app.lectern import LIVE_ROOT, fork_simulation
+from app.lectern import LIVE_ROOT, Lectern, Mode
+from app.lessons import Lesson, lessons
 from app.scenes import DEFAULT_SCENE, SCENES
 
-if TYPE_CHECKING:
-    from app.lectern import Lectern
-
-__all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Session", "projector_view"]
+__all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Mode", "Session", "projector_view"]
 
 BRAND_COLOR = (200, 110, 0)
 PROJECTOR_LABEL_SCALE = 1.4
@@ -51,12 +51,6 @@ h3 { font-size: 22px !important; }
 logger = logging.getLogger(__name__)
 
 R = TypeVar("R")
-
-
-def checkboxes(view: Any) -> dict[str, Any]:
-    """A view's checkboxes by label (what a lesson step may switch)."""
-    handles = (getattr(view, name) for name in dir(view) if name.startswith("gui_"))
-    return {h.label: h for h in handles if isinstance(h, viser.GuiCheckboxHandle)}
 
 
 def projector_view(view: CameraView) -> CameraView:
@@ -81,7 +75,7 @@ class Session:
                  lectern: Lectern | None = None) -> None:
         self.client = client
         self.lectern = lectern
-        self.mode = "own"  # "own" (its own room), "presenting" or "following"
+        self.mode = Mode.OWN
         self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
         self.last_recording: tuple[bytes, bytes] | None = None  # (.html, .viser) last offered
         self.last_screenshot: bytes | None = None  # PNG last offered
@@ -116,15 +110,24 @@ class Session:
         self._preset_commands: list[Any] = []
         self._build_commands(gui)
         self._shadow: Any = None
+        self._own_panel_shown = True
+        self._room = Room(SCENES[scene], SCENES[scene].new_simulation())
+        self.scene: Any = None
         if lectern is not None and lectern.live:
-            self.room = lectern.live_room
-            self.scene: Any = None
             self.follow()
         else:
-            self.room = Room(SCENES[scene], SCENES[scene].new_simulation())
-            self.scene = self._new_view(self.room)
+            self.scene = self._new_view(self._room)
             self._hide_live(True)
         self._refresh_preset_commands()
+
+    @property
+    def room(self) -> Room:
+        """The room this browser shows: its own, or (following) the one on the shared screen."""
+        if self.mode is Mode.FOLLOWING and self.lectern is not None:
+            live = self.lectern.live_room
+            if live is not None:
+                return live
+        return self._room
 
     @property
     def lock(self) -> threading.RLock:
@@ -197,23 +200,29 @@ class Session:
     # ------------------------------------------------------------------ scenes and rooms
     def _scene_chosen(self) -> None:
         title = self.gui_scene.value
-        if title not in SCENES:  # a client can send any string
+        if title not in SCENES or self.mode is Mode.FOLLOWING:  # a client can send anything
             self.gui_scene.value = self.room.scene.title  # viser's setter
+            if self.mode is Mode.FOLLOWING:
+                raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
             return
         if title != self.room.scene.title:
+            if not self._in_lesson_step:
+                self._end_lesson()  # a scene chosen by hand: the lesson (and its text) ends
             scene = SCENES[title]
             self.show(Room(scene, scene.new_simulation()))
             self.reset_camera()
 
     def show(self, room: Room) -> None:
         """Leave the current room and show `room` (a new view of it for this client)."""
+        if self.mode is Mode.FOLLOWING:
+            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
         with self._switch_lock:
             old_view, old_room = self.scene, self.room
             with old_room.lock:
                 old_view.remove()
             with room.lock:
-                self.room = room
-                if self.mode == "presenting" and self.lectern is not None:
+                self._room = room
+                if self.mode is Mode.PRESENTING and self.lectern is not None:
                     self.lectern.live_view = None  # removed above; the new one goes live
                     self.scene = self.lectern.make_live_view(self, room)
                     self.scene.open_room = self.open_room
@@ -238,7 +247,7 @@ class Session:
 
     def _controlled_room(self) -> Room:
         """The room this browser may change (PermissionError while it follows the presenter)."""
-        if self.mode == "following":
+        if self.mode is Mode.FOLLOWING:
             raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
         return self.room
 
@@ -278,7 +287,7 @@ class Session:
             command.on_trigger(self.guard(label, lambda _event, action=action: self._key(action)))
 
     def _key(self, action: Callable[[Room], None]) -> None:
-        if self.mode == "following":
+        if self.mode is Mode.FOLLOWING:
             self.client.add_notification("Following the presenter", "Press 'Explore on my own' to drive "
                                          "your own copy.", auto_close_seconds=3.0)
             return
@@ -288,7 +297,7 @@ class Session:
         for command in self._preset_commands:
             command.remove()
         self._preset_commands = []
-        if self.mode == "following":
+        if self.mode is Mode.FOLLOWING:
             return
         scene = self.room.scene
         for preset in scene.presets():
@@ -318,10 +327,9 @@ class Session:
             gui.main_panel.float()
         if self.gui_projector.value != on:
             self.gui_projector.value = on
-        view = self.scene
-        if view is not None and hasattr(view, "root"):
-            self._scale_labels(view.root, PROJECTOR_LABEL_SCALE if on else 1.0 / PROJECTOR_LABEL_SCALE)
-        if self.mode != "following":
+        if self.mode is not Mode.FOLLOWING and self.scene is not None:
+            self._scale_labels(self.scene.root, PROJECTOR_LABEL_SCALE if on else 1.0 / PROJECTOR_LABEL_SCALE)
+        if self.mode is not Mode.FOLLOWING:
             apply_camera(self.client, projector_view(self.room.scene.view) if on else self.room.scene.view)
 
     def reset_camera(self) -> None:
@@ -338,11 +346,10 @@ class Session:
 
     # ------------------------------------------------------------------ lessons
     def _build_lesson_panel(self, gui: Any) -> None:
-        from app.lessons import lessons
-
         self.lessons = {lesson.title: lesson for lesson in lessons()}
-        self.lesson: Any = None
+        self.lesson: Lesson | None = None
         self.lesson_step = -1
+        self._in_lesson_step = False
         self.lesson_folder = gui.add_folder("Lesson", expand_by_default=False)
         with self.lesson_folder:
             self.gui_lesson = gui.add_dropdown("Lesson", ("—", *self.lessons), initial_value="—",
@@ -356,7 +363,6 @@ class Session:
             command = gui.add_command(label, hotkey=key, description=f"key: {key}")
             command.on_trigger(self.guard(label, lambda _event, delta=delta: self.next_step(delta)))
 
-    @property
     def lesson_text(self) -> str:
         """The current step's text (shown to the followers of a presenter running a lesson)."""
         if self.lesson is None or self.lesson_step < 0:
@@ -364,14 +370,24 @@ class Session:
         return f"**{self.lesson.title}**, step {self.lesson_step + 1}/{len(self.lesson.steps)}: " + \
             self.lesson.steps[self.lesson_step].text
 
+    def _end_lesson(self) -> None:
+        """No lesson runs: its text goes (here and, for a presenter, on the followers' panels)."""
+        self.lesson, self.lesson_step = None, -1
+        self.gui_lesson_text.content = ""
+        if self.gui_lesson.value != "—":
+            self.gui_lesson.value = "—"  # runs start_lesson("—"): nothing more
+
+    def _refuse_while_following(self) -> None:
+        if self.mode is Mode.FOLLOWING:
+            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
+
     def start_lesson(self, title: str) -> None:
         """Run the lesson `title` from its first step ("—": none)."""
         if title not in self.lessons:  # "—", or anything a client sends
             self.lesson, self.lesson_step = None, -1
             self.gui_lesson_text.content = ""
             return
-        if self.mode == "following":
-            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
+        self._refuse_while_following()
         self.lesson = self.lessons[title]
         self.lesson_step = -1
         self.next_step(1)
@@ -380,26 +396,30 @@ class Session:
         """Go `delta` steps on (1 Next, -1 Back) in the running lesson, and apply that step."""
         if self.lesson is None:
             return
-        if self.mode == "following":
-            raise PermissionError("this browser follows the presenter: press 'Explore on my own' first")
+        self._refuse_while_following()
         k = min(max(self.lesson_step + delta, 0), len(self.lesson.steps) - 1)
         self.lesson_step = k
         step = self.lesson.steps[k]
         if step.scene != self.room.scene.title:
-            self._select(step.scene)
+            self._in_lesson_step = True
+            try:
+                self._select(step.scene)
+            finally:
+                self._in_lesson_step = False
         room = self.room
         if step.preset is not None:
             room.scene.apply_preset(room, step.preset)
         view = self.scene
+        toggles = view.checkboxes()
         for label, value in step.display.items():
-            toggle = checkboxes(view).get(label)
+            toggle = toggles.get(label)
             if toggle is None:
                 raise ValueError(f"lesson step {self.lesson_step + 1}: {step.scene} has no checkbox {label!r}")
             if toggle.value != value:
                 toggle.value = value  # runs its callback: the view redraws
-        if step.tab is not None and hasattr(view, "tabs"):
-            view.tabs.show(step.tab)
-        if step.integrator is not None and hasattr(view, "set_integrator"):
+        if step.tab is not None:
+            view.show_tab(step.tab)
+        if step.integrator is not None:
             view.set_integrator(step.integrator)
         if step.camera is not None:
             apply_camera(self.client, step.camera)
@@ -407,7 +427,7 @@ class Session:
             room.play()
         elif step.play is False:
             room.pause()
-        self.gui_lesson_text.content = self.lesson_text
+        self.gui_lesson_text.content = self.lesson_text()
         if self.lectern is not None and self.lectern.presenter is self:
             self.lectern.refresh_followers()
 
@@ -427,17 +447,13 @@ class Session:
 
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
         """Record the next `seconds` of the scene shown, from its current state, and offer it as
-        .html and .viser downloads.  The copy is taken now; the frames are computed in a thread
-        (the scene goes on meanwhile).  ValueError for a value out of range."""
-        from app.export import MAX_SECONDS, record
-        from app.kit.common import checked_value
-
+        .html and .viser downloads.  The copy is taken now (`Room.fork`; the room shown is not
+        touched); the frames are computed in a thread.  ValueError for a value out of range."""
         value = checked_value(seconds, 1.0, MAX_SECONDS)
         if value is None:
             raise ValueError(f"Record: {seconds!r} s refused: between 1 and {MAX_SECONDS:g} s")
         room = self.room
-        with room.lock:
-            copy = Room(room.scene, fork_simulation(room.scene, room.sim))
+        copy = room.fork()
         title = room.scene.title.lower().replace(" ", "_")
         bar = self.gui_record_progress
 
@@ -466,8 +482,6 @@ class Session:
 
         def work() -> None:
             try:
-                import imageio.v3 as iio
-
                 image = self.client.get_render(height=720, width=1280, transport_format="png")
                 png = iio.imwrite("<bytes>", image, extension=".png")
                 self.client.send_file_download("scene.png", png)
@@ -500,13 +514,30 @@ class Session:
         self.gui_lecture_note.visible = bool(text)
 
     def _show_lecture_buttons(self) -> None:
+        """The panel for this browser's mode: a follower has no scene, lesson or notes to drive;
+        `Follow presenter` is offered only while somebody else presents."""
         lectern = self.lectern
         if lectern is None:
             return
-        self.gui_present.visible = self.gui_code.visible = self.mode != "presenting"
-        self.gui_stop.visible = self.mode == "presenting"
-        self.gui_follow.visible = self.mode == "own" and lectern.live
-        self.gui_scene.visible = self.mode != "following"
+        following = self.mode is Mode.FOLLOWING
+        self.gui_present.visible = self.gui_code.visible = self.mode is not Mode.PRESENTING
+        self.gui_stop.visible = self.mode is Mode.PRESENTING
+        self.gui_follow.visible = (self.mode is Mode.OWN and lectern.presenter is not None
+                                   and lectern.presenter is not self)
+        self.gui_scene.visible = not following
+        self.lesson_folder.visible = not following
+        self._apply_own_panel()
+
+    def show_own_panel(self, shown: bool) -> None:
+        """Show or hide this session's own folders (a narrow follower's panel is one line)."""
+        self._own_panel_shown = bool(shown)
+        self._apply_own_panel()
+
+    def _apply_own_panel(self) -> None:
+        shown = self._own_panel_shown or self.mode is not Mode.FOLLOWING
+        for handle in (self.gui_projector, self.notes_folder, *([self.lecture_folder] if self.lectern else [])):
+            if handle.visible != shown:
+                handle.visible = shown
 
     def _hide_live(self, hide: bool) -> None:
         """Hide the shared (presenter's) scene in this browser: an invisible node of the same
@@ -527,8 +558,8 @@ class Session:
             self._lecture_note(f"**⚠ {refusal}**")
             return
         self._lecture_note("")
-        if self.mode == "following":
-            self.explore()  # a private copy of what is on screen, then it goes live
+        if self.mode is Mode.FOLLOWING:
+            self.explore()  # an exact copy of what is on screen, then it goes live
         with self._switch_lock:
             self.gui_code.value = ""
             room = self.room
@@ -536,7 +567,7 @@ class Session:
                 self.scene.remove()
                 self.scene = lectern.make_live_view(self, room)
                 self.scene.open_room = self.open_room
-            self.mode = "presenting"
+            self.mode = Mode.PRESENTING
             self._hide_live(False)
         lectern.start(self)
         self._show_lecture_buttons()
@@ -544,35 +575,36 @@ class Session:
     def stop_presenting(self) -> None:
         """Release the lock; the followers keep the last state; this browser keeps the room."""
         lectern = self.lectern
-        if lectern is None or self.mode != "presenting":
+        if lectern is None or self.mode is not Mode.PRESENTING:
             return
         lectern.release(self, disconnected=False)
         with self._switch_lock:
             room = self.room
             with room.lock:
                 self.scene.remove_panel()  # its shared nodes stay: the followers' last state
-                self.mode = "own"
+                self.mode = Mode.OWN
                 self.scene = self._new_view(room)
             self._hide_live(True)
         self._show_lecture_buttons()
 
     def following_by_default(self) -> bool:
         """A browser with its own room that has not chosen to explore follows a new presenter."""
-        return self.mode == "own" and not self.explored
+        return self.mode is Mode.OWN and not self.explored
 
     def follow(self) -> None:
         """Follow the presenter (or the last state a presenter left): the shared scene and a
-        read-only panel; this browser's own scene goes."""
+        read-only panel; this browser's own room goes."""
         lectern = self.lectern
-        if lectern is None or not lectern.live or self.mode == "presenting":
+        if lectern is None or not lectern.live or self.mode is not Mode.OWN:
             return
         with self._switch_lock:
             if self.scene is not None:
-                with self.room.lock:
+                with self._room.lock:
                     self.scene.remove()
+                    self._room.remove_view(self.scene)
             self.scene = None
-            self.room = lectern.live_room
-            self.mode = "following"
+            self._end_lesson()
+            self.mode = Mode.FOLLOWING
             self.explored = False
             self._hide_live(False)
             self.scene = lectern.add_follower(self)
@@ -580,37 +612,42 @@ class Session:
         self._refresh_preset_commands()
 
     def explore(self) -> None:
-        """Leave the presenter: a private copy of the presenter's current state."""
+        """Leave the presenter with an exact copy of what the shared screen shows now (the same
+        scene, state, time, traces and plots, playing if it plays: `Room.fork`)."""
         lectern = self.lectern
-        if lectern is None or self.mode != "following":
+        if lectern is None or self.mode is not Mode.FOLLOWING:
             return
-        live = self.room
-        with live.lock:
-            sim = fork_simulation(live.scene, live.sim)
+        live = lectern.live_room
+        if live is None:
+            raise RuntimeError("there is nothing on the shared screen to explore")
+        copy = live.fork()
         with self._switch_lock:
             lectern.remove_follower(self)
-            self.mode = "own"
+            self.mode = Mode.OWN
             self.explored = True
-            self.room = Room(live.scene, sim)
+            self._room = copy
             self._hide_live(True)
-            self.scene = self._new_view(self.room)
-            if self.gui_scene.value != live.scene.title:
-                self.gui_scene.value = live.scene.title  # titles match: no switch
+            with copy.lock:
+                self.scene = self._new_view(copy)
+            if self.gui_scene.value != copy.scene.title:
+                self.gui_scene.value = copy.scene.title  # titles match: no switch
         self._show_lecture_buttons()
         self._refresh_preset_commands()
+        if lectern.presenter is not None:  # the same view as the presenter's
+            lectern.reset_view(self)
 
     def close(self) -> None:
         """Leave the room (its client is gone; viser drops the client's nodes); a presenter who
         leaves releases the lock, the followers keep the last state."""
         self.closed = True
         if self.lectern is not None:
-            if self.mode == "presenting":
+            if self.mode is Mode.PRESENTING:
                 self.lectern.release(self, disconnected=True)
                 return
-            if self.mode == "following":
+            if self.mode is Mode.FOLLOWING:
                 self.lectern.followers.pop(self.client_id, None)
                 return
-        room = self.room
+        room = self._room
         with room.lock:
             room.remove_view(self.scene)
             if not room.views:

@@ -119,19 +119,25 @@ def test_explore_on_my_own_forks_the_state_and_follow_presenter_comes_back(hall:
     presenter.play()
     hall.frames(20)
     R_live = presenter.simulation.state.R_space_body.copy()
+    t_live = presenter.simulation.t
     student.explore()
     assert student.mode == "own" and student.room is not presenter.room
-    np.testing.assert_allclose(student.simulation.state.R_space_body, R_live, atol=1e-15)
-    assert student.simulation.t == 0.0 and student.scene.title == "Heavy top"
+    # An exact copy, playing as the presenter's plays, at the same time (not a restart at t = 0).
+    assert np.array_equal(student.simulation.state.R_space_body, R_live)
+    assert student.simulation.t == t_live > 0.0 and student.scene.title == "Heavy top"
+    assert student.room.playing and student.simulation.preset == "Loop"
     assert student._shadow is not None  # the shared scene is hidden in this browser
-    student.play()
     hall.frames(10)
-    assert student.simulation.t > 0.0 and presenter.room.ticks == 30
+    assert student.simulation.t > t_live and presenter.room.ticks == 30
+    np.testing.assert_array_equal(student.simulation.state.R_space_body, presenter.simulation.state.R_space_body)
     presenter.select_scene("Euler angles")  # a new scene goes live; the explorer stays put
     assert student.mode == "own" and student.scene.title == "Heavy top"
     student.follow()
     assert student.mode == "following" and student.room is presenter.room and student._shadow is None
+    hall.frames(40)
     assert "Euler angles" in student.scene.gui_status.content
+    student.explore()  # the live scene now, never the student's earlier room
+    assert student.scene.title == "Euler angles" and student.room is not presenter.room
 
 
 def test_a_presenter_who_leaves_leaves_the_last_state_and_a_new_one_takes_over(hall: Hall) -> None:
@@ -161,6 +167,10 @@ def test_stop_presenting_keeps_the_room_in_the_presenters_browser(hall: Hall) ->
     assert presenter.scene.root == "/explorer" and presenter._shadow is not None
     assert follower.mode == "following"  # the last state stays on the followers' screens
     assert presenter.gui_present.visible and not presenter.gui_stop.visible
+    assert not presenter.gui_follow.visible  # nobody presents: nothing to follow
+    hall.frames(40)
+    assert "stopped presenting" in follower.scene.gui_status.content
+    assert "paused" not in follower.scene.gui_status.content
 
 
 def test_the_app_prints_the_presenter_code_and_takes_it_from_the_command_line(

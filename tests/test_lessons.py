@@ -10,7 +10,6 @@ import pytest
 
 from app.lessons import LESSONS_DIR, LessonError, lessons, load_lesson
 from app.scenes import SCENES
-from app.session import checkboxes
 
 
 def test_the_shipped_lessons_load_and_every_step_applies(manual) -> None:
@@ -28,7 +27,7 @@ def test_the_shipped_lessons_load_and_every_step_applies(manual) -> None:
                 assert session.simulation.preset == step.preset
             if step.play is not None:
                 assert session.room.playing is step.play
-            toggles = {label: h.value for label, h in checkboxes(session.scene).items()}
+            toggles = {label: h.value for label, h in session.scene.checkboxes().items()}
             assert all(toggles[label] == value for label, value in step.display.items()), (lesson.title, k)
             if step.tab is not None:
                 assert session.scene.tabs.shown == step.tab

@@ -159,6 +159,7 @@ class RigidBodyView(SceneView):
     """One browser's view of a room with a `RigidBodySimulation`.  Subclasses fill in:"""
 
     intro: ClassVar[str] = ""
+    tabs: Tabs
     param_folder: ClassVar[str] = "Body"
     rate_folder: ClassVar[str] = "Angular velocity"
     momentum_kind: ClassVar[str] = "norm"  # "norm": |L| is conserved; "z": L_z

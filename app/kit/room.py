@@ -55,6 +55,10 @@ class Simulation(Protocol):
     def reset(self) -> None:
         """Back to the initial conditions of this run (t = 0)."""
 
+    def fork(self) -> Simulation:
+        """An exact, independent copy: the same state, time, history and plots so far."""
+        ...
+
 
 class View(Protocol):
     """What a room needs from a view (one browser's drawing of the room's simulation)."""
@@ -119,6 +123,17 @@ class Room:
         self.lock = threading.RLock()
         self.ticks = 0
         self._since_sample = 0.0
+
+    def fork(self) -> Room:
+        """An exact copy of this room as it is now (`sim.fork()`), playing if this one plays,
+        at the same time scale, with no views."""
+        with self.lock:
+            import copy as _copy  # TEMPORARY until every simulation has fork()
+            fork = getattr(self.sim, "fork", None)
+            copy = Room(self.scene, fork() if fork is not None else _copy.deepcopy(self.sim))
+            copy.playing, copy.time_scale = self.playing, self.time_scale
+            copy._since_sample = self._since_sample
+        return copy
 
     # ------------------------------------------------------------------ views
     def add_view(self, view: Any) -> None:

@@ -15,9 +15,10 @@ from typing import Any, ClassVar
 import viser
 
 from app.kit.common import CameraView, SliderSpec, apply_camera
-from app.kit.gui import MessageLine, Quiet, Wrap
+from app.kit.gui import MessageLine, Quiet, Tabs, Wrap
 from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
+from app.kit.target import DrawTarget, as_target
 
 __all__ = ["SceneView"]
 
@@ -33,15 +34,21 @@ class SceneView:
     preset_file: ClassVar[str] = ""  # under assets/presets/
     param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+    tabs: Tabs | None = None
+    """The panel's tabs (Setup / Readout / ...), if the scene has them."""
     open_room: Callable[[Room], None] | None = None
     """Set by the session: show another room in this browser (e.g. "Spin it" hands a body to the
     Free body scene: `self.open_room(Room(FreeBodyView, simulation))`)."""
 
-    def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
+    def __init__(self, client: viser.ClientHandle | DrawTarget, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
-        self.client = client
+        target = as_target(client)
+        self.client = target
+        # Interactive handles (gizmos, click handlers) go here and nowhere else: the scene of
+        # the one browser that controls the room, or None (app.kit.target).
+        self.controls = target.controls
         # A presenter's view draws into the shared scene under a prefix (app.lectern.Broadcast).
-        self.root = getattr(client, "root_prefix", "") + type(self).root
+        self.root = target.root_prefix + type(self).root
         self.room = room
         self.sim: Any = room.sim
         self._wrap = wrap
@@ -49,7 +56,7 @@ class SceneView:
         self.quiet = Quiet()  # the server writing sliders: their callbacks do nothing
         self.message: MessageLine
         self._gui_roots: list[Any] = []
-        self._root_node = client.scene.add_frame(self.root, show_axes=False)
+        self._root_node = target.scene.add_frame(self.root, show_axes=False)
 
     def build(self) -> None:
         """Build the nodes and the panel (`_build_scene`, `_build_gui`), join the room, draw."""
@@ -121,7 +128,8 @@ class SceneView:
 
     def reset_view(self) -> None:
         """Put this client's camera back to the scene's view."""
-        apply_camera(self.client, self.view)
+        if self.client.camera is not None:
+            apply_camera(self.client, self.view)
 
     def remove(self) -> None:
         """Leave the room and remove this view's panel and nodes from its client."""
@@ -135,6 +143,26 @@ class SceneView:
         for handle in self._gui_roots:
             handle.remove()
         self._gui_roots = []
+
+    def checkboxes(self) -> dict[str, viser.GuiCheckboxHandle]:
+        """The view's checkboxes by label (what a lesson step may switch)."""
+        handles = (getattr(self, name) for name in dir(self) if name.startswith("gui_"))
+        return {str(h.label): h for h in handles if isinstance(h, viser.GuiCheckboxHandle)}
+
+    def show_tab(self, name: str) -> None:
+        """Open the panel tab `name` (a lesson step); ValueError if the scene has no such tab."""
+        if self.tabs is None or name not in self.tabs.names:
+            raise ValueError(f"{self.title} has no panel tab {name!r}")
+        self.tabs.show(name)
+
+    def set_integrator(self, name: str) -> None:
+        """Choose the integrator `name` (a lesson step); scenes with an integrator menu override it."""
+        raise ValueError(f"{self.title} has no integrator menu (asked for {name!r})")
+
+    def key_numbers(self) -> list[str]:
+        """A few lines of the scene's key numbers, for the followers' read-only panel (the
+        sliders' values by default)."""
+        return [f"{label} = {value}" for label, value in self.control_values()]
 
     def control_values(self) -> list[tuple[str, str]]:
         """(label, value) of the view's sliders, for the followers' read-only panel."""

@@ -308,6 +308,38 @@ def spin_moments(moments: Vec3) -> tuple[tuple[float, float, float], float]:
     return (float(scaled[0]), float(scaled[1]), float(scaled[2])), k
 
 
+class _Ball:
+    """A mass's ball, drawn in the view's scene; clickable only in the controlling browser.
+
+    Where the scene is shared (a presenter's), the ball that answers clicks is a copy of the
+    same name in the presenter's own scene (`controls`): viser draws a browser's own node of a
+    name instead of the shared one, so the presenter sees and clicks its copy, and the shared
+    ball, which every follower sees, has no click handler.  Without controls (a recording) no
+    ball is clickable.
+    """
+
+    def __init__(self, scene: Any, controls: Any, name: str, vertices: np.ndarray, faces: np.ndarray) -> None:
+        scopes = [scene] if controls is None or controls is scene else [scene, controls]
+        self.handles = [api.add_mesh_simple(name, vertices, faces, color=(230, 150, 60)) for api in scopes]
+        self.clickable = self.handles[-1] if controls is not None else None
+
+    def on_click(self, callback: Callable[[Any], None]) -> None:
+        if self.clickable is not None:
+            self.clickable.on_click(callback)
+
+    def set(self, prop: str, value: Any) -> None:
+        """Set a property in every scope (only where it changes)."""
+        for handle in self.handles:
+            if prop == "visible" and handle.visible == value:
+                continue
+            setattr(handle, prop, value)
+
+    def __getattr__(self, name: str) -> Any:  # read a property (position, scale, ...) of the drawn ball
+        if name == "handles":
+            raise AttributeError(name)
+        return getattr(self.handles[0], name)
+
+
 class InertiaView(SceneView):
     """One browser's view of an `InertiaSystem` (see the module docstring)."""
 
@@ -368,12 +400,16 @@ class InertiaView(SceneView):
             scene.add_label(f"{root}/O/labels/{k}", f"e{k + 1}", position=tuple(1.15 * np.eye(3)[k]),
                             font_screen_scale=1.8, anchor="center-center")
         self.O_label = scene.add_label(f"{root}/O_label", "O", font_screen_scale=1.8, anchor="bottom-right")
-        self.gizmo = scene.add_transform_controls(f"{root}/gizmo", scale=0.7, disable_rotations=True,
-                                                  depth_test=False)
-        self.gizmo.on_update(self._wrap("drag", lambda _event: self._dragged()))
-        self.O_gizmo = scene.add_transform_controls(f"{root}/O_gizmo", scale=0.45, disable_rotations=True,
-                                                    depth_test=False, opacity=0.8)
-        self.O_gizmo.on_update(self._wrap("drag O", lambda _event: self._O_dragged()))
+        # The gizmos are interactive: only in the controlling browser's own scene (app.kit.target).
+        self.gizmo: Any = None
+        self.O_gizmo: Any = None
+        if self.controls is not None:
+            self.gizmo = self.controls.add_transform_controls(f"{root}/gizmo", scale=0.7, disable_rotations=True,
+                                                              depth_test=False)
+            self.gizmo.on_update(self._wrap("drag", lambda _event: self._dragged()))
+            self.O_gizmo = self.controls.add_transform_controls(f"{root}/O_gizmo", scale=0.45,
+                                                                disable_rotations=True, depth_test=False, opacity=0.8)
+            self.O_gizmo.on_update(self._wrap("drag O", lambda _event: self._O_dragged()))
 
     def _build_gui(self) -> None:
         gui = self.client.gui
@@ -649,6 +685,17 @@ class InertiaView(SceneView):
                      "sliders: the motion is the same (Euler's equations are homogeneous in I), T and L are ×k.")
         room.notify(text)
 
+    def key_numbers(self) -> list[str]:
+        """For the followers' panel: the body (masses, or the mesh and its mass) and its
+        principal moments about O."""
+        sim, props = self.sim, self.sim.properties()
+        if sim.mesh is not None:
+            body = f"{sim.mesh_name}: m = {props['mass']:.4g} kg"
+        else:
+            body = f"{len(sim.masses)} masses [kg]: " + ", ".join(f"{m:.3g}" for m in sim.masses)
+        moments = ", ".join(f"{m:.4g}" for m in props["moments"])
+        return [body, f"principal moments about O: {moments} kg m²"]
+
     # ------------------------------------------------------------------ drawing
     def frame(self, dt: float) -> None:
         """Nothing moves: a frame draws only after an edit another view made in this room."""
@@ -670,17 +717,18 @@ class InertiaView(SceneView):
             self.O_frame.wxyz = wxyz_from_matrix(axes)
             self.O_label.position = tuple(k * O)
             self.com_node.position = tuple(k * props["com"])
-            if self._dragging != "O":
+            if self._dragging != "O" and self.O_gizmo is not None:
                 self.O_gizmo.position = tuple(k * O)
             self._draw_ellipsoid(k * O, axes, moments, props["zero"])
             self.folder_masses.visible = particles
-            self.gizmo.visible = particles
+            if self.gizmo is not None:
+                self.gizmo.visible = particles
             if particles:
                 self.gui_selected.options = tuple(str(j + 1) for j in range(len(sim.masses)))
                 self.quiet.write(self.gui_selected, str(self.selected + 1))
                 self.quiet.write(self.gui_mass, MASS_SPEC.rounded(float(sim.masses[self.selected])))
                 self.quiet.write(self.gui_position, tuple(round(float(v), 4) for v in sim.positions[self.selected]))
-                if self._dragging != "mass":
+                if self._dragging != "mass" and self.gizmo is not None:
                     self.gizmo.position = tuple(sim.positions[self.selected])
             self.quiet.write(self.gui_about, tuple(round(float(v), 4) for v in O))
             self.presets_row.show_note(self.preset_shown())
@@ -690,8 +738,7 @@ class InertiaView(SceneView):
         scene, sim = self.client.scene, self.sim
         if sim.mesh is not None:
             for ball in self._balls:
-                if ball.visible:
-                    ball.visible = False
+                ball.set("visible", False)
             if self._mesh_drawn is not sim.mesh:
                 if self._mesh_node is not None:
                     self._mesh_node.remove()
@@ -706,18 +753,16 @@ class InertiaView(SceneView):
         while len(self._balls) < len(sim.masses):
             index = len(self._balls)
             sphere = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
-            ball = scene.add_mesh_simple(f"{self.root}/masses/{index}", sphere.vertices, sphere.faces,
-                                         color=(230, 150, 60))
+            ball = _Ball(scene, self.controls, f"{self.root}/masses/{index}", sphere.vertices, sphere.faces)
             ball.on_click(self._wrap("ball click", lambda _event, j=index: self._select(j + 1)))
             self._balls.append(ball)
         for index, ball in enumerate(self._balls):
             shown = index < len(sim.masses)
-            if ball.visible != shown:
-                ball.visible = shown
+            ball.set("visible", shown)
             if shown:
-                ball.position = tuple(sim.positions[index])
-                ball.scale = BALL_RADIUS * float(sim.masses[index]) ** (1.0 / 3.0)
-                ball.color = (200, 50, 20) if index == self.selected else (230, 150, 60)
+                ball.set("position", tuple(sim.positions[index]))
+                ball.set("scale", BALL_RADIUS * float(sim.masses[index]) ** (1.0 / 3.0))
+                ball.set("color", (200, 50, 20) if index == self.selected else (230, 150, 60))
 
     def _draw_ellipsoid(self, O: Vec3, axes: Mat3, moments: Vec3, zero: Sequence[bool]) -> None:
         """The momental ellipsoid ω·I_O ω = 1 at O: a unit sphere built once, turned by the

@@ -568,7 +568,7 @@ class MovingFrameView(SceneView):
 
     def set_riding(self, on: bool) -> None:
         """The camera toggle, as clicking it does."""
-        self.gui_ride.value = bool(on)  # type: ignore[misc]  # viser's setter; runs its callback: refresh
+        self.gui_ride.value = bool(on)  # viser's setter; runs its callback: refresh
 
     @property
     def riding(self) -> bool:

@@ -216,7 +216,7 @@ class PoinsotView(FreeBodyView):
         self._L_scale_space = 1.0  # [scene units per kg m²/s] of the momentum picture
 
     def build_display_extras(self, gui: Any) -> None:
-        self.gui_show_nodes.value = False  # type: ignore[misc]  # the line of nodes would only clutter this picture
+        self.gui_show_nodes.value = False  # the line of nodes would only clutter this picture
         self.gui_show_lspace = gui.add_checkbox("Momentum-space picture", True,
                                                 hint="body L-space: the |L| sphere, the energy ellipsoid, the polhodes")
         self.gui_show_lspace.on_update(self._wrap("momentum picture", lambda _event: self._show_lspace()))
