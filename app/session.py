@@ -563,12 +563,12 @@ class Session:
         with self._switch_lock:
             self.gui_code.value = ""
             room = self.room
+            self._hide_live(False)  # first: removing the shadow removes what this browser has under it
             with room.lock:
                 self.scene.remove()
                 self.scene = lectern.make_live_view(self, room)
                 self.scene.open_room = self.open_room
             self.mode = Mode.PRESENTING
-            self._hide_live(False)
         lectern.start(self)
         self._show_lecture_buttons()
 

@@ -143,6 +143,18 @@ class SceneView:
         for handle in self._gui_roots:
             handle.remove()
         self._gui_roots = []
+        self._remove_controls()
+
+    def _remove_controls(self) -> None:
+        """Remove what the view added to a controlling browser's own scene (a presenter's
+        gizmos and clickable copies, named under `root`); in a browser's own room they went
+        with the root node."""
+        controls = self.controls
+        if controls is None or controls is self.client.scene:
+            return
+        for name, handle in list(controls._handle_from_node_name.items()):  # viser's registry of that scope
+            if name.startswith(self.root + "/") and not handle._impl.removed:
+                handle.remove()
 
     def checkboxes(self) -> dict[str, viser.GuiCheckboxHandle]:
         """The view's checkboxes by label (what a lesson step may switch)."""

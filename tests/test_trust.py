@@ -1,0 +1,302 @@
+"""The presenter's room is the presenter's (app.lectern's rule), tried with a hostile follower on
+a raw websocket, in every scene; Explore copies what the presenter shows, exactly; the follower
+panel stays current; a phone follower's camera is framed for its aspect.
+
+The hostile follower (benchmarks.ws_client.ViserClient, which decodes every frame it is sent):
+- sends an update for every GUI id it has seen (numbers far out of range, NaN, strings, True),
+  presses every button and triggers every command it has seen;
+- drags every transform gizmo and clicks and drags every scene node it was sent, addressed to
+  the shared scope and, guessing, to the presenter's scope (its client id as owner) and to the
+  names the presenter's own gizmos and balls have;
+- uploads a mesh to every upload button it has seen;
+- and, as if it had learned them, sends updates, clicks and uploads to the uuids of the
+  presenter's own panel (known here from the server side).
+The app's loop does not run (the test ticks), so the presenter's simulation can only change if
+something the hostile sent changed it: its fingerprint must stay bit-identical.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+import uuid as uuidlib
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+import pytest
+from conftest import RawClient, poll_until
+
+from app.lectern import fitted_camera
+from app.main import create_server
+from app.scenes import SCENES
+from benchmarks.ws_client import ViserClient
+
+DT = 1.0 / 60.0
+CODE = "135790"
+BOX_STL = b"""solid box
+facet normal 0 0 -1
+outer loop
+vertex 0 0 0
+vertex 1 1 0
+vertex 1 0 0
+endloop
+endfacet
+endsolid box
+"""
+
+
+def fingerprint(obj: Any, depth: int = 0) -> Any:
+    """Everything a simulation holds, as comparable plain values (arrays as dtype, shape, bytes)."""
+    if isinstance(obj, np.ndarray):
+        return ("array", obj.dtype.str, obj.shape, obj.tobytes())
+    if isinstance(obj, (bool, int, str, bytes, type(None))):
+        return obj
+    if isinstance(obj, float):
+        return ("float", obj.hex())
+    if isinstance(obj, (list, tuple)):
+        return tuple(fingerprint(v, depth + 1) for v in obj)
+    if isinstance(obj, dict):
+        return tuple(sorted((str(k), fingerprint(v, depth + 1)) for k, v in obj.items()))
+    if callable(obj) or depth > 4:
+        return type(obj).__name__
+    fields = getattr(obj, "__dict__", None)
+    if fields is None:
+        slots = getattr(type(obj), "__slots__", ())
+        fields = {name: getattr(obj, name) for name in slots if hasattr(obj, name)}
+    return (type(obj).__name__, tuple(sorted((k, fingerprint(v, depth + 1)) for k, v in fields.items()
+                                             if not k.startswith("_cache"))))
+
+
+class Hall:
+    """The app with its loop NOT running, a presenter's raw client, and helpers."""
+
+    def __init__(self) -> None:
+        self.app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE)
+        self.raw: list[Any] = []
+
+    def join(self, client_factory: Any = RawClient) -> Any:
+        before = set(self.app.sessions)
+        client = client_factory(self.app.port)
+        self.raw.append(client)
+        sessions = self.app.wait_for_sessions(len(before) + 1)
+        (session,) = (s for cid, s in sessions.items() if cid not in before)
+        return session, client
+
+    def frames(self, count: int) -> None:
+        for _ in range(count):
+            for room in self.app.rooms():
+                room.tick(DT)
+            self.app.lectern.tick(DT)
+
+    def close(self) -> None:
+        for client in self.raw:
+            client.close()
+        self.app.stop()
+
+
+@pytest.fixture
+def hall() -> Iterator[Hall]:
+    running = Hall()
+    try:
+        yield running
+    finally:
+        running.close()
+
+
+def _messages_seen(client: ViserClient) -> list[dict[str, Any]]:
+    with client.state.lock:
+        return [message for _, _, message in client.state.messages]
+
+
+def _hostile_values(message: dict[str, Any]) -> list[Any]:
+    value = message.get("value")
+    if isinstance(value, bool):
+        return [not value, True]
+    if isinstance(value, (int, float)):
+        return [1e9, -5.0, math.nan, "x", 0]
+    if isinstance(value, (list, tuple)):
+        return [[1e9] * len(value), [math.nan] * len(value), "x"]
+    if isinstance(value, str):
+        return ["nonsense", "Free body", "Euler angles", "000000"]
+    return [True]  # buttons and the like: a click
+
+
+def attack(hostile: ViserClient, presenter_session: Any) -> int:
+    """Everything a hostile follower can send; the number of messages sent."""
+    from viser import _messages
+
+    sent = 0
+
+    def send(message: Any) -> None:
+        nonlocal sent
+        hostile.send(message)
+        sent += 1
+
+    seen = _messages_seen(hostile)
+    gui_ids = {m["uuid"]: m for m in seen if m.get("type", "").startswith("Gui") and "uuid" in m
+               and "props" in m}
+    node_names = {m["name"] for m in seen if isinstance(m.get("name"), str) and m.get("type", "").endswith("Message")}
+    gizmo_names = {m["name"] for m in seen if m.get("type") == "TransformControlsMessage"}
+    uploads = [u for u, m in gui_ids.items() if m.get("type") == "GuiUploadButtonMessage"]
+    commands = {m["uuid"] for m in seen if m.get("type") == "RegisterCommandMessage" and "uuid" in m}
+    # What it could only guess: the presenter's own panel, its gizmos and balls, its client id.
+    presenter_gui = presenter_session.client.gui
+    known = dict(presenter_gui._gui_input_handle_from_uuid)
+    guessed_nodes = {name for name in presenter_session.client.scene._handle_from_node_name}
+    owners = ["", str(presenter_session.client_id)]
+
+    for uid, message in gui_ids.items():
+        for value in _hostile_values(message):
+            send(_messages.GuiUpdateMessage(uid, {"value": value}))
+        send(_messages.GuiButtonHoldMessage(uid, 10.0))
+    for uid in known:
+        for value in (1e9, True, "x"):
+            send(_messages.GuiUpdateMessage(uid, {"value": value}))
+    for uid in commands | set(presenter_gui._command_handle_from_uuid):
+        send(_messages.CommandTriggerMessage(uid))
+    for name in sorted(node_names | gizmo_names | guessed_nodes):
+        for owner in owners:
+            send(_messages.SceneNodeClickMessage(name, None, (0.0, 0.0, 5.0), (0.0, 0.0, -1.0), (0.5, 0.5), None,
+                                                 owner=owner))
+            send(_messages.SceneNodeClickMessage(name, 0, (0.0, 0.0, 5.0), (0.0, 0.0, -1.0), (0.5, 0.5), None,
+                                                 owner=owner))
+            send(_messages.TransformControlsDragStartMessage(name, owner=owner))
+            send(_messages.TransformControlsUpdateMessage(name, (1.0, 0.0, 0.0, 0.0), (0.7, -0.9, 0.79),
+                                                          owner=owner))
+            send(_messages.TransformControlsDragEndMessage(name, owner=owner))
+    upload_targets = uploads + [u for u, h in known.items() if type(h).__name__ == "GuiUploadButtonHandle"]
+    for uid in upload_targets:
+        transfer = str(uuidlib.uuid4())
+        send(_messages.FileTransferStartUpload(uid, transfer, "box.stl", "model/stl", 1, len(BOX_STL)))
+        send(_messages.FileTransferPart(uid, transfer, 0, BOX_STL))
+    return sent
+
+
+def _presenter_for(hall: Hall, title: str) -> Any:
+    presenter, _ = hall.join()
+    presenter.select_scene(title)
+    if title == "Inertia":  # a state of its own: three masses, O moved
+        view = presenter.scene
+        view._add_remove("Add mass")
+        view.sim.set_about((0.1, 0.2, 0.3))
+        presenter.room.refresh()
+    presenter.present(CODE)
+    hall.frames(1)
+    presenter.play()
+    hall.frames(30)
+    return presenter
+
+
+@pytest.mark.parametrize("title", list(SCENES))
+def test_a_hostile_follower_cannot_change_the_presenters_room(hall: Hall, title: str) -> None:
+    presenter = _presenter_for(hall, title)
+    follower, hostile = hall.join(lambda port: ViserClient(port, keep_messages=100_000))
+    assert follower.mode == "following"
+    hall.frames(2)
+    hostile.state.wait_for(lambda: hostile.state.replay_done, timeout=10.0)
+    time.sleep(0.3)  # the shared scene and the follower panel have arrived
+    sim = presenter.room.sim
+    before = fingerprint(sim)
+    room_before = (presenter.room.playing, presenter.room.time_scale, presenter.room.scene)
+    errors_before = presenter.error_count
+    sent = attack(hostile, presenter)
+    assert sent > 100
+    time.sleep(1.0)  # viser's pool runs the callbacks
+    with follower.lock:  # and the last of them has finished
+        pass
+    with presenter.lock:
+        pass
+    assert presenter.room.sim is sim and fingerprint(sim) == before, f"{title}: the presenter's simulation changed"
+    assert (presenter.room.playing, presenter.room.time_scale, presenter.room.scene) == room_before
+    assert presenter.mode == "presenting" and presenter.error_count == errors_before
+    assert hall.app.lectern.presenter is presenter
+
+
+def test_the_shared_scene_has_no_handle_that_answers_a_browser(hall: Hall) -> None:
+    """By design: every interactive handle (gizmo, click, drag) of a presenter's view lives in
+    the presenter's own scene, none in the shared one."""
+    for title in SCENES:
+        presenter = _presenter_for(hall, title) if hall.app.lectern.presenter is None else hall.app.lectern.presenter
+        presenter.select_scene(title)
+        shared = hall.app.server.scene._handle_from_node_name
+        for name, handle in shared.items():
+            impl = handle._impl
+            assert not impl.click_cb, f"{title}: {name} is clickable in the shared scene"
+            assert not getattr(impl, "drag_cb", None), f"{title}: {name} is draggable in the shared scene"
+            assert not getattr(handle, "_impl_aux", None) or not handle._impl_aux.update_cb, \
+                f"{title}: the gizmo {name} is in the shared scene"
+        if title == "Inertia":
+            own = presenter.client.scene._handle_from_node_name
+            assert any(type(h).__name__ == "TransformControlsHandle" for h in own.values())
+            assert sum(1 for h in own.values() if h._impl.click_cb) == len(presenter.scene.sim.masses)
+
+
+@pytest.mark.parametrize("title", list(SCENES))
+def test_explore_copies_exactly_what_the_presenter_shows(hall: Hall, title: str) -> None:
+    presenter = _presenter_for(hall, title)
+    follower, _ = hall.join()
+    hall.frames(3)
+    follower.explore()
+    assert follower.mode == "own" and follower.scene.title == title
+    assert follower.room is not presenter.room and follower.room.sim is not presenter.room.sim
+    assert fingerprint(follower.room.sim) == fingerprint(presenter.room.sim), title
+    assert follower.room.playing == presenter.room.playing and follower.room.time_scale == presenter.room.time_scale
+    hall.frames(20)  # both go on alike, each in its own room
+    assert fingerprint(follower.room.sim) == fingerprint(presenter.room.sim), title
+    assert follower.error_count == 0, follower.last_error
+
+
+def test_the_follower_panel_says_what_is_shown_now(hall: Hall) -> None:
+    presenter = _presenter_for(hall, "Inertia")
+    follower, _ = hall.join()
+    hall.frames(40)
+    status = follower.scene.gui_status.content
+    assert "Inertia" in status and "3 masses" in status and "principal moments" in status
+    presenter.start_lesson("§1 Euler angles and ω")  # a lesson step reaches the followers
+    hall.frames(40)
+    assert "§1 Euler angles" in follower.scene.gui_status.content
+    presenter.select_scene("Heavy top")  # chosen by hand: the lesson and its text go
+    hall.frames(40)
+    status = follower.scene.gui_status.content
+    assert "Heavy top" in status and "§1" not in status and presenter.lesson is None
+    presenter.stop_presenting()
+    hall.frames(40)
+    status = follower.scene.gui_status.content
+    assert "stopped presenting" in status and "paused" not in status
+    assert not presenter.gui_follow.visible
+
+
+def test_a_narrow_follower_sees_one_line_and_its_camera_is_fitted(hall: Hall) -> None:
+    from benchmarks.ws_client import camera_message
+
+    _presenter_for(hall, "Heavy top")
+    follower, client = hall.join()
+    client.send(camera_message(width=780, height=1688))  # a phone, portrait, device pixels
+    panel = poll_until(lambda: follower.scene if follower.scene.narrow else None, timeout=5.0)
+    assert not panel.expanded and panel.gui_line.visible and not panel.gui_status.visible
+    assert not follower.gui_projector.visible and not follower.lecture_folder.visible
+    panel.set_expanded(True)
+    assert panel.gui_status.visible and follower.lecture_folder.visible
+
+
+def test_fitted_camera_keeps_the_horizontal_extent() -> None:
+    fov = math.radians(40.0)
+    position, look_at = fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 0.4)
+    assert look_at == (0.0, 0.0, 0.0)
+    distance = float(np.linalg.norm(position))
+    # Horizontal half-width at the target: d tan(h/2), tan(h/2) = aspect tan(fov/2).
+    np.testing.assert_allclose(distance * 0.4 * math.tan(fov / 2), math.sqrt(29.0) * 1.6 * math.tan(fov / 2),
+                               rtol=1e-12)
+    np.testing.assert_allclose(np.asarray(position) / distance, np.array([4.0, -3.0, 2.0]) / math.sqrt(29.0),
+                               rtol=1e-12)
+    assert fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 2.0)[0] == (4.0, -3.0, 2.0)
+
+
+def test_dataclass_messages_used_here_exist() -> None:
+    from viser import _messages
+
+    for name in ("SceneNodeClickMessage", "TransformControlsUpdateMessage", "FileTransferStartUpload",
+                 "CommandTriggerMessage", "GuiButtonHoldMessage"):
+        assert dataclasses.is_dataclass(getattr(_messages, name))
