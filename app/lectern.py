@@ -61,7 +61,7 @@ import viser
 from app.kit.common import apply_camera
 from app.kit.room import Room
 
-__all__ = ["CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT", "NARROW_PX", "Broadcast",
+__all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT", "NARROW_PX", "Broadcast",
            "Follower", "Hall", "Lectern", "Mode", "Seat", "fitted_camera", "new_code"]
 
 logger = logging.getLogger(__name__)
@@ -74,6 +74,7 @@ CAMERA_PERIOD = 0.1  # [s] the presenter's camera reaches the followers at most 
 NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
 NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
+BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
 
 
 class Mode(enum.StrEnum):
@@ -184,11 +185,13 @@ def fitted_camera(position: Any, look_at: Any, fov_rad: float, aspect_from: floa
     """The presenter's camera (position, look_at [scene units], vertical fov [rad], aspect) made
     to show the same horizontal extent on a narrower view of aspect `aspect_to`: the same
     viewing direction and look_at, the distance grown by tan(h_from/2) / tan(h_to/2), where the
-    horizontal half-angles follow from tan(h/2) = aspect tan(fov/2).  A view at least as wide
-    keeps the distance (it shows more at the sides)."""
+    horizontal half-angles follow from tan(h/2) = aspect tan(fov/2), i.e. by aspect_from /
+    aspect_to for the same vertical fov.  A view at least as wide
+    keeps the distance (it shows more at the sides).  The scenes frame their body in the left
+    BODY_WIDTH_SHARE of a wide view (the panel floats on the right), so only that share of the
+    presenter's width is kept: the body fills a phone's width instead of a third of it."""
     eye, target = np.asarray(position, dtype=float), np.asarray(look_at, dtype=float)
-    half = math.tan(0.5 * float(fov_rad))
-    factor = max(1.0, (aspect_from * half) / (aspect_to * half)) if half > 0.0 else 1.0
+    factor = max(1.0, BODY_WIDTH_SHARE * aspect_from / aspect_to) if aspect_to > 0.0 else 1.0
     eye = target + factor * (eye - target)
     return (float(eye[0]), float(eye[1]), float(eye[2])), (float(target[0]), float(target[1]), float(target[2]))
 

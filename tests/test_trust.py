@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 from conftest import RawClient, poll_until
 
-from app.lectern import fitted_camera
+from app.lectern import BODY_WIDTH_SHARE, fitted_camera
 from app.main import create_server
 from app.scenes import SCENES
 from benchmarks.ws_client import ViserClient
@@ -286,12 +286,13 @@ def test_fitted_camera_keeps_the_horizontal_extent() -> None:
     position, look_at = fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 0.4)
     assert look_at == (0.0, 0.0, 0.0)
     distance = float(np.linalg.norm(position))
-    # Horizontal half-width at the target: d tan(h/2), tan(h/2) = aspect tan(fov/2).
-    np.testing.assert_allclose(distance * 0.4 * math.tan(fov / 2), math.sqrt(29.0) * 1.6 * math.tan(fov / 2),
-                               rtol=1e-12)
+    # Horizontal half-width at the target: d tan(h/2), tan(h/2) = aspect tan(fov/2); the phone
+    # keeps BODY_WIDTH_SHARE of the presenter's.
+    np.testing.assert_allclose(distance * 0.4 * math.tan(fov / 2),
+                               BODY_WIDTH_SHARE * math.sqrt(29.0) * 1.6 * math.tan(fov / 2), rtol=1e-12)
     np.testing.assert_allclose(np.asarray(position) / distance, np.array([4.0, -3.0, 2.0]) / math.sqrt(29.0),
                                rtol=1e-12)
-    assert fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 2.0)[0] == (4.0, -3.0, 2.0)
+    assert fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 1.2)[0] == (4.0, -3.0, 2.0)
 
 
 def test_dataclass_messages_used_here_exist() -> None:
