@@ -48,7 +48,6 @@ import collections
 import contextlib
 import enum
 import logging
-import math
 import secrets
 import threading
 import time
@@ -61,8 +60,9 @@ import viser
 from app.kit.common import apply_camera
 from app.kit.room import Room
 
-__all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT", "NARROW_PX", "Broadcast",
-           "Follower", "Hall", "Lectern", "Mode", "Seat", "fitted_camera", "new_code"]
+__all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT",
+           "NARROW_PX", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Seat", "fitted_camera", "is_narrow",
+           "new_code"]
 
 logger = logging.getLogger(__name__)
 
