@@ -110,7 +110,8 @@ def serve(command: list[str], venv: Path, work: Path, play: bool) -> str:
     playing a scene), stop it with Ctrl-C; what was seen."""
     port = free_port()
     server = subprocess.Popen([*command, "--port", str(port)], cwd=work, env=clean_env(),
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              preexec_fn=_default_sigint)
     output: list[str] = []
     reader = threading.Thread(target=lambda: output.extend(iter(server.stdout.readline, "")), daemon=True)  # type: ignore[union-attr]
     reader.start()
@@ -134,6 +135,12 @@ def serve(command: list[str], venv: Path, work: Path, play: bool) -> str:
     if server.returncode != 0 or "Traceback" in log:
         raise SmokeError(f"server: exit code {server.returncode} after Ctrl-C, output:\n{log[-3000:]}")
     return seen.strip()
+
+
+def _default_sigint() -> None:
+    """In the server's process: Ctrl-C (SIGINT) acts, even when this script was started with it
+    ignored (`cmd &` in a non-interactive shell), so that Python turns it into KeyboardInterrupt."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def wait_until_serving(server: subprocess.Popen[str], output: list[str], port: int) -> int:
