@@ -19,15 +19,16 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
+from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any
 
+from app.data import files_in, lessons_dir
 from app.kit.common import CameraView
-from app.kit.presets import ASSETS
 
 __all__ = ["LESSONS_DIR", "Lesson", "LessonError", "Step", "lessons", "load_lesson", "load_lessons"]
 
-LESSONS_DIR = ASSETS / "lessons"
+LESSONS_DIR = lessons_dir()  # the shipped lessons (app.data: the checkout's or the installed ones)
 
 
 class LessonError(ValueError):
@@ -50,7 +51,7 @@ class Step:
 class Lesson:
     title: str
     steps: tuple[Step, ...]
-    path: Path
+    path: Path | Traversable  # the file it was read from (str() names it in messages)
 
 
 def _vector(value: Any, where: str) -> tuple[float, float, float]:
@@ -98,10 +99,10 @@ def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
                 tab=entry.get("tab"), integrator=entry.get("integrator"))
 
 
-def load_lesson(path: Path, scenes: dict[str, Any]) -> Lesson:
+def load_lesson(path: Path | Traversable, scenes: dict[str, Any]) -> Lesson:
     """One lesson file, checked against the scenes and their presets (LessonError if broken)."""
     try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
         raise LessonError(f"{path}: not readable JSON: {error}") from None
     try:
@@ -110,22 +111,21 @@ def load_lesson(path: Path, scenes: dict[str, Any]) -> Lesson:
         steps = data.get("steps")
         if not isinstance(steps, list) or not steps:
             raise LessonError("steps: missing or empty")
-        return Lesson(data["title"], tuple(_step(s, f"steps[{k}]", scenes) for k, s in enumerate(steps)),
-                      Path(path))
+        return Lesson(data["title"], tuple(_step(s, f"steps[{k}]", scenes) for k, s in enumerate(steps)), path)
     except LessonError as error:
         raise LessonError(f"{path}: {error}") from None
 
 
-def load_lessons(scenes: dict[str, Any], directory: Path = LESSONS_DIR) -> tuple[Lesson, ...]:
-    """Every lesson in `directory`, by file name."""
-    return tuple(load_lesson(path, scenes) for path in sorted(Path(directory).glob("*.json")))
+def load_lessons(scenes: dict[str, Any], directory: Path | Traversable = LESSONS_DIR) -> tuple[Lesson, ...]:
+    """Every lesson (*.json) in `directory`, by file name."""
+    return tuple(load_lesson(path, scenes) for path in files_in(directory, ".json"))
 
 
 _LESSONS: tuple[Lesson, ...] | None = None
 
 
 def lessons() -> tuple[Lesson, ...]:
-    """The shipped lessons (assets/lessons), read once, checked against the registered scenes."""
+    """The shipped lessons (assets/lessons, through `app.data`), read once, checked against the registered scenes."""
     global _LESSONS
     if _LESSONS is None:
         from app.scenes import SCENES

@@ -1,5 +1,8 @@
 """Presets are data: one JSON file per scene under `assets/presets/`, read and checked at start.
 
+The shipped files are read through `app.data` (importlib.resources: the checkout's `assets/`, or
+`app/assets/` in an installed wheel); `PRESETS_DIR` is that folder.
+
 A file is an object with a list `presets`; each preset is
 
     {"name": "Dzhanibekov", "group": "Presets",          # group: the button row it sits in
@@ -21,15 +24,16 @@ import json
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any
 
+from app.data import presets_dir
 from app.kit.common import SliderSpec
 
-__all__ = ["ASSETS", "PRESETS_DIR", "Preset", "PresetError", "load_presets", "preset_entries"]
+__all__ = ["PRESETS_DIR", "Preset", "PresetError", "load_presets", "preset_entries"]
 
-ASSETS = Path(__file__).resolve().parents[2] / "assets"
-PRESETS_DIR = ASSETS / "presets"
+PRESETS_DIR = presets_dir()  # the shipped presets (app.data: the checkout's or the installed ones)
 ANGLE_RANGES_DEG = ((-180.0, 180.0), (0.0, 180.0), (-180.0, 180.0))
 
 
@@ -84,12 +88,13 @@ def _by_key(entry: dict[str, Any], field: str, specs: Sequence[SliderSpec], wher
     return tuple(out)
 
 
-def preset_entries(path: Path) -> list[tuple[str, str, dict[str, Any]]]:
+def preset_entries(path: Path | Traversable) -> list[tuple[str, str, dict[str, Any]]]:
     """(place, name, entry) of each preset in a file: a JSON object whose `presets` is a non-empty
     list of objects with unique non-empty names; PresetError "file: presets[i].field: message".
-    The scene's own fields are checked by its loader (`load_presets`, or a scene's own)."""
+    The scene's own fields are checked by its loader (`load_presets`, or a scene's own).
+    path: a file, or a file in the installed data (`app.data`); the messages name it by str(path)."""
     try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise PresetError(f"{path}: no such file") from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
@@ -112,7 +117,7 @@ def preset_entries(path: Path) -> list[tuple[str, str, dict[str, Any]]]:
 
 
 def load_presets(
-    path: Path,
+    path: Path | Traversable,
     param_specs: Sequence[SliderSpec] = (),
     rate_specs: Sequence[SliderSpec] = (),
     check: Callable[[Preset], None] | None = None,

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +38,7 @@ import numpy as np
 import trimesh
 import viser
 
+from app.data import files_in, meshes_dir
 from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, format_matrix
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
@@ -64,7 +66,7 @@ __all__ = ["MAX_FACES", "MAX_UPLOAD_BYTES", "MESHES_DIR", "InertiaSystem", "Iner
 MAX_UPLOAD_BYTES = 20 * 1024 * 1024  # 20 MiB
 MAX_FACES = 500_000
 MAX_MASSES = 12
-MESHES_DIR = Path(__file__).resolve().parents[2] / "assets" / "meshes"
+MESHES_DIR = meshes_dir()  # the shipped meshes (app.data: the checkout's or the installed ones)
 MESH_SUFFIXES = ("stl", "obj", "ply", "off", "glb")
 EQUAL_RTOL = 1e-6  # principal moments closer than this times the largest are "equal" (3.8)
 ZERO_RTOL = 1e-9  # a principal moment below this times the largest is "zero" (masses on a line)
@@ -249,7 +251,7 @@ class InertiaSystem:
         return mantissa * 10.0**exponent
 
 
-def load_inertia_presets(path: Path) -> tuple[Preset, ...]:
+def load_inertia_presets(path: Path | Traversable) -> tuple[Preset, ...]:
     """The Inertia scene's presets: like the other scenes' files, but each preset carries
     `masses` (N,) [kg] and `positions` (N, 3) [m] (they go into `Preset.params`, masses first,
     then the positions row by row); PresetError "file: presets[i].field: message"."""
@@ -444,7 +446,8 @@ class InertiaView(SceneView):
             self.gui_upload = gui.add_upload_button("Upload STL / OBJ / PLY / OFF / GLB", icon=viser.Icon.UPLOAD,
                                                     hint="a closed, outward-oriented triangle mesh, in metres; "
                                                          f"up to {MAX_UPLOAD_BYTES // 2**20} MiB and {MAX_FACES} faces")
-            self.shipped = {path.stem.replace("_", "-"): path for path in sorted(MESHES_DIR.glob("*.stl"))}
+            self.shipped = {path.name.removesuffix(".stl").replace("_", "-"): path
+                            for path in files_in(MESHES_DIR, ".stl")}
             self.gui_shipped = gui.add_button_group("Shipped", tuple(self.shipped)) if self.shipped else None
         self.gui_spin = gui.add_button("Spin it", icon=viser.Icon.ROTATE_360,
                                        hint="this body, in the Free body scene")
