@@ -13,6 +13,8 @@ Shots (each from the running app, through a real browser):
                      the polhode, the herpolhode, and the body's L-space picture beside it.
     scene_moving.png   the moving frame's "Turntable" preset after a few seconds: paths in C and C′,
                        the real and inertial forces on the free particle (`--scenes moving`).
+    phone_follower.png a phone (390×844, touch) following a presenter who plays the heavy top's
+                       "Loop": one status line, the body in view (`--scenes phone`).
 
 Starts the app on a loopback ephemeral port, opens it in Debian's Chromium through Playwright
 (software WebGL via SwiftShader, the flags of docs/VISER.md), drives that browser's session
@@ -35,7 +37,8 @@ sys.path.insert(0, str(ROOT))
 from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "projector")
+SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "projector", "phone")
+PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 PROJECTOR_SIZE = (1024, 768)  # the "projector" shot: a common projector's resolution
 
 
@@ -123,6 +126,31 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
     raise ValueError(f"unknown scene {scene!r}; choose from {', '.join(SCENES)}")
 
 
+def _phone_shot(browser: Any, app: Any, out: Path) -> Path:
+    """A presenter (1280×800) plays the heavy top's Loop; a phone follows: its screenshot."""
+    presenter_page = browser.new_page(viewport={"width": 1280, "height": 800})
+    presenter_page.goto(f"http://127.0.0.1:{app.port}")
+    presenter = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
+    presenter.select_scene("Heavy top")
+    presenter.apply_preset("Loop")
+    presenter.present(app.lectern.code)
+    presenter.play()
+    context = browser.new_context(**PHONE)
+    phone = context.new_page()
+    phone.goto(f"http://127.0.0.1:{app.port}")
+    app.wait_for_sessions(2, timeout=30.0)
+    phone.get_by_role("button", name="Details").wait_for(timeout=30_000)
+    time.sleep(2.0)
+    _close_toasts(phone)
+    _wait_for(lambda: presenter.simulation.t > 6.0, 60.0)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    phone.screenshot(path=str(out))
+    context.close()
+    presenter_page.close()
+    app.wait_for_sessions(0, timeout=10.0)
+    return out
+
+
 def take_screenshots(
     outdir: Path,
     scenes: tuple[str, ...] = SCENES,
@@ -133,13 +161,16 @@ def take_screenshots(
     """Start the app, shoot one PNG per scene into `outdir`, stop the app; the paths."""
     from playwright.sync_api import sync_playwright
 
-    app = create_server("127.0.0.1", 0, verbose=False)
+    app = create_server("127.0.0.1", 0, verbose=False, presenter_code="000000")
     written = []
     try:
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=chromium, headless=True, args=CHROMIUM_ARGS)
             try:
                 for scene in scenes:
+                    if scene == "phone":
+                        written.append(_phone_shot(browser, app, outdir / "phone_follower.png"))
+                        continue
                     size = PROJECTOR_SIZE if scene == "projector" else (width, height)
                     page = browser.new_page(viewport={"width": size[0], "height": size[1]})
                     page.goto(f"http://127.0.0.1:{app.port}")
