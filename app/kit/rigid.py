@@ -1,11 +1,12 @@
 """The simulation of a rigid body for the animated scenes (free body, heavy top): no viser here.
 
 `RigidBodySimulation` owns the model, the state, the integrator (the real-time splitting
-`physics.realtime.GridStepper`: fixed steps of 1/60 s whatever the frame rate, or the closed form of `physics.methods.exact_solution`
-evaluated at the simulated time), the exact solution where one exists (for the attitude
-error and the "exact ghost"), the drift references of this run and the plot samples.  `restart(state)` starts a run
-at t = 0 from a state it is given, `reset()` goes back to this run's own initial state: a
-simulation never reads a widget.  Several views may draw one simulation.
+`physics.realtime.GridStepper`: fixed steps of 1/60 s whatever the frame rate, or the closed
+form of `physics.methods.exact_solution` evaluated at the simulated time), the exact solution
+where one exists (for the attitude error and the "exact ghost"), the drift references of this
+run and the plot samples.  `restart(state)` starts a run at t = 0 from a state it is given,
+`reset()` goes back to this run's own initial state: a simulation never reads a widget.
+Several views may draw one simulation.
 
 Conventions as in `physics` (docs/CONVENTIONS.md): R = R_space_body, z-x-z Euler angles,
 hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
