@@ -7,6 +7,10 @@ sub-steps, Ω = `physics.guards.rate_scale`.  Each stepper keeps its own caches:
 on equal models or the same one, never share state, so no lock is needed (one stepper is not
 meant to be stepped from two threads at once).
 
+`GridStepper(model, state)` is the app's: it steps a `RealtimeStepper` in whole steps of a fixed
+h = NOMINAL_STEP and shows the time between grid points by a `RealtimeStepper.peek`, so that the
+trajectory does not depend on the frame rate or on the frames' jitter (see its docstring).
+
 `step_realtime(model, state, dt)` is the same step as a pure function of (model, state); it
 builds a stepper per call, so it validates and converts the state every time (a stepper skips
 that: keep one per simulation).
@@ -20,7 +24,8 @@ from physics.dynamics import IntegrationError, Model, State
 from physics.guards import omega_limit, validated_state
 from physics.splitting import CHECK_EVERY, STAGES, Kernel, Splitting, gammas_of, state_builder
 
-__all__ = ["MAX_SUBSTEPS", "REALTIME_SUBSTEP_ANGLE", "RealtimeStepper", "step_realtime"]
+__all__ = ["GRID_TOLERANCE", "MAX_SUBSTEPS", "NOMINAL_STEP", "REALTIME_SUBSTEP_ANGLE", "GridStepper", "RealtimeStepper",
+           "step_realtime"]
 
 REALTIME_SUBSTEP_ANGLE = 0.25
 """Real-time sub-step bound: h Ω <= this [rad] per sub-step, Ω = `rate_scale`.
@@ -112,31 +117,44 @@ class RealtimeStepper:
             IntegrationError: a non-finite state, a blow-up, or more than MAX_SUBSTEPS
                 sub-steps needed (|ω| far beyond anything a display can show).
         """
-        # A conservative model's sub-step count depends on dt only (Ω is fixed): key dt.  A bad
-        # dt (0, negative, inf, NaN) is never a key, so `_frame` validates it.
-        frame = self._frames.get(dt) if self._conservative else None
-        if frame is None:
-            frame = self._frame(dt)
-        kernel, n, h = frame
-        t0 = self._t
-        if n <= CHECK_EVERY:
-            y = kernel(self._y, t0, n, self._fin)
-        else:
-            y, t, done = self._y, t0, 0
-            while done < n:
-                chunk = min(CHECK_EVERY, n - done)
-                y = kernel(y, t, chunk, self._fin)
-                done += chunk
-                t = t0 + done * h
+        y, n = self._run(dt)
         self._y = y
-        t = self._t = t0 + dt
+        t = self._t = self._t + dt
         self.substeps = n
         self.evaluations = n * self.stages_per_substep
         state = self._state = self._make_state(y, t)
         return state
 
-    def _frame(self, dt: float) -> tuple[Kernel, int, float]:
-        """(kernel, sub-steps n, sub-step h) for a display step dt, made and kept on first use."""
+    def peek(self, dt: float) -> State:
+        """The state dt [s] after the current one, without advancing: the stepper stays where
+        it is (same sub-step rule and errors as `step`; `substeps` counts this call's sub-steps)."""
+        y, n = self._run(dt, keep=False)
+        self.substeps = n
+        self.evaluations = n * self.stages_per_substep
+        return self._make_state(y, self._t + dt)
+
+    def _run(self, dt: float, keep: bool = True) -> tuple[tuple[float, ...], int]:
+        """(y after dt [s] from the current y, sub-steps n); changes nothing but the caches
+        (keep=False: not even the stepper's own, for a dt seen once, such as a peek's)."""
+        # A conservative model's sub-step count depends on dt only (Ω is fixed): key dt.  A bad
+        # dt (0, negative, inf, NaN) is never a key, so `_frame` validates it.
+        frame = self._frames.get(dt) if self._conservative else None
+        if frame is None:
+            frame = self._frame(dt, keep)
+        kernel, n, h = frame
+        t0 = self._t
+        if n <= CHECK_EVERY:
+            return kernel(self._y, t0, n, self._fin), n
+        y, t, done = self._y, t0, 0
+        while done < n:
+            chunk = min(CHECK_EVERY, n - done)
+            y = kernel(y, t, chunk, self._fin)
+            done += chunk
+            t = t0 + done * h
+        return y, n
+
+    def _frame(self, dt: float, keep: bool = True) -> tuple[Kernel, int, float]:
+        """(kernel, sub-steps n, sub-step h) for a display step dt, made and (keep) kept on first use."""
         if not 0.0 < dt < math.inf:
             raise ValueError(f"display step dt must be positive and finite, got {dt}")
         if not self._conservative:
@@ -152,11 +170,109 @@ class RealtimeStepper:
         key: object = dt if self._conservative else (dt, n)
         frame = self._frames.get(key)
         if frame is None:
-            if len(self._frames) >= _FRAMES_KEPT:
-                self._frames.clear()
             h = dt / n
-            frame = self._frames[key] = (self._sp.kernel(h, self._gammas), n, h)
+            frame = (self._sp.kernel(h, self._gammas), n, h)
+            if keep:
+                if len(self._frames) >= _FRAMES_KEPT:
+                    self._frames.clear()
+                self._frames[key] = frame
         return frame
+
+
+NOMINAL_STEP = 1.0 / 60.0
+"""[s] of simulated time: the fixed step of `GridStepper` (the app's), the display step at which
+REALTIME_SUBSTEP_ANGLE was tuned and the README's accuracy figures were measured."""
+
+GRID_TOLERANCE = 1e-9
+"""A time within this fraction of a step of a grid point is on it (frames of exactly h, summed
+in floating point, land on the grid and need no peek)."""
+
+
+class GridStepper:
+    """Real-time stepping that does not depend on the frame rate: whole steps of a fixed h.
+
+    Why: the splitting is symplectic.  At a fixed step it conserves a modified energy within
+    O(h⁴) of E, and its attitude error grows like C (h Ω)⁴ Ω t.  A step that changes from
+    frame to frame (a real loop's frame times jitter) changes that modified energy every
+    frame, so the energy error walks and the phase error grows far faster.  Measured with
+    `RealtimeStepper.step(dt)` on the Free body "Dzhanibekov" preset (its flip period is very
+    sensitive to E): after 25 s the attitude error is 1.4e-7 rad at a fixed 1/60 s, 5.3e-7 at
+    a fixed 1/15 s, but 4.6e-5 with frame times uniform in ±20 % of 1/60 s and 1.5e-3 with
+    ±20 % of 1/15 s (tests/test_frame_rate.py).
+
+    So the committed state moves only in whole steps h (each sub-stepped by the angle rule of
+    `RealtimeStepper`), the same steps whatever the frames, and the state at a time between
+    two grid points is a `RealtimeStepper.peek` from the last one, shown and never committed:
+    the trajectory on the grid is independent of the frame rate, a long frame is stepped in
+    steps no longer than h, and the shown state is within one short step of it.
+
+    Attributes (read them, do not assign):
+        state: the state at the time asked last (t = the sum of the steps' dt, from the start).
+        substeps, evaluations: sub-steps and Strang stages of the last `step`, grid and peek.
+        h: the grid step [s].  model: the Model stepped.
+    """
+
+    __slots__ = ("_grid", "_k", "_state", "_t0", "evaluations", "h", "model", "substeps")
+
+    def __init__(self, model: Model, state: State, h: float = NOMINAL_STEP,
+                 max_substep_angle: float = REALTIME_SUBSTEP_ANGLE, order: int = 4) -> None:
+        """Same errors as `RealtimeStepper`; ValueError for h not positive and finite."""
+        if not (math.isfinite(h) and h > 0.0):
+            raise ValueError(f"the grid step h must be positive and finite, got {h}")
+        self._grid = RealtimeStepper(model, state, max_substep_angle, order)
+        self.model = model
+        self.h = h
+        self._t0 = self._grid.t
+        self._k = 0  # grid steps taken: the grid is at t0 + k h
+        self._state = self._grid.state
+        self.substeps = 0
+        self.evaluations = 0
+
+    @property
+    def t(self) -> float:
+        """The current time [s] (of `state`)."""
+        return self._state.t
+
+    @property
+    def state(self) -> State:
+        return self._state
+
+    def step(self, dt: float) -> State:
+        """Advance by dt [s]: the grid steps whole steps h up to t + dt, then peeks the rest.
+
+        Raises ValueError (dt not positive and finite) and IntegrationError as `RealtimeStepper`
+        (also when a dt would need more than MAX_SUBSTEPS grid steps).  After an IntegrationError
+        the state is the last grid point reached.
+        """
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise ValueError(f"display step dt must be positive and finite, got {dt}")
+        h = self.h
+        target = self._state.t + dt
+        steps = math.floor((target - (self._t0 + self._k * h)) / h + GRID_TOLERANCE)
+        if steps > MAX_SUBSTEPS:
+            raise IntegrationError(f"a display step of {dt:g} s needs {steps} steps of {h:g} s, more than "
+                                   f"MAX_SUBSTEPS = {MAX_SUBSTEPS}")
+        substeps = evaluations = 0
+        try:
+            for _ in range(steps):
+                self._grid.step(h)
+                self._k += 1
+                substeps += self._grid.substeps
+                evaluations += self._grid.evaluations
+            rest = target - (self._t0 + self._k * h)
+            if rest > GRID_TOLERANCE * h:
+                state = self._grid.peek(rest)
+                substeps += self._grid.substeps
+                evaluations += self._grid.evaluations
+            else:
+                grid = self._grid.state
+                state = State(grid.R_space_body, grid.omega_body, target)
+        except IntegrationError:
+            self._state = self._grid.state
+            raise
+        self._state = state
+        self.substeps, self.evaluations = substeps, evaluations
+        return state
 
 
 def step_realtime(

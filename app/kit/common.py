@@ -20,6 +20,7 @@ from physics._types import Mat3, Vec3
 __all__ = [
     "BODY_AXIS_COLORS",
     "GIMBAL_FADE_DEG",
+    "format_deg",
     "GIMBAL_LOCK_DEG",
     "L_COLOR",
     "NODES_COLOR",
@@ -109,6 +110,13 @@ def wrap_deg(angle_deg: float) -> float:
     """An angle [deg] mapped to (-180, 180]."""
     wrapped = math.remainder(angle_deg, 360.0)
     return 180.0 if wrapped == -180.0 else wrapped
+
+
+def format_deg(angle_deg: float, decimals: int = 2) -> str:
+    """An angle [deg] as text in (-180, 180] at `decimals` places: wrapped after rounding, so
+    -179.999 reads 180.00, never -180.00 (and -0.001 reads 0.00)."""
+    shown = wrap_deg(round(wrap_deg(angle_deg), decimals))
+    return f"{0.0 if shown == 0.0 else shown:.{decimals}f}"
 
 
 def _clean(x: float, decimals: int) -> float:

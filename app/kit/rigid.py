@@ -1,11 +1,12 @@
 """The simulation of a rigid body for the animated scenes (free body, heavy top): no viser here.
 
 `RigidBodySimulation` owns the model, the state, the integrator (the real-time splitting
-`physics.realtime.RealtimeStepper`, or the closed form of `physics.methods.exact_solution`
-evaluated at the simulated time), the exact solution where one exists (for the attitude
-error and the "exact ghost"), the drift references of this run and the plot samples.  `restart(state)` starts a run
-at t = 0 from a state it is given, `reset()` goes back to this run's own initial state: a
-simulation never reads a widget.  Several views may draw one simulation.
+`physics.realtime.GridStepper`: fixed steps of 1/60 s whatever the frame rate, or the closed
+form of `physics.methods.exact_solution` evaluated at the simulated time), the exact solution
+where one exists (for the attitude error and the "exact ghost"), the drift references of this
+run and the plot samples.  `restart(state)` starts a run at t = 0 from a state it is given,
+`reset()` goes back to this run's own initial state: a simulation never reads a widget.
+Several views may draw one simulation.
 
 Conventions as in `physics` (docs/CONVENTIONS.md): R = R_space_body, z-x-z Euler angles,
 hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
@@ -25,7 +26,7 @@ from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
 from physics.lagrange import SIN_THETA_STOP, EulerLagrangeSingularityError, integrate_euler_lagrange
 from physics.methods import exact_solution
 from physics.poinsot import flip_times, motion
-from physics.realtime import RealtimeStepper
+from physics.realtime import GridStepper
 from physics.so3 import exp_so3, log_so3
 
 __all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_LAGRANGE", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation",
@@ -98,7 +99,7 @@ class RigidBodySimulation:
         self.initial_angles = (np.array(angles, dtype=float) if angles is not None
                                else euler_zxz_from_matrix(R))
         self.angles = self.initial_angles.copy()
-        self._stepper = RealtimeStepper(self.model, self.state)
+        self._stepper = GridStepper(self.model, self.state)
         self._exact: ExactSolution | None = None
         self._exact_at: tuple[float, np.ndarray] | None = None  # (t, R_exact(t)), the last one asked
         self.exact_failed: str | None = None
@@ -135,7 +136,7 @@ class RigidBodySimulation:
         if name != self.integrator:
             self.integrator = name
             if name == INTEGRATOR_REALTIME:  # go on from where the other method is
-                self._stepper = RealtimeStepper(self.model, self.state)
+                self._stepper = GridStepper(self.model, self.state)
             self.version += 1
         return message
 

@@ -43,6 +43,7 @@ from app.kit.common import (
     OMEGA_COLOR,
     SliderSpec,
     Throttle,
+    format_deg,
     format_matrix,
     gimbal_note,
     wrap_deg,
@@ -685,11 +686,11 @@ class RigidBodyView(SceneView):
 
         lines = [  # at most ~42 characters a line: the panel's width
             f"t = {sim.t:.3f} s    (z-x-z, degrees)",
-            f"φ = {phi:.2f}°  θ = {theta:.2f}°  ψ = {psi:.2f}°",
+            f"φ = {format_deg(phi)}°  θ = {theta:.2f}°  ψ = {format_deg(psi)}°",
         ]
         if gimbal_note(theta) is not None:
             combined = ("φ + ψ", phi + psi) if theta < 90.0 else ("φ − ψ", phi - psi)
-            lines.append(f"gimbal lock: only {combined[0]} = {wrap_deg(combined[1]):.2f}°")
+            lines.append(f"gimbal lock: only {combined[0]} = {format_deg(combined[1])}°")
         lines += [
             "",
             "D = Rz(φ) Rx(θ) Rz(ψ), columns x′ y′ z′",
@@ -738,11 +739,17 @@ class RigidBodyView(SceneView):
         def row(name: str, v: np.ndarray, scale: float = 1.0) -> str:
             return f"{name:<15}" + "".join(f"{(0.0 if abs(x) < 5e-9 else x) * scale:11.5f}" for x in v)
 
+        # q in degrees: φ and ψ are the simulation's continuous angles (unwrapped, thousands of
+        # degrees after a long run), shown in (-180°, 180°]; θ is in [0°, 180°].
+        q_deg = np.degrees(terms.q)
+        q_row = f"{'q [deg]':<15}" + "".join(f"{text:>11}" for text in (
+            format_deg(q_deg[0], 5), f"{q_deg[1]:.5f}", format_deg(q_deg[2], 5)))
+
         lines = [
             f"t = {sim.t:.3f} s   T = {terms.T:.5f} J   V = {terms.V:.5f} J",
             "",
             f"{'':<15}{'φ':>11}{'θ':>11}{'ψ':>11}",
-            row("q [deg]", terms.q, 180.0 / math.pi),
+            q_row,
             row("q̇ [deg/s]", terms.qdot, 180.0 / math.pi),
             row("∂T/∂q̇", terms.dT_dqdot),
             row("d/dt ∂T/∂q̇", terms.ddt_dT_dqdot),

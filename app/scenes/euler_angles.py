@@ -31,6 +31,7 @@ from app.kit.common import (
     SliderSpec,
     Throttle,
     axis_segments,
+    format_deg,
     format_matrix,
     format_vector,
     gimbal_note,
@@ -489,7 +490,7 @@ class EulerAnglesView(SceneView):
             self.arcs[key].points = polyline_segments(points)
             self.arcs[key].visible = visible
             self.arc_labels[key].position = tuple(1.18 * points[ARC_SEGMENTS // 2])
-            self.arc_labels[key].text = f"{GREEK[key]} = {angle_deg:.0f}°"
+            self.arc_labels[key].text = f"{GREEK[key]} = {format_deg(angle_deg, 0)}°"
             self.arc_labels[key].visible = visible
 
     def render_readout(self) -> None:
@@ -510,9 +511,9 @@ class EulerAnglesView(SceneView):
             f"e_n = (cos φ, sin φ, 0) = {format_vector(e_n)}  \n"
             f"e_z′ = D e_z = {format_vector(e_z_body)}"
         )
-        factors = ((f"Rz(φ), φ = {angles_deg[0]:g}°", rot_z(phi)),
-                   (f"Rx(θ), θ = {angles_deg[1]:g}°", rot_x(theta)),
-                   (f"Rz(ψ), ψ = {angles_deg[2]:g}°", rot_z(psi)))
+        factors = ((f"Rz(φ), φ = {format_deg(angles_deg[0])}°", rot_z(phi)),
+                   (f"Rx(θ), θ = {angles_deg[1]:.2f}°", rot_x(theta)),
+                   (f"Rz(ψ), ψ = {format_deg(angles_deg[2])}°", rot_z(psi)))
         self.readout_factors.set("\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors))
         angles, rates = np.array([phi, theta, psi]), np.radians(self.sim.rates_deg)
         omega_space = np.degrees(omega_space_from_euler_rates(angles, rates))

@@ -771,12 +771,17 @@ class InertiaView(SceneView):
         """The momental ellipsoid ω·I_O ω = 1 at O: a unit sphere built once, turned by the
         principal axes and scaled by the semi-axes 1/√I_k, all times one factor (the largest
         drawn ELLIPSOID_SIZE).  A semi-axis more than ELLIPSOID_CUT times the shortest (or
-        endless: a zero moment) is drawn cut at that; with I_O = 0 there is no ellipsoid."""
+        endless: a zero moment) is drawn cut at that; with I_O = 0 there is no ellipsoid.
+
+        Only its back faces are drawn (side="back": the far half of the shell, translucent): the
+        body inside it is in front of them and shows whole.  Drawn with its front faces, it hid an
+        uploaded compact mesh entirely and the book wherever it was inside (a translucent mesh
+        writes depth, and three.js drew it before the body; tests/test_browser_inertia.py)."""
         if self._ellipsoid is None:
             sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
             self._ellipsoid = self.client.scene.add_mesh_simple(
                 f"{self.root}/ellipsoid", sphere.vertices, sphere.faces, color=(90, 140, 230), opacity=0.25,
-                cast_shadow=False, receive_shadow=False)
+                side="back", cast_shadow=False, receive_shadow=False)
         if all(zero):
             if self._ellipsoid.visible:
                 self._ellipsoid.visible = False

@@ -57,7 +57,7 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.kit.common import CameraView, SliderSpec, Throttle, format_vector, wrap_deg
+from app.kit.common import CameraView, SliderSpec, Throttle, format_deg, format_vector, wrap_deg
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.presets import Preset
@@ -697,7 +697,7 @@ class MovingFrameView(SceneView):
         force_scale = max(1.0, float(np.max(np.abs(report.m_x_ddot_body[focus]))))
         phi, theta, psi = sim.angles_deg
         lines = [
-            f"C′ now: φ θ ψ = {phi:.1f}°, {theta:.1f}°, {psi:.1f}°  \n"
+            f"C′ now: φ θ ψ = {format_deg(phi, 1)}°, {theta:.1f}°, {format_deg(psi, 1)}°  \n"
             f"ω_b = {format_vector(frame.omega_body)} rad/s, |ω| = {w:.3f} rad/s "
             f"= {w / EARTH_OMEGA:,.0f} × Earth's  \n"
             f"a = {format_vector(frame.a)} m, ä = {format_vector(frame.a_ddot)} m/s²",

@@ -1,0 +1,146 @@
+"""Where a client's 3D labels land on the screen: a pinhole projection and label text boxes.
+
+For checks (tests/test_labels.py) and layout decisions, not for drawing.  A scene's camera is
+its `CameraView` (position, look_at, up, vertical fov); the canvas is the whole browser window
+(viser's panel floats over it).  A label's world position composes the poses of the nodes
+above it (viser names are paths: "/a/b" is a child of "/a"), read from the client's scene
+handles (viser 1.1: `client.scene._handle_from_node_name`, every node of that client, with
+`_impl.position`, `_impl.wxyz`, `_impl.visible`).
+
+Text boxes follow viser 1.1's label renderer (client/src/label/LabelRenderer.tsx and
+labelLayout.ts): a "screen" label's em is 12 CSS px times `font_screen_scale` in an 800 px tall
+viewport (proportional to the height), its block is padded by 0.2 em, and `anchor` says which
+point of the padded block sits at the projected position.  The text width is an estimate
+(CHAR_WIDTH_EM per character); "scene"-sized labels are not estimated (none in the app).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from app.kit.common import CameraView
+from physics.quaternion import matrix_from_wxyz
+
+__all__ = ["LabelBox", "label_boxes", "overlapping", "project"]
+
+REFERENCE_HEIGHT_PX = 800.0  # viser sizes screen labels relative to an 800 px tall viewport
+SCREEN_EM_PX = 12.0  # [px] a screen label's em at font_screen_scale 1, at REFERENCE_HEIGHT_PX
+CHAR_WIDTH_EM = 0.6  # mean advance of a character of viser's sans font (DejaVu-like) [em]
+LINE_HEIGHT_EM = 1.2  # ascent + descent [em]
+PADDING_EM = 0.2  # viser's BACKGROUND_PADDING_FRACTION
+NEAR = 1e-3  # [scene units] a point this close to the camera plane, or behind it, is not drawn
+
+
+def project(view: CameraView, points: Any, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
+    """Pixel coordinates (N, 2) (x right, y down, origin top-left) and depths (N,) [scene units
+    along the view direction] of world points (N, 3) seen by `view` in a width x height window.
+
+    A pinhole camera at view.position looking at view.look_at, `up` projected to the screen's
+    up, vertical field of view view.fov_deg (three.js' PerspectiveCamera).  Points with depth
+    <= NEAR get NaN pixels.
+    """
+    p = np.atleast_2d(np.asarray(points, dtype=float))
+    eye = np.asarray(view.position, dtype=float)
+    forward = np.asarray(view.look_at, dtype=float) - eye
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, np.asarray(view.up, dtype=float))
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    d = p - eye
+    depth = d @ forward
+    focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = 0.5 * width + focal * (d @ right) / depth
+        y = 0.5 * height - focal * (d @ up) / depth
+    pixels = np.stack([x, y], axis=-1)
+    pixels[depth <= NEAR] = np.nan
+    return pixels, depth
+
+
+@dataclass(frozen=True)
+class LabelBox:
+    """A label on the screen: name, text, anchor point (x, y) [px], box (x0, y0, x1, y1) [px]."""
+
+    name: str
+    text: str
+    anchor_px: tuple[float, float]
+    box: tuple[float, float, float, float]
+
+    def gap(self, other: LabelBox) -> float:
+        """The distance [px] between the two boxes (0 when they touch or overlap), minus overlap
+        depth when they overlap (negative)."""
+        ax0, ay0, ax1, ay1 = self.box
+        bx0, by0, bx1, by1 = other.box
+        dx = max(bx0 - ax1, ax0 - bx1)
+        dy = max(by0 - ay1, ay0 - by1)
+        if dx < 0.0 and dy < 0.0:
+            return max(dx, dy)
+        return math.hypot(max(dx, 0.0), max(dy, 0.0))
+
+
+def _world_poses(handles: dict[str, Any]) -> dict[str, tuple[np.ndarray, np.ndarray, bool]]:
+    """name -> (R_world_node (3, 3), p_world (3,), shown: the node and all its ancestors visible)."""
+    poses: dict[str, tuple[np.ndarray, np.ndarray, bool]] = {}
+
+    def pose(name: str) -> tuple[np.ndarray, np.ndarray, bool]:
+        if name in poses:
+            return poses[name]
+        impl = handles[name]._impl
+        R = matrix_from_wxyz(np.asarray(impl.wxyz, dtype=float))
+        p = np.asarray(impl.position, dtype=float)
+        shown = bool(impl.visible) and not impl.removed
+        parent = name.rsplit("/", 1)[0]
+        if parent and parent in handles:
+            R_parent, p_parent, parent_shown = pose(parent)
+            R, p, shown = R_parent @ R, p_parent + R_parent @ p, shown and parent_shown
+        poses[name] = (R, p, shown)
+        return poses[name]
+
+    for name in handles:
+        pose(name)
+    return poses
+
+
+def _box(anchor: str, x: float, y: float, text: str, em: float) -> tuple[float, float, float, float]:
+    lines = text.split("\n")
+    w = max(len(line) for line in lines) * CHAR_WIDTH_EM * em + 2.0 * PADDING_EM * em
+    h = len(lines) * LINE_HEIGHT_EM * em + 2.0 * PADDING_EM * em
+    vertical, horizontal = anchor.split("-")
+    x0 = {"left": x, "center": x - 0.5 * w, "right": x - w}[horizontal]
+    y0 = {"top": y, "center": y - 0.5 * h, "bottom": y - h}[vertical]
+    return (x0, y0, x0 + w, y0 + h)
+
+
+def label_boxes(scene: Any, view: CameraView, width: int, height: int) -> list[LabelBox]:
+    """The boxes of every label of a client's scene (`client.scene`) that is shown (it and its
+    ancestors visible, non-empty text, in front of the camera and inside the window)."""
+    handles = dict(scene._handle_from_node_name)
+    poses = _world_poses(handles)
+    labels = [(name, h) for name, h in handles.items() if type(h).__name__ == "LabelHandle"]
+    boxes = []
+    for name, handle in labels:
+        _, p_world, shown = poses[name]
+        text = str(handle.text)
+        if not shown or not text.strip():
+            continue
+        (x, y), _depth = (v[0] for v in project(view, p_world, width, height))
+        if not (0.0 <= x <= width and 0.0 <= y <= height):  # NaN too: behind the camera
+            continue
+        em = SCREEN_EM_PX * float(handle.font_screen_scale) * height / REFERENCE_HEIGHT_PX
+        boxes.append(LabelBox(name, text, (float(x), float(y)), _box(str(handle.anchor), float(x), float(y), text, em)))
+    return boxes
+
+
+def overlapping(boxes: list[LabelBox], min_gap_px: float) -> list[tuple[LabelBox, LabelBox, float]]:
+    """Pairs of boxes closer than min_gap_px [px] (overlapping ones have a negative gap)."""
+    pairs = []
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            gap = a.gap(b)
+            if gap < min_gap_px:
+                pairs.append((a, b, gap))
+    return pairs
