@@ -94,6 +94,7 @@ class Session:
         self.gui_error = gui.add_markdown("", visible=False)
         self.gui_error_dismiss = gui.add_button("Dismiss message", color="red", visible=False)
         self.gui_error_dismiss.on_click(self.guard("dismiss", lambda _event: self.clear_error()))
+        self.gui_load = gui.add_markdown("", visible=False)  # "Server busy: N frames a second" (app.main)
         self.gui_scene = gui.add_dropdown("Scene", tuple(SCENES), initial_value=scene,
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))
@@ -190,6 +191,16 @@ class Session:
                                          with_close_button=True)
         except Exception:  # noqa: BLE001 - e.g. the client has just disconnected
             logger.exception("client %d: could not show the error message", self.client_id)
+
+    def show_load(self, note: str) -> None:
+        """Say (or stop saying) that the server cannot keep its frame rate (called by the app loop)."""
+        if self.closed:
+            return
+        try:
+            self.gui_load.content = note
+            self.gui_load.visible = bool(note)
+        except Exception:  # noqa: BLE001 - the client has just gone
+            logger.debug("load note not shown", exc_info=True)
 
     def clear_error(self) -> None:
         """Hide the error message."""
