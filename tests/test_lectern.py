@@ -122,7 +122,9 @@ def test_explore_on_my_own_forks_the_state_and_follow_presenter_comes_back(hall:
     student.explore()
     assert student.mode == "own" and student.room is not presenter.room
     np.testing.assert_allclose(student.simulation.state.R_space_body, R_live, atol=1e-15)
-    assert student.simulation.t == 0.0 and student.scene.title == "Heavy top"
+    # An exact copy (sim.fork()): the presenter's time and trace, not a restart at t = 0.
+    assert student.simulation.t == presenter.simulation.t > 0.0 and student.scene.title == "Heavy top"
+    assert len(student.simulation.traces["tip"]) == len(presenter.simulation.traces["tip"]) > 1
     assert student._shadow is not None  # the shared scene is hidden in this browser
     student.play()
     hall.frames(10)

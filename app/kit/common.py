@@ -34,6 +34,7 @@ __all__ = [
     "Throttle",
     "apply_camera",
     "axis_segments",
+    "canonical_angles_deg",
     "checked_value",
     "fade_color",
     "format_matrix",
@@ -109,6 +110,18 @@ def wrap_deg(angle_deg: float) -> float:
     """An angle [deg] mapped to (-180, 180]."""
     wrapped = math.remainder(angle_deg, 360.0)
     return 180.0 if wrapped == -180.0 else wrapped
+
+
+def canonical_angles_deg(phi: float, theta: float, psi: float) -> tuple[float, float, float]:
+    """The same rotation with θ in [0, 180] and φ, ψ in (-180, 180] [deg].
+
+    Rz(φ) Rx(θ) Rz(ψ) = Rz(φ + 180°) Rx(−θ) Rz(ψ + 180°), so a θ in (180°, 360°) becomes
+    360° − θ with φ and ψ turned by 180°.
+    """
+    theta = theta % 360.0
+    if theta > 180.0:
+        theta, phi, psi = 360.0 - theta, phi + 180.0, psi + 180.0
+    return wrap_deg(phi), theta, wrap_deg(psi)
 
 
 def _clean(x: float, decimals: int) -> float:
