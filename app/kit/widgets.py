@@ -221,6 +221,7 @@ class TraceLines:
         self._chunk_points = trace.chunk_points
         self._generation = -1
         self._scale = math.nan
+        self._synced: tuple[int, int, int, float] | None = None  # the trace as last synced
 
     @property
     def point_count(self) -> int:
@@ -242,12 +243,17 @@ class TraceLines:
 
     def hide(self) -> None:
         """Hide every chunk (what is drawn on them stays, for the next `sync`)."""
+        self._synced = None
         for k, node in enumerate(self._nodes):
             if self._shown[k]:
                 node.visible = self._shown[k] = False
 
     def sync(self, trace: Trace, scale: float = 1.0) -> None:
         """Show `trace` (points times `scale`, in the parent node's units): send what changed."""
+        synced = (trace.generation, trace.count, trace.first, scale)
+        if synced == self._synced:
+            return  # nothing new (paused, or no point stored since)
+        self._synced = synced
         if trace.generation != self._generation or scale != self._scale:
             self._generation, self._scale = trace.generation, scale
             self._drawn = [None] * len(self._nodes)
