@@ -332,20 +332,37 @@ def test_a_fork_costs_well_under_a_few_milliseconds(title: str) -> None:
     assert float(np.median(costs)) < FORK_BUDGET_S, f"{title}: median {np.median(costs) * 1e3:.2f} ms"
 
 
-def test_an_inertia_mesh_is_shared_read_only_and_the_rest_copied() -> None:
+def test_a_mesh_is_shared_read_only_and_the_rest_copied(server: viser.ViserServer) -> None:
+    """A mesh (up to MAX_FACES faces) is not copied by a fork: both hold the same read-only
+    arrays; the Inertia scene's and the Free body's (handed on by "Spin it") alike."""
     from app.scenes.inertia import MESHES_DIR, InertiaSystem, read_mesh
 
     path = next(iter(sorted(MESHES_DIR.glob("*.stl"))))
     system = InertiaSystem([1.0], [[0.0, 0.0, 0.0]])
     system.set_mesh(path.name, *read_mesh(path.name, path.read_bytes()), mass=2.0)
     system.set_about([0.1, 0.0, 0.0])
-    system.properties()
-    fork = system.fork()
-    assert_same(system, fork)
-    assert fork.mesh is not None and system.mesh is not None
-    assert all(a is b and not a.flags.writeable for a, b in zip(fork.mesh, system.mesh))
-    fork.weigh_mesh(mass=3.0)
-    assert system.mesh_mass == 2.0 and fork.mesh_mass == 3.0
+    room = Room(SCENES["Inertia"], system)
+    view = build_view(server, room)
+    fork = room.fork()
+    forked_view = build_view(server, fork)  # draws the shared mesh
+    assert_same(system, fork.sim)
+    assert fork.sim.mesh is not None and system.mesh is not None
+    assert all(a is b and not a.flags.writeable for a, b in zip(fork.sim.mesh, system.mesh))
+    fork.sim.weigh_mesh(mass=3.0)
+    assert system.mesh_mass == 2.0 and fork.sim.mesh_mass == 3.0
+    fork.refresh()
+    assert "m = 2 kg" in view.readout.handle.content and "m = 3 kg" in forked_view.readout.handle.content
+
+    free = Room(SCENES["Free body"], SCENES["Free body"].new_simulation())
+    free.sim.mesh = (np.array(system.mesh[0]), np.array(system.mesh[1]))  # as "Spin it" hands it on
+    free_view = build_view(server, free)
+    free.play()
+    play(free, 30)
+    free_fork = free.fork()
+    assert_same(free.sim, free_fork.sim)
+    assert all(a is b and not a.flags.writeable for a, b in zip(free_fork.sim.mesh, free.sim.mesh))
+    for v in (view, forked_view, free_view):
+        v.remove()
 
 
 # ---------------------------------------------------------------------------- the trace itself
