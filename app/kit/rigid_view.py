@@ -212,7 +212,13 @@ class RigidBodyView(SceneView):
         """Per-frame updates of the extras (e.g. the top's trace)."""
 
     def restart_extras(self) -> None:
-        """Clear what depends on the history (e.g. a trace) at a restart."""
+        """Redraw what depends on the run (a new run or a new body)."""
+
+    @classmethod
+    def track_points(cls, sim: RigidBodySimulation) -> None:
+        """Ask the simulation to follow the points whose paths the scene draws
+        (`RigidBodySimulation.track`; the traces live in the simulation, so a view built later
+        and a fork have them).  Called for every new simulation and every view; none by default."""
 
     def readout_extras(self, sim: RigidBodySimulation) -> str:
         """Extra monospace lines for the readout (e.g. conserved quantities)."""
@@ -237,6 +243,7 @@ class RigidBodyView(SceneView):
         model, state, angles = cls.initial_conditions(first)
         sim = RigidBodySimulation(model, state, angles=angles, momentum_kind=cls.momentum_kind)
         sim.preset = first.name
+        cls.track_points(sim)
         return sim
 
     @classmethod
@@ -255,6 +262,7 @@ class RigidBodyView(SceneView):
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
         super().__init__(client, room, wrap, report_error)
         self.sim: RigidBodySimulation = room.sim
+        self.track_points(self.sim)
         self._drawn_version = -1
         self._drawn_restarts = -1
         self._drawn_model: Model | None = None

@@ -18,6 +18,7 @@ fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every for
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -31,6 +32,7 @@ from app.kit.common import (
     SliderSpec,
     Throttle,
     axis_segments,
+    canonical_angles_deg,
     format_deg,
     format_matrix,
     format_vector,
@@ -110,18 +112,6 @@ SLIDER_PERIOD = 0.1  # sliders follow at 10 Hz
 READOUT_PERIOD = 0.2  # readouts at 5 Hz
 
 
-def canonical_angles_deg(phi: float, theta: float, psi: float) -> tuple[float, float, float]:
-    """The same rotation with θ in [0, 180] and φ, ψ in (-180, 180] [deg].
-
-    Rz(φ) Rx(θ) Rz(ψ) = Rz(φ + 180°) Rx(−θ) Rz(ψ + 180°), so a θ in (180°, 360°) becomes
-    360° − θ with φ and ψ turned by 180°.
-    """
-    theta = theta % 360.0
-    if theta > 180.0:
-        theta, phi, psi = 360.0 - theta, phi + 180.0, psi + 180.0
-    return wrap_deg(phi), theta, wrap_deg(psi)
-
-
 class EulerAnglesSimulation:
     """Angles advancing at constant Euler rates (no viser).
 
@@ -167,6 +157,11 @@ class EulerAnglesSimulation:
         self.t += dt
         self.angles_deg = list(canonical_angles_deg(*played))
         self.version += 1
+
+    def fork(self) -> EulerAnglesSimulation:
+        """An exact, independent copy: angles (as played and as shown), rates, moments, t, the
+        angles Reset goes back to, preset and version (a deep copy: a few small arrays)."""
+        return copy.deepcopy(self)
 
     @property
     def angles(self) -> tuple[float, float, float]:

@@ -28,6 +28,7 @@ entry has `masses` and `positions` instead of the kit's params/angles/rates).
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Sequence
 from importlib.resources.abc import Traversable
@@ -123,6 +124,17 @@ class InertiaSystem:
         self._axes = np.eye(3)  # the principal axes last drawn (kept where they are not determined)
         self._cache: tuple[int, dict[str, Any]] | None = None
         self.set_particles(masses, positions)
+
+    def fork(self) -> InertiaSystem:
+        """An exact, independent copy: masses, positions, O, mesh and its weight, the principal
+        axes last drawn (kept where they are not determined), t, preset and version.  A mesh's
+        arrays (up to MAX_FACES faces) are shared, made read-only; everything else is copied."""
+        memo: dict[int, Any] = {}
+        if self.mesh is not None:
+            for array in self.mesh:
+                array.flags.writeable = False
+                memo[id(array)] = array
+        return copy.deepcopy(self, memo)
 
     def advance(self, dt: float) -> None:
         """Time passes (`t`), nothing moves: a rigid system's inertia does not change."""

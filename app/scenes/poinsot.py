@@ -36,8 +36,8 @@ from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segment
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import Readout, add_slider
 from app.kit.rigid import RigidBodySimulation
+from app.kit.widgets import TraceLines
 from app.scenes.free_body import FreeBodyView
-from app.scenes.heavy_top import TipTrace
 from physics.dynamics import State
 from physics.poinsot import (
     herpolhode_radii,
@@ -51,13 +51,15 @@ from physics.poinsot import (
 from physics.quaternion import wxyz_from_matrix
 from physics.so3 import exp_so3
 
-__all__ = ["PoinsotView", "energy_setting", "state_at_energy"]
+__all__ = ["PoinsotView", "energy_setting", "omega_space", "state_at_energy"]
 
 ELLIPSOID_SIZE = 1.5  # [scene units] Poinsot's ellipsoid's largest semi-axis
 SPHERE_RADIUS = 1.1  # [scene units] the |L| sphere of the momentum-space picture
 L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space picture
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
 HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
+HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
+HERPOLHODE_CHUNK = 60  # points per chunk of the herpolhode
 CURVE_POINTS = 256
 FAMILY_POINTS = 128
 ELLIPSOID_COLOR = (120, 170, 230)
@@ -114,6 +116,12 @@ def state_at_energy(inertia: Any, state: State, setting: float) -> State:
     angle = math.atan2(float(np.linalg.norm(axis)), float(new_L @ L_body))
     turn = exp_so3(axis / np.linalg.norm(axis) * angle) if angle > 0.0 else np.eye(3)  # turn @ new_L ∥ L_body
     return State(state.R_space_body @ turn, new_L / I, 0.0)
+
+
+def omega_space(state: State) -> np.ndarray:
+    """ω in space components (3,) [rad/s]: the contact point of the ellipsoid and the plane
+    (drawn at the scene's ω scale); its path is the herpolhode."""
+    return state.R_space_body @ state.omega_body
 
 
 def _triple(v: np.ndarray) -> tuple[float, float, float]:
@@ -180,8 +188,7 @@ class PoinsotView(FreeBodyView):
         self.plane_label = scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
                                            font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center")
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
-        self.herpolhode = TipTrace(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, seconds=HERPOLHODE_SECONDS,
-                                   spacing=1.0 / 30.0, chunk_points=60)
+        self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"])
         self.contact = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20), subdivisions=2)
         self.omega.label_at_middle = True  # the contact point at ω's tip stays clear
 
@@ -242,7 +249,6 @@ class PoinsotView(FreeBodyView):
         T = 0.5 * float(omega @ (I * omega))
         L_body = I * omega
         L_norm = float(np.linalg.norm(L_body))
-        self.herpolhode.clear()
         active = T > 0.0
         for node in (self.ellipsoid, self.polhode, self.plane, self.contact, self.energy_ellipsoid, self.current,
                      self.L_dot):
@@ -301,14 +307,19 @@ class PoinsotView(FreeBodyView):
         return x, np.cross(normal, x)
 
     # ------------------------------------------------------------------ per frame
+    @classmethod
+    def track_points(cls, sim: RigidBodySimulation) -> None:
+        sim.track("herpolhode", omega_space, seconds=HERPOLHODE_SECONDS, spacing=HERPOLHODE_SPACING,
+                  chunk_points=HERPOLHODE_CHUNK)
+
     def draw_extras(self, sim: RigidBodySimulation) -> None:
         if not self.contact.visible:
+            self.herpolhode.hide()
             return
-        R, omega = sim.state.R_space_body, sim.state.omega_body
-        w = R @ omega * self.omega_scale
-        point = (float(w[0]), float(w[1]), float(w[2]))
-        set_position(self.contact, point)
-        self.herpolhode.add(sim.t, np.array(point))
+        omega = sim.state.omega_body
+        w = omega_space(sim.state) * self.omega_scale
+        set_position(self.contact, (float(w[0]), float(w[1]), float(w[2])))
+        self.herpolhode.sync(sim.traces["herpolhode"], self.omega_scale)
         L = np.asarray(sim.model.inertia) * omega * self._L_scale_space
         set_position(self.L_dot, (float(L[0]), float(L[1]), float(L[2])))
         if self._flip_schedule is not None and sim.t >= self._flip_schedule[0]:
