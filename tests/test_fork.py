@@ -132,6 +132,7 @@ class _Target:
         self.root_prefix = prefix
         self.scene = server.scene
         self.gui = server.gui
+        self.controls = None  # nobody acts on these views
         self.camera = None
         self.client_id = -1
         self._server = server
