@@ -143,15 +143,20 @@ class Session:
     def _new_view(self, room: Room) -> Any:
         scene: Scene = room.scene
         view: Any = scene(self.client, room, self.guard, self.report_error)
-        view.open_room = self.open_room
+        view.open_scene = self.open_scene
         if self.projector:
             self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
         return view
 
-    def open_room(self, room: Room) -> None:
-        """Show `room` (another scene's simulation, made by a view) and move the camera to its view."""
+    def open_scene(self, title: str, prepare: Callable[[Room], None]) -> Room:
+        """Show a new room of the scene `title` (SCENES), set up by `prepare(room)` first (a view
+        handing a body on: "Spin it"), and move the camera to its view; the room."""
+        scene = SCENES[title]
+        room = Room(scene, scene.new_simulation())
+        prepare(room)
         self.show(room)
         self.reset_camera()
+        return room
 
     # ------------------------------------------------------------------ errors
     def guard(self, where: str, fn: Callable[..., R]) -> Callable[..., R | None]:
@@ -236,7 +241,7 @@ class Session:
                 if self.mode is Mode.PRESENTING and self.lectern is not None:
                     self.lectern.live_view = None  # removed above; the new one goes live
                     self.scene = self.lectern.make_live_view(self, room)
-                    self.scene.open_room = self.open_room
+                    self.scene.open_scene = self.open_scene
                 else:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
@@ -578,7 +583,7 @@ class Session:
             with room.lock:
                 self.scene.remove()
                 self.scene = lectern.make_live_view(self, room)
-                self.scene.open_room = self.open_room
+                self.scene.open_scene = self.open_scene
             self.mode = Mode.PRESENTING
         lectern.start(self)
         self._show_lecture_buttons()

@@ -36,9 +36,10 @@ class SceneView:
     rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     tabs: Tabs | None = None
     """The panel's tabs (Setup / Readout / ...), if the scene has them."""
-    open_room: Callable[[Room], None] | None = None
-    """Set by the session: show another room in this browser (e.g. "Spin it" hands a body to the
-    Free body scene: `self.open_room(Room(FreeBodyView, simulation))`)."""
+    open_scene: Callable[[str, Callable[[Room], None]], Room] | None = None
+    """Set by the session: open the scene `title` in this browser with a new room, after
+    `prepare(room)` has set its simulation up; returns that room.  A scene hands a body to
+    another by title, never by importing it ("Spin it": `self.open_scene("Free body", prepare)`)."""
 
     def __init__(self, client: viser.ClientHandle | DrawTarget, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:

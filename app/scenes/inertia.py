@@ -79,6 +79,7 @@ BALL_RADIUS = 0.12  # [m] drawn radius of a 1 kg ball (∝ m^(1/3))
 ELLIPSOID_SIZE = 1.2  # [scene units] the momental ellipsoid's largest drawn semi-axis
 ELLIPSOID_CUT = 4.0  # a semi-axis longer than this times the shortest is drawn cut at it
 MESH_DISPLAY_SIZE = 2.4  # [scene units] a mesh is drawn about this large (display_scale)
+SPIN_SCENE = "Free body"  # "Spin it" hands the body to this scene (by its title: no scene imports another)
 FREE_BODY_MOMENTS = (0.05, 5.0)  # [kg m²] the Free body scene's slider range ("Spin it")
 SPIN_RATE = 4.0  # [rad/s] "Spin it": about the intermediate axis e2, with a small wobble
 SPIN_ANGLES_DEG = (-30.0, 60.0, 0.0)  # "Spin it": the attitude it starts from (as the Dzhanibekov preset)
@@ -669,8 +670,6 @@ class InertiaView(SceneView):
         """Hand this body to the Free body scene: its principal moments about the centre of mass
         (ascending, along x′ y′ z′; scaled to the scene's sliders if needed, said there) and, for
         a mesh, the mesh in its principal frame (x′ = Rᵀ (x − c))."""
-        from app.scenes.free_body import FreeBodyView
-
         properties = self.sim.properties()
         moments, axes = principal_axes(properties["I_cm"])
         try:
@@ -679,21 +678,24 @@ class InertiaView(SceneView):
             self.message.show(f"Nothing to spin: {error} — masses on one line are no rigid body to spin "
                               "(add a mass off the line).")
             return
-        if self.open_room is None:
+        if self.open_scene is None:
             self.message.show("This browser cannot open another scene.")
             return
-        sim = FreeBodyView.new_simulation()
-        sim.model = Model(inertia=handed)
-        if self.sim.mesh is not None:
-            vertices, faces = self.sim.mesh
-            sim.mesh = ((vertices - properties["com"]) @ axes, faces)
-        sim.preset = None
-        angles = np.radians(SPIN_ANGLES_DEG)
-        omega = np.array([0.01, 1.0, 0.01]) * SPIN_RATE  # about e2 (y′), slightly off: the flip
-        sim.restart(State(matrix_from_euler_zxz(*angles), omega, 0.0), angles=angles)
-        room = Room(FreeBodyView, sim)
+        mesh = self.sim.mesh
+        com = properties["com"]
+
+        def prepare(room: Room) -> None:  # the Free body's new room, before it is shown
+            sim = room.sim
+            sim.model = Model(inertia=handed)
+            if mesh is not None:
+                sim.mesh = ((mesh[0] - com) @ axes, mesh[1])
+            sim.preset = None
+            angles = np.radians(SPIN_ANGLES_DEG)
+            omega = np.array([0.01, 1.0, 0.01]) * SPIN_RATE  # about e2 (y′), slightly off: the flip
+            sim.restart(State(matrix_from_euler_zxz(*angles), omega, 0.0), angles=angles)
+
         what = self.sim.mesh_name or f"{len(self.sim.masses)} point masses"
-        self.open_room(room)
+        room = self.open_scene(SPIN_SCENE, prepare)
         text = f"Spun from the Inertia scene: {what}, about its middle axis y′."
         if k != 1.0:
             text += (f" Its moments ({', '.join(f'{m:.3g}' for m in moments)} kg m²) are shown ×{k:.3g} to fit the "
