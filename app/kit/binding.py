@@ -350,7 +350,7 @@ TYPING_GUARD_JS = """
     if (!el || committing) return;
     const s = states.get(el);
     const dirty = s !== undefined && s.dirty;
-    if (e.key === "Enter") { if (dirty) { e.stopImmediatePropagation(); commit(el); } return; }
+    if (e.key === "Enter") { if (dirty) { e.preventDefault(); e.stopImmediatePropagation(); commit(el); } return; }
     if (e.key === "Escape") { if (dirty) { e.stopImmediatePropagation(); revert(el, s); } return; }
     if (e.ctrlKey || e.metaKey || e.altKey) return;
     if (e.key.length === 1) {
@@ -366,7 +366,7 @@ TYPING_GUARD_JS = """
   }, true);
   window.addEventListener("beforeinput", (e) => {
     const el = box(e);
-    if (el && !committing) begin(el);
+    if (el && !committing && e.inputType !== "insertLineBreak") begin(el);
   }, true);
   window.addEventListener("input", (e) => {
     const el = box(e);
