@@ -37,6 +37,7 @@ import numpy as np
 import viser
 import viser.uplot
 
+from app.kit.binding import BOX_DIGITS
 from app.kit.common import (
     GIMBAL_LOCK_DEG,
     L_COLOR,
@@ -59,7 +60,7 @@ from app.kit.rigid import (
     magnified_attitude,
 )
 from app.kit.room import Room
-from app.kit.view import SceneView
+from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
 from physics.dynamics import Model, State, kinetic_energy
@@ -276,6 +277,7 @@ class RigidBodyView(SceneView):
         self.ghost: Body | None = None  # built the first time "Exact ghost" is switched on
         self._ghost_model: Model | None = None
         self.ghost_k = 0.0
+        self._rates_shown: tuple[float, ...] | None = None
         self.build()
 
     def _build_scene(self) -> None:
@@ -309,7 +311,7 @@ class RigidBodyView(SceneView):
         self.transport = Transport(
             gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step, on_reset=room.reset,
             on_time_scale=room.set_time_scale, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
-            on_integrator=self.set_integrator,
+            on_integrator=self.set_integrator, clock=self.clock,
         )
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange"), on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
@@ -350,12 +352,15 @@ class RigidBodyView(SceneView):
         with self.tabs.tab("Lagrange"):
             self.lagrange_readout = Readout(gui)
 
-        for spec, handle in zip(ANGLE_SPECS, self.gui_angles):
-            handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
-        for spec, handle in zip(self.rate_specs, self.gui_rates):
-            handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
-        for index, handle in enumerate(self.gui_params):
-            handle.on_update(wrap(f"{self.param_specs[index].label} slider", self._param_callback(index, handle)))
+        for index, (spec, handle) in enumerate(zip(ANGLE_SPECS, self.gui_angles)):
+            self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._angle_in_force(index),
+                      spec=spec)
+        for index, (spec, handle) in enumerate(zip(self.rate_specs, self.gui_rates)):
+            self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._rate_in_force(index),
+                      spec=spec)
+        for index, (spec, handle) in enumerate(zip(self.param_specs, self.gui_params)):
+            self.bind(handle, f"{spec.label} slider", self._param_edit(index),
+                      nth(lambda: self.params_from_model(self.sim.model), index), spec=spec)
         for handle in (self.gui_show_omega, self.gui_show_L, self.gui_show_nodes, self.gui_show_body_axes):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
         self.gui_ghost.on_update(wrap("exact ghost", self._ghost_callback))
@@ -577,41 +582,42 @@ class RigidBodyView(SceneView):
             rates = self.rates_from_state(self.sim.angles, self.sim.state)
         except GimbalLockError:
             return  # Euler rates are undefined at the pole: the rate sliders keep their values
+        self._rates_shown = tuple(float(r) for r in rates)
         self.show_values(self.gui_rates, self.rate_specs, rates, skip)
 
-    def _state_slider_callback(self, handle: Any, spec: SliderSpec) -> Callable[[Any], None]:
+    def _angle_in_force(self, index: int) -> Callable[[], float]:
+        return lambda: round(self.displayed_angles_deg()[index], BOX_DIGITS)
+
+    def _rate_in_force(self, index: int) -> Callable[[], float]:
+        def current() -> float:
+            try:
+                return round(float(self.rates_from_state(self.sim.angles, self.sim.state)[index]), BOX_DIGITS)
+            except GimbalLockError:  # undefined at the pole: the slider's last value stands
+                return float(self.rate_specs[index].rounded(0.0)) if self._rates_shown is None \
+                    else self._rates_shown[index]
+
+        return current
+
+    def _state_edit(self, handle: Any, spec: SliderSpec) -> Callable[[float], None]:
         """An angle or rate slider: the user sets the initial state (pausing the room)."""
 
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return  # the server itself is showing the motion on the slider
-            if spec.check(handle.value) is None:
-                self.message.show(spec.refusal(handle.value))
-                self._sync_state_sliders()  # the slider goes back to the state's value
-                return
-            self.message.clear()
+        def apply(value: float) -> None:
             self.room.playing = False
-            angles = np.radians([h.value for h in self.gui_angles])
-            rates = [h.value for h in self.gui_rates]
+            angles_deg = [value if h is handle else float(h.value) for h in self.gui_angles]
+            rates = [value if h is handle else float(h.value) for h in self.gui_rates]
+            angles = np.radians(angles_deg)
             state = State(matrix_from_euler_zxz(*angles), self.omega_body_from_rates(angles, rates), 0.0)
             self.sim.preset = None
             self.sim.restart(state, angles=angles)
             self._sync_state_sliders(skip=handle)  # the others show the state it starts from
             self.room.refresh()
 
-        return on_update
+        return apply
 
-    def _param_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = self.param_specs[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
+    def _param_edit(self, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
             current = self.params_from_model(self.sim.model)
-            if spec.check(handle.value) is None:
-                self.refuse(spec, handle, spec.rounded(current[index]))
-                return
-            candidate = tuple(float(h.value) for h in self.gui_params)
+            candidate = tuple(value if k == index else float(h.value) for k, h in enumerate(self.gui_params))
             try:
                 model = self.model_from_params(candidate)
             except (InertiaError, ValueError) as error:
@@ -620,14 +626,13 @@ class RigidBodyView(SceneView):
                     f"**⚠ Refused:** {error}.  Each moment must be at most the sum of the other two "
                     f"(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
                 )
-                self.message.show(f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving.")
-                return
-            self.message.clear()
+                return f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving."
             self.sim.mesh = None  # new moments: a handed-on mesh no longer fits
             self.sim.set_model(model)  # same R and ω_b, new body; keeps playing
             self.room.refresh()
+            return None
 
-        return on_update
+        return apply
 
     # ------------------------------------------------------------------ actions
     def set_integrator(self, name: str) -> None:

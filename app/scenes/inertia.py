@@ -40,7 +40,8 @@ import trimesh
 import viser
 
 from app.data import files_in, meshes_dir
-from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, format_matrix
+from app.kit.binding import Refused
+from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, checked_value, format_matrix
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -102,6 +103,12 @@ def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
     if len(faces) > MAX_FACES:
         raise MeshError(f"{name}: {len(faces)} faces, more than {MAX_FACES}")
     return vertices, faces
+
+
+def _shown(x: Any) -> tuple[float, float, float]:
+    """A point [m] as a vector field shows it (4 decimals, no -0.0)."""
+    a, b, c = (round(float(v), 4) + 0.0 for v in x)
+    return a, b, c
 
 
 class InertiaSystem:
@@ -468,13 +475,17 @@ class InertiaView(SceneView):
         with self.folder_readout:
             self.readout = Readout(gui)
         self.gui_selected.on_update(wrap("mass selector", lambda _event: self._select(self.gui_selected.value)))
-        self.gui_mass.on_update(wrap("mass slider", lambda _event: self._mass_edited()))
-        self.gui_position.on_update(wrap("position", lambda _event: self._position_edited()))
+        self.bind(self.gui_mass, "mass slider", self._mass_edited, lambda: float(self.sim.masses[self.selected]),
+                  spec=MASS_SPEC)
+        self.bind(self.gui_position, "position", self._position_edited,
+                  lambda: _shown(self.sim.positions[self.selected]), check=lambda value: self._coords(value, "x"))
         self.gui_add_remove.on_click(wrap("add/remove", lambda event: self._add_remove(str(event.target.value))))
-        self.gui_about.on_update(wrap("O", lambda _event: self._about_edited()))
+        self.bind(self.gui_about, "O", self._set_about, lambda: _shown(self.sim.properties()["O"]),
+                  check=lambda value: self._coords(value, "O"))
         self.gui_O_at_com.on_click(wrap("O at c", lambda _event: self._set_about(None)))
         self.gui_mesh_given.on_update(wrap("mesh weighed by", lambda _event: self._mesh_by_changed()))
-        self.gui_mesh_mass.on_update(wrap("mesh mass", lambda _event: self._mesh_amount_edited()))
+        self.bind(self.gui_mesh_mass, "mesh mass", self._mesh_amount_edited, self._weight_shown,
+                  check=self._check_weight)
         self.gui_upload.on_upload(wrap("upload", lambda _event: self._uploaded()))
         if self.gui_shipped is not None:
             self.gui_shipped.on_click(wrap("shipped mesh", lambda event: self.load_shipped(str(event.target.value))))
@@ -483,15 +494,14 @@ class InertiaView(SceneView):
                            self.folder_masses, self.folder_O, self.folder_mesh, self.gui_spin, self.folder_readout]
 
     # ------------------------------------------------------------------ edits
-    def _coords(self, value: Any, what: str) -> np.ndarray | None:
-        """Three finite numbers within ±COORD_LIMIT, or None (refused with a message)."""
+    def _coords(self, value: Any, what: str) -> np.ndarray:
+        """Three finite numbers within ±COORD_LIMIT; Refused (with the message) otherwise."""
         try:
             x = np.array([float(v) for v in value])
         except (TypeError, ValueError):
             x = np.full(3, np.nan)
         if x.shape != (3,) or not np.all(np.isfinite(x)) or np.any(np.abs(x) > COORD_LIMIT):
-            self.message.show(f"{what} = {value!r} refused: three numbers within ±{COORD_LIMIT:g} m.")
-            return None
+            raise Refused(f"{what} = {value!r} refused: three numbers within ±{COORD_LIMIT:g} m.")
         return x
 
     def _select(self, value: Any) -> None:
@@ -506,24 +516,12 @@ class InertiaView(SceneView):
         self.selected = k
         self.refresh()
 
-    def _mass_edited(self) -> None:
-        if self.quiet.active:
-            return
-        value = MASS_SPEC.check(self.gui_mass.value)
-        if value is None:
-            self.refuse(MASS_SPEC, self.gui_mass, float(self.sim.masses[self.selected]))
-            return
+    def _mass_edited(self, value: float) -> None:
         masses = self.sim.masses.copy()
         masses[self.selected] = value
         self._edit(masses, self.sim.positions)
 
-    def _position_edited(self) -> None:
-        if self.quiet.active:
-            return
-        x = self._coords(self.gui_position.value, "x")
-        if x is None:
-            self.quiet.write(self.gui_position, tuple(self.sim.positions[self.selected]))
-            return
+    def _position_edited(self, x: np.ndarray) -> None:
         positions = self.sim.positions.copy()
         positions[self.selected] = x
         self._edit(self.sim.masses, positions)
@@ -587,15 +585,6 @@ class InertiaView(SceneView):
         finally:
             self._dragging = None
 
-    def _about_edited(self) -> None:
-        if self.quiet.active:
-            return
-        O = self._coords(self.gui_about.value, "O")
-        if O is None:
-            self.quiet.write(self.gui_about, tuple(self.sim.properties()["O"]))
-            return
-        self._set_about(O)
-
     def _set_about(self, O: Vec3 | None, dragging: str | None = None) -> None:
         self.message.clear()
         self.sim.set_about(O)
@@ -619,26 +608,38 @@ class InertiaView(SceneView):
     def _by_density(self) -> bool:
         return str(self.gui_mesh_given.value).startswith("density")
 
-    def _show_weight(self) -> None:
+    def _weight_shown(self) -> float:
+        """What the mass / density box shows: the mesh's (6 significant digits), or the default."""
         sim, by_density = self.sim, self._by_density()
         if sim.mesh is None:
-            value = 1000.0 if by_density else 1.0
-        else:
-            value = sim.mesh_mass / sim.mesh_volume() if by_density else sim.mesh_mass
-        self.quiet.write(self.gui_mesh_mass, float(f"{value:.6g}"))
+            return 1000.0 if by_density else 1.0
+        value = sim.mesh_mass / sim.mesh_volume() if by_density else sim.mesh_mass
+        return float(f"{value:.6g}")
 
-    def _mesh_amount_edited(self) -> None:
-        """A new mass or density for the mesh shown (refused with a message if out of range)."""
-        if self.quiet.active or self.sim.mesh is None:
-            return
+    def _show_weight(self) -> None:
+        self.quiet.write(self.gui_mesh_mass, self._weight_shown())
+
+    def _check_weight(self, value: Any) -> float:
+        """A mass [kg] or density [kg/m³] in its range (MESH_MASS_RANGE, MESH_DENSITY_RANGE)."""
+        by_density = self._by_density()
+        (lo, hi), what = (MESH_DENSITY_RANGE, "density") if by_density else (MESH_MASS_RANGE, "mass")
+        number = checked_value(value, lo, hi)
+        if number is None:
+            kept = f" The mesh keeps its {self.sim.mesh_mass:.4g} kg." if self.sim.mesh is not None else ""
+            unit = "kg/m³" if by_density else "kg"
+            raise Refused(f"Refused: {what} {value!r} {unit}: a number from {lo:g} to {hi:g} wanted.{kept}")
+        return number
+
+    def _mesh_amount_edited(self, value: float) -> str | None:
+        """A new mass or density for the mesh shown (kept for the next mesh while there is none)."""
+        if self.sim.mesh is None:
+            return None
         try:
-            self.sim.weigh_mesh(**self._weight())
+            self.sim.weigh_mesh(**({"density": value} if self._by_density() else {"mass": value}))
         except ValueError as error:
-            self.message.show(f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg.")
-            self._show_weight()
-            return
-        self.message.clear()
+            return f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg."
         self.room.refresh()
+        return None
 
     def _uploaded(self) -> None:
         upload = self.gui_upload.value
@@ -743,11 +744,11 @@ class InertiaView(SceneView):
             if particles:
                 self.gui_selected.options = tuple(str(j + 1) for j in range(len(sim.masses)))
                 self.quiet.write(self.gui_selected, str(self.selected + 1))
-                self.quiet.write(self.gui_mass, MASS_SPEC.rounded(float(sim.masses[self.selected])))
-                self.quiet.write(self.gui_position, tuple(round(float(v), 4) for v in sim.positions[self.selected]))
+                self.show_values([self.gui_mass], [MASS_SPEC], [float(sim.masses[self.selected])])
+                self.quiet.write(self.gui_position, _shown(sim.positions[self.selected]))
                 if self._dragging != "mass" and self.gizmo is not None:
                     self.gizmo.position = tuple(sim.positions[self.selected])
-            self.quiet.write(self.gui_about, tuple(round(float(v), 4) for v in O))
+            self.quiet.write(self.gui_about, _shown(O))
             self.presets_row.show_note(self.preset_shown())
             self._refresh_readout(props, k)
 

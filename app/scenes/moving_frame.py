@@ -64,7 +64,7 @@ from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_s
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.trace import Trace
-from app.kit.view import SceneView
+from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, Stage, TraceLines, Vector
 from physics._types import Array, Vec3
 from physics.moving_frames import (
@@ -471,7 +471,7 @@ class MovingFrameView(SceneView):
         )
         self.message = MessageLine(gui)
         self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
-                                   on_reset=room.reset, on_time_scale=room.set_time_scale)
+                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
         self.gui_ride = gui.add_checkbox("Ride with C′", False,
                                          hint="on: the rider's view (C′ stands still); off: the inertial view (C)")
         self.gui_forces_on = gui.add_dropdown("Forces on", PARTICLES, initial_value=PARTICLES[self.sim.setup.focus],
@@ -498,9 +498,12 @@ class MovingFrameView(SceneView):
         self.gui_params = [*frame_sliders, *particle_sliders, *display_sliders]
         self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:2]]
         for handle, key in zip(self.gui_params, self._param_keys):
-            handle.on_update(wrap(f"{key} slider", self._param_callback(key, handle)))
+            index = KEYS.index(key)
+            self.bind(handle, f"{key} slider", self._param_edit(key), nth(lambda: self.sim.setup.params, index),
+                      spec=PARAM_SPECS[index])
         for index, handle in enumerate(self.gui_angles):
-            handle.on_update(wrap(f"{ANGLE_SPECS[index].key} slider", self._angle_callback(index, handle)))
+            self.bind(handle, f"{ANGLE_SPECS[index].key} slider", self._angle_edit(index),
+                      nth(lambda: self.sim.setup.angles_deg, index), spec=ANGLE_SPECS[index])
         self.gui_ride.on_update(wrap("ride toggle", lambda _event: self.refresh()))
         self.gui_forces_on.on_update(wrap("forces-on dropdown", self._forces_on_chosen))
         for handle in (self.gui_show_paths, self.gui_show_forces):
@@ -531,41 +534,23 @@ class MovingFrameView(SceneView):
         self.room.refresh()
         return None
 
-    def _param_callback(self, key: str, handle: Any) -> Callable[[Any], None]:
+    def _param_edit(self, key: str) -> Callable[[float], str | None]:
         index = KEYS.index(key)
-        spec = PARAM_SPECS[index]
 
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            value = spec.check(handle.value)
-            if value is None:
-                self.refuse(spec, handle, self.sim.setup.params[index])
-                return
+        def apply(value: float) -> str | None:
             params = list(self.sim.setup.params)
             params[index] = value
-            refusal = self._edit(params, self.sim.setup.angles_deg, key in DISPLAY_KEYS)
-            if refusal is not None:
-                self.message.show(refusal)
-                self.quiet.write(handle, self.sim.setup.params[index])
+            return self._edit(params, self.sim.setup.angles_deg, key in DISPLAY_KEYS)
 
-        return on_update
+        return apply
 
-    def _angle_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = ANGLE_SPECS[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            value = spec.check(handle.value)
-            if value is None:
-                self.refuse(spec, handle, self.sim.setup.angles_deg[index])
-                return
+    def _angle_edit(self, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
             angles = list(self.sim.setup.angles_deg)
             angles[index] = value
-            self._edit(self.sim.setup.params, angles, False)
+            return self._edit(self.sim.setup.params, angles, False)
 
-        return on_update
+        return apply
 
     def _forces_on_chosen(self, _event: Any) -> None:
         if self.quiet.active:

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from app.kit.binding import BOX_DIGITS
 from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import Readout, add_slider
@@ -237,7 +238,7 @@ class PoinsotView(FreeBodyView):
         with self.tabs.tab("Setup"), gui.add_folder("Poinsot", order=self.presets_row.gui_note.order + 0.01):
             self.gui_energy = add_slider(gui, ENERGY_SPEC)
             self.poinsot_readout = Readout(gui)
-        self.gui_energy.on_update(self._wrap("energy slider", self._energy_callback))
+        self.bind(self.gui_energy, "energy slider", self._energy_edit, self._energy_in_force, spec=ENERGY_SPEC)
 
     # ------------------------------------------------------------------ a new run
     def restart_extras(self) -> None:
@@ -362,29 +363,34 @@ class PoinsotView(FreeBodyView):
         return str(self.poinsot_readout.handle.content).strip("`\n")
 
     # ------------------------------------------------------------------ the energy slider
-    def _energy_callback(self, _event: Any) -> None:
-        if self.quiet.active:
-            return
-        value = ENERGY_SPEC.check(self.gui_energy.value)
-        if value is None:
-            self.message.show(ENERGY_SPEC.refusal(self.gui_energy.value))
-            self.room.refresh()
-            return
-        self.set_energy(value)
+    def _energy_in_force(self) -> float:
+        """The Energy setting of the run shown (0 for a body at rest)."""
+        sim = self.sim
+        I = np.asarray(sim.model.inertia, dtype=float)
+        omega = sim.initial_state.omega_body
+        T = 0.5 * float(omega @ (I * omega))
+        if T <= 0.0:
+            return 0.0
+        return round(float(energy_setting(I, T, float(np.linalg.norm(I * omega)))), BOX_DIGITS)
 
     def set_energy(self, setting: float) -> None:
         """Move the motion to the Energy setting (−1 .. 1), same |L| and L in space; refused with
         a message where there is no such motion.  Pauses and starts a new run (t = 0)."""
+        refusal = self._energy_edit(setting)
+        if refusal is not None:
+            self.message.show(refusal)
+            self.room.refresh()
+
+    def _energy_edit(self, setting: float) -> str | None:
+        """`set_energy`'s work: the refusal text, or None once the new run started."""
         sim = self.sim
         try:
             state = state_at_energy(sim.model.inertia, sim.state, setting)
         except ValueError as error:
-            self.message.show(f"Energy {setting:g} refused: {error}.")
-            self.room.refresh()
-            return
+            return f"Energy {setting:g} refused: {error}."
         self.message.clear()
         self.room.playing = False
         sim.preset = None
         sim.restart(state)
         self.room.refresh()
-
+        return None
