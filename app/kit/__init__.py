@@ -23,7 +23,8 @@
    what is on screen; `refresh()` redraws everything after an edit.  Messages, errors, the
    camera, removal and quiet slider writes (`self.quiet`, no feedback) come from the base.
    A rigid-body scene subclasses `app.kit.rigid_view.RigidBodyView` instead and only fills in
-   its parameters, rate sliders, shape and extras (`app/scenes/free_body.py`, ~150 lines).
+   its parameters, rate sliders, shape and extras (`app/kit/torque_free.py`, ~150 lines, and the
+   scenes `app/scenes/free_body.py` and `app/scenes/poinsot.py` built on it).
 
    Build it from the shared pieces, never a copy of them:
    - panel (`app.kit.gui`): `MessageLine` (refusals), `Transport` (Play / Pause, ▶| Step,

@@ -4,7 +4,7 @@
 nodes, ω and L) and the kit's panel (transport, presets, Setup / Readout / Plots tabs), and
 turns the browser's edits into calls on its room.  A scene subclasses it and fills in the
 class attributes and hooks (the model of its parameters, the initial ω from its rate sliders,
-its body's shape, its extras); see `app.scenes.free_body` and `app.scenes.heavy_top`.
+its body's shape, its extras); see `app.kit.torque_free` and `app.scenes.heavy_top`.
 
 Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
 ω arrow (L only when it moved), the scene's extras; nothing at all while paused.  At most 10

@@ -1,7 +1,7 @@
 """Poinsot's construction of the free body ("Poinsot" scene).
 
-The free body of `app.scenes.free_body` (same simulation, sliders, presets format, ghost), with
-the geometry of `physics.poinsot` drawn around it, in ω units (1 rad/s = `scale` scene units):
+The torque-free body of `app.kit.torque_free` (the Free body scene's simulation, sliders,
+presets format, ghost), with the geometry of `physics.poinsot` drawn around it, in ω units (1 rad/s = `scale` scene units):
 
 * **Poinsot's ellipsoid** ω · I ω = 2T (semi-axes sqrt(2T/I_k)), centred on the fixed point and
   fixed in the body: a child of the body's frame, so it turns with the body at no cost per frame.
@@ -37,8 +37,8 @@ from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segment
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import Readout, add_slider
 from app.kit.rigid import RigidBodySimulation
+from app.kit.torque_free import TorqueFreeView
 from app.kit.widgets import TraceLines
-from app.scenes.free_body import FreeBodyView
 from physics.dynamics import State
 from physics.poinsot import (
     herpolhode_radii,
@@ -139,7 +139,7 @@ def _closed_segments(points: np.ndarray) -> np.ndarray:
     return polyline_segments(np.concatenate([points, points[:1]])).astype(np.float32)
 
 
-class PoinsotView(FreeBodyView):
+class PoinsotView(TorqueFreeView):
     """Poinsot's construction (see the module docstring)."""
 
     title = "Poinsot"
