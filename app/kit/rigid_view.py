@@ -12,14 +12,11 @@ times a second, and only for what is on screen: the sliders follow the motion (S
 the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
 tab, live plots on).
 
-The exact ghost (Display: "Exact ghost", off by default): a second `Body` with the same shape,
-translucent, at the exact solution's attitude while the chosen integrator turns the solid one,
-with the attitude error read out.  "Exaggerate error ×k" draws it at
-R_ghost = R_exact exp(k log(R_exactᵀ R)) (`app.kit.rigid.magnified_attitude`): k = 0 is the
-exact solution, k = 1 lies on the solid body, k = 10⁶ turns a 1e-7 rad drift into 0.1 rad.  Off,
-it costs nothing: built on first use, then hidden, and neither evaluated nor sent.  On the ω plot
-the exact solution's flips (ω along the intermediate axis changing sign, a free body with three
-different moments) are vertical grey segments, at the times `physics.poinsot.flip_times` gives.
+The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
+readout, Lagrange tab, accuracy, legend) are pure functions of the simulation in
+`app.kit.rigid_text`.  On the ω plot the exact solution's flips (ω along the intermediate axis
+changing sign, a free body with three different moments) are vertical grey segments, at the
+times `physics.poinsot.flip_times` gives.
 
 Sliders follow the motion without feedback (`SceneView.quiet`).  A user's edit of an angle or rate
 slider pauses the room and restarts the run (t = 0) from the sliders' values.  Bad input
@@ -44,11 +41,10 @@ from app.kit.common import (
     OMEGA_COLOR,
     SliderSpec,
     Throttle,
-    format_deg,
-    format_matrix,
     gimbal_note,
     wrap_deg,
 )
+from app.kit.ghost import ExactGhost
 from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
@@ -57,18 +53,18 @@ from app.kit.rigid import (
     INTEGRATOR_LAGRANGE,
     INTEGRATOR_REALTIME,
     RigidBodySimulation,
-    magnified_attitude,
 )
+from app.kit.rigid_text import accuracy_text, lagrange_text, legend_text, readout_text, status_text
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
-from physics.dynamics import Model, State, kinetic_energy
+from physics.dynamics import Model, State
 from physics.euler import GimbalLockError, body_z_axis, line_of_nodes, matrix_from_euler_zxz
 from physics.inertia import InertiaError
-from physics.lagrange import LagrangeTerms, generalized_forces, lagrange_terms
+from physics.lagrange import LagrangeTerms, lagrange_terms
 
-__all__ = ["ANGLE_SPECS", "GHOST_K_OPTIONS", "GHOST_OPACITY", "RigidBodyView"]
+__all__ = ["ANGLE_SPECS", "RigidBodyView"]
 
 SLIDER_PERIOD = 0.1  # [s] of wall time between slider syncs while playing (10 Hz)
 READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
@@ -76,44 +72,7 @@ STATUS_PERIOD = 0.2  # status line (5 Hz)
 PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
 ARROW_RANGE = (0.5, 2.6)  # [scene units] an arrow outside this at a restart is rescaled
 
-GHOST_OPACITY = 0.3
-GHOST_K_OPTIONS = {"0 (exact)": 0.0, "1 (= solid)": 1.0, "10": 10.0, "100": 100.0, "10³": 1e3, "10⁴": 1e4,
-                   "10⁵": 1e5, "10⁶": 1e6}
-"""The ghost's error magnifications k (dropdown label -> k)."""
 FLIP_COLOR = "#888888"
-
-
-class Translucent:
-    """A scene API that adds every mesh with `opacity` and no shadows (the ghost's shape is
-    built by the scene's own `build_shape` through it); everything else passes through."""
-
-    def __init__(self, scene: Any, opacity: float) -> None:
-        self._scene = scene
-        self._opacity = opacity
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._scene, name)
-
-    def _translucent(self, kwargs: dict[str, Any]) -> dict[str, Any]:
-        return {**kwargs, "opacity": self._opacity, "cast_shadow": False, "receive_shadow": False}
-
-    def add_mesh_simple(self, *args: Any, **kwargs: Any) -> Any:
-        return self._scene.add_mesh_simple(*args, **self._translucent(kwargs))
-
-    def add_icosphere(self, *args: Any, **kwargs: Any) -> Any:
-        return self._scene.add_icosphere(*args, **self._translucent(kwargs))
-
-    def add_box(self, *args: Any, **kwargs: Any) -> Any:
-        return self._scene.add_box(*args, **self._translucent(kwargs))
-
-    def add_mesh_trimesh(self, name: str, mesh: Any, **kwargs: Any) -> Any:
-        """viser's trimesh node has no opacity: the mesh goes in as a simple one, in its mean colour."""
-        colors = getattr(getattr(mesh, "visual", None), "vertex_colors", None)
-        color = tuple(int(c) for c in np.asarray(colors)[:, :3].mean(axis=0)) if colors is not None else (200, 200, 200)
-        kwargs = {k: v for k, v in kwargs.items() if k in ("scale", "wxyz", "position", "visible")}
-        return self._scene.add_mesh_simple(name, np.asarray(mesh.vertices, dtype=np.float32),
-                                           np.asarray(mesh.faces, dtype=np.uint32), color=color,
-                                           **self._translucent(kwargs))
 
 
 class FlipPlots(LivePlots):
@@ -274,9 +233,7 @@ class RigidBodyView(SceneView):
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self._status_throttle = Throttle(STATUS_PERIOD)
         self._plot_throttle = Throttle(PLOT_PERIOD)
-        self.ghost: Body | None = None  # built the first time "Exact ghost" is switched on
-        self._ghost_model: Model | None = None
-        self.ghost_k = 0.0
+        self.ghost: ExactGhost
         self._rates_shown: tuple[float, ...] | None = None
         self.build()
 
@@ -330,12 +287,10 @@ class RigidBodyView(SceneView):
                 self.gui_show_L = gui.add_checkbox("L arrow", True)
                 self.gui_show_nodes = gui.add_checkbox("Line of nodes", True)
                 self.gui_show_body_axes = gui.add_checkbox("Body axes x′ y′ z′", True)
-                self.gui_ghost = gui.add_checkbox(
-                    "Exact ghost", False, hint="a translucent copy at the exact solution's attitude")
-                self.gui_ghost_k = gui.add_dropdown(
-                    "Exaggerate error ×k", tuple(GHOST_K_OPTIONS), initial_value=next(iter(GHOST_K_OPTIONS)),
-                    visible=False, hint="ghost at R_exact·exp(k·log(R_exactᵀR)): k = 0 exact, k = 1 on the solid body")
-                self.gui_ghost_note = gui.add_markdown("", visible=False)
+                self.ghost = ExactGhost(gui, wrap, self.message, self.quiet, scene=self.client.scene, root=self.root,
+                                        shape=self.build_shape, axis_length=self.body_axis_length, sim=self.sim,
+                                        on_change=self.room.refresh)
+                self.gui_ghost = self.ghost.gui_toggle  # a lesson step switches it by its label
                 self.build_display_extras(gui)
                 self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
                 self.gui_legend = gui.add_markdown("")
@@ -363,8 +318,6 @@ class RigidBodyView(SceneView):
                       nth(lambda: self.params_from_model(self.sim.model), index), spec=spec)
         for handle in (self.gui_show_omega, self.gui_show_L, self.gui_show_nodes, self.gui_show_body_axes):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
-        self.gui_ghost.on_update(wrap("exact ghost", self._ghost_callback))
-        self.gui_ghost_k.on_update(wrap("ghost magnification", self._ghost_k_callback))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
         self.gui_live_plots.on_update(wrap("live plots", lambda _event: self.refresh()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
@@ -398,7 +351,7 @@ class RigidBodyView(SceneView):
                 self._refresh_gimbal_note()
             if self._status_throttle.ready(dt):
                 self._refresh_status()
-                self._refresh_ghost_note()
+                self.ghost.refresh_note()
             if self._readout_throttle.ready(dt) and self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
             if self._plot_throttle.ready(dt) and self.tabs.shown == "Plots":
@@ -420,7 +373,7 @@ class RigidBodyView(SceneView):
             self.show_values(self.gui_params, self.param_specs, self.params_from_model(sim.model))
             self.transport.show(self.room.playing, self.room.time_scale, sim.integrator)
             self._refresh_status()
-            self._refresh_ghost_note()
+            self.ghost.refresh_note()
             self._refresh_gimbal_note()
             if self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
@@ -441,9 +394,7 @@ class RigidBodyView(SceneView):
             self.body.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
             self.gui_param_status.content = self.shape_status(model)
             self._drawn_model = model
-            if self.ghost is not None:
-                self.ghost.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
-                self._ghost_model = model
+            self.ghost.reshape(model)
         preset = getattr(sim, "preset", None)
         R, omega = sim.state.R_space_body, sim.state.omega_body
         if preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega):
@@ -463,8 +414,7 @@ class RigidBodyView(SceneView):
         self.omega.update(R @ omega_body * self.omega_scale)
         L_space = R @ (np.asarray(sim.model.inertia) * omega_body)
         self.L.update(L_space * self.L_scale, rtol=1e-6)
-        if self.ghost_shown:
-            self._draw_ghost()
+        self.ghost.draw()
         self.draw_extras(sim)
 
     def _arrows_fit(self, R: np.ndarray, omega_body: Vec3) -> bool:
@@ -484,92 +434,7 @@ class RigidBodyView(SceneView):
         if fixed is not None:
             self.omega_scale = fixed
         self.L_scale = self.arrow_lengths[1] / L if L > 0.0 else self.L_scale
-        self.gui_legend.content = (
-            f"Arrows from the {'pivot' if self.sim.model.mgl else 'centre of mass'}:  \n"
-            f"**ω** (orange): 1 unit = {1.0 / self.omega_scale:.3g} rad/s  \n"
-            f"**L** (violet): 1 unit = {1.0 / self.L_scale:.3g} kg m²/s  \n"
-            "Gold: line of nodes e_n.  Red/green/blue: space x y z; dark: body x′ y′ z′."
-        )
-
-    # ------------------------------------------------------------------ the exact ghost
-    @property
-    def ghost_shown(self) -> bool:
-        return bool(self.gui_ghost.value)
-
-    def set_ghost(self, on: bool) -> None:
-        """Show or hide the exact ghost (what the checkbox does)."""
-        if on and self.ghost is None:
-            model = self.sim.model
-            self.ghost = Body(Translucent(self.client.scene, GHOST_OPACITY), f"{self.root}/ghost",
-                              lambda scene, parent: self.build_shape(scene, parent, model),
-                              axis_length=self.body_axis_length, show_axes=False)
-            self._ghost_model = model
-        self.quiet.write(self.gui_ghost, bool(on))
-        self.gui_ghost_k.visible = bool(on)
-        if self.ghost is not None:
-            self.ghost.node.visible = bool(on)
-        self.room.refresh()
-
-    def set_ghost_k(self, k: float) -> None:
-        """The error magnification k (one of GHOST_K_OPTIONS' values; ValueError otherwise)."""
-        label = next((name for name, value in GHOST_K_OPTIONS.items() if value == k), None)
-        if label is None:
-            raise ValueError(f"k = {k!r} is not one of {sorted(GHOST_K_OPTIONS.values())}")
-        self.ghost_k = float(k)
-        self.quiet.write(self.gui_ghost_k, label)
-        self.room.refresh()
-
-    def _ghost_callback(self, _event: Any) -> None:
-        if self.quiet.active:
-            return
-        value = self.gui_ghost.value
-        if not isinstance(value, bool):  # a client can send anything
-            self.message.show(f"Exact ghost = {value!r} refused: on or off.")
-            self.quiet.write(self.gui_ghost, self.ghost is not None and bool(self.ghost.node.visible))
-            return
-        self.set_ghost(value)
-
-    def _ghost_k_callback(self, _event: Any) -> None:
-        if self.quiet.active:
-            return
-        label = self.gui_ghost_k.value
-        if label not in GHOST_K_OPTIONS:
-            self.message.show(f"Magnification {label!r} refused: choose one of {', '.join(GHOST_K_OPTIONS)}.")
-            self.set_ghost_k(self.ghost_k)
-            return
-        self.set_ghost_k(GHOST_K_OPTIONS[label])
-
-    def _draw_ghost(self) -> None:
-        """Pose the ghost at the exact attitude, turned by k times the error (hidden without a
-        closed form)."""
-        assert self.ghost is not None
-        R_exact = self.sim.exact_attitude()
-        visible = R_exact is not None
-        if bool(self.ghost.node.visible) != visible:
-            self.ghost.node.visible = visible
-        if R_exact is not None:
-            R = self.sim.state.R_space_body
-            self.ghost.pose(R_exact if self.ghost_k == 0.0 else magnified_attitude(R_exact, R, self.ghost_k))
-
-    def _refresh_ghost_note(self) -> None:
-        shown = self.ghost_shown
-        if self.gui_ghost_note.visible != shown:
-            self.gui_ghost_note.visible = shown
-        if not shown:
-            return
-        sim = self.sim
-        k = self.ghost_k
-        k_text = next(name for name, value in GHOST_K_OPTIONS.items() if value == k)
-        error = sim.attitude_error()
-        if error is None:
-            text = f"**Ghost:** no closed form here ({sim.exact_failed})."
-        else:
-            text = (f"**Ghost** (translucent) = R_exact·exp(k·log(R_exactᵀR)): k = 0 is the exact solution, "
-                    f"k = 1 lies on the solid body.  Attitude error **{error:.2e} rad**; "
-                    f"k = {k_text.split(' ')[0]}, drawn as {k * error:.2e} rad"
-                    + (" (beyond π it wraps)." if k * error > math.pi else "."))
-        if self.gui_ghost_note.content != text:
-            self.gui_ghost_note.content = text
+        self.gui_legend.content = legend_text(bool(self.sim.model.mgl), self.omega_scale, self.L_scale)
 
     # ------------------------------------------------------------------ sliders
     def displayed_angles_deg(self) -> tuple[float, float, float]:
@@ -643,11 +508,7 @@ class RigidBodyView(SceneView):
 
     # ------------------------------------------------------------------ text
     def _refresh_status(self) -> None:
-        sim = self.sim
-        state = "▶ playing" if self.room.playing else "paused"
-        method = ("exact (closed form)" if sim.integrator == INTEGRATOR_EXACT
-                  else f"splitting4, {max(sim.substeps, 1)} sub-step(s)/frame")
-        self.transport.set_status(f"**t = {sim.t:.2f} s** · {state} · {self.room.time_scale:g}× · {method}")
+        self.transport.set_status(status_text(self.sim, self.room.playing, self.room.time_scale))
 
     def _refresh_gimbal_note(self) -> None:
         note = gimbal_note(math.degrees(float(self.sim.angles[1])))
@@ -657,126 +518,24 @@ class RigidBodyView(SceneView):
             self.gui_gimbal_note.content = note
 
     def _push_plots(self) -> None:
-        sim = self.sim
         if self.gui_live_plots.value:
             self.plots.push()
-        error = sim.samples.last("attitude_error")
-        if sim.integrator == INTEGRATOR_EXACT:
-            error_line = "attitude error       —  (the integrator IS the exact solution)"
-        elif math.isnan(error):
-            error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"
-        else:
-            error_line = f"attitude error   {error:9.2e} rad   (max {sim.max_drift['attitude_error']:.2e})"
-        self.accuracy.set(
-            f"**Accuracy** of {sim.integrator} since t = 0 (relative; exact would be 0)\n"
-            "```\n"
-            f"|ΔE| / E₀      {abs(sim.samples.last('drift_E')):9.2e}       (max {sim.max_drift['drift_E']:.2e})\n"
-            f"|Δ{self.momentum_label}| / |L₀|  {abs(sim.samples.last('drift_L')):9.2e}"
-            f"       (max {sim.max_drift['drift_L']:.2e})\n"
-            f"{error_line}\n"
-            "```"
-        )
+        self.accuracy.set(accuracy_text(self.sim, self.momentum_label))
 
     def _refresh_readout(self) -> None:
+        sim = self.sim
         if self.tabs.shown == "Lagrange":
-            self._refresh_lagrange()
+            gimbal = math.sin(math.radians(GIMBAL_LOCK_DEG))
+            try:
+                terms = lagrange_terms(sim.model, sim.t, sim.state.R_space_body, sim.state.omega_body, sim.angles,
+                                       min_sin_theta=gimbal)
+            except GimbalLockError:
+                terms = None
+            self._draw_generalized_forces(terms)
+            self.lagrange_readout.set(lagrange_text(sim, terms))
             return
-        sim = self.sim
-        R, omega_body = sim.state.R_space_body, sim.state.omega_body
-        phi, theta, psi = self.displayed_angles_deg()
-        inertia = np.array(sim.model.inertia)
-        L_body = inertia * omega_body
-        T = kinetic_energy(sim.model, omega_body)
-        V = sim.model.potential_energy(R)
-        torque = sim.model.torque_space_at(sim.t, R, omega_body)
-        Q = generalized_forces(sim.angles, torque)
-
-        def clean(x: float) -> float:
-            return 0.0 if abs(x) < 5e-5 else float(x)
-
-        def row(name: str, v: np.ndarray) -> str:
-            return f"{name:<13}" + "".join(f"{clean(x):9.4f}" for x in v)
-
-        lines = [  # at most ~42 characters a line: the panel's width
-            f"t = {sim.t:.3f} s    (z-x-z, degrees)",
-            f"φ = {format_deg(phi)}°  θ = {theta:.2f}°  ψ = {format_deg(psi)}°",
-        ]
-        if gimbal_note(theta) is not None:
-            combined = ("φ + ψ", phi + psi) if theta < 90.0 else ("φ − ψ", phi - psi)
-            lines.append(f"gimbal lock: only {combined[0]} = {format_deg(combined[1])}°")
-        lines += [
-            "",
-            "D = Rz(φ) Rx(θ) Rz(ψ), columns x′ y′ z′",
-            format_matrix(R, 4),
-            "",
-            f"{'':<13}{'x | x′':>9}{'y | y′':>9}{'z | z′':>9}",
-            row("ω_s [rad/s]", R @ omega_body),
-            row("ω_b [rad/s]", omega_body),
-            row("L_s [kg m²/s]", R @ L_body),
-            row("L_b [kg m²/s]", L_body),
-            row("M_s [N m]", torque),
-            "",
-            f"T = {T:.5f} J",
-            f"V = {V:.5f} J",
-            f"E = T + V = {T + V:.5f} J",
-            f"Q_φ = M·e_z  = {clean(Q[0]):.4f} N m",
-            f"Q_θ = M·e_n  = {clean(Q[1]):.4f} N m",
-            f"Q_ψ = M·e_z′ = {clean(Q[2]):.4f} N m",
-        ]
-        extra = self.readout_extras(sim)
-        if extra:
-            lines += ["", extra]
-        self.readout.set("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
-                         "Q: generalized forces of φ θ ψ (memo 6.10).\n```\n" + "\n".join(lines) + "\n```")
+        self.readout.set(readout_text(sim, self.displayed_angles_deg(), self.readout_extras(sim)))
         self._refresh_gimbal_note()
-
-    def _refresh_lagrange(self) -> None:
-        """The Lagrange tab: q, q̇, T (6.4), V and the terms of (5.13) for φ θ ψ, evaluated on the
-        simulation's motion (`physics.lagrange.lagrange_terms`), and Q drawn as projections of M."""
-        sim = self.sim
-        R, omega_body = sim.state.R_space_body, sim.state.omega_body
-        gimbal = math.sin(math.radians(GIMBAL_LOCK_DEG))
-        try:
-            terms = lagrange_terms(sim.model, sim.t, R, omega_body, sim.angles, min_sin_theta=gimbal)
-        except GimbalLockError:
-            terms = None
-        self._draw_generalized_forces(terms)
-        head = ("Lagrange's equations in q = (φ, θ, ψ) (memo 5.13, 6.4, 6.10), evaluated on the "
-                f"motion computed by **{sim.integrator}**.")
-        if terms is None:
-            self.lagrange_readout.set(
-                head + "\n\n**θ is within 2° of 0° or 180°**: the Euler rates q̇ are undefined there "
-                "(det M = I1 I2 I3 sin²θ): the equations in φ θ ψ are singular; the motion itself is not.")
-            return
-
-        def row(name: str, v: np.ndarray, scale: float = 1.0) -> str:
-            return f"{name:<15}" + "".join(f"{(0.0 if abs(x) < 5e-9 else x) * scale:11.5f}" for x in v)
-
-        # q in degrees: φ and ψ are the simulation's continuous angles (unwrapped, thousands of
-        # degrees after a long run), shown in (-180°, 180°]; θ is in [0°, 180°].
-        q_deg = np.degrees(terms.q)
-        q_row = f"{'q [deg]':<15}" + "".join(f"{text:>11}" for text in (
-            format_deg(q_deg[0], 5), f"{q_deg[1]:.5f}", format_deg(q_deg[2], 5)))
-
-        lines = [
-            f"t = {sim.t:.3f} s   T = {terms.T:.5f} J   V = {terms.V:.5f} J",
-            "",
-            f"{'':<15}{'φ':>11}{'θ':>11}{'ψ':>11}",
-            q_row,
-            row("q̇ [deg/s]", terms.qdot, 180.0 / math.pi),
-            row("∂T/∂q̇", terms.dT_dqdot),
-            row("d/dt ∂T/∂q̇", terms.ddt_dT_dqdot),
-            row("− ∂T/∂q", -terms.dT_dq),
-            row("− Q", -terms.Q),
-            "",
-            "residual = d/dt ∂T/∂q̇ − ∂T/∂q − Q [N m]:",
-            "  " + "  ".join(f"{x:.1e}" for x in terms.residual),
-            "",
-            "Q_φ = M·e_z, Q_θ = M·e_n, Q_ψ = M·e_z′ [N m]",
-        ]
-        self.lagrange_readout.set(head + "\n```\n" + "\n".join(lines) + "\n```\n"
-                                  "∂T/∂q̇ in kg m²/s, the other rows in N m.  q̈ comes from Euler's "
-                                  "equations, not from (5.13): the residual shows that the two agree.")
 
     def _draw_generalized_forces(self, terms: LagrangeTerms | None) -> None:
         """M and Q_φ e_z, Q_θ e_n, Q_ψ e_z′ from the pivot, head to tail (hidden for no torque)."""

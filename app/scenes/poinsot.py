@@ -1,7 +1,8 @@
 """Poinsot's construction of the free body ("Poinsot" scene).
 
 The torque-free body of `app.kit.torque_free` (the Free body scene's simulation, sliders,
-presets format, ghost), with the geometry of `physics.poinsot` drawn around it, in ω units (1 rad/s = `scale` scene units):
+presets format, ghost), with the geometry of `physics.poinsot` drawn around it, in ω units
+(1 rad/s = `scale` scene units):
 
 * **Poinsot's ellipsoid** ω · I ω = 2T (semi-axes sqrt(2T/I_k)), centred on the fixed point and
   fixed in the body: a child of the body's frame, so it turns with the body at no cost per frame.
