@@ -35,6 +35,10 @@ The rest:
   it an exact copy of the room as shown now (`Room.fork`: state, time, traces, plots, playing).
   `Follow presenter` comes back to the live scene.  On a narrow screen (a phone) the panel
   shrinks to one status line and a `Details` button, so the body stays in view.
+- **The pointer.**  The presenter ticks `Pointer` (or holds Shift) and clicks in the 3D view: a
+  marker (a ring and a dot, and the short label typed under `Pointer label`) appears there on
+  every follower's screen and fades within POINTER_SECONDS.  The click handler is registered on
+  the presenter's own scene (`client.scene.on_click`), so only the presenter can point.
 - **A presenter who stops or leaves** leaves the last state on the followers' screens (a paused
   copy, which `Explore` copies), with a note; a new presenter takes over with the code.
 
@@ -61,8 +65,8 @@ from app.kit.common import apply_camera
 from app.kit.room import Room
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT",
-           "NARROW_PX", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Seat", "fitted_camera", "is_narrow",
-           "new_code"]
+           "NARROW_PX", "POINTER_SECONDS", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Pointer", "Seat",
+           "fitted_camera", "is_narrow", "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
 
@@ -74,6 +78,11 @@ CAMERA_PERIOD = 0.1  # [s] the presenter's camera reaches the followers at most 
 NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
 NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
+POINTER_SECONDS = 4.0  # [s] a pointer marker stays this long, fading
+POINTER_MARKERS = 4  # at most this many at once (the oldest goes)
+POINTER_COLOR = (235, 0, 140)
+POINTER_RADIUS = 0.22  # [scene units] of the ring
+POINTER_LABEL_CHARS = 40
 BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
 
 
@@ -196,6 +205,80 @@ def fitted_camera(position: Any, look_at: Any, fov_rad: float, aspect_from: floa
     return (float(eye[0]), float(eye[1]), float(eye[2])), (float(target[0]), float(target[1]), float(target[2]))
 
 
+def pointed_at(ray_origin: Any, ray_direction: Any, look_at: Any) -> np.ndarray:
+    """Where a click points in 3D: the point of the click's ray nearest the camera's look-at
+    point (a click on the body lands near the body; the scene has no depth to read back).
+    ValueError for a ray that is not finite or has no direction."""
+    origin, direction = np.asarray(ray_origin, dtype=float), np.asarray(ray_direction, dtype=float)
+    target = np.asarray(look_at, dtype=float)
+    length = float(np.linalg.norm(direction))
+    if origin.shape != (3,) or direction.shape != (3,) or not (np.all(np.isfinite(origin))
+                                                              and np.all(np.isfinite(direction)) and length > 0.0):
+        raise ValueError(f"a click's ray {ray_origin!r} + s {ray_direction!r} is not a ray")
+    direction = direction / length
+    s = max(float((target - origin) @ direction), 0.0)
+    return origin + s * direction
+
+
+class Pointer:
+    """The presenter's markers in the shared scene (under LIVE_ROOT, so a browser exploring on
+    its own, which hides LIVE_ROOT, does not see them): a ring facing the camera, a dot and an
+    optional label each, fading over POINTER_SECONDS."""
+
+    def __init__(self, scene: Any) -> None:
+        self.scene = scene
+        self.markers: list[tuple[float, list[Any]]] = []  # (age [s], handles)
+        self.count = 0
+
+    def add(self, point: np.ndarray, facing: np.ndarray, label: str) -> None:
+        """A marker at `point` [scene units], its ring perpendicular to `facing`."""
+        if len(self.markers) >= POINTER_MARKERS:
+            self._remove(self.markers.pop(0)[1])
+        facing = facing / float(np.linalg.norm(facing))
+        helper = np.array([0.0, 0.0, 1.0]) if abs(facing[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+        u = np.cross(facing, helper)
+        u /= float(np.linalg.norm(u))
+        v = np.cross(facing, u)
+        angles = np.linspace(0.0, 2.0 * np.pi, 49)
+        ring = POINTER_RADIUS * (np.cos(angles)[:, None] * u + np.sin(angles)[:, None] * v)
+        segments = np.stack([ring[:-1], ring[1:]], axis=1).astype(np.float32)
+        name = f"{LIVE_ROOT}/pointer/{self.count}"
+        self.count += 1
+        frame = self.scene.add_frame(name, show_axes=False, position=tuple(float(x) for x in point))
+        handles = [frame,
+                   self.scene.add_line_segments(f"{name}/ring", segments, POINTER_COLOR, thickness=7.0,
+                                                thickness_units="screen"),
+                   self.scene.add_icosphere(f"{name}/dot", radius=0.05, color=POINTER_COLOR, subdivisions=2)]
+        if label:
+            handles.append(self.scene.add_label(f"{name}/label", label, position=tuple(1.3 * POINTER_RADIUS * u),
+                                                font_screen_scale=1.6, anchor="bottom-left"))
+        self.markers.append((0.0, handles))
+
+    def tick(self, dt: float) -> None:
+        """Age the markers: each shrinks to nothing over POINTER_SECONDS, then goes."""
+        kept = []
+        for age, handles in self.markers:
+            age += dt
+            if age >= POINTER_SECONDS:
+                self._remove(handles)
+                continue
+            shrink = round(1.0 - (age / POINTER_SECONDS) ** 3, 2)  # stays large, then goes quickly
+            if handles[0].scale != shrink:
+                handles[0].scale = shrink
+            kept.append((age, handles))
+        self.markers = kept
+
+    def clear(self) -> None:
+        for _, handles in self.markers:
+            self._remove(handles)
+        self.markers = []
+
+    @staticmethod
+    def _remove(handles: list[Any]) -> None:
+        with contextlib.suppress(Exception):  # gone already
+            handles[0].remove()
+
+
 class Follower:
     """A following browser's panel: what the presenter shows, read only, and the way out.
 
@@ -286,6 +369,7 @@ class Lectern:
         self._since_camera = 0.0
         self._to_follow: list[Seat] = []
         self._watched: set[int] = set()  # client ids whose camera the lectern hears
+        self.pointer = Pointer(server.scene) if server is not None else None
         self.seats: Callable[[], list[Seat]] = lambda: []
         """Set by the app: its open sessions."""
 
@@ -327,6 +411,8 @@ class Lectern:
                 return
             self.presenter = None
             self.hall = Hall.LEFT if disconnected else Hall.STOPPED
+            if self.pointer is not None:
+                self.pointer.clear()
             view, room = self.live_view, self._live_room
             if view is not None and room is not None:
                 with room.lock:
@@ -456,6 +542,9 @@ class Lectern:
         for seat in to_follow:
             if not seat.closed and seat.following_by_default():
                 seat.guard("follow the presenter", seat.follow)()
+        if self.pointer is not None and self.pointer.markers:
+            with self._lock:
+                self.pointer.tick(dt)
         self._since_status += dt
         if self._since_status >= FOLLOW_PERIOD and self.followers:
             self._since_status = 0.0
@@ -466,6 +555,18 @@ class Lectern:
             self._since_camera = 0.0
             for follower in list(self.followers.values()):
                 self.send_camera(follower)
+
+    def point(self, seat: Seat, ray_origin: Any, ray_direction: Any, label: str = "") -> np.ndarray:
+        """The presenter points: a marker where its click's ray passes nearest its camera's
+        look-at point (`pointed_at`), for every follower.  PermissionError for anyone else,
+        ValueError for a ray that is not one; the point [scene units]."""
+        if seat is not self.presenter or self.pointer is None:
+            raise PermissionError("only the presenter can point")
+        point = pointed_at(ray_origin, ray_direction, seat.client.camera.look_at)
+        text = str(label).strip()[:POINTER_LABEL_CHARS]
+        with self._lock:
+            self.pointer.add(point, np.asarray(ray_direction, dtype=float), text)
+        return point
 
     def _camera_moved(self, seat: Seat) -> None:
         if seat is self.presenter:

@@ -99,6 +99,7 @@ class Session:
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))
         self._guarded_tick = self.guard("tick", self._tick)
+        self._guarded_point = self.guard("pointer", self._pointed)
         self.gui_projector = gui.add_checkbox("Projector", False, hint="large text, a narrow panel, large 3D labels")
         self.gui_projector.on_update(self.guard("projector", lambda _event: self.set_projector(
             bool(self.gui_projector.value))))
@@ -519,11 +520,16 @@ class Session:
             self.gui_present = gui.add_button("Present", icon=viser.Icon.PRESENTATION,
                                               hint="show this browser's scene to everyone who follows")
             self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False)
+            self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False,
+                                                hint="click in the 3D view to point for everyone (or hold Shift)")
+            self.gui_pointer_label = gui.add_text("Pointer label", "", visible=False,
+                                                  hint="a few words shown beside the marker")
             self.gui_follow = gui.add_button("Follow presenter", icon=viser.Icon.USERS, visible=False)
             self.gui_lecture_note = gui.add_markdown("", visible=False)
         self.gui_present.on_click(self.guard("present", lambda _event: self.present(str(self.gui_code.value))))
         self.gui_stop.on_click(self.guard("stop presenting", lambda _event: self.stop_presenting()))
         self.gui_follow.on_click(self.guard("follow", lambda _event: self.follow()))
+        self.gui_pointer.on_update(self.guard("pointer", lambda _event: self._pointer_mode(self.gui_pointer.value)))
 
     def _lecture_note(self, text: str) -> None:
         self.gui_lecture_note.content = text
@@ -537,7 +543,8 @@ class Session:
             return
         following = self.mode is Mode.FOLLOWING
         self.gui_present.visible = self.gui_code.visible = self.mode is not Mode.PRESENTING
-        self.gui_stop.visible = self.mode is Mode.PRESENTING
+        self.gui_stop.visible = self.gui_pointer.visible = self.gui_pointer_label.visible = \
+            self.mode is Mode.PRESENTING
         self.gui_follow.visible = (self.mode is Mode.OWN and lectern.presenter is not None
                                    and lectern.presenter is not self)
         self.gui_scene.visible = not following
@@ -554,6 +561,24 @@ class Session:
         for handle in (self.gui_projector, self.notes_folder, *([self.lecture_folder] if self.lectern else [])):
             if handle.visible != shown:
                 handle.visible = shown
+
+    # The pointer: scene-level clicks on this browser's own scene (only it hears them).
+    def _pointed(self, event: Any) -> None:
+        if self.lectern is not None and self.mode is Mode.PRESENTING:
+            self.lectern.point(self, event.ray_origin, event.ray_direction, str(self.gui_pointer_label.value))
+
+    def _pointer_mode(self, on: Any) -> None:
+        """Pointer on: a plain click points; off: only Shift + click does (while presenting)."""
+        if not isinstance(on, bool):  # a client can send anything
+            self.gui_pointer.value = False
+            return
+        scene = self.client.scene
+        scene.remove_click_callback(self._guarded_point)
+        if self.mode is not Mode.PRESENTING:
+            return
+        scene.on_click(modifier="shift")(self._guarded_point)
+        if on:
+            scene.on_click()(self._guarded_point)
 
     def _hide_live(self, hide: bool) -> None:
         """Hide the shared (presenter's) scene in this browser: an invisible node of the same
@@ -587,6 +612,7 @@ class Session:
             self.mode = Mode.PRESENTING
         lectern.start(self)
         self._show_lecture_buttons()
+        self._pointer_mode(bool(self.gui_pointer.value))
 
     def stop_presenting(self) -> None:
         """Release the lock; the followers keep the last state; this browser keeps the room."""
@@ -602,6 +628,7 @@ class Session:
                 self.scene = self._new_view(room)
             self._hide_live(True)
         self._show_lecture_buttons()
+        self._pointer_mode(False)
 
     def following_by_default(self) -> bool:
         """A browser with its own room that has not chosen to explore follows a new presenter."""

@@ -186,3 +186,61 @@ def test_a_phone_follower_sees_the_body_not_the_panel(browser, hall_app: App, wa
     assert box is not None and box["y"] > 0.6 * 844
     phone.get_by_role("button", name="Details").tap()
     phone.get_by_role("button", name="Explore on my own").wait_for(timeout=10_000)
+
+
+def _magenta_share(png_path, x: float, y: float, half: int = 45) -> float:  # type: ignore[no-untyped-def]
+    """Share of pixels of the pointer's colour (235, 0, 140, shaded) around (x, y) [px]."""
+    pixels = np.asarray(Image.open(png_path).convert("RGB"), dtype=int)[int(y) - half:int(y) + half,
+                                                                          int(x) - half:int(x) + half]
+    r, g, b = pixels[..., 0], pixels[..., 1], pixels[..., 2]
+    return float(np.mean((r > 150) & (g < 80) & (b > 70) & (b < 200) & (r - b > 50)))
+
+
+def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser, hall_app: App, wait_until,
+                                                                        tmp_path) -> None:
+    from app.lectern import LIVE_ROOT
+
+    app = hall_app
+
+    def markers() -> list[str]:
+        return [n for n in app.server.scene._handle_from_node_name if n.startswith(f"{LIVE_ROOT}/pointer/")
+                and n.count("/") == 3]
+
+    presenter_page, presenter = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
+    close_toasts(presenter_page)
+    open_folder(presenter_page, "Lecture", "Presenter code")
+    text_input(presenter_page, "Presenter code").click()
+    presenter_page.keyboard.type(CODE, delay=30)
+    presenter_page.get_by_role("button", name="Present").click()
+    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
+    follower_page, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    wait_until(lambda: follower.mode == "following", timeout=15.0)
+    follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
+    close_toasts(follower_page)
+    time.sleep(2.0)
+    before = tmp_path / "before.png"
+    follower_page.screenshot(path=str(before))
+
+    # The follower clicks and shift-clicks the body: nothing appears; it has no Pointer box.
+    fx, fy = project(follower.client.camera, (0.0, 0.0, 0.0), 1280, 800)
+    follower_page.mouse.click(fx, fy)
+    follower_page.keyboard.down("Shift")
+    follower_page.mouse.click(fx, fy)
+    follower_page.keyboard.up("Shift")
+    time.sleep(1.0)
+    assert markers() == [] and follower_page.get_by_text("Pointer", exact=True).count() == 0
+
+    # The presenter ticks Pointer and clicks the body: a marker for everyone.
+    presenter_page.get_by_text("Pointer", exact=True).first.click()
+    wait_until(lambda: presenter.gui_pointer.value is True, timeout=10.0)
+    time.sleep(1.0)  # the browser has been told to send scene clicks
+    px, py = project(presenter.client.camera, (0.0, 0.0, 0.0), 1280, 800)
+    presenter_page.mouse.click(px, py)
+    wait_until(lambda: len(markers()) == 1, timeout=10.0)
+    time.sleep(0.8)
+    after = tmp_path / "after.png"
+    follower_page.screenshot(path=str(after))
+    shares = _magenta_share(before, fx, fy), _magenta_share(after, fx, fy)
+    assert shares[1] > shares[0] + 0.01, f"the follower does not see the marker where it points: {shares}"
+    wait_until(lambda: markers() == [], timeout=15.0)  # it fades and goes
