@@ -8,6 +8,7 @@ through the client handle it is given.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -40,6 +41,7 @@ __all__ = [
     "fade_color",
     "format_matrix",
     "format_vector",
+    "fork_sharing",
     "gimbal_note",
     "polyline_segments",
     "striped_parts",
@@ -232,3 +234,14 @@ def striped_parts(
     azimuth = np.arctan2(centroids[:, 1], centroids[:, 0]) % (2.0 * np.pi)
     odd = (np.floor(azimuth / (2.0 * np.pi / sectors)).astype(int) % 2).astype(bool)
     return (vertices, faces[~odd]), (vertices, faces[odd])
+
+
+def fork_sharing(obj: Any, shared: Any = ()) -> Any:
+    """A deep copy of `obj` (a simulation's `fork`) that shares the arrays in `shared` instead
+    of copying them (a mesh of up to half a million faces); they are made read-only first, so
+    neither copy can change what both see."""
+    memo: dict[int, Any] = {}
+    for array in shared:
+        array.flags.writeable = False
+        memo[id(array)] = array
+    return copy.deepcopy(obj, memo)

@@ -16,13 +16,12 @@ hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 
+from app.kit.common import fork_sharing
 from app.kit.samples import SampleBuffer
 from app.kit.trace import Trace
 from physics._types import Vec3
@@ -112,12 +111,8 @@ class RigidBodySimulation:
         with its internal state (the stepper is copied), closed form, drift references and maxima,
         samples, traces, preset, mesh and version; nothing mutable is shared (a handed-on mesh is
         shared read-only).  Advancing both by the same steps gives the same states bit for bit."""
-        memo: dict[int, Any] = {}
-        if self.mesh is not None:
-            for array in self.mesh:
-                array.flags.writeable = False
-                memo[id(array)] = array
-        return copy.deepcopy(self, memo)
+        return fork_sharing(self, self.mesh or ())
+
     # ------------------------------------------------------------------ runs
     @property
     def t(self) -> float:

@@ -45,7 +45,7 @@ from app.kit.common import (
     wrap_deg,
 )
 from app.kit.ghost import ExactGhost
-from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Tabs, Wrap, add_slider
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
 from app.kit.rigid import (
@@ -262,14 +262,8 @@ class RigidBodyView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        room = self.room
-        self.gui_intro = gui.add_markdown(self.intro)
-        self.message = MessageLine(gui)
-        self.transport = Transport(
-            gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step, on_reset=room.reset,
-            on_time_scale=room.set_time_scale, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
-            on_integrator=self.set_integrator, clock=self.clock,
-        )
+        self.build_head(self.intro, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
+                        on_integrator=self.set_integrator)
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange"), on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
             self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)

@@ -16,7 +16,7 @@ import viser
 
 from app.kit.binding import Binding, Clock, bind, install_typing_guard
 from app.kit.common import CameraView, SliderSpec, apply_camera
-from app.kit.gui import MessageLine, Quiet, Tabs, Wrap
+from app.kit.gui import MessageLine, Quiet, Tabs, Transport, Wrap
 from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
 from app.kit.target import DrawTarget, as_target
@@ -75,6 +75,17 @@ class SceneView:
             self._gui_roots.append(install_typing_guard(self.client.gui))  # typed numbers arrive as typed
         self.room.add_view(self)
         self.refresh()
+
+    def build_head(self, intro: str, **transport_options: Any) -> None:
+        """The top of a scene's panel: its intro (Markdown), the message line and the transport
+        (Play / Pause, Step · Reset, time scale: `app.kit.gui.Transport`, calling the room;
+        `transport_options` such as `integrators=`, `on_integrator=`)."""
+        gui, room = self.client.gui, self.room
+        self.gui_intro = gui.add_markdown(intro)
+        self.message = MessageLine(gui)
+        self.transport = Transport(gui, self._wrap, self.message, on_toggle=room.toggle, on_step=room.step,
+                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock,
+                                   **transport_options)
 
     def _build_scene(self) -> None:
         """Add the scene's nodes under `root`."""

@@ -40,7 +40,7 @@ from app.kit.common import (
     polyline_segments,
     wrap_deg,
 )
-from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
@@ -262,17 +262,13 @@ class EulerAnglesView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        room = self.room
-        self.gui_intro = gui.add_markdown(
+        self.build_head(
             "### Euler angles, z-x-z convention\n"
             "**D = Rz(φ) Rx(θ) Rz(ψ)**, body → space (x = D x′).  \n"
             "φ: precession about z · θ: nutation about the line of nodes · "
             "ψ: spin about z′.  Angles in **degrees**.  \n"
             "**ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′** (orange, head to tail)."
         )
-        self.message = MessageLine(gui)
-        self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
-                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
         self.folder_angles = gui.add_folder("Euler angles z-x-z [deg]")
         with self.folder_angles:
             self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(ANGLE_SPECS, self.sim.angles_deg)]

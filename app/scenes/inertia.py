@@ -28,7 +28,6 @@ entry has `masses` and `positions` instead of the kit's params/angles/rates).
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Callable, Sequence
 from importlib.resources.abc import Traversable
@@ -41,7 +40,15 @@ import viser
 
 from app.data import files_in, meshes_dir
 from app.kit.binding import Refused
-from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, checked_value, format_matrix
+from app.kit.common import (
+    BODY_AXIS_COLORS,
+    CameraView,
+    SliderSpec,
+    axis_segments,
+    checked_value,
+    fork_sharing,
+    format_matrix,
+)
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -137,12 +144,7 @@ class InertiaSystem:
         """An exact, independent copy: masses, positions, O, mesh and its weight, the principal
         axes last drawn (kept where they are not determined), t, preset and version.  A mesh's
         arrays (up to MAX_FACES faces) are shared, made read-only; everything else is copied."""
-        memo: dict[int, Any] = {}
-        if self.mesh is not None:
-            for array in self.mesh:
-                array.flags.writeable = False
-                memo[id(array)] = array
-        return copy.deepcopy(self, memo)
+        return fork_sharing(self, self.mesh or ())
 
     def advance(self, dt: float) -> None:
         """Time passes (`t`), nothing moves: a rigid system's inertia does not change."""

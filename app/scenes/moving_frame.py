@@ -60,7 +60,7 @@ import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
 from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.trace import Trace
@@ -462,16 +462,12 @@ class MovingFrameView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        room = self.room
-        self.gui_intro = gui.add_markdown(
+        self.build_head(
             "### Moving frame C′ (memo §4, (1.28))\n"
             "x = a + D x′, D = Rz(φ) Rx(θ) Rz(ψ).  In C′: **m ẍ′ = Dᵀ F − m Dᵀä − m ω̇ × x′ "
             "− m ω × (ω × x′) − 2m ω × ẋ′** (ω = ω_b, body components).  Particles: blue free, "
             "green at rest in C′, magenta on a spring; pale paths in C, dark paths in C′."
         )
-        self.message = MessageLine(gui)
-        self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
-                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
         self.gui_ride = gui.add_checkbox("Ride with C′", False,
                                          hint="on: the rider's view (C′ stands still); off: the inertial view (C)")
         self.gui_forces_on = gui.add_dropdown("Forces on", PARTICLES, initial_value=PARTICLES[self.sim.setup.focus],
