@@ -484,6 +484,7 @@ class Evaluation:
 # ---------------------------------------------------------------------------- presets
 def _gravity(masses: Sequence[float], g: float) -> tuple[Forces, Potential]:
     weights = np.array(masses, dtype=float) * g
+    weights.flags.writeable = False  # shared by copies of the system (a fork copies no function)
 
     def forces(x: Array, x_dot: Array, t: float) -> Array:
         F = np.zeros_like(x)
@@ -539,7 +540,7 @@ def hoop_small_oscillation_rate(R: float, Omega: float, g: float) -> float:
     rate, Ω sin θ* = √(Ω² − g²/(Ω² R²)) above it (0 at Ω² R = g)."""
     if Omega * Omega * R <= g:
         return math.sqrt(g / R - Omega * Omega)
-    return math.sqrt(Omega * Omega - (g / (Omega * Omega * R)) ** 2)
+    return math.sqrt(Omega * Omega - (g / (Omega * R)) ** 2)
 
 
 def spherical_pendulum(L: float = 1.0, m: float = 1.0, g: float = 9.81) -> System:
