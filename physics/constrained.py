@@ -115,6 +115,7 @@ class LeftTheConstraint(ArithmeticError):
 
 # ---------------------------------------------------------------------------- jets
 Scalar = Any  # float or Jet
+Numbers = Sequence[float] | Array  # (m,) coordinates or velocities
 
 
 class Jet:
@@ -248,7 +249,7 @@ exp = _unary("exp", math.exp)
 log = _unary("log", math.log)
 
 
-def _seed(q: Sequence[float], q_dot: Sequence[float], t: float) -> tuple[list[Jet], Jet]:
+def _seed(q: Numbers, q_dot: Numbers, t: float) -> tuple[list[Jet], Jet]:
     """The coordinates and the time as Jets: s_k = (q_1 … q_m, t), w = (q̇, 1)."""
     m = len(q)
     K = m + 1
@@ -261,8 +262,8 @@ def _seed(q: Sequence[float], q_dot: Sequence[float], t: float) -> tuple[list[Je
     return qs, Jet(float(t), unit(m), 1.0, zeros, 0.0)
 
 
-def derivatives(positions: Callable[[Sequence[Scalar], Scalar], Any], q: Sequence[float],
-                q_dot: Sequence[float], t: float) -> tuple[Array, Array, Array, Array, Array, Array]:
+def derivatives(positions: Callable[[Sequence[Scalar], Scalar], Any], q: Numbers,
+                q_dot: Numbers, t: float) -> tuple[Array, Array, Array, Array, Array, Array]:
     """x_i(q, t) and its derivatives at one state, from one evaluation on Jets.
 
     Returns (x (N, 3), J (N, 3, m) = ∂x_i/∂q_j, x_t (N, 3) = ∂x_i/∂t, x_dot (N, 3) = ẋ_i,
@@ -342,7 +343,7 @@ class System:
         """Particles."""
         return len(self.masses)
 
-    def evaluate(self, q: Sequence[float], q_dot: Sequence[float], t: float) -> Evaluation:
+    def evaluate(self, q: Numbers, q_dot: Numbers, t: float) -> Evaluation:
         """Everything (5.1)-(5.13) says at the state (q, q̇, t), q̈ from Lagrange's equations."""
         return Evaluation.at(self, np.asarray(q, dtype=float), np.asarray(q_dot, dtype=float), float(t))
 
@@ -401,7 +402,8 @@ def _solve(M: Array, rhs: Array, q: Array) -> Array:
         raise SingularCoordinatesError(
             f"the mass matrix is singular at q = {np.round(q, 6).tolist()} (cond M > {MAX_CONDITION:.0e}): "
             "the coordinates fail here (a pendulum through its pole: φ undefined)")
-    return np.linalg.solve(M, rhs)
+    solution: Array = np.asarray(np.linalg.solve(M, rhs), dtype=np.float64)
+    return solution
 
 
 @dataclass(frozen=True)
@@ -627,7 +629,7 @@ class GridIntegrator:
     shown), steps (grid steps so far), H [s].
     """
 
-    def __init__(self, system: System, q: Sequence[float], q_dot: Sequence[float], t: float = 0.0,
+    def __init__(self, system: System, q: Numbers, q_dot: Numbers, t: float = 0.0,
                  H: float = NOMINAL_STEP / SUBSTEPS) -> None:
         if not (math.isfinite(H) and H > 0.0):
             raise ValueError(f"the grid step H must be positive and finite, got {H!r}")

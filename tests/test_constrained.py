@@ -147,7 +147,7 @@ def test_jet_derivatives_match_central_finite_differences() -> None:
             np.testing.assert_allclose(J[:, :, j], (x_of(q + e, t) - x_of(q - e, t)) / (2 * h), atol=1e-8)
         np.testing.assert_allclose(x_t, (x_of(q, t + h) - x_of(q, t - h)) / (2 * h), atol=1e-8)
 
-        def along(s):  # type: ignore[no-untyped-def]  # the motion q + s q̇, t + s
+        def along(s, q=q, q_dot=q_dot, t=t):  # type: ignore[no-untyped-def]  # the motion q + s q̇, t + s
             return x_of(q + s * q_dot, t + s)
 
         np.testing.assert_allclose(x_dot, (along(h) - along(-h)) / (2 * h), atol=1e-8)

@@ -162,7 +162,8 @@ class ConstrainedSetup:
         for specs, values in ((kind.param_specs, self.params), (kind.q_specs, self.q_shown),
                               (kind.rate_specs, self.rates_shown)):
             if len(values) != len(specs):
-                raise ValueError(f"{len(specs)} values expected for {', '.join(s.key for s in specs)}, got {len(values)}")
+                keys = ", ".join(s.key for s in specs)
+                raise ValueError(f"{len(specs)} values expected for {keys}, got {len(values)}")
             for spec, value in zip(specs, values):
                 if spec.check(value) is None:
                     raise ValueError(spec.refusal(value))
@@ -414,8 +415,10 @@ class ConstrainedView(SceneView):
                                        thickness=2.0) for i in range(n)]
         coordinate = sim.system.coordinates
         # Labels only on the last particle's arrows (the others share the colours: the legend says).
+        # With two coordinates the second arrow's label sits at its middle (two tips are often close).
         self.dx_arrows = [[_Arrow(scene, f"{base}/dx{i}_{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
-                                  shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.4)
+                                  shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.3,
+                                  label_at_middle=j == 1)
                            for j in range(m)] for i in range(n)]
         self.F_arrows = [_Arrow(scene, f"{base}/F{i}", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
                                 head_radius=0.045, head_length=0.09, font_scale=1.5) for i in range(n)]
@@ -477,7 +480,8 @@ class ConstrainedView(SceneView):
         with self.folder_plots:
             specs = [
                 PlotSpec("q(t)", ("q1", "q2")[: system.m],
-                         tuple(f"{c} [{u}]" for c, u in zip(system.coordinates, units)), ("#1e6ed8", "#dc7814")[: system.m]),
+                         tuple(f"{c} [{u}]" for c, u in zip(system.coordinates, units)),
+                         ("#1e6ed8", "#dc7814")[: system.m]),
                 PlotSpec("h = T₂ − T₀ + V and T + V [J]", ("h", "E"), ("h [J]", "T + V [J]"), ("#1b9e3a", "#888888")),
                 PlotSpec("|h − h₀| / (|T| + |V|)₀ (log10)", ("drift",), ("drift",), ("#c0392b",), log=True),
             ]
@@ -667,7 +671,8 @@ class ConstrainedView(SceneView):
         lines.append("```")
         if system.n > 1:
             lines.append("On each particle of the double pendulum the middle rod's push does virtual work; on the two "
-                         "together it does none (equal and opposite along the rod): the **sum** is what (5.8)–(5.11) use.")
+                         "together it does none (equal and opposite along the rod): the **sum** is what "
+                         "(5.8)–(5.11) use.")
         self.readout.set("\n".join(lines))
 
 
@@ -679,7 +684,7 @@ def _extra_line(sim: ConstrainedSimulation, ev: Evaluation) -> str:
         R, Omega, g = params["R"], params["Ω"], params["g"]
         eq = math.degrees(hoop_equilibrium(R, Omega, g))
         where = (f"Ω² R = {Omega * Omega * R:.3g} > g: the bottom is unstable, the bead settles about "
-                 f"θ* = ±{eq:.1f}° (cos θ* = g/(Ω² R))" if Omega * Omega * R > g
+                 f"θ∗ = ±{eq:.1f}° (cos θ∗ = g/(Ω² R))" if Omega * Omega * R > g
                  else f"Ω² R = {Omega * Omega * R:.3g} ≤ g = {g:g}: the bottom θ = 0 is stable")
         return where + "."
     if key == "spherical":
