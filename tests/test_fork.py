@@ -237,9 +237,17 @@ def _edit_moving(room: Room, view: Any, index: int) -> None:
     room.refresh()
 
 
+def _edit_constrained(room: Room, view: Any, index: int) -> None:
+    params = list(room.sim.setup.params)
+    params[-2] = 9.0 + 0.1 * index  # g (every system's next-to-last parameter)
+    view._param_edit(len(params) - 2)(params[-2])  # as the slider does: the state kept, angles wrapped
+    view._param_edit(len(params) - 1)(0.04)  # the arrow scale: no restart
+    assert view.message.text == "", view.message.text
+
+
 EDITS: dict[str, Callable[[Room, Any, int], None]] = {
     "Euler angles": _edit_euler, "Inertia": _edit_inertia, "Free body": _edit_free, "Heavy top": _edit_top,
-    "Poinsot": _edit_poinsot, "Moving frame": _edit_moving,
+    "Poinsot": _edit_poinsot, "Moving frame": _edit_moving, "Constrained particles": _edit_constrained,
 }
 CASES = [(title, index, preset.name) for title, scene in SCENES.items()
          for index, preset in enumerate(scene.presets())]

@@ -32,6 +32,8 @@ def _state_vector(sim) -> np.ndarray:  # type: ignore[no-untyped-def]
     """Every number a simulation's state holds, for a finiteness check."""
     if hasattr(sim, "state"):
         return np.concatenate([np.ravel(sim.state.R_space_body), sim.state.omega_body, [sim.t]])
+    if hasattr(sim, "q_shown"):  # the constrained particles' q, q̇
+        return np.array([*sim.q_shown, *sim.rates_shown, sim.t])
     if hasattr(sim, "positions"):  # the inertia scene's particles
         return np.concatenate([sim.masses, np.ravel(sim.positions), [sim.t]])
     return np.array([*sim.angles_deg, *sim.rates_deg, sim.t])

@@ -6,6 +6,7 @@ A new scene is one new file in this folder and one line here (see `app.kit` for 
 from __future__ import annotations
 
 from app.kit.room import Scene
+from app.scenes.constrained import ConstrainedView
 from app.scenes.euler_angles import EulerAnglesView
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
@@ -24,6 +25,7 @@ SCENES: dict[str, Scene] = {
         HeavyTopView,
         PoinsotView,
         MovingFrameView,
+        ConstrainedView,
     )
 }
 """Scene title (the dropdown option) -> scene (a view class with `new_simulation`, `presets`)."""

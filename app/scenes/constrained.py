@@ -1,0 +1,733 @@
+"""Particles held by constraints, in generalized coordinates ("Constrained particles" scene).
+
+What it shows (memo §2 and §5): a system of N particles with m degrees of freedom, positions
+x_i(q_1 … q_m, t) (2.1)/(5.1), given by nothing else than that function, the masses and the
+applied forces (`physics.constrained`).  Per particle it draws
+
+- the virtual displacements ∂x_i/∂q_j δq_j (5.6) (teal for q₁, violet for q₂; drawn for
+  δq = DELTA_Q rad or m): the ways the constraints let the particle move *at frozen t*;
+- the applied force F_i (black) and the constraint force C_i = m_i ẍ_i − F_i (red): on a
+  smooth single-particle constraint C_i is perpendicular to every virtual displacement (5.7);
+
+and reads out (Readout tab) the virtual work C_i · ∂x_i/∂q_j (per particle and summed: on the
+double pendulum the middle rod pushes the two particles with equal and opposite forces that
+do virtual work on each, none in total), the generalized forces Q_j (5.12), Lagrange's
+equations (5.13) term by term and their residual, T = T₂ + T₁ + T₀, V, and the conserved
+quantity: the energy T + V when the constraints are fixed, Jacobi's integral h = T₂ − T₀ + V
+when they move (the turning hoop and rod: the motor turning them does work, the energy changes;
+the panel says so).
+
+Presets (`assets/presets/constrained.json`): each names a system (`system`: hoop, spherical,
+double, rod), its parameters and the initial q, q̇.  The Setup tab's sliders are the chosen
+system's: its parameters (an edit keeps the state and restarts the run at t = 0) and its q, q̇
+(setting the state, also from t = 0).  Bad values (lengths ≤ 0, NaN, a rate out of range, a bead
+placed off its rod) are refused with a message and the state kept.
+
+The simulation (`ConstrainedSimulation`, no viser) integrates with
+`physics.constrained.GridIntegrator` (8th order, fixed grid of 1/120 s), keeps the plot samples
+(q, h, T + V, the drift of h) and each particle's path (`app.kit.trace.Trace`), so a view built
+later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import viser
+
+from app.kit.common import CameraView, SliderSpec, Throttle
+from app.kit.fastprops import set_points, set_position
+from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
+from app.kit.plots import LivePlots, PlotSpec
+from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
+from app.kit.room import Room
+from app.kit.samples import SampleBuffer
+from app.kit.trace import Trace
+from app.kit.view import SceneView, nth
+from app.kit.widgets import Stage, TraceLines, Vector
+from physics._types import Array
+from physics.constrained import (
+    Evaluation,
+    GridIntegrator,
+    System,
+    bead_on_turning_hoop,
+    bead_on_turning_rod,
+    double_pendulum,
+    hoop_equilibrium,
+    spherical_pendulum,
+)
+
+__all__ = ["KINDS", "ConstrainedSetup", "ConstrainedSimulation", "ConstrainedView", "Kind"]
+
+DELTA_Q = 0.35  # [rad or m] the virtual displacements are drawn for this δq_j
+PLOT_CAPACITY = 600  # samples (60 s at 10 Hz)
+PATH_SECONDS = 8.0  # [s] of simulated time kept in each particle's path
+PATH_SPACING = 1.0 / 30.0
+PATH_CHUNK = 40
+READOUT_PERIOD = 0.2  # [s] of wall time
+PLOT_PERIOD = 0.25
+SLIDER_PERIOD = 0.2
+GUIDE_POINTS = 73  # points of the drawn constraint curve (hoop, rod)
+PARTICLE_RADIUS = 0.07
+PARTICLE_COLORS = ((20, 110, 220), (220, 120, 20))
+ROD_COLOR = (90, 90, 100)
+GUIDE_COLOR = (150, 120, 60)
+F_COLOR = (25, 25, 25)
+C_COLOR = (210, 30, 30)
+DX_COLORS = ((0, 150, 150), (140, 60, 210))
+
+_MASS = SliderSpec("m", "m [kg]", 0.1, 5.0, 0.1, "the particle's mass")
+_G = SliderSpec("g", "g [m/s²]", 0.0, 20.0, 0.01, "gravity, along −z")
+_FORCE_SCALE = SliderSpec("force_scale", "arrow scale [m/N]", 0.005, 0.5, 0.005, "length of a force arrow per newton")
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A system of the scene: its key (presets' `system`), title, parameter and state sliders.
+
+    param_specs: its parameters (the builder's arguments in order, plus the arrow scale last).
+    q_specs, rate_specs: per coordinate, in display units (deg and deg/s for an angle, m and m/s
+    for a length).  build(*params) -> System.
+    """
+
+    key: str
+    title: str
+    param_specs: tuple[SliderSpec, ...]
+    q_specs: tuple[SliderSpec, ...]
+    rate_specs: tuple[SliderSpec, ...]
+    build: Callable[..., System]
+
+    def system(self, params: Sequence[float]) -> System:
+        return self.build(*params[:-1])
+
+
+def _angle(key: str, label: str, lo: float = -180.0, hi: float = 180.0) -> SliderSpec:
+    return SliderSpec(key, f"{label} [deg]", lo, hi, 0.5, f"the generalized coordinate {label}")
+
+
+def _rate(key: str, label: str) -> SliderSpec:
+    return SliderSpec(key, f"d{label}/dt [deg/s]", -1440.0, 1440.0, 1.0, f"the generalized velocity d{label}/dt")
+
+
+KINDS: dict[str, Kind] = {k.key: k for k in (
+    Kind("hoop", "Bead on a turning hoop",
+         (SliderSpec("R", "hoop radius R [m]", 0.2, 2.5, 0.05, "the hoop's radius"),
+          SliderSpec("Omega", "Ω [rad/s]", 0.0, 15.0, 0.05, "the hoop turns about its vertical diameter at Ω; "
+                     "above Ω² R = g the bottom is unstable"),
+          _MASS, _G, _FORCE_SCALE),
+         (_angle("q1", "θ"),), (_rate("v1", "θ"),), bead_on_turning_hoop),
+    Kind("spherical", "Spherical pendulum",
+         (SliderSpec("L", "rod L [m]", 0.2, 2.5, 0.05, "the rod's length"), _MASS, _G, _FORCE_SCALE),
+         (_angle("q1", "θ", 1.0, 179.0), _angle("q2", "φ")), (_rate("v1", "θ"), _rate("v2", "φ")),
+         spherical_pendulum),
+    Kind("double", "Double pendulum",
+         (SliderSpec("L1", "rod L₁ [m]", 0.2, 1.5, 0.05, "the upper rod"),
+          SliderSpec("L2", "rod L₂ [m]", 0.2, 1.5, 0.05, "the lower rod"),
+          SliderSpec("m1", "m₁ [kg]", 0.1, 5.0, 0.1, "the upper particle"),
+          SliderSpec("m2", "m₂ [kg]", 0.1, 5.0, 0.1, "the lower particle"), _G, _FORCE_SCALE),
+         (_angle("q1", "θ₁"), _angle("q2", "θ₂")), (_rate("v1", "θ₁"), _rate("v2", "θ₂")), double_pendulum),
+    Kind("rod", "Bead on a turning rod",
+         (SliderSpec("Omega", "Ω [rad/s]", 0.0, 5.0, 0.05, "the rod turns about space z at Ω"),
+          SliderSpec("length", "rod half length ℓ [m]", 0.5, 2.5, 0.05, "the bead leaves the rod at |r| = ℓ"),
+          _MASS, _G, _FORCE_SCALE),
+         (SliderSpec("q1", "r [m]", -2.5, 2.5, 0.01, "the bead's signed distance from the axis"),),
+         (SliderSpec("v1", "dr/dt [m/s]", -5.0, 5.0, 0.01, "the bead's speed along the rod"),),
+         bead_on_turning_rod),
+)}
+
+VIEW = CameraView(position=(3.2, -5.2, 1.6), look_at=(0.0, 0.0, -0.6), fov_deg=45.0)
+
+
+# ---------------------------------------------------------------------------- simulation (no viser)
+@dataclass(frozen=True)
+class ConstrainedSetup:
+    """What a run starts from.  kind: a key of KINDS.  params: its parameter sliders' values.
+    q_shown, rates_shown: the initial q, q̇ in display units (deg, deg/s or m, m/s).
+    ValueError (with the message to show) if anything is out of range or not a system."""
+
+    kind: str
+    params: tuple[float, ...]
+    q_shown: tuple[float, ...]
+    rates_shown: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"system {self.kind!r} refused: one of {', '.join(KINDS)}")
+        kind = KINDS[self.kind]
+        for specs, values in ((kind.param_specs, self.params), (kind.q_specs, self.q_shown),
+                              (kind.rate_specs, self.rates_shown)):
+            if len(values) != len(specs):
+                keys = ", ".join(s.key for s in specs)
+                raise ValueError(f"{len(specs)} values expected for {keys}, got {len(values)}")
+            for spec, value in zip(specs, values):
+                if spec.check(value) is None:
+                    raise ValueError(spec.refusal(value))
+        system = kind.system(self.params)  # ValueError from the physics' own checks
+        if system.limit is not None and abs(self.q_shown[0]) >= system.limit:
+            raise ValueError(f"r = {self.q_shown[0]:g} m refused: the bead must start on the rod, |r| < ℓ = "
+                             f"{system.limit:g} m")
+
+    @property
+    def kind_spec(self) -> Kind:
+        return KINDS[self.kind]
+
+    def system(self) -> System:
+        return self.kind_spec.system(self.params)
+
+    @property
+    def force_scale(self) -> float:
+        return float(self.params[-1])
+
+    def to_si(self, values: Sequence[float]) -> Array:
+        """Display units -> SI (deg -> rad for the angles)."""
+        angular = self.system().angular
+        return np.array([math.radians(v) if a else float(v) for v, a in zip(values, angular)])
+
+    def with_values(self, params: Sequence[float] | None = None, q_shown: Sequence[float] | None = None,
+                    rates_shown: Sequence[float] | None = None) -> ConstrainedSetup:
+        return ConstrainedSetup(self.kind, tuple(float(p) for p in (self.params if params is None else params)),
+                                tuple(float(p) for p in (self.q_shown if q_shown is None else q_shown)),
+                                tuple(float(p) for p in (self.rates_shown if rates_shown is None else rates_shown)))
+
+
+def _shown(system: System, values: Array) -> list[float]:
+    """SI -> display units (rad -> deg)."""
+    return [math.degrees(float(v)) if a else float(v) for v, a in zip(values, system.angular)]
+
+
+class ConstrainedSimulation:
+    """A constrained particle system and its run (no viser).
+
+    Attributes:
+        setup: the run's initial conditions.  system: the System built from it.  t [s], version.
+        integrator: the GridIntegrator (its q, q̇ are the state).  samples: plot samples
+        (q1, q2 in display units, h, E = T + V, drift = |h − h₀| / scale).  paths: per particle,
+        the `Trace` of its position [m].  h0: h at t = 0.  preset: the preset the run started from.
+    """
+
+    def __init__(self, setup: ConstrainedSetup) -> None:
+        self.preset: str | None = None
+        self.version = 0
+        self.samples = SampleBuffer(("q1", "q2", "h", "E", "drift"), PLOT_CAPACITY)
+        self.set_setup(setup)
+
+    # ------------------------------------------------------------------ the Simulation protocol
+    @property
+    def t(self) -> float:
+        return self.integrator.t
+
+    def reset(self) -> None:
+        setup = self.setup
+        self.integrator = GridIntegrator(self.system, setup.to_si(setup.q_shown), setup.to_si(setup.rates_shown))
+        self._evaluation: Evaluation | None = None
+        first = self.evaluation()
+        self.h0 = first.h
+        self.energy_scale = max(abs(first.T) + abs(first.V if math.isfinite(first.V) else 0.0), 1e-12)
+        for path in self.paths:
+            path.clear()
+        self.samples.clear()
+        self._record()
+        self.take_sample()
+        self.version += 1
+
+    def advance(self, dt: float) -> None:
+        """dt [s] of simulated time in grid steps (physics.constrained.GridIntegrator); on an
+        error (a bead off its rod, singular coordinates) the state stays and the error is raised."""
+        if dt == 0.0:
+            return
+        self.integrator.advance(dt)
+        self._evaluation = None
+        self._record()
+        self.version += 1
+
+    def fork(self) -> ConstrainedSimulation:
+        """An exact, independent copy: setup, state, integrator grid, samples, paths, preset,
+        version (a deep copy; the system's functions are shared, they hold no mutable state)."""
+        return copy.deepcopy(self)
+
+    def take_sample(self) -> None:
+        ev = self.evaluation()
+        q = _shown(self.system, ev.q)
+        self.samples.append(self.t, {"q1": q[0], "q2": q[1] if len(q) > 1 else math.nan, "h": ev.h,
+                                     "E": ev.T + ev.V, "drift": abs(ev.h - self.h0) / self.energy_scale})
+
+    # ------------------------------------------------------------------ edits
+    def set_setup(self, setup: ConstrainedSetup) -> None:
+        """New initial conditions (the run restarts at t = 0); a new kind gets new paths."""
+        old = getattr(self, "setup", None)
+        self.setup = setup
+        self.system = setup.system()
+        if old is None or old.kind != setup.kind or not hasattr(self, "paths"):
+            self.paths = [Trace(PATH_SECONDS, PATH_SPACING, PATH_CHUNK) for _ in range(self.system.n)]
+        self.reset()
+
+    def set_display(self, force_scale: float) -> None:
+        """The arrow scale only (no restart)."""
+        params = list(self.setup.params)
+        params[-1] = force_scale
+        self.setup = self.setup.with_values(params=params)
+        self.version += 1
+
+    # ------------------------------------------------------------------ readouts
+    def evaluation(self) -> Evaluation:
+        """Everything (5.1)-(5.13) says about the state now (cached until it changes)."""
+        if self._evaluation is None:
+            g = self.integrator
+            self._evaluation = self.system.evaluate(g.q, g.q_dot, g.t)
+        return self._evaluation
+
+    def _record(self) -> None:
+        x = self.evaluation().x
+        for k, path in enumerate(self.paths):
+            path.add(self.t, x[k])
+
+    @property
+    def q_shown(self) -> list[float]:
+        return _shown(self.system, self.integrator.q)
+
+    @property
+    def rates_shown(self) -> list[float]:
+        return _shown(self.system, self.integrator.q_dot)
+
+    def guide(self) -> Array | None:
+        """The constraint curve at time t (N points, 3) [m]: {x_0(q, t)} for q over the system's
+        guide range (hoop, rod), or None."""
+        if self.system.guide is None:
+            return None
+        lo, hi = self.system.guide
+        rows = [self.system.positions([q], self.t)[0] for q in np.linspace(lo, hi, GUIDE_POINTS)]
+        return np.array(rows, dtype=float)
+
+
+# ---------------------------------------------------------------------------- presets
+def load_constrained_presets() -> tuple[Preset, ...]:
+    """The scene's presets: each entry has `system` (a key of KINDS), `params`, `q`, `rates`
+    (objects keyed by the system's slider keys, display units); PresetError naming the field."""
+    path = PRESETS_DIR / "constrained.json"
+    presets = []
+    for where, name, entry in preset_entries(path):
+        try:
+            kind = KINDS.get(entry.get("system", ""))
+            if kind is None:
+                raise PresetError(f"{where}.system: {entry.get('system')!r} is not one of {', '.join(KINDS)}")
+            values = []
+            for field, specs in (("params", kind.param_specs), ("q", kind.q_specs), ("rates", kind.rate_specs)):
+                given = entry.get(field)
+                if not isinstance(given, dict) or set(given) != {s.key for s in specs}:
+                    raise PresetError(f"{where}.{field}: an object with keys {', '.join(s.key for s in specs)}")
+                values.append(tuple(given[s.key] for s in specs))
+            try:
+                setup = ConstrainedSetup(kind.key, *values)
+            except (ValueError, TypeError) as error:
+                raise PresetError(f"{where} ({name}): {error}") from None
+        except PresetError as error:
+            raise PresetError(f"{path}: {error}") from None
+        presets.append(Preset(name=name, group=str(entry.get("group", "Presets")), note=str(entry.get("note", "")),
+                              params=(float(list(KINDS).index(kind.key)), *setup.params, *setup.q_shown,
+                                      *setup.rates_shown),
+                              angles_deg=(0.0, 0.0, 0.0), rates=()))
+    return tuple(presets)
+
+
+def setup_of(preset: Preset) -> ConstrainedSetup:
+    """The setup a preset stands for (its params pack: kind index, parameters, q, q̇)."""
+    kind = KINDS[list(KINDS)[int(preset.params[0])]]
+    a = 1 + len(kind.param_specs)
+    b = a + len(kind.q_specs)
+    return ConstrainedSetup(kind.key, preset.params[1:a], preset.params[a:b], preset.params[b:])
+
+
+_PRESETS: list[tuple[Preset, ...]] = []
+
+
+# ---------------------------------------------------------------------------- view
+class ConstrainedView(SceneView):
+    """One browser's view of a room with a `ConstrainedSimulation`."""
+
+    title = "Constrained particles"
+    root = "/constrained"
+    view = VIEW
+
+    @classmethod
+    def presets(cls) -> tuple[Preset, ...]:
+        if not _PRESETS:
+            _PRESETS.append(load_constrained_presets())
+        return _PRESETS[0]
+
+    @classmethod
+    def new_simulation(cls) -> ConstrainedSimulation:
+        first = cls.presets()[0]
+        sim = ConstrainedSimulation(setup_of(first))
+        sim.preset = first.name
+        return sim
+
+    @classmethod
+    def apply_preset(cls, room: Room, name: str) -> None:
+        preset = cls.preset(name)
+        sim: ConstrainedSimulation = room.sim
+        room.playing = False
+        sim.set_setup(setup_of(preset))
+        sim.preset = name
+        room.refresh()
+
+    def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
+                 report_error: Callable[[str, BaseException], None] | None = None) -> None:
+        super().__init__(client, room, wrap, report_error)
+        self.sim: ConstrainedSimulation = room.sim
+        self._drawn_version = -1
+        self._built_for: tuple[str, int] | None = None  # (kind, id of the paths) the system part was built for
+        self._system_handles: list[Any] = []
+        self._system_bindings: list[Any] = []
+        self._readout_throttle = Throttle(READOUT_PERIOD)
+        self._plot_throttle = Throttle(PLOT_PERIOD)
+        self._slider_throttle = Throttle(SLIDER_PERIOD)
+        self.build()
+
+    # ------------------------------------------------------------------ building
+    def _build_scene(self) -> None:
+        scene = self.client.scene
+        Stage(scene, f"{self.root}/stage", grid_z=-2.4, size=6.0, axis_length=1.2)
+        self.pivot = scene.add_icosphere(f"{self.root}/pivot", radius=0.04, color=ROD_COLOR, subdivisions=1,
+                                         cast_shadow=False, receive_shadow=False)
+
+    def _build_system_scene(self) -> None:
+        """The nodes of the current system (rebuilt when the system changes)."""
+        scene = self.client.scene
+        base = f"{self.root}/system"
+        self.system_node = scene.add_frame(base, show_axes=False)
+        sim = self.sim
+        n, m = sim.system.n, sim.system.m
+        self.guide = scene.add_line_segments(f"{base}/guide", np.zeros((1, 2, 3)), GUIDE_COLOR, thickness=4.0,
+                                             thickness_units="screen", visible=sim.system.guide is not None)
+        self.links = scene.add_line_segments(f"{base}/links", np.zeros((max(1, len(sim.system.links)), 2, 3)),
+                                             ROD_COLOR, thickness=4.0, thickness_units="screen",
+                                             visible=bool(sim.system.links))
+        self.pivot.visible = bool(sim.system.links)
+        self.particles = [scene.add_icosphere(f"{base}/particle{i}", radius=PARTICLE_RADIUS,
+                                              color=PARTICLE_COLORS[i % 2], subdivisions=2, cast_shadow=False,
+                                              receive_shadow=False) for i in range(n)]
+        self.paths_space = [TraceLines(scene, f"{base}/path{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
+                                       thickness=2.0) for i in range(n)]
+        coordinate = sim.system.coordinates
+        # Labels only on the last particle's arrows (the others share the colours: the legend says).
+        # With two coordinates the second arrow's label sits at its middle (two tips are often close).
+        self.dx_arrows = [[_Arrow(scene, f"{base}/dx{i}_{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
+                                  shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.3,
+                                  label_at_middle=j == 1)
+                           for j in range(m)] for i in range(n)]
+        self.F_arrows = [_Arrow(scene, f"{base}/F{i}", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
+                                head_radius=0.045, head_length=0.09, font_scale=1.5) for i in range(n)]
+        self.C_arrows = [_Arrow(scene, f"{base}/C{i}", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
+                                head_radius=0.045, head_length=0.09, font_scale=1.5) for i in range(n)]
+
+    def _build_gui(self) -> None:
+        gui = self.client.gui
+        wrap = self._wrap
+        room = self.room
+        self.gui_intro = gui.add_markdown(
+            "### Constrained particles (memo §2, §5)\n"
+            "x_i = x_i(q, t) (5.1).  Teal/violet: virtual displacements ∂x_i/∂q_j δq (5.6); black: applied "
+            "force F; red: constraint force **C = m ẍ − F**, with **C · ∂x/∂q_j = 0** (5.7).")
+        self.message = MessageLine(gui)
+        self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
+                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
+        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots"), on_change=lambda _name: self.refresh())
+        with self.tabs.tab("Setup"):
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            self.folder_state = gui.add_folder("State q, q̇ (restarts at t = 0)")
+            self.folder_params = gui.add_folder("Parameters (restart at t = 0)")
+            with gui.add_folder("Display", expand_by_default=False):
+                self.gui_show_dx = gui.add_checkbox("Virtual displacements", True,
+                                                    hint=f"∂x_i/∂q_j δq_j, drawn for δq = {DELTA_Q:g} (rad or m)")
+                self.gui_show_forces = gui.add_checkbox("Forces F and C", True)
+                self.gui_show_paths = gui.add_checkbox("Paths", True)
+        with self.tabs.tab("Readout"):
+            self.conserved_note = Readout(gui)
+            self.readout = Readout(gui)
+        with self.tabs.tab("Plots"):
+            self.folder_plots = gui.add_folder("Plots")
+        for handle in (self.gui_show_dx, self.gui_show_forces, self.gui_show_paths):
+            handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
+        self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
+
+    def _build_system_gui(self) -> None:
+        """The chosen system's sliders and plots (rebuilt when the system changes)."""
+        gui = self.client.gui
+        sim = self.sim
+        kind = sim.setup.kind_spec
+        with self.folder_state:
+            self.gui_q = [add_slider(gui, spec, value) for spec, value in zip(kind.q_specs, sim.setup.q_shown)]
+            self.gui_rates = [add_slider(gui, spec, value)
+                              for spec, value in zip(kind.rate_specs, sim.setup.rates_shown)]
+        with self.folder_params:
+            self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(kind.param_specs, sim.setup.params)]
+        for index, handle in enumerate(self.gui_q):
+            self._bind(handle, f"{kind.q_specs[index].key} slider", self._state_edit("q", index),
+                       nth(lambda: self.sim.setup.q_shown, index), kind.q_specs[index])
+        for index, handle in enumerate(self.gui_rates):
+            self._bind(handle, f"{kind.rate_specs[index].key} slider", self._state_edit("rates", index),
+                       nth(lambda: self.sim.setup.rates_shown, index), kind.rate_specs[index])
+        for index, handle in enumerate(self.gui_params):
+            self._bind(handle, f"{kind.param_specs[index].key} slider", self._param_edit(index),
+                       nth(lambda: self.sim.setup.params, index), kind.param_specs[index])
+        system = sim.system
+        units = ["deg" if a else "m" for a in system.angular]
+        with self.folder_plots:
+            specs = [
+                PlotSpec("q(t)", ("q1", "q2")[: system.m],
+                         tuple(f"{c} [{u}]" for c, u in zip(system.coordinates, units)),
+                         ("#1e6ed8", "#dc7814")[: system.m]),
+                PlotSpec("h = T₂ − T₀ + V and T + V [J]", ("h", "E"), ("h [J]", "T + V [J]"), ("#1b9e3a", "#888888")),
+                PlotSpec("|h − h₀| / (|T| + |V|)₀ (log10)", ("drift",), ("drift",), ("#c0392b",), log=True),
+            ]
+            self.plots = LivePlots(gui, sim.samples, specs, height=170)
+        self._system_handles = [*self.gui_q, *self.gui_rates, *self.gui_params, *self.plots.handles]
+
+    def _bind(self, handle: Any, where: str, apply: Callable[[float], str | None], current: Callable[[], Any],
+              spec: SliderSpec) -> None:
+        binding = self.bind(handle, where, apply, current, spec=spec)
+        self._bindings.remove(binding)  # closed with the system's panel, not the view's
+        self._system_bindings.append(binding)
+
+    def _ensure_system_built(self) -> None:
+        """(Re)build the system's nodes and sliders if the system kind or its paths changed."""
+        key = (self.sim.setup.kind, id(self.sim.paths[0]))
+        if key == self._built_for:
+            return
+        if self._built_for is not None:
+            for binding in self._system_bindings:
+                binding.close()
+            for handle in self._system_handles:
+                handle.remove()
+            self.system_node.remove()
+        self._system_bindings, self._system_handles = [], []
+        self._built_for = key
+        self._build_system_scene()
+        self._build_system_gui()
+
+    def remove_panel(self) -> None:
+        for binding in self._system_bindings:
+            binding.close()
+        self._system_bindings = []
+        super().remove_panel()
+
+    # ------------------------------------------------------------------ callbacks
+    def _edit(self, setup_change: Callable[[ConstrainedSetup], ConstrainedSetup]) -> str | None:
+        try:
+            setup = setup_change(self.sim.setup)
+        except ValueError as error:
+            return str(error)
+        self.message.clear()
+        self.sim.preset = None
+        self.sim.set_setup(setup)
+        self.room.refresh()
+        return None
+
+    def _state_edit(self, field: str, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
+            def change(setup: ConstrainedSetup) -> ConstrainedSetup:
+                values = list(getattr(setup, f"{field}_shown"))
+                values[index] = value
+                return setup.with_values(**{f"{field}_shown": values})
+
+            return self._edit(change)
+
+        return apply
+
+    def _param_edit(self, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
+            if index == len(self.sim.setup.params) - 1:  # the arrow scale: display only
+                self.sim.set_display(value)
+                self.room.refresh()
+                return None
+
+            def change(setup: ConstrainedSetup) -> ConstrainedSetup:
+                params = list(setup.params)
+                params[index] = value
+                # Keep the state shown now (angles wrapped): the new run starts from it.
+                return setup.with_values(params=params, q_shown=_wrapped(self.sim.q_shown, setup.kind_spec.q_specs),
+                                         rates_shown=self.sim.rates_shown)
+
+            return self._edit(change)
+
+        return apply
+
+    # ------------------------------------------------------------------ the view protocol
+    def frame(self, dt: float) -> None:
+        if self.sim.version == self._drawn_version:
+            return
+        with self.client.atomic():
+            self._ensure_system_built()
+            self._draw()
+            if self._readout_throttle.ready(dt):
+                self._refresh_status()
+                if self.tabs is not None and self.tabs.shown == "Readout":
+                    self._render_readout()
+            if self._plot_throttle.ready(dt) and self.tabs is not None and self.tabs.shown == "Plots":
+                self.plots.push()
+            if self._slider_throttle.ready(dt) and self.tabs is not None and self.tabs.shown == "Setup":
+                self._show_state_sliders()
+
+    def refresh(self) -> None:
+        with self.client.atomic():
+            self._ensure_system_built()
+            self.transport.show(self.room.playing, self.room.time_scale)
+            self.presets_row.show_note(self.preset_shown())
+            kind = self.sim.setup.kind_spec
+            self.show_values(self.gui_params, kind.param_specs, self.sim.setup.params)
+            self._show_state_sliders()
+            self._draw()
+            self._refresh_status()
+            self._render_readout()
+            self.plots.push()
+
+    def _show_state_sliders(self) -> None:
+        """While playing the q, q̇ sliders follow the motion; paused at t = 0 they show the setup."""
+        kind = self.sim.setup.kind_spec
+        self.show_values(self.gui_q, kind.q_specs, _clamped(self.sim.q_shown, kind.q_specs))
+        self.show_values(self.gui_rates, kind.rate_specs, _clamped(self.sim.rates_shown, kind.rate_specs))
+
+    def _draw(self) -> None:
+        sim = self.sim
+        self._drawn_version = sim.version
+        ev = sim.evaluation()
+        guide = sim.guide()
+        if guide is not None:
+            set_points(self.guide, np.stack([guide[:-1], guide[1:]], axis=1).astype(np.float32))
+        if sim.system.links:
+            ends = [np.zeros(3) if a < 0 else ev.x[a] for a, _ in sim.system.links]
+            set_points(self.links, np.array([[e, ev.x[b]] for e, (_, b) in zip(ends, sim.system.links)],
+                                            dtype=np.float32))
+        for i, node in enumerate(self.particles):
+            set_position(node, (float(ev.x[i, 0]), float(ev.x[i, 1]), float(ev.x[i, 2])))
+        show_paths = bool(self.gui_show_paths.value)
+        for lines, trace in zip(self.paths_space, sim.paths):
+            if show_paths:
+                lines.sync(trace)
+            else:
+                lines.hide()
+        scale = sim.setup.force_scale
+        show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)
+        for i in range(sim.system.n):
+            start = ev.x[i]
+            for j, arrow in enumerate(self.dx_arrows[i]):
+                arrow.enabled = show_dx
+                arrow.update(DELTA_Q * ev.J[i, :, j], start=start)
+            self.F_arrows[i].enabled = show_forces
+            self.F_arrows[i].update(scale * ev.F[i], start=start)
+            self.C_arrows[i].enabled = show_forces
+            self.C_arrows[i].update(scale * ev.C[i], start=start)
+
+    def _refresh_status(self) -> None:
+        state = "▶ playing" if self.room.playing else "paused"
+        self.transport.set_status(f"**t = {self.sim.t:.2f} s** · {state} · {self.room.time_scale:g}× · "
+                                  f"RK8, steps of 1/120 s")
+
+    def _render_readout(self) -> None:
+        sim = self.sim
+        ev = sim.evaluation()
+        system = sim.system
+        drift = abs(ev.h - sim.h0) / sim.energy_scale
+        if system.rheonomic:
+            note = (f"**The constraint moves (∂x/∂t ≠ 0): the energy T + V = {ev.T + ev.V:.4f} J is not conserved** "
+                    "(the motor turning it does work).  Conserved: **Jacobi's integral h = T₂ − T₀ + V = "
+                    f"{ev.h:.6f} J** (drift {drift:.1e}).")
+        else:
+            note = (f"Fixed constraints (∂x/∂t = 0): T₁ = T₀ = 0 and h = T + V is the **energy, conserved: "
+                    f"{ev.h:.6f} J** (drift {drift:.1e}).")
+        extra = _extra_line(sim, ev)
+        self.conserved_note.set(note + ("  \n" + extra if extra else ""))
+        names = system.coordinates
+        units = ["N m" if a else "N" for a in system.angular]
+
+        def num(x: float) -> str:
+            return f"{0.0 if abs(x) < 5e-13 else x:10.4g}"
+
+        lines = ["```", "q       " + "".join(f"{n:>10}" for n in names),
+                 "q       " + "".join(num(v) for v in sim.q_shown) + "   (deg or m)",
+                 "q̇       " + "".join(num(v) for v in sim.rates_shown) + "   (deg/s or m/s)",
+                 "",
+                 f"T = {ev.T:.4f}  T₂ = {ev.T2:.4f}  T₁ = {ev.T1:.4f}  T₀ = {ev.T0:.4f}  V = {ev.V:.4f}  [J]",
+                 "",
+                 "(5.7) virtual work C_i·∂x_i/∂q_j  [" + ", ".join(units) + "]"]
+        for i in range(system.n):
+            lines.append(f"particle {i + 1}" + "".join(num(w) for w in ev.virtual_work[i]))
+        if system.n > 1:
+            lines.append("sum       " + "".join(num(w) for w in ev.virtual_work.sum(axis=0)))
+        lines += ["", "(5.13) per coordinate   d/dt∂T/∂q̇   ∂T/∂q        Q_j   residual"]
+        terms = ev.terms
+        for j, name in enumerate(names):
+            lines.append(f"{name:<21}" + num(terms.ddt_dT_dqdot[j]) + num(terms.dT_dq[j]) + num(terms.Q[j])
+                         + f"{terms.residual[j]:11.1e}")
+        lines += ["", "forces [N]         x         y         z"]
+        for i in range(system.n):
+            lines.append(f"F{i + 1}       " + "".join(num(c) for c in ev.F[i]))
+            lines.append(f"C{i + 1}=mẍ−F  " + "".join(num(c) for c in ev.C[i]))
+        lines.append("```")
+        if system.n > 1:
+            lines.append("On each particle of the double pendulum the middle rod's push does virtual work; on the two "
+                         "together it does none (equal and opposite along the rod): the **sum** is what "
+                         "(5.8)–(5.11) use.")
+        self.readout.set("\n".join(lines))
+
+
+def _extra_line(sim: ConstrainedSimulation, ev: Evaluation) -> str:
+    """A system's own reference numbers (the hoop's equilibrium, the spherical pendulum's L_z)."""
+    key = sim.setup.kind
+    params = dict(sim.system.params)
+    if key == "hoop":
+        R, Omega, g = params["R"], params["Ω"], params["g"]
+        eq = math.degrees(hoop_equilibrium(R, Omega, g))
+        where = (f"Ω² R = {Omega * Omega * R:.3g} > g: the bottom is unstable, the bead settles about "
+                 f"θ∗ = ±{eq:.1f}° (cos θ∗ = g/(Ω² R))" if Omega * Omega * R > g
+                 else f"Ω² R = {Omega * Omega * R:.3g} ≤ g = {g:g}: the bottom θ = 0 is stable")
+        return where + "."
+    if key == "spherical":
+        L_z = float(sim.system.masses[0] * (ev.x[0, 0] * ev.x_dot[0, 1] - ev.x[0, 1] * ev.x_dot[0, 0]))
+        return f"L_z = m (x ẏ − y ẋ) = p_φ = {L_z:.6f} kg m²/s (φ is cyclic: conserved)."
+    if key == "rod":
+        return "Q = 0 (gravity ⊥ the rod): r̈ = Ω² r, the bead flies out; C holds it up and pushes it round."
+    return ""
+
+
+def _wrapped(values: Sequence[float], specs: Sequence[SliderSpec]) -> list[float]:
+    """Angles on a (−180, 180) slider wrapped into it (the same configuration)."""
+    return [(v + 180.0) % 360.0 - 180.0 if (s.lo, s.hi) == (-180.0, 180.0) else float(v) for v, s in zip(values, specs)]
+
+
+def _clamped(values: Sequence[float], specs: Sequence[SliderSpec]) -> list[float]:
+    """Angles wrapped to (−180, 180] where the slider is, everything clamped to the sliders."""
+    return [min(max(value, spec.lo), spec.hi) for value, spec in zip(_wrapped(values, specs), specs)]
+
+
+def _lighter(color: tuple[int, int, int], weight: float = 0.5) -> tuple[int, int, int]:
+    r, g, b = (int(round(c + weight * (255 - c))) for c in color)
+    return r, g, b
+
+
+class _Arrow(Vector):
+    """A `Vector` whose label is drawn only if `labelled` (3D labels sparingly)."""
+
+    def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, labelled: bool,
+                 **kwargs: Any) -> None:
+        super().__init__(scene, name, color, text, **kwargs)
+        self.labelled = labelled
+        if not labelled:
+            self.label.remove()
+
+    def update(self, vector: Array, *, start: Array | None = None, rtol: float = 0.0) -> None:
+        if self.labelled:
+            super().update(vector, start=start, rtol=rtol)
+            return
+        ox, oy, oz = self.origin if start is None else (float(start[0]), float(start[1]), float(start[2]))
+        vx, vy, vz = float(vector[0]), float(vector[1]), float(vector[2])
+        visible = self.enabled and math.sqrt(vx * vx + vy * vy + vz * vz) > 1e-3
+        if self.arrow.visible != visible:
+            self.arrow.visible = visible
+        if visible:
+            set_points(self.arrow, np.array([[(ox, oy, oz), (ox + vx, oy + vy, oz + vz)]], dtype=np.float32))
