@@ -175,7 +175,8 @@ def classify(I1: float, mgl: float, p_phi: float, p_psi: float, theta_1: float, 
     return WAVE if (g1 > 0.0) == (g2 > 0.0) else LOOP
 
 
-def energy_picture(I1: float, I3: float, mgl: float, R_space_body: ArrayLike, omega_body: ArrayLike) -> TopEnergyPicture:
+def energy_picture(I1: float, I3: float, mgl: float, R_space_body: ArrayLike,
+                   omega_body: ArrayLike) -> TopEnergyPicture:
     """The energy picture of the motion started at (R_space_body (3, 3), ω_b (3,) [rad/s]).
 
     The constants and the turning points come from `HeavySymmetricTopExact` (ValueError for

@@ -69,8 +69,8 @@ def theta_range_of_exact(top: HeavySymmetricTopExact) -> tuple[float, float]:
     found = []
     for sign in (1.0, -1.0):
         k = int(np.argmin(sign * thetas))
-        result = minimize_scalar(lambda t: sign * theta(t), bounds=(ts[k] - dt, ts[k] + dt), method="bounded",
-                                 options={"xatol": 1e-13})
+        result = minimize_scalar(lambda t, sign=sign: sign * theta(t), bounds=(ts[k] - dt, ts[k] + dt),
+                                 method="bounded", options={"xatol": 1e-13})
         found.append(min(sign * result.fun, sign * thetas[k]) * sign)
     return found[0], found[1]
 
