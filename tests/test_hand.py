@@ -158,7 +158,7 @@ def test_the_energy_tab_names_each_presets_motion_and_marks_its_turning_points(m
         assert f"Motion: {motion}." in view.energy_plot.gui_motion.content
         x, U, E, turning, now = (np.asarray(column) for column in view.energy_plot.handle.data)
         assert np.all(np.diff(x) >= 0.0)
-        y_lo, y_hi = view.energy_plot._y_range
+        y_hi = view.energy_plot.window[3]
         spikes = x[turning > y_hi]
         assert spikes.size == 2
         np.testing.assert_allclose(spikes, np.degrees([picture.theta_1, picture.theta_2]), atol=1e-12)
@@ -190,7 +190,7 @@ def test_energy_plot_data_puts_the_marks_where_the_picture_says() -> None:
 
     R = Rotation.from_euler("ZXZ", [0.0, math.radians(60.0), 0.0]).as_matrix()
     picture = energy_picture(1.0, 0.5, 6.0, R, np.array([0.0, 0.0, 12.0]))  # released at rest: a cusp
-    data = energy_plot_data(picture, math.radians(70.0), (38.0, 40.0))
+    data = energy_plot_data(picture, math.radians(70.0), (0.0, 180.0, 38.0, 40.0))
     x, U, _, turning, now = data
     assert picture.motion == CUSP
     assert sorted(set(x[turning > 40.0])) == pytest.approx(np.degrees([picture.theta_1, picture.theta_2]))

@@ -75,6 +75,7 @@ class FreeBodyView(RigidBodyView):
         for k in range(3)
     )
     rate_folder = "Angular velocity ω_b, body axes [rad/s]"
+    hand_gizmos = ("omega", "L")
     body_axis_length: ClassVar[float] = 1.15
     arrow_lengths = (1.45, 2.0)  # ω and L start nearly parallel (L = I ω): different lengths keep their labels apart
 
