@@ -63,12 +63,14 @@ class HandControls:
         gizmos: "omega" (and "L") -> the transform-controls handle (empty without controls).
         dragging: the gizmo being dragged, or None.
         impulse: the kick's J [N m s].
+        last_change: (ω_b before, ω_b after) [rad/s] of the last drag or kick applied, or None.
     """
 
     def __init__(self, view: RigidBodyView, gui: Any) -> None:
         self.view = view
         self.dragging: str | None = None
         self.impulse = 0.5
+        self.last_change: tuple[np.ndarray, np.ndarray] | None = None
         self.gizmos: dict[str, Any] = {}
         with gui.add_folder("Set ω by hand", expand_by_default=False):
             kinds = " and L" if "L" in view.hand_gizmos else ""
@@ -138,6 +140,7 @@ class HandControls:
             return False
         sim = view.sim
         sim.preset = None
+        self.last_change = (sim.state.omega_body.copy(), omega_body.copy())
         sim.restart(State(sim.state.R_space_body, omega_body, 0.0), angles=sim.angles)
         view.message.clear()
         view.room.refresh()
