@@ -6,7 +6,9 @@ The body is drawn as the uniform solid with exactly these principal moments: a b
 I1 = I2 = I3, a cylinder about z′ when I1 = I2 (`physics.inertia.cylinder_dimensions_from_moments`,
 its sides striped so that the spin shows), else a box (`physics.inertia.box_extents_from_moments`)
 with its faces tinted by the axis they face (x′ red, y′ green, z′ blue) so that the
-Dzhanibekov flip is easy to see.  Presets: `assets/presets/free_body.json`.
+Dzhanibekov flip is easy to see.  Presets: `assets/presets/free_body.json`.  ω is also set by
+hand (`app.kit.hand`): gizmos at the tips of ω and L while paused, and Kick about x′ y′ z′
+(kick about the largest, smallest and middle axes to see which spins are stable).
 """
 
 from __future__ import annotations

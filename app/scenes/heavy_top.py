@@ -12,6 +12,13 @@ spin shows, and the trace of the symmetry-axis tip: the simulation follows e_z�
 points, at most TRACE_SECONDS / TRACE_SPACING of them), and the view draws it ROD_LENGTH long
 (`app.kit.widgets.TraceLines`: a frame sends only the short newest chunk).
 
+The Energy tab (`app.kit.energy_plot`, physics in `physics.top_energy`): U_eff(θ) of this run's
+constants of motion (E, L_z = p_φ, p_ψ), the energy line, the turning points θ₁ θ₂ (from the
+closed form), the current θ (moved at most twice a second while playing, and only while the tab
+is shown), and the class of motion named: steady precession, wave, loop, cusp, sleeping, too slow
+to sleep, through the vertical.  ω is also set by hand (`app.kit.hand`): a gizmo at ω's tip
+while paused, and Kick about x′ y′ z′.
+
 Presets (`assets/presets/heavy_top.json`): the classic patterns of the tip with θ̇(0) = 0 at
 θ(0) = 60° (I1 = 1, I3 = 0.5, mgl = 6, ω_z′ = 12 rad/s): steady precession (φ̇(0) on the slow
 root, `physics.exact_top.steady_precession_rate`), waves (half of it), loops (minus half) and
