@@ -141,7 +141,10 @@ def test_a_paused_frame_sends_nothing_and_a_free_body_sends_L_once(manual, monke
     manual.tick(0.5)
     assert [u for u in sent if u[0] == "/free/body"] == [("/free/body", ("SetOrientationMessage",))] * 30  # every frame
     assert [u for u in sent if u[0].startswith("/free/L")] == []  # L is fixed in space: never resent
-    assert {name for name, _ in sent} <= {"/free/body", "/free/nodes", "/free/omega", "/free/omega_label"}
+    hand = [u for u in sent if u[0].startswith("/free/hand/")]  # the ω and L gizmos hide once, at Play
+    assert sorted(hand) == [(f"/free/hand/{k}", ("SetSceneNodeVisibilityMessage",)) for k in ("L", "omega")]
+    assert {name for name, _ in sent if name not in dict(hand)} <= {"/free/body", "/free/nodes", "/free/omega",
+                                                                     "/free/omega_label"}
 
 
 # ---------------------------------------------------------------------------- presets

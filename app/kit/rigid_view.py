@@ -46,6 +46,7 @@ from app.kit.common import (
 )
 from app.kit.ghost import ExactGhost
 from app.kit.gui import PresetsRow, Readout, Tabs, Wrap, add_slider
+from app.kit.hand import HandControls
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
 from app.kit.rigid import (
@@ -165,6 +166,18 @@ class RigidBodyView(SceneView):
     def build_extras(self) -> None:
         """Add scene-specific nodes (once, after the common ones)."""
 
+    hand_gizmos: ClassVar[tuple[str, ...]] = ()
+    """"omega" and/or "L": the scene sets ω by hand (gizmos at those arrows' tips, and Kick:
+    `app.kit.hand`); () for neither."""
+    hand: HandControls | None = None
+
+    extra_tabs: ClassVar[tuple[str, ...]] = ()
+    """The scene's own panel tabs after Setup / Readout / Plots / Lagrange (filled by `build_tab_extras`)."""
+
+    def build_tab_extras(self, gui: Any) -> None:
+        """Fill the scene's own tabs (`with self.tabs.tab(name):`); `refresh` and `draw_extras`
+        draw them (`self.tabs.shown` says which tab is on screen)."""
+
     def build_display_extras(self, gui: Any) -> None:
         """Add scene-specific toggles to the Display folder."""
 
@@ -264,7 +277,8 @@ class RigidBodyView(SceneView):
         wrap = self._wrap
         self.build_head(self.intro, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
                         on_integrator=self.set_integrator)
-        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange"), on_change=lambda _name: self.refresh())
+        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange", *self.extra_tabs),
+                         on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
             self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
             with gui.add_folder("Euler angles z-x-z [deg]"):
@@ -272,6 +286,7 @@ class RigidBodyView(SceneView):
                 self.gui_gimbal_note = gui.add_markdown("", visible=False)
             with gui.add_folder(self.rate_folder):
                 self.gui_rates = [add_slider(gui, spec) for spec in self.rate_specs]
+            self.hand = HandControls(self, gui) if self.hand_gizmos else None
             with gui.add_folder(self.param_folder):
                 params = self.params_from_model(self.sim.model)
                 self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(self.param_specs, params)]
@@ -300,6 +315,7 @@ class RigidBodyView(SceneView):
 
         with self.tabs.tab("Lagrange"):
             self.lagrange_readout = Readout(gui)
+        self.build_tab_extras(gui)
 
         for index, (spec, handle) in enumerate(zip(ANGLE_SPECS, self.gui_angles)):
             self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._angle_in_force(index),
@@ -378,6 +394,8 @@ class RigidBodyView(SceneView):
             self.plots.set_visible(bool(self.gui_live_plots.value))
             if self.tabs.shown == "Plots":
                 self._push_plots()
+            if self.hand is not None:
+                self.hand.refresh()
 
     # ------------------------------------------------------------------ drawing
     def _restarted(self) -> None:
@@ -391,7 +409,8 @@ class RigidBodyView(SceneView):
             self.ghost.reshape(model)
         preset = getattr(sim, "preset", None)
         R, omega = sim.state.R_space_body, sim.state.omega_body
-        if preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega):
+        if (preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega)) \
+                and not (self.hand is not None and self.hand.dragging):  # the scale holds during a drag
             self._rescale_arrows(R, omega)
         self._drawn_preset = preset
         self.presets_row.show_note(self.preset_shown())
@@ -410,6 +429,12 @@ class RigidBodyView(SceneView):
         self.L.update(L_space * self.L_scale, rtol=1e-6)
         self.ghost.draw()
         self.draw_extras(sim)
+
+    def fit_arrows(self) -> None:
+        """Rescale the arrows if the current ω or L is outside ARROW_RANGE (after a drag)."""
+        R, omega = self.sim.state.R_space_body, self.sim.state.omega_body
+        if not self._arrows_fit(R, omega):
+            self._rescale_arrows(R, omega)
 
     def _arrows_fit(self, R: np.ndarray, omega_body: Vec3) -> bool:
         lo, hi = ARROW_RANGE

@@ -69,6 +69,7 @@ class TorqueFreeView(RigidBodyView):
         for k in range(3)
     )
     rate_folder = "Angular velocity ω_b, body axes [rad/s]"
+    hand_gizmos = ("omega", "L")  # ω and L set by dragging their tips (app.kit.hand)
     body_axis_length: ClassVar[float] = 1.15
     arrow_lengths = (1.45, 2.0)  # ω and L start nearly parallel (L = I ω): different lengths keep their labels apart
 

@@ -12,6 +12,13 @@ spin shows, and the trace of the symmetry-axis tip: the simulation follows e_z�
 points, at most TRACE_SECONDS / TRACE_SPACING of them), and the view draws it ROD_LENGTH long
 (`app.kit.widgets.TraceLines`: a frame sends only the short newest chunk).
 
+The Energy tab (`app.kit.energy_plot`, physics in `physics.top_energy`): U_eff(θ) of this run's
+constants of motion (E, L_z = p_φ, p_ψ), the energy line, the turning points θ₁ θ₂ (from the
+closed form), the current θ (moved at most twice a second while playing, and only while the tab
+is shown), and the class of motion named: steady precession, wave, loop, cusp, sleeping, too slow
+to sleep, through the vertical.  ω is also set by hand (`app.kit.hand`): a gizmo at ω's tip
+while paused, and Kick about x′ y′ z′.
+
 Presets (`assets/presets/heavy_top.json`): the classic patterns of the tip with θ̇(0) = 0 at
 θ(0) = 60° (I1 = 1, I3 = 0.5, mgl = 6, ω_z′ = 12 rad/s): steady precession (φ̇(0) on the slow
 root, `physics.exact_top.steady_precession_rate`), waves (half of it), loops (minus half) and
@@ -28,12 +35,14 @@ import numpy as np
 import trimesh
 
 from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, striped_parts
+from app.kit.energy_plot import EnergyPlot
 from app.kit.rigid import RigidBodySimulation
 from app.kit.rigid_view import RigidBodyView
 from app.kit.widgets import TraceLines
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space
 from physics.euler import euler_rates_from_omega_body, omega_body_from_euler_rates
+from physics.top_energy import TopEnergyPicture, energy_picture
 
 __all__ = ["CHUNK_POINTS", "TRACE_SECONDS", "TRACE_SPACING", "HeavyTopView", "tip_axis"]
 
@@ -98,6 +107,7 @@ class HeavyTopView(RigidBodyView):
         SliderSpec("theta_dot", "dθ/dt [deg/s]", -360.0, 360.0, 0.1, "nutation rate", _MARKS_RATE),
     )
     rate_folder = "Spin and Euler rates"
+    hand_gizmos = ("omega",)
     momentum_kind = "z"
     momentum_label = "L_z"
     grid_z = -STAND_HEIGHT
@@ -164,6 +174,39 @@ class HeavyTopView(RigidBodyView):
 
     def draw_extras(self, sim: RigidBodySimulation) -> None:
         self.trace.sync(sim.traces["tip"], ROD_LENGTH)
+        if self.tabs.shown == "Energy":
+            self._draw_energy(sim)
+
+    # ------------------------------------------------------------------ the energy picture
+    extra_tabs = ("Energy",)
+
+    def build_tab_extras(self, gui: Any) -> None:
+        with self.tabs.tab("Energy"):
+            self.energy_plot = EnergyPlot(gui)
+        self._energy_run = -1  # the run (sim.restarts) whose picture is drawn
+
+    @staticmethod
+    def energy_picture_of(sim: RigidBodySimulation) -> TopEnergyPicture:
+        """The energy picture of the simulation's run (its constants of motion: the run's start);
+        ValueError if there is none."""
+        I1, _, I3 = sim.model.inertia
+        start = sim.initial_state
+        return energy_picture(I1, I3, sim.model.mgl, start.R_space_body, start.omega_body)
+
+    def _draw_energy(self, sim: RigidBodySimulation) -> None:
+        """A new run: a new picture; the same run: the current θ moves (throttled while playing)."""
+        R = sim.state.R_space_body
+        theta = math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2])  # precise near the poles
+        if sim.restarts != self._energy_run:
+            self._energy_run = sim.restarts
+            try:
+                picture: TopEnergyPicture | None = self.energy_picture_of(sim)
+                failure = ""
+            except (ValueError, ArithmeticError) as error:
+                picture, failure = None, str(error)
+            self.energy_plot.show(picture, theta, failure)
+        else:
+            self.energy_plot.mark(theta, throttled=self.room.playing)
 
     def shape_status(self, model: Model) -> str:
         I1, _, I3 = model.inertia
