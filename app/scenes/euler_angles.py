@@ -715,9 +715,11 @@ class EulerAnglesView(SceneView):
         points = turn_path(d, rotation.angle, u, ARC_SEGMENTS)  # u, ..., D u
         spokes = np.array([[np.zeros(3), points[0]], [np.zeros(3), points[-1]]])
         set_points(self.single_arc, np.concatenate([polyline_segments(points), spokes]).astype(np.float32))
-        middle = 1.12 * points[ARC_SEGMENTS // 2]
+        middle = 0.8 * points[ARC_SEGMENTS // 2]  # inside the arc: clear of the d label at the axis tip
         set_position(self.single_arc_label, (float(middle[0]), float(middle[1]), float(middle[2])))
-        self.single_arc_label.text = f"Φ = {math.degrees(rotation.angle):.1f}°"
+        text = f"Φ = {math.degrees(rotation.angle):.1f}°"
+        if self.single_arc_label.text != text:
+            self.single_arc_label.text = text
 
     def render_single_readout(self) -> None:
         """Φ, d, A = Φ hat(d), the rotation vector and the quaternion (shown with the toggle)."""
