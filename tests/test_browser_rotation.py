@@ -40,6 +40,7 @@ def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until,
     page.locator(f'[id="{scene.gui_single_rotation._impl.uuid}"]').click()
     wait_until(lambda: scene.gui_single_rotation.value and scene.single_axis.visible, timeout=10.0)
     page.get_by_text("A = Φ hat(d), D = exp(A)").first.wait_for(timeout=10_000)
+    page.mouse.move(5, 5)  # away from the checkbox: its hint closes
     time.sleep(1.5)  # mid-animation (ANIMATION_SECONDS = 4)
     animating = page.screenshot(clip=SCENE_CLIP)
     (tmp_path / "single_rotation_generic.png").write_bytes(page.screenshot())

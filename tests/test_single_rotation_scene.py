@@ -179,7 +179,9 @@ def test_switching_on_animates_the_single_turn_beside_the_zxz_turn(manual, view)
 
 
 def test_the_animate_button_switches_the_toggle_on(manual, view) -> None:  # type: ignore[no-untyped-def]
-    manual.client.send(__import__("viser")._messages.GuiUpdateMessage(view.gui_animate._impl.uuid, {"value": True}))
+    from viser import _messages
+
+    manual.client.send(_messages.GuiUpdateMessage(view.gui_animate._impl.uuid, {"value": True}))  # a click
     manual.wait(lambda: view.gui_single_rotation.value)
     assert view.animation_time is not None and view.single_axis.visible
     assert manual.session.error_count == 0, manual.session.last_error
@@ -193,7 +195,7 @@ def test_the_euler_lessons_first_step_shows_the_single_rotation(manual) -> None:
     assert session.lesson_step == 0
     assert view.gui_single_rotation.value and view.single_axis.visible and view.animation_time == 0.0
     assert "d = (" in view.readout_single.handle.content
-    # Stepping through the whole lesson, each step's motion takes seconds: under a minute in all.
+    # Stepping through the whole lesson, each step's animation done before the next: under a minute.
     seconds = 0.0
     for k in range(1, len(session.lesson.steps)):
         manual.tick(ANIMATION_SECONDS + ANIMATION_HOLD)
