@@ -13,6 +13,7 @@ Conventions used throughout `physics` (see docs/CONVENTIONS.md):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -21,6 +22,9 @@ from physics._types import Mat3, Vec3
 __all__ = [
     "A1",
     "A3",
+    "AXIS_UNDEFINED_ANGLE",
+    "HALF_TURN_BAND",
+    "SingleRotation",
     "axis_angle_from_matrix",
     "exp_series",
     "exp_skew",
@@ -30,6 +34,8 @@ __all__ = [
     "project_to_so3",
     "rot_x",
     "rot_z",
+    "single_rotation",
+    "turn_path",
     "vee",
 ]
 
@@ -147,3 +153,77 @@ def project_to_so3(M: Mat3) -> Mat3:
     if np.linalg.det(U @ Vt) < 0.0:
         U[:, -1] = -U[:, -1]
     return U @ Vt
+
+
+AXIS_UNDEFINED_ANGLE = 1e-9
+"""[rad] Below this Φ the axis d of D is reported undefined (None).  D = 1 up to rounding (say
+Rz(1°) Rz(-1°)) has Φ ~ 1e-16 and an axis made of rounding noise; no slider (1° steps) or typed
+angle a lecture uses comes near 1e-9 rad = 6e-8°."""
+HALF_TURN_BAND = 1e-10
+"""[rad] Within this of Φ = π the sign of d is not fixed by D for display purposes: sin Φ d =
+vee(D) is then ~1e-16 of rounding at an exact half turn (D = Rx(θ) Rz(π), any θ), so its sign is
+noise.  There d is taken from the symmetric part (D + 1)/2 = d dᵀ (at Φ = π) and its sign chosen
+continuously.  Flipping d there moves exp(Φ hat(d)) off D by at most 2 sin Φ ≤ 2e-10."""
+
+
+@dataclass(frozen=True)
+class SingleRotation:
+    """D as one turn, D = exp(A), A = Φ hat(d) (memo 1.1-1.3).
+
+    Attributes:
+        angle: Φ in [0, π] [rad] (1.1).
+        axis: the unit axis d (3,), or None when Φ < AXIS_UNDEFINED_ANGLE (no axis: D = 1).
+        rotvec: the rotation vector Φ d (3,) [rad]; (0, 0, 0) at D = 1.
+    """
+
+    angle: float
+    axis: Vec3 | None
+    rotvec: Vec3
+
+    @property
+    def A(self) -> Mat3:
+        """A = Φ hat(d) (3, 3), skew (1.3); exp(A) = D."""
+        return hat(self.rotvec)
+
+    @property
+    def wxyz(self) -> tuple[float, float, float, float]:
+        """The unit quaternion (cos Φ/2, sin(Φ/2) d), w >= 0 since Φ <= π."""
+        half = 0.5 * self.angle
+        # sin(Φ/2)/Φ times Φ d: well defined as Φ -> 0 (the limit is 1/2).
+        k = 0.5 if self.angle < 1e-8 else math.sin(half) / self.angle
+        x, y, z = (k * float(c) for c in self.rotvec)
+        return (math.cos(half), x, y, z)
+
+
+def single_rotation(D: Mat3, previous_axis: Vec3 | None = None) -> SingleRotation:
+    """D (3, 3) as one turn by Φ in [0, π] [rad] about the unit axis d (memo 1.1-1.3).
+
+    Outside the two bands this is `axis_angle_from_matrix` (Φ from atan2, exact near 0 and π;
+    the sign of d from sin Φ d = vee(D), as SciPy's `as_rotvec`).  Branches:
+    * Φ < AXIS_UNDEFINED_ANGLE: `axis` is None (every axis is one: D = 1); rotvec = vee(D).
+    * π - Φ <= HALF_TURN_BAND: d from the symmetric part of D, its sign the one nearer
+      `previous_axis` (the last axis drawn: sliders through a half turn do not flip it), or
+      without one, the sign making d's largest component positive (so every view agrees).
+    """
+    axis, angle = axis_angle_from_matrix(D)
+    if angle < AXIS_UNDEFINED_ANGLE:
+        return SingleRotation(angle, None, angle * axis)
+    if math.pi - angle <= HALF_TURN_BAND:
+        reference = previous_axis
+        if reference is None or float(np.dot(axis, reference)) == 0.0:
+            reference = np.zeros(3)
+            k = int(np.argmax(np.abs(axis)))
+            reference[k] = 1.0
+        if float(np.dot(axis, reference)) < 0.0:
+            axis = -axis
+    return SingleRotation(angle, axis, angle * axis)
+
+
+def turn_path(axis: Vec3, angle: float, v: Vec3, segments: int) -> Vec3:
+    """Points exp(s Φ hat(d)) v (segments + 1, 3) for s = 0 .. 1: v turned about the unit
+    axis d by the growing angle s Φ [rad] (Rodrigues, 1.7-1.8)."""
+    d = np.asarray(axis, dtype=float)
+    v = np.asarray(v, dtype=float)
+    t = np.linspace(0.0, float(angle), segments + 1)[:, None]
+    along = np.dot(d, v) * d
+    return along + np.cos(t) * (v - along) + np.sin(t) * np.cross(d, v)

@@ -8,6 +8,22 @@ e_n = (cos φ, sin φ, 0), the two intermediate frames of D = Rz(φ) Rx(θ) Rz(�
 from its tip, ψ̇ e_z′ from that one, and the resultant ω from the origin to the end.
 Readouts: D, its three factors, and ω with its space (ω_s) and body (ω_b) components.
 
+The single rotation (memo 1.1-1.3; the toggle `Single rotation`, off by default): the same D as
+one turn, D = exp(A), A = Φ hat(d).  Drawn: the axis d (a near-black line through the origin,
+both ways, its head at +d) and the angle Φ (an arc about d, in the plane through the origin
+perpendicular to d, from the projection of the space axis e_k most perpendicular to d to D of
+it, which is the projection of the body axis e_k′; the two spokes in the colours of e_k and
+e_k′).  Read out: Φ, d, A = Φ hat(d), the rotation vector Φ d and the quaternion.  At Φ = 0
+(below `physics.so3.AXIS_UNDEFINED_ANGLE`) no axis is drawn and the readout says the axis is
+undefined; within `HALF_TURN_BAND` of Φ = π the axis comes from (D + 1)/2 = d dᵀ with the sign
+nearer the last axis drawn (`physics.so3.single_rotation`), so sliders through half turns do not
+flip it.  The animation: switching the toggle on, or the `Animate` button, turns two outlines of
+the box from the space axes to D over ANIMATION_SECONDS: a dark one by exp(s Φ hat(d)), s = 0 →
+1 (the single turn), and beside it a coloured one through the three Euler steps z-x-z (purple
+while φ turns about z, pink for θ about the line of nodes, teal for ψ about z′); both end on the
+body, stay ANIMATION_HOLD seconds and go.  The animation is this view's (a presenter's is seen by
+the followers); it follows D if the angles move meanwhile.
+
 The simulation (`EulerAnglesSimulation`, no viser) advances the angles at the set rates
 (φ, θ, ψ grow linearly; a θ outside [0°, 180°] is shown as the equivalent
 (φ + 180°, 360° − θ, ψ + 180°), so the sliders wrap).  Near θ = 0° or 180° the line of nodes
@@ -27,7 +43,9 @@ import numpy as np
 import viser
 
 from app.kit.common import (
+    BODY_AXIS_COLORS,
     OMEGA_COLOR,
+    SPACE_AXIS_COLORS,
     CameraView,
     SliderSpec,
     Throttle,
@@ -40,6 +58,7 @@ from app.kit.common import (
     polyline_segments,
     wrap_deg,
 )
+from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
@@ -53,7 +72,7 @@ from physics.euler import (
 )
 from physics.inertia import InertiaError, box_extents_from_moments, validate_principal_moments
 from physics.quaternion import wxyz_from_matrix
-from physics.so3 import rot_x, rot_z
+from physics.so3 import HALF_TURN_BAND, SingleRotation, exp_so3, rot_x, rot_z, single_rotation, turn_path
 
 __all__ = [
     "ANGLE_SPECS",
@@ -64,6 +83,8 @@ __all__ = [
     "VIEW",
     "EulerAnglesSimulation",
     "EulerAnglesView",
+    "arc_reference_axis",
+    "box_outline_segments",
     "canonical_angles_deg",
 ]
 
@@ -106,6 +127,15 @@ KEYS = ("phi", "theta", "psi")
 VIEW = CameraView(position=(5.9, -2.0, 3.3), look_at=(0.5, 1.15, 0.25), fov_deg=40.0)
 INITIAL_CAMERA = {"position": VIEW.position, "look_at": VIEW.look_at, "up": VIEW.up}
 INITIAL_FOV_DEG = VIEW.fov_deg
+
+# The single rotation D = exp(Φ hat(d)).
+SINGLE_COLOR = (40, 40, 40)  # the axis d, the arc Φ and the single-turn outline: near black
+SINGLE_AXIS_HALF_LENGTH = 2.3  # [scene units] d is drawn from -this to +this, past the space axes
+SINGLE_ARC_RADIUS = 1.6  # [scene units] outside the φ θ ψ arcs (at most 1.2)
+ARC_HYSTERESIS = 0.25  # the Φ arc keeps its space axis e_k until another is this much more perpendicular to d
+ANIMATION_SECONDS = 4.0  # [s] of wall time: the outlines turn from 1 to D
+ANIMATION_HOLD = 1.5  # [s] they then stay on the body, and go
+ZXZ_KEYS = KEYS  # the three-step outline's colour is ARC_COLORS of the step it is in
 
 ARC_PERIOD = 1.0 / 20.0  # [s] arcs and their labels while playing (20 Hz)
 SLIDER_PERIOD = 0.1  # sliders follow at 10 Hz
@@ -174,6 +204,35 @@ class EulerAnglesSimulation:
         return euler_frames(*self.angles).body
 
 
+def arc_reference_axis(axis: np.ndarray, previous: int | None = None) -> int:
+    """Index k of the space axis e_k the Φ arc starts from: the one most perpendicular to the
+    unit axis d (3,) (smallest |d_k|), except that `previous` is kept while it is within
+    ARC_HYSTERESIS of the best (near a tie, as for d = (1, 1, 1)/√3, the arc does not jump)."""
+    magnitudes = np.abs(np.asarray(axis, dtype=float))
+    best = int(np.argmin(magnitudes))
+    if previous is not None and magnitudes[previous] <= magnitudes[best] + ARC_HYSTERESIS:
+        return previous
+    return best
+
+
+def box_outline_segments(edges: Sequence[float] | np.ndarray, axis_length: float) -> np.ndarray:
+    """The 12 edges of a box centred at the origin with edge lengths `edges` (3,) along x y z,
+    then its three axes from the origin, `axis_length` long: segments (15, 2, 3)."""
+    half = 0.5 * np.asarray(edges, dtype=float)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float) * half
+    lines = [(a, b) for a in range(8) for b in range(a + 1, 8) if bin(a ^ b).count("1") == 1]
+    box = np.array([[corners[a], corners[b]] for a, b in lines])
+    return np.concatenate([box, axis_segments(np.eye(3), axis_length)])
+
+
+def _outline_colors(color: tuple[int, int, int]) -> np.ndarray:
+    """Colours (15, 2, 3) of `box_outline_segments`: the box in `color`, the axes x′ y′ z′."""
+    colors = np.empty((15, 2, 3), dtype=np.uint8)
+    colors[:12] = color
+    colors[12:] = np.array(BODY_AXIS_COLORS, dtype=np.uint8)[:, None, :]
+    return colors
+
+
 def _box_edges(moments: Sequence[float]) -> np.ndarray:
     """The drawn box's edges (3,) [scene units]: the uniform box of these moments, scaled so the
     longest edge is BODY_SIZE (a flat lamina is drawn MIN_EDGE thick)."""
@@ -216,6 +275,12 @@ class EulerAnglesView(SceneView):
         self._arc_throttle = Throttle(ARC_PERIOD)
         self._slider_throttle = Throttle(SLIDER_PERIOD)
         self._readout_throttle = Throttle(READOUT_PERIOD)
+        self._single: tuple[int, SingleRotation] | None = None  # (sim version, D as one turn)
+        self._last_axis: np.ndarray | None = None  # the axis d last drawn (its sign is kept near Φ = π)
+        self._arc_axis: int | None = None  # k of the space axis e_k the Φ arc starts from
+        self.animation_time: float | None = None  # [s] into the animation; None: not animating
+        self._zxz_step = -1
+        self._outline_moments: tuple[float, ...] = ()
         self.build()
 
     # ------------------------------------------------------------------ building
@@ -251,6 +316,28 @@ class EulerAnglesView(SceneView):
         }
         self.omega = Vector(scene, f"{root}/omega/resultant", OMEGA_COLOR, "ω", shaft_radius=0.032,
                             head_radius=0.085, head_length=0.16)
+        # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines.
+        single = f"{root}/single"
+        self.single_node = scene.add_frame(single, show_axes=False, visible=False)
+        self.single_axis = scene.add_arrows(f"{single}/axis", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
+                                            head_radius=0.06, head_length=0.14)
+        self.single_axis_label = scene.add_label(f"{single}/axis_label", "d", font_screen_scale=1.8,
+                                                 anchor="center-center")
+        self.single_arc = scene.add_line_segments(f"{single}/arc", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
+                                                  np.zeros((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8),
+                                                  thickness=4.0, thickness_units="screen")
+        self.single_arc_label = scene.add_label(f"{single}/arc_label", "Φ", font_screen_scale=1.6,
+                                                anchor="center-center")
+        self.ghost_turn = scene.add_frame(f"{single}/ghost_turn", show_axes=False, visible=False)
+        self.ghost_zxz = scene.add_frame(f"{single}/ghost_zxz", show_axes=False, visible=False)
+        outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
+        self.ghost_turn_lines = scene.add_line_segments(f"{single}/ghost_turn/lines", outline,
+                                                        _outline_colors(SINGLE_COLOR), thickness=3.0,
+                                                        thickness_units="screen")
+        self.ghost_zxz_lines = scene.add_line_segments(f"{single}/ghost_zxz/lines", outline,
+                                                       _outline_colors(ARC_COLORS["phi"]), thickness=3.0,
+                                                       thickness_units="screen")
+        self._outline_moments = self.sim.moments
 
     def _build_box(self, scene: Any, parent: str) -> None:
         self.body_box = scene.add_box(
@@ -277,6 +364,17 @@ class EulerAnglesView(SceneView):
         self.folder_rates = gui.add_folder("Euler rates [deg/s]")
         with self.folder_rates:
             self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(RATE_SPECS, self.sim.rates_deg)]
+        self.folder_single = gui.add_folder("Single rotation D = exp(Φ hat d)")
+        with self.folder_single:
+            self.gui_single_rotation = gui.add_checkbox(
+                "Single rotation", False,
+                hint="D as one turn by Φ about the unit axis d (memo 1.1-1.3); switching it on animates once")
+            self.gui_animate = gui.add_button(
+                "Animate", icon=viser.Icon.PLAYER_PLAY,
+                hint="two outlines turn from the space axes to D: dark, by sΦ about d (s = 0 → 1); "
+                     "coloured, z-x-z in three steps (φ purple, θ pink, ψ teal)")
+            self.readout_single = Readout(gui)
+            self.readout_single.handle.visible = False
         self.folder_readout = gui.add_folder("Readout")
         with self.folder_readout:
             tabs = gui.add_tab_group()  # three short texts: all three are sent at 5 Hz at most
@@ -316,8 +414,11 @@ class EulerAnglesView(SceneView):
         for handle in (self.gui_show_frames, self.gui_show_arcs, self.gui_show_omega):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
+        self.gui_single_rotation.on_update(wrap("single rotation", lambda _event: self._single_toggled()))
+        self.gui_animate.on_click(wrap("animate", lambda _event: self.animate()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, self.folder_angles,
-                           self.folder_rates, self.folder_readout, self.folder_body, self.folder_display]
+                           self.folder_rates, self.folder_single, self.folder_readout, self.folder_body,
+                           self.folder_display]
 
     # ------------------------------------------------------------------ callbacks
     def _angle_edit(self, index: int) -> Callable[[float], None]:
@@ -360,6 +461,53 @@ class EulerAnglesView(SceneView):
 
         return apply
 
+    def _single_toggled(self) -> None:
+        if self.gui_single_rotation.value:
+            self.animate()
+        else:
+            self._stop_animation()
+        self.refresh()
+
+    def animate(self) -> None:
+        """Run the animation from s = 0 (switching `Single rotation` on if it is off, which
+        starts it)."""
+        if not self.gui_single_rotation.value:
+            self.gui_single_rotation.value = True  # its callback comes back here
+            return
+        self.animation_time = 0.0
+        self._zxz_step = -1
+        self._draw_animation()
+
+    def _stop_animation(self) -> None:
+        self.animation_time = None
+        for node in (self.ghost_turn, self.ghost_zxz):
+            if node.visible:
+                node.visible = False
+
+    def _draw_animation(self) -> None:
+        """The two outlines at the animation's time: exp(s Φ hat(d)) and the z-x-z turn, where
+        s = time / ANIMATION_SECONDS (at most 1); gone after ANIMATION_HOLD more seconds."""
+        time = self.animation_time
+        if time is None:
+            return
+        if time >= ANIMATION_SECONDS + ANIMATION_HOLD or not self.gui_single_rotation.value:
+            self._stop_animation()
+            return
+        s = min(time / ANIMATION_SECONDS, 1.0)
+        rotation = self.single()
+        phi, theta, psi = self.sim.angles
+        steps = [min(max(3.0 * s - k, 0.0), 1.0) for k in range(3)]  # φ, then θ, then ψ
+        R_zxz = rot_z(steps[0] * phi) @ rot_x(steps[1] * theta) @ rot_z(steps[2] * psi)
+        step = min(int(3.0 * s), 2)
+        if step != self._zxz_step:
+            self._zxz_step = step
+            self.ghost_zxz_lines.colors = _outline_colors(ARC_COLORS[ZXZ_KEYS[step]])
+        set_wxyz(self.ghost_turn, wxyz_from_matrix(exp_so3(s * rotation.rotvec)))
+        set_wxyz(self.ghost_zxz, wxyz_from_matrix(R_zxz))
+        for node in (self.ghost_turn, self.ghost_zxz):
+            if not node.visible:
+                node.visible = True
+
     def set_angles_deg(self, phi: float, theta: float, psi: float) -> None:
         """Set (φ, θ, ψ) [deg], as dragging the three sliders does."""
         self.room.playing = False
@@ -367,7 +515,12 @@ class EulerAnglesView(SceneView):
         self.room.refresh()
 
     def frame(self, dt: float) -> None:
-        """The per-frame update while the angles move; arcs, sliders and text throttled."""
+        """The per-frame update while the angles move (and while the single rotation animates);
+        arcs, sliders and text throttled."""
+        if self.animation_time is not None:
+            self.animation_time += dt
+            with self.client.atomic():
+                self._draw_animation()
         if self.sim.version == self._drawn_version:
             return
         self._drawn_version = self.sim.version
@@ -375,10 +528,12 @@ class EulerAnglesView(SceneView):
             self.render_pose()
             if self._arc_throttle.ready(dt):
                 self.render_arcs()
+                self.render_single_rotation()
             if self._slider_throttle.ready(dt):
                 self._sync_sliders()
             if self._readout_throttle.ready(dt):
                 self.render_readout()
+                self.render_single_readout()
                 self._refresh_status()
 
     def refresh(self) -> None:
@@ -387,13 +542,21 @@ class EulerAnglesView(SceneView):
         with self.client.atomic():
             if self.sim.moments != self._drawn_moments:
                 self.body.reshape(self._build_box)
+            if self.sim.moments != self._outline_moments:
+                outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
+                self.ghost_turn_lines.points = outline
+                self.ghost_zxz_lines.points = outline
+                self._outline_moments = self.sim.moments
             self._refresh_moments_status()
             self.transport.show(self.room.playing, self.room.time_scale)
             self.presets_row.show_note(self.preset_shown())
             self._sync_sliders()
             self.render_pose()
             self.render_arcs()
+            self.render_single_rotation()
+            self._draw_animation()
             self.render_readout()
+            self.render_single_readout()
             self._refresh_status()
 
     # ------------------------------------------------------------------ drawing
@@ -504,3 +667,80 @@ class EulerAnglesView(SceneView):
             f"{row('ω_b (body)', omega_body)}\n"
             f"|ω| = {float(np.linalg.norm(omega_space)):.3f} deg/s\n```"
         )
+
+    # ------------------------------------------------------------------ the single rotation
+    def single(self) -> SingleRotation:
+        """D as one turn (`physics.so3.single_rotation`), computed once per simulation version,
+        the sign of d near Φ = π the one nearer the axis last drawn."""
+        if self._single is None or self._single[0] != self.sim.version:
+            rotation = single_rotation(self.sim.R_space_body, self._last_axis)
+            if rotation.axis is not None:
+                self._last_axis = rotation.axis
+            self._single = (self.sim.version, rotation)
+        return self._single[1]
+
+    def render_single_rotation(self) -> None:
+        """The axis d (both ways from the origin) and the arc Φ about it, if the toggle is on and
+        D has an axis (Φ > 0)."""
+        on = bool(self.gui_single_rotation.value)
+        rotation = self.single() if on else None
+        shown = rotation is not None and rotation.axis is not None
+        if self.single_node.visible != on:
+            self.single_node.visible = on
+        for node in (self.single_axis, self.single_axis_label, self.single_arc, self.single_arc_label):
+            if node.visible != shown:
+                node.visible = shown
+        if rotation is None or rotation.axis is None:
+            return
+        d = rotation.axis
+        set_points(self.single_axis, np.array([[-SINGLE_AXIS_HALF_LENGTH * d, SINGLE_AXIS_HALF_LENGTH * d]],
+                                              dtype=np.float32))
+        tip = (SINGLE_AXIS_HALF_LENGTH + 0.25) * d
+        set_position(self.single_axis_label, (float(tip[0]), float(tip[1]), float(tip[2])))
+        k = arc_reference_axis(d, self._arc_axis)
+        if k != self._arc_axis:
+            self._arc_axis = k
+            colors = np.empty((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8)
+            colors[:ARC_SEGMENTS] = SINGLE_COLOR
+            colors[ARC_SEGMENTS] = SPACE_AXIS_COLORS[k]
+            colors[ARC_SEGMENTS + 1] = BODY_AXIS_COLORS[k]
+            self.single_arc.colors = colors
+        e_k = np.eye(3)[k]
+        u = e_k - float(d @ e_k) * d  # e_k projected on the plane ⟂ d
+        u *= SINGLE_ARC_RADIUS / float(np.linalg.norm(u))
+        points = turn_path(d, rotation.angle, u, ARC_SEGMENTS)  # u, ..., D u
+        spokes = np.array([[np.zeros(3), points[0]], [np.zeros(3), points[-1]]])
+        set_points(self.single_arc, np.concatenate([polyline_segments(points), spokes]).astype(np.float32))
+        middle = 0.8 * points[ARC_SEGMENTS // 2]  # inside the arc: clear of the d label at the axis tip
+        set_position(self.single_arc_label, (float(middle[0]), float(middle[1]), float(middle[2])))
+        text = f"Φ = {math.degrees(rotation.angle):.1f}°"
+        if self.single_arc_label.text != text:
+            self.single_arc_label.text = text
+
+    def render_single_readout(self) -> None:
+        """Φ, d, A = Φ hat(d), the rotation vector and the quaternion (shown with the toggle)."""
+        on = bool(self.gui_single_rotation.value)
+        if self.readout_single.handle.visible != on:
+            self.readout_single.handle.visible = on
+        if not on:
+            return
+        rotation = self.single()
+        D = self.sim.R_space_body
+        angle_deg = math.degrees(rotation.angle)
+        lines = [f"**Φ = {angle_deg:.2f}°** = {rotation.angle:.4f} rad;  "
+                 f"cos Φ = (tr D − 1)/2 = {0.5 * (float(np.trace(D)) - 1.0):.4f} (1.1)  "]
+        if rotation.axis is None:
+            lines.append("**d undefined**: Φ = 0, D = 1 — a turn by 0 about any axis.  ")
+        else:
+            lines.append(f"**d = {format_vector(rotation.axis, 4)}** (D d = d)  ")
+            if math.pi - rotation.angle <= HALF_TURN_BAND:
+                lines.append("Half turn: d and −d give the same D; d from (D + 1)/2 = d dᵀ, "
+                             "its sign kept from the axis drawn before.  ")
+        w, x, y, z = rotation.wxyz
+        lines.append(
+            "```\n"
+            f"A = Φ hat(d), D = exp(A) (1.2, 1.3)\n{format_matrix(rotation.A, 4)}\n"
+            f"Φ d = {format_vector(rotation.rotvec, 4)} rad\n"
+            f"q = (cos Φ/2, sin Φ/2 d)\n  = {format_vector(np.array([w, x, y, z]), 4)}\n```"
+        )
+        self.readout_single.set("\n".join(lines))
