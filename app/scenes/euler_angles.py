@@ -164,19 +164,20 @@ class EulerAnglesSimulation:
 
     # ------------------------------------------------------------------ replay (app.kit.history)
     def snapshot(self) -> Snapshot:
-        """The moment now: t, the angles as played (3) and as shown (3) [deg], the rates (3) [deg/s]."""
-        values = [self.t, *self._played_deg.tolist(), *self.angles_deg, *self.rates_deg]
+        """The moment now: t, the angles as played (3) [deg], the rates (3) [deg/s] (the angles
+        shown are a function of those played)."""
+        values = [self.t, *self._played_deg.tolist(), *self.rates_deg]
         return Snapshot(np.array(values, dtype=float))
 
     def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
         """The recorded moment back bit for bit (then `later` [s] on, for display)."""
         v = snapshot.values
-        if v.shape != (10,):
+        if v.shape != (7,):
             raise ValueError("this snapshot is not an Euler-angles moment")
         self.t = float(v[0])
         self._played_deg = v[1:4].copy()
-        self.angles_deg = [float(a) for a in v[4:7]]
-        self.rates_deg = [float(r) for r in v[7:10]]
+        self.angles_deg = list(canonical_angles_deg(*self._played_deg))
+        self.rates_deg = [float(r) for r in v[4:7]]
         if later > 0.0:
             self.advance(later)
         self.version += 1
