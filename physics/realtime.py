@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from physics.dynamics import IntegrationError, Model, State
 from physics.guards import omega_limit, validated_state
 from physics.splitting import CHECK_EVERY, STAGES, Kernel, Splitting, gammas_of, state_builder
@@ -273,6 +275,41 @@ class GridStepper:
         self._state = state
         self.substeps, self.evaluations = substeps, evaluations
         return state
+
+
+    # ------------------------------------------------------------------ replay
+    def snapshot(self) -> tuple[float, ...]:
+        """Everything that changes as the stepper steps, as floats (ints exact below 2**53): the
+        grid index k, the state shown (R (9), ω_b (3), t), the counters, the grid stepper's
+        working state y, its t, its state (R, ω_b, t) and rate scale.  `restore` puts it back
+        bit for bit; the rest (model, h, kernels, invariant, blow-up limit) is fixed for the
+        stepper's life, so a snapshot is only restored into the stepper that made it."""
+        grid = self._grid
+        shown, at_grid = self._state, grid._state
+        return (float(self._k), *shown.R_space_body.ravel().tolist(), *shown.omega_body.tolist(), shown.t,
+                float(self.substeps), float(self.evaluations), float(len(grid._y)), *grid._y, grid._t,
+                *at_grid.R_space_body.ravel().tolist(), *at_grid.omega_body.tolist(), at_grid.t, grid._rate,
+                float(grid.substeps), float(grid.evaluations))
+
+    def restore(self, values: tuple[float, ...] | list[float]) -> None:
+        """Put back what `snapshot` returned (ValueError, nothing changed, if it does not fit)."""
+        n = len(self._grid._y)
+        if len(values) != 2 * 13 + 7 + n + 1 or int(values[16]) != n:
+            raise ValueError(f"not a snapshot of this stepper ({len(values)} values)")
+
+        def state(at: int) -> State:
+            R = np.array(values[at: at + 9], dtype=float).reshape(3, 3)
+            return State(R, np.array(values[at + 9: at + 12], dtype=float), float(values[at + 12]))
+
+        grid = self._grid
+        self._k = int(values[0])
+        self._state = state(1)
+        self.substeps, self.evaluations = int(values[14]), int(values[15])
+        grid._y = tuple(float(v) for v in values[17: 17 + n])
+        grid._t = float(values[17 + n])
+        grid._state = state(18 + n)
+        grid._rate = float(values[31 + n])
+        grid.substeps, grid.evaluations = int(values[32 + n]), int(values[33 + n])
 
 
 def step_realtime(

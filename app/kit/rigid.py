@@ -22,6 +22,7 @@ from collections.abc import Callable
 import numpy as np
 
 from app.kit.common import fork_sharing
+from app.kit.history import Snapshot
 from app.kit.samples import SampleBuffer
 from app.kit.trace import Trace
 from physics._types import Vec3
@@ -44,6 +45,7 @@ singular where sin θ = 0 (it stops there, and the simulation goes on with split
 SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "w2", "w3",
                   "drift_E", "drift_L", "attitude_error")
 PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
+PLOT_SPARE = 620  # samples stored beyond it for the replay (62 s at 1×; less at slow motion)
 
 ExactSolution = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 PointOf = Callable[[State], np.ndarray]
@@ -87,7 +89,7 @@ class RigidBodySimulation:
         self.substeps = 0
         self.restarts = 0
         self.version = 0
-        self.samples = SampleBuffer(SAMPLE_COLUMNS, PLOT_CAPACITY)
+        self.samples = SampleBuffer(SAMPLE_COLUMNS, PLOT_CAPACITY, PLOT_SPARE)
         self.max_drift = {"drift_E": 0.0, "drift_L": 0.0, "attitude_error": 0.0}
         self.traces: dict[str, Trace] = {}
         self._tracked: dict[str, PointOf] = {}
@@ -112,6 +114,73 @@ class RigidBodySimulation:
         samples, traces, preset, mesh and version; nothing mutable is shared (a handed-on mesh is
         shared read-only).  Advancing both by the same steps gives the same states bit for bit."""
         return fork_sharing(self, self.mesh or ())
+
+    # ------------------------------------------------------------------ replay (app.kit.history)
+    @property
+    def run(self) -> int:
+        """Changes at every restart (a new run: the replay's history starts afresh)."""
+        return self.restarts
+
+    def snapshot(self) -> Snapshot:
+        """The moment now: t, R (9), ω_b (3), the shown angles (3), sub-steps, the drift maxima
+        (3), the samples' mark, each trace's (count, first), the stepper's floats
+        (`GridStepper.snapshot`); refs: the integrator's name, the stepper, the trace names."""
+        state = self.state
+        marks = [float(m) for trace in self.traces.values() for m in trace.mark()]
+        values = [state.t, *state.R_space_body.ravel().tolist(), *state.omega_body.tolist(),
+                  *self.angles.tolist(), float(self.substeps), *self.max_drift.values(),
+                  float(self.samples.mark()), *marks, *self._stepper.snapshot()]
+        return Snapshot(np.array(values, dtype=float), (self.integrator, self._stepper, tuple(self.traces)))
+
+    def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
+        """The recorded moment back, bit for bit, histories rewound to it; then the state
+        `later` [s] further on for display (histories untouched).  ValueError, nothing
+        changed, if the snapshot is not one of this run's."""
+        integrator, stepper, names = snapshot.refs
+        v = snapshot.values
+        n_traces = len(names)
+        marks_at = 21  # t, R, ω_b, angles, sub-steps, drift maxima, the samples' mark: 21 values
+        trace_marks = [(int(v[marks_at + 2 * k]), int(v[marks_at + 2 * k + 1])) for k in range(n_traces)]
+        if names != tuple(self.traces) or not isinstance(stepper, GridStepper) or not (
+                0 <= int(v[20]) <= self.samples.written) or not all(
+                self.traces[name].can_rewind(mark) for name, mark in zip(names, trace_marks)):
+            raise ValueError("this snapshot is not one of this run's moments")
+        stepper.restore(v[marks_at + 2 * n_traces:].tolist())
+        self._stepper = stepper
+        self.integrator = integrator
+        self.state = State(v[1:10].reshape(3, 3).copy(), v[10:13].copy(), float(v[0]))
+        self.angles = v[13:16].copy()
+        self.substeps = int(v[16])
+        self.max_drift = dict(zip(self.max_drift, (float(x) for x in v[17:20])))
+        self.samples.rewind(int(v[20]))
+        for name, mark in zip(names, trace_marks):
+            self.traces[name].rewind(mark)
+        if later > 0.0:
+            self._show_later(later)
+        self.version += 1
+
+    def _show_later(self, dt: float) -> None:
+        """The state dt [s] after a restored moment, for display: the stepper steps (its grid
+        is the recorded one, so this is the state the run showed, or would have shown, at
+        t + dt); a singular Lagrange step leaves the recorded state shown."""
+        if self.integrator != INTEGRATOR_LAGRANGE:
+            try:
+                self._move(dt)
+            except (ArithmeticError, ValueError, RuntimeError):  # IntegrationError: shown as recorded
+                pass
+            return
+        try:
+            trajectory = integrate_euler_lagrange(self.model, self.state, np.array([self.state.t + dt]))
+        except (EulerLagrangeSingularityError, ArithmeticError, ValueError):
+            return
+        self.state = State(trajectory.R_space_body[0], trajectory.omega_body[0], float(trajectory.t[0]))
+        self.angles = euler_zxz_from_matrix_near(self.state.R_space_body, self.angles)
+
+    def truncate(self) -> None:
+        """Forget the histories after now (a branch from a replayed moment)."""
+        self.samples.truncate()
+        for trace in self.traces.values():
+            trace.truncate()
 
     # ------------------------------------------------------------------ runs
     @property
@@ -186,6 +255,12 @@ class RigidBodySimulation:
         """Advance by dt [s] of simulated time (IntegrationError, ValueError on failure)."""
         if not dt > 0.0:
             return
+        self._move(dt)
+        self._record()
+        self.version += 1
+
+    def _move(self, dt: float) -> None:
+        """The state dt [s] on (state, angles, sub-steps; no history)."""
         exact = self.exact() if self.integrator == INTEGRATOR_EXACT else None
         if exact is not None:
             t = self.state.t + dt
@@ -207,8 +282,6 @@ class RigidBodySimulation:
             self.state = self._stepper.step(dt)
             self.substeps = self._stepper.substeps
         self.angles = euler_zxz_from_matrix_near(self.state.R_space_body, self.angles)
-        self._record()
-        self.version += 1
 
     # ------------------------------------------------------------------ derived quantities
     def momentum(self, R: np.ndarray, omega_body: Vec3) -> float:

@@ -15,6 +15,17 @@
   once, whatever the number of views, then every view draws.  Today each browser has its own
   room; a presenter's room has many views.
 
+**Replay** (`app.kit.history`): a room whose simulation is replayable records its last minute
+of motion in `history` while it plays.  `mode` is LIVE, SCRUBBING or REPLAYING.  `scrub(t)`
+sets the live moment aside (a snapshot: nothing is written into the simulation while the room
+shows the past, so it comes back exactly) and restores the recorded moment t into `sim` itself
+(views keep drawing `room.sim`; the presenter's followers follow).  In the past, Play / Pause
+replays / stops the recording at the time scale (`replay()` starts it), Step steps it;
+`resume()` puts the live moment back and plays on if it was playing; `branch()` makes the shown
+moment the live one (the recorded future is dropped) and plays on from it; Reset, a preset or
+an edit that starts a new run return to live.  A time outside the recorded stretch is refused
+(ValueError with the message to show), and nothing changes.
+
 All of a room's work runs under `room.lock` (re-entrant: assigning a handle's value on the
 server runs its callback synchronously), taken by the loop's tick and by the session's guard
 around every callback.  The app loop calls `advance` once per frame and `draw` for each view
@@ -24,20 +35,24 @@ whose previous frame has left (`app.backpressure.FramePacer`); `tick` does both 
 from __future__ import annotations
 
 import logging
+import math
 import threading
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
 from app.kit.common import CameraView
 from app.kit.gui import Wrap
+from app.kit.history import History, is_replayable
 from app.kit.presets import Preset
 
-__all__ = ["Room", "Scene", "Simulation", "View"]
+__all__ = ["LIVE", "REPLAYING", "SCRUBBING", "Room", "Scene", "Simulation", "View"]
 
 logger = logging.getLogger(__name__)
 
 STEP_DT = 1.0 / 60.0  # [s] of wall time one "Step" click stands for (times the time scale)
 SAMPLE_PERIOD = 0.1  # [s] of wall time between plot samples while playing (10 Hz)
+LIVE, SCRUBBING, REPLAYING = "live", "scrubbing", "replaying"  # Room.mode
+_END_SLACK = 1e-9  # [s] a replay this close to the live moment has reached it
 
 
 @runtime_checkable
@@ -115,9 +130,12 @@ class Room:
     """One simulation, its transport state and the views that watch it.
 
     Attributes:
-        sim: the simulation.  playing, time_scale: the transport.  views: the views drawing it.
+        sim: the simulation.  playing, time_scale: the transport (in the past, playing means
+        replaying).  views: the views drawing it.
         scene: the scene (view class) that made it; lock: see the module docstring.
         ticks: frames in which the simulation advanced (tests check: once per frame).
+        history: the recorded last minute (`app.kit.history.History`), None for a simulation
+        without motion to replay.
     """
 
     def __init__(self, scene: Any, sim: Any) -> None:
@@ -129,6 +147,10 @@ class Room:
         self.lock = threading.RLock()
         self.ticks = 0
         self._since_sample = 0.0
+        self.history: History | None = History() if is_replayable(sim) else None
+        self._live: Any = None  # the live moment set aside while the past is shown (a Snapshot)
+        self._live_phase = 0.0  # its sampling phase
+        self._live_playing = False  # whether it was playing
 
     def fork(self) -> Room:
         """A new room (no views) with a fork of the simulation (`Simulation.fork`), the same
@@ -152,12 +174,148 @@ class Room:
 
     def refresh(self) -> None:
         """Every view redraws everything (after a change that is not a frame)."""
+        self._sync_run()
         for view in list(self.views):
             view.refresh()
+            timeline = getattr(view, "timeline", None)
+            if timeline is not None:
+                timeline.refresh()
 
     def notify(self, text: str) -> None:
         for view in list(self.views):
             view.show_message(text)
+
+    # ------------------------------------------------------------------ replay
+    @property
+    def mode(self) -> str:
+        """LIVE, SCRUBBING (a recorded moment shown, paused) or REPLAYING."""
+        if self._live is None:
+            return LIVE
+        return REPLAYING if self.playing else SCRUBBING
+
+    @property
+    def shown_t(self) -> float:
+        """Simulated time [s] of what is shown (the live time when live)."""
+        return float(self.sim.t)
+
+    @property
+    def live_t(self) -> float:
+        """Simulated time [s] of the live moment (set aside while the past is shown)."""
+        return float(self._live.t) if self._live is not None else float(self.sim.t)
+
+    def stretch(self) -> tuple[float, float] | None:
+        """(t_first, t_live) [s]: the recorded stretch a scrub may show; None if nothing is
+        recorded of this run (or the scene has no motion)."""
+        history = self.history
+        if history is None or not len(history) or history.run != self.sim.run:
+            return None
+        return history.t_first, self.live_t
+
+    def _sync_run(self) -> None:
+        """A new run started (an edit, a preset) while the past was shown: the past is gone."""
+        if self._live is not None and self.history is not None and self.history.run != self.sim.run:
+            self._live = None
+            self.playing = False
+
+    def _record(self, force: bool = False) -> None:
+        if self.history is not None and self._live is None:
+            self.history.record(self.sim, force=force, aux=self._since_sample)
+
+    def _set_aside(self) -> None:
+        """Entering the past: the live moment becomes the newest snapshot and is kept aside."""
+        if self._live is None:
+            assert self.history is not None
+            self._record(force=True)
+            self._live = self.sim.snapshot()
+            self._live_phase = self._since_sample
+            self._live_playing = self.playing
+            self.playing = False
+
+    def _show(self, t: float) -> None:
+        """Restore the recorded moment t into the simulation (the newest snapshot at or before
+        t, then the rest of the way for display)."""
+        assert self.history is not None
+        index = self.history.index_at(t)
+        snapshot = self.history.snapshot(index)
+        self.sim.restore(snapshot, later=max(0.0, t - snapshot.t))
+        self._since_sample = self.history.aux(index)
+
+    def _check_time(self, t: Any) -> float:
+        """t as a float inside the recorded stretch, or ValueError with the message to show."""
+        if self.history is None:
+            raise ValueError(f"{getattr(self.scene, 'title', 'This scene')} has no motion to replay.")
+        self._sync_run()
+        if self._live is None:
+            self._record(force=True)  # the live moment is the end of the stretch
+        try:
+            number = float(t)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not math.isfinite(number) or not self.history.contains(number):
+            raise ValueError(self.history.outside_message(t))
+        return number
+
+    def scrub(self, t: Any) -> None:
+        """Show the recorded moment t [s] (paused); ValueError, nothing changed, if t is outside
+        the recorded stretch [t_first, t_live]."""
+        with self.lock:
+            number = self._check_time(t)
+            self._set_aside()
+            self.playing = False
+            self._show(number)
+            self.refresh()
+
+    def replay(self, t: Any = None) -> None:
+        """Replay the recording at the time scale from t [s] (default: the moment shown, or the
+        start of the stretch if that is the live moment), ending at the live moment."""
+        with self.lock:
+            if t is None:
+                if self.history is None or self.stretch() is None:
+                    self._check_time(math.nan)  # the refusal message
+                stretch = self.stretch()
+                assert stretch is not None
+                t = self.sim.t if self._live is not None and self.sim.t < stretch[1] - _END_SLACK else stretch[0]
+            number = self._check_time(t)
+            self._set_aside()
+            self._show(number)
+            self.playing = True
+            self.refresh()
+
+    def _replay_by(self, dt_sim: float) -> None:
+        """The replay's part of a frame: dt_sim [s] further along the recording."""
+        t = self.sim.t + dt_sim
+        if t >= self.live_t - _END_SLACK:
+            self.resume()
+            self.notify(f"**Replay reached the live moment, t = {self.sim.t:.2f} s.**")
+            return
+        self._show(t)
+
+    def resume(self) -> None:
+        """Back to the live moment, exactly as it was set aside; playing on if it was playing."""
+        with self.lock:
+            self._sync_run()
+            if self._live is None:
+                return
+            self.sim.restore(self._live)
+            self._since_sample = self._live_phase
+            self.playing = self._live_playing
+            self._live = None
+            self.refresh()
+
+    def branch(self) -> None:
+        """The moment shown becomes the live one: the recorded future is dropped and the motion
+        plays on from here (the exact solution with it: same run).  ValueError if the live
+        moment is shown."""
+        with self.lock:
+            self._sync_run()
+            if self._live is None or self.history is None:
+                raise ValueError("Branch here continues from a moment in the past: move the Timeline back first.")
+            self.sim.truncate()
+            self.history.cut_after(self.sim.t)
+            self._live = None
+            self._record(force=True)
+            self.playing = True
+            self.refresh()
 
     # ------------------------------------------------------------------ transport
     def play(self) -> None:
@@ -179,19 +337,36 @@ class Room:
             self.refresh()
 
     def step(self) -> None:
-        """Pause, and advance one display frame (STEP_DT times the time scale)."""
+        """Pause, and advance one display frame (STEP_DT times the time scale); in the past, step
+        the replay."""
         with self.lock:
+            self._sync_run()
             self.playing = False
-            if self._advance(STEP_DT * self.time_scale):
-                self._sample()
+            if self._live is not None:
+                self._replay_by(STEP_DT * self.time_scale)
+            else:
+                self._record_start()
+                if self._advance(STEP_DT * self.time_scale):
+                    self._sample()
+                    self._record()
             self.refresh()
 
     def reset(self) -> None:
-        """Pause and go back to the initial conditions of this run."""
+        """Pause and go back to the initial conditions of this run (live again: a new run)."""
         with self.lock:
             self.playing = False
+            self._live = None
             self.sim.reset()
+            if self.history is not None:
+                self.history.clear()
+                self._record()
             self.refresh()
+
+    def _record_start(self) -> None:
+        """Before a run's first advance: its start is the first snapshot."""
+        history = self.history
+        if history is not None and (history.run != self.sim.run or not len(history)):
+            self._record()
 
     def _advance(self, dt_sim: float) -> bool:
         """Advance the simulation; on failure pause and say so in every view (False)."""
@@ -212,14 +387,24 @@ class Room:
 
     def advance(self, dt: float) -> None:
         """The simulation's part of a frame: dt [s] of wall time times the time scale, if playing
-        (once per frame, whatever the number of views); plot samples at SAMPLE_PERIOD."""
+        (once per frame, whatever the number of views); plot samples at SAMPLE_PERIOD; the
+        moment recorded (`history`).  In the past, the replay moves on instead."""
         with self.lock:
-            if self.playing and self._advance(dt * self.time_scale):
+            self._sync_run()
+            if not self.playing:
+                return
+            if self._live is not None:
+                self._replay_by(dt * self.time_scale)
+                self.ticks += 1
+                return
+            self._record_start()
+            if self._advance(dt * self.time_scale):
                 self.ticks += 1
                 self._since_sample += dt
                 if self._since_sample >= SAMPLE_PERIOD * (1.0 - 1e-9):
                     self._since_sample = 0.0
                     self._sample()
+                self._record()
 
     def draw(self, view: Any, dt: float) -> None:
         """One view's part of a frame (dt [s] of wall time since it last drew); its errors go
@@ -227,6 +412,9 @@ class Room:
         with self.lock:
             try:
                 view.frame(dt)
+                timeline = getattr(view, "timeline", None)
+                if timeline is not None:
+                    timeline.frame(dt)
             except Exception as error:  # noqa: BLE001 - one broken view must not stop the others
                 view.report_error("frame", error)
 

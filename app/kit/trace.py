@@ -10,6 +10,11 @@ c S .. c S + S, S = chunk_points - 1, counted from the last `clear`).  A complet
 dropped when its newest point is older than `seconds` before the newest point, so what is
 kept is a pure function of the points added: two views of one trace draw the same chunks, and
 memory is bounded (`max_chunks` chunks at most, however long a lecture runs).
+
+For the replay (`app.kit.history`) the ring stores `rewind_seconds` of points more than the
+window: `mark()` is where the trace stands, `rewind(mark)` shows it as it was then (points are
+never overwritten by a rewind, so rewinding forward gives the newer ones back), `truncate()`
+forgets what came after (a branch; `generation` is bumped so views redraw).
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ import numpy as np
 __all__ = ["Trace"]
 
 SPACING_SLACK = 1e-12  # [s] a point this much early still counts as `spacing` after the last one
+REWIND_SECONDS = 62.0  # [s] of simulated time stored beyond the window (the replay keeps 60 s)
 
 
 class Trace:
@@ -34,7 +40,8 @@ class Trace:
         max_chunks: the most chunks ever kept at once (a view builds this many nodes).
     """
 
-    def __init__(self, seconds: float, spacing: float, chunk_points: int) -> None:
+    def __init__(self, seconds: float, spacing: float, chunk_points: int,
+                 rewind_seconds: float = REWIND_SECONDS) -> None:
         if not (math.isfinite(seconds) and seconds > 0.0 and math.isfinite(spacing) and spacing > 0.0):
             raise ValueError(f"seconds and spacing must be positive and finite, got {seconds!r}, {spacing!r}")
         if chunk_points < 2:
@@ -46,12 +53,14 @@ class Trace:
         # Complete chunks kept span >= stride * spacing each (less the slack): seconds / that + 1
         # of them, the head, and one chunk of margin.
         self.max_chunks = math.ceil(self.seconds / (stride * self.spacing)) + 3
-        self._capacity = self.max_chunks * stride + 1
+        spare_chunks = math.ceil(max(0.0, rewind_seconds) / (stride * self.spacing))
+        self._capacity = (self.max_chunks + spare_chunks) * stride + 1
         self._t = np.zeros(self._capacity)
         self._points = np.zeros((self._capacity, 3))
         self.count = 0
         self.first = 0
         self.generation = 0
+        self._written = 0  # points written since the last clear: the last _capacity of them are stored
 
     @property
     def stride(self) -> int:
@@ -64,8 +73,7 @@ class Trace:
 
     def clear(self) -> None:
         """Forget every point (a new run)."""
-        self.count = 0
-        self.first = 0
+        self.count = self.first = self._written = 0
         self.generation += 1
 
     def last_time(self) -> float:
@@ -77,10 +85,13 @@ class Trace:
         it is at least `spacing` after the newest one."""
         if self.count and t - self.last_time() < self.spacing - SPACING_SLACK:
             return
+        if self._written != self.count:  # after a rewind: the points after it are forgotten
+            self.truncate()
         slot = self.count % self._capacity
         self._t[slot] = t
         self._points[slot] = point
         self.count += 1
+        self._written = self.count
         stride = self.stride
         newest = self.count - 1
         # Drop complete chunks (not the head) whose newest point is older than `seconds`; and
@@ -89,6 +100,29 @@ class Trace:
                 self._t[(self.first + stride) % self._capacity] < t - self.seconds
                 or self.count - self.first > self._capacity):
             self.first += stride
+
+    def mark(self) -> tuple[int, int]:
+        """(count, first): where the trace stands, for `rewind`."""
+        return self.count, self.first
+
+    def can_rewind(self, mark: tuple[int, int]) -> bool:
+        """Whether the points of `mark` are still stored (see `rewind`)."""
+        count, first = mark
+        return 0 <= first <= count <= self._written and first >= self._written - self._capacity
+
+    def rewind(self, mark: tuple[int, int]) -> None:
+        """Show the trace as it was at `mark` (from `mark()`); ValueError, nothing changed, if
+        its points are no longer stored (older than `rewind_seconds` beyond the window)."""
+        if not self.can_rewind(mark):
+            raise ValueError(f"trace mark {mark} is not stored (points {self._written - self._capacity}.."
+                             f"{self._written} are)")
+        self.count, self.first = int(mark[0]), int(mark[1])
+
+    def truncate(self) -> None:
+        """Forget the points after `count` (a branch from a rewound moment); views redraw."""
+        if self._written != self.count:
+            self._written = self.count
+            self.generation += 1
 
     def points(self, start: int, stop: int) -> np.ndarray:
         """Points (stop - start, 3) with indices start .. stop - 1 (a copy; IndexError unless

@@ -5,6 +5,10 @@ attributes `title`, `view` (its camera) and `preset_file`, builds its nodes unde
 its panel in `_build_scene` and `_build_gui` (keeping the top-level GUI handles in
 `_gui_roots` and a `MessageLine` in `message`), implements `frame`, `refresh` and the
 classmethods `new_simulation` and `apply_preset`, and ends its `__init__` with `self.build()`.
+
+A scene whose room records its motion (`Room.history`: the simulation is replayable, see
+`app.kit.history`) and that has a `transport` gets a `Timeline` (`app.kit.timeline`) right
+under it, built here; the room draws it after the view.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from app.kit.gui import MessageLine, Quiet, Tabs, Transport, Wrap
 from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
 from app.kit.target import DrawTarget, as_target
+from app.kit.timeline import Timeline
 
 __all__ = ["SceneView", "nth"]
 
@@ -47,6 +52,8 @@ class SceneView:
     `prepare(room)` has set its simulation up; returns that room.  A scene hands a body to
     another by title, never by importing it ("Spin it": `self.open_scene("Free body", prepare)`)."""
     clock: Clock | None = None  # the bindings' timers (None: threading.Timer); tests set a ManualClock
+    timeline: Timeline | None = None
+    """The replay's slider and buttons under the transport, if the room records its motion."""
 
     def __init__(self, client: viser.ClientHandle | DrawTarget, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
@@ -72,9 +79,23 @@ class SceneView:
         with self.client.atomic():
             self._build_scene()
             self._build_gui()
+            self._build_timeline()
             self._gui_roots.append(install_typing_guard(self.client.gui))  # typed numbers arrive as typed
         self.room.add_view(self)
         self.refresh()
+        if self.timeline is not None:
+            self.timeline.refresh()
+
+    def _build_timeline(self) -> None:
+        """The replay's `Timeline` right under the transport's status line, if the room records."""
+        transport = getattr(self, "transport", None)
+        if self.room.history is None or transport is None:
+            return
+        order = getattr(transport.gui_status, "order", None)
+        self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
+                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+        self._bindings.append(self.timeline.binding)
+        self._gui_roots.extend(self.timeline.handles)
 
     def build_head(self, intro: str, **transport_options: Any) -> None:
         """The top of a scene's panel: its intro (Markdown), the message line and the transport

@@ -60,6 +60,7 @@ from app.kit.common import (
 )
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
+from app.kit.history import Snapshot
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
@@ -149,6 +150,7 @@ class EulerAnglesSimulation:
         angles_deg: [φ, θ, ψ] [deg] in the principal ranges (what the sliders show).
         rates_deg: [φ̇, θ̇, ψ̇] [deg/s].  moments: (I1, I2, I3) [kg m²] of the box drawn.
         t: seconds played since the angles were last set.  version: bumped on every change.
+        run: bumped at every reset (the replay's history starts afresh).
     """
 
     def __init__(self, angles_deg: Sequence[float], rates_deg: Sequence[float],
@@ -157,6 +159,7 @@ class EulerAnglesSimulation:
         self.moments = tuple(float(m) for m in validate_principal_moments(moments))
         self.preset: str | None = None
         self.version = 0
+        self.run = 0
         self.set_angles(angles_deg)
 
     def set_angles(self, angles_deg: Sequence[float]) -> None:
@@ -175,6 +178,7 @@ class EulerAnglesSimulation:
 
     def reset(self) -> None:
         self._played_deg = self._initial_deg.copy()
+        self.run += 1
         self.t = 0.0
         self.angles_deg = list(canonical_angles_deg(*self._played_deg))
         self.version += 1
@@ -187,6 +191,29 @@ class EulerAnglesSimulation:
         self.t += dt
         self.angles_deg = list(canonical_angles_deg(*played))
         self.version += 1
+
+    # ------------------------------------------------------------------ replay (app.kit.history)
+    def snapshot(self) -> Snapshot:
+        """The moment now: t, the angles as played (3) [deg], the rates (3) [deg/s] (the angles
+        shown are a function of those played)."""
+        values = [self.t, *self._played_deg.tolist(), *self.rates_deg]
+        return Snapshot(np.array(values, dtype=float))
+
+    def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
+        """The recorded moment back bit for bit (then `later` [s] on, for display)."""
+        v = snapshot.values
+        if v.shape != (7,):
+            raise ValueError("this snapshot is not an Euler-angles moment")
+        self.t = float(v[0])
+        self._played_deg = v[1:4].copy()
+        self.angles_deg = list(canonical_angles_deg(*self._played_deg))
+        self.rates_deg = [float(r) for r in v[4:7]]
+        if later > 0.0:
+            self.advance(later)
+        self.version += 1
+
+    def truncate(self) -> None:
+        """No history to cut (the scene keeps none)."""
 
     def fork(self) -> EulerAnglesSimulation:
         """An exact, independent copy: angles (as played and as shown), rates, moments, t, the

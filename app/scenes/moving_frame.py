@@ -61,6 +61,7 @@ import viser
 from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
+from app.kit.history import Snapshot
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.trace import Trace
@@ -280,6 +281,12 @@ class MovingFrameSimulation:
             raise ValueError(f"advance: dt = {dt!r} must be finite and >= 0")
         if dt == 0.0:
             return
+        self._move(dt)
+        self._record_paths()
+        self.version += 1
+
+    def _move(self, dt: float) -> None:
+        """x, v, t and C′ dt [s] on (no paths)."""
         n = max(1, math.ceil(dt / H_MAX - 1e-9))
         h = dt / n
         x, v, t = self.x, self.v, self.t
@@ -290,8 +297,42 @@ class MovingFrameSimulation:
             raise ArithmeticError(f"non-finite particle state at t = {t:.3f} s")
         self.x, self.v, self.t = x, v, self.t + dt
         self._frame = self._motion.at(self.t)
-        self._record_paths()
+
+    # ------------------------------------------------------------------ replay (app.kit.history)
+    def snapshot(self) -> Snapshot:
+        """The moment now: t, x (9) and v (9) [m, m/s], each path's (count, first) (C′ is a
+        function of t)."""
+        marks = [float(m) for path in (*self.paths_space, *self.paths_body) for m in path.mark()]
+        values = [self.t, *self.x.ravel().tolist(), *self.v.ravel().tolist(), *marks]
+        return Snapshot(np.array(values, dtype=float))
+
+    def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
+        """The recorded moment back bit for bit, paths rewound to it; then `later` [s] on for
+        display (RK4 from the recorded state; the paths stay).  ValueError, nothing changed,
+        if the snapshot is not one of this run's."""
+        v = snapshot.values
+        paths = (*self.paths_space, *self.paths_body)
+        if v.shape != (19 + 2 * len(paths),):
+            raise ValueError("this snapshot is not a moving-frame moment")
+        marks = [(int(v[19 + 2 * k]), int(v[20 + 2 * k])) for k in range(len(paths))]
+        if not all(path.can_rewind(mark) for path, mark in zip(paths, marks)):
+            raise ValueError("this snapshot is not one of this run's moments")
+        self.t = float(v[0])
+        self.x, self.v = v[1:10].reshape(3, 3).copy(), v[10:19].reshape(3, 3).copy()
+        self._frame = self._motion.at(self.t)
+        for path, mark in zip(paths, marks):
+            path.rewind(mark)
+        if later > 0.0:
+            try:
+                self._move(later)
+            except ArithmeticError:  # shown as recorded
+                pass
         self.version += 1
+
+    def truncate(self) -> None:
+        """Forget the paths after now (a branch)."""
+        for path in (*self.paths_space, *self.paths_body):
+            path.truncate()
 
     # ------------------------------------------------------------------ edits
     def set_setup(self, setup: MovingFrameSetup) -> None:

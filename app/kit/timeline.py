@@ -1,0 +1,150 @@
+"""The replay's panel piece, under the transport: `Timeline [s]`, Watch again · Resume · Branch here.
+
+`Timeline` only reports to its room (`app.kit.room.Room.scrub`, `replay`, `resume`, `branch`)
+and shows the room's replay state, so every view of a room shows the same.  `SceneView.build`
+adds one under the transport of every scene whose simulation can be replayed (the room has a
+`history`); the room draws it after its view (`frame`, `refresh`).
+
+- The slider spans the recorded stretch [t_first, t_live] [s] (rounded outwards to its step;
+  a value within one step of an end is taken as that end).  Moving it pauses and shows the
+  recorded moment; a time outside the stretch (a hand-written client) is refused with the
+  stretch in the message, and nothing changes.  While live it follows the live time (5 Hz).
+- Watch again (the replay): plays the recording from the moment shown (from the start if the live moment is
+  shown) at the transport's time scale; Play / Pause pause and go on; it ends at the live moment.
+- Resume: back to the live moment, exactly as it was; plays on if it was playing.
+- Branch here: the moment shown becomes the live one and the motion plays on from it.
+- The status line: "Replaying t = 12.3 s of 40.1 s (0.1×)".
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from app.kit.binding import Binding, Clock, Refused, bind
+from app.kit.common import Throttle
+from app.kit.gui import MessageLine, Quiet, Wrap
+from app.kit.history import HISTORY_SECONDS
+from app.kit.room import LIVE, REPLAYING, Room
+
+__all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "TIMELINE_LABEL", "TIMELINE_STEP", "Timeline",
+           "timeline_text"]
+
+TIMELINE_LABEL = "Timeline [s]"
+REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = "Watch again", "Resume", "Branch here"
+"""(The replay button is not called "Replay": a page's "Play" button must stay the only one whose
+name contains "play", which the browser tests' locators rely on.)"""
+TIMELINE_STEP = 0.01  # [s] the slider's step
+FOLLOW_PERIOD = 0.2  # [s] of wall time between the slider's updates while live (5 Hz)
+
+
+def timeline_text(room: Room) -> str:
+    """The status line of the room's replay state."""
+    stretch = room.stretch()
+    if stretch is None:
+        return f"Replay: the last {HISTORY_SECONDS:g} s of motion are kept once it plays."
+    t_first, t_live = stretch
+    if room.mode == LIVE:
+        return f"Live · recorded {t_first:.2f} s to {t_live:.2f} s; move the Timeline to look back."
+    t = room.shown_t
+    if room.mode == REPLAYING:
+        return f"**Replaying t = {t:.2f} s of {t_live:.2f} s ({room.time_scale:g}×)**"
+    return f"**Showing t = {t:.2f} s of {t_live:.2f} s** (paused): {REPLAY_LABEL}, {RESUME_LABEL} or {BRANCH_LABEL}."
+
+
+class Timeline:
+    """The slider, the three buttons and the status line (see the module docstring)."""
+
+    def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, room: Room, *, order: float | None = None,
+                 clock: Clock | None = None) -> None:
+        self.room = room
+        self._message = message
+        orders = [None] * 3 if order is None else [order + 0.1 * k for k in (1, 2, 3)]
+        self.gui_slider = gui.add_slider(TIMELINE_LABEL, 0.0, TIMELINE_STEP, TIMELINE_STEP, 0.0, disabled=True,
+                                         order=orders[0],
+                                         hint="scrub back through the last minute of motion (pauses it)")
+        self.gui_buttons = gui.add_button_group("Past", (REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL), order=orders[1])
+        self.gui_status = gui.add_markdown("", order=orders[2])
+        self.quiet = Quiet()
+        self._range = (0.0, TIMELINE_STEP)
+        self._follow = Throttle(FOLLOW_PERIOD)
+
+        def scrub(value: float) -> None:
+            stretch = room.stretch()
+            if stretch is not None:  # a value on the slider's rounded ends is the stretch's end
+                lo, hi = stretch
+                if lo - TIMELINE_STEP <= value <= hi + TIMELINE_STEP:
+                    value = min(max(value, lo), hi)
+            try:
+                room.scrub(value)
+            except ValueError as error:
+                raise Refused(str(error)) from None
+            message.clear()
+
+        def check(value: Any) -> float:
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                number = math.nan
+            if not math.isfinite(number):
+                raise Refused(f"Time {value!r} refused: not a number of seconds.")
+            return number
+
+        self.binding: Binding = bind(self.gui_slider, where="timeline", wrap=wrap, message=message, quiet=self.quiet,
+                                     apply=scrub, current=lambda: self._shown_value(), check=check, clock=clock)
+
+        def clicked(event: Any) -> None:
+            choice = str(event.target.value)
+            try:
+                if choice == REPLAY_LABEL:
+                    room.replay()
+                elif choice == RESUME_LABEL:
+                    room.resume()
+                elif choice == BRANCH_LABEL:
+                    room.branch()
+                else:  # a client can send any string
+                    return
+            except ValueError as error:
+                message.show(str(error))
+                return
+            message.clear()
+
+        self.gui_buttons.on_click(wrap("timeline buttons", clicked))
+
+    @property
+    def handles(self) -> list[Any]:
+        """All GUI handles, for removal."""
+        return [self.gui_slider, self.gui_buttons, self.gui_status]
+
+    def _shown_value(self) -> float:
+        lo, hi = self._range
+        return min(max(round(self.room.shown_t / TIMELINE_STEP) * TIMELINE_STEP, lo), hi)
+
+    def frame(self, dt: float) -> None:
+        """Per frame: follow the room at FOLLOW_PERIOD while it moves (live or replaying)."""
+        if self.room.playing and self._follow.ready(dt):
+            self.refresh()
+
+    def refresh(self) -> None:
+        """Show the room's replay state now."""
+        room = self.room
+        stretch = room.stretch()
+        slider = self.gui_slider
+        if stretch is None:
+            lo, hi = 0.0, TIMELINE_STEP
+        else:
+            lo = math.floor(stretch[0] / TIMELINE_STEP + 1e-9) * TIMELINE_STEP
+            hi = max(lo + TIMELINE_STEP, math.ceil(stretch[1] / TIMELINE_STEP - 1e-9) * TIMELINE_STEP)
+        lo, hi = round(lo, 6), round(hi, 6)
+        disabled = stretch is None or stretch[1] - stretch[0] <= 0.0
+        if (lo, hi) != self._range:
+            if not self.quiet.editing(slider):
+                slider.max = hi
+                slider.min = lo
+                self._range = (lo, hi)
+        if slider.disabled != disabled:
+            slider.disabled = disabled
+        self.quiet.write(slider, round(self._shown_value(), 6))
+        text = timeline_text(room)
+        if self.gui_status.content != text:
+            self.gui_status.content = text
