@@ -62,7 +62,7 @@ import numpy as np
 import viser
 
 from app.kit.common import apply_camera
-from app.kit.room import Room
+from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT",
            "NARROW_PX", "POINTER_SECONDS", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Pointer", "Seat",
@@ -277,6 +277,15 @@ class Pointer:
     def _remove(handles: list[Any]) -> None:
         with contextlib.suppress(Exception):  # gone already
             handles[0].remove()
+
+
+def _transport_words(room: Room) -> str:
+    """What the presenter's transport is doing, in words (playing, paused, looking back, replaying)."""
+    if room.mode == REPLAYING:
+        return f"⟲ replaying t = {room.shown_t:.1f} s of {room.live_t:.1f} s ({room.time_scale:g}×)"
+    if room.mode == SCRUBBING:
+        return f"⟲ looking back at t = {room.shown_t:.1f} s (live: {room.live_t:.1f} s)"
+    return "▶ playing" if room.playing else "paused"
 
 
 class Follower:
@@ -497,7 +506,7 @@ class Lectern:
         if room is None:
             return "Nobody is presenting."
         head = {
-            Hall.LIVE: "**Presenter:** " + ("▶ playing" if room.playing else "paused"),
+            Hall.LIVE: "**Presenter:** " + _transport_words(room),
             Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
                           "Explore it on your own, or wait for the next presenter.",
             Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
@@ -519,6 +528,8 @@ class Lectern:
         if room is None:
             return "Nobody is presenting."
         if self.hall is Hall.LIVE:
+            if room.mode != LIVE:
+                return f"**⟲ {room.scene.title}** · t = {room.shown_t:.1f} of {room.live_t:.1f} s"
             state = "▶" if room.playing else "⏸"
             return f"**{state} {room.scene.title}** · t = {room.sim.t:.1f} s"
         word = "stopped" if self.hall is Hall.STOPPED else "left"

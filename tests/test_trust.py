@@ -301,3 +301,20 @@ def test_dataclass_messages_used_here_exist() -> None:
     for name in ("SceneNodeClickMessage", "TransformControlsUpdateMessage", "FileTransferStartUpload",
                  "CommandTriggerMessage", "GuiButtonHoldMessage"):
         assert dataclasses.is_dataclass(getattr(_messages, name))
+
+
+def test_followers_read_that_the_presenter_looks_back_or_replays(hall: Hall) -> None:
+    presenter = _presenter_for(hall, "Free body")
+    follower, _ = hall.join()
+    hall.frames(60)
+    room = presenter.room
+    first, live = room.stretch()  # type: ignore[misc]
+    room.pause()
+    room.scrub(0.5 * (first + live))
+    hall.frames(40)
+    status = follower.scene.gui_status.content
+    assert "looking back at t = " in status and f"(live: {room.live_t:.1f} s)" in status
+    assert "⟲" in hall.app.lectern.status_line()
+    room.resume()
+    hall.frames(40)
+    assert "looking back" not in follower.scene.gui_status.content
