@@ -27,12 +27,17 @@ pytestmark = pytest.mark.browser
 CODE = "246810"
 
 
+_CONTEXTS: list = []  # the browser contexts a test opened (closed after it: a page left open keeps rendering)
+
+
 @pytest.fixture
 def hall_app():  # type: ignore[no-untyped-def]
     running = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE)
     try:
         yield running
     finally:
+        while _CONTEXTS:
+            _CONTEXTS.pop().close()
         running.stop()
 
 
@@ -53,7 +58,9 @@ def project(camera, point, width: float, height: float) -> tuple[float, float]: 
 def open_page(browser, app: App, **context):  # type: ignore[no-untyped-def]
     """A new context and page on the app; (page, session)."""
     before = set(app.sessions)
-    page = browser.new_context(**context).new_page()
+    opened = browser.new_context(**context)
+    _CONTEXTS.append(opened)
+    page = opened.new_page()
     page.goto(f"http://127.0.0.1:{app.port}")
     sessions = app.wait_for_sessions(len(before) + 1, timeout=30.0)
     (session,) = (s for cid, s in sessions.items() if cid not in before)
