@@ -45,7 +45,7 @@ from app.kit.common import (
     wrap_deg,
 )
 from app.kit.ghost import ExactGhost
-from app.kit.gui import PresetsRow, Readout, Tabs, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.hand import HandControls
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
@@ -119,6 +119,8 @@ ANGLE_SPECS = (
 
 class RigidBodyView(SceneView):
     """One browser's view of a room with a `RigidBodySimulation`.  Subclasses fill in:"""
+
+    transport: Transport  # built by build_head
 
     intro: ClassVar[str] = ""
     tabs: Tabs

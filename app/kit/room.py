@@ -177,7 +177,7 @@ class Room:
         self._sync_run()
         for view in list(self.views):
             view.refresh()
-            timeline = getattr(view, "timeline", None)
+            timeline = view.timeline
             if timeline is not None:
                 timeline.refresh()
 
@@ -412,7 +412,7 @@ class Room:
         with self.lock:
             try:
                 view.frame(dt)
-                timeline = getattr(view, "timeline", None)
+                timeline = view.timeline
                 if timeline is not None:
                     timeline.frame(dt)
             except Exception as error:  # noqa: BLE001 - one broken view must not stop the others

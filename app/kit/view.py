@@ -53,6 +53,8 @@ class SceneView:
     another by title, never by importing it ("Spin it": `self.open_scene("Free body", prepare)`)."""
     clock: Clock | None = None  # the bindings' timers (None: threading.Timer); tests set a ManualClock
     timeline: Timeline | None = None
+    transport: Transport | None = None
+    """The transport (`build_head`), if the scene has motion."""
     """The replay's slider and buttons under the transport, if the room records its motion."""
 
     def __init__(self, client: viser.ClientHandle | DrawTarget, room: Room, wrap: Wrap,
@@ -88,10 +90,10 @@ class SceneView:
 
     def _build_timeline(self) -> None:
         """The replay's `Timeline` right under the transport's status line, if the room records."""
-        transport = getattr(self, "transport", None)
+        transport = self.transport
         if self.room.history is None or transport is None:
             return
-        order = getattr(transport.gui_status, "order", None)
+        order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
                                  order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
         self._bindings.append(self.timeline.binding)
@@ -202,9 +204,20 @@ class SceneView:
                 handle.remove()
 
     def checkboxes(self) -> dict[str, viser.GuiCheckboxHandle]:
-        """The view's checkboxes by label (what a lesson step may switch)."""
-        handles = (getattr(self, name) for name in dir(self) if name.startswith("gui_"))
-        return {str(h.label): h for h in handles if isinstance(h, viser.GuiCheckboxHandle)}
+        """The view's checkboxes by label (what a lesson step may switch): every checkbox of its
+        panel, found in the panel's tree below the view's top-level handles (`_gui_roots`)."""
+        gui = self.client.gui
+        roots = {handle._impl.uuid for handle in self._gui_roots}
+        containers = gui._container_handle_from_uuid  # viser's registry of this panel's containers
+
+        def ours(container: str) -> bool:
+            while container in containers and container not in roots and container != "root":
+                container = containers[container]._impl.parent_container_id
+            return container in roots
+
+        return {str(handle.label): handle for handle in list(gui._gui_input_handle_from_uuid.values())
+                if isinstance(handle, viser.GuiCheckboxHandle) and not handle._impl.removed
+                and (handle._impl.uuid in roots or ours(handle._impl.parent_container_id))}
 
     def show_tab(self, name: str) -> None:
         """Open the panel tab `name` (a lesson step); ValueError if the scene has no such tab."""
@@ -222,10 +235,11 @@ class SceneView:
         return [f"{label} = {value}" for label, value in self.control_values()]
 
     def control_values(self) -> list[tuple[str, str]]:
-        """(label, value) of the view's sliders, for the followers' read-only panel."""
-        handles = [*getattr(self, "gui_angles", ()), *getattr(self, "gui_rates", ()),
-                   *getattr(self, "gui_params", ()), *getattr(self, "gui_moments", ())]
-        return [(str(h.label), f"{h.value:g}") for h in handles]
+        """(label, value) of the view's bound sliders (`bind`; the timeline's not), for the
+        followers' read-only panel."""
+        timeline = self.timeline.binding if self.timeline is not None else None
+        return [(str(b.handle.label), f"{b.handle.value:g}") for b in self._bindings
+                if isinstance(b.handle, viser.GuiSliderHandle) and b is not timeline]
 
     # ------------------------------------------------------------------ bound controls
     def bind(self, handle: Any, where: str, apply: Callable[[Any], str | None], current: Callable[[], Any],

@@ -42,7 +42,7 @@ import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle
 from app.kit.fastprops import set_points, set_position
-from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -349,6 +349,8 @@ _PRESETS: list[tuple[Preset, ...]] = []
 class ConstrainedView(SceneView):
     """One browser's view of a room with a `ConstrainedSimulation`."""
 
+    transport: Transport  # built by build_head
+
     title = "Constrained particles"
     root = "/constrained"
     view = VIEW
@@ -428,14 +430,10 @@ class ConstrainedView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        room = self.room
-        self.gui_intro = gui.add_markdown(
+        self.build_head(
             "### Constrained particles (memo §2, §5)\n"
             "x_i = x_i(q, t) (5.1).  Teal/violet: virtual displacements ∂x_i/∂q_j δq (5.6); black: applied "
             "force F; red: constraint force **C = m ẍ − F**, with **C · ∂x/∂q_j = 0** (5.7).")
-        self.message = MessageLine(gui)
-        self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
-                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots"), on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
             self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)

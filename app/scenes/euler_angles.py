@@ -59,7 +59,7 @@ from app.kit.common import (
     wrap_deg,
 )
 from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
@@ -269,6 +269,8 @@ def _box_edges(moments: Sequence[float]) -> np.ndarray:
 
 class EulerAnglesView(SceneView):
     """One browser's view of a room with an `EulerAnglesSimulation`."""
+
+    transport: Transport  # built by build_head
 
     title = "Euler angles"
     root = "/explorer"

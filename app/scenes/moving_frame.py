@@ -60,7 +60,7 @@ import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
 from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.gui import PresetsRow, Readout, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.presets import Preset
 from app.kit.room import Room
@@ -426,6 +426,8 @@ def _lighter(color: tuple[int, int, int], weight: float = 0.55) -> tuple[int, in
 
 class MovingFrameView(SceneView):
     """One browser's view of a room with a `MovingFrameSimulation`."""
+
+    transport: Transport  # built by build_head
 
     title = "Moving frame"
     root = "/moving"
