@@ -5,6 +5,9 @@ attributes `title`, `view` (its camera) and `preset_file`, builds its nodes unde
 its panel in `_build_scene` and `_build_gui` (keeping the top-level GUI handles in
 `_gui_roots` and a `MessageLine` in `message`), implements `frame`, `refresh` and the
 classmethods `new_simulation` and `apply_preset`, and ends its `__init__` with `self.build()`.
+Its 3D labels are registered with `self.labels` (a `LabelLayer`: "this label, this priority"),
+and its `frame` and `refresh` end by laying them out (`labels.update(dt)`, `labels.settle()`),
+so that no two overlap on the controlling browser's screen.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ import viser
 
 from app.kit.common import CameraView, SliderSpec, apply_camera
 from app.kit.gui import MessageLine, Quiet, Tabs, Wrap
+from app.kit.labels import LabelLayer
 from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
 from app.kit.target import DrawTarget, as_target
@@ -57,6 +61,9 @@ class SceneView:
         self.message: MessageLine
         self._gui_roots: list[Any] = []
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
+        # Every 3D label of the view is registered here with a priority; `frame` ends with
+        # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.labels).
+        self.labels = LabelLayer(target.camera, type(self).view)
 
     def build(self) -> None:
         """Build the nodes and the panel (`_build_scene`, `_build_gui`), join the room, draw."""

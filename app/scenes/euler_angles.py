@@ -39,6 +39,7 @@ from app.kit.common import (
     wrap_deg,
 )
 from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
+from app.kit.labels import DETAIL
 from app.kit.room import Room
 from app.kit.view import SceneView
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
@@ -227,8 +228,9 @@ class EulerAnglesView(SceneView):
     def _build_scene(self) -> None:
         scene = self.client.scene
         root = self.root
-        Stage(scene, root, size=4.0)
-        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH)
+        labels = self.labels
+        Stage(scene, root, size=4.0, labels=labels)
+        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
         # Intermediate frames of the decomposition: thin, faint, toggleable.
         self.after_phi_node = scene.add_frame(f"{root}/after_phi", show_axes=False)
         self.after_theta_node = scene.add_frame(f"{root}/after_theta", show_axes=False)
@@ -238,24 +240,25 @@ class EulerAnglesView(SceneView):
                 np.repeat(np.array(FRAME_COLORS, dtype=np.uint8)[:, None, :], 2, axis=1),
                 thickness=2.5, thickness_units="screen",
             )
-            scene.add_label(f"{node.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
-                            font_screen_scale=1.3, anchor="center-center")
-        self.nodes = LineOfNodes(scene, f"{root}/nodes")
+            labels.add(scene.add_label(f"{node.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
+                                       font_screen_scale=1.3, anchor="center-center"), DETAIL)
+        self.nodes = LineOfNodes(scene, f"{root}/nodes", labels=labels)
         self.arcs: dict[str, Any] = {}
         self.arc_labels: dict[str, Any] = {}
         for key in KEYS:
             self.arcs[key] = scene.add_line_segments(f"{root}/arcs/{key}", np.zeros((1, 2, 3)), ARC_COLORS[key],
                                                      thickness=4.0, thickness_units="screen")
-            self.arc_labels[key] = scene.add_label(f"{root}/arc_labels/{key}", GREEK[key], font_screen_scale=1.6,
-                                                   anchor="center-center")
+            self.arc_labels[key] = labels.add(scene.add_label(f"{root}/arc_labels/{key}", GREEK[key],
+                                                              font_screen_scale=1.6, anchor="center-center"), DETAIL)
         # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).
         self.rate_vectors = {
             key: Vector(scene, f"{root}/omega/{key}", ARC_COLORS[key], f"d{GREEK[key]}/dt", shaft_radius=0.018,
-                        head_radius=0.05, head_length=0.1, font_scale=1.4, label_at_middle=True)
+                        head_radius=0.05, head_length=0.1, font_scale=1.4, label_at_middle=True, labels=labels,
+                        priority=DETAIL)
             for key in KEYS
         }
         self.omega = Vector(scene, f"{root}/omega/resultant", OMEGA_COLOR, "ω", shaft_radius=0.032,
-                            head_radius=0.085, head_length=0.16)
+                            head_radius=0.085, head_length=0.16, labels=labels)
 
     def _build_box(self, scene: Any, parent: str) -> None:
         self.body_box = scene.add_box(
@@ -396,12 +399,14 @@ class EulerAnglesView(SceneView):
     def frame(self, dt: float) -> None:
         """The per-frame update while the angles move; arcs, sliders and text throttled."""
         if self.sim.version == self._drawn_version:
+            self.labels.update(dt)  # the camera may have moved
             return
         self._drawn_version = self.sim.version
         with self.client.atomic():
             self.render_pose()
             if self._arc_throttle.ready(dt):
                 self.render_arcs()
+            self.labels.update(dt)
             if self._slider_throttle.ready(dt):
                 self._sync_sliders()
             if self._readout_throttle.ready(dt):
@@ -422,6 +427,7 @@ class EulerAnglesView(SceneView):
             self.render_arcs()
             self.render_readout()
             self._refresh_status()
+            self.labels.settle()
 
     # ------------------------------------------------------------------ drawing
     def _sync_sliders(self) -> None:
@@ -491,7 +497,7 @@ class EulerAnglesView(SceneView):
             self.arcs[key].visible = visible
             self.arc_labels[key].position = tuple(1.18 * points[ARC_SEGMENTS // 2])
             self.arc_labels[key].text = f"{GREEK[key]} = {format_deg(angle_deg, 0)}°"
-            self.arc_labels[key].visible = visible
+            self.labels.want(self.arc_labels[key], visible)
 
     def render_readout(self) -> None:
         """D, its factors, ω (space and body components) and the gimbal-lock note."""
