@@ -11,10 +11,14 @@ labels through the camera of the browser that controls the view (`target.camera`
 registration): a label goes at its own anchor, else at the first of NUDGE_ANCHORS that is free,
 else it is hidden until there is room.  Only the label goes: an arrow keeps its colour.
 
-A moving label's box is grown on every side by MOTION_MARGIN times how far it moved on the
-screen since the last layout: wherever it turns, it stays inside that box until the next
-layout, so labels do not run into each other between two layouts.  (A body axis label that
-whizzes round with a fast spin gets a large box and is mostly hidden: it could not be read.)
+A moving label's box is swept from where it is to where it will be at the next layout (its
+screen motion since the last layout, Δ, once more), grown on every side by TURN_MARGIN times
+how much that motion changed since the layout before (a label going round a circle turns away
+from the straight line by exactly that much per layout) plus SLIP_MARGIN times |Δ| (speeding up,
+uneven layouts).  So labels do not run into each other between two layouts.  After a
+refresh (an edit, a reset: labels jump) and when the camera moved (the browser orbits, the
+view is reset), the labels' motion starts afresh.  (A body axis label
+that whizzes round with a fast spin gets a large box and is mostly hidden: it could not be read.)
 Only changes are sent: a visibility or an anchor message when it changed, nothing when the
 picture stood still.
 
@@ -41,8 +45,8 @@ DETAIL = 1  # readings on arcs, titles, intermediate frames, component arrows
 PERIOD = 0.1  # [s] of wall time between two layouts while the view draws (10 Hz)
 FALLBACK_SIZE_PX = (1280, 800)  # the window assumed when the view has no browser camera
 MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height apart (6 px at 800)
-MOTION_MARGIN = 1.25  # a box grows by this times the label's motion since the last layout (arc / chord
-#                      of a turn by up to ~110° between layouts)
+TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
+SLIP_MARGIN = 0.25  # times |Δ| [px]: a label speeding up, a layout coming late
 NUDGE_ANCHORS = ("bottom-left", "top-left", "bottom-right", "top-right", "center-left", "center-right",
                  "bottom-center", "top-center")  # tried in this order when a label's own anchor is taken
 
@@ -58,6 +62,7 @@ class _Entry:
     nudge: bool
     wanted: bool
     last_px: tuple[float, float] | None = field(default=None)  # where it was at the last layout
+    last_step: tuple[float, float] | None = field(default=None)  # how it moved before that layout [px]
 
 
 def _rotate(wxyz: Any, v: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -119,6 +124,8 @@ class LabelLayer:
         self._entries: dict[int, _Entry] = {}  # by id(handle)
         self._throttle = Throttle(PERIOD)
         self._last_key: Any = None  # what the last layout saw (camera, boxes, wants)
+        self._moving = False  # the last layout grew some box for its label's motion
+        self._last_view: tuple[CameraView, int, int] | None = None
         self.layouts = 0  # layouts computed (tests)
 
     # ------------------------------------------------------------------ registration
@@ -158,13 +165,26 @@ class LabelLayer:
     # ------------------------------------------------------------------ layout
     def update(self, dt: float) -> None:
         """After the view drew a frame (dt [s] of wall time): lay the labels out, at most every
-        PERIOD."""
+        PERIOD, if anything moved since the last layout."""
         if self._throttle.ready(dt):
-            self.settle()
+            self._lay_out()
 
     def settle(self) -> None:
-        """Lay the labels out now (after a refresh), if anything moved since the last layout."""
+        """Lay the labels out now, after a refresh (an edit, a step, a reset, a new preset): the
+        labels may have jumped, so their motion so far says nothing about the next frames."""
+        self._forget_motion()
+        self._lay_out()
+
+    def _forget_motion(self) -> None:
+        for entry in self._entries.values():
+            entry.last_px = entry.last_step = None
+        self._last_key = None
+
+    def _lay_out(self) -> None:
         view, width, height = self._view()
+        if (view, width, height) != self._last_view:
+            self._last_view = (view, width, height)
+            self._forget_motion()  # the camera moved (an orbit, a reset): the labels jumped on the screen
         em_per_scale = SCREEN_EM_PX * height / REFERENCE_HEIGHT_PX
         gap = MIN_GAP_FRACTION * height
         candidates: list[tuple[_Entry, tuple[float, float], float]] = []
@@ -178,27 +198,30 @@ class LabelLayer:
             text = str(entry.handle.text)
             if not (entry.wanted and shown and text.strip()):
                 self._show(entry, False)
-                entry.last_px = None
+                entry.last_px = entry.last_step = None
                 continue
             (x, y), depth = project_one(view, point, width, height)
             if not depth > 0.0 or not (math.isfinite(x) and math.isfinite(y)):
                 self._show(entry, False)  # behind the camera
-                entry.last_px = None
+                entry.last_px = entry.last_step = None
                 continue
             em = em_per_scale * float(entry.handle.font_screen_scale)
             candidates.append((entry, (x, y), em))
             key.append((entry.order, round(x, 1), round(y, 1), text))
-        if key == self._last_key:
-            return
+        if key == self._last_key and not self._moving:
+            return  # nothing moved since a layout that had nothing moving either
         self._last_key = key
+        self._moving = False
         self.layouts += 1
         placed: list[Box] = []
         candidates.sort(key=lambda c: (-c[0].priority, c[0].order))
         for entry, (x, y), em in candidates:
-            last = entry.last_px
-            entry.last_px = (x, y)
-            # It may move as far again, in any direction, before the next layout.
-            margin = MOTION_MARGIN * math.hypot(x - last[0], y - last[1]) if last is not None else 0.0
+            # Where it will be at the next layout, and how far it may stray from the straight way there.
+            dx, dy = (x - entry.last_px[0], y - entry.last_px[1]) if entry.last_px is not None else (0.0, 0.0)
+            bend = math.hypot(dx - entry.last_step[0], dy - entry.last_step[1]) if entry.last_step is not None else 0.0
+            margin = TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)
+            entry.last_px, entry.last_step = (x, y), (dx, dy)
+            self._moving = self._moving or margin > 0.0
             text = str(entry.handle.text)
             current = str(entry.handle.anchor)
             anchors = [entry.anchor]
@@ -207,7 +230,8 @@ class LabelLayer:
                 anchors += [a for a in NUDGE_ANCHORS if a not in anchors]
             for anchor in anchors:
                 x0, y0, x1, y1 = text_box(anchor, x, y, text, em)
-                box = (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
+                box = (min(x0, x0 + dx) - margin, min(y0, y0 + dy) - margin,
+                       max(x1, x1 + dx) + margin, max(y1, y1 + dy) + margin)
                 if all(_gap(box, other) >= gap for other in placed):
                     placed.append(box)
                     if current != anchor:
