@@ -224,10 +224,10 @@ class LabelLayer:
             self._moving = self._moving or margin > 0.0
             text = str(entry.handle.text)
             current = str(entry.handle.anchor)
+            # Its own anchor, then the others in a fixed order: the same picture for the same positions.
             anchors = [entry.anchor]
             if entry.nudge:
-                anchors += [current] if current != entry.anchor else []
-                anchors += [a for a in NUDGE_ANCHORS if a not in anchors]
+                anchors += [a for a in NUDGE_ANCHORS if a != entry.anchor]
             for anchor in anchors:
                 x0, y0, x1, y1 = text_box(anchor, x, y, text, em)
                 box = (min(x0, x0 + dx) - margin, min(y0, y0 + dy) - margin,
