@@ -31,7 +31,7 @@ from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "main"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
 
 logger = logging.getLogger(__name__)
 
@@ -39,6 +39,22 @@ DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8080
 TICK_HZ = 60.0
 MAX_TICK_DT = 0.1  # [s] a tick never advances more than this (after a stall, or a laptop sleep)
+LOAD_PERIOD = 2.0  # [s] of wall time over which the frame rate browsers get is measured
+BUSY_SHARE = 0.85  # below this share of tick_hz the panels say the server is busy
+
+
+def load_note(frames: int, drawn: int, skipped: int, seconds: float, tick_hz: float) -> str:
+    """What the panels say about the server's load: "" while browsers get at least BUSY_SHARE of
+    tick_hz, else "Server busy: N frames a second" (N: loop iterations a second times the share
+    of client frames drawn, the rate a browser sees)."""
+    if seconds <= 0.0 or frames == 0:
+        return ""
+    share = drawn / (drawn + skipped) if drawn + skipped else 1.0
+    fps = frames / seconds * share
+    if fps >= BUSY_SHARE * tick_hz:
+        return ""
+    return (f"**Server busy: {fps:.0f} frames a second** (of {tick_hz:.0f}): the motion is computed as "
+            "always, shown less often.")
 
 
 class App:
@@ -64,6 +80,7 @@ class App:
         self.tick_hz = tick_hz
         self.tick_count = 0
         self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
+        self.load = ""  # what the panels say about the load ("" when the server keeps up)
         self.lectern = Lectern(server, presenter_code)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
@@ -141,6 +158,7 @@ class App:
         """
         pacer = FramePacer(self.tick_hz, sleep=self._stop.wait)
         owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
+        window = (time.monotonic(), 0, 0, 0)  # start, frames, drawn, skipped at the start
         while not self._stop.is_set():
             dt = min(pacer.begin(), MAX_TICK_DT)
             rooms = self.rooms()
@@ -162,8 +180,26 @@ class App:
                 live = {id(view) for _, view in views}
                 owed = {key: value for key, value in owed.items() if key in live}
             self.tick_count += 1
-            self.pacer_stats = pacer.stats
+            self.pacer_stats = stats = pacer.stats
+            now = time.monotonic()
+            if now - window[0] >= LOAD_PERIOD:
+                start, frames, drawn_before, skipped = window
+                self._show_load(load_note(stats.frames - frames, stats.drawn - drawn_before, stats.skipped - skipped,
+                                          now - start, self.tick_hz))
+                window = (now, stats.frames, stats.drawn, stats.skipped)
             pacer.end(drawn)
+
+    def _show_load(self, note: str) -> None:
+        """Tell every panel whether the server keeps its frame rate (only when that changes)."""
+        if note == self.load:
+            return
+        self.load = note
+        if note:
+            logger.warning("%s", note.replace("**", ""))
+        with self._sessions_lock:
+            sessions = list(self.sessions.values())
+        for session in sessions:
+            session.show_load(note)
 
     def stop(self) -> None:
         """Stop the loop and the server (idempotent)."""

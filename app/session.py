@@ -94,6 +94,7 @@ class Session:
         self.gui_error = gui.add_markdown("", visible=False)
         self.gui_error_dismiss = gui.add_button("Dismiss message", color="red", visible=False)
         self.gui_error_dismiss.on_click(self.guard("dismiss", lambda _event: self.clear_error()))
+        self.gui_load = gui.add_markdown("", visible=False)  # "Server busy: N frames a second" (app.main)
         self.gui_scene = gui.add_dropdown("Scene", tuple(SCENES), initial_value=scene,
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))
@@ -142,15 +143,20 @@ class Session:
     def _new_view(self, room: Room) -> Any:
         scene: Scene = room.scene
         view: Any = scene(self.client, room, self.guard, self.report_error)
-        view.open_room = self.open_room
+        view.open_scene = self.open_scene
         if self.projector:
             self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
         return view
 
-    def open_room(self, room: Room) -> None:
-        """Show `room` (another scene's simulation, made by a view) and move the camera to its view."""
+    def open_scene(self, title: str, prepare: Callable[[Room], None]) -> Room:
+        """Show a new room of the scene `title` (SCENES), set up by `prepare(room)` first (a view
+        handing a body on: "Spin it"), and move the camera to its view; the room."""
+        scene = SCENES[title]
+        room = Room(scene, scene.new_simulation())
+        prepare(room)
         self.show(room)
         self.reset_camera()
+        return room
 
     # ------------------------------------------------------------------ errors
     def guard(self, where: str, fn: Callable[..., R]) -> Callable[..., R | None]:
@@ -191,6 +197,16 @@ class Session:
         except Exception:  # noqa: BLE001 - e.g. the client has just disconnected
             logger.exception("client %d: could not show the error message", self.client_id)
 
+    def show_load(self, note: str) -> None:
+        """Say (or stop saying) that the server cannot keep its frame rate (called by the app loop)."""
+        if self.closed:
+            return
+        try:
+            self.gui_load.content = note
+            self.gui_load.visible = bool(note)
+        except Exception:  # noqa: BLE001 - the client has just gone
+            logger.debug("load note not shown", exc_info=True)
+
     def clear_error(self) -> None:
         """Hide the error message."""
         self.last_error = None
@@ -225,7 +241,7 @@ class Session:
                 if self.mode is Mode.PRESENTING and self.lectern is not None:
                     self.lectern.live_view = None  # removed above; the new one goes live
                     self.scene = self.lectern.make_live_view(self, room)
-                    self.scene.open_room = self.open_room
+                    self.scene.open_scene = self.open_scene
                 else:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
@@ -567,7 +583,7 @@ class Session:
             with room.lock:
                 self.scene.remove()
                 self.scene = lectern.make_live_view(self, room)
-                self.scene.open_room = self.open_room
+                self.scene.open_scene = self.open_scene
             self.mode = Mode.PRESENTING
         lectern.start(self)
         self._show_lecture_buttons()

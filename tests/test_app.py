@@ -359,7 +359,7 @@ def _moments_of_box(dimensions) -> np.ndarray:
 def test_moments_reshape_the_box_and_invalid_ones_are_refused(manual) -> None:
     session = manual.session
     scene = session.scene
-    for k, value in enumerate((1.0, 1.5, 2.0)):
+    for k, value in reversed(list(enumerate((1.0, 1.5, 2.0)))):  # each step a body: from (1, 2, 2.6)
         scene.gui_moments[k].value = value
     moments = _moments_of_box(scene.body_box.dimensions)
     # Same shape up to scale: the drawn box has these moments for some mass.
@@ -369,6 +369,8 @@ def test_moments_reshape_the_box_and_invalid_ones_are_refused(manual) -> None:
     before = tuple(scene.body_box.dimensions)
     scene.gui_moments[2].value = 4.0  # 1 + 1.5 < 4: breaks I1 + I2 >= I3
     assert tuple(scene.body_box.dimensions) == before and scene.sim.moments == (1.0, 1.5, 2.0)
+    assert scene.gui_moments[2].value == 2.0  # the box shows the moment in force again
+    assert "I3 = 4 refused" in scene.message.text
     status = scene.gui_moments_status.content
     assert "Not a rigid body" in status and "I1 + I2 >= I3" in status
     assert session.last_error is None  # a refused input is not an error of the app

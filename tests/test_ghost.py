@@ -41,22 +41,22 @@ def test_the_ghost_costs_nothing_when_off(manual, monkeypatch) -> None:
     session = manual.session
     session.select_scene("Free body")
     view = session.scene
-    assert view.ghost is None and not view.gui_ghost.value  # off by default, not even built
+    assert view.ghost.body is None and not view.ghost.gui_toggle.value  # off by default, not even built
     sent: list[str] = []
     api = session.client.scene
     original = api._queue_scene_message
     monkeypatch.setattr(api, "_queue_scene_message", lambda m: (sent.append(getattr(m, "name", "")), original(m))[1])
     session.play()
     manual.tick(0.5)
-    assert view.ghost is None and not any("ghost" in name for name in sent)
-    view.set_ghost(True)
-    view.set_ghost(False)  # built once; hidden, it is neither evaluated nor sent
+    assert view.ghost.body is None and not any("ghost" in name for name in sent)
+    view.ghost.set(True)
+    view.ghost.set(False)  # built once; hidden, it is neither evaluated nor sent
     sent.clear()
-    calls: list[int] = []  # (the accuracy samples evaluate the exact solution at 10 Hz anyway)
-    monkeypatch.setattr(view, "_draw_ghost", lambda: calls.append(1))
+    calls: list[int] = []
+    monkeypatch.setattr(view.ghost.body, "pose", lambda _R: calls.append(1))
     manual.tick(0.5)
     assert not any("ghost" in name for name in sent) and calls == []
-    assert not view.gui_ghost_note.visible
+    assert not view.ghost.gui_note.visible
 
 
 @pytest.mark.parametrize("scene", ["Free body", "Poinsot"])
@@ -67,31 +67,31 @@ def test_the_ghost_follows_the_exact_solution_at_k0_and_the_solid_body_at_k1(man
     view = session.scene
     sim = view.sim
     R0, w0, I = sim.initial_state.R_space_body, sim.initial_state.omega_body, sim.model.inertia
-    manual.client.set_value(view.gui_ghost, True)  # from a browser
-    manual.wait(lambda: view.ghost is not None and view.ghost.node.visible)
+    manual.client.set_value(view.ghost.gui_toggle, True)  # from a browser
+    manual.wait(lambda: view.ghost.body is not None and view.ghost.body.node.visible)
     session.play()
     manual.tick(2.0)
     R_reference, _ = free_body_reference(I, R0, w0, sim.t)
-    np.testing.assert_allclose(_pose(view.ghost.node), R_reference, atol=POSE_ATOL)
+    np.testing.assert_allclose(_pose(view.ghost.body.node), R_reference, atol=POSE_ATOL)
     error = sim.attitude_error()
     session.pause()  # a refresh: the note (5 Hz while playing) shows the current error
     assert 0.0 < error < 1e-5  # splitting4 at 1/60 s: a small, non-zero error
-    assert f"{error:.2e} rad" in view.gui_ghost_note.content and "k = 0" in view.gui_ghost_note.content
-    view.set_ghost_k(1.0)
-    np.testing.assert_allclose(_pose(view.ghost.node), _pose(view.body.node), atol=POSE_ATOL)
-    np.testing.assert_allclose(_pose(view.ghost.node), sim.state.R_space_body, atol=POSE_ATOL)
-    view.set_ghost_k(1e6)  # the drift made visible: the ghost is 1e6 times the error away
-    shown = Rotation.from_matrix(R_reference.T @ _pose(view.ghost.node)).magnitude()
+    assert f"{error:.2e} rad" in view.ghost.gui_note.content and "k = 0" in view.ghost.gui_note.content
+    view.ghost.set_k(1.0)
+    np.testing.assert_allclose(_pose(view.ghost.body.node), _pose(view.body.node), atol=POSE_ATOL)
+    np.testing.assert_allclose(_pose(view.ghost.body.node), sim.state.R_space_body, atol=POSE_ATOL)
+    view.ghost.set_k(1e6)  # the drift made visible: the ghost is 1e6 times the error away
+    shown = Rotation.from_matrix(R_reference.T @ _pose(view.ghost.body.node)).magnitude()
     assert shown == pytest.approx(math.remainder(1e6 * error, 2 * math.pi) % (2 * math.pi) if 1e6 * error > math.pi
                                   else 1e6 * error, rel=1e-3)
-    assert "10⁶" in view.gui_ghost_k.value
+    assert "10⁶" in view.ghost.gui_k.value
     session.select_scene("Heavy top")  # the top has a closed form too: its ghost works the same way
     top = session.scene
-    top.set_ghost(True)
+    top.ghost.set(True)
     session.play()
     manual.tick(1.0)
     R_exact = top.sim.exact()(np.array([top.sim.t]))[0][0]
-    np.testing.assert_allclose(_pose(top.ghost.node), R_exact, atol=POSE_ATOL)
+    np.testing.assert_allclose(_pose(top.ghost.body.node), R_exact, atol=POSE_ATOL)
     top.set_integrator(INTEGRATOR_EXACT)
     assert top.sim.attitude_error() == 0.0
     assert session.error_count == 0, session.last_error
@@ -101,10 +101,10 @@ def test_a_bad_magnification_from_a_browser_is_refused(manual) -> None:
     session = manual.session
     session.select_scene("Free body")
     view = session.scene
-    view.set_ghost(True)
-    manual.client.set_value(view.gui_ghost_k, "10⁹")
+    view.ghost.set(True)
+    manual.client.set_value(view.ghost.gui_k, "10⁹")
     manual.wait(lambda: "refused" in view.message.text)
-    assert view.ghost_k == 0.0 and view.gui_ghost_k.value == "0 (exact)"
+    assert view.ghost.k == 0.0 and view.ghost.gui_k.value == "0 (exact)"
 
 
 def test_flips_are_marked_on_the_omega_plot_where_the_solution_changes_sign(manual) -> None:

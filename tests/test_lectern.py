@@ -126,6 +126,7 @@ def test_explore_on_my_own_forks_the_state_and_follow_presenter_comes_back(hall:
     assert np.array_equal(student.simulation.state.R_space_body, R_live)
     assert student.simulation.t == t_live > 0.0 and student.scene.title == "Heavy top"
     assert student.room.playing and student.simulation.preset == "Loop"
+    assert len(student.simulation.traces["tip"]) == len(presenter.simulation.traces["tip"]) > 1
     assert student._shadow is not None  # the shared scene is hidden in this browser
     hall.frames(10)
     assert student.simulation.t > t_live and presenter.room.ticks == 30

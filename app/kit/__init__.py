@@ -2,10 +2,15 @@
 
 1. **A simulation** with no viser in it (`app.kit.room.Simulation`): the state, `advance(dt)`
    [s of simulated time], `reset()` back to its own initial conditions (never read from a
-   widget), `t`, and `version`, bumped whenever what is drawn changes.  It may keep plot
-   samples (`take_sample()`, called by the room at 10 Hz of wall time into an
-   `app.kit.samples.SampleBuffer`).  A rigid body already has one:
-   `app.kit.rigid.RigidBodySimulation`.  Physics formulas live in `physics/`, with tests.
+   widget), `t`, `version`, bumped whenever what is drawn changes, and `fork()`, an exact,
+   independent copy (same state bit for bit, time, history, integrator state; a deep copy
+   usually does, `tests/test_fork.py` checks every scene).  It may keep plot samples
+   (`take_sample()`, called by the room at 10 Hz of wall time into an
+   `app.kit.samples.SampleBuffer`) and traces of moving points (`app.kit.trace.Trace`, drawn
+   by `app.kit.widgets.TraceLines`): history lives in the simulation, never in a view, so a
+   view built later (a late joiner, an explorer's fork) shows it.  A rigid body already has
+   one: `app.kit.rigid.RigidBodySimulation` (`track` follows a point).  Physics formulas live
+   in `physics/`, with tests.
 
 2. **A view class** in one file under `app/scenes/`, subclassing `app.kit.view.SceneView`.
    The class is the scene: class attributes `title` (the dropdown option), `root` (the scene
@@ -18,7 +23,8 @@
    what is on screen; `refresh()` redraws everything after an edit.  Messages, errors, the
    camera, removal and quiet slider writes (`self.quiet`, no feedback) come from the base.
    A rigid-body scene subclasses `app.kit.rigid_view.RigidBodyView` instead and only fills in
-   its parameters, rate sliders, shape and extras (`app/scenes/free_body.py`, ~150 lines).
+   its parameters, rate sliders, shape and extras (`app/kit/torque_free.py`, ~150 lines, and the
+   scenes `app/scenes/free_body.py` and `app/scenes/poinsot.py` built on it).
 
    Build it from the shared pieces, never a copy of them:
    - panel (`app.kit.gui`): `MessageLine` (refusals), `Transport` (Play / Pause, ▶| Step,
@@ -28,12 +34,16 @@
      checks and refusal messages), and `app.kit.plots.LivePlots`;
    - 3D (`app.kit.widgets`): `Stage` (grid, space axes), `Body` (a frame turned by
      R_space_body, its shape, its axes; instantiate it twice for a second body), `LineOfNodes`
-     (with its gimbal-lock fade), `Vector` (an arrow and its label: ω, L);
+     (with its gimbal-lock fade), `Vector` (an arrow and its label: ω, L), `TraceLines` (a
+     simulation's trace, sent chunk by chunk);
    - `app.kit.common`: colours, lengths, `Throttle`, formatting, `gimbal_note`.
 
    Every callback goes through `wrap(where, fn)` (the session's guard: the room's lock, errors
-   shown, never raised).  A user's edit changes the room's simulation and calls
-   `room.refresh()`, so every view of the room shows it.
+   shown, never raised).  A control bound to a simulation value is one call,
+   `self.bind(handle, where, apply, current, spec=...)` (`app.kit.binding`): the value is applied
+   when complete (typed numbers arrive as typed), refused with a message and the field put back
+   to `current()` otherwise, and never written into while its user edits it.  A user's edit
+   changes the room's simulation and calls `room.refresh()`, so every view of the room shows it.
 
 3. **Presets** as data: `assets/presets/<scene>.json` (format in `app.kit.presets`), checked
    at start.

@@ -35,6 +35,7 @@ __all__ = [
     "Throttle",
     "apply_camera",
     "axis_segments",
+    "canonical_angles_deg",
     "checked_value",
     "fade_color",
     "format_matrix",
@@ -117,6 +118,18 @@ def format_deg(angle_deg: float, decimals: int = 2) -> str:
     -179.999 reads 180.00, never -180.00 (and -0.001 reads 0.00)."""
     shown = wrap_deg(round(wrap_deg(angle_deg), decimals))
     return f"{0.0 if shown == 0.0 else shown:.{decimals}f}"
+
+
+def canonical_angles_deg(phi: float, theta: float, psi: float) -> tuple[float, float, float]:
+    """The same rotation with θ in [0, 180] and φ, ψ in (-180, 180] [deg].
+
+    Rz(φ) Rx(θ) Rz(ψ) = Rz(φ + 180°) Rx(−θ) Rz(ψ + 180°), so a θ in (180°, 360°) becomes
+    360° − θ with φ and ψ turned by 180°.
+    """
+    theta = theta % 360.0
+    if theta > 180.0:
+        theta, phi, psi = 360.0 - theta, phi + 180.0, psi + 180.0
+    return wrap_deg(phi), theta, wrap_deg(psi)
 
 
 def _clean(x: float, decimals: int) -> float:

@@ -20,6 +20,7 @@ from typing import Any
 
 import viser
 
+from app.kit.binding import Clock, Refused, bind
 from app.kit.common import SliderSpec, checked_value
 from app.kit.presets import Preset
 
@@ -59,14 +60,26 @@ class Quiet:
     viser runs a handle's `on_update` synchronously when the server assigns its value (with
     `event.client` None); a callback that starts with `if quiet.active: return` then ignores
     what the server itself shows (a slider following the motion), so there is no feedback loop.
+    A bound control (`app.kit.binding`) registers a guard: while it says its user is editing,
+    quiet writes skip that field (unless forced: a refusal putting the value in force back).
     """
 
     def __init__(self) -> None:
         self.active = False
+        self._guards: dict[int, Callable[[], bool]] = {}
 
-    def write(self, handle: Any, value: Any) -> None:
-        """`handle.value = value` (only if it differs), callbacks silenced."""
-        if handle.value == value:
+    def guard(self, handle: Any, editing: Callable[[], bool]) -> None:
+        """Skip writes to `handle` while `editing()` is true."""
+        self._guards[id(handle)] = editing
+
+    def editing(self, handle: Any) -> bool:
+        guard = self._guards.get(id(handle))
+        return guard is not None and guard()
+
+    def write(self, handle: Any, value: Any, force: bool = False) -> None:
+        """`handle.value = value` (only if it differs, and not while its user edits it unless
+        `force`), callbacks silenced."""
+        if handle.value == value or (not force and self.editing(handle)):
             return
         self.active = True
         try:
@@ -114,7 +127,8 @@ class Transport:
     def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, *,
                  on_toggle: Callable[[], None], on_step: Callable[[], None], on_reset: Callable[[], None],
                  on_time_scale: Callable[[float], None],
-                 integrators: Sequence[str] = (), on_integrator: Callable[[str], None] | None = None) -> None:
+                 integrators: Sequence[str] = (), on_integrator: Callable[[str], None] | None = None,
+                 clock: Clock | None = None) -> None:
         self._message = message
         self.gui_play = gui.add_button(PLAY_LABEL, color="green", icon=viser.Icon.PLAYER_PLAY_FILLED,
                                        hint="start / pause the motion")
@@ -147,18 +161,19 @@ class Transport:
 
         self.gui_step_reset.on_click(wrap("step/reset buttons", step_or_reset))
 
-        def time_scale(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            value = checked_value(self.gui_time_scale.value, lo, hi)
-            if value is None:
-                message.show(f"Time scale {self.gui_time_scale.value!r} refused: it must be "
-                             f"between {lo:g}× and {hi:g}×.")
-                self.quiet.write(self.gui_time_scale, self._time_scale)
-                return
+        def time_scale(value: float) -> None:
             on_time_scale(value)
+            return None
 
-        self.gui_time_scale.on_update(wrap("time scale", time_scale))
+        def check_time_scale(value: Any) -> float:
+            number = checked_value(value, lo, hi)
+            if number is None:
+                raise Refused(f"Time scale {value!r} refused: it must be between {lo:g}× and {hi:g}×.")
+            return number
+
+        self.time_scale_binding = bind(self.gui_time_scale, where="time scale", wrap=wrap, message=message,
+                                       quiet=self.quiet, apply=time_scale, current=lambda: self._time_scale,
+                                       check=check_time_scale, clock=clock)
         if self.gui_integrator is not None and on_integrator is not None:
             integrator = self.gui_integrator
 

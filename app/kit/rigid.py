@@ -4,9 +4,11 @@
 `physics.realtime.GridStepper`: fixed steps of 1/60 s whatever the frame rate, or the closed
 form of `physics.methods.exact_solution` evaluated at the simulated time), the exact solution
 where one exists (for the attitude error and the "exact ghost"), the drift references of this
-run and the plot samples.  `restart(state)` starts a run at t = 0 from a state it is given,
-`reset()` goes back to this run's own initial state: a simulation never reads a widget.
-Several views may draw one simulation.
+run, the plot samples and the traces of the points a scene follows (`track`: the heavy top's
+tip, Poinsot's herpolhode), so that a view built later draws them so far.  `restart(state)`
+starts a run at t = 0 from a state it is given, `reset()` goes back to this run's own initial
+state: a simulation never reads a widget.  Several views may draw one simulation.  `fork()` is
+an exact, independent copy.
 
 Conventions as in `physics` (docs/CONVENTIONS.md): R = R_space_body, z-x-z Euler angles,
 hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
@@ -14,12 +16,15 @@ hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from app.kit.samples import SampleBuffer
+from app.kit.trace import Trace
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space, energy, kinetic_energy
 from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
@@ -42,6 +47,8 @@ SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "
 PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
 
 ExactSolution = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+PointOf = Callable[[State], np.ndarray]
+"""A followed point (3,) of a state (a module-level function: a fork shares it)."""
 
 
 def magnified_attitude(R_exact: np.ndarray, R: np.ndarray, k: float) -> np.ndarray:
@@ -67,6 +74,7 @@ class RigidBodySimulation:
         integrator: INTEGRATOR_REALTIME or INTEGRATOR_EXACT.  substeps: of the last real-time step.
         momentum_kind: "norm" (|L|, conserved by a free body) or "z" (L_z, by a heavy top).
         samples: the plot window; max_drift: the largest |drift| of this run per drift column.
+        traces: name -> `Trace` of a followed point (`track`), cleared at every restart.
         restarts, version: counters (a view redraws when `version` changed).
     """
 
@@ -82,8 +90,34 @@ class RigidBodySimulation:
         self.version = 0
         self.samples = SampleBuffer(SAMPLE_COLUMNS, PLOT_CAPACITY)
         self.max_drift = {"drift_E": 0.0, "drift_L": 0.0, "attitude_error": 0.0}
+        self.traces: dict[str, Trace] = {}
+        self._tracked: dict[str, PointOf] = {}
         self.restart(state, angles=angles)
 
+    def track(self, name: str, point_of: PointOf, *, seconds: float, spacing: float, chunk_points: int) -> Trace:
+        """Follow `point_of(state)` from now on in `traces[name]` (at every advance; cleared at a
+        restart); a name already followed keeps its trace (every view of a scene asks)."""
+        if name not in self.traces:
+            self.traces[name] = Trace(seconds, spacing, chunk_points)
+            self._tracked[name] = point_of
+            self.traces[name].add(self.state.t, point_of(self.state))
+        return self.traces[name]
+
+    def _record(self) -> None:
+        for name, point_of in self._tracked.items():
+            self.traces[name].add(self.state.t, point_of(self.state))
+
+    def fork(self) -> RigidBodySimulation:
+        """An exact, independent copy: the same t and state bit for bit, initial state, integrator
+        with its internal state (the stepper is copied), closed form, drift references and maxima,
+        samples, traces, preset, mesh and version; nothing mutable is shared (a handed-on mesh is
+        shared read-only).  Advancing both by the same steps gives the same states bit for bit."""
+        memo: dict[int, Any] = {}
+        if self.mesh is not None:
+            for array in self.mesh:
+                array.flags.writeable = False
+                memo[id(array)] = array
+        return copy.deepcopy(self, memo)
     # ------------------------------------------------------------------ runs
     @property
     def t(self) -> float:
@@ -113,6 +147,9 @@ class RigidBodySimulation:
             self.integrator = INTEGRATOR_REALTIME
         self.samples.clear()
         self.take_sample()
+        for trace in self.traces.values():
+            trace.clear()
+        self._record()
         self.version += 1
 
     def reset(self) -> None:
@@ -175,6 +212,7 @@ class RigidBodySimulation:
             self.state = self._stepper.step(dt)
             self.substeps = self._stepper.substeps
         self.angles = euler_zxz_from_matrix_near(self.state.R_space_body, self.angles)
+        self._record()
         self.version += 1
 
     # ------------------------------------------------------------------ derived quantities

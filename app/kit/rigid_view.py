@@ -4,7 +4,7 @@
 nodes, ω and L) and the kit's panel (transport, presets, Setup / Readout / Plots tabs), and
 turns the browser's edits into calls on its room.  A scene subclasses it and fills in the
 class attributes and hooks (the model of its parameters, the initial ω from its rate sliders,
-its body's shape, its extras); see `app.scenes.free_body` and `app.scenes.heavy_top`.
+its body's shape, its extras); see `app.kit.torque_free` and `app.scenes.heavy_top`.
 
 Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
 ω arrow (L only when it moved), the scene's extras; nothing at all while paused.  At most 10
@@ -12,14 +12,11 @@ times a second, and only for what is on screen: the sliders follow the motion (S
 the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
 tab, live plots on).
 
-The exact ghost (Display: "Exact ghost", off by default): a second `Body` with the same shape,
-translucent, at the exact solution's attitude while the chosen integrator turns the solid one,
-with the attitude error read out.  "Exaggerate error ×k" draws it at
-R_ghost = R_exact exp(k log(R_exactᵀ R)) (`app.kit.rigid.magnified_attitude`): k = 0 is the
-exact solution, k = 1 lies on the solid body, k = 10⁶ turns a 1e-7 rad drift into 0.1 rad.  Off,
-it costs nothing: built on first use, then hidden, and neither evaluated nor sent.  On the ω plot
-the exact solution's flips (ω along the intermediate axis changing sign, a free body with three
-different moments) are vertical grey segments, at the times `physics.poinsot.flip_times` gives.
+The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
+readout, Lagrange tab, accuracy, legend) are pure functions of the simulation in
+`app.kit.rigid_text`.  On the ω plot the exact solution's flips (ω along the intermediate axis
+changing sign, a free body with three different moments) are vertical grey segments, at the
+times `physics.poinsot.flip_times` gives.
 
 Sliders follow the motion without feedback (`SceneView.quiet`).  A user's edit of an angle or rate
 slider pauses the room and restarts the run (t = 0) from the sliders' values.  Bad input
@@ -37,17 +34,17 @@ import numpy as np
 import viser
 import viser.uplot
 
+from app.kit.binding import BOX_DIGITS
 from app.kit.common import (
     GIMBAL_LOCK_DEG,
     L_COLOR,
     OMEGA_COLOR,
     SliderSpec,
     Throttle,
-    format_deg,
-    format_matrix,
     gimbal_note,
     wrap_deg,
 )
+from app.kit.ghost import ExactGhost
 from app.kit.gui import MessageLine, PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
 from app.kit.plots import LivePlots, PlotSpec
@@ -57,18 +54,18 @@ from app.kit.rigid import (
     INTEGRATOR_LAGRANGE,
     INTEGRATOR_REALTIME,
     RigidBodySimulation,
-    magnified_attitude,
 )
+from app.kit.rigid_text import accuracy_text, lagrange_text, legend_text, readout_text, status_text
 from app.kit.room import Room
-from app.kit.view import SceneView
+from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
-from physics.dynamics import Model, State, kinetic_energy
+from physics.dynamics import Model, State
 from physics.euler import GimbalLockError, body_z_axis, line_of_nodes, matrix_from_euler_zxz
 from physics.inertia import InertiaError
-from physics.lagrange import LagrangeTerms, generalized_forces, lagrange_terms
+from physics.lagrange import LagrangeTerms, lagrange_terms
 
-__all__ = ["ANGLE_SPECS", "GHOST_K_OPTIONS", "GHOST_OPACITY", "RigidBodyView"]
+__all__ = ["ANGLE_SPECS", "RigidBodyView"]
 
 SLIDER_PERIOD = 0.1  # [s] of wall time between slider syncs while playing (10 Hz)
 READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
@@ -76,44 +73,7 @@ STATUS_PERIOD = 0.2  # status line (5 Hz)
 PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
 ARROW_RANGE = (0.5, 2.6)  # [scene units] an arrow outside this at a restart is rescaled
 
-GHOST_OPACITY = 0.3
-GHOST_K_OPTIONS = {"0 (exact)": 0.0, "1 (= solid)": 1.0, "10": 10.0, "100": 100.0, "10³": 1e3, "10⁴": 1e4,
-                   "10⁵": 1e5, "10⁶": 1e6}
-"""The ghost's error magnifications k (dropdown label -> k)."""
 FLIP_COLOR = "#888888"
-
-
-class Translucent:
-    """A scene API that adds every mesh with `opacity` and no shadows (the ghost's shape is
-    built by the scene's own `build_shape` through it); everything else passes through."""
-
-    def __init__(self, scene: Any, opacity: float) -> None:
-        self._scene = scene
-        self._opacity = opacity
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._scene, name)
-
-    def _translucent(self, kwargs: dict[str, Any]) -> dict[str, Any]:
-        return {**kwargs, "opacity": self._opacity, "cast_shadow": False, "receive_shadow": False}
-
-    def add_mesh_simple(self, *args: Any, **kwargs: Any) -> Any:
-        return self._scene.add_mesh_simple(*args, **self._translucent(kwargs))
-
-    def add_icosphere(self, *args: Any, **kwargs: Any) -> Any:
-        return self._scene.add_icosphere(*args, **self._translucent(kwargs))
-
-    def add_box(self, *args: Any, **kwargs: Any) -> Any:
-        return self._scene.add_box(*args, **self._translucent(kwargs))
-
-    def add_mesh_trimesh(self, name: str, mesh: Any, **kwargs: Any) -> Any:
-        """viser's trimesh node has no opacity: the mesh goes in as a simple one, in its mean colour."""
-        colors = getattr(getattr(mesh, "visual", None), "vertex_colors", None)
-        color = tuple(int(c) for c in np.asarray(colors)[:, :3].mean(axis=0)) if colors is not None else (200, 200, 200)
-        kwargs = {k: v for k, v in kwargs.items() if k in ("scale", "wxyz", "position", "visible")}
-        return self._scene.add_mesh_simple(name, np.asarray(mesh.vertices, dtype=np.float32),
-                                           np.asarray(mesh.faces, dtype=np.uint32), color=color,
-                                           **self._translucent(kwargs))
 
 
 class FlipPlots(LivePlots):
@@ -213,7 +173,13 @@ class RigidBodyView(SceneView):
         """Per-frame updates of the extras (e.g. the top's trace)."""
 
     def restart_extras(self) -> None:
-        """Clear what depends on the history (e.g. a trace) at a restart."""
+        """Redraw what depends on the run (a new run or a new body)."""
+
+    @classmethod
+    def track_points(cls, sim: RigidBodySimulation) -> None:
+        """Ask the simulation to follow the points whose paths the scene draws
+        (`RigidBodySimulation.track`; the traces live in the simulation, so a view built later
+        and a fork have them).  Called for every new simulation and every view; none by default."""
 
     def readout_extras(self, sim: RigidBodySimulation) -> str:
         """Extra monospace lines for the readout (e.g. conserved quantities)."""
@@ -238,6 +204,7 @@ class RigidBodyView(SceneView):
         model, state, angles = cls.initial_conditions(first)
         sim = RigidBodySimulation(model, state, angles=angles, momentum_kind=cls.momentum_kind)
         sim.preset = first.name
+        cls.track_points(sim)
         return sim
 
     @classmethod
@@ -256,6 +223,7 @@ class RigidBodyView(SceneView):
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
         super().__init__(client, room, wrap, report_error)
         self.sim: RigidBodySimulation = room.sim
+        self.track_points(self.sim)
         self._drawn_version = -1
         self._drawn_restarts = -1
         self._drawn_model: Model | None = None
@@ -266,9 +234,8 @@ class RigidBodyView(SceneView):
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self._status_throttle = Throttle(STATUS_PERIOD)
         self._plot_throttle = Throttle(PLOT_PERIOD)
-        self.ghost: Body | None = None  # built the first time "Exact ghost" is switched on
-        self._ghost_model: Model | None = None
-        self.ghost_k = 0.0
+        self.ghost: ExactGhost
+        self._rates_shown: tuple[float, ...] | None = None
         self.build()
 
     def _build_scene(self) -> None:
@@ -303,7 +270,7 @@ class RigidBodyView(SceneView):
         self.transport = Transport(
             gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step, on_reset=room.reset,
             on_time_scale=room.set_time_scale, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
-            on_integrator=self.set_integrator,
+            on_integrator=self.set_integrator, clock=self.clock,
         )
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange"), on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
@@ -322,12 +289,10 @@ class RigidBodyView(SceneView):
                 self.gui_show_L = gui.add_checkbox("L arrow", True)
                 self.gui_show_nodes = gui.add_checkbox("Line of nodes", True)
                 self.gui_show_body_axes = gui.add_checkbox("Body axes x′ y′ z′", True)
-                self.gui_ghost = gui.add_checkbox(
-                    "Exact ghost", False, hint="a translucent copy at the exact solution's attitude")
-                self.gui_ghost_k = gui.add_dropdown(
-                    "Exaggerate error ×k", tuple(GHOST_K_OPTIONS), initial_value=next(iter(GHOST_K_OPTIONS)),
-                    visible=False, hint="ghost at R_exact·exp(k·log(R_exactᵀR)): k = 0 exact, k = 1 on the solid body")
-                self.gui_ghost_note = gui.add_markdown("", visible=False)
+                self.ghost = ExactGhost(gui, wrap, self.message, self.quiet, scene=self.client.scene, root=self.root,
+                                        shape=self.build_shape, axis_length=self.body_axis_length, sim=self.sim,
+                                        on_change=self.room.refresh, labels=self.labels)
+                self.gui_ghost = self.ghost.gui_toggle  # a lesson step switches it by its label
                 self.build_display_extras(gui)
                 self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
                 self.gui_legend = gui.add_markdown("")
@@ -344,16 +309,17 @@ class RigidBodyView(SceneView):
         with self.tabs.tab("Lagrange"):
             self.lagrange_readout = Readout(gui)
 
-        for spec, handle in zip(ANGLE_SPECS, self.gui_angles):
-            handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
-        for spec, handle in zip(self.rate_specs, self.gui_rates):
-            handle.on_update(wrap(f"{spec.label} slider", self._state_slider_callback(handle, spec)))
-        for index, handle in enumerate(self.gui_params):
-            handle.on_update(wrap(f"{self.param_specs[index].label} slider", self._param_callback(index, handle)))
+        for index, (spec, handle) in enumerate(zip(ANGLE_SPECS, self.gui_angles)):
+            self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._angle_in_force(index),
+                      spec=spec)
+        for index, (spec, handle) in enumerate(zip(self.rate_specs, self.gui_rates)):
+            self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._rate_in_force(index),
+                      spec=spec)
+        for index, (spec, handle) in enumerate(zip(self.param_specs, self.gui_params)):
+            self.bind(handle, f"{spec.label} slider", self._param_edit(index),
+                      nth(lambda: self.params_from_model(self.sim.model), index), spec=spec)
         for handle in (self.gui_show_omega, self.gui_show_L, self.gui_show_nodes, self.gui_show_body_axes):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
-        self.gui_ghost.on_update(wrap("exact ghost", self._ghost_callback))
-        self.gui_ghost_k.on_update(wrap("ghost magnification", self._ghost_k_callback))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
         self.gui_live_plots.on_update(wrap("live plots", lambda _event: self.refresh()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
@@ -388,7 +354,7 @@ class RigidBodyView(SceneView):
                 self._refresh_gimbal_note()
             if self._status_throttle.ready(dt):
                 self._refresh_status()
-                self._refresh_ghost_note()
+                self.ghost.refresh_note()
             if self._readout_throttle.ready(dt) and self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
             if self._plot_throttle.ready(dt) and self.tabs.shown == "Plots":
@@ -410,7 +376,7 @@ class RigidBodyView(SceneView):
             self.show_values(self.gui_params, self.param_specs, self.params_from_model(sim.model))
             self.transport.show(self.room.playing, self.room.time_scale, sim.integrator)
             self._refresh_status()
-            self._refresh_ghost_note()
+            self.ghost.refresh_note()
             self._refresh_gimbal_note()
             if self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
@@ -432,9 +398,7 @@ class RigidBodyView(SceneView):
             self.body.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
             self.gui_param_status.content = self.shape_status(model)
             self._drawn_model = model
-            if self.ghost is not None:
-                self.ghost.reshape(lambda scene, parent: self.build_shape(scene, parent, model))
-                self._ghost_model = model
+            self.ghost.reshape(model)
         preset = getattr(sim, "preset", None)
         R, omega = sim.state.R_space_body, sim.state.omega_body
         if preset is not None and preset != self._drawn_preset or not self._arrows_fit(R, omega):
@@ -454,8 +418,7 @@ class RigidBodyView(SceneView):
         self.omega.update(R @ omega_body * self.omega_scale)
         L_space = R @ (np.asarray(sim.model.inertia) * omega_body)
         self.L.update(L_space * self.L_scale, rtol=1e-6)
-        if self.ghost_shown:
-            self._draw_ghost()
+        self.ghost.draw()
         self.draw_extras(sim)
 
     def _arrows_fit(self, R: np.ndarray, omega_body: Vec3) -> bool:
@@ -475,92 +438,7 @@ class RigidBodyView(SceneView):
         if fixed is not None:
             self.omega_scale = fixed
         self.L_scale = self.arrow_lengths[1] / L if L > 0.0 else self.L_scale
-        self.gui_legend.content = (
-            f"Arrows from the {'pivot' if self.sim.model.mgl else 'centre of mass'}:  \n"
-            f"**ω** (orange): 1 unit = {1.0 / self.omega_scale:.3g} rad/s  \n"
-            f"**L** (violet): 1 unit = {1.0 / self.L_scale:.3g} kg m²/s  \n"
-            "Gold: line of nodes e_n.  Red/green/blue: space x y z; dark: body x′ y′ z′."
-        )
-
-    # ------------------------------------------------------------------ the exact ghost
-    @property
-    def ghost_shown(self) -> bool:
-        return bool(self.gui_ghost.value)
-
-    def set_ghost(self, on: bool) -> None:
-        """Show or hide the exact ghost (what the checkbox does)."""
-        if on and self.ghost is None:
-            model = self.sim.model
-            self.ghost = Body(Translucent(self.client.scene, GHOST_OPACITY), f"{self.root}/ghost",
-                              lambda scene, parent: self.build_shape(scene, parent, model),
-                              axis_length=self.body_axis_length, show_axes=False, labels=self.labels)
-            self._ghost_model = model
-        self.quiet.write(self.gui_ghost, bool(on))
-        self.gui_ghost_k.visible = bool(on)
-        if self.ghost is not None:
-            self.ghost.node.visible = bool(on)
-        self.room.refresh()
-
-    def set_ghost_k(self, k: float) -> None:
-        """The error magnification k (one of GHOST_K_OPTIONS' values; ValueError otherwise)."""
-        label = next((name for name, value in GHOST_K_OPTIONS.items() if value == k), None)
-        if label is None:
-            raise ValueError(f"k = {k!r} is not one of {sorted(GHOST_K_OPTIONS.values())}")
-        self.ghost_k = float(k)
-        self.quiet.write(self.gui_ghost_k, label)
-        self.room.refresh()
-
-    def _ghost_callback(self, _event: Any) -> None:
-        if self.quiet.active:
-            return
-        value = self.gui_ghost.value
-        if not isinstance(value, bool):  # a client can send anything
-            self.message.show(f"Exact ghost = {value!r} refused: on or off.")
-            self.quiet.write(self.gui_ghost, self.ghost is not None and bool(self.ghost.node.visible))
-            return
-        self.set_ghost(value)
-
-    def _ghost_k_callback(self, _event: Any) -> None:
-        if self.quiet.active:
-            return
-        label = self.gui_ghost_k.value
-        if label not in GHOST_K_OPTIONS:
-            self.message.show(f"Magnification {label!r} refused: choose one of {', '.join(GHOST_K_OPTIONS)}.")
-            self.set_ghost_k(self.ghost_k)
-            return
-        self.set_ghost_k(GHOST_K_OPTIONS[label])
-
-    def _draw_ghost(self) -> None:
-        """Pose the ghost at the exact attitude, turned by k times the error (hidden without a
-        closed form)."""
-        assert self.ghost is not None
-        R_exact = self.sim.exact_attitude()
-        visible = R_exact is not None
-        if bool(self.ghost.node.visible) != visible:
-            self.ghost.node.visible = visible
-        if R_exact is not None:
-            R = self.sim.state.R_space_body
-            self.ghost.pose(R_exact if self.ghost_k == 0.0 else magnified_attitude(R_exact, R, self.ghost_k))
-
-    def _refresh_ghost_note(self) -> None:
-        shown = self.ghost_shown
-        if self.gui_ghost_note.visible != shown:
-            self.gui_ghost_note.visible = shown
-        if not shown:
-            return
-        sim = self.sim
-        k = self.ghost_k
-        k_text = next(name for name, value in GHOST_K_OPTIONS.items() if value == k)
-        error = sim.attitude_error()
-        if error is None:
-            text = f"**Ghost:** no closed form here ({sim.exact_failed})."
-        else:
-            text = (f"**Ghost** (translucent) = R_exact·exp(k·log(R_exactᵀR)): k = 0 is the exact solution, "
-                    f"k = 1 lies on the solid body.  Attitude error **{error:.2e} rad**; "
-                    f"k = {k_text.split(' ')[0]}, drawn as {k * error:.2e} rad"
-                    + (" (beyond π it wraps)." if k * error > math.pi else "."))
-        if self.gui_ghost_note.content != text:
-            self.gui_ghost_note.content = text
+        self.gui_legend.content = legend_text(bool(self.sim.model.mgl), self.omega_scale, self.L_scale)
 
     # ------------------------------------------------------------------ sliders
     def displayed_angles_deg(self) -> tuple[float, float, float]:
@@ -573,41 +451,42 @@ class RigidBodyView(SceneView):
             rates = self.rates_from_state(self.sim.angles, self.sim.state)
         except GimbalLockError:
             return  # Euler rates are undefined at the pole: the rate sliders keep their values
+        self._rates_shown = tuple(float(r) for r in rates)
         self.show_values(self.gui_rates, self.rate_specs, rates, skip)
 
-    def _state_slider_callback(self, handle: Any, spec: SliderSpec) -> Callable[[Any], None]:
+    def _angle_in_force(self, index: int) -> Callable[[], float]:
+        return lambda: round(self.displayed_angles_deg()[index], BOX_DIGITS)
+
+    def _rate_in_force(self, index: int) -> Callable[[], float]:
+        def current() -> float:
+            try:
+                return round(float(self.rates_from_state(self.sim.angles, self.sim.state)[index]), BOX_DIGITS)
+            except GimbalLockError:  # undefined at the pole: the slider's last value stands
+                return float(self.rate_specs[index].rounded(0.0)) if self._rates_shown is None \
+                    else self._rates_shown[index]
+
+        return current
+
+    def _state_edit(self, handle: Any, spec: SliderSpec) -> Callable[[float], None]:
         """An angle or rate slider: the user sets the initial state (pausing the room)."""
 
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return  # the server itself is showing the motion on the slider
-            if spec.check(handle.value) is None:
-                self.message.show(spec.refusal(handle.value))
-                self._sync_state_sliders()  # the slider goes back to the state's value
-                return
-            self.message.clear()
+        def apply(value: float) -> None:
             self.room.playing = False
-            angles = np.radians([h.value for h in self.gui_angles])
-            rates = [h.value for h in self.gui_rates]
+            angles_deg = [value if h is handle else float(h.value) for h in self.gui_angles]
+            rates = [value if h is handle else float(h.value) for h in self.gui_rates]
+            angles = np.radians(angles_deg)
             state = State(matrix_from_euler_zxz(*angles), self.omega_body_from_rates(angles, rates), 0.0)
             self.sim.preset = None
             self.sim.restart(state, angles=angles)
             self._sync_state_sliders(skip=handle)  # the others show the state it starts from
             self.room.refresh()
 
-        return on_update
+        return apply
 
-    def _param_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = self.param_specs[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
+    def _param_edit(self, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
             current = self.params_from_model(self.sim.model)
-            if spec.check(handle.value) is None:
-                self.refuse(spec, handle, spec.rounded(current[index]))
-                return
-            candidate = tuple(float(h.value) for h in self.gui_params)
+            candidate = tuple(value if k == index else float(h.value) for k, h in enumerate(self.gui_params))
             try:
                 model = self.model_from_params(candidate)
             except (InertiaError, ValueError) as error:
@@ -616,14 +495,13 @@ class RigidBodyView(SceneView):
                     f"**⚠ Refused:** {error}.  Each moment must be at most the sum of the other two "
                     f"(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
                 )
-                self.message.show(f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving.")
-                return
-            self.message.clear()
+                return f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving."
             self.sim.mesh = None  # new moments: a handed-on mesh no longer fits
             self.sim.set_model(model)  # same R and ω_b, new body; keeps playing
             self.room.refresh()
+            return None
 
-        return on_update
+        return apply
 
     # ------------------------------------------------------------------ actions
     def set_integrator(self, name: str) -> None:
@@ -634,11 +512,7 @@ class RigidBodyView(SceneView):
 
     # ------------------------------------------------------------------ text
     def _refresh_status(self) -> None:
-        sim = self.sim
-        state = "▶ playing" if self.room.playing else "paused"
-        method = ("exact (closed form)" if sim.integrator == INTEGRATOR_EXACT
-                  else f"splitting4, {max(sim.substeps, 1)} sub-step(s)/frame")
-        self.transport.set_status(f"**t = {sim.t:.2f} s** · {state} · {self.room.time_scale:g}× · {method}")
+        self.transport.set_status(status_text(self.sim, self.room.playing, self.room.time_scale))
 
     def _refresh_gimbal_note(self) -> None:
         note = gimbal_note(math.degrees(float(self.sim.angles[1])))
@@ -648,126 +522,24 @@ class RigidBodyView(SceneView):
             self.gui_gimbal_note.content = note
 
     def _push_plots(self) -> None:
-        sim = self.sim
         if self.gui_live_plots.value:
             self.plots.push()
-        error = sim.samples.last("attitude_error")
-        if sim.integrator == INTEGRATOR_EXACT:
-            error_line = "attitude error       —  (the integrator IS the exact solution)"
-        elif math.isnan(error):
-            error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"
-        else:
-            error_line = f"attitude error   {error:9.2e} rad   (max {sim.max_drift['attitude_error']:.2e})"
-        self.accuracy.set(
-            f"**Accuracy** of {sim.integrator} since t = 0 (relative; exact would be 0)\n"
-            "```\n"
-            f"|ΔE| / E₀      {abs(sim.samples.last('drift_E')):9.2e}       (max {sim.max_drift['drift_E']:.2e})\n"
-            f"|Δ{self.momentum_label}| / |L₀|  {abs(sim.samples.last('drift_L')):9.2e}"
-            f"       (max {sim.max_drift['drift_L']:.2e})\n"
-            f"{error_line}\n"
-            "```"
-        )
+        self.accuracy.set(accuracy_text(self.sim, self.momentum_label))
 
     def _refresh_readout(self) -> None:
+        sim = self.sim
         if self.tabs.shown == "Lagrange":
-            self._refresh_lagrange()
+            gimbal = math.sin(math.radians(GIMBAL_LOCK_DEG))
+            try:
+                terms = lagrange_terms(sim.model, sim.t, sim.state.R_space_body, sim.state.omega_body, sim.angles,
+                                       min_sin_theta=gimbal)
+            except GimbalLockError:
+                terms = None
+            self._draw_generalized_forces(terms)
+            self.lagrange_readout.set(lagrange_text(sim, terms))
             return
-        sim = self.sim
-        R, omega_body = sim.state.R_space_body, sim.state.omega_body
-        phi, theta, psi = self.displayed_angles_deg()
-        inertia = np.array(sim.model.inertia)
-        L_body = inertia * omega_body
-        T = kinetic_energy(sim.model, omega_body)
-        V = sim.model.potential_energy(R)
-        torque = sim.model.torque_space_at(sim.t, R, omega_body)
-        Q = generalized_forces(sim.angles, torque)
-
-        def clean(x: float) -> float:
-            return 0.0 if abs(x) < 5e-5 else float(x)
-
-        def row(name: str, v: np.ndarray) -> str:
-            return f"{name:<13}" + "".join(f"{clean(x):9.4f}" for x in v)
-
-        lines = [  # at most ~42 characters a line: the panel's width
-            f"t = {sim.t:.3f} s    (z-x-z, degrees)",
-            f"φ = {format_deg(phi)}°  θ = {theta:.2f}°  ψ = {format_deg(psi)}°",
-        ]
-        if gimbal_note(theta) is not None:
-            combined = ("φ + ψ", phi + psi) if theta < 90.0 else ("φ − ψ", phi - psi)
-            lines.append(f"gimbal lock: only {combined[0]} = {format_deg(combined[1])}°")
-        lines += [
-            "",
-            "D = Rz(φ) Rx(θ) Rz(ψ), columns x′ y′ z′",
-            format_matrix(R, 4),
-            "",
-            f"{'':<13}{'x | x′':>9}{'y | y′':>9}{'z | z′':>9}",
-            row("ω_s [rad/s]", R @ omega_body),
-            row("ω_b [rad/s]", omega_body),
-            row("L_s [kg m²/s]", R @ L_body),
-            row("L_b [kg m²/s]", L_body),
-            row("M_s [N m]", torque),
-            "",
-            f"T = {T:.5f} J",
-            f"V = {V:.5f} J",
-            f"E = T + V = {T + V:.5f} J",
-            f"Q_φ = M·e_z  = {clean(Q[0]):.4f} N m",
-            f"Q_θ = M·e_n  = {clean(Q[1]):.4f} N m",
-            f"Q_ψ = M·e_z′ = {clean(Q[2]):.4f} N m",
-        ]
-        extra = self.readout_extras(sim)
-        if extra:
-            lines += ["", extra]
-        self.readout.set("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
-                         "Q: generalized forces of φ θ ψ (memo 6.10).\n```\n" + "\n".join(lines) + "\n```")
+        self.readout.set(readout_text(sim, self.displayed_angles_deg(), self.readout_extras(sim)))
         self._refresh_gimbal_note()
-
-    def _refresh_lagrange(self) -> None:
-        """The Lagrange tab: q, q̇, T (6.4), V and the terms of (5.13) for φ θ ψ, evaluated on the
-        simulation's motion (`physics.lagrange.lagrange_terms`), and Q drawn as projections of M."""
-        sim = self.sim
-        R, omega_body = sim.state.R_space_body, sim.state.omega_body
-        gimbal = math.sin(math.radians(GIMBAL_LOCK_DEG))
-        try:
-            terms = lagrange_terms(sim.model, sim.t, R, omega_body, sim.angles, min_sin_theta=gimbal)
-        except GimbalLockError:
-            terms = None
-        self._draw_generalized_forces(terms)
-        head = ("Lagrange's equations in q = (φ, θ, ψ) (memo 5.13, 6.4, 6.10), evaluated on the "
-                f"motion computed by **{sim.integrator}**.")
-        if terms is None:
-            self.lagrange_readout.set(
-                head + "\n\n**θ is within 2° of 0° or 180°**: the Euler rates q̇ are undefined there "
-                "(det M = I1 I2 I3 sin²θ): the equations in φ θ ψ are singular; the motion itself is not.")
-            return
-
-        def row(name: str, v: np.ndarray, scale: float = 1.0) -> str:
-            return f"{name:<15}" + "".join(f"{(0.0 if abs(x) < 5e-9 else x) * scale:11.5f}" for x in v)
-
-        # q in degrees: φ and ψ are the simulation's continuous angles (unwrapped, thousands of
-        # degrees after a long run), shown in (-180°, 180°]; θ is in [0°, 180°].
-        q_deg = np.degrees(terms.q)
-        q_row = f"{'q [deg]':<15}" + "".join(f"{text:>11}" for text in (
-            format_deg(q_deg[0], 5), f"{q_deg[1]:.5f}", format_deg(q_deg[2], 5)))
-
-        lines = [
-            f"t = {sim.t:.3f} s   T = {terms.T:.5f} J   V = {terms.V:.5f} J",
-            "",
-            f"{'':<15}{'φ':>11}{'θ':>11}{'ψ':>11}",
-            q_row,
-            row("q̇ [deg/s]", terms.qdot, 180.0 / math.pi),
-            row("∂T/∂q̇", terms.dT_dqdot),
-            row("d/dt ∂T/∂q̇", terms.ddt_dT_dqdot),
-            row("− ∂T/∂q", -terms.dT_dq),
-            row("− Q", -terms.Q),
-            "",
-            "residual = d/dt ∂T/∂q̇ − ∂T/∂q − Q [N m]:",
-            "  " + "  ".join(f"{x:.1e}" for x in terms.residual),
-            "",
-            "Q_φ = M·e_z, Q_θ = M·e_n, Q_ψ = M·e_z′ [N m]",
-        ]
-        self.lagrange_readout.set(head + "\n```\n" + "\n".join(lines) + "\n```\n"
-                                  "∂T/∂q̇ in kg m²/s, the other rows in N m.  q̈ comes from Euler's "
-                                  "equations, not from (5.13): the residual shows that the two agree.")
 
     def _draw_generalized_forces(self, terms: LagrangeTerms | None) -> None:
         """M and Q_φ e_z, Q_θ e_n, Q_ψ e_z′ from the pivot, head to tail (hidden for no torque)."""

@@ -17,6 +17,7 @@ from typing import Any, ClassVar
 
 import viser
 
+from app.kit.binding import Binding, Clock, bind, install_typing_guard
 from app.kit.common import CameraView, SliderSpec, apply_camera
 from app.kit.gui import MessageLine, Quiet, Tabs, Wrap
 from app.kit.labels import LabelLayer
@@ -24,9 +25,14 @@ from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
 from app.kit.target import DrawTarget, as_target
 
-__all__ = ["SceneView"]
+__all__ = ["SceneView", "nth"]
 
 _PRESETS: dict[type, tuple[Preset, ...]] = {}
+
+
+def nth(values: Callable[[], Sequence[Any]], index: int) -> Callable[[], Any]:
+    """A getter of `values()[index]` (the value in force of one of a row of bound sliders)."""
+    return lambda: values()[index]
 
 
 class SceneView:
@@ -40,9 +46,11 @@ class SceneView:
     rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     tabs: Tabs | None = None
     """The panel's tabs (Setup / Readout / ...), if the scene has them."""
-    open_room: Callable[[Room], None] | None = None
-    """Set by the session: show another room in this browser (e.g. "Spin it" hands a body to the
-    Free body scene: `self.open_room(Room(FreeBodyView, simulation))`)."""
+    open_scene: Callable[[str, Callable[[Room], None]], Room] | None = None
+    """Set by the session: open the scene `title` in this browser with a new room, after
+    `prepare(room)` has set its simulation up; returns that room.  A scene hands a body to
+    another by title, never by importing it ("Spin it": `self.open_scene("Free body", prepare)`)."""
+    clock: Clock | None = None  # the bindings' timers (None: threading.Timer); tests set a ManualClock
 
     def __init__(self, client: viser.ClientHandle | DrawTarget, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
@@ -60,6 +68,7 @@ class SceneView:
         self.quiet = Quiet()  # the server writing sliders: their callbacks do nothing
         self.message: MessageLine
         self._gui_roots: list[Any] = []
+        self._bindings: list[Binding] = []
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
         # Every 3D label of the view is registered here with a priority; `frame` ends with
         # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.labels).
@@ -70,6 +79,7 @@ class SceneView:
         with self.client.atomic():
             self._build_scene()
             self._build_gui()
+            self._gui_roots.append(install_typing_guard(self.client.gui))  # typed numbers arrive as typed
         self.room.add_view(self)
         self.refresh()
 
@@ -147,6 +157,9 @@ class SceneView:
         """Leave the room and remove the panel; the nodes stay as last drawn (a presenter who
         stops leaves the last state on the followers' screens)."""
         self.room.remove_view(self)
+        for binding in self._bindings:
+            binding.close()
+        self._bindings = []
         for handle in self._gui_roots:
             handle.remove()
         self._gui_roots = []
@@ -189,15 +202,29 @@ class SceneView:
                    *getattr(self, "gui_params", ()), *getattr(self, "gui_moments", ())]
         return [(str(h.label), f"{h.value:g}") for h in handles]
 
-    # ------------------------------------------------------------------ sliders
-    def refuse(self, spec: SliderSpec, handle: Any, last: float) -> None:
-        """A value out of range: say so, and put the slider back to `last`."""
-        self.message.show(spec.refusal(handle.value))
-        self.quiet.write(handle, last)
+    # ------------------------------------------------------------------ bound controls
+    def bind(self, handle: Any, where: str, apply: Callable[[Any], str | None], current: Callable[[], Any],
+             spec: SliderSpec | None = None, check: Callable[[Any], Any] | None = None) -> Binding:
+        """Bind a control of this view to a simulation value (`app.kit.binding.bind`): held until
+        complete, checked by `spec` or `check`, `apply`'d, or refused in the message line with the
+        field back at `current()`."""
+        binding = bind(handle, where=where, wrap=self._wrap, message=self.message, quiet=self.quiet, apply=apply,
+                       current=current, spec=spec, check=check, clock=self.clock)
+        self._bindings.append(binding)
+        return binding
 
     def show_values(self, handles: Sequence[Any], specs: Sequence[SliderSpec], values: Sequence[float],
                     skip: Any = None) -> None:
-        """Show `values` on sliders (rounded to their steps), their callbacks silenced."""
+        """Show `values` on sliders (rounded to their steps), their callbacks silenced.  A slider
+        that already shows a value rounding to the same is left alone (a typed -0.8 stays -0.8
+        on a slider of step 1), and so is one its user is editing."""
         for handle, spec, value in zip(handles, specs, values):
-            if handle is not skip:
-                self.quiet.write(handle, spec.rounded(value))
+            if handle is skip:
+                continue
+            shown = spec.rounded(value)
+            try:
+                same = spec.rounded(float(handle.value)) == shown
+            except (TypeError, ValueError):
+                same = False
+            if not same:
+                self.quiet.write(handle, shown)

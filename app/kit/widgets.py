@@ -1,7 +1,7 @@
 """3D pieces every scene shares, written once: the stage (grid, space axes x y z), the body
 (a frame turned by R_space_body with its shape and axes x′ y′ z′; instantiable several times,
-e.g. a solid body and a translucent ghost), the line of nodes with its gimbal-lock fade, and
-vector arrows with a label (ω, L).
+e.g. a solid body and a translucent ghost), the line of nodes with its gimbal-lock fade,
+vector arrows with a label (ω, L), and the lines of a simulation's trace (`TraceLines`).
 
 Per frame a widget changes only small properties of nodes built once (a pose, an arrow's two
 points, a label's position), and only when they changed: a node is never rebuilt while a scene
@@ -32,13 +32,15 @@ from app.kit.common import (
     SPACE_AXIS_LENGTH,
     axis_segments,
     fade_color,
+    polyline_segments,
 )
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.labels import AXES, KEY, LabelLayer
+from app.kit.trace import Trace
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
 
-__all__ = ["FADE_LEVELS", "Body", "LineOfNodes", "Stage", "Vector"]
+__all__ = ["FADE_LEVELS", "Body", "LineOfNodes", "Stage", "TraceLines", "Vector"]
 
 FADE_LEVELS = 8  # the line of nodes fades in this many steps (one colour message per step)
 
@@ -224,3 +226,83 @@ class Vector:
         else:
             k = 1.0 + 0.16 / length
             set_position(self.label, (ox + k * vx, oy + k * vy, oz + k * vz))
+
+
+class TraceLines:
+    """Draws a simulation's `app.kit.trace.Trace` (a point's recent path) as line segments.
+
+    One line-segment node per chunk of the trace, a ring of `trace.max_chunks` nodes built once
+    (creating a node costs viser ~2 ms): chunk c is drawn by node c mod size.  `sync` sends
+    only the chunks whose drawn span changed since the last call (per frame: the head, on every
+    other stored point) and hides the chunks the trace dropped; a view built later draws the
+    trace so far on its first `sync`, and draws exactly what every other view of the trace draws.
+    """
+
+    def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], trace: Trace, *,
+                 thickness: float = 3.5) -> None:
+        idle = np.zeros((1, 2, 3), dtype=np.float32)
+        self._nodes = [scene.add_line_segments(f"{parent}/{k}", idle, color, thickness=thickness,
+                                               thickness_units="screen", visible=False)
+                       for k in range(trace.max_chunks)]
+        self._shown = [False] * len(self._nodes)  # each node's visibility, as last sent
+        self._drawn: list[tuple[int, int] | None] = [None] * len(self._nodes)  # (chunk, stop) sent
+        self._spans: dict[int, tuple[int, int, int]] = {}  # node -> (chunk, start, stop) shown
+        self._chunk_points = trace.chunk_points
+        self._generation = -1
+        self._scale = math.nan
+        self._synced: tuple[int, int, int, float] | None = None  # the trace as last synced
+
+    @property
+    def point_count(self) -> int:
+        """Distinct trace points shown (consecutive chunks share their end point)."""
+        spans = [stop - start for k, (_c, start, stop) in self._spans.items() if self._shown[k]]
+        return sum(spans) - max(0, len(spans) - 1)
+
+    @property
+    def chunk_count(self) -> int:
+        """Complete chunks shown."""
+        return sum(1 for k, (_c, start, stop) in self._spans.items()
+                   if self._shown[k] and stop - start == self._chunk_points)
+
+    def shown_segments(self) -> np.ndarray:
+        """The segments (N, 2, 3) shown, oldest chunk first (what the client was sent)."""
+        keys = sorted((span[0], k) for k, span in self._spans.items() if self._shown[k])
+        parts = [np.asarray(self._nodes[k].points) for _c, k in keys]
+        return np.concatenate(parts) if parts else np.zeros((0, 2, 3), dtype=np.float32)
+
+    def hide(self) -> None:
+        """Hide every chunk (what is drawn on them stays, for the next `sync`)."""
+        self._synced = None
+        for k, node in enumerate(self._nodes):
+            if self._shown[k]:
+                node.visible = self._shown[k] = False
+
+    def sync(self, trace: Trace, scale: float = 1.0) -> None:
+        """Show `trace` (points times `scale`, in the parent node's units): send what changed."""
+        synced = (trace.generation, trace.count, trace.first, scale)
+        if synced == self._synced:
+            return  # nothing new (paused, or no point stored since)
+        self._synced = synced
+        if trace.generation != self._generation or scale != self._scale:
+            self._generation, self._scale = trace.generation, scale
+            self._drawn = [None] * len(self._nodes)
+        size = len(self._nodes)
+        spans: dict[int, tuple[int, int, int]] = {}
+        for chunk in trace.chunks()[-size:]:
+            start, stop = trace.chunk_span(chunk)
+            if stop - start >= 2:
+                spans[chunk % size] = (chunk, start, stop)
+        for k, node in enumerate(self._nodes):
+            span = spans.get(k)
+            if span is None:
+                if self._shown[k]:
+                    node.visible = self._shown[k] = False
+                continue
+            chunk, start, stop = span
+            if self._drawn[k] != (chunk, stop):
+                points = trace.points(start, stop) * scale
+                set_points(node, polyline_segments(points).astype(np.float32))
+                self._drawn[k] = (chunk, stop)
+            if not self._shown[k]:
+                node.visible = self._shown[k] = True
+        self._spans = spans

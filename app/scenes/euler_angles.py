@@ -18,6 +18,7 @@ fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every for
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -31,6 +32,7 @@ from app.kit.common import (
     SliderSpec,
     Throttle,
     axis_segments,
+    canonical_angles_deg,
     format_deg,
     format_matrix,
     format_vector,
@@ -41,7 +43,7 @@ from app.kit.common import (
 from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
 from app.kit.room import Room
-from app.kit.view import SceneView
+from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics.euler import (
     body_z_axis,
@@ -111,18 +113,6 @@ SLIDER_PERIOD = 0.1  # sliders follow at 10 Hz
 READOUT_PERIOD = 0.2  # readouts at 5 Hz
 
 
-def canonical_angles_deg(phi: float, theta: float, psi: float) -> tuple[float, float, float]:
-    """The same rotation with θ in [0, 180] and φ, ψ in (-180, 180] [deg].
-
-    Rz(φ) Rx(θ) Rz(ψ) = Rz(φ + 180°) Rx(−θ) Rz(ψ + 180°), so a θ in (180°, 360°) becomes
-    360° − θ with φ and ψ turned by 180°.
-    """
-    theta = theta % 360.0
-    if theta > 180.0:
-        theta, phi, psi = 360.0 - theta, phi + 180.0, psi + 180.0
-    return wrap_deg(phi), theta, wrap_deg(psi)
-
-
 class EulerAnglesSimulation:
     """Angles advancing at constant Euler rates (no viser).
 
@@ -168,6 +158,11 @@ class EulerAnglesSimulation:
         self.t += dt
         self.angles_deg = list(canonical_angles_deg(*played))
         self.version += 1
+
+    def fork(self) -> EulerAnglesSimulation:
+        """An exact, independent copy: angles (as played and as shown), rates, moments, t, the
+        angles Reset goes back to, preset and version (a deep copy: a few small arrays)."""
+        return copy.deepcopy(self)
 
     @property
     def angles(self) -> tuple[float, float, float]:
@@ -280,7 +275,7 @@ class EulerAnglesView(SceneView):
         )
         self.message = MessageLine(gui)
         self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
-                                   on_reset=room.reset, on_time_scale=room.set_time_scale)
+                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
         self.folder_angles = gui.add_folder("Euler angles z-x-z [deg]")
         with self.folder_angles:
             self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(ANGLE_SPECS, self.sim.angles_deg)]
@@ -317,11 +312,14 @@ class EulerAnglesView(SceneView):
                 f"ω arrows: 1 unit = {1.0 / RATE_ARROW_SCALE:g}°/s."
             )
         for index, handle in enumerate(self.gui_angles):
-            handle.on_update(wrap(f"{GREEK[KEYS[index]]} slider", self._angle_callback(index, handle)))
+            self.bind(handle, f"{GREEK[KEYS[index]]} slider", self._angle_edit(index),
+                      nth(lambda: self.sim.angles_deg, index), spec=ANGLE_SPECS[index])
         for index, handle in enumerate(self.gui_rates):
-            handle.on_update(wrap("rate slider", self._rate_callback(index, handle)))
+            self.bind(handle, "rate slider", self._rate_edit(index), nth(lambda: self.sim.rates_deg, index),
+                      spec=RATE_SPECS[index])
         for index, handle in enumerate(self.gui_moments):
-            handle.on_update(wrap(f"I{index + 1} slider", self._moment_callback(index, handle)))
+            self.bind(handle, f"I{index + 1} slider", self._moment_edit(index),
+                      nth(lambda: self.sim.moments, index), spec=MOMENT_SPECS[index])
         for handle in (self.gui_show_frames, self.gui_show_arcs, self.gui_show_omega):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
@@ -329,17 +327,8 @@ class EulerAnglesView(SceneView):
                            self.folder_rates, self.folder_readout, self.folder_body, self.folder_display]
 
     # ------------------------------------------------------------------ callbacks
-    def _angle_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = ANGLE_SPECS[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return  # the server itself is showing the motion on the slider
-            value = spec.check(handle.value)
-            if value is None:
-                self.refuse(spec, handle, self.sim.angles_deg[index])
-                return
-            self.message.clear()
+    def _angle_edit(self, index: int) -> Callable[[float], None]:
+        def apply(value: float) -> None:
             self.room.playing = False
             angles = list(self.sim.angles_deg)
             angles[index] = value
@@ -347,48 +336,36 @@ class EulerAnglesView(SceneView):
             self.sim.set_angles(angles)
             self.room.refresh()
 
-        return on_update
+        return apply
 
-    def _rate_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = RATE_SPECS[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            value = spec.check(handle.value)
-            if value is None:
-                self.refuse(spec, handle, self.sim.rates_deg[index])
-                return
-            self.message.clear()
+    def _rate_edit(self, index: int) -> Callable[[float], None]:
+        def apply(value: float) -> None:
             rates = list(self.sim.rates_deg)
             rates[index] = value
             self.sim.set_rates(rates)
             self.room.refresh()
 
-        return on_update
+        return apply
 
-    def _moment_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = MOMENT_SPECS[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            if spec.check(handle.value) is None:
-                self.refuse(spec, handle, self.sim.moments[index])
-                return
+    def _moment_edit(self, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
+            moments = list(self.sim.moments)
+            moments[index] = value
             try:
-                self.sim.set_moments([float(h.value) for h in self.gui_moments])
+                self.sim.set_moments(moments)
             except InertiaError as error:
+                shown = ", ".join(f"{m:.2f}" for m in self.sim.moments)
                 self.gui_moments_status.content = (
                     f"**⚠ Not a rigid body:** {error}  \n"
                     "Each moment must be at most the sum of the other two "
-                    "(I1 + I2 ≥ I3 and cyclic).  Showing the last valid body, "
-                    f"I = ({', '.join(f'{m:.2f}' for m in self.sim.moments)}) kg m²."
+                    f"(I1 + I2 ≥ I3 and cyclic).  Showing the last valid body, I = ({shown}) kg m²."
                 )
-                return
+                return (f"I{index + 1} = {value:g} refused: not a rigid body ({error}); "
+                        f"the body stays I = ({shown}) kg m².")
             self.room.refresh()
+            return None
 
-        return on_update
+        return apply
 
     def set_angles_deg(self, phi: float, theta: float, psi: float) -> None:
         """Set (φ, θ, ψ) [deg], as dragging the three sliders does."""
@@ -431,12 +408,9 @@ class EulerAnglesView(SceneView):
 
     # ------------------------------------------------------------------ drawing
     def _sync_sliders(self) -> None:
-        for handle, value in zip(self.gui_angles, self.sim.angles_deg):
-            self.quiet.write(handle, float(round(value)))
-        for handle, value in zip(self.gui_rates, self.sim.rates_deg):
-            self.quiet.write(handle, value)
-        for handle, value in zip(self.gui_moments, self.sim.moments):
-            self.quiet.write(handle, value)
+        self.show_values(self.gui_angles, ANGLE_SPECS, self.sim.angles_deg)
+        self.show_values(self.gui_rates, RATE_SPECS, self.sim.rates_deg)
+        self.show_values(self.gui_moments, MOMENT_SPECS, self.sim.moments)
 
     def _refresh_status(self) -> None:
         state = "▶ playing" if self.room.playing else "paused"

@@ -7,9 +7,10 @@ L_z = L·e_z (= p_φ) and ω_z′ (p_ψ = I3 ω_z′).  The closed form (`exact`
 parameter set of this scene, since it is always symmetric (I1 = I2).
 
 Drawn: a disc on a rod (pivot at the origin, on a stand), the disc painted in sectors so the
-spin shows, and the trace of the symmetry-axis tip: a polyline of the last TRACE_SECONDS of
-simulated time, stored in chunks of CHUNK_POINTS points so that a frame only sends the short
-newest chunk (bounded memory: at most TRACE_SECONDS / TRACE_SPACING points).
+spin shows, and the trace of the symmetry-axis tip: the simulation follows e_z′ (`tip_axis`,
+`app.kit.trace.Trace`: the last TRACE_SECONDS of simulated time, in chunks of CHUNK_POINTS
+points, at most TRACE_SECONDS / TRACE_SPACING of them), and the view draws it ROD_LENGTH long
+(`app.kit.widgets.TraceLines`: a frame sends only the short newest chunk).
 
 Presets (`assets/presets/heavy_top.json`): the classic patterns of the tip with θ̇(0) = 0 at
 θ(0) = 60° (I1 = 1, I3 = 0.5, mgl = 6, ω_z′ = 12 rad/s): steady precession (φ̇(0) on the slow
@@ -26,16 +27,16 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, polyline_segments, striped_parts
-from app.kit.fastprops import set_points
+from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, striped_parts
 from app.kit.labels import KEY
 from app.kit.rigid import RigidBodySimulation
 from app.kit.rigid_view import RigidBodyView
+from app.kit.widgets import TraceLines
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space
 from physics.euler import euler_rates_from_omega_body, omega_body_from_euler_rates
 
-__all__ = ["CHUNK_POINTS", "TRACE_SECONDS", "TRACE_SPACING", "HeavyTopView", "TipTrace"]
+__all__ = ["CHUNK_POINTS", "TRACE_SECONDS", "TRACE_SPACING", "HeavyTopView", "tip_axis"]
 
 ROD_LENGTH = 1.3  # [scene units] pivot to the tip of the symmetry axis (the traced point)
 DISC_CENTER = 0.85  # [scene units] along z′
@@ -50,77 +51,10 @@ ROD_COLOR = (90, 90, 100)
 _MARKS_RATE = ((-360.0, "-360"), (-180.0, "-180"), (0.0, "0"), (180.0, "180"), (360.0, "360"))
 
 
-class TipTrace:
-    """A bounded polyline of the last `seconds` of a moving point, sent in small chunks.
-
-    The chunks are a ring of line-segment nodes built once (creating a node costs viser ~2 ms):
-    only the newest (head) chunk changes, redrawn on every other stored point; when it is full
-    the next node of the ring becomes the head, and chunks older than `seconds` are hidden.
-    Points are stored at least `spacing` [s] of simulated time apart, so a chunk spans at least
-    chunk_points * spacing and the ring never needs more than seconds / that + 2 nodes.
-    """
-
-    def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], *,
-                 seconds: float = TRACE_SECONDS, spacing: float = TRACE_SPACING,
-                 chunk_points: int = CHUNK_POINTS) -> None:
-        self.seconds = seconds
-        self.spacing = spacing
-        self.chunk_points = chunk_points
-        size = math.ceil(seconds / (chunk_points * spacing)) + 2
-        idle = np.zeros((1, 2, 3), dtype=np.float32)
-        self._nodes = [scene.add_line_segments(f"{parent}/{k}", idle, color, thickness=3.5,
-                                               thickness_units="screen", visible=False)
-                       for k in range(size)]
-        self._newest = [-math.inf] * size  # the newest time in each node
-        self._shown = [False] * size  # each node's visibility, as last sent
-        self._head = 0
-        self._head_points: list[np.ndarray] = []
-        self._last_t = -math.inf
-
-    @property
-    def point_count(self) -> int:
-        """Points shown (full chunks and head), for tests of the bound."""
-        return self.chunk_count * self.chunk_points + len(self._head_points)
-
-    @property
-    def chunk_count(self) -> int:
-        """Full chunks shown."""
-        return sum(1 for k, shown in enumerate(self._shown) if shown and k != self._head)
-
-    def clear(self) -> None:
-        for k, node in enumerate(self._nodes):
-            if self._shown[k]:
-                node.visible = self._shown[k] = False
-        self._newest = [-math.inf] * len(self._nodes)
-        self._head_points = []
-        self._last_t = -math.inf
-
-    def add(self, t: float, point: np.ndarray) -> None:
-        """The point at simulated time t [s] (non-decreasing between clears)."""
-        if t - self._last_t < self.spacing - 1e-12 and self._head_points:
-            return
-        self._head_points.append(np.array(point, dtype=np.float32))
-        self._last_t = t
-        points = self._head_points
-        head = self._nodes[self._head]
-        self._newest[self._head] = t
-        # Redrawn on every other stored point, not every frame: with many clients each message
-        # per frame counts, and the head then trails the tip by one point at most.
-        if len(points) >= 2 and (len(points) % 2 == 0 or len(points) >= self.chunk_points):
-            set_points(head, polyline_segments(np.array(points)))
-            if not self._shown[self._head]:
-                head.visible = self._shown[self._head] = True
-        if len(points) >= self.chunk_points:
-            self._head = (self._head + 1) % len(self._nodes)
-            self._head_points = [points[-1]]  # the next chunk starts where this one ends
-        size = len(self._nodes)
-        for step in range(1, size):  # from the oldest chunk on: they leave in the order they came
-            k = (self._head + step) % size
-            if not self._shown[k]:
-                continue
-            if self._newest[k] >= t - self.seconds:
-                break
-            self._nodes[k].visible = self._shown[k] = False
+def tip_axis(state: State) -> np.ndarray:
+    """The traced point: the symmetry axis e_z′ (3,) in space components (the tip is at
+    ROD_LENGTH times it)."""
+    return state.R_space_body[:, 2]
 
 
 def _disc_on_rod(disc_radius: float) -> list[tuple[np.ndarray, np.ndarray, tuple[int, int, int]]]:
@@ -216,7 +150,7 @@ class HeavyTopView(RigidBodyView):
         self.labels.add(scene.add_label(f"{root}/gravity_label", "g", position=tuple(gravity_at + (0.12, 0.0, -0.3)),
                                         font_screen_scale=LABEL_SCALE, anchor="center-left"), KEY)
         self._trace_root = scene.add_frame(f"{root}/trace", show_axes=False)
-        self.trace = TipTrace(scene, f"{root}/trace", TRACE_COLOR)
+        self.trace = TraceLines(scene, f"{root}/trace", TRACE_COLOR, self.sim.traces["tip"])
 
     def build_display_extras(self, gui: Any) -> None:
         self.gui_show_trace = gui.add_checkbox("Tip trace", True, hint=f"the last {TRACE_SECONDS:g} s of the z′ tip")
@@ -225,11 +159,12 @@ class HeavyTopView(RigidBodyView):
     def _show_trace(self) -> None:
         self._trace_root.visible = bool(self.gui_show_trace.value)
 
-    def draw_extras(self, sim: RigidBodySimulation) -> None:
-        self.trace.add(sim.t, ROD_LENGTH * np.asarray(sim.state.R_space_body)[:, 2])
+    @classmethod
+    def track_points(cls, sim: RigidBodySimulation) -> None:
+        sim.track("tip", tip_axis, seconds=TRACE_SECONDS, spacing=TRACE_SPACING, chunk_points=CHUNK_POINTS)
 
-    def restart_extras(self) -> None:
-        self.trace.clear()
+    def draw_extras(self, sim: RigidBodySimulation) -> None:
+        self.trace.sync(sim.traces["tip"], ROD_LENGTH)
 
     def shape_status(self, model: Model) -> str:
         I1, _, I3 = model.inertia

@@ -28,6 +28,7 @@ entry has `masses` and `positions` instead of the kit's params/angles/rates).
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Sequence
 from importlib.resources.abc import Traversable
@@ -39,7 +40,8 @@ import trimesh
 import viser
 
 from app.data import files_in, meshes_dir
-from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, format_matrix
+from app.kit.binding import Refused
+from app.kit.common import BODY_AXIS_COLORS, CameraView, SliderSpec, axis_segments, checked_value, format_matrix
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
 from app.kit.labels import AXES, KEY
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
@@ -79,6 +81,7 @@ BALL_RADIUS = 0.12  # [m] drawn radius of a 1 kg ball (∝ m^(1/3))
 ELLIPSOID_SIZE = 1.2  # [scene units] the momental ellipsoid's largest drawn semi-axis
 ELLIPSOID_CUT = 4.0  # a semi-axis longer than this times the shortest is drawn cut at it
 MESH_DISPLAY_SIZE = 2.4  # [scene units] a mesh is drawn about this large (display_scale)
+SPIN_SCENE = "Free body"  # "Spin it" hands the body to this scene (by its title: no scene imports another)
 FREE_BODY_MOMENTS = (0.05, 5.0)  # [kg m²] the Free body scene's slider range ("Spin it")
 SPIN_RATE = 4.0  # [rad/s] "Spin it": about the intermediate axis e2, with a small wobble
 SPIN_ANGLES_DEG = (-30.0, 60.0, 0.0)  # "Spin it": the attitude it starts from (as the Dzhanibekov preset)
@@ -103,6 +106,12 @@ def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
     return vertices, faces
 
 
+def _shown(x: Any) -> tuple[float, float, float]:
+    """A point [m] as a vector field shows it (4 decimals, no -0.0)."""
+    a, b, c = (round(float(v), 4) + 0.0 for v in x)
+    return a, b, c
+
+
 class InertiaSystem:
     """Point masses (or one solid mesh) and a reference point O; their inertia (no viser).
 
@@ -124,6 +133,17 @@ class InertiaSystem:
         self._axes = np.eye(3)  # the principal axes last drawn (kept where they are not determined)
         self._cache: tuple[int, dict[str, Any]] | None = None
         self.set_particles(masses, positions)
+
+    def fork(self) -> InertiaSystem:
+        """An exact, independent copy: masses, positions, O, mesh and its weight, the principal
+        axes last drawn (kept where they are not determined), t, preset and version.  A mesh's
+        arrays (up to MAX_FACES faces) are shared, made read-only; everything else is copied."""
+        memo: dict[int, Any] = {}
+        if self.mesh is not None:
+            for array in self.mesh:
+                array.flags.writeable = False
+                memo[id(array)] = array
+        return copy.deepcopy(self, memo)
 
     def advance(self, dt: float) -> None:
         """Time passes (`t`), nothing moves: a rigid system's inertia does not change."""
@@ -457,13 +477,17 @@ class InertiaView(SceneView):
         with self.folder_readout:
             self.readout = Readout(gui)
         self.gui_selected.on_update(wrap("mass selector", lambda _event: self._select(self.gui_selected.value)))
-        self.gui_mass.on_update(wrap("mass slider", lambda _event: self._mass_edited()))
-        self.gui_position.on_update(wrap("position", lambda _event: self._position_edited()))
+        self.bind(self.gui_mass, "mass slider", self._mass_edited, lambda: float(self.sim.masses[self.selected]),
+                  spec=MASS_SPEC)
+        self.bind(self.gui_position, "position", self._position_edited,
+                  lambda: _shown(self.sim.positions[self.selected]), check=lambda value: self._coords(value, "x"))
         self.gui_add_remove.on_click(wrap("add/remove", lambda event: self._add_remove(str(event.target.value))))
-        self.gui_about.on_update(wrap("O", lambda _event: self._about_edited()))
+        self.bind(self.gui_about, "O", self._set_about, lambda: _shown(self.sim.properties()["O"]),
+                  check=lambda value: self._coords(value, "O"))
         self.gui_O_at_com.on_click(wrap("O at c", lambda _event: self._set_about(None)))
         self.gui_mesh_given.on_update(wrap("mesh weighed by", lambda _event: self._mesh_by_changed()))
-        self.gui_mesh_mass.on_update(wrap("mesh mass", lambda _event: self._mesh_amount_edited()))
+        self.bind(self.gui_mesh_mass, "mesh mass", self._mesh_amount_edited, self._weight_shown,
+                  check=self._check_weight)
         self.gui_upload.on_upload(wrap("upload", lambda _event: self._uploaded()))
         if self.gui_shipped is not None:
             self.gui_shipped.on_click(wrap("shipped mesh", lambda event: self.load_shipped(str(event.target.value))))
@@ -472,15 +496,14 @@ class InertiaView(SceneView):
                            self.folder_masses, self.folder_O, self.folder_mesh, self.gui_spin, self.folder_readout]
 
     # ------------------------------------------------------------------ edits
-    def _coords(self, value: Any, what: str) -> np.ndarray | None:
-        """Three finite numbers within ±COORD_LIMIT, or None (refused with a message)."""
+    def _coords(self, value: Any, what: str) -> np.ndarray:
+        """Three finite numbers within ±COORD_LIMIT; Refused (with the message) otherwise."""
         try:
             x = np.array([float(v) for v in value])
         except (TypeError, ValueError):
             x = np.full(3, np.nan)
         if x.shape != (3,) or not np.all(np.isfinite(x)) or np.any(np.abs(x) > COORD_LIMIT):
-            self.message.show(f"{what} = {value!r} refused: three numbers within ±{COORD_LIMIT:g} m.")
-            return None
+            raise Refused(f"{what} = {value!r} refused: three numbers within ±{COORD_LIMIT:g} m.")
         return x
 
     def _select(self, value: Any) -> None:
@@ -495,24 +518,12 @@ class InertiaView(SceneView):
         self.selected = k
         self.refresh()
 
-    def _mass_edited(self) -> None:
-        if self.quiet.active:
-            return
-        value = MASS_SPEC.check(self.gui_mass.value)
-        if value is None:
-            self.refuse(MASS_SPEC, self.gui_mass, float(self.sim.masses[self.selected]))
-            return
+    def _mass_edited(self, value: float) -> None:
         masses = self.sim.masses.copy()
         masses[self.selected] = value
         self._edit(masses, self.sim.positions)
 
-    def _position_edited(self) -> None:
-        if self.quiet.active:
-            return
-        x = self._coords(self.gui_position.value, "x")
-        if x is None:
-            self.quiet.write(self.gui_position, tuple(self.sim.positions[self.selected]))
-            return
+    def _position_edited(self, x: np.ndarray) -> None:
         positions = self.sim.positions.copy()
         positions[self.selected] = x
         self._edit(self.sim.masses, positions)
@@ -576,15 +587,6 @@ class InertiaView(SceneView):
         finally:
             self._dragging = None
 
-    def _about_edited(self) -> None:
-        if self.quiet.active:
-            return
-        O = self._coords(self.gui_about.value, "O")
-        if O is None:
-            self.quiet.write(self.gui_about, tuple(self.sim.properties()["O"]))
-            return
-        self._set_about(O)
-
     def _set_about(self, O: Vec3 | None, dragging: str | None = None) -> None:
         self.message.clear()
         self.sim.set_about(O)
@@ -608,26 +610,38 @@ class InertiaView(SceneView):
     def _by_density(self) -> bool:
         return str(self.gui_mesh_given.value).startswith("density")
 
-    def _show_weight(self) -> None:
+    def _weight_shown(self) -> float:
+        """What the mass / density box shows: the mesh's (6 significant digits), or the default."""
         sim, by_density = self.sim, self._by_density()
         if sim.mesh is None:
-            value = 1000.0 if by_density else 1.0
-        else:
-            value = sim.mesh_mass / sim.mesh_volume() if by_density else sim.mesh_mass
-        self.quiet.write(self.gui_mesh_mass, float(f"{value:.6g}"))
+            return 1000.0 if by_density else 1.0
+        value = sim.mesh_mass / sim.mesh_volume() if by_density else sim.mesh_mass
+        return float(f"{value:.6g}")
 
-    def _mesh_amount_edited(self) -> None:
-        """A new mass or density for the mesh shown (refused with a message if out of range)."""
-        if self.quiet.active or self.sim.mesh is None:
-            return
+    def _show_weight(self) -> None:
+        self.quiet.write(self.gui_mesh_mass, self._weight_shown())
+
+    def _check_weight(self, value: Any) -> float:
+        """A mass [kg] or density [kg/m³] in its range (MESH_MASS_RANGE, MESH_DENSITY_RANGE)."""
+        by_density = self._by_density()
+        (lo, hi), what = (MESH_DENSITY_RANGE, "density") if by_density else (MESH_MASS_RANGE, "mass")
+        number = checked_value(value, lo, hi)
+        if number is None:
+            kept = f" The mesh keeps its {self.sim.mesh_mass:.4g} kg." if self.sim.mesh is not None else ""
+            unit = "kg/m³" if by_density else "kg"
+            raise Refused(f"Refused: {what} {value!r} {unit}: a number from {lo:g} to {hi:g} wanted.{kept}")
+        return number
+
+    def _mesh_amount_edited(self, value: float) -> str | None:
+        """A new mass or density for the mesh shown (kept for the next mesh while there is none)."""
+        if self.sim.mesh is None:
+            return None
         try:
-            self.sim.weigh_mesh(**self._weight())
+            self.sim.weigh_mesh(**({"density": value} if self._by_density() else {"mass": value}))
         except ValueError as error:
-            self.message.show(f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg.")
-            self._show_weight()
-            return
-        self.message.clear()
+            return f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg."
         self.room.refresh()
+        return None
 
     def _uploaded(self) -> None:
         upload = self.gui_upload.value
@@ -659,8 +673,6 @@ class InertiaView(SceneView):
         """Hand this body to the Free body scene: its principal moments about the centre of mass
         (ascending, along x′ y′ z′; scaled to the scene's sliders if needed, said there) and, for
         a mesh, the mesh in its principal frame (x′ = Rᵀ (x − c))."""
-        from app.scenes.free_body import FreeBodyView
-
         properties = self.sim.properties()
         moments, axes = principal_axes(properties["I_cm"])
         try:
@@ -669,21 +681,24 @@ class InertiaView(SceneView):
             self.message.show(f"Nothing to spin: {error} — masses on one line are no rigid body to spin "
                               "(add a mass off the line).")
             return
-        if self.open_room is None:
+        if self.open_scene is None:
             self.message.show("This browser cannot open another scene.")
             return
-        sim = FreeBodyView.new_simulation()
-        sim.model = Model(inertia=handed)
-        if self.sim.mesh is not None:
-            vertices, faces = self.sim.mesh
-            sim.mesh = ((vertices - properties["com"]) @ axes, faces)
-        sim.preset = None
-        angles = np.radians(SPIN_ANGLES_DEG)
-        omega = np.array([0.01, 1.0, 0.01]) * SPIN_RATE  # about e2 (y′), slightly off: the flip
-        sim.restart(State(matrix_from_euler_zxz(*angles), omega, 0.0), angles=angles)
-        room = Room(FreeBodyView, sim)
+        mesh = self.sim.mesh
+        com = properties["com"]
+
+        def prepare(room: Room) -> None:  # the Free body's new room, before it is shown
+            sim = room.sim
+            sim.model = Model(inertia=handed)
+            if mesh is not None:
+                sim.mesh = ((mesh[0] - com) @ axes, mesh[1])
+            sim.preset = None
+            angles = np.radians(SPIN_ANGLES_DEG)
+            omega = np.array([0.01, 1.0, 0.01]) * SPIN_RATE  # about e2 (y′), slightly off: the flip
+            sim.restart(State(matrix_from_euler_zxz(*angles), omega, 0.0), angles=angles)
+
         what = self.sim.mesh_name or f"{len(self.sim.masses)} point masses"
-        self.open_room(room)
+        room = self.open_scene(SPIN_SCENE, prepare)
         text = f"Spun from the Inertia scene: {what}, about its middle axis y′."
         if k != 1.0:
             text += (f" Its moments ({', '.join(f'{m:.3g}' for m in moments)} kg m²) are shown ×{k:.3g} to fit the "
@@ -732,11 +747,11 @@ class InertiaView(SceneView):
             if particles:
                 self.gui_selected.options = tuple(str(j + 1) for j in range(len(sim.masses)))
                 self.quiet.write(self.gui_selected, str(self.selected + 1))
-                self.quiet.write(self.gui_mass, MASS_SPEC.rounded(float(sim.masses[self.selected])))
-                self.quiet.write(self.gui_position, tuple(round(float(v), 4) for v in sim.positions[self.selected]))
+                self.show_values([self.gui_mass], [MASS_SPEC], [float(sim.masses[self.selected])])
+                self.quiet.write(self.gui_position, _shown(sim.positions[self.selected]))
                 if self._dragging != "mass" and self.gizmo is not None:
                     self.gizmo.position = tuple(sim.positions[self.selected])
-            self.quiet.write(self.gui_about, tuple(round(float(v), 4) for v in O))
+            self.quiet.write(self.gui_about, _shown(O))
             self.presets_row.show_note(self.preset_shown())
             self._refresh_readout(props, k)
             self.labels.settle()

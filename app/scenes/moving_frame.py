@@ -28,8 +28,9 @@ compares their sum with m ẍ′ obtained another way, by differentiating x′ =
 residual is at rounding level.
 
 Paths: each particle leaves a path in C (drawn in C: a straight line for the free particle)
-and one in C′ (drawn in C′, carried by it: the curve a rider sees), bounded polylines of the
-last PATH_SECONDS sent in chunks (`app.scenes.heavy_top.TipTrace`).
+and one in C′ (drawn in C′, carried by it: the curve a rider sees), the last PATH_SECONDS kept
+by the simulation (`app.kit.trace.Trace`, so a view built later shows them so far) and drawn
+in chunks (`app.kit.widgets.TraceLines`).
 
 **The rider's view.**  "Ride with C′" does not move the camera.  Everything is drawn under
 one node `world` (space coordinates) and C′'s contents under `world/frame` (posed by a, D);
@@ -57,15 +58,14 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.kit.common import CameraView, SliderSpec, Throttle, format_deg, format_vector, wrap_deg
+from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import MessageLine, PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.presets import Preset
 from app.kit.room import Room
-from app.kit.view import SceneView
-from app.kit.widgets import Body, Stage, Vector
-from app.scenes.euler_angles import canonical_angles_deg
-from app.scenes.heavy_top import TipTrace
+from app.kit.trace import Trace
+from app.kit.view import SceneView, nth
+from app.kit.widgets import Body, Stage, TraceLines, Vector
 from physics._types import Array, Vec3
 from physics.moving_frames import (
     FrameMotion,
@@ -239,8 +239,9 @@ class MovingFrameSimulation:
 
     Attributes:
         setup: the run's initial conditions.  t: [s] since the run started.  version: bumped on
-        every change.  run: bumped on every reset (the views clear their paths).  x, v: (3, 3)
-        space positions and velocities of (free, at rest, spring) [m, m/s].
+        every change.  run: bumped on every reset.  x, v: (3, 3) space positions and velocities
+        of (free, at rest, spring) [m, m/s].  paths_space, paths_body: per particle, the `Trace`
+        of its position in C (x) and in C′ (x′) [m], cleared at every reset.
     """
 
     def __init__(self, setup: MovingFrameSetup) -> None:
@@ -248,6 +249,8 @@ class MovingFrameSimulation:
         self.version = 0
         self.run = 0
         self.setup = setup
+        self.paths_space = [Trace(PATH_SECONDS, PATH_SPACING, PATH_CHUNK) for _ in PARTICLES]
+        self.paths_body = [Trace(PATH_SECONDS, PATH_SPACING, PATH_CHUNK) for _ in PARTICLES]
         self.reset()
 
     # ------------------------------------------------------------------ the Simulation protocol
@@ -259,8 +262,17 @@ class MovingFrameSimulation:
         self._frame = self._motion.at(0.0)
         x_body, x_body_dot = self.setup.initial_body()
         self.x, self.v = space_from_body(self._frame, x_body, x_body_dot)
+        for path in (*self.paths_space, *self.paths_body):
+            path.clear()
+        self._record_paths()
         self.run += 1
         self.version += 1
+
+    def _record_paths(self) -> None:
+        x_body, _ = self.body_coordinates()
+        for k in range(len(PARTICLES)):
+            self.paths_space[k].add(self.t, self.x[k])
+            self.paths_body[k].add(self.t, x_body[k])
 
     def advance(self, dt: float) -> None:
         """RK4 in C in ceil(dt / H_MAX) equal steps; ArithmeticError (state kept) if it blows up."""
@@ -278,6 +290,7 @@ class MovingFrameSimulation:
             raise ArithmeticError(f"non-finite particle state at t = {t:.3f} s")
         self.x, self.v, self.t = x, v, self.t + dt
         self._frame = self._motion.at(self.t)
+        self._record_paths()
         self.version += 1
 
     # ------------------------------------------------------------------ edits
@@ -295,7 +308,9 @@ class MovingFrameSimulation:
         self.version += 1
 
     def fork(self) -> MovingFrameSimulation:
-        """A private copy of the run at its current time (the frame's motion is a function of t)."""
+        """An exact, independent copy of the run at its current time: setup, t, the particles'
+        x and v bit for bit, C′ now (its motion is a function of t), the paths so far, preset,
+        run and version (a deep copy: small arrays and frozen dataclasses)."""
         return copy.deepcopy(self)
 
     # ------------------------------------------------------------------ physics
@@ -402,7 +417,6 @@ class MovingFrameView(SceneView):
         super().__init__(client, room, wrap, report_error)
         self.sim: MovingFrameSimulation = room.sim
         self._drawn_version = -1
-        self._drawn_run = -1
         self._drawn_disc = math.nan
         self._frame_pose: tuple[tuple[float, ...], tuple[float, float, float]] | None = None
         self._world_pose: tuple[tuple[float, ...], tuple[float, float, float]] | None = None
@@ -421,8 +435,8 @@ class MovingFrameView(SceneView):
                                 subdivisions=2, cast_shadow=False, receive_shadow=False)
             for k in range(len(PARTICLES))
         ]
-        self.paths_space = [TipTrace(scene, f"{world}/paths_c/{k}", _lighter(PARTICLE_COLORS[k]),
-                                     seconds=PATH_SECONDS, spacing=PATH_SPACING, chunk_points=PATH_CHUNK)
+        self.paths_space = [TraceLines(scene, f"{world}/paths_c/{k}", _lighter(PARTICLE_COLORS[k]),
+                                       self.sim.paths_space[k])
                             for k in range(len(PARTICLES))]
         self.body = Body(scene, f"{world}/frame", self._build_disc, axis_length=1.0, labels=self.labels)
         frame = f"{world}/frame"
@@ -432,8 +446,7 @@ class MovingFrameView(SceneView):
                                           cast_shadow=False, receive_shadow=False)
         self.spring = scene.add_line_segments(f"{world}/spring", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
                                               thickness=1.5, thickness_units="screen")
-        self.paths_body = [TipTrace(scene, f"{frame}/paths/{k}", PARTICLE_COLORS[k],
-                                    seconds=PATH_SECONDS, spacing=PATH_SPACING, chunk_points=PATH_CHUNK)
+        self.paths_body = [TraceLines(scene, f"{frame}/paths/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
         self.forces = {key: Vector(scene, f"{frame}/forces/{key}", FORCE_COLORS[key], FORCE_LABELS[key],
                                    shaft_radius=0.018, head_radius=0.05, head_length=0.1, font_scale=1.5,
@@ -460,7 +473,7 @@ class MovingFrameView(SceneView):
         )
         self.message = MessageLine(gui)
         self.transport = Transport(gui, wrap, self.message, on_toggle=room.toggle, on_step=room.step,
-                                   on_reset=room.reset, on_time_scale=room.set_time_scale)
+                                   on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock)
         self.gui_ride = gui.add_checkbox("Ride with C′", False,
                                          hint="on: the rider's view (C′ stands still); off: the inertial view (C)")
         self.gui_forces_on = gui.add_dropdown("Forces on", PARTICLES, initial_value=PARTICLES[self.sim.setup.focus],
@@ -487,9 +500,12 @@ class MovingFrameView(SceneView):
         self.gui_params = [*frame_sliders, *particle_sliders, *display_sliders]
         self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:2]]
         for handle, key in zip(self.gui_params, self._param_keys):
-            handle.on_update(wrap(f"{key} slider", self._param_callback(key, handle)))
+            index = KEYS.index(key)
+            self.bind(handle, f"{key} slider", self._param_edit(key), nth(lambda: self.sim.setup.params, index),
+                      spec=PARAM_SPECS[index])
         for index, handle in enumerate(self.gui_angles):
-            handle.on_update(wrap(f"{ANGLE_SPECS[index].key} slider", self._angle_callback(index, handle)))
+            self.bind(handle, f"{ANGLE_SPECS[index].key} slider", self._angle_edit(index),
+                      nth(lambda: self.sim.setup.angles_deg, index), spec=ANGLE_SPECS[index])
         self.gui_ride.on_update(wrap("ride toggle", lambda _event: self.refresh()))
         self.gui_forces_on.on_update(wrap("forces-on dropdown", self._forces_on_chosen))
         for handle in (self.gui_show_paths, self.gui_show_forces):
@@ -520,41 +536,23 @@ class MovingFrameView(SceneView):
         self.room.refresh()
         return None
 
-    def _param_callback(self, key: str, handle: Any) -> Callable[[Any], None]:
+    def _param_edit(self, key: str) -> Callable[[float], str | None]:
         index = KEYS.index(key)
-        spec = PARAM_SPECS[index]
 
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            value = spec.check(handle.value)
-            if value is None:
-                self.refuse(spec, handle, self.sim.setup.params[index])
-                return
+        def apply(value: float) -> str | None:
             params = list(self.sim.setup.params)
             params[index] = value
-            refusal = self._edit(params, self.sim.setup.angles_deg, key in DISPLAY_KEYS)
-            if refusal is not None:
-                self.message.show(refusal)
-                self.quiet.write(handle, self.sim.setup.params[index])
+            return self._edit(params, self.sim.setup.angles_deg, key in DISPLAY_KEYS)
 
-        return on_update
+        return apply
 
-    def _angle_callback(self, index: int, handle: Any) -> Callable[[Any], None]:
-        spec = ANGLE_SPECS[index]
-
-        def on_update(_event: Any) -> None:
-            if self.quiet.active:
-                return
-            value = spec.check(handle.value)
-            if value is None:
-                self.refuse(spec, handle, self.sim.setup.angles_deg[index])
-                return
+    def _angle_edit(self, index: int) -> Callable[[float], str | None]:
+        def apply(value: float) -> str | None:
             angles = list(self.sim.setup.angles_deg)
             angles[index] = value
-            self._edit(self.sim.setup.params, angles, False)
+            return self._edit(self.sim.setup.params, angles, False)
 
-        return on_update
+        return apply
 
     def _forces_on_chosen(self, _event: Any) -> None:
         if self.quiet.active:
@@ -609,10 +607,6 @@ class MovingFrameView(SceneView):
     def _draw(self, dt: float) -> None:
         sim = self.sim
         self._drawn_version = sim.version
-        if sim.run != self._drawn_run:
-            self._drawn_run = sim.run
-            for path in (*self.paths_space, *self.paths_body):
-                path.clear()
         frame = sim.frame
         R, a = frame.R_space_body, frame.a
         # Poses: C′ in C; while riding, the world turned by the inverse pose (C′ stands still).
@@ -649,11 +643,7 @@ class MovingFrameView(SceneView):
                 set_position(node, position)
         anchor_space = a + R @ sim.setup.anchor_body
         set_points(self.spring, np.array([[anchor_space, sim.x[2]]], dtype=np.float32))
-        if self.gui_show_paths.value:
-            for k in range(len(PARTICLES)):
-                self.paths_space[k].add(sim.t, sim.x[k])
-                self.paths_body[k].add(sim.t, x_body[k])
-        self._set_paths_visible(bool(self.gui_show_paths.value))
+        self._draw_paths(bool(self.gui_show_paths.value))
         # Forces on the chosen particle, body components, drawn in C′ at x′.
         report = sim.forces()
         focus = sim.setup.focus
@@ -674,10 +664,14 @@ class MovingFrameView(SceneView):
             self._render_readout(report, x_body)
             self._refresh_status()
 
-    def _set_paths_visible(self, visible: bool) -> None:
-        for path in (*self.paths_space, *self.paths_body):
-            if not visible and path.point_count:
-                path.clear()
+    def _draw_paths(self, visible: bool) -> None:
+        """The paths so far (only what is new is sent), or none."""
+        sim = self.sim
+        for lines, trace in zip((*self.paths_space, *self.paths_body), (*sim.paths_space, *sim.paths_body)):
+            if visible:
+                lines.sync(trace)
+            else:
+                lines.hide()
 
     def _refresh_status(self) -> None:
         state = "▶ playing" if self.room.playing else "paused"

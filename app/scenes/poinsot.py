@@ -1,7 +1,8 @@
 """Poinsot's construction of the free body ("Poinsot" scene).
 
-The free body of `app.scenes.free_body` (same simulation, sliders, presets format, ghost), with
-the geometry of `physics.poinsot` drawn around it, in ω units (1 rad/s = `scale` scene units):
+The torque-free body of `app.kit.torque_free` (the Free body scene's simulation, sliders,
+presets format, ghost), with the geometry of `physics.poinsot` drawn around it, in ω units
+(1 rad/s = `scale` scene units):
 
 * **Poinsot's ellipsoid** ω · I ω = 2T (semi-axes sqrt(2T/I_k)), centred on the fixed point and
   fixed in the body: a child of the body's frame, so it turns with the body at no cost per frame.
@@ -32,13 +33,14 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from app.kit.binding import BOX_DIGITS
 from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import Readout, add_slider
 from app.kit.labels import AXES, DETAIL
 from app.kit.rigid import RigidBodySimulation
-from app.scenes.free_body import FreeBodyView
-from app.scenes.heavy_top import TipTrace
+from app.kit.torque_free import TorqueFreeView
+from app.kit.widgets import TraceLines
 from physics.dynamics import State
 from physics.poinsot import (
     herpolhode_radii,
@@ -52,13 +54,15 @@ from physics.poinsot import (
 from physics.quaternion import wxyz_from_matrix
 from physics.so3 import exp_so3
 
-__all__ = ["PoinsotView", "energy_setting", "state_at_energy"]
+__all__ = ["PoinsotView", "energy_setting", "omega_space", "state_at_energy"]
 
 ELLIPSOID_SIZE = 1.5  # [scene units] Poinsot's ellipsoid's largest semi-axis
 SPHERE_RADIUS = 1.1  # [scene units] the |L| sphere of the momentum-space picture
 L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space picture
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
 HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
+HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
+HERPOLHODE_CHUNK = 60  # points per chunk of the herpolhode
 CURVE_POINTS = 256
 FAMILY_POINTS = 128
 ELLIPSOID_COLOR = (120, 170, 230)
@@ -117,6 +121,12 @@ def state_at_energy(inertia: Any, state: State, setting: float) -> State:
     return State(state.R_space_body @ turn, new_L / I, 0.0)
 
 
+def omega_space(state: State) -> np.ndarray:
+    """ω in space components (3,) [rad/s]: the contact point of the ellipsoid and the plane
+    (drawn at the scene's ω scale); its path is the herpolhode."""
+    return state.R_space_body @ state.omega_body
+
+
 def _triple(v: np.ndarray) -> tuple[float, float, float]:
     return float(v[0]), float(v[1]), float(v[2])
 
@@ -131,7 +141,7 @@ def _closed_segments(points: np.ndarray) -> np.ndarray:
     return polyline_segments(np.concatenate([points, points[:1]])).astype(np.float32)
 
 
-class PoinsotView(FreeBodyView):
+class PoinsotView(TorqueFreeView):
     """Poinsot's construction (see the module docstring)."""
 
     title = "Poinsot"
@@ -182,8 +192,7 @@ class PoinsotView(FreeBodyView):
             scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
-        self.herpolhode = TipTrace(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, seconds=HERPOLHODE_SECONDS,
-                                   spacing=1.0 / 30.0, chunk_points=60)
+        self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"])
         self.contact = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20), subdivisions=2)
         self.omega.label_at_middle = True  # the contact point at ω's tip stays clear
 
@@ -233,7 +242,7 @@ class PoinsotView(FreeBodyView):
         with self.tabs.tab("Setup"), gui.add_folder("Poinsot", order=self.presets_row.gui_note.order + 0.01):
             self.gui_energy = add_slider(gui, ENERGY_SPEC)
             self.poinsot_readout = Readout(gui)
-        self.gui_energy.on_update(self._wrap("energy slider", self._energy_callback))
+        self.bind(self.gui_energy, "energy slider", self._energy_edit, self._energy_in_force, spec=ENERGY_SPEC)
 
     # ------------------------------------------------------------------ a new run
     def restart_extras(self) -> None:
@@ -245,7 +254,6 @@ class PoinsotView(FreeBodyView):
         T = 0.5 * float(omega @ (I * omega))
         L_body = I * omega
         L_norm = float(np.linalg.norm(L_body))
-        self.herpolhode.clear()
         active = T > 0.0
         for node in (self.ellipsoid, self.polhode, self.plane, self.contact, self.energy_ellipsoid, self.current,
                      self.L_dot):
@@ -304,14 +312,19 @@ class PoinsotView(FreeBodyView):
         return x, np.cross(normal, x)
 
     # ------------------------------------------------------------------ per frame
+    @classmethod
+    def track_points(cls, sim: RigidBodySimulation) -> None:
+        sim.track("herpolhode", omega_space, seconds=HERPOLHODE_SECONDS, spacing=HERPOLHODE_SPACING,
+                  chunk_points=HERPOLHODE_CHUNK)
+
     def draw_extras(self, sim: RigidBodySimulation) -> None:
         if not self.contact.visible:
+            self.herpolhode.hide()
             return
-        R, omega = sim.state.R_space_body, sim.state.omega_body
-        w = R @ omega * self.omega_scale
-        point = (float(w[0]), float(w[1]), float(w[2]))
-        set_position(self.contact, point)
-        self.herpolhode.add(sim.t, np.array(point))
+        omega = sim.state.omega_body
+        w = omega_space(sim.state) * self.omega_scale
+        set_position(self.contact, (float(w[0]), float(w[1]), float(w[2])))
+        self.herpolhode.sync(sim.traces["herpolhode"], self.omega_scale)
         L = np.asarray(sim.model.inertia) * omega * self._L_scale_space
         set_position(self.L_dot, (float(L[0]), float(L[1]), float(L[2])))
         if self._flip_schedule is not None and sim.t >= self._flip_schedule[0]:
@@ -354,29 +367,34 @@ class PoinsotView(FreeBodyView):
         return str(self.poinsot_readout.handle.content).strip("`\n")
 
     # ------------------------------------------------------------------ the energy slider
-    def _energy_callback(self, _event: Any) -> None:
-        if self.quiet.active:
-            return
-        value = ENERGY_SPEC.check(self.gui_energy.value)
-        if value is None:
-            self.message.show(ENERGY_SPEC.refusal(self.gui_energy.value))
-            self.room.refresh()
-            return
-        self.set_energy(value)
+    def _energy_in_force(self) -> float:
+        """The Energy setting of the run shown (0 for a body at rest)."""
+        sim = self.sim
+        I = np.asarray(sim.model.inertia, dtype=float)
+        omega = sim.initial_state.omega_body
+        T = 0.5 * float(omega @ (I * omega))
+        if T <= 0.0:
+            return 0.0
+        return round(float(energy_setting(I, T, float(np.linalg.norm(I * omega)))), BOX_DIGITS)
 
     def set_energy(self, setting: float) -> None:
         """Move the motion to the Energy setting (−1 .. 1), same |L| and L in space; refused with
         a message where there is no such motion.  Pauses and starts a new run (t = 0)."""
+        refusal = self._energy_edit(setting)
+        if refusal is not None:
+            self.message.show(refusal)
+            self.room.refresh()
+
+    def _energy_edit(self, setting: float) -> str | None:
+        """`set_energy`'s work: the refusal text, or None once the new run started."""
         sim = self.sim
         try:
             state = state_at_energy(sim.model.inertia, sim.state, setting)
         except ValueError as error:
-            self.message.show(f"Energy {setting:g} refused: {error}.")
-            self.room.refresh()
-            return
+            return f"Energy {setting:g} refused: {error}."
         self.message.clear()
         self.room.playing = False
         sim.preset = None
         sim.restart(state)
         self.room.refresh()
-
+        return None

@@ -1,0 +1,403 @@
+"""A control bound to a simulation value in one call: typed numbers arrive as typed.
+
+What the browser does (measured with viser 1.1.1 in Chromium, docs in VISER.md §8): a slider's
+number box, an `add_number` and an `add_vector3` field are controlled React inputs, re-rendered
+from the number they last sent.  Without help they send one update per keystroke (throttled to
+one per 50 ms) and wreck what is typed on the way: `-0.8` arrives as 0, then 0.8 (the box
+re-renders "-0" as "0"); `1e-3` as 1, -1, -13 (the "e" is dropped) and then -10 (clamped on
+blur); `1e9` as 1, then 19, then the slider's maximum.  A slider drag sends a value every 50 ms
+or so while the value changes (100-300 ms apart on a coarse slider dragged slowly).
+
+Two parts, one per side:
+
+* **In the browser**, `TYPING_GUARD_JS` (installed once per page by `install_typing_guard`)
+  keeps keystrokes in a number box away from React until the text is complete: Enter, leaving
+  the field, or TYPED_PAUSE_MS without a key while the text is a number.  Then the number
+  (`Number(text)`, so `1e-3` and `-0.8` are understood) is handed to the box as plain decimals,
+  and the box sends it once.  Text that is not a number goes back to the value in force; keys
+  that cannot be part of a number are not typed at all; Escape undoes the edit.  While its user
+  types, nothing the server sends is written into that box (it is shown after the commit).
+  The slider's clamp-on-blur is skipped: an out-of-range value reaches the server, which says
+  why it is refused.
+* **On the server**, `bind(...)` gives a handle one callback (instead of a hand-written one per
+  control): every update from a browser is *held*; it is applied when it has stood SETTLE_S
+  with no newer update from that handle, or at once when it follows the previous update within
+  DRAG_S (a slider drag: its values are complete, the held older one is superseded, never
+  applied).  A value is parsed and checked (`check`: a `SliderSpec`'s range, or a function that
+  raises `Refused`), then `apply(value)`; a refusal (not a number, NaN, out of range, or
+  `apply` returning/raising one) is said in the message line and the field goes back to
+  `current()`, the value in force, never to an intermediate keystroke.  While an edit is held,
+  and for SETTLE_S after a browser's last update, the server's quiet writes (a slider following
+  the motion) skip the field.  An update the server itself makes (`handle.value = x`, event
+  without a client) is applied at once.
+
+The timers are a `Clock` (threading.Timer by default); tests pass a `ManualClock` and count
+instead of waiting.  Each timer fires through the session's guard (`wrap`), like any callback.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import threading
+import time
+from collections.abc import Callable
+from typing import Any, Protocol
+
+from app.kit.common import SliderSpec
+
+__all__ = [
+    "DRAG_S",
+    "SETTLE_S",
+    "TYPED_PAUSE_MS",
+    "TYPING_GUARD_JS",
+    "BOX_DIGITS",
+    "Binding",
+    "Clock",
+    "ManualClock",
+    "Refused",
+    "ThreadingClock",
+    "bind",
+    "install_typing_guard",
+    "spec_check",
+]
+
+SETTLE_S = 0.4
+"""[s] a browser's update stands this long with no newer one from its handle before it applies."""
+DRAG_S = 0.12
+"""[s] an update this soon after the previous one from the same handle is part of a slider drag
+(the browser sends one per 50 ms, measured outliers up to ~130 ms): applied at once."""
+TYPED_PAUSE_MS = 1500
+"""[ms] in the browser: a number typed into a box is committed after this long without a key."""
+BOX_DIGITS = 3
+"""Decimals a bound slider's number box accepts at least (viser derives 0 from a step of 1,
+which would cut a typed -0.8 to -0)."""
+
+
+class Refused(ValueError):
+    """A value that is not applied; the message says why (shown in the message line)."""
+
+
+class Clock(Protocol):
+    """Time and one-shot timers for the bindings."""
+
+    def now(self) -> float:
+        """[s] monotonic."""
+        ...
+
+    def call_later(self, delay: float, fn: Callable[[], None]) -> Callable[[], None]:
+        """Run fn after `delay` [s]; returns a function that cancels it."""
+        ...
+
+
+class ThreadingClock:
+    """time.monotonic and daemon threading.Timer (the running app)."""
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def call_later(self, delay: float, fn: Callable[[], None]) -> Callable[[], None]:
+        timer = threading.Timer(delay, fn)
+        timer.daemon = True
+        timer.start()
+        return timer.cancel
+
+
+class ManualClock:
+    """A clock the test moves by hand: `advance(dt)` runs the timers that fall due, in order."""
+
+    def __init__(self) -> None:
+        self.t = 0.0
+        self._timers: list[tuple[float, int, Callable[[], None]]] = []
+        self._count = 0
+
+    def now(self) -> float:
+        return self.t
+
+    def call_later(self, delay: float, fn: Callable[[], None]) -> Callable[[], None]:
+        self._count += 1
+        entry = (self.t + delay, self._count, fn)
+        self._timers.append(entry)
+
+        def cancel() -> None:
+            if entry in self._timers:
+                self._timers.remove(entry)
+
+        return cancel
+
+    @property
+    def pending(self) -> int:
+        return len(self._timers)
+
+    def advance(self, dt: float) -> None:
+        end = self.t + dt
+        while True:
+            due = sorted(e for e in self._timers if e[0] <= end + 1e-12)
+            if not due:
+                break
+            entry = due[0]
+            self._timers.remove(entry)
+            self.t = max(self.t, entry[0])
+            entry[2]()
+        self.t = end
+
+
+DEFAULT_CLOCK: Clock = ThreadingClock()
+
+
+def spec_check(spec: SliderSpec) -> Callable[[Any], float]:
+    """The check of a slider: a finite float within [spec.lo, spec.hi], else Refused (spec.refusal)."""
+
+    def check(value: Any) -> float:
+        number = spec.check(value)
+        if number is None:
+            raise Refused(spec.refusal(value))
+        return number
+
+    return check
+
+
+def _same(a: Any, b: Any) -> bool:
+    try:
+        return bool(a == b)
+    except ValueError:  # arrays
+        return False
+
+
+class Binding:
+    """One control bound to a simulation value (see the module docstring; made by `bind`)."""
+
+    def __init__(self, handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], Callable[..., Any]],
+                 message: Any, quiet: Any, apply: Callable[[Any], str | None], current: Callable[[], Any],
+                 check: Callable[[Any], Any], clock: Clock) -> None:
+        self.handle = handle
+        self.where = where
+        self._message = message
+        self._quiet = quiet
+        self._apply = apply
+        self._current = current
+        self._check = check
+        self.clock = clock
+        self.held: tuple[Any] | None = None  # (value,) of the update waiting for its pause
+        self.applied = 0  # values applied (tests count them)
+        self.refused = 0
+        self._last_update = -math.inf  # [s] clock time of the last browser update
+        self._cancel: Callable[[], None] | None = None
+        self._active = True
+        self._settle = wrap(f"{where} (settled)", self.settle_now)
+        quiet.guard(handle, self.editing)
+        handle.on_update(wrap(where, self._received))
+
+    # ------------------------------------------------------------------ state
+    def editing(self) -> bool:
+        """True while an edit is held or a browser's last update is less than SETTLE_S old: the
+        server's quiet writes skip the field then."""
+        return self.held is not None or self.clock.now() - self._last_update < SETTLE_S
+
+    def close(self) -> None:
+        """The view goes away: nothing held is applied any more."""
+        self._active = False
+        self.held = None
+        if self._cancel is not None:
+            self._cancel()
+            self._cancel = None
+
+    # ------------------------------------------------------------------ updates
+    def _received(self, event: Any) -> None:
+        if self._quiet.active or not self._active:
+            return  # the server itself is showing a value on the control
+        value = self.handle.value
+        if getattr(event, "client", None) is None:  # the server assigned it (a test, a lesson): at once
+            self.held = None
+            self.decide(value)
+            return
+        now = self.clock.now()
+        in_drag = now - self._last_update <= DRAG_S
+        self._last_update = now
+        if self._cancel is not None:
+            self._cancel()
+            self._cancel = None
+        if in_drag:  # a drag stream: this value is complete, the held older one is superseded
+            self.held = None
+            self.decide(value)
+            return
+        self.held = (value,)
+        self._cancel = self.clock.call_later(SETTLE_S, self._settle)
+
+    def settle_now(self) -> None:
+        """Apply (or refuse) the held value now (what the timer does after SETTLE_S)."""
+        self._cancel = None
+        if self.held is None or not self._active:
+            return
+        (value,) = self.held
+        self.held = None
+        self.decide(value)
+
+    def decide(self, value: Any) -> None:
+        """Check and apply `value`; a refusal is said and the field goes back to the value in force."""
+        try:
+            parsed = self._check(value)
+            self._message.clear()
+            refusal = self._apply(parsed)
+        except Refused as error:
+            refusal = str(error)
+        if refusal is not None:
+            self.refuse(refusal)
+            return
+        self.applied += 1
+
+    def refuse(self, text: str) -> None:
+        """Say `text` and put the field back to the value in force."""
+        self.refused += 1
+        self._message.show(text)
+        self.revert()
+
+    def revert(self) -> None:
+        """The field shows the value in force again (written even while a user edits it)."""
+        current = self._current()
+        if not _same(self.handle.value, current):
+            self._quiet.write(self.handle, current, force=True)
+
+
+def bind(handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], Callable[..., Any]], message: Any,
+         quiet: Any, apply: Callable[[Any], str | None], current: Callable[[], Any],
+         spec: SliderSpec | None = None, check: Callable[[Any], Any] | None = None,
+         clock: Clock | None = None) -> Binding:
+    """Bind `handle` to a simulation value (see the module docstring).
+
+    Args:
+        where: the name errors are reported under ("θ slider").
+        wrap: the session's guard; message: the view's `MessageLine`; quiet: the view's `Quiet`.
+        apply: called with the checked value; returns a refusal text (or raises Refused) or None.
+        current: the value in force, shown again after a refusal.
+        spec: the slider's range (its refusal text), or `check`: value -> parsed, or Refused.
+        clock: the timers (tests pass a ManualClock).
+    """
+    if check is None:
+        if spec is None:
+            raise TypeError("bind needs a spec or a check")
+        check = spec_check(spec)
+    precision = getattr(handle, "precision", None)
+    if isinstance(precision, int) and precision < BOX_DIGITS:
+        handle.precision = BOX_DIGITS  # the box accepts typed decimals (-0.8 on a step-1 slider)
+    return Binding(handle, where=where, wrap=wrap, message=message, quiet=quiet, apply=apply, current=current,
+                   check=check, clock=clock or DEFAULT_CLOCK)
+
+
+# ---------------------------------------------------------------------------- the browser side
+TYPING_GUARD_JS = """
+(() => {
+  if (window.__typedNumbers) return;
+  window.__typedNumbers = true;
+  const SELECTOR = "input.mantine-NumberInput-input";
+  const PAUSE_MS = @PAUSE_MS@;
+  const ALLOWED = /^[0-9.eE+\\-]$/;
+  const proto = Object.getOwnPropertyDescriptor(HTMLInputElement.prototype, "value");
+  const states = new WeakMap();
+  let committing = false;
+  const box = (e) => {
+    const el = e.target;
+    return el instanceof HTMLInputElement && el.matches(SELECTOR) ? el : null;
+  };
+  function stateOf(el) {
+    let s = states.get(el);
+    if (s) return s;
+    const own = Object.getOwnPropertyDescriptor(el, "value") || proto;
+    s = { dirty: false, wanted: null, shown: "", timer: 0, own };
+    states.set(el, s);
+    Object.defineProperty(el, "value", {
+      configurable: true,
+      enumerable: own.enumerable,
+      get() { return own.get.call(el); },
+      set(v) { if (s.dirty) { s.wanted = v; } else { own.set.call(el, v); } },
+    });
+    return s;
+  }
+  function begin(el) {
+    const s = stateOf(el);
+    if (!s.dirty) { s.shown = proto.get.call(el); s.wanted = null; s.dirty = true; }
+    return s;
+  }
+  function revert(el, s) {
+    s.dirty = false;
+    clearTimeout(s.timer);
+    proto.set.call(el, s.wanted !== null ? String(s.wanted) : s.shown);
+    s.wanted = null;
+  }
+  function send(el, text) {
+    committing = true;
+    try {
+      for (const t of ["", text]) {
+        proto.set.call(el, t);
+        try { el.setSelectionRange(t.length, t.length); } catch (_) {}
+        el.dispatchEvent(new Event("input", { bubbles: true }));
+      }
+    } finally { committing = false; }
+  }
+  function commit(el) {
+    const s = states.get(el);
+    if (!s || !s.dirty) return;
+    clearTimeout(s.timer);
+    const text = proto.get.call(el).trim();
+    const x = text === "" ? NaN : Number(text);
+    if (!Number.isFinite(x)) { revert(el, s); return; }
+    s.dirty = false;
+    s.wanted = null;
+    send(el, x.toLocaleString("en-US", { useGrouping: false, maximumFractionDigits: 20 }));
+  }
+  window.addEventListener("keydown", (e) => {
+    const el = box(e);
+    if (!el || committing) return;
+    const s = states.get(el);
+    const dirty = s !== undefined && s.dirty;
+    if (e.key === "Enter") { if (dirty) { e.preventDefault(); e.stopImmediatePropagation(); commit(el); } return; }
+    if (e.key === "Escape") { if (dirty) { e.stopImmediatePropagation(); revert(el, s); } return; }
+    if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key.length === 1) {
+      e.stopImmediatePropagation();
+      if (!ALLOWED.test(e.key)) { e.preventDefault(); return; }
+      begin(el);
+    } else if (e.key === "Backspace" || e.key === "Delete") {
+      e.stopImmediatePropagation();
+      begin(el);
+    } else if (dirty && (e.key === "ArrowUp" || e.key === "ArrowDown")) {
+      e.stopImmediatePropagation();
+    }
+  }, true);
+  window.addEventListener("beforeinput", (e) => {
+    const el = box(e);
+    if (el && !committing && e.inputType !== "insertLineBreak") begin(el);
+  }, true);
+  window.addEventListener("input", (e) => {
+    const el = box(e);
+    if (!el || committing) return;
+    const s = begin(el);
+    e.stopImmediatePropagation();
+    clearTimeout(s.timer);
+    s.timer = setTimeout(() => {
+      const t = proto.get.call(el).trim();
+      if (t !== "" && Number.isFinite(Number(t))) commit(el);
+    }, PAUSE_MS);
+  }, true);
+  window.addEventListener("change", (e) => { if (box(e)) e.stopImmediatePropagation(); }, true);
+  window.addEventListener("focusout", (e) => {
+    const el = box(e);
+    if (!el) return;
+    commit(el);
+    e.stopImmediatePropagation();
+  }, true);
+})();
+""".replace("@PAUSE_MS@", str(TYPED_PAUSE_MS))
+"""The browser half (see the module docstring).  Listeners in the capture phase on `window` run
+before React's (on the root), so a keystroke stopped there never reaches the controlled input;
+the box's own `value` property is wrapped so that what React writes while its user types is
+kept aside and shown when the edit ends."""
+
+
+def install_typing_guard(gui: Any) -> Any:
+    """Add TYPING_GUARD_JS to a client's page (idempotent in the page); returns the GUI handle.
+
+    viser's HTML element sets innerHTML, where a <script> never runs but an image's onerror does:
+    the script rides on an image that cannot load (`data:,`)."""
+    code = html.escape(TYPING_GUARD_JS, quote=True)
+    return gui.add_html(f'<img src="data:," alt="" style="display:none" onerror="{code}">')

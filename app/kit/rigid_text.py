@@ -1,0 +1,161 @@
+"""The rigid-body scenes' texts as pure functions of the simulation (no viser): the status line,
+the readout, the Lagrange tab, the accuracy panel, the ghost's note and the arrows' legend.
+
+Each takes a `RigidBodySimulation` (and what the view chose: the angles shown, the tab's extras)
+and returns Markdown; `app.kit.rigid_view.RigidBodyView` puts them into the panel at the rates
+it chooses.  Tested without a browser in tests/test_rigid_text.py.  Angles in degrees, wrapped
+to (−180°, 180°] (`format_deg`); SI units otherwise.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from app.kit.common import format_deg, format_matrix, gimbal_note
+from app.kit.rigid import INTEGRATOR_EXACT, RigidBodySimulation
+from physics.dynamics import kinetic_energy
+from physics.lagrange import LagrangeTerms, generalized_forces
+
+__all__ = ["READOUT_HEAD", "accuracy_text", "ghost_note", "lagrange_text", "legend_text", "readout_text",
+           "status_text"]
+
+READOUT_HEAD = ("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
+                "Q: generalized forces of φ θ ψ (memo 6.10).")
+
+
+def status_text(sim: RigidBodySimulation, playing: bool, time_scale: float) -> str:
+    """The transport's status line: time, playing or paused, time scale, method."""
+    state = "▶ playing" if playing else "paused"
+    method = ("exact (closed form)" if sim.integrator == INTEGRATOR_EXACT
+              else f"splitting4, {max(sim.substeps, 1)} sub-step(s)/frame")
+    return f"**t = {sim.t:.2f} s** · {state} · {time_scale:g}× · {method}"
+
+
+def accuracy_text(sim: RigidBodySimulation, momentum_label: str) -> str:
+    """The accuracy panel: energy and momentum drift and the attitude error, now and at most."""
+    error = sim.samples.last("attitude_error")
+    if sim.integrator == INTEGRATOR_EXACT:
+        error_line = "attitude error       —  (the integrator IS the exact solution)"
+    elif math.isnan(error):
+        error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"
+    else:
+        error_line = f"attitude error   {error:9.2e} rad   (max {sim.max_drift['attitude_error']:.2e})"
+    return (
+        f"**Accuracy** of {sim.integrator} since t = 0 (relative; exact would be 0)\n"
+        "```\n"
+        f"|ΔE| / E₀      {abs(sim.samples.last('drift_E')):9.2e}       (max {sim.max_drift['drift_E']:.2e})\n"
+        f"|Δ{momentum_label}| / |L₀|  {abs(sim.samples.last('drift_L')):9.2e}"
+        f"       (max {sim.max_drift['drift_L']:.2e})\n"
+        f"{error_line}\n"
+        "```"
+    )
+
+
+def _clean(x: float) -> float:
+    return 0.0 if abs(x) < 5e-5 else float(x)
+
+
+def readout_text(sim: RigidBodySimulation, angles_deg: tuple[float, float, float], extras: str = "") -> str:
+    """The Readout tab: t, the angles (φ θ ψ [deg] as shown), D, ω, L and M in space and body
+    components, T, V, E and the generalized forces Q (6.10); `extras` (monospace lines) below."""
+    R, omega_body = sim.state.R_space_body, sim.state.omega_body
+    phi, theta, psi = angles_deg
+    L_body = np.array(sim.model.inertia) * omega_body
+    T = kinetic_energy(sim.model, omega_body)
+    V = sim.model.potential_energy(R)
+    torque = sim.model.torque_space_at(sim.t, R, omega_body)
+    Q = generalized_forces(sim.angles, torque)
+
+    def row(name: str, v: np.ndarray) -> str:
+        return f"{name:<13}" + "".join(f"{_clean(x):9.4f}" for x in v)
+
+    lines = [  # at most ~42 characters a line: the panel's width
+        f"t = {sim.t:.3f} s    (z-x-z, degrees)",
+        f"φ = {format_deg(phi)}°  θ = {theta:.2f}°  ψ = {format_deg(psi)}°",
+    ]
+    if gimbal_note(theta) is not None:
+        combined = ("φ + ψ", phi + psi) if theta < 90.0 else ("φ − ψ", phi - psi)
+        lines.append(f"gimbal lock: only {combined[0]} = {format_deg(combined[1])}°")
+    lines += [
+        "",
+        "D = Rz(φ) Rx(θ) Rz(ψ), columns x′ y′ z′",
+        format_matrix(R, 4),
+        "",
+        f"{'':<13}{'x | x′':>9}{'y | y′':>9}{'z | z′':>9}",
+        row("ω_s [rad/s]", R @ omega_body),
+        row("ω_b [rad/s]", omega_body),
+        row("L_s [kg m²/s]", R @ L_body),
+        row("L_b [kg m²/s]", L_body),
+        row("M_s [N m]", torque),
+        "",
+        f"T = {T:.5f} J",
+        f"V = {V:.5f} J",
+        f"E = T + V = {T + V:.5f} J",
+        f"Q_φ = M·e_z  = {_clean(Q[0]):.4f} N m",
+        f"Q_θ = M·e_n  = {_clean(Q[1]):.4f} N m",
+        f"Q_ψ = M·e_z′ = {_clean(Q[2]):.4f} N m",
+    ]
+    if extras:
+        lines += ["", extras]
+    return READOUT_HEAD + "\n```\n" + "\n".join(lines) + "\n```"
+
+
+def lagrange_text(sim: RigidBodySimulation, terms: LagrangeTerms | None) -> str:
+    """The Lagrange tab: q, q̇, T (6.4), V and the terms of (5.13) for φ θ ψ on the simulated
+    motion (`physics.lagrange.lagrange_terms`), or why they are undefined (terms None: θ at a pole)."""
+    head = ("Lagrange's equations in q = (φ, θ, ψ) (memo 5.13, 6.4, 6.10), evaluated on the "
+            f"motion computed by **{sim.integrator}**.")
+    if terms is None:
+        return (head + "\n\n**θ is within 2° of 0° or 180°**: the Euler rates q̇ are undefined there "
+                "(det M = I1 I2 I3 sin²θ): the equations in φ θ ψ are singular; the motion itself is not.")
+
+    def row(name: str, v: np.ndarray, scale: float = 1.0) -> str:
+        return f"{name:<15}" + "".join(f"{(0.0 if abs(x) < 5e-9 else x) * scale:11.5f}" for x in v)
+
+    # q in degrees: φ and ψ are the simulation's continuous angles (unwrapped, thousands of
+    # degrees after a long run), shown in (-180°, 180°]; θ is in [0°, 180°].
+    q_deg = np.degrees(terms.q)
+    q_row = f"{'q [deg]':<15}" + "".join(f"{text:>11}" for text in (
+        format_deg(q_deg[0], 5), f"{q_deg[1]:.5f}", format_deg(q_deg[2], 5)))
+    lines = [
+        f"t = {sim.t:.3f} s   T = {terms.T:.5f} J   V = {terms.V:.5f} J",
+        "",
+        f"{'':<15}{'φ':>11}{'θ':>11}{'ψ':>11}",
+        q_row,
+        row("q̇ [deg/s]", terms.qdot, 180.0 / math.pi),
+        row("∂T/∂q̇", terms.dT_dqdot),
+        row("d/dt ∂T/∂q̇", terms.ddt_dT_dqdot),
+        row("− ∂T/∂q", -terms.dT_dq),
+        row("− Q", -terms.Q),
+        "",
+        "residual = d/dt ∂T/∂q̇ − ∂T/∂q − Q [N m]:",
+        "  " + "  ".join(f"{x:.1e}" for x in terms.residual),
+        "",
+        "Q_φ = M·e_z, Q_θ = M·e_n, Q_ψ = M·e_z′ [N m]",
+    ]
+    return (head + "\n```\n" + "\n".join(lines) + "\n```\n"
+            "∂T/∂q̇ in kg m²/s, the other rows in N m.  q̈ comes from Euler's "
+            "equations, not from (5.13): the residual shows that the two agree.")
+
+
+def ghost_note(sim: RigidBodySimulation, k: float, k_label: str) -> str:
+    """The exact ghost's note: the attitude error and how it is drawn at magnification k."""
+    error = sim.attitude_error()
+    if error is None:
+        return f"**Ghost:** no closed form here ({sim.exact_failed})."
+    return (f"**Ghost** (translucent) = R_exact·exp(k·log(R_exactᵀR)): k = 0 is the exact solution, "
+            f"k = 1 lies on the solid body.  Attitude error **{error:.2e} rad**; "
+            f"k = {k_label.split(' ')[0]}, drawn as {k * error:.2e} rad"
+            + (" (beyond π it wraps)." if k * error > math.pi else "."))
+
+
+def legend_text(from_pivot: bool, omega_scale: float, L_scale: float) -> str:
+    """What the arrows mean and their scales [scene units per rad/s, per kg m²/s]."""
+    return (
+        f"Arrows from the {'pivot' if from_pivot else 'centre of mass'}:  \n"
+        f"**ω** (orange): 1 unit = {1.0 / omega_scale:.3g} rad/s  \n"
+        f"**L** (violet): 1 unit = {1.0 / L_scale:.3g} kg m²/s  \n"
+        "Gold: line of nodes e_n.  Red/green/blue: space x y z; dark: body x′ y′ z′."
+    )

@@ -1,0 +1,99 @@
+"""Every scene's bound controls, through a raw websocket client against the real app: a refused
+value leaves the simulation unchanged, the message line says why, and the control shows the
+value in force again (app.kit.binding; a browser's update applies after SETTLE_S)."""
+
+from __future__ import annotations
+
+import copy
+from typing import Any
+
+import numpy as np
+import pytest
+
+
+def snapshot(sim: Any) -> Any:
+    """What a refused edit must leave unchanged, for every kind of simulation."""
+    keys = ("model", "angles_deg", "rates_deg", "moments", "setup", "masses", "positions", "about", "mesh_mass",
+            "preset", "restarts")
+    state = getattr(sim, "state", None)
+    parts = {key: copy.deepcopy(getattr(sim, key)) for key in keys if hasattr(sim, key)}
+    if state is not None and hasattr(state, "R_space_body"):
+        parts["R"] = state.R_space_body.copy()
+        parts["omega"] = state.omega_body.copy()
+    return parts
+
+
+def assert_same(a: dict[str, Any], b: dict[str, Any]) -> None:
+    assert a.keys() == b.keys()
+    for key in a:
+        if isinstance(a[key], np.ndarray) or isinstance(b[key], np.ndarray):
+            np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+        else:
+            assert a[key] == b[key], key
+
+
+# (scene, control (view -> handle), refused value, what the message says)
+CASES = [
+    ("Euler angles", lambda v: v.gui_angles[1], 500.0, "θ [deg] = 500.0 refused: the range is 0 to 180"),
+    ("Euler angles", lambda v: v.gui_rates[0], float("nan"), "nan refused"),
+    ("Euler angles", lambda v: v.gui_moments[2], 4.9, "I3 = 4.9 refused: not a rigid body"),
+    ("Euler angles", lambda v: v.transport.gui_time_scale, 100.0, "Time scale 100.0 refused"),
+    ("Free body", lambda v: v.gui_params[2], 4.9, "Not a rigid body"),
+    ("Free body", lambda v: v.gui_angles[0], 1e6, "1000000.0 refused: the range is -180 to 180"),
+    ("Free body", lambda v: v.gui_rates[1], -1e3, "-1000.0 refused"),
+    ("Heavy top", lambda v: v.gui_params[1], 4.9, "Not a rigid body"),
+    ("Heavy top", lambda v: v.gui_params[2], -1.0, "-1.0 refused: the range is 0 to 30"),
+    ("Poinsot", lambda v: v.gui_energy, 7.0, "refused"),
+    ("Moving frame", lambda v: v.gui_params[v._param_keys.index("k")], 1e6, "1000000.0 refused"),
+    ("Moving frame", lambda v: v.gui_angles[1], -5.0, "-5.0 refused"),
+    ("Inertia", lambda v: v.gui_mass, -5.0, "m [kg] = -5.0 refused: the range is 0.1 to 10"),
+    ("Inertia", lambda v: v.gui_mass, 0.0, "m [kg] = 0.0 refused"),
+    ("Inertia", lambda v: v.gui_mass, 1e9, "m [kg] = 1000000000.0 refused"),
+    ("Inertia", lambda v: v.gui_position, (99.0, 0.0, 0.0), "x = (99.0, 0.0, 0.0) refused: three numbers within"),
+    ("Inertia", lambda v: v.gui_about, (0.0, float("nan"), 0.0), "O = (0.0, nan, 0.0) refused"),
+    ("Inertia", lambda v: v.gui_mesh_mass, -1.0, "Refused: mass -1.0 kg: a number from 0.001 to 10000 wanted"),
+]
+
+
+@pytest.mark.parametrize(("scene", "control", "bad", "said"), CASES,
+                         ids=[f"{c[0]}-{k}" for k, c in enumerate(CASES)])
+def test_a_refused_value_changes_nothing_says_why_and_the_control_goes_back(manual, scene: str, control: Any,
+                                                                              bad: Any, said: str) -> None:
+    session = manual.session
+    session.select_scene(scene)
+    view = session.scene
+    handle = control(view)
+    shown = handle.value
+    before = snapshot(view.sim)
+    manual.client.set_value(handle, bad)
+    manual.wait(lambda: said in view.message.text)
+    assert_same(snapshot(view.sim), before)
+    assert handle.value == pytest.approx(shown, abs=1e-9)  # the value in force, not the refused one
+    assert session.last_error is None
+
+
+def test_letters_sent_for_a_mass_change_nothing(manual) -> None:
+    """viser 1.1.1 casts a slider's incoming value with float() before any callback: "abc" never
+    reaches the app (the binding refuses strings that do: tests/test_binding.py), "2" does."""
+    session = manual.session
+    session.select_scene("Inertia")
+    view = session.scene
+    masses = view.sim.masses.copy()
+    manual.client.set_value(view.gui_mass, "abc")
+    manual.client.set_value(view.gui_position, ("a", "b", "c"))
+    masses[view.selected] = 2.0
+    manual.client.set_value(view.gui_mass, "2")
+    manual.wait(lambda: view.sim.masses[view.selected] == 2.0)
+    np.testing.assert_array_equal(view.sim.masses, masses)
+    assert session.last_error is None
+
+
+def test_a_good_value_after_a_refusal_applies_and_clears_the_message(manual) -> None:
+    session = manual.session
+    session.select_scene("Inertia")
+    view = session.scene
+    manual.client.set_value(view.gui_mass, 1e9)
+    manual.wait(lambda: "refused" in view.message.text)
+    manual.client.set_value(view.gui_mass, 2.5)
+    manual.wait(lambda: view.sim.masses[view.selected] == 2.5)
+    assert view.message.text == "" and view.gui_mass.value == 2.5

@@ -1,0 +1,118 @@
+"""Typed numbers arrive as typed, in headless Chromium, through the page only.
+
+What the browser did before (measured, app.kit.binding's docstring): `-0.8` typed into a number
+box arrived as 0 then 0.8, `1e-3` as 1, -1, -13, -10, `1e9` as 1, 19 and then the maximum.  Here
+the keys are typed into the boxes (`page.keyboard.type` with a delay per key), the edit ends with
+Tab, Enter or a pause, and the server's state is read: the value applied is exactly the one
+typed; a refused value is said in the page and the box shows the value in force again; a
+mouse drag of a slider thumb still moves the value while the mouse moves.
+"""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from app.kit.binding import TYPED_PAUSE_MS
+from app.main import App
+from tests.test_browser import open_app
+
+pytestmark = pytest.mark.browser
+
+
+def number_box(page, handle):
+    """The number box of a slider (beside its track) or the first box of a number / vector field."""
+    root = page.locator(f'[id="{handle._impl.uuid}"]')
+    if root.evaluate("el => el.tagName") == "INPUT":
+        return root
+    return root.locator("xpath=..").locator("input.mantine-NumberInput-input")
+
+
+def type_into(page, box, text: str, delay: float, end: str | None) -> None:
+    """Select the box's text and type `text`, `delay` ms per key; then press `end` (or pause)."""
+    box.click()
+    if not box.evaluate("el => el === document.activeElement"):
+        box.focus()  # a click just after another box's commit may land while the panel re-renders
+    page.keyboard.press("Control+A")
+    page.keyboard.type(text, delay=delay)
+    if end is not None:
+        page.keyboard.press(end)
+
+
+def test_typed_values_arrive_exactly_and_a_refused_moment_goes_back(wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    view = session.scene  # Euler angles
+    phi = number_box(page, view.gui_angles[0])
+    type_into(page, phi, "-0.8", delay=0, end="Tab")
+    wait_until(lambda: view.sim.angles_deg[0] == -0.8, timeout=10.0)
+    time.sleep(0.5)
+    assert view.sim.angles_deg[0] == -0.8 and phi.input_value() == "-0.8"  # not 0.8, not rounded to -1
+
+    psi = number_box(page, view.gui_angles[2])
+    type_into(page, psi, "2.5", delay=150, end="Enter")
+    wait_until(lambda: view.sim.angles_deg[2] == 2.5, timeout=10.0)
+    rate = number_box(page, view.gui_rates[1])
+    type_into(page, rate, "-12.25", delay=80, end=None)  # no key at the end: the pause commits it
+    wait_until(lambda: view.sim.rates_deg[1] == -12.25, timeout=5.0 + TYPED_PAUSE_MS / 1000.0)
+    assert view.sim.angles_deg[0] == -0.8  # the other fields kept what was typed into them
+
+    page.get_by_text("Body: principal moments").click()  # the folder opens
+    i3 = number_box(page, view.gui_moments[2])
+    i3.wait_for(timeout=10_000)
+    moments = view.sim.moments
+    type_into(page, i3, "1e9", delay=100, end="Tab")  # out of range
+    page.get_by_text("I3 [kg m²] = 1000000000.0 refused").wait_for(timeout=10_000)
+    wait_until(lambda: i3.input_value() == f"{moments[2]:g}", timeout=10.0)
+    type_into(page, i3, "4", delay=100, end="Enter")  # in range, but 1 + 2 < 4: not a body
+    page.get_by_text("I3 = 4 refused: not a rigid body", exact=False).wait_for(timeout=10_000)
+    wait_until(lambda: i3.input_value() == f"{moments[2]:g}", timeout=10.0)
+    assert view.sim.moments == moments and view.gui_moments[2].value == moments[2]
+    assert session.last_error is None
+
+
+def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    session.select_scene("Inertia")
+    page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
+    view = session.scene
+    masses = view.sim.masses.copy()
+    mass = number_box(page, view.gui_mass)
+    type_into(page, mass, "1e9", delay=60, end="Tab")
+    page.get_by_text("m [kg] = 1000000000.0 refused", exact=False).wait_for(timeout=10_000)
+    wait_until(lambda: mass.input_value() == f"{masses[view.selected]:g}", timeout=10.0)
+    assert (view.sim.masses == masses).all()  # not clamped to 10 kg on the way
+    type_into(page, mass, "2.5", delay=60, end="Enter")
+    wait_until(lambda: view.sim.masses[view.selected] == 2.5, timeout=10.0)
+
+    x = number_box(page, view.gui_position)
+    type_into(page, x, "-0.8", delay=60, end="Tab")
+    wait_until(lambda: view.sim.positions[view.selected][0] == -0.8, timeout=10.0)
+
+    page.get_by_text("Solid mesh").click()
+    weight = number_box(page, view.gui_mesh_mass)
+    weight.wait_for(timeout=10_000)
+    type_into(page, weight, "1e-3", delay=60, end="Enter")  # the box's step (0.001) allows it
+    wait_until(lambda: view.gui_mesh_mass.value == 0.001, timeout=10.0)
+    assert weight.input_value() == "0.001" and session.last_error is None
+
+
+def test_a_slider_thumb_dragged_with_the_mouse_moves_the_value_while_dragging(wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    view = session.scene
+    start = view.sim.angles_deg[0]
+    thumb = page.locator(f'[id="{view.gui_angles[0]._impl.uuid}"] [role="slider"]')
+    box = thumb.bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(x, y)
+    page.mouse.down()
+    seen = []
+    for k in range(1, 13):
+        page.mouse.move(x + 4 * k, y)
+        time.sleep(0.03)
+        seen.append(view.sim.angles_deg[0])
+    during = set(seen)
+    page.mouse.up()
+    wait_until(lambda: view.sim.angles_deg[0] == view.gui_angles[0].value, timeout=5.0)
+    assert len(during - {start}) >= 3  # the body followed the thumb while the mouse was down
+    assert view.sim.angles_deg[0] > start and session.last_error is None

@@ -1,0 +1,43 @@
+"""Overload is shown: when browsers get fewer than BUSY_SHARE x 60 frames a second, every panel
+says "Server busy: N frames a second"; it goes away when the server keeps up again."""
+
+from __future__ import annotations
+
+import time
+
+from conftest import RawClient, poll_until
+
+from app.main import BUSY_SHARE, create_server, load_note
+
+
+def test_the_note_follows_the_rate_browsers_get() -> None:
+    assert load_note(120, 240, 0, 2.0, 60.0) == ""  # 60 fps, every client frame drawn
+    assert load_note(int(2 * BUSY_SHARE * 60) + 1, 100, 0, 2.0, 60.0) == ""
+    note = load_note(48, 48, 0, 2.0, 60.0)  # 24 loop iterations a second
+    assert "Server busy: 24 frames a second" in note and "of 60" in note
+    # The loop runs at 60 but half the client frames are skipped (their last frame had not left).
+    assert "Server busy: 30 frames a second" in load_note(120, 100, 100, 2.0, 60.0)
+    assert load_note(0, 0, 0, 0.0, 60.0) == ""
+
+
+def test_a_slow_loop_is_said_in_the_panel_and_the_note_goes_when_it_keeps_up() -> None:
+    app = create_server("127.0.0.1", 0, verbose=False)
+    client = RawClient(app.port)
+    try:
+        session = next(iter(app.wait_for_sessions(1).values()))
+        room = session.room
+        advance = room.advance
+
+        def slow(dt: float) -> None:  # a frame that costs 40 ms: the loop manages ~25 a second
+            time.sleep(0.04)
+            advance(dt)
+
+        room.advance = slow  # type: ignore[method-assign]
+        poll_until(lambda: session.gui_load.visible, timeout=10.0)
+        assert "Server busy" in session.gui_load.content and app.load == session.gui_load.content
+        room.advance = advance  # type: ignore[method-assign]
+        poll_until(lambda: not session.gui_load.visible, timeout=10.0)
+        assert app.load == ""
+    finally:
+        client.close()
+        app.stop()
