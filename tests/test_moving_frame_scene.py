@@ -322,6 +322,7 @@ def test_riding_turns_the_world_so_that_C_prime_stands_still(manual) -> None:  #
 
 def test_a_paused_frame_sends_nothing_and_a_playing_one_only_moving_nodes(manual, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     session, view = _open(manual)
+    manual.tick(0.2)  # the labels' layer lays out once for the camera the session has just set
     sent: list[str] = []
     api = session.client.scene
     original = api._queue_scene_message

@@ -37,6 +37,10 @@
      (with its gimbal-lock fade), `Vector` (an arrow and its label: ω, L), `TraceLines` (a
      simulation's trace, sent chunk by chunk);
    - `app.kit.common`: colours, lengths, `Throttle`, formatting, `gimbal_note`.
+   - 3D labels: every label goes to the view's `self.labels` (`app.kit.labels.LabelLayer`) with a
+     priority (KEY, AXES, DETAIL; the widgets take `labels=`); who wants one shown calls
+     `labels.want(label, visible)`, never `label.visible = ...`; `frame` ends with
+     `self.labels.update(dt)` and `refresh` with `self.labels.settle()`, so no two labels overlap.
 
    Every callback goes through `wrap(where, fn)` (the session's guard: the room's lock, errors
    shown, never raised).  A control bound to a simulation value is one call,

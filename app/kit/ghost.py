@@ -15,6 +15,7 @@ from collections.abc import Callable
 from typing import Any
 
 from app.kit.gui import MessageLine, Quiet, Wrap
+from app.kit.labels import LabelLayer
 from app.kit.rigid import RigidBodySimulation, magnified_attitude
 from app.kit.rigid_text import ghost_note
 from app.kit.widgets import Body
@@ -69,8 +70,9 @@ class ExactGhost:
 
     def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, quiet: Quiet, *, scene: Any, root: str,
                  shape: Shape, axis_length: float, sim: RigidBodySimulation,
-                 on_change: Callable[[], None]) -> None:
+                 on_change: Callable[[], None], labels: LabelLayer | None = None) -> None:
         self._scene, self._root, self._shape, self._axis_length = scene, root, shape, axis_length
+        self._labels = labels  # the view's LabelLayer (the ghost's axis labels stay hidden with its axes)
         self.sim = sim
         self._message, self._quiet, self._on_change = message, quiet, on_change
         self.body: Body | None = None
@@ -95,7 +97,7 @@ class ExactGhost:
             model = self.sim.model
             self.body = Body(Translucent(self._scene, GHOST_OPACITY), f"{self._root}/ghost",
                              lambda scene, parent: self._shape(scene, parent, model),
-                             axis_length=self._axis_length, show_axes=False)
+                             axis_length=self._axis_length, show_axes=False, labels=self._labels)
             self._model = model
         self._quiet.write(self.gui_toggle, bool(on))
         self.gui_k.visible = bool(on)

@@ -47,6 +47,7 @@ from app.kit.common import (
 from app.kit.ghost import ExactGhost
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.hand import HandControls
+from app.kit.labels import DETAIL
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
 from app.kit.rigid import (
@@ -255,18 +256,19 @@ class RigidBodyView(SceneView):
     def _build_scene(self) -> None:
         scene = self.client.scene
         root = self.root
-        Stage(scene, root, grid_z=self.grid_z)
+        labels = self.labels
+        Stage(scene, root, grid_z=self.grid_z, labels=labels)
         model = self.sim.model
         self.body = Body(scene, f"{root}/body", lambda s, parent: self.build_shape(s, parent, model),
-                         axis_length=self.body_axis_length)
+                         axis_length=self.body_axis_length, labels=labels)
         self._drawn_model = model
-        self.nodes = LineOfNodes(scene, f"{root}/nodes")
-        self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω")
-        self.L = Vector(scene, f"{root}/L", L_COLOR, "L")
+        self.nodes = LineOfNodes(scene, f"{root}/nodes", labels=labels)
+        self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω", labels=labels)
+        self.L = Vector(scene, f"{root}/L", L_COLOR, "L", labels=labels)
         # The Lagrange tab: the torque M and its projections Q_φ e_z, Q_θ e_n, Q_ψ e_z′ (6.10).
         self.q_vectors = {
             key: Vector(scene, f"{root}/lagrange/{key}", color, label, shaft_radius=0.02, head_radius=0.06,
-                        head_length=0.12, font_scale=1.6, label_at_middle=key != "M")
+                        head_length=0.12, font_scale=1.6, label_at_middle=key != "M", labels=labels, priority=DETAIL)
             for key, color, label in (("M", (60, 60, 60), "M"), ("phi", (140, 50, 210), "Q_φ e_z"),
                                       ("theta", (215, 0, 120), "Q_θ e_n"), ("psi", (0, 140, 140), "Q_ψ e_z′"))
         }
@@ -300,7 +302,7 @@ class RigidBodyView(SceneView):
                 self.gui_show_body_axes = gui.add_checkbox("Body axes x′ y′ z′", True)
                 self.ghost = ExactGhost(gui, wrap, self.message, self.quiet, scene=self.client.scene, root=self.root,
                                         shape=self.build_shape, axis_length=self.body_axis_length, sim=self.sim,
-                                        on_change=self.room.refresh)
+                                        on_change=self.room.refresh, labels=self.labels)
                 self.gui_ghost = self.ghost.gui_toggle  # a lesson step switches it by its label
                 self.build_display_extras(gui)
                 self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
@@ -356,6 +358,7 @@ class RigidBodyView(SceneView):
                     self._restarted()
                 self._drawn_version = sim.version
                 self._draw()
+            self.labels.update(dt)
             if not self.room.playing:
                 return
             if self._slider_throttle.ready(dt) and self.tabs.shown == "Setup":
@@ -398,6 +401,7 @@ class RigidBodyView(SceneView):
                 self._push_plots()
             if self.hand is not None:
                 self.hand.refresh()
+            self.labels.settle()
 
     # ------------------------------------------------------------------ drawing
     def _restarted(self) -> None:

@@ -84,6 +84,9 @@ class Simulation(Protocol):
 class View(Protocol):
     """What a room needs from a view (one browser's drawing of the room's simulation)."""
 
+    timeline: Any
+    """The view's replay `Timeline` (`app.kit.timeline`), redrawn after the view; None if none."""
+
     def frame(self, dt: float) -> None:
         """The per-frame update after the simulation advanced; dt [s] of wall time."""
 

@@ -25,7 +25,7 @@ import numpy as np
 from app.kit.common import CameraView
 from physics.quaternion import matrix_from_wxyz
 
-__all__ = ["LabelBox", "label_boxes", "overlapping", "project"]
+__all__ = ["LabelBox", "label_boxes", "overlapping", "project", "project_one", "text_box"]
 
 REFERENCE_HEIGHT_PX = 800.0  # viser sizes screen labels relative to an 800 px tall viewport
 SCREEN_EM_PX = 12.0  # [px] a screen label's em at font_screen_scale 1, at REFERENCE_HEIGHT_PX
@@ -59,6 +59,27 @@ def project(view: CameraView, points: Any, width: int, height: int) -> tuple[np.
     pixels = np.stack([x, y], axis=-1)
     pixels[depth <= NEAR] = np.nan
     return pixels, depth
+
+
+def project_one(view: CameraView, point: Any, width: int, height: int) -> tuple[tuple[float, float], float]:
+    """`project` for one point (3,) on Python floats (a few µs, for per-frame layout): its pixel
+    (x, y) and depth [scene units]; NaN pixels if depth <= NEAR."""
+    ex, ey, ez = view.position
+    fx, fy, fz = view.look_at[0] - ex, view.look_at[1] - ey, view.look_at[2] - ez
+    norm = math.sqrt(fx * fx + fy * fy + fz * fz)
+    fx, fy, fz = fx / norm, fy / norm, fz / norm
+    ux, uy, uz = view.up
+    rx, ry, rz = fy * uz - fz * uy, fz * ux - fx * uz, fx * uy - fy * ux
+    norm = math.sqrt(rx * rx + ry * ry + rz * rz)
+    rx, ry, rz = rx / norm, ry / norm, rz / norm
+    sx, sy, sz = ry * fz - rz * fy, rz * fx - rx * fz, rx * fy - ry * fx  # screen up = right x forward
+    dx, dy, dz = float(point[0]) - ex, float(point[1]) - ey, float(point[2]) - ez
+    depth = dx * fx + dy * fy + dz * fz
+    if depth <= NEAR:
+        return (math.nan, math.nan), depth
+    focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
+    return (0.5 * width + focal * (dx * rx + dy * ry + dz * rz) / depth,
+            0.5 * height - focal * (dx * sx + dy * sy + dz * sz) / depth), depth
 
 
 @dataclass(frozen=True)
@@ -105,7 +126,9 @@ def _world_poses(handles: dict[str, Any]) -> dict[str, tuple[np.ndarray, np.ndar
     return poses
 
 
-def _box(anchor: str, x: float, y: float, text: str, em: float) -> tuple[float, float, float, float]:
+def text_box(anchor: str, x: float, y: float, text: str, em: float) -> tuple[float, float, float, float]:
+    """The padded text block (x0, y0, x1, y1) [px] of a label whose `anchor` ("top-left", ...,
+    "center-center", "bottom-right") sits at (x, y) [px]; em [px] is its font size."""
     lines = text.split("\n")
     w = max(len(line) for line in lines) * CHAR_WIDTH_EM * em + 2.0 * PADDING_EM * em
     h = len(lines) * LINE_HEIGHT_EM * em + 2.0 * PADDING_EM * em
@@ -131,7 +154,8 @@ def label_boxes(scene: Any, view: CameraView, width: int, height: int) -> list[L
         if not (0.0 <= x <= width and 0.0 <= y <= height):  # NaN too: behind the camera
             continue
         em = SCREEN_EM_PX * float(handle.font_screen_scale) * height / REFERENCE_HEIGHT_PX
-        boxes.append(LabelBox(name, text, (float(x), float(y)), _box(str(handle.anchor), float(x), float(y), text, em)))
+        box = text_box(str(handle.anchor), float(x), float(y), text, em)
+        boxes.append(LabelBox(name, text, (float(x), float(y)), box))
     return boxes
 
 

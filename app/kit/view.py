@@ -9,6 +9,10 @@ classmethods `new_simulation` and `apply_preset`, and ends its `__init__` with `
 A scene whose room records its motion (`Room.history`: the simulation is replayable, see
 `app.kit.history`) and that has a `transport` gets a `Timeline` (`app.kit.timeline`) right
 under it, built here; the room draws it after the view.
+
+Its 3D labels are registered with `self.labels` (a `LabelLayer`: "this label, this priority"),
+and its `frame` and `refresh` end by laying them out (`labels.update(dt)`, `labels.settle()`),
+so that no two overlap on the controlling browser's screen.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import viser
 from app.kit.binding import Binding, Clock, bind, install_typing_guard
 from app.kit.common import CameraView, SliderSpec, apply_camera
 from app.kit.gui import MessageLine, Quiet, Tabs, Transport, Wrap
+from app.kit.labels import LabelLayer
 from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
 from app.kit.target import DrawTarget, as_target
@@ -75,6 +80,9 @@ class SceneView:
         self._gui_roots: list[Any] = []
         self._bindings: list[Binding] = []
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
+        # Every 3D label of the view is registered here with a priority; `frame` ends with
+        # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.labels).
+        self.labels = LabelLayer(target.camera, type(self).view)
 
     def build(self) -> None:
         """Build the nodes and the panel (`_build_scene`, `_build_gui`), join the room, draw."""

@@ -6,6 +6,10 @@ vector arrows with a label (ω, L), and the lines of a simulation's trace (`Trac
 Per frame a widget changes only small properties of nodes built once (a pose, an arrow's two
 points, a label's position), and only when they changed: a node is never rebuilt while a scene
 plays.  Everything is drawn through the `scene` it is given (`client.scene`: one browser).
+
+Their labels are registered with the view's `LabelLayer` (`labels=`, app.kit.labels) at a
+priority: space axes and vectors KEY, body axes and the line of nodes AXES.  The layer decides
+which are shown; a widget only says whether it wants its label (`LabelLayer.want`).
 """
 
 from __future__ import annotations
@@ -31,6 +35,7 @@ from app.kit.common import (
     polyline_segments,
 )
 from app.kit.fastprops import set_points, set_position, set_wxyz
+from app.kit.labels import AXES, KEY, LabelLayer
 from app.kit.trace import Trace
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
@@ -40,11 +45,26 @@ __all__ = ["FADE_LEVELS", "Body", "LineOfNodes", "Stage", "TraceLines", "Vector"
 FADE_LEVELS = 8  # the line of nodes fades in this many steps (one colour message per step)
 
 
+def _register(labels: LabelLayer | None, handle: Any, priority: float) -> Any:
+    """Register a label with the view's layer (if the widget was given one); returns it."""
+    if labels is not None:
+        labels.add(handle, priority)
+    return handle
+
+
+def _want(labels: LabelLayer | None, handle: Any, visible: bool) -> None:
+    """Whether a label should be shown: through the layer if it has one, else directly."""
+    if labels is not None:
+        labels.want(handle, visible)
+    elif handle.visible != visible:
+        handle.visible = visible
+
+
 class Stage:
     """The grid (at height `grid_z`) and the space axes x y z with their labels, under `root`."""
 
     def __init__(self, scene: Any, root: str, *, grid_z: float = 0.0, size: float = 5.0,
-                 axis_length: float = SPACE_AXIS_LENGTH) -> None:
+                 axis_length: float = SPACE_AXIS_LENGTH, labels: LabelLayer | None = None) -> None:
         scene.add_grid(
             f"{root}/grid", width=size, height=size, plane="xy", cell_size=0.5, section_size=1.0,
             cell_color=(225, 225, 225), section_color=(190, 190, 190), shadow_opacity=0.0,
@@ -55,9 +75,9 @@ class Stage:
             shaft_radius=0.014, head_radius=0.045, head_length=0.11,
         )
         for k, name in enumerate("xyz"):
-            scene.add_label(f"{root}/space_labels/{name}", name,
-                            position=tuple((axis_length + 0.14) * np.eye(3)[k]),
-                            font_screen_scale=LABEL_SCALE, anchor="center-center")
+            _register(labels, scene.add_label(f"{root}/space_labels/{name}", name,
+                                              position=tuple((axis_length + 0.14) * np.eye(3)[k]),
+                                              font_screen_scale=LABEL_SCALE, anchor="center-center"), KEY)
 
 
 class Body:
@@ -68,7 +88,7 @@ class Body:
     """
 
     def __init__(self, scene: Any, name: str, build_shape: Callable[[Any, str], None], *,
-                 axis_length: float = 1.0, show_axes: bool = True) -> None:
+                 axis_length: float = 1.0, show_axes: bool = True, labels: LabelLayer | None = None) -> None:
         self._scene = scene
         self.node = scene.add_frame(name, show_axes=False)
         self._shape_name = f"{name}/shape"
@@ -80,8 +100,9 @@ class Body:
             shaft_radius=0.022, head_radius=0.06, head_length=0.13,
         )
         for k, label in enumerate(("x′", "y′", "z′")):
-            scene.add_label(f"{name}/axes/labels/{k}", label, position=tuple((axis_length + 0.15) * np.eye(3)[k]),
-                            font_screen_scale=LABEL_SCALE, anchor="center-center")
+            _register(labels, scene.add_label(f"{name}/axes/labels/{k}", label,
+                                              position=tuple((axis_length + 0.15) * np.eye(3)[k]),
+                                              font_screen_scale=LABEL_SCALE, anchor="center-center"), AXES)
         self._wxyz: tuple[float, ...] = ()
 
     def pose(self, R_space_body: Mat3) -> None:
@@ -107,16 +128,17 @@ class LineOfNodes:
     its x axis, fading to grey within GIMBAL_FADE_DEG of θ = 0° or 180° and labelled
     "(undefined)" within GIMBAL_LOCK_DEG, where only φ ± ψ is defined."""
 
-    def __init__(self, scene: Any, name: str, *, half_length: float = NODES_HALF_LENGTH) -> None:
+    def __init__(self, scene: Any, name: str, *, half_length: float = NODES_HALF_LENGTH,
+                 labels: LabelLayer | None = None) -> None:
         self.node = scene.add_frame(name, show_axes=False)
         self.line = scene.add_line_segments(
             f"{name}/line", np.array([[[-half_length, 0.0, 0.0], [half_length, 0.0, 0.0]]]),
             NODES_COLOR, thickness=6.0, thickness_units="screen",
         )
-        self.label = scene.add_label(
+        self.label = _register(labels, scene.add_label(
             f"{name}/label", "line of nodes", position=(0.8 * half_length, 0.0, 0.04),
             font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
-        )
+        ), AXES)
         self._level = -1
         self._phi = math.nan
 
@@ -150,16 +172,19 @@ class LineOfNodes:
 
 
 class Vector:
-    """An arrow from `origin` to a tip, with a label just beyond the tip (ω, L, ...)."""
+    """An arrow from `origin` to a tip, with a label just beyond the tip (ω, L, ...), wanted
+    whenever the arrow is drawn (`show_label(False)` drops it while the arrow stays)."""
 
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, *,
                  origin: tuple[float, float, float] = (0.0, 0.0, 0.0), shaft_radius: float = 0.03,
                  head_radius: float = 0.08, head_length: float = 0.16, font_scale: float = 2.4,
-                 label_at_middle: bool = False) -> None:
+                 label_at_middle: bool = False, labels: LabelLayer | None = None, priority: float = KEY) -> None:
         self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3)), color, shaft_radius=shaft_radius,
                                       head_radius=head_radius, head_length=head_length, visible=False)
-        self.label = scene.add_label(f"{name}_label", text, font_screen_scale=font_scale,
-                                     anchor="center-left" if label_at_middle else "center-center", visible=False)
+        self.label = _register(labels, scene.add_label(
+            f"{name}_label", text, font_screen_scale=font_scale,
+            anchor="center-left" if label_at_middle else "center-center", visible=False), priority)
+        self._labels = labels
         self.origin = (float(origin[0]), float(origin[1]), float(origin[2]))
         self.label_at_middle = label_at_middle  # else just beyond the tip
         self.enabled = True  # the user's display toggle
@@ -168,6 +193,10 @@ class Vector:
     @property
     def visible(self) -> bool:
         return bool(self.arrow.visible)
+
+    def show_label(self, wanted: bool) -> None:
+        """Whether the label is wanted (while the arrow is drawn; e.g. not for a short arrow)."""
+        _want(self._labels, self.label, wanted and self.visible)
 
     def update(self, vector: Vec3, *, start: Vec3 | None = None, rtol: float = 0.0) -> None:
         """Draw `vector` [scene units] from `start` (default: the origin given at construction);
@@ -183,7 +212,7 @@ class Vector:
         visible = self.enabled and length > 1e-3
         if self.arrow.visible != visible:
             self.arrow.visible = visible
-            self.label.visible = visible
+            _want(self._labels, self.label, visible)
             self._tip = None
         if not visible:
             return

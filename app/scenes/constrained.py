@@ -43,6 +43,7 @@ import viser
 from app.kit.common import CameraView, SliderSpec, Throttle
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
+from app.kit.labels import DETAIL
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -393,7 +394,7 @@ class ConstrainedView(SceneView):
     # ------------------------------------------------------------------ building
     def _build_scene(self) -> None:
         scene = self.client.scene
-        Stage(scene, f"{self.root}/stage", grid_z=-2.4, size=6.0, axis_length=1.2)
+        Stage(scene, f"{self.root}/stage", grid_z=-2.4, size=6.0, axis_length=1.2, labels=self.labels)
         self.pivot = scene.add_icosphere(f"{self.root}/pivot", radius=0.04, color=ROD_COLOR, subdivisions=1,
                                          cast_shadow=False, receive_shadow=False)
 
@@ -420,12 +421,14 @@ class ConstrainedView(SceneView):
         # With two coordinates the second arrow's label sits at its middle (two tips are often close).
         self.dx_arrows = [[_Arrow(scene, f"{base}/dx{i}_{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
                                   shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.3,
-                                  label_at_middle=j == 1)
+                                  label_at_middle=j == 1, labels=self.labels, priority=DETAIL)
                            for j in range(m)] for i in range(n)]
         self.F_arrows = [_Arrow(scene, f"{base}/F{i}", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
-                                head_radius=0.045, head_length=0.09, font_scale=1.5) for i in range(n)]
+                                head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
+                         for i in range(n)]
         self.C_arrows = [_Arrow(scene, f"{base}/C{i}", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
-                                head_radius=0.045, head_length=0.09, font_scale=1.5) for i in range(n)]
+                                head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
+                         for i in range(n)]
 
     def _build_gui(self) -> None:
         gui = self.client.gui
@@ -558,10 +561,12 @@ class ConstrainedView(SceneView):
     # ------------------------------------------------------------------ the view protocol
     def frame(self, dt: float) -> None:
         if self.sim.version == self._drawn_version:
+            self.labels.update(dt)  # the camera may have moved
             return
         with self.client.atomic():
             self._ensure_system_built()
             self._draw()
+            self.labels.update(dt)
             if self._readout_throttle.ready(dt):
                 self._refresh_status()
                 if self.tabs is not None and self.tabs.shown == "Readout":
@@ -583,6 +588,7 @@ class ConstrainedView(SceneView):
             self._refresh_status()
             self._render_readout()
             self.plots.push()
+            self.labels.settle()
 
     def _show_state_sliders(self) -> None:
         """While playing the q, q̇ sliders follow the motion; paused at t = 0 they show the setup."""
@@ -713,6 +719,8 @@ class _Arrow(Vector):
 
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, labelled: bool,
                  **kwargs: Any) -> None:
+        if not labelled:
+            kwargs.pop("labels", None)  # no label: nothing for the view's LabelLayer
         super().__init__(scene, name, color, text, **kwargs)
         self.labelled = labelled
         if not labelled:

@@ -61,6 +61,7 @@ from app.kit.common import (
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
+from app.kit.labels import AXES, DETAIL
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
@@ -316,8 +317,9 @@ class EulerAnglesView(SceneView):
     def _build_scene(self) -> None:
         scene = self.client.scene
         root = self.root
-        Stage(scene, root, size=4.0)
-        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH)
+        labels = self.labels
+        Stage(scene, root, size=4.0, labels=labels)
+        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
         # Intermediate frames of the decomposition: thin, faint, toggleable.
         self.after_phi_node = scene.add_frame(f"{root}/after_phi", show_axes=False)
         self.after_theta_node = scene.add_frame(f"{root}/after_theta", show_axes=False)
@@ -327,36 +329,37 @@ class EulerAnglesView(SceneView):
                 np.repeat(np.array(FRAME_COLORS, dtype=np.uint8)[:, None, :], 2, axis=1),
                 thickness=2.5, thickness_units="screen",
             )
-            scene.add_label(f"{node.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
-                            font_screen_scale=1.3, anchor="center-center")
-        self.nodes = LineOfNodes(scene, f"{root}/nodes")
+            labels.add(scene.add_label(f"{node.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
+                                       font_screen_scale=1.3, anchor="center-center"), DETAIL)
+        self.nodes = LineOfNodes(scene, f"{root}/nodes", labels=labels)
         self.arcs: dict[str, Any] = {}
         self.arc_labels: dict[str, Any] = {}
         for key in KEYS:
             self.arcs[key] = scene.add_line_segments(f"{root}/arcs/{key}", np.zeros((1, 2, 3)), ARC_COLORS[key],
                                                      thickness=4.0, thickness_units="screen")
-            self.arc_labels[key] = scene.add_label(f"{root}/arc_labels/{key}", GREEK[key], font_screen_scale=1.6,
-                                                   anchor="center-center")
+            self.arc_labels[key] = labels.add(scene.add_label(f"{root}/arc_labels/{key}", GREEK[key],
+                                                              font_screen_scale=1.6, anchor="center-center"), DETAIL)
         # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).
         self.rate_vectors = {
             key: Vector(scene, f"{root}/omega/{key}", ARC_COLORS[key], f"d{GREEK[key]}/dt", shaft_radius=0.018,
-                        head_radius=0.05, head_length=0.1, font_scale=1.4, label_at_middle=True)
+                        head_radius=0.05, head_length=0.1, font_scale=1.4, label_at_middle=True, labels=labels,
+                        priority=DETAIL)
             for key in KEYS
         }
         self.omega = Vector(scene, f"{root}/omega/resultant", OMEGA_COLOR, "ω", shaft_radius=0.032,
-                            head_radius=0.085, head_length=0.16)
+                            head_radius=0.085, head_length=0.16, labels=labels)
         # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines.
         single = f"{root}/single"
         self.single_node = scene.add_frame(single, show_axes=False, visible=False)
         self.single_axis = scene.add_arrows(f"{single}/axis", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
                                             head_radius=0.06, head_length=0.14)
-        self.single_axis_label = scene.add_label(f"{single}/axis_label", "d", font_screen_scale=1.8,
-                                                 anchor="center-center")
+        self.single_axis_label = labels.add(scene.add_label(f"{single}/axis_label", "d", font_screen_scale=1.8,
+                                                            anchor="center-center"), AXES)
         self.single_arc = scene.add_line_segments(f"{single}/arc", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
                                                   np.zeros((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8),
                                                   thickness=4.0, thickness_units="screen")
-        self.single_arc_label = scene.add_label(f"{single}/arc_label", "Φ", font_screen_scale=1.6,
-                                                anchor="center-center")
+        self.single_arc_label = labels.add(scene.add_label(f"{single}/arc_label", "Φ", font_screen_scale=1.6,
+                                                           anchor="center-center"), AXES)
         self.ghost_turn = scene.add_frame(f"{single}/ghost_turn", show_axes=False, visible=False)
         self.ghost_zxz = scene.add_frame(f"{single}/ghost_zxz", show_axes=False, visible=False)
         outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
@@ -551,6 +554,7 @@ class EulerAnglesView(SceneView):
             with self.client.atomic():
                 self._draw_animation()
         if self.sim.version == self._drawn_version:
+            self.labels.update(dt)  # the camera may have moved
             return
         self._drawn_version = self.sim.version
         with self.client.atomic():
@@ -558,6 +562,7 @@ class EulerAnglesView(SceneView):
             if self._arc_throttle.ready(dt):
                 self.render_arcs()
                 self.render_single_rotation()
+            self.labels.update(dt)
             if self._slider_throttle.ready(dt):
                 self._sync_sliders()
             if self._readout_throttle.ready(dt):
@@ -587,6 +592,7 @@ class EulerAnglesView(SceneView):
             self.render_readout()
             self.render_single_readout()
             self._refresh_status()
+            self.labels.settle()
 
     # ------------------------------------------------------------------ drawing
     def _sync_sliders(self) -> None:
@@ -653,7 +659,7 @@ class EulerAnglesView(SceneView):
             self.arcs[key].visible = visible
             self.arc_labels[key].position = tuple(1.18 * points[ARC_SEGMENTS // 2])
             self.arc_labels[key].text = f"{GREEK[key]} = {format_deg(angle_deg, 0)}°"
-            self.arc_labels[key].visible = visible
+            self.labels.want(self.arc_labels[key], visible)
 
     def render_readout(self) -> None:
         """D, its factors, ω (space and body components) and the gimbal-lock note."""
@@ -716,9 +722,11 @@ class EulerAnglesView(SceneView):
         shown = rotation is not None and rotation.axis is not None
         if self.single_node.visible != on:
             self.single_node.visible = on
-        for node in (self.single_axis, self.single_axis_label, self.single_arc, self.single_arc_label):
+        for node in (self.single_axis, self.single_arc):
             if node.visible != shown:
                 node.visible = shown
+        for label in (self.single_axis_label, self.single_arc_label):
+            self.labels.want(label, shown)  # the view's LabelLayer shows it where there is room
         if rotation is None or rotation.axis is None:
             return
         d = rotation.axis

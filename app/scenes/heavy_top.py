@@ -36,6 +36,7 @@ import trimesh
 
 from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, striped_parts
 from app.kit.energy_plot import EnergyPlot
+from app.kit.labels import KEY
 from app.kit.rigid import RigidBodySimulation
 from app.kit.rigid_view import RigidBodyView
 from app.kit.widgets import TraceLines
@@ -156,8 +157,8 @@ class HeavyTopView(RigidBodyView):
         gravity_at = np.array([-1.6, 1.6, 1.0])
         scene.add_arrows(f"{root}/gravity", np.array([[gravity_at, gravity_at - (0.0, 0.0, 0.8)]]),
                          (60, 60, 60), shaft_radius=0.02, head_radius=0.06, head_length=0.14)
-        scene.add_label(f"{root}/gravity_label", "g", position=tuple(gravity_at + (0.12, 0.0, -0.3)),
-                        font_screen_scale=LABEL_SCALE, anchor="center-left")
+        self.labels.add(scene.add_label(f"{root}/gravity_label", "g", position=tuple(gravity_at + (0.12, 0.0, -0.3)),
+                                        font_screen_scale=LABEL_SCALE, anchor="center-left"), KEY)
         self._trace_root = scene.add_frame(f"{root}/trace", show_axes=False)
         self.trace = TraceLines(scene, f"{root}/trace", TRACE_COLOR, self.sim.traces["tip"])
 

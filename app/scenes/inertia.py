@@ -50,6 +50,7 @@ from app.kit.common import (
     format_matrix,
 )
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
+from app.kit.labels import AXES, KEY
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
 from app.kit.view import SceneView
@@ -412,18 +413,19 @@ class InertiaView(SceneView):
     def _build_scene(self) -> None:
         scene = self.client.scene
         root = self.root
-        Stage(scene, root)
+        Stage(scene, root, labels=self.labels)
         ball = trimesh.creation.icosphere(subdivisions=1, radius=0.07)
         self.com_node = scene.add_mesh_simple(f"{root}/com", ball.vertices, ball.faces, color=(20, 20, 20))
-        scene.add_label(f"{root}/com/label", "c", position=(0.1, 0.0, -0.1), font_screen_scale=1.6,
-                        anchor="top-left")
+        self.labels.add(scene.add_label(f"{root}/com/label", "c", position=(0.1, 0.0, -0.1), font_screen_scale=1.6,
+                                        anchor="top-left"), KEY)
         self.O_frame = scene.add_frame(f"{root}/O", show_axes=False)
         scene.add_arrows(f"{root}/O/axes", axis_segments(np.eye(3), 1.0), np.array(BODY_AXIS_COLORS),
                          shaft_radius=0.02, head_radius=0.055, head_length=0.12)
         for k in range(3):
-            scene.add_label(f"{root}/O/labels/{k}", f"e{k + 1}", position=tuple(1.15 * np.eye(3)[k]),
-                            font_screen_scale=1.8, anchor="center-center")
-        self.O_label = scene.add_label(f"{root}/O_label", "O", font_screen_scale=1.8, anchor="bottom-right")
+            self.labels.add(scene.add_label(f"{root}/O/labels/{k}", f"e{k + 1}", position=tuple(1.15 * np.eye(3)[k]),
+                                            font_screen_scale=1.8, anchor="center-center"), AXES)
+        self.O_label = self.labels.add(scene.add_label(f"{root}/O_label", "O", font_screen_scale=1.8,
+                                                       anchor="bottom-right"), KEY)
         # The gizmos are interactive: only in the controlling browser's own scene (app.kit.target).
         self.gizmo: Any = None
         self.O_gizmo: Any = None
@@ -721,6 +723,7 @@ class InertiaView(SceneView):
         """Nothing moves: a frame draws only after an edit another view made in this room."""
         if self.sim.version != self._drawn_version:
             self.refresh()
+        self.labels.update(dt)
 
     def refresh(self) -> None:
         sim = self.sim
@@ -753,6 +756,7 @@ class InertiaView(SceneView):
             self.quiet.write(self.gui_about, _shown(O))
             self.presets_row.show_note(self.preset_shown())
             self._refresh_readout(props, k)
+            self.labels.settle()
 
     def _draw_bodies(self, k: float) -> None:
         scene, sim = self.client.scene, self.sim

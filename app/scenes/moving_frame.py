@@ -472,7 +472,7 @@ class MovingFrameView(SceneView):
         scene = self.client.scene
         world = f"{self.root}/world"
         self.world = scene.add_frame(world, show_axes=False)
-        Stage(scene, world, size=8.0)
+        Stage(scene, world, size=8.0, labels=self.labels)
         self.particles = [
             scene.add_icosphere(f"{world}/particles/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
                                 subdivisions=2, cast_shadow=False, receive_shadow=False)
@@ -481,7 +481,7 @@ class MovingFrameView(SceneView):
         self.paths_space = [TraceLines(scene, f"{world}/paths_c/{k}", _lighter(PARTICLE_COLORS[k]),
                                        self.sim.paths_space[k])
                             for k in range(len(PARTICLES))]
-        self.body = Body(scene, f"{world}/frame", self._build_disc, axis_length=1.0)
+        self.body = Body(scene, f"{world}/frame", self._build_disc, axis_length=1.0, labels=self.labels)
         frame = f"{world}/frame"
         self.radius_rod = scene.add_line_segments(f"{frame}/rod", np.zeros((1, 2, 3)), (110, 110, 120),
                                                   thickness=3.0, thickness_units="screen", visible=False)
@@ -492,10 +492,12 @@ class MovingFrameView(SceneView):
         self.paths_body = [TraceLines(scene, f"{frame}/paths/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
         self.forces = {key: Vector(scene, f"{frame}/forces/{key}", FORCE_COLORS[key], FORCE_LABELS[key],
-                                   shaft_radius=0.018, head_radius=0.05, head_length=0.1, font_scale=1.5)
+                                   shaft_radius=0.018, head_radius=0.05, head_length=0.1, font_scale=1.5,
+                                   labels=self.labels)
                        for key in FORCE_KEYS}
         self.sum_force = Vector(scene, f"{frame}/forces/sum", (200, 0, 0), "m ẍ′", shaft_radius=0.01,
-                                head_radius=0.035, head_length=0.08, font_scale=1.5, label_at_middle=True)
+                                head_radius=0.035, head_length=0.08, font_scale=1.5, label_at_middle=True,
+                                labels=self.labels)
 
     def _build_disc(self, scene: Any, parent: str) -> None:
         radius = self.sim.setup.value("disc_radius")
@@ -614,10 +616,10 @@ class MovingFrameView(SceneView):
     # ------------------------------------------------------------------ the view protocol
     def frame(self, dt: float) -> None:
         """The per-frame update: poses, particles, paths, arrows; readout and sliders throttled."""
-        if self.sim.version == self._drawn_version:
-            return
         with self.client.atomic():
-            self._draw(dt)
+            if self.sim.version != self._drawn_version:
+                self._draw(dt)
+            self.labels.update(dt)
 
     def refresh(self) -> None:
         """Redraw everything from the simulation."""
@@ -639,6 +641,7 @@ class MovingFrameView(SceneView):
             )
             self._readout_throttle.trigger()
             self._draw(0.0)
+            self.labels.settle()
 
     def _draw(self, dt: float) -> None:
         sim = self.sim
@@ -695,9 +698,7 @@ class MovingFrameView(SceneView):
             arrow.enabled = show
             arrow.update(scale * vector, start=start)
             # A short arrow keeps its colour but loses its label: labels of short arrows pile up.
-            labelled = arrow.visible and scale * float(np.linalg.norm(vector)) >= LABEL_MIN_LENGTH
-            if arrow.label.visible != labelled:
-                arrow.label.visible = labelled
+            arrow.show_label(scale * float(np.linalg.norm(vector)) >= LABEL_MIN_LENGTH)
         if self._readout_throttle.ready(dt):
             self._render_readout(report, x_body)
             self._refresh_status()

@@ -37,6 +37,7 @@ from app.kit.binding import BOX_DIGITS
 from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import Readout, add_slider
+from app.kit.labels import AXES, DETAIL
 from app.kit.rigid import RigidBodySimulation
 from app.kit.torque_free import TorqueFreeView
 from app.kit.widgets import TraceLines
@@ -187,8 +188,9 @@ class PoinsotView(TorqueFreeView):
                                 thickness=1.5, thickness_units="screen")
         self.radii = scene.add_line_segments(f"{root}/plane/radii", idle, HERPOLHODE_COLOR, thickness=1.0,
                                              thickness_units="screen")
-        self.plane_label = scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
-                                           font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center")
+        self.plane_label = self.labels.add(
+            scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
+                            font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
         self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"])
         self.contact = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20), subdivisions=2)
@@ -206,13 +208,14 @@ class PoinsotView(TorqueFreeView):
                                 np.array([[c, c] for c in ((150, 0, 0), (0, 105, 20), (0, 30, 150))], dtype=np.uint8),
                                 thickness=2.0, thickness_units="screen")
         self.axis_labels = [
-            scene.add_label(f"{ls}/label_{k}", name, position=tuple(1.58 * SPHERE_RADIUS * np.eye(3)[k]),
-                            font_screen_scale=LABEL_SCALE * 0.8, anchor="center-center")
+            self.labels.add(scene.add_label(f"{ls}/label_{k}", name,
+                                            position=tuple(1.58 * SPHERE_RADIUS * np.eye(3)[k]),
+                                            font_screen_scale=LABEL_SCALE * 0.8, anchor="center-center"), AXES)
             for k, name in enumerate(("L_x′", "L_y′", "L_z′"))
         ]
-        scene.add_label(f"{ls}/title", "body L-space",
-                        position=(0.0, 0.0, 1.85 * SPHERE_RADIUS), font_screen_scale=LABEL_SCALE * 0.8,
-                        anchor="bottom-center")
+        self.labels.add(scene.add_label(f"{ls}/title", "body L-space",
+                                        position=(0.0, 0.0, 1.85 * SPHERE_RADIUS), font_screen_scale=LABEL_SCALE * 0.8,
+                                        anchor="bottom-center"), DETAIL)
         self.family = scene.add_line_segments(f"{ls}/family", idle, FAMILY_COLOR, thickness=1.5,
                                               thickness_units="screen")
         self.separatrix = scene.add_line_segments(f"{ls}/separatrix", idle, SEPARATRIX_COLOR, thickness=3.0,

@@ -1,0 +1,264 @@
+"""Labels that never overlap: a view's 3D labels shown by priority, through the view's camera.
+
+Each view has one `LabelLayer` (`SceneView.labels`).  Every 3D label the view adds is
+registered with it once, with a priority (`add(handle, priority)`); who wants it shown says so
+through the layer (`want(handle, visible)`), never by writing `handle.visible`, so the layer
+and the widgets do not fight.  After the view draws (`update(dt)`, at most every PERIOD of
+wall time, and at once on `refresh()` through `settle()`), the layer projects the wanted
+labels through the camera of the browser that controls the view (`target.camera`; the scene's
+`CameraView` at 1280x800 when there is none, e.g. a recording), estimates their text boxes
+(`app.kit.screen`), and places them greedily, highest priority first (ties: the order of
+registration): a label goes at its own anchor, else at the first of NUDGE_ANCHORS that is free,
+else it is hidden until there is room.  Only the label goes: an arrow keeps its colour.
+
+A moving label's box is swept from where it is to where it will be at the next layout (its
+screen motion since the last layout, Δ, once more), grown on every side by TURN_MARGIN times
+how much that motion changed since the layout before (a label going round a circle turns away
+from the straight line by exactly that much per layout) plus SLIP_MARGIN times |Δ| (speeding up,
+uneven layouts).  So labels do not run into each other between two layouts.  After a
+refresh (an edit, a reset: labels jump) and when the camera moved (the browser orbits, the
+view is reset), the labels' motion starts afresh.  (A body axis label
+that whizzes round with a fast spin gets a large box and is mostly hidden: it could not be read.)
+Only changes are sent: a visibility or an anchor message when it changed, nothing when the
+picture stood still.
+
+Priorities (higher is shown first): KEY (space axes x y z, the body's vectors ω and L, forces,
+g), AXES (body axes x′ y′ z′, the line of nodes), DETAIL (arc readings, titles, intermediate
+frames, component arrows).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from app.kit.common import CameraView, Throttle
+from app.kit.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, project_one, text_box
+
+__all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]
+
+KEY = 3  # space axes, ω, L, forces, gravity: what a lecture talks about
+AXES = 2  # body axes x′ y′ z′, the line of nodes
+DETAIL = 1  # readings on arcs, titles, intermediate frames, component arrows
+
+PERIOD = 0.1  # [s] of wall time between two layouts while the view draws (10 Hz)
+FALLBACK_SIZE_PX = (1280, 800)  # the window assumed when the view has no browser camera
+MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height apart (6 px at 800)
+TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
+SLIP_MARGIN = 0.25  # times |Δ| [px]: a label speeding up, a layout coming late
+NUDGE_ANCHORS = ("bottom-left", "top-left", "bottom-right", "top-right", "center-left", "center-right",
+                 "bottom-center", "top-center")  # tried in this order when a label's own anchor is taken
+
+Box = tuple[float, float, float, float]  # (x0, y0, x1, y1) [px], y down
+
+
+@dataclass
+class _Entry:
+    handle: Any
+    priority: float
+    order: int
+    anchor: str  # the label's own anchor (as built)
+    nudge: bool
+    wanted: bool
+    last_px: tuple[float, float] | None = field(default=None)  # where it was at the last layout
+    last_step: tuple[float, float] | None = field(default=None)  # how it moved before that layout [px]
+
+
+def _rotate(wxyz: Any, v: tuple[float, float, float]) -> tuple[float, float, float]:
+    """v turned by the unit quaternion (w, x, y, z): v + 2w (u × v) + 2 u × (u × v)."""
+    w, x, y, z = (float(c) for c in wxyz)
+    vx, vy, vz = v
+    cx, cy, cz = y * vz - z * vy, z * vx - x * vz, x * vy - y * vx
+    ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
+    return (vx + 2.0 * (w * cx + ccx), vy + 2.0 * (w * cy + ccy), vz + 2.0 * (w * cz + ccz))
+
+
+def _world_position(handle: Any) -> tuple[tuple[float, float, float], bool] | None:
+    """The label's position in the world [scene units] and whether it and every node above it
+    are visible (viser names are paths: "/a/b" hangs under "/a"); None if it was removed."""
+    impl = handle._impl
+    if impl.removed:
+        return None
+    nodes = impl.api._handle_from_node_name
+    p = impl.position
+    point = (float(p[0]), float(p[1]), float(p[2]))
+    shown = True
+    name = impl.name
+    while True:
+        name = name.rsplit("/", 1)[0]
+        if not name:
+            break
+        parent = nodes.get(name)
+        if parent is None:
+            continue
+        parent_impl = parent._impl
+        shown = shown and bool(parent_impl.visible)
+        rx, ry, rz = _rotate(parent_impl.wxyz, point)
+        q = parent_impl.position
+        point = (rx + float(q[0]), ry + float(q[1]), rz + float(q[2]))
+    return point, shown
+
+
+def _gap(a: Box, b: Box) -> float:
+    """The distance [px] between two boxes; negative (minus the overlap) when they overlap."""
+    dx = max(b[0] - a[2], a[0] - b[2])
+    dy = max(b[1] - a[3], a[1] - b[3])
+    if dx < 0.0 and dy < 0.0:
+        return max(dx, dy)
+    return math.hypot(max(dx, 0.0), max(dy, 0.0))
+
+
+class LabelLayer:
+    """One view's labels, shown by priority so that none overlap (see the module docstring).
+
+    Args:
+        camera: the controlling browser's camera (viser `CameraHandle`), or None.
+        fallback: the view used when there is no camera (or it has not reported yet), seen in a
+            FALLBACK_SIZE_PX window.
+    """
+
+    def __init__(self, camera: Any, fallback: CameraView) -> None:
+        self.camera = camera
+        self.fallback = fallback
+        self._entries: dict[int, _Entry] = {}  # by id(handle)
+        self._throttle = Throttle(PERIOD)
+        self._last_key: Any = None  # what the last layout saw (camera, boxes, wants)
+        self._moving = False  # the last layout grew some box for its label's motion
+        self._last_view: tuple[CameraView, int, int] | None = None
+        self.layouts = 0  # layouts computed (tests)
+
+    # ------------------------------------------------------------------ registration
+    def add(self, handle: Any, priority: float, *, wanted: bool | None = None, nudge: bool = True) -> Any:
+        """Register a label (a viser LabelHandle) with its priority (KEY, AXES, DETAIL or any
+        number: higher is shown first); returns the handle.
+
+        wanted: whether it should be shown when there is room (default: its visibility now).
+        nudge: whether it may move to another anchor (NUDGE_ANCHORS) before it is hidden.
+        """
+        anchor = str(handle.anchor)
+        self._entries[id(handle)] = _Entry(handle, float(priority), len(self._entries), anchor, nudge,
+                                           bool(handle.visible) if wanted is None else bool(wanted))
+        self._last_key = None
+        return handle
+
+    def __contains__(self, handle: Any) -> bool:
+        return id(handle) in self._entries
+
+    def want(self, handle: Any, visible: bool) -> None:
+        """Whether the label should be shown when there is room.  Hidden at once; shown at the
+        next layout (which checks it has room).  KeyError for a label never registered."""
+        entry = self._entries.get(id(handle))
+        if entry is None:
+            raise KeyError(f"the label {handle._impl.name!r} is not registered with the view's LabelLayer")
+        visible = bool(visible)
+        if entry.wanted == visible:
+            return
+        entry.wanted = visible
+        self._last_key = None
+        if not visible:
+            self._show(entry, False)
+
+    def wanted(self, handle: Any) -> bool:
+        return self._entries[id(handle)].wanted
+
+    # ------------------------------------------------------------------ layout
+    def update(self, dt: float) -> None:
+        """After the view drew a frame (dt [s] of wall time): lay the labels out, at most every
+        PERIOD, if anything moved since the last layout."""
+        if self._throttle.ready(dt):
+            self._lay_out()
+
+    def settle(self) -> None:
+        """Lay the labels out now, after a refresh (an edit, a step, a reset, a new preset): the
+        labels may have jumped, so their motion so far says nothing about the next frames."""
+        self._forget_motion()
+        self._lay_out()
+
+    def _forget_motion(self) -> None:
+        for entry in self._entries.values():
+            entry.last_px = entry.last_step = None
+        self._last_key = None
+
+    def _lay_out(self) -> None:
+        view, width, height = self._view()
+        if (view, width, height) != self._last_view:
+            self._last_view = (view, width, height)
+            self._forget_motion()  # the camera moved (an orbit, a reset): the labels jumped on the screen
+        em_per_scale = SCREEN_EM_PX * height / REFERENCE_HEIGHT_PX
+        gap = MIN_GAP_FRACTION * height
+        candidates: list[tuple[_Entry, tuple[float, float], float]] = []
+        key: list[Any] = [view, width, height]
+        for entry in list(self._entries.values()):
+            where = _world_position(entry.handle)
+            if where is None:  # removed with its view or a rebuilt part
+                del self._entries[id(entry.handle)]
+                continue
+            point, shown = where
+            text = str(entry.handle.text)
+            if not (entry.wanted and shown and text.strip()):
+                self._show(entry, False)
+                entry.last_px = entry.last_step = None
+                continue
+            (x, y), depth = project_one(view, point, width, height)
+            if not depth > 0.0 or not (math.isfinite(x) and math.isfinite(y)):
+                self._show(entry, False)  # behind the camera
+                entry.last_px = entry.last_step = None
+                continue
+            em = em_per_scale * float(entry.handle.font_screen_scale)
+            candidates.append((entry, (x, y), em))
+            key.append((entry.order, round(x, 1), round(y, 1), text))
+        if key == self._last_key and not self._moving:
+            return  # nothing moved since a layout that had nothing moving either
+        self._last_key = key
+        self._moving = False
+        self.layouts += 1
+        placed: list[Box] = []
+        candidates.sort(key=lambda c: (-c[0].priority, c[0].order))
+        for entry, (x, y), em in candidates:
+            # Where it will be at the next layout, and how far it may stray from the straight way there.
+            dx, dy = (x - entry.last_px[0], y - entry.last_px[1]) if entry.last_px is not None else (0.0, 0.0)
+            bend = math.hypot(dx - entry.last_step[0], dy - entry.last_step[1]) if entry.last_step is not None else 0.0
+            margin = TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)
+            entry.last_px, entry.last_step = (x, y), (dx, dy)
+            self._moving = self._moving or margin > 0.0
+            text = str(entry.handle.text)
+            current = str(entry.handle.anchor)
+            # Its own anchor, then the others in a fixed order: the same picture for the same positions.
+            anchors = [entry.anchor]
+            if entry.nudge:
+                anchors += [a for a in NUDGE_ANCHORS if a != entry.anchor]
+            for anchor in anchors:
+                x0, y0, x1, y1 = text_box(anchor, x, y, text, em)
+                box = (min(x0, x0 + dx) - margin, min(y0, y0 + dy) - margin,
+                       max(x1, x1 + dx) + margin, max(y1, y1 + dy) + margin)
+                if all(_gap(box, other) >= gap for other in placed):
+                    placed.append(box)
+                    if current != anchor:
+                        entry.handle.anchor = anchor
+                    self._show(entry, True)
+                    break
+            else:
+                self._show(entry, False)
+
+    def _view(self) -> tuple[CameraView, int, int]:
+        """The camera the labels are seen through and its window [px]."""
+        camera = self.camera
+        if camera is not None:
+            try:
+                width, height = int(camera.image_width), int(camera.image_height)
+                view = CameraView(tuple(float(c) for c in camera.position),  # type: ignore[arg-type]
+                                  tuple(float(c) for c in camera.look_at),  # type: ignore[arg-type]
+                                  tuple(float(c) for c in camera.up_direction),  # type: ignore[arg-type]
+                                  math.degrees(float(camera.fov)))
+            except AssertionError:  # viser: the browser has not sent its camera yet
+                pass
+            else:
+                if width > 0 and height > 0 and 0.0 < view.fov_deg < 180.0 and view.position != view.look_at:
+                    return view, width, height
+        return self.fallback, *FALLBACK_SIZE_PX
+
+    @staticmethod
+    def _show(entry: _Entry, visible: bool) -> None:
+        if bool(entry.handle.visible) != visible:
+            entry.handle.visible = visible
