@@ -171,7 +171,9 @@ def test_a_phone_follower_sees_the_body_not_the_panel(browser, hall_app: App, wa
     wait_until(lambda: follower.mode == "following" and follower.scene.narrow, timeout=15.0)
     phone.get_by_role("button", name="Details").wait_for(timeout=15_000)
     close_toasts(phone)
-    time.sleep(3.0)
+    time.sleep(2.0)
+    presenter.pause()  # the body holds still: what is projected is what is drawn
+    time.sleep(2.0)
     path = tmp_path / "phone.png"
     phone.screenshot(path=str(path))
     pixels = np.asarray(Image.open(path).convert("RGB"), dtype=int)

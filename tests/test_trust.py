@@ -275,6 +275,8 @@ def test_a_narrow_follower_sees_one_line_and_its_camera_is_fitted(hall: Hall) ->
     follower, client = hall.join()
     client.send(camera_message(width=780, height=1688))  # a phone, portrait, device pixels
     panel = poll_until(lambda: follower.scene if follower.scene.narrow else None, timeout=5.0)
+    with follower.lock:  # the layout callback that set `narrow` has finished
+        pass
     assert not panel.expanded and panel.gui_line.visible and not panel.gui_status.visible
     assert not follower.gui_projector.visible and not follower.lecture_folder.visible
     panel.set_expanded(True)

@@ -24,7 +24,7 @@ their range (at gimbal lock, where the Euler rates are undefined, |ω| above GIM
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -33,9 +33,6 @@ from app.kit.gui import add_slider
 from physics._types import Vec3
 from physics.dynamics import State
 from physics.euler import GimbalLockError
-
-if TYPE_CHECKING:
-    from app.kit.rigid_view import RigidBodyView
 
 __all__ = ["AXES", "GIMBAL_OMEGA_MAX", "KICK_SPEC", "HandControls", "omega_after_kick"]
 
@@ -56,6 +53,31 @@ def omega_after_kick(inertia: tuple[float, float, float], omega_body: Vec3, axis
     return omega
 
 
+class HandView(Protocol):
+    """What `HandControls` needs of its view (`app.kit.rigid_view.RigidBodyView` is one; a
+    protocol, so the kit's modules import each other in one direction only)."""
+
+    sim: Any  # app.kit.rigid.RigidBodySimulation
+    room: Any  # app.kit.room.Room
+    root: str
+    controls: Any  # the controlling browser's scene, or None
+    message: Any  # app.kit.gui.MessageLine
+    omega_scale: float
+    L_scale: float
+    @property
+    def hand_gizmos(self) -> tuple[str, ...]: ...
+
+    @property
+    def rate_specs(self) -> tuple[Any, ...]: ...
+    _wrap: Any
+
+    def rates_from_state(self, angles: Any, state: Any) -> tuple[float, ...]: ...
+
+    def fit_arrows(self) -> None: ...
+
+    def bind(self, handle: Any, where: str, apply: Any, current: Any, spec: Any = None, check: Any = None) -> Any: ...
+
+
 class HandControls:
     """The gizmos and the Kick of one rigid-body view (see the module docstring).
 
@@ -66,7 +88,7 @@ class HandControls:
         last_change: (ω_b before, ω_b after) [rad/s] of the last drag or kick applied, or None.
     """
 
-    def __init__(self, view: RigidBodyView, gui: Any) -> None:
+    def __init__(self, view: HandView, gui: Any) -> None:
         self.view = view
         self.dragging: str | None = None
         self.impulse = 0.5
