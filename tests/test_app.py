@@ -861,13 +861,13 @@ def test_the_lagrange_tab_balances_at_rounding_and_draws_Q_as_projections_of_M(m
     residual = [float(x) for x in re.search(r"residual = .*:\n\s+(\S+)\s+(\S+)\s+(\S+)", content).groups()]
     assert max(abs(r) for r in residual) < 1e-9, content
     mgl, theta = scene.sim.model.mgl, scene.sim.angles[1]
-    q_theta = np.asarray(scene.q_vectors["theta"].arrow.points, dtype=float)[0]
-    torque = np.asarray(scene.q_vectors["M"].arrow.points, dtype=float)[0, 1]
+    q_theta = np.asarray(scene.q_arrows.vectors["theta"].arrow.points, dtype=float)[0]
+    torque = np.asarray(scene.q_arrows.vectors["M"].arrow.points, dtype=float)[0, 1]
     scale = 1.2 / (mgl * math.sin(theta))  # |M| = mgl sin θ is drawn 1.2 units long
     np.testing.assert_allclose(np.linalg.norm(q_theta[1] - q_theta[0]), mgl * math.sin(theta) * scale, rtol=1e-5)
     assert np.linalg.norm(torque) == pytest.approx(1.2, rel=1e-5)
     scene.tabs.show("Setup")  # the Q arrows belong to the Lagrange tab
-    assert not scene.q_vectors["M"].arrow.visible
+    assert not scene.q_arrows.vectors["M"].arrow.visible
 
 
 def test_the_euler_angle_lagrangian_stops_at_the_vertical_and_offers_the_splitting(manual) -> None:

@@ -47,7 +47,7 @@ from app.kit.common import (
 from app.kit.ghost import ExactGhost
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.hand import HandControls
-from app.kit.labels import DETAIL
+from app.kit.lagrange_arrows import GeneralizedForceArrows
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
 from app.kit.rigid import (
@@ -62,9 +62,9 @@ from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
 from physics.dynamics import Model, State
-from physics.euler import GimbalLockError, body_z_axis, line_of_nodes, matrix_from_euler_zxz
+from physics.euler import GimbalLockError, matrix_from_euler_zxz
 from physics.inertia import InertiaError
-from physics.lagrange import LagrangeTerms, lagrange_terms
+from physics.lagrange import lagrange_terms
 
 __all__ = ["ANGLE_SPECS", "RigidBodyView"]
 
@@ -266,14 +266,7 @@ class RigidBodyView(SceneView):
         self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω", labels=labels)
         self.L = Vector(scene, f"{root}/L", L_COLOR, "L", labels=labels)
         # The Lagrange tab: the torque M and its projections Q_φ e_z, Q_θ e_n, Q_ψ e_z′ (6.10).
-        self.q_vectors = {
-            key: Vector(scene, f"{root}/lagrange/{key}", color, label, shaft_radius=0.02, head_radius=0.06,
-                        head_length=0.12, font_scale=1.6, label_at_middle=key != "M", labels=labels, priority=DETAIL)
-            for key, color, label in (("M", (60, 60, 60), "M"), ("phi", (140, 50, 210), "Q_φ e_z"),
-                                      ("theta", (215, 0, 120), "Q_θ e_n"), ("psi", (0, 140, 140), "Q_ψ e_z′"))
-        }
-        for vector in self.q_vectors.values():
-            vector.enabled = False
+        self.q_arrows = GeneralizedForceArrows(scene, root, labels)
         self.build_extras()
 
     def _build_gui(self) -> None:
@@ -392,10 +385,7 @@ class RigidBodyView(SceneView):
             self._refresh_gimbal_note()
             if self.tabs.shown in ("Readout", "Lagrange"):
                 self._refresh_readout()
-            for vector in self.q_vectors.values():
-                vector.enabled = self.tabs.shown == "Lagrange"
-                if not vector.enabled:
-                    vector.update(np.zeros(3))  # hides it (a message only if it was shown)
+            self.q_arrows.show(self.tabs.shown == "Lagrange")
             self.plots.set_visible(bool(self.gui_live_plots.value))
             if self.tabs.shown == "Plots":
                 self._push_plots()
@@ -556,25 +546,8 @@ class RigidBodyView(SceneView):
                                        min_sin_theta=gimbal)
             except GimbalLockError:
                 terms = None
-            self._draw_generalized_forces(terms)
+            self.q_arrows.draw(sim.model.torque_space_at(sim.t, sim.state.R_space_body, sim.state.omega_body), terms)
             self.lagrange_readout.set(lagrange_text(sim, terms))
             return
         self.readout.set(readout_text(sim, self.displayed_angles_deg(), self.readout_extras(sim)))
         self._refresh_gimbal_note()
-
-    def _draw_generalized_forces(self, terms: LagrangeTerms | None) -> None:
-        """M and Q_φ e_z, Q_θ e_n, Q_ψ e_z′ from the pivot, head to tail (hidden for no torque)."""
-        if terms is None:
-            for vector in self.q_vectors.values():
-                vector.update(np.zeros(3))
-            return
-        sim = self.sim
-        torque = sim.model.torque_space_at(sim.t, sim.state.R_space_body, sim.state.omega_body)
-        scale = 1.2 / max(float(np.linalg.norm(torque)), 1e-300) if np.any(torque) else 0.0
-        phi, theta = float(terms.q[0]), float(terms.q[1])
-        axes = (np.array([0.0, 0.0, 1.0]), line_of_nodes(phi), body_z_axis(phi, theta))
-        self.q_vectors["M"].update(torque * scale)
-        start = np.zeros(3)
-        for key, Q, axis in zip(("phi", "theta", "psi"), terms.Q, axes):
-            self.q_vectors[key].update(Q * scale * axis, start=start)
-            start = start + Q * scale * axis
