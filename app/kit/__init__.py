@@ -42,6 +42,13 @@
      `labels.want(label, visible)`, never `label.visible = ...`; `frame` ends with
      `self.labels.update(dt)` and `refresh` with `self.labels.settle()`, so no two labels overlap.
 
+   - where it draws: `self.client` is a `DrawTarget` (`app.kit.target`); interactive handles
+     (transform gizmos, clickable nodes) go into `self.controls` only, the scene of the one
+     browser that controls the room, or None (a recording): never into `self.client.scene`,
+     which may be the lecture hall's shared scene (the rule of `app.lectern`);
+   - the panel's head: `self.build_head(intro, ...)` (intro, message line, transport); a scene
+     whose simulation has `snapshot`/`restore` gets the replay's `Timeline` under it.
+
    Every callback goes through `wrap(where, fn)` (the session's guard: the room's lock, errors
    shown, never raised).  A control bound to a simulation value is one call,
    `self.bind(handle, where, apply, current, spec=...)` (`app.kit.binding`): the value is applied
