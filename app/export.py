@@ -28,20 +28,19 @@ from app.kit.room import Room
 from app.scenes import SCENES
 from app.theme import configure_scene
 
-__all__ = ["FPS", "MAX_SECONDS", "export_main", "record"]
+__all__ = ["FPS", "MAX_SECONDS", "RecorderTarget", "export_main", "record"]
 
 FPS = 30.0  # frames per second of a recording (half the app's: the file stays small)
 MAX_SECONDS = 120.0
 
 
-class _Target:
+class RecorderTarget:
     """What a view draws into while recording (an `app.kit.target.DrawTarget`): the private
-    server's scene and panel, which no browser sees; no controls (nobody acts on a recording)
-    and no camera."""
+    server's scene and panel, which no browser sees, under `root_prefix`; no controls (nobody
+    acts on a recording) and no camera."""
 
-    root_prefix = ""
-
-    def __init__(self, server: viser.ViserServer) -> None:
+    def __init__(self, server: viser.ViserServer, root_prefix: str = "") -> None:
+        self.root_prefix = root_prefix
         self.scene = server.scene
         self.gui = server.gui
         self.controls = None
@@ -75,7 +74,7 @@ def record(room: Room, seconds: float, *, fmt: str = "html",
     try:
         configure_scene(server, room.scene.view)
         copy = room.fork() if fork else room
-        view = room.scene(_Target(server), copy, lambda _where, fn: fn, None)
+        view = room.scene(RecorderTarget(server), copy, lambda _where, fn: fn, None)
         serializer = server.get_scene_serializer()
         copy.playing = True
         dt = 1.0 / FPS

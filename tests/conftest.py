@@ -196,3 +196,40 @@ def page(browser: Any) -> Iterator[Any]:
         yield context.new_page()
     finally:
         context.close()
+
+
+class LectureHall:
+    """The app with its loop NOT running (the test ticks), a known presenter code and the raw
+    clients that joined (tests of the lecture hall)."""
+
+    def __init__(self, code: str) -> None:
+        from app.main import create_server
+
+        self.app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=code)
+        self.clients: list[Any] = []
+
+    def join_with_client(self, client_factory: Callable[[int], Any] = RawClient) -> tuple[Any, Any]:
+        """Connect one more browser (a RawClient, or what `client_factory(port)` makes): (its
+        session, the client)."""
+        before = set(self.app.sessions)
+        client = client_factory(self.app.port)
+        self.clients.append(client)
+        sessions = self.app.wait_for_sessions(len(before) + 1)
+        (session,) = (s for cid, s in sessions.items() if cid not in before)
+        return session, client
+
+    def join(self) -> Any:
+        """Connect one more raw browser; its session."""
+        return self.join_with_client()[0]
+
+    def frames(self, count: int, dt: float = 1.0 / 60.0) -> None:
+        """`count` frames of the loop: every room ticks, then the lectern."""
+        for _ in range(count):
+            for room in self.app.rooms():
+                room.tick(dt)
+            self.app.lectern.tick(dt)
+
+    def close(self) -> None:
+        for client in self.clients:
+            client.close()
+        self.app.stop()

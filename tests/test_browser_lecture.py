@@ -94,6 +94,22 @@ def text_input(page, label: str):  # type: ignore[no-untyped-def]
     return row.locator("input").first
 
 
+def present_and_follow(browser, app: App, presenter_page, presenter, wait_until):  # type: ignore[no-untyped-def]
+    """The presenter types the code and presents, through its page; a laptop follower joins and
+    sees the shared scene.  (follower page, follower session)."""
+    open_folder(presenter_page, "Lecture", "Presenter code")
+    text_input(presenter_page, "Presenter code").click()
+    presenter_page.keyboard.type(CODE, delay=30)
+    presenter_page.get_by_role("button", name="Present").click()
+    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
+    follower_page, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    wait_until(lambda: follower.mode == "following", timeout=15.0)
+    follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
+    close_toasts(follower_page)
+    time.sleep(2.0)  # the shared nodes fade in; the camera follows the presenter's
+    return follower_page, follower
+
+
 def snapshot(sim) -> tuple[bytes, bytes, bytes]:  # type: ignore[no-untyped-def]
     props = sim.properties()
     return sim.masses.tobytes(), sim.positions.tobytes(), np.asarray(props["O"]).tobytes()
@@ -110,17 +126,7 @@ def test_followers_cannot_move_the_presenters_masses_and_explore_copies_them(bro
     presenter_page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
     presenter_page.get_by_role("button", name="Add mass").click()
     wait_until(lambda: len(presenter.scene.sim.masses) == 3, timeout=10.0)
-    open_folder(presenter_page, "Lecture", "Presenter code")
-    text_input(presenter_page, "Presenter code").click()
-    presenter_page.keyboard.type(CODE, delay=30)
-    presenter_page.get_by_role("button", name="Present").click()
-    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
-
-    follower_page, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
-    wait_until(lambda: follower.mode == "following", timeout=15.0)
-    follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
-    close_toasts(follower_page)
-    time.sleep(2.0)  # the shared nodes fade in; the camera follows the presenter's
+    follower_page, follower = present_and_follow(browser, app, presenter_page, presenter, wait_until)
     sim = presenter.scene.sim
     before = snapshot(sim)
 
@@ -218,16 +224,7 @@ def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser,
     presenter_page, presenter = open_page(browser, app, viewport={"width": 1280, "height": 800})
     presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
     close_toasts(presenter_page)
-    open_folder(presenter_page, "Lecture", "Presenter code")
-    text_input(presenter_page, "Presenter code").click()
-    presenter_page.keyboard.type(CODE, delay=30)
-    presenter_page.get_by_role("button", name="Present").click()
-    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
-    follower_page, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
-    wait_until(lambda: follower.mode == "following", timeout=15.0)
-    follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
-    close_toasts(follower_page)
-    time.sleep(2.0)
+    follower_page, follower = present_and_follow(browser, app, presenter_page, presenter, wait_until)
     before = tmp_path / "before.png"
     follower_page.screenshot(path=str(before))
 

@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 import viser
 
+from app.export import RecorderTarget
 from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE, INTEGRATOR_REALTIME
 from app.kit.room import Room
 from app.kit.trace import Trace
@@ -125,27 +126,6 @@ def assert_equal_values(a: Any, b: Any, where: str) -> None:
 
 
 # ---------------------------------------------------------------------------- views without a browser
-class _Target:
-    """A view's client: a private server's shared scene and panel, under its own prefix."""
-
-    def __init__(self, server: viser.ViserServer, prefix: str) -> None:
-        self.root_prefix = prefix
-        self.scene = server.scene
-        self.gui = server.gui
-        self.controls = None  # nobody acts on these views
-        self.camera = None
-        self.client_id = -1
-        self._server = server
-
-    @contextlib.contextmanager
-    def atomic(self) -> Iterator[None]:
-        with self._server.atomic():
-            yield
-
-    def add_notification(self, *_args: Any, **_kwargs: Any) -> None:
-        return None
-
-
 @pytest.fixture(scope="module")
 def server() -> Iterator[viser.ViserServer]:
     with contextlib.redirect_stdout(io.StringIO()):
@@ -163,7 +143,7 @@ def _report(where: str, error: BaseException) -> None:
 
 
 def build_view(server: viser.ViserServer, room: Room) -> Any:
-    view = room.scene(_Target(server, f"/v{next(_views)}"), room, lambda _where, fn: fn, _report)
+    view = room.scene(RecorderTarget(server, f"/v{next(_views)}"), room, lambda _where, fn: fn, _report)
     tabs = getattr(view, "tabs", None)
     if tabs is not None and "Plots" in tabs.names:
         tabs.show("Plots")  # the plots are pushed while their tab is shown

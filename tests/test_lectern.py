@@ -8,41 +8,19 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
-from conftest import RawClient, poll_until
+from conftest import LectureHall, poll_until
 from scipy.spatial.transform import Rotation
 
 from app.lectern import LIVE_ROOT, MAX_TRIES, Follower, Lectern
-from app.main import App, create_server
+from app.main import App
 
 DT = 1.0 / 60.0
 CODE = "424242"
 
 
-class Hall:
-    """The app (loop not running) with a known presenter code and raw clients."""
-
+class Hall(LectureHall):
     def __init__(self) -> None:
-        self.app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE)
-        self.clients: list[RawClient] = []
-
-    def join(self):  # type: ignore[no-untyped-def]
-        """Connect one more browser; its session."""
-        before = set(self.app.sessions)
-        self.clients.append(RawClient(self.app.port))
-        sessions = self.app.wait_for_sessions(len(before) + 1)
-        (new,) = (s for cid, s in sessions.items() if cid not in before)
-        return new
-
-    def frames(self, count: int) -> None:
-        for _ in range(count):
-            for room in self.app.rooms():
-                room.tick(DT)
-            self.app.lectern.tick(DT)
-
-    def close(self) -> None:
-        for client in self.clients:
-            client.close()
-        self.app.stop()
+        super().__init__(CODE)
 
 
 @pytest.fixture

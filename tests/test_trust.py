@@ -26,10 +26,9 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import RawClient, poll_until
+from conftest import LectureHall, RawClient, poll_until
 
 from app.lectern import BODY_WIDTH_SHARE, fitted_camera
-from app.main import create_server
 from app.scenes import SCENES
 from benchmarks.ws_client import ViserClient
 
@@ -69,31 +68,14 @@ def fingerprint(obj: Any, depth: int = 0) -> Any:
                                              if not k.startswith("_cache"))))
 
 
-class Hall:
-    """The app with its loop NOT running, a presenter's raw client, and helpers."""
+class Hall(LectureHall):
+    """The lecture hall with this file's code; `join` gives (session, client)."""
 
     def __init__(self) -> None:
-        self.app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE)
-        self.raw: list[Any] = []
+        super().__init__(CODE)
 
-    def join(self, client_factory: Any = RawClient) -> Any:
-        before = set(self.app.sessions)
-        client = client_factory(self.app.port)
-        self.raw.append(client)
-        sessions = self.app.wait_for_sessions(len(before) + 1)
-        (session,) = (s for cid, s in sessions.items() if cid not in before)
-        return session, client
-
-    def frames(self, count: int) -> None:
-        for _ in range(count):
-            for room in self.app.rooms():
-                room.tick(DT)
-            self.app.lectern.tick(DT)
-
-    def close(self) -> None:
-        for client in self.raw:
-            client.close()
-        self.app.stop()
+    def join(self, client_factory: Any = RawClient) -> Any:  # type: ignore[override]
+        return self.join_with_client(client_factory)
 
 
 @pytest.fixture
