@@ -13,6 +13,8 @@ Shots (each from the running app, through a real browser):
                      the polhode, the herpolhode, and the body's L-space picture beside it.
     scene_moving.png   the moving frame's "Turntable" preset after a few seconds: paths in C and C′,
                        the real and inertial forces on the free particle (`--scenes moving`).
+    scene_constrained.png  the bead on a fast-turning hoop (memo §2, §5): virtual displacement,
+                       applied and constraint force (`--scenes constrained`).
     phone_follower.png a phone (390×844, touch) following a presenter who plays the heavy top's
                        "Loop": one status line, the body in view (`--scenes phone`).
 
@@ -37,7 +39,7 @@ sys.path.insert(0, str(ROOT))
 from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "projector", "phone")
+SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "constrained", "projector", "phone")
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 PROJECTOR_SIZE = (1024, 768)  # the "projector" shot: a common projector's resolution
 
@@ -120,6 +122,16 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         time.sleep(1.0)
         session.play()
         _wait_for(lambda: session.simulation.t > 2.6, 60.0)
+        _slow_motion(session)
+        time.sleep(2.0)
+        return
+    if scene == "constrained":
+        session.select_scene("Constrained particles")
+        session.apply_preset("Fast hoop")
+        page.get_by_text("Constrained particles (memo §2, §5)").first.wait_for(timeout=30_000)
+        time.sleep(1.0)
+        session.play()
+        _wait_for(lambda: session.simulation.t > 2.5, 60.0)
         _slow_motion(session)
         time.sleep(2.0)
         return
