@@ -84,7 +84,7 @@ def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until,
     assert changed > MIN_CHANGED_FRACTION
 
     # Play: θ advances at dθ/dt = 10°/s (wrapping below 180°); the slider follows.
-    page.get_by_role("button", name="Play").click()
+    page.get_by_role("button", name="Play", exact=True).click()
     wait_until(lambda: scene.room.playing, timeout=10.0)
     wait_until(lambda: thumb.get_attribute("aria-valuenow") not in ("179", "180"), timeout=10.0)
     value = float(thumb.get_attribute("aria-valuenow"))
@@ -112,7 +112,7 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
         page.get_by_role("option", name="Free body").click()
         wait_until(lambda: session.scene.title == "Free body", timeout=10.0)
         page.get_by_role("button", name="Dzhanibekov").click()
-        page.get_by_role("button", name="Play").click()
+        page.get_by_role("button", name="Play", exact=True).click()
         scene = session.scene
         wait_until(lambda: scene.room.playing and scene.sim.state.t > 0.3, timeout=10.0)
         theta = slider_thumb(page, scene.gui_angles[1])

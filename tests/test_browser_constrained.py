@@ -35,7 +35,7 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
         while session.simulation.preset != preset.name and time.monotonic() < deadline:
             time.sleep(0.05)
         assert session.simulation.preset == preset.name
-        page.get_by_role("button", name="Play").click()
+        page.get_by_role("button", name="Play", exact=True).click()
         deadline = time.monotonic() + 10.0
         while session.simulation.t < 1.2 and time.monotonic() < deadline:
             time.sleep(0.05)
@@ -43,7 +43,7 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
         if shots:
             Path(shots).mkdir(parents=True, exist_ok=True)
             page.screenshot(path=str(Path(shots) / f"{preset.name.replace(' ', '_').replace(',', '')}.png"))
-        page.get_by_role("button", name="Pause").click()
+        page.get_by_role("button", name="Pause", exact=True).click()
     page.get_by_role("button", name="Readout").click()
     page.get_by_text("d/dt∂T/∂q̇").first.wait_for(timeout=10_000)
     if shots:

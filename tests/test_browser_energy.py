@@ -63,7 +63,7 @@ def test_dragging_the_omega_gizmo_sets_omega_and_kick_and_energy_tab_work(wait_u
     assert abs(phi_dot) > 1.0  # φ̇ was 0 in the Cusp preset
 
     # Play, then kick about x′ from the panel: Δω_x′ = J / I1, still playing.
-    page.get_by_role("button", name="Play").click()
+    page.get_by_role("button", name="Play", exact=True).click()
     wait_until(lambda: session.room.playing and view.sim.t > 0.2, timeout=10.0)
     page.get_by_text("Set ω by hand", exact=True).first.click()
     kick = page.get_by_role("button", name="x′", exact=True)

@@ -42,9 +42,9 @@ def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, a
     page.get_by_role("button", name="Dzhanibekov").click()
     scene = session.scene
     room = scene.room
-    page.get_by_role("button", name="Play").click()
+    page.get_by_role("button", name="Play", exact=True).click()
     wait_until(lambda: room.playing and room.sim.t > 6.0, timeout=30.0)
-    page.get_by_role("button", name="Pause").click()
+    page.get_by_role("button", name="Pause", exact=True).click()
     wait_until(lambda: not room.playing, timeout=10.0)
     t_live = room.sim.t
     live = room.sim.snapshot().values
@@ -66,12 +66,12 @@ def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, a
         time.sleep(1.0)
         page.screenshot(path=SHOT)
 
-    # Slow motion, then Watch again (the replay): the recording plays at 0.1× from the moment shown.
+    # Slow motion, then Replay: the recording plays at 0.1× from the moment shown.
     scale = slider_thumb(page, scene.transport.gui_time_scale)
     scale.focus()
     page.keyboard.press("Home")
     wait_until(lambda: room.time_scale == 0.1, timeout=10.0)
-    page.get_by_role("button", name="Watch again").click()
+    page.get_by_role("button", name="Replay", exact=True).click()
     wait_until(lambda: room.mode == REPLAYING and room.shown_t > shown + 0.02, timeout=10.0)
     page.get_by_text("Replaying t = ").first.wait_for(timeout=5_000)
     assert room.shown_t < shown + 0.5  # 0.1×: a tenth of the wall time

@@ -368,9 +368,9 @@ def test_browser_opens_the_scene_and_the_camera_toggle_makes_C_prime_stand_still
     wait_until(lambda: session.scene.title == "Moving frame", timeout=10.0)
     page.get_by_text("Moving frame C′").first.wait_for(timeout=10_000)
     view = session.scene
-    page.get_by_role("button", name="Play").click()
+    page.get_by_role("button", name="Play", exact=True).click()
     wait_until(lambda: view.room.playing and view.sim.t > 1.5, timeout=10.0)  # C′ turned by > 45°
-    page.get_by_role("button", name="Pause").click()
+    page.get_by_role("button", name="Pause", exact=True).click()
     wait_until(lambda: not view.room.playing, timeout=10.0)
     time.sleep(1.0)
     inertial = page.screenshot(clip=SCENE_CLIP)

@@ -1,4 +1,4 @@
-"""The replay's panel piece, under the transport: `Timeline [s]`, Watch again · Resume · Branch here.
+"""The replay's panel piece, under the transport: `Timeline [s]`, Replay · Resume · Branch here.
 
 `Timeline` only reports to its room (`app.kit.room.Room.scrub`, `replay`, `resume`, `branch`)
 and shows the room's replay state, so every view of a room shows the same.  `SceneView.build`
@@ -9,7 +9,7 @@ adds one under the transport of every scene whose simulation can be replayed (th
   a value within one step of an end is taken as that end).  Moving it pauses and shows the
   recorded moment; a time outside the stretch (a hand-written client) is refused with the
   stretch in the message, and nothing changes.  While live it follows the live time (5 Hz).
-- Watch again (the replay): plays the recording from the moment shown (from the start if the live moment is
+- Replay: plays the recording from the moment shown (from the start if the live moment is
   shown) at the transport's time scale; Play / Pause pause and go on; it ends at the live moment.
 - Resume: back to the live moment, exactly as it was; plays on if it was playing.
 - Branch here: the moment shown becomes the live one and the motion plays on from it.
@@ -31,7 +31,7 @@ __all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "TIMELINE_LABEL", "TI
            "timeline_text"]
 
 TIMELINE_LABEL = "Timeline [s]"
-REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = "Watch again", "Resume", "Branch here"
+REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = "Replay", "Resume", "Branch here"
 """(The replay button is not called "Replay": a page's "Play" button must stay the only one whose
 name contains "play", which the browser tests' locators rely on.)"""
 TIMELINE_STEP = 0.01  # [s] the slider's step
