@@ -40,6 +40,12 @@ from app.main import create_server  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
 SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "constrained", "projector", "phone")
+PLAYED = {  # shot: (scene, preset, a heading that shows it is drawn, simulated time [s] of the shot)
+    "top": ("Heavy top", "Loop", "Heavy symmetric top", 5.5),
+    "poinsot": ("Poinsot", "Dzhanibekov", "Poinsot: the ellipsoid rolls", 5.0),
+    "moving": ("Moving frame", "Turntable", "Moving frame C′", 2.6),
+    "constrained": ("Constrained particles", "Fast hoop", "Constrained particles (memo §2, §5)", 2.5),
+}
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 PROJECTOR_SIZE = (1024, 768)  # the "projector" shot: a common projector's resolution
 
@@ -87,16 +93,6 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
     if scene == "projector":  # the heavy top's shot, in the projector layout
         session.guard("projector", session.set_projector)(True)
         scene = "top"
-    if scene == "top":
-        session.select_scene("Heavy top")
-        session.apply_preset("Loop")
-        page.get_by_text("Heavy symmetric top").wait_for(timeout=30_000)
-        time.sleep(1.0)
-        session.play()
-        _wait_for(lambda: session.simulation.state.t > 5.5, 60.0)
-        _slow_motion(session)
-        time.sleep(2.0)
-        return
     if scene == "inertia":
         session.select_scene("Inertia")
         session.apply_preset("L-shape")
@@ -105,33 +101,14 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         page.get_by_text("Principal moments I1").scroll_into_view_if_needed()  # the readout on screen
         time.sleep(2.0)
         return
-    if scene == "poinsot":
-        session.select_scene("Poinsot")
-        session.apply_preset("Dzhanibekov")
-        page.get_by_text("Poinsot: the ellipsoid rolls").wait_for(timeout=30_000)
+    if scene in PLAYED:  # a preset played for a few seconds, then slow motion for the shot
+        title, preset, heading, t_shot = PLAYED[scene]
+        session.select_scene(title)
+        session.apply_preset(preset)
+        page.get_by_text(heading).first.wait_for(timeout=30_000)
         time.sleep(1.0)
         session.play()
-        _wait_for(lambda: session.simulation.state.t > 5.0, 60.0)
-        _slow_motion(session)
-        time.sleep(2.0)
-        return
-    if scene == "moving":
-        session.select_scene("Moving frame")
-        session.apply_preset("Turntable")
-        page.get_by_text("Moving frame C′").first.wait_for(timeout=30_000)
-        time.sleep(1.0)
-        session.play()
-        _wait_for(lambda: session.simulation.t > 2.6, 60.0)
-        _slow_motion(session)
-        time.sleep(2.0)
-        return
-    if scene == "constrained":
-        session.select_scene("Constrained particles")
-        session.apply_preset("Fast hoop")
-        page.get_by_text("Constrained particles (memo §2, §5)").first.wait_for(timeout=30_000)
-        time.sleep(1.0)
-        session.play()
-        _wait_for(lambda: session.simulation.t > 2.5, 60.0)
+        _wait_for(lambda: session.simulation.t > t_shot, 60.0)
         _slow_motion(session)
         time.sleep(2.0)
         return

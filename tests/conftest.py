@@ -44,6 +44,21 @@ def wait_until() -> Callable[..., Any]:
     return poll_until
 
 
+@pytest.fixture(scope="module")
+def server() -> Iterator[Any]:
+    """A private viser server nobody connects to (views drawn without a browser), quiet."""
+    import contextlib
+    import io
+
+    import viser
+
+    with contextlib.redirect_stdout(io.StringIO()):
+        running = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    yield running
+    with contextlib.redirect_stdout(io.StringIO()):
+        running.stop()
+
+
 @pytest.fixture
 def app() -> Iterator[App]:
     """The lecture app on 127.0.0.1 and an ephemeral port, its 60 Hz loop running."""

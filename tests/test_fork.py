@@ -12,14 +12,12 @@ Views draw into a private viser server (no browser), as `app.export` does.
 
 from __future__ import annotations
 
-import contextlib
 import copy
-import io
 import math
 import struct
 import time
 import types
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -126,15 +124,6 @@ def assert_equal_values(a: Any, b: Any, where: str) -> None:
 
 
 # ---------------------------------------------------------------------------- views without a browser
-@pytest.fixture(scope="module")
-def server() -> Iterator[viser.ViserServer]:
-    with contextlib.redirect_stdout(io.StringIO()):
-        running = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    yield running
-    with contextlib.redirect_stdout(io.StringIO()):
-        running.stop()
-
-
 _views = iter(range(10**6))
 
 

@@ -11,11 +11,8 @@ changes; ten minutes of play keep the history at 60 s and under 5 MB.
 
 from __future__ import annotations
 
-import contextlib
 import copy
-import io
 import math
-from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -36,15 +33,6 @@ MOVING = {"Euler angles": None, "Free body": "Dzhanibekov", "Heavy top": None, "
 PLAY_FRAMES = 1200  # 20 s at 1×
 FORK_FRAMES = (150, 601, 1000)  # forks taken after these frames
 IGNORED = {"version", "_exact_at"}  # a redraw counter (bumped by a restore) and a cache of R_exact(t)
-
-
-@pytest.fixture(scope="module")
-def server() -> Iterator[viser.ViserServer]:
-    with contextlib.redirect_stdout(io.StringIO()):
-        running = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    yield running
-    with contextlib.redirect_stdout(io.StringIO()):
-        running.stop()
 
 
 def _content(value: Any) -> Any:
