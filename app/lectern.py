@@ -189,16 +189,15 @@ def is_narrow(camera: Any) -> bool:
     return (0.0 < width <= NARROW_PX) or _aspect(camera) < NARROW_ASPECT
 
 
-def fitted_camera(position: Any, look_at: Any, fov_rad: float, aspect_from: float,
+def fitted_camera(position: Any, look_at: Any, aspect_from: float,
                   aspect_to: float) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
-    """The presenter's camera (position, look_at [scene units], vertical fov [rad], aspect) made
-    to show the same horizontal extent on a narrower view of aspect `aspect_to`: the same
-    viewing direction and look_at, the distance grown by tan(h_from/2) / tan(h_to/2), where the
-    horizontal half-angles follow from tan(h/2) = aspect tan(fov/2), i.e. by aspect_from /
-    aspect_to for the same vertical fov.  A view at least as wide
-    keeps the distance (it shows more at the sides).  The scenes frame their body in the left
-    BODY_WIDTH_SHARE of a wide view (the panel floats on the right), so only that share of the
-    presenter's width is kept: the body fills a phone's width instead of a third of it."""
+    """The presenter's camera (position, look_at [scene units], aspect) made for a narrower view
+    of aspect `aspect_to`, with the same vertical fov: the same viewing direction and look_at,
+    the distance grown by aspect_from / aspect_to (= tan(h_from/2) / tan(h_to/2), the horizontal
+    half-angles, tan(h/2) = aspect tan(fov/2)), so the horizontal extent is kept.  The scenes
+    frame their body in the left BODY_WIDTH_SHARE of a wide view (the panel floats on the
+    right), so only that share of the presenter's width is kept: the body fills a phone's width
+    instead of a third of it.  A view at least that wide keeps the distance."""
     eye, target = np.asarray(position, dtype=float), np.asarray(look_at, dtype=float)
     factor = max(1.0, BODY_WIDTH_SHARE * aspect_from / aspect_to) if aspect_to > 0.0 else 1.0
     eye = target + factor * (eye - target)
@@ -597,8 +596,7 @@ class Lectern:
         source = presenter.client.camera
         try:
             camera = follower.seat.client.camera
-            position, look_at = fitted_camera(source.position, source.look_at, float(source.fov),
-                                              _aspect(source), _aspect(camera))
+            position, look_at = fitted_camera(source.position, source.look_at, _aspect(source), _aspect(camera))
             camera.up_direction = tuple(source.up_direction)
             camera.position = position
             camera.look_at = look_at

@@ -267,7 +267,7 @@ def test_a_narrow_follower_sees_one_line_and_its_camera_is_fitted(hall: Hall) ->
 
 def test_fitted_camera_keeps_the_horizontal_extent() -> None:
     fov = math.radians(40.0)
-    position, look_at = fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 0.4)
+    position, look_at = fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), 1.6, 0.4)
     assert look_at == (0.0, 0.0, 0.0)
     distance = float(np.linalg.norm(position))
     # Horizontal half-width at the target: d tan(h/2), tan(h/2) = aspect tan(fov/2); the phone
@@ -276,7 +276,7 @@ def test_fitted_camera_keeps_the_horizontal_extent() -> None:
                                BODY_WIDTH_SHARE * math.sqrt(29.0) * 1.6 * math.tan(fov / 2), rtol=1e-12)
     np.testing.assert_allclose(np.asarray(position) / distance, np.array([4.0, -3.0, 2.0]) / math.sqrt(29.0),
                                rtol=1e-12)
-    assert fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), fov, 1.6, 1.2)[0] == (4.0, -3.0, 2.0)
+    assert fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), 1.6, 1.2)[0] == (4.0, -3.0, 2.0)
 
 
 def test_dataclass_messages_used_here_exist() -> None:
