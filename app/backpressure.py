@@ -275,11 +275,12 @@ class FramePacer:
                     stack.enter_context(client.atomic())
             yield
 
-    def end(self, drawn: Sequence[ClientHandle]) -> float:
+    def end(self, drawn: Sequence[ClientHandle], busy: Callable[[], bool] | None = None) -> float:
         """Finish the frame: wake the sender for `drawn`, then sleep until (a) at least
         ``idle_ratio`` x the frame's work time has passed, (b) the next 1/rate boundary, and
-        (c) if ``drain``, every drawn client's frame was taken by the sender (or ``max_wait``
-        since begin()).  Returns the time slept [s]."""
+        (c) if ``drain``, every drawn client's frame was taken by the sender and `busy()` (frames
+        written by another path, `app.wire`) is False, or ``max_wait`` since begin().  Returns
+        the time slept [s]."""
         clock = self._clock
         start = self._frame_start if self._frame_start is not None else clock()
         now = clock()
@@ -290,17 +291,20 @@ class FramePacer:
         earliest = max(now + self.idle_ratio * work, start + self.period)
         give_up = max(start + self.max_wait, earliest)
         waiting = [c for c in drawn if pending(c) > 0] if self.drain else []
+        other = self.drain and busy is not None and busy()
         slept_from = now
         while True:
             now = clock()
             if waiting:
                 waiting = [c for c in waiting if pending(c) > 0 and not is_closed(c)]
-            if not waiting and now >= earliest:
+            if other:
+                other = busy is not None and busy()
+            if not (waiting or other) and now >= earliest:
                 break
             if now >= give_up:
                 self.stats.drain_timeouts += 1
                 break
-            if waiting:  # poll: the sender runs while we sleep (GIL released)
+            if waiting or other:  # poll: the sender runs while we sleep (GIL released)
                 self._sleep(max(min(self.poll, give_up - now), 0.0))
             else:
                 self._sleep(earliest - now)

@@ -12,11 +12,13 @@ ends both the loop and the server.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import viser
 
@@ -24,12 +26,13 @@ from app.backpressure import FramePacer, PacerStats
 from app.export import export_main
 from app.kit.presets import PresetError
 from app.kit.room import Room
-from app.lectern import Lectern
+from app.lectern import Broadcast, Lectern
 from app.lessons import LessonError, lessons
 from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
+from app.wire import Wire
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
 
@@ -55,6 +58,12 @@ def load_note(frames: int, drawn: int, skipped: int, seconds: float, tick_hz: fl
         return ""
     return (f"**Server busy: {fps:.0f} frames a second** (of {tick_hz:.0f}): the motion is computed as "
             "always, shown less often.")
+
+
+def _browser(view: Any) -> Any:
+    """The viser client a view's frame goes to (the presenter's for the shared scene), else its target."""
+    target = view.client
+    return getattr(target, "client", None) or getattr(target, "presenter", None) or target
 
 
 class App:
@@ -87,6 +96,7 @@ class App:
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
+        self._wires: dict[int | None, Wire | None] = {}  # app.wire: the shared scene's (None), each browser's
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
@@ -124,6 +134,7 @@ class App:
     def _on_client_disconnect(self, client: viser.ClientHandle) -> None:
         with self._sessions_changed:
             session = self.sessions.pop(client.client_id, None)
+            self._wires.pop(client.client_id, None)
             self._sessions_changed.notify_all()
         if session is not None:
             session.close()
@@ -162,22 +173,27 @@ class App:
         while not self._stop.is_set():
             dt = min(pacer.begin(), MAX_TICK_DT)
             rooms = self.rooms()
-            views = [(room, view) for room in rooms for view in list(room.views)]
+            views = [(room, view, _browser(view)) for room in rooms for view in list(room.views)]
             drawn = []
-            with pacer.hold(view.client for _, view in views):
+            with pacer.hold(browser for _, _, browser in views):
                 for room in rooms:
                     try:
                         room.advance(dt)
                     except Exception:  # noqa: BLE001 - a second net; rooms report their own errors
                         logger.exception("%s: advance failed", room.scene.title)
-                for room, view in views:
+                for room, view, browser in views:
                     owed[id(view)] = owed.get(id(view), 0.0) + dt
-                    if pacer.ready(view.client):
-                        room.draw(view, owed.pop(id(view)))
-                        drawn.append(view.client)
+                    wires = self._wires_of(view, browser)
+                    if pacer.ready(browser) and not any(wire.busy() for wire in wires):
+                        with contextlib.ExitStack() as capturing:
+                            for wire in wires:
+                                capturing.enter_context(wire.frame())
+                            room.draw(view, owed.pop(id(view)))
+                        drawn.append(browser)
             self.lectern.tick(dt)
+            self._end_frames()
             if len(owed) > 2 * len(views) + 16:  # views that left
-                live = {id(view) for _, view in views}
+                live = {id(view) for _, view, _ in views}
                 owed = {key: value for key, value in owed.items() if key in live}
             self.tick_count += 1
             self.pacer_stats = stats = pacer.stats
@@ -187,7 +203,42 @@ class App:
                 self._show_load(load_note(stats.frames - frames, stats.drawn - drawn_before, stats.skipped - skipped,
                                           now - start, self.tick_hz))
                 window = (now, stats.frames, stats.drawn, stats.skipped)
-            pacer.end(drawn)
+            pacer.end(drawn, busy=self._wires_busy)
+
+    # ------------------------------------------------------------------ frames on the wire
+    def _wire(self, key: int | None, client: viser.ClientHandle | None = None) -> Wire | None:
+        """The wire of the shared scene (key None) or of one browser (made on first use)."""
+        if key not in self._wires:
+            with self._sessions_lock:
+                if key is not None and key not in self.sessions:
+                    return None  # closed
+                self._wires[key] = Wire.attach(self.server, client)
+        return self._wires[key]
+
+    def _wires_of(self, view: Any, browser: Any) -> list[Wire]:
+        """The wires a view's frame goes through: its browser's, and the shared scene's for the
+        presenter's view."""
+        wires = [self._wire(browser.client_id, browser)] if isinstance(browser, viser.ClientHandle) else []
+        if isinstance(view.client, Broadcast):
+            wires.append(self._wire(None))
+        return [wire for wire in wires if wire is not None]
+
+    def _end_frames(self) -> None:
+        """Send each wire's frame: the shared scene's to the presenter and the followers, a
+        browser's own to that browser."""
+        lectern = self.lectern
+        for key, wire in list(self._wires.items()):
+            if wire is None:
+                continue
+            if key is None:
+                presenter = lectern.presenter
+                recipients = [*lectern.followers, *(() if presenter is None else (presenter.client_id,))]
+                wire.end_frame(recipients)
+            else:
+                wire.end_frame((key,))
+
+    def _wires_busy(self) -> bool:
+        return any(wire is not None and wire.busy() for wire in list(self._wires.values()))
 
     def _show_load(self, note: str) -> None:
         """Tell every panel whether the server keeps its frame rate (only when that changes)."""

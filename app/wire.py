@@ -1,0 +1,251 @@
+"""A frame's scene and panel updates, encoded once and written straight to the websockets.
+
+viser 1.1 sends every queued message through a per-connection buffer: one producer task per
+browser takes a window, serialises it (msgpack + zstd) and sends it.  For the presenter's shared
+scene that means the same frame encoded once per follower (500 followers, 500 encodes a frame),
+and for a room of its own one buffer round trip a frame.  While the app loop draws a view,
+a `Wire` takes that view's *update* messages (poses, props, visibility, panel values) instead:
+at the end of the frame it encodes them once, in viser's own wire format, frames them once as a
+websocket message (a server's frames are not masked: the bytes are the same for every browser),
+and writes those bytes to each recipient's transport in one callback on viser's event loop.
+Everything else (nodes and panel elements made or removed, notifications, anything queued outside
+a frame or from another thread) goes through viser as before.
+
+Order and late joiners.  A recipient gets a frame only when viser has already taken everything
+queued for it before (its own buffer is empty, its cursor in the shared buffer has caught up:
+`_caught_up`); the producer writes what it takes at once, so a frame never overtakes the message
+that made its node.  A recipient that is not caught up, slow (more than MAX_UNSENT_BYTES waiting
+in its socket), new, or skipped for any reason is *behind*; when it is ready again it gets one
+catch-up frame with the latest value of everything that changed since the last frame it got
+(`latest`, keyed as viser culls: one value per node and property).  A node made or removed
+drops its entries from `latest` (a removed node's descendants too).
+
+Counters: `encodes` (payloads built), `frames` (frames ended with something to send), `writes`
+(transport writes) and `bytes_written`; tests count encodes to show one encode per frame.
+
+Internals used (viser 1.1.1, websockets 16), each checked by `available`: the
+`queue_message` of ``server._websock_server`` / ``client._websock_connection``, the buffers'
+``message_from_id`` / ``message_counter`` / ``generator_cursors``, the server's
+``_live_connections`` (their ``transport`` and ``protocol.state``) and
+``_background_event_loop``.  If any is missing, `Wire.attach` returns None and the app sends
+through viser's public path as before; `tests/test_wire.py` checks that a browser stand-in
+ends with the same scene and panel either way.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+import time
+from collections.abc import Iterable, Iterator
+from typing import Any
+
+import msgspec.msgpack
+import zstandard
+from viser.infra._infra import _append_aligned_buffers
+
+__all__ = ["MAX_UNSENT_BYTES", "Wire", "encode", "websocket_frame"]
+
+MAX_UNSENT_BYTES = 64 * 1024  # a browser with more than this waiting in its socket skips frames
+CAPTURED_PHASES = ("update_simple", "update_dict")
+_ZSTD = threading.local()
+
+
+def encode(messages: Iterable[Any]) -> bytes:
+    """One window of viser messages in viser 1.1's wire format (as its `_message_producer`):
+    sizes (2 x 8 bytes), zstd(msgpack({messages, timestampSec, binaryBufferLengths})), the raw
+    numpy buffers 8-byte aligned."""
+    compressor = getattr(_ZSTD, "compressor", None)
+    if compressor is None:
+        compressor = _ZSTD.compressor = zstandard.ZstdCompressor(level=1)
+    buffers: list[memoryview] = []
+    serialised = tuple(message.as_serializable_dict(buffers) for message in messages)
+    inner = msgspec.msgpack.encode({
+        "messages": serialised,
+        "timestampSec": time.perf_counter(),
+        "binaryBufferLengths": tuple(b.nbytes for b in buffers),
+    })
+    compressed = compressor.compress(inner)
+    parts: list[bytes | memoryview] = [len(inner).to_bytes(8, "little"), len(compressed).to_bytes(8, "little"),
+                                       compressed]
+    _append_aligned_buffers(parts, buffers, 16 + len(compressed))
+    return b"".join(parts)
+
+
+def websocket_frame(payload: bytes) -> bytes:
+    """`payload` as one unmasked, unfragmented binary websocket frame (RFC 6455 §5.2), the
+    form a server sends."""
+    size = len(payload)
+    if size < 126:
+        header = bytes((0x82, size))
+    elif size < 1 << 16:
+        header = bytes((0x82, 126)) + size.to_bytes(2, "big")
+    else:
+        header = bytes((0x82, 127)) + size.to_bytes(8, "big")
+    return header + payload
+
+
+def _entity(message: Any) -> tuple[str, str] | None:
+    """(entity type, id) of a node or panel element message, or None."""
+    kind, field = getattr(message, "entity_type", None), getattr(message, "entity_id_field", None)
+    if kind is None or field is None:
+        return None
+    return kind, str(getattr(message, field, ""))
+
+
+class Wire:
+    """The update messages one viser interface (the shared scene, or one browser's connection)
+    queues inside `frame()` blocks of the app loop's thread, sent by `end_frame` to recipients.
+
+    Made with `Wire.attach`; `detach()` gives the interface back to viser."""
+
+    def __init__(self, server: Any, interface: Any, buffer: Any) -> None:
+        self._server = server._websock_server
+        self._loop = self._server._background_event_loop
+        self._interface = interface
+        self._buffer = buffer
+        self._shared = buffer is self._server.get_message_buffer()
+        self._queue = interface.queue_message  # viser's own (bound method)
+        self._thread: int | None = None  # the thread inside frame(), if any
+        self._frame: list[Any] = []  # captured this frame
+        self._lock = threading.Lock()
+        self._ops: list[tuple[Any, ...]] = []  # ("set", message) / ("purge", key prefix, descendants' prefix)
+        self._scheduled = 0  # end_frame calls whose delivery has not run yet
+        self._count = 0  # frames delivered so far (delivery thread)
+        self._latest: dict[str, tuple[int, Any]] = {}  # redundancy key -> (frame, message)
+        self._delivered: dict[int, int] = {}  # client id -> last frame it got
+        self.encodes = self.frames = self.writes = self.bytes_written = 0
+        interface.queue_message = self._take
+
+    @classmethod
+    def attach(cls, server: Any, client: Any | None = None) -> Wire | None:
+        """A wire for the shared scene (`client` None) or for one browser's own messages; None
+        if viser's internals are not as expected (then nothing changes)."""
+        try:
+            websock = server._websock_server
+            interface = websock if client is None else client._websock_connection
+            buffer = interface.get_message_buffer()
+            if not (isinstance(buffer.message_from_id, dict) and isinstance(buffer.generator_cursors, dict)
+                    and isinstance(websock._live_connections, dict) and websock._background_event_loop is not None
+                    and callable(interface.queue_message)):
+                return None
+            return cls(server, interface, buffer)
+        except AttributeError:
+            return None
+
+    def detach(self) -> None:
+        """Give the interface back to viser (what is still captured is dropped)."""
+        with contextlib.suppress(AttributeError):
+            del self._interface.queue_message
+
+    # ------------------------------------------------------------------ the app loop's side
+    @contextlib.contextmanager
+    def frame(self) -> Iterator[None]:
+        """Within this block, this thread's update messages to the interface are captured."""
+        self._thread = threading.get_ident()
+        try:
+            yield
+        finally:
+            self._thread = None
+
+    def _take(self, message: Any) -> None:
+        entity = _entity(message)
+        phase = getattr(message, "lifecycle_phase", None)
+        if entity is None or phase is None:
+            self._queue(message)
+            return
+        if phase in CAPTURED_PHASES:
+            if self._thread == threading.get_ident():
+                self._frame.append(message)
+                return
+            op: tuple[Any, ...] = ("set", message)  # sent by viser; the catch-ups must know it
+        else:  # made or removed: its latest values go
+            op = ("purge", f"{entity[0]}:{entity[1]}:", f"{entity[0]}:{entity[1]}/" if phase == "remove" else None)
+        with self._lock:
+            self._ops.append(op)
+        self._queue(message)
+
+    def busy(self) -> bool:
+        """A frame was ended and its delivery has not run yet."""
+        return self._scheduled > 0
+
+    def end_frame(self, recipients: Iterable[int]) -> None:
+        """Send what this frame captured to `recipients` (client ids), once encoded, on viser's
+        event loop; recipients that are behind get their catch-up first."""
+        messages, self._frame = self._frame, []
+        with self._lock:
+            ops, self._ops = self._ops, []
+        if not (messages or ops):
+            return
+        self._scheduled += 1
+        try:
+            self._loop.call_soon_threadsafe(self._deliver, messages, ops, tuple(recipients))
+        except RuntimeError:  # the loop is closed: the server stops
+            self._scheduled -= 1
+
+    # ------------------------------------------------------------------ viser's event loop
+    def _caught_up(self, client_id: int, connection: Any) -> bool:
+        """Viser has taken everything queued for this browser before, and its socket keeps up."""
+        state = self._server._client_state_from_id.get(client_id)
+        if state is None or state.message_buffer.message_from_id:
+            return False
+        cursor = self._buffer.generator_cursors.get(client_id) if self._shared else None
+        if self._shared and (cursor is None or cursor < self._buffer.message_counter - 1):
+            return False
+        transport = connection.transport
+        return (getattr(connection.protocol.state, "name", "") == "OPEN" and not transport.is_closing()
+                and transport.get_write_buffer_size() <= MAX_UNSENT_BYTES)
+
+    def _deliver(self, messages: list[Any], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]) -> None:
+        try:
+            self._apply(messages, ops, recipients)
+        finally:
+            self._scheduled -= 1
+
+    def _apply(self, messages: list[Any], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]) -> None:
+        latest = self._latest
+        for op in ops:
+            if op[0] == "set":
+                latest[op[1].redundancy_key()] = (self._count + 1, op[1])
+                continue
+            _, prefix, under = op
+            for key in [k for k in latest if k.startswith(prefix) or (under and k.startswith(under))]:
+                del latest[key]
+        if not messages:
+            return
+        self._count += 1
+        frame = self._count
+        unique = {message.redundancy_key(): message for message in messages}  # viser culls so too
+        messages = list(unique.values())
+        for key, message in unique.items():
+            latest[key] = (frame, message)
+        self.frames += 1
+        shared: bytes | None = None
+        catch_ups: dict[int, bytes] = {}
+        connections = self._server._live_connections
+        delivered = self._delivered
+        for client_id in recipients:
+            connection = connections.get(client_id)
+            if connection is None or not self._caught_up(client_id, connection):
+                continue
+            since = delivered.get(client_id, 0)
+            if since == frame - 1:
+                if shared is None:
+                    shared = self._payload(messages)
+                data = shared
+            else:  # behind: everything that changed after the last frame it got, latest values
+                data = catch_ups.get(since, b"")
+                if not data:
+                    data = catch_ups[since] = self._payload(
+                        [m for f, m in latest.values() if f > since])
+            connection.transport.write(data)
+            delivered[client_id] = frame
+            self.writes += 1
+            self.bytes_written += len(data)
+        if len(delivered) > 2 * len(connections) + 16:  # browsers that left
+            for client_id in [c for c in delivered if c not in connections]:
+                del delivered[client_id]
+
+    def _payload(self, messages: list[Any]) -> bytes:
+        self.encodes += 1
+        return websocket_frame(encode(messages))

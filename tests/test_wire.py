@@ -1,0 +1,207 @@
+"""app.wire: a frame's updates encoded once, in viser's own format, written to every recipient.
+
+Checked against viser's public path: what a browser stand-in ends with (every node's pose and
+points, every panel value) equals the server's own handles, with the wire and without it
+(`Wire.attach` made to refuse); the followers' shared frame is encoded once per frame, whatever
+the number of followers (the encodes are counted, nothing is timed).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Any
+
+import numpy as np
+import pytest
+from viser import _messages
+
+from app.wire import Wire, encode, websocket_frame
+from benchmarks.ws_client import decode_frame, resolve_binary
+from conftest import poll_until
+
+CODE = "271828"
+
+
+def _array(value: Any) -> np.ndarray:
+    """A decoded value as an array (binary placeholders resolved to {"dtype", "data"})."""
+    if isinstance(value, dict) and "data" in value:
+        return np.frombuffer(value["data"], dtype=value["dtype"])
+    return np.asarray(value, dtype=float)
+
+
+def test_encode_is_viser_wire_format() -> None:
+    """decode(encode(messages)) gives each message's serialisable dict, numpy buffers included."""
+    points = np.arange(18, dtype=np.float32).reshape(3, 2, 3)
+    sent = [_messages.SetOrientationMessage("/a", (1.0, 0.0, 0.0, 0.0)),
+            _messages.SceneNodeUpdateMessage("/b", {"points": points}),
+            _messages.GuiUpdateMessage("uuid-1", {"value": 1.25})]
+    messages, _timestamp, buffers = decode_frame(encode(sent))
+    assert [m["type"] for m in messages] == [type(m).__name__ for m in sent]
+    assert messages[0]["wxyz"] == [1.0, 0.0, 0.0, 0.0]
+    decoded = resolve_binary(messages[1], buffers)["updates"]["points"]
+    assert np.array_equal(_array(decoded).reshape(3, 2, 3), points)
+    assert messages[2]["updates"] == {"value": 1.25}
+
+
+@pytest.mark.parametrize("size", [0, 125, 126, 65535, 65536])
+def test_websocket_frame_header(size: int) -> None:
+    """RFC 6455 §5.2: FIN + binary opcode, no mask, 7 / 7+16 / 7+64 bit lengths."""
+    frame = websocket_frame(b"x" * size)
+    assert frame[0] == 0x82
+    if size < 126:
+        assert frame[1] == size and len(frame) == 2 + size
+    elif size < 65536:
+        assert frame[1] == 126 and int.from_bytes(frame[2:4], "big") == size and len(frame) == 4 + size
+    else:
+        assert frame[1] == 127 and int.from_bytes(frame[2:10], "big") == size and len(frame) == 10 + size
+
+
+class SceneMirror:
+    """A browser stand-in that keeps what it is told: every node's pose and props, every panel
+    value (the state a browser would draw)."""
+
+    def __init__(self, port: int) -> None:
+        import viser
+        from websockets.sync.client import connect
+
+        from benchmarks.ws_client import camera_message, encode_message
+
+        self._ws = connect(f"ws://127.0.0.1:{port}", subprotocols=[f"viser-v{viser.__version__}"],
+                           max_size=None, compression=None)
+        self.nodes: dict[str, dict[str, Any]] = {}
+        self.gui: dict[str, Any] = {}
+        self.frames = 0
+        self.lock = threading.Lock()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+        self._ws.send(encode_message(camera_message()))
+
+    def _read(self) -> None:
+        try:
+            for data in self._ws:
+                messages, _t, buffers = decode_frame(data)
+                with self.lock:
+                    self.frames += 1
+                    for message in messages:
+                        self._keep(resolve_binary(message, buffers) if buffers else message)
+        except Exception:  # noqa: BLE001 - closed
+            pass
+
+    def _keep(self, message: dict[str, Any]) -> None:
+        kind, name = message["type"], message.get("name")
+        if kind == "RemoveSceneNodeMessage":
+            self.nodes = {n: v for n, v in self.nodes.items() if n != name and not n.startswith(f"{name}/")}
+        elif kind == "SetOrientationMessage":
+            self.nodes.setdefault(name, {})["wxyz"] = tuple(message["wxyz"])
+        elif kind == "SetPositionMessage":
+            self.nodes.setdefault(name, {})["position"] = tuple(message["position"])
+        elif kind == "SceneNodeUpdateMessage":
+            self.nodes.setdefault(name, {}).update(message["updates"])
+        elif kind == "GuiUpdateMessage" and "value" in message["updates"]:
+            self.gui[message["uuid"]] = message["updates"]["value"]
+        elif name is not None and isinstance(message.get("props"), dict):  # a node made
+            node = self.nodes[name] = {}
+            for key in ("wxyz", "position"):
+                if key in message["props"]:
+                    node[key] = tuple(message["props"][key])
+            if "points" in message["props"]:
+                node["points"] = message["props"]["points"]
+
+    def close(self) -> None:
+        self._ws.close()
+        self._reader.join(timeout=5.0)
+
+
+def _differences(mirror: SceneMirror, api: Any, prefix: str) -> list[str]:
+    """Nodes under `prefix` whose pose or points in `mirror` differ from the server's handles."""
+    found = []
+    with mirror.lock:
+        nodes = dict(mirror.nodes)
+    for name, handle in list(api._handle_from_node_name.items()):
+        if not name.startswith(prefix) or name not in nodes:
+            continue
+        impl, seen = handle._impl, nodes[name]
+        for key, server_value in (("wxyz", impl.wxyz), ("position", impl.position)):
+            if key in seen and not np.allclose(seen[key], server_value, atol=1e-6):
+                found.append(f"{name}.{key}: browser {seen[key]} server {tuple(server_value)}")
+        points = getattr(impl.props, "points", None)
+        if "points" in seen and points is not None:
+            browser = _array(seen["points"]).astype(float).ravel()
+            server = np.asarray(points, dtype=float).ravel()
+            if browser.size != server.size or not np.allclose(browser, server, atol=1e-6):
+                found.append(f"{name}.points differ")
+    return found
+
+
+def _settled(mirror: SceneMirror) -> None:
+    """Wait until no frame has arrived for 0.3 s."""
+    last, since = -1, time.monotonic()
+    while time.monotonic() - since < 0.3:
+        with mirror.lock:
+            frames = mirror.frames
+        if frames != last:
+            last, since = frames, time.monotonic()
+        time.sleep(0.02)
+
+
+@pytest.mark.parametrize("wired", [True, False], ids=["wire", "public path"])
+@pytest.mark.parametrize("scene", ["Free body", "Heavy top"])
+def test_own_room_ends_as_the_server(monkeypatch: pytest.MonkeyPatch, wired: bool, scene: str) -> None:
+    """A room of its own plays 1 s and pauses: the browser's nodes are the server's."""
+    from app.main import create_server
+
+    if not wired:
+        monkeypatch.setattr(Wire, "attach", classmethod(lambda cls, server, client=None: None))
+    app = create_server("127.0.0.1", 0, verbose=False)
+    mirror = SceneMirror(app.port)
+    try:
+        session = next(iter(app.wait_for_sessions(1).values()))
+        session.select_scene(scene)
+        session.play()
+        time.sleep(1.0)
+        session.pause()
+        _settled(mirror)
+        wire = app._wires.get(session.client.client_id)
+        assert (wire is not None and wire.frames > 20) == wired, "the wire carried the frames" if wired else ""
+        with session.lock:
+            differences = _differences(mirror, session.client.scene, "/")
+        assert differences == []
+        with mirror.lock:
+            assert len(mirror.nodes) > 5
+    finally:
+        mirror.close()
+        app.stop()
+
+
+def test_followers_frame_is_encoded_once() -> None:
+    """A presenter plays; four followers watch.  The shared wire encodes about once a frame (a
+    catch-up for a follower that was skipped costs one more), not once per follower; every
+    follower ends with the presenter's nodes."""
+    from app.main import create_server
+
+    app = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE)
+    mirrors = [SceneMirror(app.port)]
+    try:
+        presenter = next(iter(app.wait_for_sessions(1).values()))
+        presenter.present(CODE)
+        presenter.select_scene("Free body")
+        mirrors += [SceneMirror(app.port) for _ in range(4)]
+        poll_until(lambda: len(app.lectern.followers) == 4, timeout=15.0)
+        presenter.play()
+        time.sleep(1.5)
+        presenter.pause()
+        for mirror in mirrors:
+            _settled(mirror)
+        shared = app._wires[None]
+        assert shared is not None and shared.frames > 30
+        assert shared.encodes <= 1.25 * shared.frames, (shared.encodes, shared.frames)
+        assert shared.writes >= 4 * shared.frames * 0.8  # every follower got (nearly) every frame
+        for mirror in mirrors:
+            assert _differences(mirror, app.server.scene, "/live") == []
+            with mirror.lock:
+                assert any(name.startswith("/live") for name in mirror.nodes)
+    finally:
+        for mirror in mirrors:
+            mirror.close()
+        app.stop()
