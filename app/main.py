@@ -17,7 +17,7 @@ import logging
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import viser
@@ -64,6 +64,15 @@ def _browser(view: Any) -> Any:
     """The viser client a view's frame goes to (the presenter's for the shared scene), else its target."""
     target = view.client
     return getattr(target, "client", None) or getattr(target, "presenter", None) or target
+
+
+@contextlib.contextmanager
+def _capturing(wires: Sequence[Wire]) -> Iterator[None]:
+    """The update messages this thread queues go to `wires` (app.wire) until the block ends."""
+    with contextlib.ExitStack() as stack:
+        for wire in wires:
+            stack.enter_context(wire.frame())
+        yield
 
 
 class App:
@@ -185,12 +194,11 @@ class App:
                     owed[id(view)] = owed.get(id(view), 0.0) + dt
                     wires = self._wires_of(view, browser)
                     if pacer.ready(browser) and not any(wire.busy() for wire in wires):
-                        with contextlib.ExitStack() as capturing:
-                            for wire in wires:
-                                capturing.enter_context(wire.frame())
+                        with _capturing(wires):
                             room.draw(view, owed.pop(id(view)))
                         drawn.append(browser)
-            self.lectern.tick(dt)
+            with _capturing(self._follower_wires()):  # their panels' refresh
+                self.lectern.tick(dt)
             self._end_frames()
             if len(owed) > 2 * len(views) + 16:  # views that left
                 live = {id(view) for _, view, _ in views}
@@ -221,6 +229,11 @@ class App:
         wires = [self._wire(browser.client_id, browser)] if isinstance(browser, viser.ClientHandle) else []
         if isinstance(view.client, Broadcast):
             wires.append(self._wire(None))
+        return [wire for wire in wires if wire is not None]
+
+    def _follower_wires(self) -> list[Wire]:
+        wires = [self._wire(client_id, follower.seat.client)
+                 for client_id, follower in list(self.lectern.followers.items())]
         return [wire for wire in wires if wire is not None]
 
     def _end_frames(self) -> None:
