@@ -127,6 +127,20 @@ def _scene_dropdown(state: ClientState, scene: str) -> tuple[GuiElement, str] | 
     return None if option is None else (element, option)
 
 
+async def _settle(state: ClientState, quiet: float = 0.3, timeout: float = 10.0) -> None:
+    """Wait until no GUI element has been added or removed for `quiet` [s] (a first panel can
+    come in several windows), at most `timeout` [s]."""
+    deadline = time.monotonic() + timeout
+    last = -1
+    while time.monotonic() < deadline:
+        with state.lock:
+            count = len(state.gui)
+        if count == last:
+            return
+        last = count
+        await asyncio.sleep(quiet)
+
+
 async def _select_and_play(client: AsyncViserClient, scene: str) -> str | None:
     """Pick `scene` in the Scene dropdown and press its Play, as a browser would; None once it
     moves, else why not ("n/a: ...")."""
@@ -136,6 +150,7 @@ async def _select_and_play(client: AsyncViserClient, scene: str) -> str | None:
                               30.0)
     except TimeoutError:
         return "n/a: no scene dropdown"
+    await _settle(state)  # the whole panel: its Play is not the new scene's
     found = _scene_dropdown(state, scene)
     if found is None:
         return "n/a: no such scene"

@@ -282,3 +282,18 @@ def test_a_playing_scene_stays_within_the_byte_budget(scene: str, how: str) -> N
     count, figures = _measured(scene, how)
     assert count.bytes_per_frame <= BUDGET_BYTES_PER_FRAME, \
         f"over the byte budget of {BUDGET_BYTES_PER_FRAME:.0f} B/frame: {figures}"
+
+
+def test_the_frame_budget_benchmark_runs_and_counts() -> None:
+    """benchmarks/frame_budget.py on one scene, briefly: the app in a subprocess, a browser in
+    its own room and a follower both receive drawn frames with scene messages (no figure is
+    checked against a threshold: that is the counted tests' job)."""
+    from benchmarks.frame_budget import Figures, format_table, measure_tree
+
+    results = measure_tree(("Free body",), warmup=0.3, seconds=1.0)
+    for how in ("own", "follower"):
+        figures = results["Free body", how]
+        assert isinstance(figures, Figures), figures
+        assert figures.drawn_frames > 0 and figures.scene_messages >= figures.drawn_frames
+        assert figures.bytes > 16 * figures.frames  # every frame has its 16-byte header and more
+    assert "| Free body | " in format_table(("Free body",), [results])
