@@ -11,6 +11,13 @@ It speaks viser's websocket protocol (docs/VISER.md §3):
   send the ``GuiUpdateMessage`` a browser would send to the element with a given label (slider
   moved, dropdown changed, button clicked).
 
+Every decoded message is also counted by category (`message_category`): "scene" (scene nodes
+created, moved, updated, shown, hidden, removed) or "gui" (everything else: the panel,
+notifications, commands, the camera); a frame with at least one scene message is a "scene
+frame" (one drawn frame of a view).  A test that drives the server in its own process can put a
+sync marker (`sync_marker_message(n)`) behind what it sent: the frame carrying it is not counted,
+and `ClientState.marker` becomes n once everything sent before it has been ingested.
+
 Memory is bounded: pose messages (``SetOrientationMessage``, ``SetPositionMessage``) are counted
 per scene node, never stored; other messages go to a ring buffer of ``keep_messages`` entries
 (time of arrival, server timestamp, message dict with its binary buffers as bytes).
@@ -46,6 +53,8 @@ import zstandard
 
 __all__ = [
     "POSE_MESSAGE_TYPES",
+    "SCENE_UPDATE_MESSAGE_TYPES",
+    "SYNC_MARKER_PREFIX",
     "AsyncViserClient",
     "ClientState",
     "GuiElement",
@@ -55,10 +64,20 @@ __all__ = [
     "decode_frame",
     "encode_message",
     "gui_update_message",
+    "message_category",
     "subprotocol",
+    "sync_marker_message",
 ]
 
 POSE_MESSAGE_TYPES = frozenset({"SetOrientationMessage", "SetPositionMessage"})
+SCENE_UPDATE_MESSAGE_TYPES = frozenset({
+    "SetOrientationMessage", "SetPositionMessage", "SceneNodeUpdateMessage", "SetSceneNodeVisibilityMessage",
+    "RemoveSceneNodeMessage", "SetBoneOrientationMessage", "SetBonePositionMessage",
+    "SetSceneNodeClickBindingsMessage", "SetSceneNodeDragBindingsMessage",
+})
+"""Messages that change an existing scene node (besides the creation messages of scene nodes)."""
+SYNC_MARKER_PREFIX = "/* ws_client sync marker "
+_CATEGORY: dict[str, str] = {}
 _HEADER_BYTES = 16
 
 
@@ -100,6 +119,39 @@ def decode_frame(data: bytes) -> tuple[list[dict[str, Any]], float, list[memoryv
         buffers.append(view[offset:offset + length])
         offset += length
     return payload["messages"], float(payload.get("timestampSec", math.nan)), buffers
+
+
+def message_category(kind: str) -> str:
+    """"scene" for a message type that creates or changes a scene node (a viser
+    ``_CreateSceneNodeMessage`` or one of SCENE_UPDATE_MESSAGE_TYPES), "gui" for any other
+    (the panel, notifications, commands, the camera, plotly's script)."""
+    category = _CATEGORY.get(kind)
+    if category is None:
+        from viser import _messages
+
+        cls = getattr(_messages, kind, None)
+        creates_node = isinstance(cls, type) and issubclass(cls, _messages._CreateSceneNodeMessage)
+        category = _CATEGORY[kind] = "scene" if creates_node or kind in SCENE_UPDATE_MESSAGE_TYPES else "gui"
+    return category
+
+
+def sync_marker_message(number: int) -> Any:
+    """A message a client ignores but recognises (`ClientState.marker`): queue it on a client's
+    connection in the server's process behind what that client must have received first.  A
+    viser ``RunJavascriptMessage`` holding only a comment (a browser runs nothing); never culled."""
+    from viser import _messages
+
+    return _messages.RunJavascriptMessage(source=f"{SYNC_MARKER_PREFIX}{int(number)} */")
+
+
+def _marker_number(messages: list[dict[str, Any]]) -> int | None:
+    """n if `messages` is exactly one sync marker n, else None."""
+    if len(messages) != 1 or messages[0].get("type") != "RunJavascriptMessage":
+        return None
+    source = str(messages[0].get("source", ""))
+    if not source.startswith(SYNC_MARKER_PREFIX):
+        return None
+    return int(source[len(SYNC_MARKER_PREFIX):].split()[0])
 
 
 def resolve_binary(value: Any, buffers: list[memoryview]) -> Any:
@@ -178,6 +230,10 @@ class ClientState:
     Attributes:
         frames: websocket frames received; bytes_received: their total size [B].
         message_counts: messages received, by type (a Counter).
+        category_counts: messages received by `message_category` ("scene", "gui"; a Counter).
+        scene_frames: frames with at least one scene message (drawn frames of a view).
+        marker: the number of the last sync marker received (-1: none); the marker's frame
+            is counted nowhere else.
         pose: {node name: NodePoseStats}, pose messages counted, not stored.
         messages: ring buffer of (arrival time [s], server timestampSec, message dict) for
             all non-pose messages, at most `keep_messages` of them.
@@ -192,6 +248,9 @@ class ClientState:
         self.frames = 0
         self.bytes_received = 0
         self.message_counts: collections.Counter[str] = collections.Counter()
+        self.category_counts: collections.Counter[str] = collections.Counter()
+        self.scene_frames = 0
+        self.marker = -1
         self.pose: dict[str, NodePoseStats] = {}
         self.messages: collections.deque[tuple[float, float, dict[str, Any]]] = collections.deque(
             maxlen=keep_messages)
@@ -223,15 +282,24 @@ class ClientState:
             with self.lock:
                 self.errors.append(f"{type(error).__name__}: {error}")
             return
+        marker = _marker_number(messages)
         with self.changed:
+            if marker is not None:
+                self.marker = marker
+                self.changed.notify_all()
+                return
             self.frames += 1
             self.bytes_received += len(data)
             if self.frames == 1:
                 self.first_frame_time = now
             self.last_frame_time = now
+            scene_messages = 0
             for message in messages:
                 kind = message.get("type", "?")
                 self.message_counts[kind] += 1
+                category = message_category(kind)
+                self.category_counts[category] += 1
+                scene_messages += category == "scene"
                 if kind in POSE_MESSAGE_TYPES:
                     self._count_pose(kind, message, now)
                     continue
@@ -241,6 +309,7 @@ class ClientState:
                 self._track_gui(kind, message)
                 if kind == "ReplayDoneMessage":
                     self.replay_done = True
+            self.scene_frames += scene_messages > 0
             self.changed.notify_all()
 
     def _count_pose(self, kind: str, message: dict[str, Any], now: float) -> None:
