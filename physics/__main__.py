@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from collections.abc import Callable
+from pathlib import Path
 from typing import NoReturn
 
 import numpy as np
@@ -100,7 +100,7 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m physics", description=__doc__.split("\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
     run = commands.add_parser("simulate", help="integrate a case file and write TRAJ.npz")
-    run.error = _one_line_error("simulate")  # type: ignore[method-assign]  # as a bad case: one line, exit 2
+    run.error = _one_line_error("simulate")  # type: ignore[method-assign,assignment]  # as a bad case: one line
     run.add_argument("case", type=Path, help="CASE.json (see docs/CASEFILE.md)")
     run.add_argument("--out", type=Path, required=True, help="output TRAJ.npz")
     run.add_argument("--method", help="a name from `python -m physics methods` (default: the most accurate)")
@@ -109,7 +109,7 @@ def _parser() -> argparse.ArgumentParser:
                      help="display step [s] with --realtime: a number or a fraction p/q such as 1/240 (default 1/60)")
     commands.add_parser("methods", help="list the methods, their order and what they conserve")
     inertia = commands.add_parser("inertia", help="mass, centre of mass, inertia tensor and principal axes")
-    inertia.error = _one_line_error("inertia")  # type: ignore[method-assign]  # bad values: one line, exit 2
+    inertia.error = _one_line_error("inertia")  # type: ignore[method-assign,assignment]  # bad values: one line, exit 2
     inertia.add_argument("file", type=Path, help="a mesh (STL, OBJ, PLY, OFF, GLB) or a JSON of point masses")
     inertia.add_argument("--mass", type=float, help="[kg] of a mesh (default density 1)")
     inertia.add_argument("--density", type=float, help="[kg/m³] of a mesh (default 1)")
