@@ -669,61 +669,55 @@ def _kernel_source(structure: tuple[object, ...], runtime_h: bool = False) -> st
             prelude += [f"half = kag_{g} * nl", f"cw{g} = cos(half)", f"sf{g} = sin(half) / nl"]
     if const_lz:
         for g in sorted(set(groups)):
-            prelude += [f"half = kzg_{g} * lz", f"chz{g} = cos(half)", f"shz{g} = sin(half)"]
+            prelude += [
+                f"half = kzg_{g} * lz", f"chz{g} = cos(half)", f"shz{g} = sin(half)",
+                f"cz{g} = chz{g} * chz{g} - shz{g} * shz{g}", f"sz{g} = 2.0 * shz{g} * chz{g}",
+            ]  # fmt: skip
 
     def t_sym(k: str) -> list[str]:
-        """T_sym(δ_k h): R turns about L_b by 2 a_r |L| δ_k h (L_b fixed), then about z_w by
-        2 (a_s - a_r) L_z δ_k h (L_b turns back).  With a z turn the two are one quaternion
-        product q ⊗ (p_L ⊗ p_z), and L_b turns by two half turns (u, v), fewer products than
-        the turns one after the other."""
         g = group[k]
         if const_nl:
-            head, cw, sf, pad = [], f"cw{g}", f"sf{g}", ""
-        else:  # |L| = 0: both turns are the identity
-            head = [
-                "nl2 = lx * lx + ly * ly + lz * lz",
-                "if nl2 > 0.0:",
-                "    nl = sqrt(nl2)",
-                f"    half = ka_{k} * nl",
-                "    cw = cos(half)",
-                "    sf = sin(half) / nl",
-            ]
-            cw, sf, pad = "cw", "sf", "    "
-        if not has_z:
-            body = [
-                f"px = {sf} * lx",
-                f"py = {sf} * ly",
-                f"pz = {sf} * lz",
-                f"pw = {cw}",
+            lines = [
+                f"px = sf{g} * lx",
+                f"py = sf{g} * ly",
+                f"pz = sf{g} * lz",
+                f"nw = qw * cw{g} - qx * px - qy * py - qz * pz",
+                f"nx = qw * px + qx * cw{g} + qy * pz - qz * py",
+                f"ny = qw * py - qx * pz + qy * cw{g} + qz * px",
+                f"qz = qw * pz + qx * py - qy * px + qz * cw{g}",
+                "qw = nw",
+                "qx = nx",
+                "qy = ny",
             ]
         else:
-            if const_lz:
-                ch, sh = f"chz{g}", f"shz{g}"
-                body = []
-            else:
-                ch, sh = "ch", "sh"
-                body = [f"half = kz_{k} * lz", "ch = cos(half)", "sh = sin(half)"]
-            body += [
-                f"u = lx * {ch} + ly * {sh}",
-                f"v = ly * {ch} - lx * {sh}",
-                f"fz = {sf} * lz",
-                f"pw = {cw} * {ch} - fz * {sh}",
-                f"px = {sf} * u",
-                f"py = {sf} * v",
-                f"pz = fz * {ch} + {cw} * {sh}",
+            lines = t_sym_general(k)
+        if const_lz:
+            return lines + [
+                f"qw, qz = qw * chz{g} - qz * shz{g}, qz * chz{g} + qw * shz{g}",
+                f"qx, qy = qx * chz{g} + qy * shz{g}, qy * chz{g} - qx * shz{g}",
+                f"lx, ly = cz{g} * lx + sz{g} * ly, cz{g} * ly - sz{g} * lx",
             ]
-        body += [
-            "nw = qw * pw - qx * px - qy * py - qz * pz",
-            "nx = qw * px + qx * pw + qy * pz - qz * py",
-            "ny = qw * py - qx * pz + qy * pw + qz * px",
-            "qz = qw * pz + qx * py - qy * px + qz * pw",
-            "qw = nw",
-            "qx = nx",
-            "qy = ny",
+        return lines + (_rotation_lines("z", f"kz_{k}") if has_z else [])
+
+    def t_sym_general(k: str) -> list[str]:
+        return [
+            "nl2 = lx * lx + ly * ly + lz * lz",
+            "if nl2 > 0.0:",
+            "    nl = sqrt(nl2)",
+            f"    half = ka_{k} * nl",
+            "    cw = cos(half)",
+            "    sf = sin(half) / nl",
+            "    px = sf * lx",
+            "    py = sf * ly",
+            "    pz = sf * lz",
+            "    nw = qw * cw - qx * px - qy * py - qz * pz",
+            "    nx = qw * px + qx * cw + qy * pz - qz * py",
+            "    ny = qw * py - qx * pz + qy * cw + qz * px",
+            "    qz = qw * pz + qx * py - qy * px + qz * cw",
+            "    qw = nw",
+            "    qx = nx",
+            "    qy = ny",
         ]
-        if has_z:
-            body += [f"lx = u * {ch} + v * {sh}", f"ly = v * {ch} - u * {sh}"]
-        return head + [pad + line for line in body]
 
     def kick(i: int) -> list[str]:
         lines = []
