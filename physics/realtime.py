@@ -193,11 +193,14 @@ class RealtimeStepper:
             step = self._peek = self._sp.step_kernel(self._gammas)
         t0 = self._t
         y, fin = self._y, self._fin
-        done = 0
-        while done < n:
-            chunk = min(CHECK_EVERY, n - done)
-            y = step(y, t0 + done * h, chunk, fin, h)
-            done += chunk
+        if n <= CHECK_EVERY:
+            y = step(y, t0, n, fin, h)
+        else:
+            done = 0
+            while done < n:
+                chunk = min(CHECK_EVERY, n - done)
+                y = step(y, t0 + done * h, chunk, fin, h)
+                done += chunk
         self.substeps = n
         self.evaluations = n * self.stages_per_substep
         return self._make_state(y, t0 + dt)
