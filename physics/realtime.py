@@ -11,6 +11,11 @@ meant to be stepped from two threads at once).
 h = NOMINAL_STEP and shows the time between grid points by a `RealtimeStepper.peek`, so that the
 trajectory does not depend on the frame rate or on the frames' jitter (see its docstring).
 
+`RealtimeStepper.step_many(dt, frames)` is `frames` steps at once, the same floats as step after
+step, returned as arrays without a State per frame: the CLI's `simulate_realtime` (issue 16: about
+1.5-1.8 ms of wall per simulated second at 1/240 s on the free body and the asymmetric heavy top,
+against 2.2-2.8 with a State per frame; `benchmarks/realtime_cost.py`).
+
 `step_realtime(model, state, dt)` is the same step as a pure function of (model, state); it
 builds a stepper per call, so it validates and converts the state every time (a stepper skips
 that: keep one per simulation).
