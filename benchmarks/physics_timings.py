@@ -3,8 +3,11 @@
     python benchmarks/physics_timings.py
 
 Prints best-of-5 wall times [ms] of: the exact torque-free solution at 1e4 samples, the mass
-properties of a 20480-face mesh, the Euler-Lagrange run that stops at the pole, and the
-integrators refusing a blow-up (the tests count the work done instead).
+properties of a 20480-face mesh, the Euler-Lagrange run that stops at the pole, the
+integrators refusing a blow-up (the tests count the work done instead), and the real-time
+stepping of the CLI (`simulate_realtime`, `--frame-dt 1/240`) on the two cases of issue 16, in ms
+of wall per simulated second (target <= 2; benchmarks/realtime_cost.py has every case, side by
+side with a baseline commit).
 """
 
 from __future__ import annotations
@@ -20,11 +23,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from physics.casefile import load_case  # noqa: E402
 from physics.dynamics import IntegrationError, Model, State  # noqa: E402
 from physics.exact_free import FreeBodyExact  # noqa: E402
 from physics.inertia import mesh_mass_properties  # noqa: E402
 from physics.integrators import integrate_adaptive, integrate_dop853, integrate_splitting  # noqa: E402
 from physics.lagrange import integrate_euler_lagrange  # noqa: E402
+from physics.methods import simulate_realtime  # noqa: E402
 from physics.so3 import rot_x  # noqa: E402
 
 
@@ -88,6 +93,11 @@ def main() -> int:
     runs = (("splitting", integrate_splitting), ("adaptive", integrate_adaptive), ("dop853", integrate_dop853))
     for name, run in runs:
         print(f"{name:10s} refusing a blow-up:        {best_ms(lambda run=run: run(blow_up, state, times)):8.2f} ms")
+    simulated = 5.0  # [s] per run
+    for case_name in ("asymmetric_heavy_top", "free_asymmetric"):
+        case = load_case(ROOT / "benchmarks" / "cases" / f"{case_name}.json")
+        ms = best_ms(lambda case=case: simulate_realtime(case.model, case.state0, simulated, 1.0 / 240.0), runs=9)
+        print(f"simulate_realtime 1/240, {case_name:21s} {ms / simulated:8.2f} ms per simulated s")
     return 0
 
 

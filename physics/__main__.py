@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import NoReturn
 
@@ -58,25 +59,57 @@ def _warm_up(case: Case, realtime: bool, frame_dt: float, name: str) -> None:
         pass
 
 
-def _one_line_error(message: str) -> NoReturn:
-    """argparse's error for `inertia`: one line on stderr (no usage block), exit 2."""
-    print(f"error: {message} (usage: python -m physics inertia FILE [--mass M | --density RHO] "
-          "[--about X Y Z])", file=sys.stderr)
-    raise SystemExit(2)
+def seconds_or_fraction(text: str) -> float:
+    """A time step [s] as typed: a float (`0.004`, `4e-3`) or a fraction p/q (`1/240`, `1.5/360`).
+
+    p/q is the float division float(p) / float(q), so `1/240` is exactly the double 1.0 / 240.0.
+    argparse.ArgumentTypeError, naming what was typed, for anything else (whether the value is
+    positive and finite is checked with the other inputs)."""
+    wanted = f"a number of seconds or a fraction p/q (e.g. 0.004 or 1/240) wanted, got {text!r}"
+    parts = text.strip().split("/")
+    if len(parts) > 2:
+        raise argparse.ArgumentTypeError(wanted)
+    try:
+        values = [float(part) for part in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(wanted) from None
+    if len(values) == 1:
+        return values[0]
+    if values[1] == 0.0:
+        raise argparse.ArgumentTypeError(f"{text!r}: the denominator of p/q is zero")
+    return values[0] / values[1]
+
+
+_USAGE = {
+    "inertia": "python -m physics inertia FILE [--mass M | --density RHO] [--about X Y Z]",
+    "simulate": "python -m physics simulate CASE.json --out TRAJ.npz [--method NAME] [--realtime] [--frame-dt H]",
+}
+
+
+def _one_line_error(command: str) -> Callable[[str], NoReturn]:
+    """argparse's error for `command`: one line on stderr (no usage block), exit 2, as for a bad case."""
+
+    def error(message: str) -> NoReturn:
+        print(f"error: {message} (usage: {_USAGE[command]})", file=sys.stderr)
+        raise SystemExit(2)
+
+    return error
 
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m physics", description=__doc__.split("\n")[0])
     commands = parser.add_subparsers(dest="command", required=True)
     run = commands.add_parser("simulate", help="integrate a case file and write TRAJ.npz")
+    run.error = _one_line_error("simulate")  # type: ignore[method-assign,assignment]  # as a bad case: one line
     run.add_argument("case", type=Path, help="CASE.json (see docs/CASEFILE.md)")
     run.add_argument("--out", type=Path, required=True, help="output TRAJ.npz")
     run.add_argument("--method", help="a name from `python -m physics methods` (default: the most accurate)")
     run.add_argument("--realtime", action="store_true", help="step frame by frame as the app does")
-    run.add_argument("--frame-dt", type=float, default=1.0 / 60.0, help="display step [s] with --realtime")
+    run.add_argument("--frame-dt", type=seconds_or_fraction, default=1.0 / 60.0, metavar="H",
+                     help="display step [s] with --realtime: a number or a fraction p/q such as 1/240 (default 1/60)")
     commands.add_parser("methods", help="list the methods, their order and what they conserve")
     inertia = commands.add_parser("inertia", help="mass, centre of mass, inertia tensor and principal axes")
-    inertia.error = _one_line_error  # type: ignore[method-assign]  # bad values: one line, exit 2
+    inertia.error = _one_line_error("inertia")  # type: ignore[method-assign,assignment]  # bad values: one line, exit 2
     inertia.add_argument("file", type=Path, help="a mesh (STL, OBJ, PLY, OFF, GLB) or a JSON of point masses")
     inertia.add_argument("--mass", type=float, help="[kg] of a mesh (default density 1)")
     inertia.add_argument("--density", type=float, help="[kg/m³] of a mesh (default 1)")

@@ -11,6 +11,11 @@ meant to be stepped from two threads at once).
 h = NOMINAL_STEP and shows the time between grid points by a `RealtimeStepper.peek`, so that the
 trajectory does not depend on the frame rate or on the frames' jitter (see its docstring).
 
+`RealtimeStepper.step_many(dt, frames)` is `frames` steps at once, the same floats as step after
+step, returned as arrays without a State per frame: the CLI's `simulate_realtime` (issue 16: about
+1.5-1.8 ms of wall per simulated second at 1/240 s on the free body and the asymmetric heavy top,
+against 2.2-2.8 with a State per frame; `benchmarks/realtime_cost.py`).
+
 `step_realtime(model, state, dt)` is the same step as a pure function of (model, state); it
 builds a stepper per call, so it validates and converts the state every time (a stepper skips
 that: keep one per simulation).
@@ -19,12 +24,13 @@ that: keep one per simulation).
 from __future__ import annotations
 
 import math
+from itertools import chain
 
 import numpy as np
 
 from physics.dynamics import IntegrationError, Model, State
 from physics.guards import omega_limit, validated_state
-from physics.splitting import CHECK_EVERY, STAGES, Kernel, Splitting, gammas_of, state_builder
+from physics.splitting import CHECK_EVERY, STAGES, Kernel, Splitting, StepKernel, gammas_of, state_builder
 
 __all__ = ["GRID_TOLERANCE", "MAX_SUBSTEPS", "NOMINAL_STEP", "REALTIME_SUBSTEP_ANGLE", "GridStepper", "RealtimeStepper",
            "step_realtime"]
@@ -67,8 +73,8 @@ class RealtimeStepper:
     """
 
     __slots__ = (
-        "_conservative", "_fin", "_frames", "_gammas", "_invariant", "_limit", "_make_state", "_max_angle", "_rate",
-        "_sp", "_state", "_t", "_y", "evaluations", "model", "stages_per_substep", "substeps",
+        "_conservative", "_fin", "_frames", "_gammas", "_invariant", "_limit", "_make_state", "_max_angle", "_peek",
+        "_rate", "_sp", "_state", "_t", "_y", "evaluations", "model", "stages_per_substep", "substeps",
     )  # fmt: skip
 
     def __init__(
@@ -93,7 +99,8 @@ class RealtimeStepper:
         self._fin = sp.finish_args(self._limit, self._invariant)
         self._frames: dict[object, tuple[Kernel, int, float]] = {}
         self._make_state = state_builder(sp)
-        self._state: State = state
+        self._state: State | None = state  # None: not built since the last step (see `state`)
+        self._peek: StepKernel | None = None
         self.stages_per_substep = STAGES[order]
         self.substeps = 0
         self.evaluations = 0
@@ -105,8 +112,12 @@ class RealtimeStepper:
 
     @property
     def state(self) -> State:
-        """The current State (the one the last `step` returned, or the initial one)."""
-        return self._state
+        """The current State (the one the last `step` returned, or the initial one; after
+        `step_many` or a `GridStepper`'s grid steps it is built from the floats when first read)."""
+        state = self._state
+        if state is None:
+            state = self._state = self._make_state(self._y, self._t)
+        return state
 
     def step(self, dt: float) -> State:
         """Advance by dt [s] of simulated time (sub-stepping as needed) and return the new state.
@@ -127,13 +138,86 @@ class RealtimeStepper:
         state = self._state = self._make_state(y, t)
         return state
 
+    def step_many(self, dt: float, frames: int) -> tuple[np.ndarray, np.ndarray, int]:
+        """`frames` calls of `step(dt)` at once, for a run that records every frame (the CLI's
+        `simulate_realtime`): the same floats bit for bit, without a State per frame.
+
+        Returns (R_space_body (frames, 3, 3), omega_body (frames, 3) [rad/s] after each step,
+        Strang stages used by all of them).  Same errors as `step`; after an IntegrationError the
+        stepper is at the last frame reached.  `state`, `substeps` and `evaluations` are then
+        those of the last step, as after `step`.
+        """
+        if frames < 1:
+            raise ValueError(f"frames must be a positive integer, got {frames}")
+        ys: list[tuple[float, ...]] = []
+        append = ys.append
+        stages = self.stages_per_substep
+        evaluations = n = 0
+        frame = self._frames.get(dt) if self._conservative else None
+        if frame is None and self._conservative:
+            frame = self._frame(dt)
+        if frame is not None and frame[1] <= CHECK_EVERY:
+            # A conservative model: one kernel, one sub-step count for every frame.
+            kernel, n, _h = frame
+            y, t, fin = self._y, self._t, self._fin
+            try:
+                for _ in range(frames):
+                    y = kernel(y, t, n, fin)
+                    t += dt
+                    append(y)
+            finally:  # after a failure too: the stepper stays at the last good frame
+                if ys:
+                    self._y, self._t, self._state = y, t, None
+            evaluations = frames * n * stages
+        else:
+            try:
+                for _ in range(frames):
+                    y, n = self._run(dt)
+                    self._y = y
+                    self._t += dt
+                    append(y)
+                    evaluations += n * stages
+            finally:
+                if ys:
+                    self._state = None
+        self.substeps = n
+        self.evaluations = n * stages
+        rows = np.fromiter(chain.from_iterable(ys), float, 7 * len(ys)).reshape(-1, 7)  # 3x faster than np.array
+        R, omega = self._sp.body_arrays_from_work(rows)
+        return R, omega, evaluations
+
     def peek(self, dt: float) -> State:
         """The state dt [s] after the current one, without advancing: the stepper stays where
-        it is (same sub-step rule and errors as `step`; `substeps` counts this call's sub-steps)."""
-        y, n = self._run(dt, keep=False)
+        it is (same sub-step rule, errors and numbers as `step`; `substeps` counts this call's
+        sub-steps).  Runs `Splitting.step_kernel` (the step size is an argument), so a dt seen
+        once costs no kernel of its own."""
+        n = self._count(dt)
+        h = dt / n
+        step = self._peek
+        if step is None:
+            step = self._peek = self._sp.step_kernel(self._gammas)
+        t0 = self._t
+        y, fin = self._y, self._fin
+        if n <= CHECK_EVERY:
+            y = step(y, t0, n, fin, h)
+        else:
+            done = 0
+            while done < n:
+                chunk = min(CHECK_EVERY, n - done)
+                y = step(y, t0 + done * h, chunk, fin, h)
+                done += chunk
         self.substeps = n
         self.evaluations = n * self.stages_per_substep
-        return self._make_state(y, self._t + dt)
+        return self._make_state(y, t0 + dt)
+
+    def _advance(self, dt: float) -> None:
+        """`step(dt)` without building the State (`state` builds it when read)."""
+        y, n = self._run(dt)
+        self._y = y
+        self._t += dt
+        self._state = None
+        self.substeps = n
+        self.evaluations = n * self.stages_per_substep
 
     def _run(self, dt: float, keep: bool = True) -> tuple[tuple[float, ...], int]:
         """(y after dt [s] from the current y, sub-steps n); changes nothing but the caches
@@ -155,20 +239,26 @@ class RealtimeStepper:
             t = t0 + done * h
         return y, n
 
-    def _frame(self, dt: float, keep: bool = True) -> tuple[Kernel, int, float]:
-        """(kernel, sub-steps n, sub-step h) for a display step dt, made and (keep) kept on first use."""
+    def _count(self, dt: float) -> int:
+        """Sub-steps n for a display step dt [s] from the current state (ValueError for a bad dt,
+        IntegrationError beyond MAX_SUBSTEPS)."""
         if not 0.0 < dt < math.inf:
             raise ValueError(f"display step dt must be positive and finite, got {dt}")
         if not self._conservative:
             r, w = self._sp.body_from_work(self._y)
             self._rate = self._sp.rate_scale(r[8], w)
-        n = math.ceil(dt * self._rate / self._max_angle) or 1
+        n: int = math.ceil(dt * self._rate / self._max_angle) or 1
         if n > MAX_SUBSTEPS:
             raise IntegrationError(
                 f"at t = {self._t:.9g} s the rate scale {self._rate:.3g} rad/s needs {n} sub-steps per display "
                 f"step of {dt:g} s, more than MAX_SUBSTEPS = {MAX_SUBSTEPS}: a blow-up, or a spin too fast for "
                 "real time"
             )
+        return n
+
+    def _frame(self, dt: float, keep: bool = True) -> tuple[Kernel, int, float]:
+        """(kernel, sub-steps n, sub-step h) for a display step dt, made and (keep) kept on first use."""
+        n = self._count(dt)
         key: object = dt if self._conservative else (dt, n)
         frame = self._frames.get(key)
         if frame is None:
@@ -226,7 +316,7 @@ class GridStepper:
         self.h = h
         self._t0 = self._grid.t
         self._k = 0  # grid steps taken: the grid is at t0 + k h
-        self._state = self._grid.state
+        self._state = state
         self.substeps = 0
         self.evaluations = 0
 
@@ -249,6 +339,7 @@ class GridStepper:
         if not (math.isfinite(dt) and dt > 0.0):
             raise ValueError(f"display step dt must be positive and finite, got {dt}")
         h = self.h
+        grid = self._grid
         target = self._state.t + dt
         steps = math.floor((target - (self._t0 + self._k * h)) / h + GRID_TOLERANCE)
         if steps > MAX_SUBSTEPS:
@@ -257,20 +348,19 @@ class GridStepper:
         substeps = evaluations = 0
         try:
             for _ in range(steps):
-                self._grid.step(h)
+                grid._advance(h)  # no State for a grid point that a peek or the next step passes
                 self._k += 1
-                substeps += self._grid.substeps
-                evaluations += self._grid.evaluations
+                substeps += grid.substeps
+                evaluations += grid.evaluations
             rest = target - (self._t0 + self._k * h)
             if rest > GRID_TOLERANCE * h:
-                state = self._grid.peek(rest)
-                substeps += self._grid.substeps
-                evaluations += self._grid.evaluations
-            else:
-                grid = self._grid.state
-                state = State(grid.R_space_body, grid.omega_body, target)
+                state = grid.peek(rest)
+                substeps += grid.substeps
+                evaluations += grid.evaluations
+            else:  # on the grid: its state, shown at the time asked
+                state = grid._make_state(grid._y, target)
         except IntegrationError:
-            self._state = self._grid.state
+            self._state = grid.state
             raise
         self._state = state
         self.substeps, self.evaluations = substeps, evaluations
@@ -285,7 +375,7 @@ class GridStepper:
         bit for bit; the rest (model, h, kernels, invariant, blow-up limit) is fixed for the
         stepper's life, so a snapshot is only restored into the stepper that made it."""
         grid = self._grid
-        shown, at_grid = self._state, grid._state
+        shown, at_grid = self._state, grid.state
         return (float(self._k), *shown.R_space_body.ravel().tolist(), *shown.omega_body.tolist(), shown.t,
                 float(self.substeps), float(self.evaluations), float(len(grid._y)), *grid._y, grid._t,
                 *at_grid.R_space_body.ravel().tolist(), *at_grid.omega_body.tolist(), at_grid.t, grid._rate,

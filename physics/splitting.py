@@ -155,6 +155,7 @@ class Splitting:
         self.kicks = self.gravity is not None or self.torque is not None
         self.rate_scale: Callable[[float, Sequence[float]], float] = rate_scale_function(model)
         self.tables: dict[tuple[float, int], tuple[list[Stage], ...]] = {}
+        self._plans: dict[tuple[float, ...], tuple[tuple[object, ...], dict[str, object]]] = {}
         self.inv_i_min = 1.0 / min(inertia)
 
     def _torque_callback(self, model: Model) -> TorqueW:
@@ -204,6 +205,30 @@ class Splitting:
         ]  # fmt: skip
         omega = [s0 * y[4 + j0] / inertia[0], s1 * y[4 + j1] / inertia[1], s2 * y[4 + j2] / inertia[2]]
         return r, omega
+
+    def body_arrays_from_work(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(R_space_body (N, 3, 3), ω_b (N, 3) [rad/s]) from N working-frame rows y (N, 7): the
+        `state_builder` formulas on arrays, element by element the same IEEE operations, so
+        the same floats bit for bit (unlike `matrices_from_wxyz`, which groups differently)."""
+        y = np.asarray(y, dtype=float).reshape(-1, 7)
+        qw, qx, qy, qz, lx, ly, lz = y.T
+        s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)
+        work = (
+            lambda: 1.0 - s * (qy * qy + qz * qz), lambda: s * (qx * qy - qw * qz), lambda: s * (qx * qz + qw * qy),
+            lambda: s * (qx * qy + qw * qz), lambda: 1.0 - s * (qx * qx + qz * qz), lambda: s * (qy * qz - qw * qx),
+            lambda: s * (qx * qz - qw * qy), lambda: s * (qy * qz + qw * qx), lambda: 1.0 - s * (qx * qx + qy * qy),
+        )  # fmt: skip
+        R = np.empty((len(y), 3, 3))
+        omega = np.empty((len(y), 3))
+        L = (lx, ly, lz)
+        for k in range(3):
+            j = self.work_axis[k]  # body axis k is sign[j] * work axis j
+            negative = self.sign[j] < 0.0
+            for row in range(3):
+                entry = work[3 * row + j]()
+                R[:, row, k] = -entry if negative else entry
+            omega[:, k] = (-L[j] if negative else L[j]) / self.inertia[k]
+        return R, omega
 
     def P_body_work(self) -> Mat3:
         """(3, 3): column j is working axis j in body components, so R_body = R_work Pᵀ."""
@@ -378,11 +403,40 @@ class Splitting:
         q renormalised, the invariant restored and finiteness and the limit checked, with
         fin = `finish_args(limit, invariant)`; returns the new y (7,).  Equal to `run` +
         `finish` up to rounding (~1e-16 per step: τ mgl is folded into one factor, the kick
-        times are t + offsets).  Keep n <= CHECK_EVERY per call.
+        times are t + offsets, and with gravity alone along x_w the two half remainders of a
+        stage are one, `_rem_commutes_with_kick`).  Keep n <= CHECK_EVERY per call.
 
         Without a torque callback a kernel is a pure function of (a, mgl, h, γ), kept in a
         small module cache shared by all instances (immutable, so sharing is safe).
         """
+        structure, bases = self._plan(gammas)
+        key = (structure, self.a, bases["G"], h, tuple(gammas), self.inv_i_min)
+        if self.torque is None:
+            cached = _KERNELS.get(key)
+            if cached is not None:
+                return cached
+        frame = cast(Kernel, _factory(structure)(h=h, **bases))
+        if self.torque is None:
+            if len(_KERNELS) >= _KERNELS_KEPT:
+                _KERNELS.clear()
+            _KERNELS[key] = frame
+        return frame
+
+    def step_kernel(self, gammas: Sequence[float]) -> StepKernel:
+        """`kernel` with the step as an argument: frame(y, t, n, fin, h) equals
+        `kernel(h, gammas)(y, t, n, fin)` bit for bit, for ~0.5 µs more per call instead of the
+        ~5 µs of making a kernel: for steps of a size seen once (`RealtimeStepper.peek`)."""
+        structure, bases = self._plan(gammas)
+        return cast(StepKernel, _factory(structure, runtime_h=True)(**bases))
+
+    def _plan(self, gammas: Sequence[float]) -> tuple[tuple[object, ...], dict[str, object]]:
+        """(structure, bases) of this model's kernels for the composition `gammas`, memoised on the
+        instance: the structure picks the generated code, the bases are the constants per unit h
+        (`_derived_lines`) and the callbacks."""
+        plan_key = tuple(gammas)
+        plan = self._plans.get(plan_key)
+        if plan is not None:
+            return plan
         a_o, a_r, a_s = self.a
         n = len(gammas)
         gravity_axis, G = -1, 0.0
@@ -396,38 +450,28 @@ class Splitting:
             deltas[str(i)] = 0.5 * (gammas[i - 2] + gammas[i - 1])
         distinct = list(dict.fromkeys(deltas[k] for k in names))  # the distinct δ, first seen first
         groups = tuple(distinct.index(deltas[k]) for k in names)
-        structure = (n, a_o != a_r, a_s != a_r, self.kicks, gravity_axis, self.torque is not None, self.hook, kind,
+        has_rem = a_o != a_r
+        structure = (n, has_rem, a_s != a_r, self.kicks, gravity_axis, self.torque is not None, self.hook, kind,
                      groups)  # fmt: skip
-        key = (structure, self.a, G, h, tuple(gammas), self.inv_i_min)
-        if self.torque is None:
-            cached = _KERNELS.get(key)
-            if cached is not None:
-                return cached
-        rem_factor = 1.0 if self.kicks else 2.0
-        constants: dict[str, object] = {"h": h, "inv_i_min": self.inv_i_min, "fail": check_finite}
-        constants["torque"] = self.torque
+        # T_rem(γh/2) twice per stage, or once as T_rem(γh) without kicks or when it commutes with them
+        merged = not self.kicks or _rem_commutes_with_kick(has_rem, gravity_axis, self.torque is not None)
+        rem_factor = 2.0 if merged else 1.0
+        bases: dict[str, object] = {"G": G, "inv_i_min": self.inv_i_min, "fail": check_finite, "torque": self.torque}
         for g, d in enumerate(distinct):
-            constants[f"kag_{g}"] = a_r * d * h
-            constants[f"kzg_{g}"] = (a_s - a_r) * d * h
+            bases[f"Bkag_{g}"] = a_r * d
+            bases[f"Bkzg_{g}"] = (a_s - a_r) * d
         for k, d in deltas.items():
-            constants[f"ka_{k}"] = a_r * d * h
-            constants[f"kz_{k}"] = (a_s - a_r) * d * h
-        offset = 0.0
+            bases[f"Bka_{k}"] = a_r * d
+            bases[f"Bkz_{k}"] = (a_s - a_r) * d
         for i in range(1, n + 1):
-            tau = gammas[i - 1] * h
-            offset += deltas[str(i)] * h
-            constants[f"kx_{i}"] = rem_factor * (a_o - a_r) * 0.5 * gammas[i - 1] * h
-            constants[f"tg_{i}"] = 2.0 * tau * G
-            constants[f"tG_{i}"] = tau * G
-            constants[f"tk_{i}"] = tau
-            constants[f"hk_{i}"] = 0.5 * tau
-            constants[f"ct_{i}"] = offset
-        frame = _factory(structure)(**constants)
-        if self.torque is None:
-            if len(_KERNELS) >= _KERNELS_KEPT:
-                _KERNELS.clear()
-            _KERNELS[key] = frame
-        return frame
+            bases[f"del_{i}"] = deltas[str(i)]
+            bases[f"gam_{i}"] = gammas[i - 1]
+            bases[f"Bkx_{i}"] = rem_factor * (a_o - a_r) * 0.5 * gammas[i - 1]
+        plan = (structure, bases)
+        if len(self._plans) > 16:
+            self._plans.clear()
+        self._plans[plan_key] = plan
+        return plan
 
     @staticmethod
     def finish_args(limit: float, invariant: tuple[float, ...] | None) -> tuple[float, ...]:
@@ -539,9 +583,13 @@ work of `finish` with fin = `Splitting.finish_args(limit, invariant)`."""
 _KERNELS: dict[tuple[object, ...], Kernel] = {}
 _KERNELS_KEPT = 256  # kernels (without a torque callback) kept across instances
 
-_FACTORIES: dict[tuple[object, ...], Callable[..., Kernel]] = {}
-"""Generated factories by structure: immutable code shared by every Splitting; the constants
-live in each kernel's closure, so steppers still share no state."""
+_FACTORIES: dict[tuple[object, ...], Callable[..., Callable[..., tuple[float, ...]]]] = {}
+"""Generated factories by (structure, runtime_h): immutable code shared by every Splitting; the
+constants live in each kernel's closure, so steppers still share no state."""
+
+StepKernel = Callable[[tuple[float, ...], float, int, tuple[float, ...], float], tuple[float, ...]]
+"""frame(y (7,), t [s], n, fin, h [s]) -> y (7,): a `Kernel` whose step h is an argument
+(`Splitting.step_kernel`): the same numbers as `Splitting.kernel(h, ...)`, bit for bit."""
 
 
 def _rotation_lines(axis: str, k: str) -> list[str]:
@@ -562,8 +610,49 @@ def _rotation_lines(axis: str, k: str) -> list[str]:
     return lines
 
 
-def _kernel_source(structure: tuple[object, ...]) -> str:
-    """Python source of `_factory(**constants) -> frame` for one structure (see `Splitting.kernel`)."""
+def _rem_commutes_with_kick(has_rem: object, gravity_axis: object, torque: object) -> bool:
+    """T_rem (about x_w) and the kick commute when gravity alone acts along x_w: the kick adds
+    τ G (γ × e_x), turned as L_b is by a rotation about x_w, and leaves L_x (T_rem's rate) alone,
+    so {L_x², γ_x} = 0.  Then T_rem(γh/2) K(γh) T_rem(γh/2) = T_rem(γh) K(γh) exactly (up to
+    rounding): one remainder rotation per stage instead of two."""
+    return bool(has_rem) and gravity_axis == 0 and not torque
+
+
+def _derived_lines(params: Sequence[str]) -> list[str]:
+    """Lines computing the kernel constants `params` from h and the per-model bases of
+    `Splitting._plan` (B<name> = the constant per unit h; gam_i = γ_i; del_i = δ_i; G), written
+    as the products the constants always were: (a_r δ) h, (2 (γ h)) G, ... bit for bit."""
+    lines: list[str] = []
+    stages = sorted({int(m) for m in re.findall(r"\b(?:tg|tG|tk|hk|ct)_(\d+)", " ".join(params))})
+    for i in stages:
+        lines.append(f"tau_{i} = gam_{i} * h")
+    for name in params:
+        kind, _, index = name.partition("_")
+        if kind in ("ka", "kz", "kag", "kzg", "kx"):
+            lines.append(f"{name} = B{name} * h")
+        elif kind == "tg":
+            lines.append(f"{name} = 2.0 * tau_{index} * G")
+        elif kind == "tG":
+            lines.append(f"{name} = tau_{index} * G")
+        elif kind == "tk":
+            lines.append(f"{name} = tau_{index}")
+        elif kind == "hk":
+            lines.append(f"{name} = 0.5 * tau_{index}")
+    if any(name.startswith("ct_") for name in params):  # kick times: the running sum of δ_i h
+        last = max(int(name[3:]) for name in params if name.startswith("ct_"))
+        lines.append("ct_1 = del_1 * h")
+        lines += [f"ct_{i} = ct_{i - 1} + del_{i} * h" for i in range(2, last + 1)]
+    return lines
+
+
+def _kernel_source(structure: tuple[object, ...], runtime_h: bool = False) -> str:
+    """Python source of `_factory(**bases) -> frame` for one structure (see `Splitting.kernel`).
+
+    runtime_h False: `_factory(h=h, **bases)` folds h into the constants once and returns
+    frame(y, t, n, fin).  True: `_factory(**bases)` returns frame(y, t, n, fin, h), which
+    derives the same constants from h on every call (~30 products): for steps of a size seen
+    once, such as `RealtimeStepper.peek`'s, where making a kernel would cost more than the step.
+    """
     n_stages, has_rem, has_z, kicks, gravity_axis, torque, midpoint, invariant, groups = structure
     assert isinstance(n_stages, int) and isinstance(groups, tuple)
     names = [str(i) for i in range(1, n_stages + 1)] + ["wrap", "close"]
@@ -648,8 +737,12 @@ def _kernel_source(structure: tuple[object, ...]) -> str:
             lines += [f"lx += tk_{i} * mx", f"ly += tk_{i} * my", f"lz += tk_{i} * mz"]
         return lines
 
+    merged = _rem_commutes_with_kick(has_rem, gravity_axis, torque)
+
     def block(i: int) -> list[str]:
-        rem = _rotation_lines("x", f"kx_{i}") if has_rem else []
+        rem = _rotation_lines("x", f"kx_{i}") if has_rem else []  # kx: T_rem(γh/2), or T_rem(γh) alone/merged
+        if merged:
+            return rem + kick(i)
         return rem + kick(i) + rem if kicks else rem
 
     def step(last: str) -> list[str]:
@@ -668,16 +761,15 @@ def _kernel_source(structure: tuple[object, ...]) -> str:
         "nq = sqrt(qw * qw + qx * qx + qy * qy + qz * qz)",
         "qw, qx, qy, qz = qw / nq, qx / nq, qy / nq, qz / nq",
     ]
-    if invariant == "space":  # free body: L_b = Rᵀ L_s
-        body += [
+    if invariant == "space":  # free body: L_b = Rᵀ L_s, as v + w τ + τ × u with τ = 2 v × u, v = L_s,
+        body += [  # q = (w, u) the unit q just normalised: half the products of Rᵀ from q's matrix
             "limit, space_x, space_y, space_z = fin",
-            "s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)",
-            "r0, r1, r2 = 1.0 - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy)",
-            "r3, r4, r5 = s * (qx * qy + qw * qz), 1.0 - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx)",
-            "r6, r7, r8 = s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), 1.0 - s * (qx * qx + qy * qy)",
-            "lx = r0 * space_x + r3 * space_y + r6 * space_z",
-            "ly = r1 * space_x + r4 * space_y + r7 * space_z",
-            "lz = r2 * space_x + r5 * space_y + r8 * space_z",
+            "tx = 2.0 * (space_y * qz - space_z * qy)",
+            "ty = 2.0 * (space_z * qx - space_x * qz)",
+            "tz = 2.0 * (space_x * qy - space_y * qx)",
+            "lx = space_x + qw * tx + (ty * qz - tz * qy)",
+            "ly = space_y + qw * ty + (tz * qx - tx * qz)",
+            "lz = space_z + qw * tz + (tx * qy - ty * qx)",
         ]
     elif invariant == "vertical":  # heavy top: L·e_z = γ·L_b along γ = Rᵀ e_z
         body += [
@@ -697,20 +789,30 @@ def _kernel_source(structure: tuple[object, ...]) -> str:
         "return (qw, qx, qy, qz, lx, ly, lz)",
     ]
     params = sorted(set(re.findall(r"\b(?:ka|kz|kag|kzg|kx|tg|tG|tk|hk|ct)_\w+", "\n".join(body))))
-    params += ["h", "inv_i_min", "fail", "torque"]
-    src = [f"def _factory(*, {', '.join(params)}, **_unused):", "    def frame(y, t, n, fin):"]
-    src += ["        " + line for line in body]
+    derived = _derived_lines(params)
+    bases = sorted(set(re.findall(r"\b(?:B\w+|gam_\d+|del_\d+|G)\b", "\n".join(derived))))
+    bases += ["inv_i_min", "fail", "torque"]
+    if runtime_h:
+        src = [f"def _factory(*, {', '.join(bases)}, **_unused):", "    def frame(y, t, n, fin, h):"]
+        src += ["        " + line for line in derived + body]
+    else:
+        src = [f"def _factory(*, h, {', '.join(bases)}, **_unused):"]
+        src += ["    " + line for line in derived]
+        src += ["    def frame(y, t, n, fin):"]
+        src += ["        " + line for line in body]
     src += ["    return frame"]
     return "\n".join(src) + "\n"
 
 
-def _factory(structure: tuple[object, ...]) -> Callable[..., Kernel]:
-    factory = _FACTORIES.get(structure)
+def _factory(structure: tuple[object, ...], runtime_h: bool = False) -> Callable[..., Callable[..., tuple[float, ...]]]:
+    key = (structure, runtime_h)
+    factory = _FACTORIES.get(key)
     if factory is None:
         namespace: dict[str, object] = {"sqrt": sqrt, "sin": sin, "cos": cos}
-        exec(compile(_kernel_source(structure), f"<physics.splitting kernel {structure}>", "exec"), namespace)  # noqa: S102
-        factory = cast(Callable[..., Kernel], namespace["_factory"])
-        _FACTORIES[structure] = factory
+        source = _kernel_source(structure, runtime_h)
+        exec(compile(source, f"<physics.splitting kernel {key}>", "exec"), namespace)  # noqa: S102
+        factory = cast(Callable[..., Callable[..., tuple[float, ...]]], namespace["_factory"])
+        _FACTORIES[key] = factory
     return factory
 
 
@@ -721,7 +823,7 @@ _STATE_BUILDERS: dict[tuple[object, ...], Callable[..., StateBuilder]] = {}
 
 
 def _state_source(work_axis: tuple[int, int, int], sign: tuple[float, float, float]) -> str:
-    """Source of `_factory(i0, i1, i2, State, fromiter) -> state`, `body_from_work` unrolled."""
+    """Source of `_factory(i0, i1, i2, State, array) -> state`, `body_from_work` unrolled."""
     work = (
         "1.0 - s * (qy * qy + qz * qz)", "s * (qx * qy - qw * qz)", "s * (qx * qz + qw * qy)",
         "s * (qx * qy + qw * qz)", "1.0 - s * (qx * qx + qz * qz)", "s * (qy * qz - qw * qx)",
@@ -736,11 +838,11 @@ def _state_source(work_axis: tuple[int, int, int], sign: tuple[float, float, flo
         j = work_axis[k]
         entries.append(f"{'-' if sign[j] < 0.0 else ''}l{'xyz'[j]} / i{k}")
     return "\n".join([
-        "def _factory(i0, i1, i2, State, fromiter):",
+        "def _factory(i0, i1, i2, State, array):",
         "    def state(y, t):",
         "        qw, qx, qy, qz, lx, ly, lz = y",
         "        s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)",
-        f"        b = fromiter(({', '.join(entries)}), float, 12)",
+        f"        b = array(({', '.join(entries)}))  # 12 Python floats: float64, faster than fromiter",
         "        return State(b[:9].reshape(3, 3), b[9:], t)",
         "    return state",
     ]) + "\n"  # fmt: skip
@@ -760,4 +862,4 @@ def state_builder(sp: Splitting) -> StateBuilder:
         factory = cast(Callable[..., StateBuilder], namespace["_factory"])
         _STATE_BUILDERS[key] = factory
     i0, i1, i2 = sp.inertia
-    return factory(i0, i1, i2, State, np.fromiter)
+    return factory(i0, i1, i2, State, np.array)

@@ -72,6 +72,27 @@ def test_realtime_writes_one_sample_per_frame(tmp_path):
     assert np.ptp(traj["energy"]) <= 1e-6 * traj["energy"][0]
 
 
+
+def test_frame_dt_accepts_a_fraction_as_written(tmp_path):
+    short = {**EXAMPLE, "t_end": 0.25, "n_samples": 2}
+    result, out = run_cli(tmp_path, short, "--realtime", "--frame-dt", "1/240")
+    assert result.returncode == 0, result.stderr
+    t = np.load(out)["t"]
+    assert len(t) == 61 and t[1] == 1.0 / 240.0  # p/q is float(p) / float(q), exactly
+    result, out = run_cli(tmp_path, short, "--realtime", "--frame-dt", "4.1666e-3")
+    assert result.returncode == 0 and np.load(out)["t"][1] == 4.1666e-3
+
+
+@pytest.mark.parametrize(("value", "phrase"), [("abc", "fraction p/q"), ("1/2/3", "fraction p/q"),
+                                               ("1/0", "denominator"), ("1/x", "fraction p/q"),
+                                               ("-1/60", "positive"), ("0", "positive"), ("inf", "positive")])
+def test_bad_frame_dt_exits_2_with_one_line_and_no_file(tmp_path, value, phrase):
+    result, out = run_cli(tmp_path, EXAMPLE, "--realtime", f"--frame-dt={value}")
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "--frame-dt" in lines[0] and phrase in lines[0], result.stderr
+    assert not out.exists()
+
 BAD_CASES = {
     "unknown key": ({**EXAMPLE, "inertai": [1, 2, 3]}, "unknown key"),
     "triangle": ({**EXAMPLE, "inertia": [1.0, 1.0, 3.0]}, "I"),

@@ -124,3 +124,79 @@ def test_bad_dt_and_too_many_substeps() -> None:
     assert MAX_SUBSTEPS == 1000
     with pytest.raises(ValueError, match="order"):
         RealtimeStepper(HEAVY, fast.state, order=3)
+
+
+# --- the lean frames (issue 16): same floats, less work per frame --------------------------------
+
+LEAN_CASES = {
+    "free body": (FREE, [0.5, 0.2, 1.5]),
+    "heavy asymmetric top (gravity on work axis x: merged remainders)": (HEAVY, [0.3, 0.2, 3.0]),
+    "heavy symmetric top": (Model((1.0, 1.0, 0.5), mgl=2.0), [0.3, 0.0, 12.0]),
+    "constant torque (rate re-evaluated every frame)": (Model((2.0, 1.5, 1.0), torque_space=(0.1, -0.2, 0.3)),
+                                                        [0.5, -0.4, 2.0]),
+    "fast spin (sub-steps)": (FREE, [300.0, 200.0, 950.0]),
+}
+
+
+@pytest.mark.parametrize("name", list(LEAN_CASES))
+def test_step_many_equals_step_after_step_bit_for_bit(name: str) -> None:
+    model, omega0 = LEAN_CASES[name]
+    state0 = State(R0, np.array(omega0))
+    dt, frames = 1.0 / 240.0, 50
+    alone = run_alone(model, state0, [dt] * frames)
+    stepper = RealtimeStepper(model, state0)
+    R, omega, evaluations = stepper.step_many(dt, frames)
+    assert np.array_equal(R, np.array([s.R_space_body for s in alone]))
+    assert np.array_equal(omega, np.array([s.omega_body for s in alone]))
+    assert_same(stepper.state, alone[-1])
+    reference = RealtimeStepper(model, state0)
+    counted = 0
+    for _ in range(frames):
+        reference.step(dt)
+        counted += reference.evaluations
+    assert evaluations == counted and stepper.evaluations == reference.evaluations
+    assert_same(stepper.step(dt), reference.step(dt))  # and it carries on as the stepper would
+
+
+def test_step_many_refuses_bad_input_and_stops_at_the_last_good_frame() -> None:
+    stepper = RealtimeStepper(HEAVY, State(R0, np.array([0.3, 0.2, 3.0])))
+    before = stepper.state
+    for dt, frames in ((0.0, 3), (math.nan, 3), (1 / 60, 0)):
+        with pytest.raises(ValueError):
+            stepper.step_many(dt, frames)
+    assert stepper.state is before and stepper.t == 0.0  # nothing changed
+    # A hook that runs away: the blow-up check stops the run; the stepper keeps the frames before it.
+    runaway = Model((1.0, 1.5, 2.0), extra_torque=lambda t, R, w: R @ (50.0 * np.array([1.0, 1.5, 2.0]) * w))
+    stepper = RealtimeStepper(runaway, State(R0, np.array([0.3, 0.2, 3.0])))
+    with pytest.raises(IntegrationError):
+        stepper.step_many(1 / 60, 10_000)
+    reached = stepper.t
+    assert 0.0 < reached < 10_000 / 60
+    alone = RealtimeStepper(runaway, State(R0, np.array([0.3, 0.2, 3.0])))
+    for _ in range(round(reached * 60)):
+        alone.step(1 / 60)
+    assert_same(stepper.state, alone.state)
+
+
+@pytest.mark.parametrize("name", list(LEAN_CASES))
+def test_peek_is_the_step_it_does_not_take(name: str) -> None:
+    """A peek (kernel taking h as an argument) gives the floats a step of the same dt gives (a
+    kernel with h folded in), sub-steps included, and leaves the stepper where it was."""
+    model, omega0 = LEAN_CASES[name]
+    a = RealtimeStepper(model, State(R0, np.array(omega0)))
+    b = RealtimeStepper(model, State(R0, np.array(omega0)))
+    for dt in (1 / 240, 1 / 60, 0.0123, 1 / 240):
+        peeked = a.peek(dt)
+        assert a.t == b.t
+        assert_same(peeked, b.step(dt))
+        a.step(dt)
+
+
+def test_simulate_realtime_samples_are_the_stepper_states_at_1_240() -> None:
+    state0 = State(R0, np.array([0.5, 0.2, 1.5]))
+    traj = simulate_realtime(FREE, state0, 0.5, 1 / 240)
+    alone = run_alone(FREE, state0, [1 / 240] * 120)
+    assert len(traj.t) == 121 and np.array_equal(traj.R_space_body[0], R0)
+    assert np.array_equal(traj.R_space_body[1:], np.array([s.R_space_body for s in alone]))
+    assert np.array_equal(traj.omega_body[1:], np.array([s.omega_body for s in alone]))
+    assert traj.evaluations == 120 * STAGES[4]
