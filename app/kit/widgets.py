@@ -19,7 +19,6 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import trimesh
 from viser import _messages
 
 from app.kit.common import (
@@ -53,7 +52,6 @@ projector, and a float with 12 significant bits, whose zero bytes the frame's co
 squeezes (a pose message ~10 bytes less).  A pose that did not change at this resolution is not
 sent at all.  Paused (refresh) poses are exact."""
 LENGTH_RTOL = 5e-3  # while playing, an arrow's length is resent when it changed by more than this fraction
-ARROW_SECTIONS = 20  # facets round an arrow's shaft and head
 LABEL_BEYOND = 0.16  # [scene units] a vector's label sits this far beyond its tip
 HEAD_EVERY = 6  # playing frames between two sends of a trace's growing head chunk (10 Hz at 60 fps)
 LABEL_ASIDE = 0.06  # [scene units] ... or this far off its middle (x and y of the arrow's frame)
@@ -142,7 +140,7 @@ class Body:
         `quantum`, see POSE_QUANTUM; None: exact)."""
         wxyz = wxyz_from_matrix(R_space_body)
         if quantum is not None:
-            wxyz = quantized(wxyz, quantum)
+            wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
         if wxyz != self._wxyz:
             self._wxyz = wxyz
             set_wxyz(self.node, wxyz)
@@ -216,22 +214,7 @@ class LineOfNodes:
                 self.update(*self._angles)  # nothing was sent while it was hidden
 
 
-def _unit_shaft(radius: float) -> tuple[np.ndarray, np.ndarray]:
-    """A cylinder of `radius` from z = 0 to z = 1 (vertices float32, faces uint32): an arrow's
-    shaft, stretched to its length by the node's scale along z."""
-    mesh = trimesh.creation.cylinder(radius=radius, height=1.0, sections=ARROW_SECTIONS)
-    mesh.apply_translation((0.0, 0.0, 0.5))
-    return mesh.vertices.astype(np.float32), mesh.faces.astype(np.uint32)
-
-
-def _head(radius: float, length: float) -> tuple[np.ndarray, np.ndarray]:
-    """A cone of base `radius` from z = -length to its apex at z = 0: an arrow's head, drawn at the tip."""
-    mesh = trimesh.creation.cone(radius=radius, height=length, sections=ARROW_SECTIONS)
-    mesh.apply_translation((0.0, 0.0, -length))
-    return mesh.vertices.astype(np.float32), mesh.faces.astype(np.uint32)
-
-
-def z_onto(direction: Vec3) -> tuple[float, float, float, float]:
+def z_onto(direction: Vec3 | tuple[float, float, float]) -> tuple[float, float, float, float]:
     """The unit quaternion (w, x, y, z) of the shortest rotation that turns +z onto the unit vector
     `direction` (3,) (about an axis in the xy-plane, so z = 0); a half turn about x for -z."""
     dx, dy, dz = float(direction[0]), float(direction[1]), float(direction[2])
@@ -261,11 +244,14 @@ class Vector:
                  labelled: bool = True) -> None:
         self.origin = (float(origin[0]), float(origin[1]), float(origin[2]))
         self.node = scene.add_frame(name, show_axes=False, visible=False, position=self.origin)
-        self.shaft = scene.add_mesh_simple(f"{name}/shaft", *_unit_shaft(shaft_radius), color=color,
-                                           scale=(1.0, 1.0, 1.0), cast_shadow=False, receive_shadow=False)
+        # viser's own arrows (their material, as every other arrow of the app): the shaft a unit
+        # arrow with a head no wider than the shaft and vanishingly short, the head one that is all head.
+        self.shaft = scene.add_arrows(f"{name}/shaft", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]]), color,
+                                      shaft_radius=shaft_radius, head_radius=shaft_radius, head_length=1e-6)
         self.tip = scene.add_frame(f"{name}/tip", show_axes=False, position=(0.0, 0.0, 1.0))
-        self.head = scene.add_mesh_simple(f"{name}/tip/head", *_head(head_radius, head_length), color=color,
-                                          cast_shadow=False, receive_shadow=False)
+        self.head = scene.add_arrows(f"{name}/tip/head", np.array([[[0.0, 0.0, -head_length], [0.0, 0.0, 0.0]]]),
+                                     color, shaft_radius=shaft_radius, head_radius=head_radius,
+                                     head_length=head_length)
         self.head_length = float(head_length)
         # Just beyond the tip, a child of the tip (its length costs nothing more); or beside the
         # middle, a child of the start (moved when the length changes).
