@@ -269,7 +269,6 @@ class Vector:
         self._wxyz: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)  # as sent
         self._length = 1.0  # [scene units] as sent
         self._head_scale = 1.0
-        self._segment = np.zeros((2, 3))
 
     @property
     def visible(self) -> bool:
@@ -278,7 +277,9 @@ class Vector:
     @property
     def segment(self) -> np.ndarray:
         """(start, tip) (2, 3) [scene units, in the parent's frame] of the arrow drawn (as sent)."""
-        return self._segment.copy()
+        if not self.visible:
+            return np.zeros((2, 3))
+        return np.array([self._start, np.asarray(self._start) + _rotate(self._wxyz, self._length)])
 
     def show_label(self, wanted: bool) -> None:
         """Whether the label is wanted (while the arrow is drawn; e.g. not for a short arrow)."""
@@ -324,7 +325,6 @@ class Vector:
             set_wxyz(self.node, wxyz)
         if quantum is None or abs(length - self._length) > LENGTH_RTOL * self._length:
             self._set_length(length)
-        self._segment = np.array([self._start, np.asarray(self._start) + _rotate(self._wxyz, self._length)])
 
     def _set_length(self, length: float) -> None:
         if length == self._length:
@@ -374,6 +374,8 @@ class TraceLines:
         self._scale = math.nan
         self._synced: tuple[int, int, int, float] | None = None  # the trace as last synced in full
         self._head_wait = 0  # lazy syncs since the head was last sent
+        self._done = 0  # chunks before this one are complete and drawn
+        self._count = 0  # trace.count at the last sync (fewer now: a rewind)
 
     @property
     def point_count(self) -> int:
@@ -396,6 +398,8 @@ class TraceLines:
     def hide(self) -> None:
         """Hide every chunk (what is drawn on them stays, for the next `sync`)."""
         self._synced = None
+        self._spans = {}
+        self._done = 0  # the next sync looks at every chunk again
         for k, node in enumerate(self._nodes):
             if self._shown[k]:
                 node.visible = self._shown[k] = False
@@ -403,25 +407,32 @@ class TraceLines:
     def sync(self, trace: Trace, scale: float = 1.0, *, lazy: bool = False) -> None:
         """Show `trace` (points times `scale`, in the parent node's units): send what changed.
 
-        lazy: a playing frame: the growing head chunk waits up to HEAD_EVERY calls."""
+        lazy: a playing frame: the growing head chunk waits up to HEAD_EVERY calls.  The chunks
+        before the last call's head are looked at again only after a rewind or a clear."""
         synced = (trace.generation, trace.count, trace.first, scale)
         if synced == self._synced:
             return  # nothing new (paused, or no point stored since)
+        size = len(self._nodes)
+        chunks = trace.chunks()[-size:]
         if trace.generation != self._generation or scale != self._scale:
             self._generation, self._scale = trace.generation, scale
             self._drawn = [None] * len(self._nodes)
+            self._done = 0
+        if trace.count < self._count:  # a rewind: look at every chunk again
+            self._done = 0
+        self._count = trace.count
         self._head_wait += 1
         head_due = not lazy or self._head_wait >= HEAD_EVERY
         pending = False
-        size = len(self._nodes)
-        spans: dict[int, tuple[int, int, int]] = {}
-        for chunk in trace.chunks()[-size:]:
+        spans = {k: span for k, span in self._spans.items() if chunks.start <= span[0] < self._done}
+        for chunk in range(max(self._done, chunks.start), chunks.stop):
             start, stop = trace.chunk_span(chunk)
             if stop - start < 2:
                 continue
             k = chunk % size
+            complete = stop - start == self._chunk_points
             if self._drawn[k] != (chunk, stop):
-                if stop - start == self._chunk_points or head_due:
+                if complete or head_due:
                     points = trace.points(start, stop) * scale
                     set_points(self._nodes[k], polyline_segments(points).astype(np.float32))
                     self._drawn[k] = (chunk, stop)
@@ -431,7 +442,15 @@ class TraceLines:
             drawn = self._drawn[k]
             if drawn is not None and drawn[0] == chunk:
                 spans[k] = (chunk, start, drawn[1])
-        for k, node in enumerate(self._nodes):
+        # Complete and drawn chunks need no second look (until a rewind or a clear).
+        done = max(self._done, chunks.start)
+        while done < chunks.stop and done * trace.stride + self._chunk_points <= trace.count \
+                and self._drawn[done % size] == (done, done * trace.stride + self._chunk_points) \
+                and done % size in spans:
+            done += 1
+        self._done = done
+        for k, node in enumerate(self._nodes) if len(spans) != len(self._spans) or spans.keys() != self._spans.keys() \
+                else ():
             if (k in spans) != self._shown[k]:
                 node.visible = self._shown[k] = k in spans
         self._spans = spans
