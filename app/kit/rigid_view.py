@@ -7,10 +7,11 @@ class attributes and hooks (the model of its parameters, the initial ω from its
 its body's shape, its extras); see `app.kit.torque_free` and `app.scenes.heavy_top`.
 
 Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
-ω arrow (L only when it moved), the scene's extras; nothing at all while paused.  At most 10
-times a second, and only for what is on screen: the sliders follow the motion (Setup tab),
-the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
-tab, live plots on).
+ω arrow (L only when it moved), the scene's extras, at display resolution
+(`app.kit.widgets.POSE_QUANTUM`: what did not change at it is not sent); nothing at all while
+paused.  Only for what is on screen: the sliders follow the motion (Setup tab) and the status
+line at 5 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
+(Plots tab, live plots on).
 
 The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
 readout, Lagrange tab, accuracy, legend) are pure functions of the simulation in

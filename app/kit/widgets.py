@@ -375,6 +375,7 @@ class TraceLines:
         self._synced: tuple[int, int, int, float] | None = None  # the trace as last synced in full
         self._head_wait = 0  # lazy syncs since the head was last sent
         self._done = 0  # chunks before this one are complete and drawn
+        self._first_chunk = 0  # the oldest chunk kept at the last sync
         self._count = 0  # trace.count at the last sync (fewer now: a rewind)
 
     @property
@@ -424,7 +425,12 @@ class TraceLines:
         self._head_wait += 1
         head_due = not lazy or self._head_wait >= HEAD_EVERY
         pending = False
-        spans = {k: span for k, span in self._spans.items() if chunks.start <= span[0] < self._done}
+        if self._done == 0 or chunks.start != self._first_chunk:  # after a rewind, a clear, a dropped chunk
+            self._first_chunk = chunks.start
+            spans = {k: span for k, span in self._spans.items() if chunks.start <= span[0] < self._done}
+            changed = True
+        else:  # the usual frame: the chunks before `_done` stay as they are
+            spans, changed = self._spans, False
         for chunk in range(max(self._done, chunks.start), chunks.stop):
             start, stop = trace.chunk_span(chunk)
             if stop - start < 2:
@@ -441,6 +447,7 @@ class TraceLines:
                     pending = True
             drawn = self._drawn[k]
             if drawn is not None and drawn[0] == chunk:
+                changed = changed or k not in spans
                 spans[k] = (chunk, start, drawn[1])
         # Complete and drawn chunks need no second look (until a rewind or a clear).
         done = max(self._done, chunks.start)
@@ -449,8 +456,7 @@ class TraceLines:
                 and done % size in spans:
             done += 1
         self._done = done
-        for k, node in enumerate(self._nodes) if len(spans) != len(self._spans) or spans.keys() != self._spans.keys() \
-                else ():
+        for k, node in enumerate(self._nodes) if changed else ():
             if (k in spans) != self._shown[k]:
                 node.visible = self._shown[k] = k in spans
         self._spans = spans

@@ -20,9 +20,11 @@ presets format, ghost), with the geometry of `physics.poinsot` drawn around it, 
 Readouts: T, |L|, the flip period 2K(m)/λ of the current motion (ω_q, the intermediate axis'
 component, changes sign every flip period: half the polhode period) and the time of the next
 flip, from the closed form (`physics.poinsot`).  Nodes are built once; a new run sets their
-scale, points and pose; per frame only the contact point, L_b's dot and the herpolhode's head
-are sent (besides the body, ω and the ghost).  Presets: `assets/presets/poinsot.json` (their
-angles put L along −z, so the plane is a table under the body).
+scale, points and pose; per frame only L_b's frame (its dot rides on it) and, every few frames,
+the herpolhode's newest chunk are sent besides the body, ω and the ghost: the contact point
+hangs at ω's tip (`Vector.tip`), and nothing is sent for the hidden line of nodes.
+Presets: `assets/presets/poinsot.json` (their angles put L along −z, so the plane is a table
+under the body).
 """
 
 from __future__ import annotations
