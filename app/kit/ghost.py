@@ -140,9 +140,10 @@ class ExactGhost:
             self.body.reshape(lambda scene, parent: self._shape(scene, parent, model))
             self._model = model
 
-    def draw(self) -> None:
+    def draw(self, quantum: float | None = None) -> None:
         """Pose the ghost at the exact attitude, turned by k times the error (hidden without a
-        closed form); nothing while it is off."""
+        closed form), at the resolution `quantum` (`app.kit.widgets.POSE_QUANTUM`; None:
+        exact); nothing while it is off."""
         if not self.shown or self.body is None:
             return
         R_exact = self.sim.exact_attitude()
@@ -151,7 +152,7 @@ class ExactGhost:
             self.body.node.visible = visible
         if R_exact is not None:
             R = self.sim.state.R_space_body
-            self.body.pose(R_exact if self.k == 0.0 else magnified_attitude(R_exact, R, self.k))
+            self.body.pose(R_exact if self.k == 0.0 else magnified_attitude(R_exact, R, self.k), quantum)
 
     def refresh_note(self) -> None:
         shown = self.shown

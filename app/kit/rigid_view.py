@@ -7,10 +7,11 @@ class attributes and hooks (the model of its parameters, the initial ω from its
 its body's shape, its extras); see `app.kit.torque_free` and `app.scenes.heavy_top`.
 
 Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
-ω arrow (L only when it moved), the scene's extras; nothing at all while paused.  At most 10
-times a second, and only for what is on screen: the sliders follow the motion (Setup tab),
-the readout (Readout tab), the status line; the plots and the accuracy panel at 4 Hz (Plots
-tab, live plots on).
+ω arrow (L only when it moved), the scene's extras, at display resolution
+(`app.kit.widgets.POSE_QUANTUM`: what did not change at it is not sent); nothing at all while
+paused.  Only for what is on screen: the sliders follow the motion (Setup tab) and the status
+line at 5 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
+(Plots tab, live plots on).
 
 The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
 readout, Lagrange tab, accuracy, legend) are pure functions of the simulation in
@@ -59,7 +60,7 @@ from app.kit.rigid import (
 from app.kit.rigid_text import accuracy_text, lagrange_text, legend_text, readout_text, status_text
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Body, LineOfNodes, Stage, Vector
+from app.kit.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector
 from physics._types import Vec3
 from physics.dynamics import Model, State
 from physics.euler import GimbalLockError, matrix_from_euler_zxz
@@ -68,7 +69,7 @@ from physics.lagrange import lagrange_terms
 
 __all__ = ["ANGLE_SPECS", "RigidBodyView"]
 
-SLIDER_PERIOD = 0.1  # [s] of wall time between slider syncs while playing (10 Hz)
+SLIDER_PERIOD = 0.2  # [s] of wall time between slider syncs while playing (5 Hz, with the status line)
 READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
 STATUS_PERIOD = 0.2  # status line (5 Hz)
 PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
@@ -132,6 +133,10 @@ class RigidBodyView(SceneView):
     grid_z: ClassVar[float] = 0.0
     body_axis_length: ClassVar[float] = 1.0
     arrow_lengths: ClassVar[tuple[float, float]] = (1.5, 1.5)  # ω and L [scene units] at a rescale
+    omega_label_at_middle: ClassVar[bool] = False  # ω's label beside its middle (else beyond its tip)
+    quantum: float | None = None
+    """While a playing frame draws: POSE_QUANTUM (poses at display resolution, `app.kit.widgets`);
+    None while a refresh draws (exact)."""
 
     def fixed_omega_scale(self) -> float | None:
         """[scene units per rad/s] if the scene fixes the ω arrow's scale (Poinsot: ω must end on
@@ -263,7 +268,8 @@ class RigidBodyView(SceneView):
                          axis_length=self.body_axis_length, labels=labels)
         self._drawn_model = model
         self.nodes = LineOfNodes(scene, f"{root}/nodes", labels=labels)
-        self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω", labels=labels)
+        self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω", labels=labels,
+                            label_at_middle=self.omega_label_at_middle)
         self.L = Vector(scene, f"{root}/L", L_COLOR, "L", labels=labels)
         # The Lagrange tab: the torque M and its projections Q_φ e_z, Q_θ e_n, Q_ψ e_z′ (6.10).
         self.q_arrows = GeneralizedForceArrows(scene, root, labels)
@@ -350,7 +356,11 @@ class RigidBodyView(SceneView):
                 if sim.restarts != self._drawn_restarts or sim.model != self._drawn_model:
                     self._restarted()
                 self._drawn_version = sim.version
-                self._draw()
+                self.quantum = POSE_QUANTUM if self.room.playing else None
+                try:
+                    self._draw()
+                finally:
+                    self.quantum = None
             self.labels.update(dt)
             if not self.room.playing:
                 return
@@ -418,12 +428,13 @@ class RigidBodyView(SceneView):
         sim = self.sim
         R = sim.state.R_space_body
         omega_body = sim.state.omega_body
-        self.body.pose(R)
-        self.nodes.update(float(sim.angles[0]), float(sim.angles[1]))
-        self.omega.update(R @ omega_body * self.omega_scale)
+        quantum = self.quantum
+        self.body.pose(R, quantum)
+        self.nodes.update(float(sim.angles[0]), float(sim.angles[1]), quantum)
+        self.omega.update(R @ omega_body * self.omega_scale, quantum=quantum)
         L_space = R @ (np.asarray(sim.model.inertia) * omega_body)
-        self.L.update(L_space * self.L_scale, rtol=1e-6)
-        self.ghost.draw()
+        self.L.update(L_space * self.L_scale, rtol=1e-6, quantum=quantum)
+        self.ghost.draw(quantum)
         self.draw_extras(sim)
 
     def fit_arrows(self) -> None:

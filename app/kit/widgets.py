@@ -19,6 +19,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from viser import _messages
 
 from app.kit.common import (
     BODY_AXIS_COLORS,
@@ -34,15 +35,44 @@ from app.kit.common import (
     fade_color,
     polyline_segments,
 )
-from app.kit.fastprops import set_points, set_position, set_wxyz
+from app.kit.fastprops import FAST, set_points, set_position, set_wxyz
 from app.kit.labels import AXES, KEY, LabelLayer
 from app.kit.trace import Trace
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
 
-__all__ = ["FADE_LEVELS", "Body", "LineOfNodes", "Stage", "TraceLines", "Vector"]
+__all__ = ["FADE_LEVELS", "POSE_QUANTUM", "Body", "LineOfNodes", "Stage", "TraceLines", "Vector", "quantized",
+           "z_onto"]
 
 FADE_LEVELS = 8  # the line of nodes fades in this many steps (one colour message per step)
+POSE_QUANTUM = 2.0**-12
+"""While playing, quaternion components and positions [scene units] are sent as multiples of
+this (`quantized`): a turn of at most ~5e-4 rad, ~0.1 px at the tip of a 2-unit arrow on a
+projector, and a float with 12 significant bits, whose zero bytes the frame's compression
+squeezes (a pose message ~10 bytes less).  A pose that did not change at this resolution is not
+sent at all.  Paused (refresh) poses are exact."""
+LENGTH_RTOL = 5e-3  # while playing, an arrow's length is resent when it changed by more than this fraction
+LABEL_BEYOND = 0.16  # [scene units] a vector's label sits this far beyond its tip
+HEAD_EVERY = 6  # playing frames between two sends of a trace's growing head chunk (10 Hz at 60 fps)
+LABEL_ASIDE = 0.06  # [scene units] ... or this far off its middle (x and y of the arrow's frame)
+
+
+def quantized(values: Any, quantum: float) -> tuple[float, ...]:
+    """`values` (floats) rounded to multiples of `quantum` (a power of two: exact in binary)."""
+    return tuple(round(float(v) / quantum) * quantum for v in values)
+
+
+def _set_scale(handle: Any, scale: tuple[float, float, float]) -> None:
+    """handle.scale = scale, unconditionally, without viser's per-assignment checks (as
+    `app.kit.fastprops` does for poses and points)."""
+    if not FAST:
+        handle.scale = scale
+        return
+    impl = handle._impl
+    if impl.removed:
+        raise RuntimeError(f"Cannot update the removed scene node {impl.name!r}.")
+    impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, {"scale": scale}))
+    impl.props.scale = scale
 
 
 def _register(labels: LabelLayer | None, handle: Any, priority: float) -> Any:
@@ -105,9 +135,12 @@ class Body:
                                               font_screen_scale=LABEL_SCALE, anchor="center-center"), AXES)
         self._wxyz: tuple[float, ...] = ()
 
-    def pose(self, R_space_body: Mat3) -> None:
-        """Turn the body to R_space_body (3, 3); sent only if it changed."""
+    def pose(self, R_space_body: Mat3, quantum: float | None = None) -> None:
+        """Turn the body to R_space_body (3, 3); sent only if it changed (at the resolution
+        `quantum`, see POSE_QUANTUM; None: exact)."""
         wxyz = wxyz_from_matrix(R_space_body)
+        if quantum is not None:
+            wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
         if wxyz != self._wxyz:
             self._wxyz = wxyz
             set_wxyz(self.node, wxyz)
@@ -140,7 +173,8 @@ class LineOfNodes:
             font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
         ), AXES)
         self._level = -1
-        self._phi = math.nan
+        self._wxyz: tuple[float, ...] = ()
+        self._angles = (0.0, 0.0)  # (φ, θ) [rad] last given
 
     @staticmethod
     def fade_level(theta: float) -> int:
@@ -148,11 +182,18 @@ class LineOfNodes:
         distance_deg = math.degrees(min(theta, math.pi - theta))
         return max(0, min(FADE_LEVELS, int(FADE_LEVELS * distance_deg / GIMBAL_FADE_DEG)))
 
-    def update(self, phi: float, theta: float) -> None:
-        """Show e_n for the angles φ, θ [rad]; messages only for what changed."""
-        if phi != self._phi:
-            self._phi = phi
-            set_wxyz(self.node, (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi)))
+    def update(self, phi: float, theta: float, quantum: float | None = None) -> None:
+        """Show e_n for the angles φ, θ [rad]; messages only for what changed (at the resolution
+        `quantum`, see POSE_QUANTUM; None: exact), none while hidden (`visible` redraws it)."""
+        self._angles = (phi, theta)
+        if not self.node.visible:
+            return
+        wxyz = (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
+        if quantum is not None:
+            wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
+        if wxyz != self._wxyz:
+            self._wxyz = wxyz
+            set_wxyz(self.node, wxyz)
         level = self.fade_level(theta)
         if level != self._level:
             self._level = level
@@ -169,73 +210,154 @@ class LineOfNodes:
     def visible(self, visible: bool) -> None:
         if self.node.visible != visible:
             self.node.visible = visible
+            if visible:
+                self.update(*self._angles)  # nothing was sent while it was hidden
+
+
+def z_onto(direction: Vec3 | tuple[float, float, float]) -> tuple[float, float, float, float]:
+    """The unit quaternion (w, x, y, z) of the shortest rotation that turns +z onto the unit vector
+    `direction` (3,) (about an axis in the xy-plane, so z = 0); a half turn about x for -z."""
+    dx, dy, dz = float(direction[0]), float(direction[1]), float(direction[2])
+    w = 1.0 + dz
+    if w < 1e-12:
+        return (0.0, 1.0, 0.0, 0.0)
+    norm = math.sqrt(w * w + dx * dx + dy * dy)
+    return (w / norm, -dy / norm, dx / norm, 0.0)
 
 
 class Vector:
     """An arrow from `origin` to a tip, with a label just beyond the tip (ω, L, ...), wanted
-    whenever the arrow is drawn (`show_label(False)` drops it while the arrow stays)."""
+    whenever the arrow is drawn (`show_label(False)` drops it while the arrow stays).
+
+    Nodes (under `name`): a frame at the arrow's start turned so that its +z runs along the
+    vector (`node`), the shaft (a unit cylinder scaled along z), and a frame at the tip (`tip`,
+    at z = length) holding the head and the label.  So a vector that turns costs one orientation
+    message; its length is sent (the shaft's scale and the tip's position) only when it changed
+    by more than LENGTH_RTOL (while playing), its start only when it moved (see `update`).  Children of `tip`
+    (e.g. a dot where the arrow ends) move with it for nothing.
+    """
 
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, *,
                  origin: tuple[float, float, float] = (0.0, 0.0, 0.0), shaft_radius: float = 0.03,
                  head_radius: float = 0.08, head_length: float = 0.16, font_scale: float = 2.4,
-                 label_at_middle: bool = False, labels: LabelLayer | None = None, priority: float = KEY) -> None:
-        self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3)), color, shaft_radius=shaft_radius,
-                                      head_radius=head_radius, head_length=head_length, visible=False)
-        self.label = _register(labels, scene.add_label(
-            f"{name}_label", text, font_screen_scale=font_scale,
-            anchor="center-left" if label_at_middle else "center-center", visible=False), priority)
-        self._labels = labels
+                 label_at_middle: bool = False, labels: LabelLayer | None = None, priority: float = KEY,
+                 labelled: bool = True) -> None:
         self.origin = (float(origin[0]), float(origin[1]), float(origin[2]))
-        self.label_at_middle = label_at_middle  # else just beyond the tip
+        self.node = scene.add_frame(name, show_axes=False, visible=False, position=self.origin)
+        # viser's own arrows (their material, as every other arrow of the app): the shaft a unit
+        # arrow with a head no wider than the shaft and vanishingly short, the head one that is all head.
+        self.shaft = scene.add_arrows(f"{name}/shaft", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]]), color,
+                                      shaft_radius=shaft_radius, head_radius=shaft_radius, head_length=1e-6)
+        self.tip = scene.add_frame(f"{name}/tip", show_axes=False, position=(0.0, 0.0, 1.0))
+        self.head = scene.add_arrows(f"{name}/tip/head", np.array([[[0.0, 0.0, -head_length], [0.0, 0.0, 0.0]]]),
+                                     color, shaft_radius=shaft_radius, head_radius=head_radius,
+                                     head_length=head_length)
+        self.head_length = float(head_length)
+        # Just beyond the tip, a child of the tip (its length costs nothing more); or beside the
+        # middle, a child of the start (moved when the length changes).
+        # labelled=False: no label at all (`label` is None).
+        self.label_at_middle = label_at_middle
+        self.label = None if not labelled else _register(labels, scene.add_label(
+            f"{name}/label" if label_at_middle else f"{name}/tip/label", text, font_screen_scale=font_scale,
+            anchor="center-left" if label_at_middle else "center-center", visible=False,
+            position=(LABEL_ASIDE, LABEL_ASIDE, 0.5) if label_at_middle else (0.0, 0.0, LABEL_BEYOND)), priority)
+        self._labels = labels
         self.enabled = True  # the user's display toggle
-        self._tip: tuple[float, float, float] | None = None
+        self._tip: tuple[float, float, float] | None = None  # the tip as last checked (rtol)
+        self._exact = False  # whether that was drawn exactly (not at a playing frame's resolution)
+        self._start: tuple[float, float, float] = self.origin  # as sent
+        self._wxyz: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)  # as sent
+        self._length = 1.0  # [scene units] as sent
+        self._head_scale = 1.0
 
     @property
     def visible(self) -> bool:
-        return bool(self.arrow.visible)
+        return bool(self.node.visible)
+
+    @property
+    def segment(self) -> np.ndarray:
+        """(start, tip) (2, 3) [scene units, in the parent's frame] of the arrow drawn (as sent)."""
+        if not self.visible:
+            return np.zeros((2, 3))
+        return np.array([self._start, np.asarray(self._start) + _rotate(self._wxyz, self._length)])
 
     def show_label(self, wanted: bool) -> None:
         """Whether the label is wanted (while the arrow is drawn; e.g. not for a short arrow)."""
-        _want(self._labels, self.label, wanted and self.visible)
+        if self.label is not None:
+            _want(self._labels, self.label, wanted and self.visible)
 
-    def update(self, vector: Vec3, *, start: Vec3 | None = None, rtol: float = 0.0) -> None:
+    def update(self, vector: Vec3, *, start: Vec3 | None = None, rtol: float = 0.0,
+               quantum: float | None = None) -> None:
         """Draw `vector` [scene units] from `start` (default: the origin given at construction);
         hidden if shorter than 1e-3 or disabled.
 
         rtol: skip the update if the tip moved by less than rtol times its length (a conserved
         vector, such as a free body's L, is then sent once, not every frame).
+        quantum: send the orientation and start as multiples of it (`quantized`, while playing:
+        what does not change at display resolution is not sent); None: exact.
         """
-        ox, oy, oz = self.origin if start is None else start
+        ox, oy, oz = self.origin if start is None else (float(start[0]), float(start[1]), float(start[2]))
         vx, vy, vz = float(vector[0]), float(vector[1]), float(vector[2])
         tip = (ox + vx, oy + vy, oz + vz)
         length = math.sqrt(vx * vx + vy * vy + vz * vz)
         visible = self.enabled and length > 1e-3
-        if self.arrow.visible != visible:
-            self.arrow.visible = visible
-            _want(self._labels, self.label, visible)
+        if self.node.visible != visible:
+            self.node.visible = visible
+            if self.label is not None:
+                _want(self._labels, self.label, visible)
             self._tip = None
         if not visible:
             return
-        if self._tip is not None and max(abs(a - b) for a, b in zip(tip, self._tip)) <= rtol * length:
+        if self._tip is not None and max(abs(a - b) for a, b in zip(tip, self._tip)) <= rtol * length \
+                and (quantum is not None or self._exact):
             return
         self._tip = tip
-        set_points(self.arrow, np.array([[(ox, oy, oz), tip]], dtype=np.float32))
-        if self.label_at_middle:
-            set_position(self.label, (0.5 * (ox + tip[0]) + 0.06, 0.5 * (oy + tip[1]) + 0.06,
-                                      0.5 * (oz + tip[2]) + 0.06))
-        else:
-            k = 1.0 + 0.16 / length
-            set_position(self.label, (ox + k * vx, oy + k * vy, oz + k * vz))
+        self._exact = quantum is None
+        start_xyz = (ox, oy, oz) if quantum is None else quantized((ox, oy, oz), quantum)
+        if start_xyz != self._start:
+            self._start = start_xyz  # type: ignore[assignment]
+            set_position(self.node, start_xyz)  # type: ignore[arg-type]
+        wxyz = z_onto((vx / length, vy / length, vz / length))
+        if quantum is not None:
+            wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
+        if wxyz != self._wxyz:
+            self._wxyz = wxyz
+            set_wxyz(self.node, wxyz)
+        if quantum is None or abs(length - self._length) > LENGTH_RTOL * self._length:
+            self._set_length(length)
+
+    def _set_length(self, length: float) -> None:
+        if length == self._length:
+            return
+        self._length = length
+        head = min(1.0, length / self.head_length)  # an arrow shorter than its head: a smaller head
+        _set_scale(self.shaft, (1.0, 1.0, max(length - head * self.head_length, 1e-6)))
+        set_position(self.tip, (0.0, 0.0, length))
+        if head != self._head_scale:
+            self._head_scale = head
+            self.head.scale = head
+        if self.label_at_middle and self.label is not None:
+            set_position(self.label, (LABEL_ASIDE, LABEL_ASIDE, 0.5 * length))
+
+
+def _rotate(wxyz: tuple[float, ...], length: float) -> np.ndarray:
+    """length times +z turned by the quaternion wxyz (normalized first: it may be quantized)."""
+    w, x, y, z = wxyz
+    norm2 = w * w + x * x + y * y + z * z
+    return length / norm2 * np.array([2.0 * (x * z + w * y), 2.0 * (y * z - w * x), w * w - x * x - y * y + z * z])
 
 
 class TraceLines:
     """Draws a simulation's `app.kit.trace.Trace` (a point's recent path) as line segments.
 
     One line-segment node per chunk of the trace, a ring of `trace.max_chunks` nodes built once
-    (creating a node costs viser ~2 ms): chunk c is drawn by node c mod size.  `sync` sends
-    only the chunks whose drawn span changed since the last call (per frame: the head, on every
-    other stored point) and hides the chunks the trace dropped; a view built later draws the
-    trace so far on its first `sync`, and draws exactly what every other view of the trace draws.
+    (~0.5 ms a node): chunk c is drawn by node c mod size.  `sync` sends only the chunks whose
+    drawn span changed since the last call and hides the chunks the trace dropped: a complete
+    chunk is sent once, when it completes; the growing head chunk, on a playing frame
+    (`lazy=True`), at most every HEAD_EVERY frames (so a scene whose chunks complete every few
+    frames sends each point once, and its trace ends at most a chunk behind the moving point),
+    and at once otherwise (a refresh: a step, a pause).  A view built later draws the trace so
+    far on its first `sync`, and draws exactly what every other view of the trace draws.
     """
 
     def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], trace: Trace, *,
@@ -250,7 +372,11 @@ class TraceLines:
         self._chunk_points = trace.chunk_points
         self._generation = -1
         self._scale = math.nan
-        self._synced: tuple[int, int, int, float] | None = None  # the trace as last synced
+        self._synced: tuple[int, int, int, float] | None = None  # the trace as last synced in full
+        self._head_wait = 0  # lazy syncs since the head was last sent
+        self._done = 0  # chunks before this one are complete and drawn
+        self._first_chunk = 0  # the oldest chunk kept at the last sync
+        self._count = 0  # trace.count at the last sync (fewer now: a rewind)
 
     @property
     def point_count(self) -> int:
@@ -273,36 +399,65 @@ class TraceLines:
     def hide(self) -> None:
         """Hide every chunk (what is drawn on them stays, for the next `sync`)."""
         self._synced = None
+        self._spans = {}
+        self._done = 0  # the next sync looks at every chunk again
         for k, node in enumerate(self._nodes):
             if self._shown[k]:
                 node.visible = self._shown[k] = False
 
-    def sync(self, trace: Trace, scale: float = 1.0) -> None:
-        """Show `trace` (points times `scale`, in the parent node's units): send what changed."""
+    def sync(self, trace: Trace, scale: float = 1.0, *, lazy: bool = False) -> None:
+        """Show `trace` (points times `scale`, in the parent node's units): send what changed.
+
+        lazy: a playing frame: the growing head chunk waits up to HEAD_EVERY calls.  The chunks
+        before the last call's head are looked at again only after a rewind or a clear."""
         synced = (trace.generation, trace.count, trace.first, scale)
         if synced == self._synced:
             return  # nothing new (paused, or no point stored since)
-        self._synced = synced
+        size = len(self._nodes)
+        chunks = trace.chunks()[-size:]
         if trace.generation != self._generation or scale != self._scale:
             self._generation, self._scale = trace.generation, scale
             self._drawn = [None] * len(self._nodes)
-        size = len(self._nodes)
-        spans: dict[int, tuple[int, int, int]] = {}
-        for chunk in trace.chunks()[-size:]:
+            self._done = 0
+        if trace.count < self._count:  # a rewind: look at every chunk again
+            self._done = 0
+        self._count = trace.count
+        self._head_wait += 1
+        head_due = not lazy or self._head_wait >= HEAD_EVERY
+        pending = False
+        if self._done == 0 or chunks.start != self._first_chunk:  # after a rewind, a clear, a dropped chunk
+            self._first_chunk = chunks.start
+            spans = {k: span for k, span in self._spans.items() if chunks.start <= span[0] < self._done}
+            changed = True
+        else:  # the usual frame: the chunks before `_done` stay as they are
+            spans, changed = self._spans, False
+        for chunk in range(max(self._done, chunks.start), chunks.stop):
             start, stop = trace.chunk_span(chunk)
-            if stop - start >= 2:
-                spans[chunk % size] = (chunk, start, stop)
-        for k, node in enumerate(self._nodes):
-            span = spans.get(k)
-            if span is None:
-                if self._shown[k]:
-                    node.visible = self._shown[k] = False
+            if stop - start < 2:
                 continue
-            chunk, start, stop = span
+            k = chunk % size
+            complete = stop - start == self._chunk_points
             if self._drawn[k] != (chunk, stop):
-                points = trace.points(start, stop) * scale
-                set_points(node, polyline_segments(points).astype(np.float32))
-                self._drawn[k] = (chunk, stop)
-            if not self._shown[k]:
-                node.visible = self._shown[k] = True
+                if complete or head_due:
+                    points = trace.points(start, stop) * scale
+                    set_points(self._nodes[k], polyline_segments(points).astype(np.float32))
+                    self._drawn[k] = (chunk, stop)
+                    self._head_wait = 0  # the trace is drawn up to here
+                else:
+                    pending = True
+            drawn = self._drawn[k]
+            if drawn is not None and drawn[0] == chunk:
+                changed = changed or k not in spans
+                spans[k] = (chunk, start, drawn[1])
+        # Complete and drawn chunks need no second look (until a rewind or a clear).
+        done = max(self._done, chunks.start)
+        while done < chunks.stop and done * trace.stride + self._chunk_points <= trace.count \
+                and self._drawn[done % size] == (done, done * trace.stride + self._chunk_points) \
+                and done % size in spans:
+            done += 1
+        self._done = done
+        for k, node in enumerate(self._nodes) if changed else ():
+            if (k in spans) != self._shown[k]:
+                node.visible = self._shown[k] = k in spans
         self._spans = spans
+        self._synced = None if pending else synced

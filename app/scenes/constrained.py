@@ -721,19 +721,5 @@ class _Arrow(Vector):
                  **kwargs: Any) -> None:
         if not labelled:
             kwargs.pop("labels", None)  # no label: nothing for the view's LabelLayer
-        super().__init__(scene, name, color, text, **kwargs)
+        super().__init__(scene, name, color, text, labelled=labelled, **kwargs)
         self.labelled = labelled
-        if not labelled:
-            self.label.remove()
-
-    def update(self, vector: Array, *, start: Array | None = None, rtol: float = 0.0) -> None:
-        if self.labelled:
-            super().update(vector, start=start, rtol=rtol)
-            return
-        ox, oy, oz = self.origin if start is None else (float(start[0]), float(start[1]), float(start[2]))
-        vx, vy, vz = float(vector[0]), float(vector[1]), float(vector[2])
-        visible = self.enabled and math.sqrt(vx * vx + vy * vy + vz * vz) > 1e-3
-        if self.arrow.visible != visible:
-            self.arrow.visible = visible
-        if visible:
-            set_points(self.arrow, np.array([[(ox, oy, oz), (ox + vx, oy + vy, oz + vz)]], dtype=np.float32))

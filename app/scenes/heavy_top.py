@@ -53,7 +53,7 @@ DISC_THICKNESS = 0.1
 STAND_HEIGHT = 1.3  # the stand's base (and the grid) at z = -STAND_HEIGHT
 TRACE_SECONDS = 12.0  # [s] of simulated time kept in the trace
 TRACE_SPACING = 1.0 / 60.0  # [s] of simulated time between stored trace points
-CHUNK_POINTS = 30
+CHUNK_POINTS = 7  # a chunk completes every 0.1 s at time scale 1: each point is sent once (TraceLines)
 TRACE_COLOR = (200, 0, 120)
 STRIPES = ((200, 40, 40), (250, 235, 210))
 ROD_COLOR = (90, 90, 100)
@@ -174,7 +174,7 @@ class HeavyTopView(RigidBodyView):
         sim.track("tip", tip_axis, seconds=TRACE_SECONDS, spacing=TRACE_SPACING, chunk_points=CHUNK_POINTS)
 
     def draw_extras(self, sim: RigidBodySimulation) -> None:
-        self.trace.sync(sim.traces["tip"], ROD_LENGTH)
+        self.trace.sync(sim.traces["tip"], ROD_LENGTH, lazy=self.quantum is not None)
         if self.tabs.shown == "Energy":
             self._draw_energy(sim)
 

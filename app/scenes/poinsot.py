@@ -20,9 +20,11 @@ presets format, ghost), with the geometry of `physics.poinsot` drawn around it, 
 Readouts: T, |L|, the flip period 2K(m)/λ of the current motion (ω_q, the intermediate axis'
 component, changes sign every flip period: half the polhode period) and the time of the next
 flip, from the closed form (`physics.poinsot`).  Nodes are built once; a new run sets their
-scale, points and pose; per frame only the contact point, L_b's dot and the herpolhode's head
-are sent (besides the body, ω and the ghost).  Presets: `assets/presets/poinsot.json` (their
-angles put L along −z, so the plane is a table under the body).
+scale, points and pose; per frame only L_b's frame (its dot rides on it) and, every few frames,
+the herpolhode's newest chunk are sent besides the body, ω and the ghost: the contact point
+hangs at ω's tip (`Vector.tip`), and nothing is sent for the hidden line of nodes.
+Presets: `assets/presets/poinsot.json` (their angles put L along −z, so the plane is a table
+under the body).
 """
 
 from __future__ import annotations
@@ -35,12 +37,12 @@ import trimesh
 
 from app.kit.binding import BOX_DIGITS
 from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
-from app.kit.fastprops import set_points, set_position
+from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import Readout, add_slider
 from app.kit.labels import AXES, DETAIL
 from app.kit.rigid import RigidBodySimulation
 from app.kit.torque_free import TorqueFreeView
-from app.kit.widgets import TraceLines
+from app.kit.widgets import TraceLines, quantized, z_onto
 from physics.dynamics import State
 from physics.poinsot import (
     herpolhode_radii,
@@ -62,7 +64,7 @@ L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space pict
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
 HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
 HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
-HERPOLHODE_CHUNK = 60  # points per chunk of the herpolhode
+HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1; few sent twice)
 CURVE_POINTS = 256
 FAMILY_POINTS = 128
 ELLIPSOID_COLOR = (120, 170, 230)
@@ -155,6 +157,7 @@ class PoinsotView(TorqueFreeView):
     )
     preset_file = "poinsot.json"
     grid_z = -2.2
+    omega_label_at_middle = True  # the contact point at ω's tip stays clear
     arrow_lengths = (1.45, 2.2)
 
     def fixed_omega_scale(self) -> float | None:
@@ -193,8 +196,11 @@ class PoinsotView(TorqueFreeView):
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
         self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"])
-        self.contact = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20), subdivisions=2)
-        self.omega.label_at_middle = True  # the contact point at ω's tip stays clear
+        # The contact point is ω's tip: a child of the arrow's tip, moved with it for nothing.
+        self.contact = scene.add_icosphere(f"{root}/omega/tip/contact", radius=0.06, color=(20, 20, 20),
+                                           subdivisions=2)
+        self.contact_alone = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20),
+                                                 subdivisions=2, visible=False)  # while the ω arrow is off
 
         # Body angular-momentum space, beside it (body components, not turning).
         ls = f"{root}/Lspace"
@@ -222,10 +228,15 @@ class PoinsotView(TorqueFreeView):
                                                   thickness_units="screen")
         self.current = scene.add_line_segments(f"{ls}/current", idle, POLHODE_COLOR, thickness=4.5,
                                                thickness_units="screen")
-        self.L_dot = scene.add_icosphere(f"{ls}/L_b", radius=0.06, color=(120, 40, 200), subdivisions=2)
+        # |L| is conserved: L_b's dot stays on the sphere, at the +z of a frame turned onto L_b
+        # (one orientation message when it moves, the kind the frame sends anyway).
+        self.L_turn = scene.add_frame(f"{ls}/L_turn", show_axes=False)
+        self.L_dot = scene.add_icosphere(f"{ls}/L_turn/L_b", radius=0.06, color=(120, 40, 200), subdivisions=2,
+                                         position=(0.0, 0.0, SPHERE_RADIUS))
         self._drawn_family: tuple[float, ...] | None = None
         self._flip_schedule: tuple[float, float] | None = None  # (next flip, period) [s]
         self._L_scale_space = 1.0  # [scene units per kg m²/s] of the momentum picture
+        self._L_turn: tuple[float, ...] = ()  # L_b's frame as sent
 
     def build_display_extras(self, gui: Any) -> None:
         self.gui_show_nodes.value = False  # the line of nodes would only clutter this picture
@@ -235,6 +246,7 @@ class PoinsotView(TorqueFreeView):
 
     def _show_lspace(self) -> None:
         self.lspace.visible = bool(self.gui_show_lspace.value)
+        self.draw_extras(self.sim)  # L_b's dot was not moved while the picture was hidden
 
     def _build_gui(self) -> None:
         super()._build_gui()
@@ -321,12 +333,24 @@ class PoinsotView(TorqueFreeView):
         if not self.contact.visible:
             self.herpolhode.hide()
             return
-        omega = sim.state.omega_body
-        w = omega_space(sim.state) * self.omega_scale
-        set_position(self.contact, (float(w[0]), float(w[1]), float(w[2])))
-        self.herpolhode.sync(sim.traces["herpolhode"], self.omega_scale)
-        L = np.asarray(sim.model.inertia) * omega * self._L_scale_space
-        set_position(self.L_dot, (float(L[0]), float(L[1]), float(L[2])))
+        quantum = self.quantum
+        alone = not self.omega.visible  # the ω arrow is off: the contact point is drawn on its own
+        if self.contact_alone.visible != alone:
+            self.contact_alone.visible = alone
+        if alone:
+            w = omega_space(sim.state) * self.omega_scale
+            w_at = (float(w[0]), float(w[1]), float(w[2]))
+            set_position(self.contact_alone, w_at if quantum is None else quantized(w_at, quantum))  # type: ignore[arg-type]
+        self.herpolhode.sync(sim.traces["herpolhode"], self.omega_scale, lazy=quantum is not None)
+        if self.lspace.visible:  # nothing sent for the hidden picture
+            L = np.asarray(sim.model.inertia) * sim.state.omega_body
+            norm = float(np.linalg.norm(L))
+            turn = z_onto(L / norm) if norm > 0.0 else (1.0, 0.0, 0.0, 0.0)
+            if quantum is not None:
+                turn = quantized(turn, quantum)  # type: ignore[assignment]
+            if turn != self._L_turn:
+                self._L_turn = turn
+                set_wxyz(self.L_turn, turn)
         if self._flip_schedule is not None and sim.t >= self._flip_schedule[0]:
             self._refresh_poinsot_readout()
 
