@@ -105,6 +105,7 @@ class App:
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
+        self._owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
         self._wires: dict[int | None, Wire | None] = {}  # app.wire: the shared scene's (None), each browser's
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
@@ -177,33 +178,9 @@ class App:
         drops frames evenly, and the loop sleeps (GIL released) while viser's sender runs.
         """
         pacer = FramePacer(self.tick_hz, sleep=self._stop.wait)
-        owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
         window = (time.monotonic(), 0, 0, 0)  # start, frames, drawn, skipped at the start
         while not self._stop.is_set():
-            dt = min(pacer.begin(), MAX_TICK_DT)
-            rooms = self.rooms()
-            views = [(room, view, _browser(view)) for room in rooms for view in list(room.views)]
-            drawn = []
-            with pacer.hold(browser for _, _, browser in views):
-                for room in rooms:
-                    try:
-                        room.advance(dt)
-                    except Exception:  # noqa: BLE001 - a second net; rooms report their own errors
-                        logger.exception("%s: advance failed", room.scene.title)
-                for room, view, browser in views:
-                    owed[id(view)] = owed.get(id(view), 0.0) + dt
-                    wires = self._wires_of(view, browser)
-                    if pacer.ready(browser) and not any(wire.busy() for wire in wires):
-                        with _capturing(wires):
-                            room.draw(view, owed.pop(id(view)))
-                        drawn.append(browser)
-            with _capturing(self._follower_wires()):  # their panels' refresh
-                self.lectern.tick(dt)
-            self._end_frames()
-            if len(owed) > 2 * len(views) + 16:  # views that left
-                live = {id(view) for _, view, _ in views}
-                owed = {key: value for key, value in owed.items() if key in live}
-            self.tick_count += 1
+            drawn = self.frame(min(pacer.begin(), MAX_TICK_DT), pacer)
             self.pacer_stats = stats = pacer.stats
             now = time.monotonic()
             if now - window[0] >= LOAD_PERIOD:
@@ -212,6 +189,40 @@ class App:
                                           now - start, self.tick_hz))
                 window = (now, stats.frames, stats.drawn, stats.skipped)
             pacer.end(drawn, busy=self._wires_busy)
+
+    def frame(self, dt: float, pacer: FramePacer | None = None) -> list[Any]:
+        """One frame of the loop: every room advances dt [s], every view whose browser is ready
+        draws (its updates captured by its wires, `app.wire`), the lectern ticks, and the frames
+        go out.  The browsers drawn.  Tests call it with the loop not running (`start_loop=False`)."""
+        rooms = self.rooms()
+        views = [(room, view, _browser(view)) for room in rooms for view in list(room.views)]
+        drawn = []
+        owed = self._owed
+        with pacer.hold(browser for _, _, browser in views) if pacer is not None else contextlib.nullcontext():
+            for room in rooms:
+                try:
+                    room.advance(dt)
+                except Exception:  # noqa: BLE001 - a second net; rooms report their own errors
+                    logger.exception("%s: advance failed", room.scene.title)
+            for room, view, browser in views:
+                owed[id(view)] = owed.get(id(view), 0.0) + dt
+                wires = self._wires_of(view, browser)
+                if (pacer is None or pacer.ready(browser)) and not any(wire.busy() for wire in wires):
+                    with _capturing(wires):
+                        room.draw(view, owed.pop(id(view)))
+                    drawn.append(browser)
+        with _capturing(self._follower_wires()):  # their panels' refresh
+            self.lectern.tick(dt)
+        self._end_frames()
+        if len(owed) > 2 * len(views) + 16:  # views that left
+            live = {id(view) for _, view, _ in views}
+            self._owed = {key: value for key, value in owed.items() if key in live}
+        self.tick_count += 1
+        return drawn
+
+    def frames_sent(self) -> bool:
+        """Every frame ended so far has gone out (no wire has a delivery waiting)."""
+        return not self._wires_busy()
 
     # ------------------------------------------------------------------ frames on the wire
     def _wire(self, key: int | None, client: viser.ClientHandle | None = None) -> Wire | None:

@@ -54,17 +54,17 @@ _ZSTD = threading.local()
 def encode(messages: Iterable[Any]) -> bytes:
     """One window of viser messages in viser 1.1's wire format (as its `_message_producer`):
     sizes (2 x 8 bytes), zstd(msgpack({messages, timestampSec, binaryBufferLengths})), the raw
-    numpy buffers 8-byte aligned."""
+    numpy buffers 8-byte aligned; binaryBufferLengths is left out when there are none, which
+    viser's client reads the same way (`WebsocketClientWorker.ts`: "If no binary buffers")."""
     compressor = getattr(_ZSTD, "compressor", None)
     if compressor is None:
         compressor = _ZSTD.compressor = zstandard.ZstdCompressor(level=1)
     buffers: list[memoryview] = []
     serialised = tuple(message.as_serializable_dict(buffers) for message in messages)
-    inner = msgspec.msgpack.encode({
-        "messages": serialised,
-        "timestampSec": time.perf_counter(),
-        "binaryBufferLengths": tuple(b.nbytes for b in buffers),
-    })
+    envelope: dict[str, Any] = {"messages": serialised, "timestampSec": time.perf_counter()}
+    if buffers:  # viser's client reads a missing list as none (21 bytes a frame saved)
+        envelope["binaryBufferLengths"] = tuple(b.nbytes for b in buffers)
+    inner = msgspec.msgpack.encode(envelope)
     compressed = compressor.compress(inner)
     parts: list[bytes | memoryview] = [len(inner).to_bytes(8, "little"), len(compressed).to_bytes(8, "little"),
                                        compressed]

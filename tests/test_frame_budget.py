@@ -1,7 +1,8 @@
 """The frame budget: what one playing browser receives per frame, counted (never timed).
 
 For every scene of the dropdown, its default preset playing, in its own room and as a follower
-of a presenter, the app's loop NOT running: the test ticks one frame at a time and, after each
+of a presenter, the app's loop NOT running: the test runs the loop's frame (`App.frame`: the
+frames go out through `app.wire` as in the running app) one at a time and, after each
 tick, waits until everything that tick sent has reached a decoding websocket client
 (`benchmarks.ws_client.ViserClient`), so that one tick is one frame, whatever the machine's
 speed.  How it waits (`_sync`): the server's window generators of that client (its own buffer
@@ -114,6 +115,7 @@ class Synced:
 
     def sync(self) -> None:
         """Return once everything queued so far for this client has been ingested by it."""
+        poll_until(self.app.frames_sent, SYNC_TIMEOUT, 0.001)  # app.wire: written to the socket
         buffers = self._buffers()
         targets = [buffer.message_counter - 1 for buffer in buffers]
         poll_until(lambda: all(buffer.generator_cursors.get(self.client_id, -1) >= target
@@ -160,8 +162,8 @@ def _own_room(scene: str) -> tuple[FrameCount, dict[str, int]]:
         session.play()
         assert session.room.playing and session.last_error is None, session.last_error
         for _ in range(WARMUP_FRAMES):
-            session.tick(DT)
-        return _count(synced, lambda: session.tick(DT), MEASURED_FRAMES)
+            app.frame(DT)
+        return _count(synced, lambda: app.frame(DT), MEASURED_FRAMES)
     finally:
         if client is not None:
             client.close()
@@ -179,11 +181,12 @@ def _follower(scene: str) -> tuple[FrameCount, dict[str, int]]:
         before = set(hall.app.sessions)
         follower, client = hall.join_with_client(lambda port: ViserClient(port, keep_messages=100))
         (client_id,) = set(hall.app.sessions) - before
-        hall.frames(1)
+        hall.app.frame(DT)
         assert follower.mode == "following" and follower.room is presenter.room
         client.state.wait_for(lambda: client.state.replay_done, SYNC_TIMEOUT)
-        hall.frames(WARMUP_FRAMES)
-        return _count(Synced(hall.app, client, client_id), lambda: hall.frames(1), MEASURED_FRAMES)
+        for _ in range(WARMUP_FRAMES):
+            hall.app.frame(DT)
+        return _count(Synced(hall.app, client, client_id), lambda: hall.app.frame(DT), MEASURED_FRAMES)
     finally:
         # The follower leaves first, so the presenter's panel ("N following") is not written
         # after the presenter's connection closed.
