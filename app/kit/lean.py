@@ -268,13 +268,15 @@ def turn_z_onto(vector: Sequence[float]) -> tuple[float, float, float, float]:
 class FrameArrow:
     """An arrow as a frame turned so that its +z points along the vector, holding an arrow
     along +z: while the vector turns, one small orientation message (sent when its tip moved
-    visibly); its length (the child's points) only when the length changed visibly.
+    visibly); a visible change of length is sent as the child's z scale (a small message),
+    and as new points (the head keeps its size) when the scale leaves 1 ± RESCALE.
 
     `node` is the frame (its position is the arrow's start, set with `set(start=...)`),
     `arrow` the child `add_arrows` node.  Hidden below MIN_LENGTH or when not `shown`.
     """
 
     MIN_LENGTH = 1e-3
+    RESCALE = 0.05  # the head may grow or shrink by this fraction before the points are resent
 
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], *, shaft_radius: float,
                  head_radius: float, head_length: float, tolerance: float = TOLERANCE) -> None:
@@ -284,7 +286,8 @@ class FrameArrow:
                                       head_length=head_length)
         self.pose = Pose(self.node, reach=1.0, tolerance=tolerance)
         self.tolerance = tolerance
-        self.length = math.nan  # drawn
+        self.length = math.nan  # drawn [scene units]
+        self._base = math.nan  # the length of the child's points (drawn at z scale length / base)
 
     def set(self, vector: Sequence[float], start: Sequence[float] | None = None, shown: bool = True,
             force: bool = False) -> None:
@@ -299,7 +302,13 @@ class FrameArrow:
         self.pose.reach = length
         self.pose.set(turn_z_onto(vector), start, force=force)
         if force or not abs(length - self.length) <= self.tolerance:
-            set_points(self.arrow, np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, f32(length)]]], dtype=np.float32))
+            ratio = length / self._base
+            if force or not abs(ratio - 1.0) <= self.RESCALE:
+                set_points(self.arrow, np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, f32(length)]]], dtype=np.float32))
+                self._base, ratio = length, 1.0
+            scale = (1.0, 1.0, f32(ratio))
+            if _scale3(self.arrow.scale) != scale:
+                self.arrow.scale = scale
             self.length = length
 
     @property
@@ -309,4 +318,13 @@ class FrameArrow:
     def world_segment(self) -> np.ndarray:
         """(2, 3) start and tip as drawn, world coordinates."""
         R, p = world_pose(self.arrow)
-        return np.asarray(self.arrow.points, dtype=float)[0] @ R.T + p
+        segment = np.asarray(self.arrow.points, dtype=float)[0] * np.asarray(_scale3(self.arrow.scale))
+        return segment @ R.T + p
+
+
+def _scale3(scale: Any) -> tuple[float, float, float]:
+    """A node's `scale` (a float or a 3-tuple) as a 3-tuple."""
+    if isinstance(scale, (int, float)):
+        return float(scale), float(scale), float(scale)
+    x, y, z = (float(c) for c in scale)
+    return x, y, z

@@ -62,7 +62,7 @@ from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.labels import AXES, DETAIL, KEY, LabelLayer
-from app.kit.lean import ArcPieces, FrameArrow, Pose, world_pose
+from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, world_pose
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage
@@ -147,7 +147,7 @@ SLIDER_PERIOD = 0.2  # sliders follow at 5 Hz
 # How far the drawn points of each frame reach from the origin [scene units]: a turn is sent when
 # it moves them by more than app.kit.lean.TOLERANCE (the ω arrows are at most ~2 long at 30°/s per unit).
 PHI_REACH = 2.2  # the line of nodes (1.9), ω's components
-THETA_REACH = 1.5  # the after-θ frame's axes (1.1), the body under it (axes 1.35 and labels)
+THETA_REACH = 1.6  # the body under the after-θ frame (axes 1.35 and labels), ψ̇ e_z′ (≤ 1.5 at 45°/s) turning ω's tip
 PSI_REACH = 1.6  # the body's axes (1.35) and their labels
 READOUT_PERIOD = 0.2  # readouts at 5 Hz
 
@@ -405,6 +405,7 @@ class EulerAnglesView(SceneView):
             self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/arc_label_{key}", GREEK[key],
                                                               font_screen_scale=1.6, anchor="center-center"), DETAIL)
         self._arc_text_throttle = Throttle(ARC_TEXT_PERIOD)
+        self._theta_sent = math.nan  # θ [rad] when the θ-turned frames were last sent
         self._arc_label_at: dict[str, tuple[float, float, float] | None] = dict.fromkeys(KEYS)
         # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).  φ̇ e_z is
         # fixed in space, θ̇ e_n in the after-φ frame; ψ̇ e_z′ hangs in a frame at the tip of θ̇ e_n
@@ -700,7 +701,12 @@ class EulerAnglesView(SceneView):
         phi, theta, psi = self.sim.angles
         self.poses["phi"].set((math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi)), force=force)
         turn_theta = (math.cos(0.5 * theta), math.sin(0.5 * theta), 0.0, 0.0)
-        self.poses["theta"].set(turn_theta, force=force)
+        # Everything θ turns (the after-θ frame, ψ̇ e_z′'s frame, ω) is sent in the same frames, when
+        # θ moved visibly at THETA_REACH: their messages then share a window (repeats compress).
+        theta_due = force or not THETA_REACH * abs(theta - self._theta_sent) <= TOLERANCE
+        if theta_due:
+            self._theta_sent = theta
+        self.poses["theta"].set(turn_theta, force=theta_due)
         self.poses["psi"].set((math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)), force=force)
         show_frames = bool(self.gui_show_frames.value)
         for axes in self.frame_axes:
@@ -716,10 +722,11 @@ class EulerAnglesView(SceneView):
         self.rate_vectors["phi"].update(zero, a_phi, show)
         self.rate_vectors["theta"].update(a_phi, a_theta, show)
         self.rate_vectors["psi"].update(zero, np.array([0.0, 0.0, dpsi]), show)  # in its frame at a_theta
-        self.omega_psi_pose.reach = abs(dpsi) + 0.16
-        self.omega_psi_pose.set(turn_theta, tuple(a_theta), force=force)
-        tip = a_theta + dpsi * np.array([0.0, -math.sin(theta), math.cos(theta)])  # ω, after-φ coordinates
-        self.omega.set(tip, zero, shown=show, force=force)
+        if theta_due:
+            self.omega_psi_pose.set(position=tuple(a_theta), force=force)
+            self.omega_psi_pose.set(turn_theta, force=True)
+            tip = a_theta + dpsi * np.array([0.0, -math.sin(theta), math.cos(theta)])  # ω, after-φ coordinates
+            self.omega.set(tip, zero, shown=show, force=force)
         omega_label = (0.0, 0.0, dpsi + math.copysign(0.16, dpsi))  # beyond the common tip, along e_z′
         if tuple(self.omega_label.position) != omega_label:
             set_position(self.omega_label, omega_label)
