@@ -7,8 +7,12 @@ message of the same kind adds ~25-40 B (names and repeated keys compress within 
 float64s of a pose do not).  At 60 frames a second the budget of 12 kB/s is 200 B a frame: one
 or two small messages.  So a scene sends
 
-- a pose only when some drawn point of the node moved by more than `TOLERANCE` [scene units]
-  since the pose last sent (`Pose`): a slow turn is sent every other frame, a still one never;
+- while playing, poses at display resolution: snapped to a grid on which a step moves the
+  node's farthest drawn point by `TOLERANCE` [scene units] (~1 px), and sent only when the
+  snapped value changed (`Pose`): a slow turn is sent every other frame, a still one never.
+  What is drawn is then a function of the state alone (not of what was sent before), so a view
+  built later, a fork's view and every follower draw exactly the same; paused (`exact=True`,
+  after an edit, a step, a reset) everything is drawn exactly;
 - floats rounded to float32 (`f32`): a float64 with a float32 mantissa ends in three zero bytes,
   which compress (viser keeps poses float32-exact at worst anyway);
 - many arrows of one style in one `add_arrows` node (`Arrows`): one `points` message for all;
@@ -27,8 +31,8 @@ import numpy as np
 
 from app.kit.fastprops import set_points, set_position, set_wxyz
 
-__all__ = ["TOLERANCE", "ArcPieces", "Arrows", "FrameArrow", "Pose", "f32", "quaternion_turn", "turn_z_onto",
-           "world_pose"]
+__all__ = ["TOLERANCE", "ArcPieces", "Arrows", "FrameArrow", "Pose", "f32", "quaternion_turn", "snap",
+           "turn_z_onto", "world_pose"]
 
 TOLERANCE = 0.006  # [scene units] a point that moved less is not resent: ~1 px at the default views (110-160 px/unit)
 
@@ -44,13 +48,19 @@ def quaternion_turn(a: Sequence[float], b: Sequence[float]) -> float:
     return 2.0 * math.acos(min(1.0, dot))
 
 
-class Pose:
-    """A node's pose (T_parent_local), sent only when it moved visibly.
+def snap(value: float, step: float) -> float:
+    """`value` rounded to the nearest multiple of `step` (> 0), as a float32-exact float."""
+    return f32(round(value / step) * step)
 
-    reach: the distance [scene units] of the node's farthest drawn point from its origin; a turn
-    by angle a moves it by about reach * a.  tolerance: the motion [scene units] below which
-    nothing is sent.  `set(..., force=True)` (after an edit, a reset: never while playing) sends
-    the exact values whatever they are.
+
+class Pose:
+    """A node's pose (T_parent_local) drawn at display resolution while playing.
+
+    reach: the distance [scene units] of the node's farthest drawn point from its origin (a
+    change dq of a quaternion component turns it by about 2 dq, moving that point by 2 reach dq).
+    `set(wxyz, position, exact)`: with exact=False the quaternion's components are snapped to
+    the grid tolerance / (2 reach) (then normalized) and the position to the grid tolerance;
+    a message goes only when what is drawn changed.
     """
 
     def __init__(self, handle: Any, reach: float = 1.0, tolerance: float = TOLERANCE) -> None:
@@ -66,25 +76,31 @@ class Pose:
         self._wxyz = self._position = None
 
     def set(self, wxyz: Sequence[float] | None = None, position: Sequence[float] | None = None,
-            force: bool = False) -> None:
+            exact: bool = True) -> None:
         """Turn the node to `wxyz` (unit quaternion) and move it to `position` (3,) [scene units]
-        in its parent's frame, each only if it moved by more than the tolerance (or `force`)."""
+        in its parent's frame: exactly, or snapped (exact=False, while playing)."""
         if wxyz is not None:
-            q = (f32(wxyz[0]), f32(wxyz[1]), f32(wxyz[2]), f32(wxyz[3]))
-            last = self._wxyz
-            if force or last is None or (q != last and self.reach * quaternion_turn(q, last) > self.tolerance):
-                if q != last or force:
-                    set_wxyz(self.handle, q)
-                    self.sent += 1
-                self._wxyz = q
+            if exact:
+                q = tuple(f32(c) for c in wxyz)
+            else:
+                step = self.tolerance / (2.0 * max(self.reach, 1e-9))
+                snapped = [round(float(c) / step) * step for c in wxyz]
+                norm = math.sqrt(sum(c * c for c in snapped)) or 1.0
+                q = tuple(f32(c / norm) for c in snapped)
+            if q != self._wxyz:
+                set_wxyz(self.handle, q)  # type: ignore[arg-type]
+                self._wxyz = q  # type: ignore[assignment]
+                self.sent += 1
         if position is not None:
-            p = (f32(position[0]), f32(position[1]), f32(position[2]))
-            last_p = self._position
-            if force or last_p is None or max(abs(x - y) for x, y in zip(p, last_p)) > self.tolerance:
-                if p != last_p or force:
-                    set_position(self.handle, p)
-                    self.sent += 1
+            if exact:
+                p = (f32(position[0]), f32(position[1]), f32(position[2]))
+            else:
+                p = (snap(position[0], self.tolerance), snap(position[1], self.tolerance),
+                     snap(position[2], self.tolerance))
+            if p != self._position:
+                set_position(self.handle, p)
                 self._position = p
+                self.sent += 1
 
 
 class Arrows:
@@ -93,7 +109,7 @@ class Arrows:
     `set(segments)` takes (N, 2, 3) start/end points [scene units] in the parent's frame, N fixed
     at construction, with `shown` (N,) saying which are drawn (hidden ones, and any shorter than
     MIN_LENGTH, are left out of the node; a change of which are drawn also sends their colours).
-    Nothing is sent unless some end point moved by more than the tolerance.
+    Snapped to the grid `tolerance` unless `exact`; sent only when what is drawn changed.
     """
 
     MIN_LENGTH = 1e-3  # [scene units] a shorter arrow is not drawn
@@ -112,8 +128,11 @@ class Arrows:
     def count(self) -> int:
         return len(self.colors)
 
-    def set(self, segments: np.ndarray, shown: Sequence[bool] | None = None, force: bool = False) -> None:
-        segments = np.asarray(segments, dtype=np.float32).reshape(-1, 2, 3)
+    def set(self, segments: np.ndarray, shown: Sequence[bool] | None = None, exact: bool = True) -> None:
+        segments = np.asarray(segments, dtype=float).reshape(-1, 2, 3)
+        if not exact:
+            segments = np.round(segments / self.tolerance) * self.tolerance
+        segments = segments.astype(np.float32)
         lengths = np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1)
         keep = lengths > self.MIN_LENGTH
         if shown is not None:
@@ -127,8 +146,7 @@ class Arrows:
         drawn = segments[list(which)]
         if which != self._which:
             self.node.colors = self.colors[list(which)]
-            force = True
-        if force or self._drawn is None or float(np.max(np.abs(drawn - self._drawn))) > self.tolerance:
+        if self._drawn is None or drawn.shape != self._drawn.shape or not np.array_equal(drawn, self._drawn):
             set_points(self.node, drawn)
             self._drawn = drawn
         self._which = which
@@ -222,8 +240,9 @@ class ArcPieces:
             node.visible = visible
         self._shown[id(node)] = visible
 
-    def show(self, angle: float, visible: bool = True, tolerance: float = TOLERANCE, force: bool = False) -> None:
-        """Draw the arc for `angle` [rad] (hidden if not `visible` or shorter than MIN_ANGLE)."""
+    def show(self, angle: float, visible: bool = True, exact: bool = True, tolerance: float = TOLERANCE) -> None:
+        """Draw the arc for `angle` [rad] (hidden if not `visible` or shorter than MIN_ANGLE); a
+        short arc's end is snapped to display resolution unless `exact`."""
         drawn = visible and abs(angle) >= self.MIN_ANGLE
         self._show(self.fixed_group, drawn)
         self._show(self.moving_group, drawn)
@@ -237,10 +256,10 @@ class ArcPieces:
             self._show(node, s == sign and whole >= 1)
         short = whole == 0
         if short:
-            radius = float(np.linalg.norm(self.point_at(0.0)))
-            if force or not radius * abs(angle - self._short_angle) <= tolerance:
-                set_points(self.short, self._polyline(0.0, angle, self.SHORT_SEGMENTS))
-                self._short_angle = angle
+            end = angle if exact else snap(angle, tolerance / float(np.linalg.norm(self.point_at(0.0))))
+            if end != self._short_angle:
+                set_points(self.short, self._polyline(0.0, end, self.SHORT_SEGMENTS))
+                self._short_angle = end
         self._show(self.short, short)
 
     def label_point(self, angle: float, out: float = 1.18) -> tuple[float, float, float]:
@@ -269,7 +288,7 @@ class FrameArrow:
     """An arrow as a frame turned so that its +z points along the vector, holding an arrow
     along +z: while the vector turns, one small orientation message (sent when its tip moved
     visibly); a visible change of length is sent as the child's z scale (a small message),
-    and as new points (the head keeps its size) when the scale leaves 1 ± RESCALE.
+    and as new points (the head keeps its size) when the scale would leave 1 ± RESCALE.
 
     `node` is the frame (its position is the arrow's start, set with `set(start=...)`),
     `arrow` the child `add_arrows` node.  Hidden below MIN_LENGTH or when not `shown`.
@@ -290,23 +309,29 @@ class FrameArrow:
         self._base = math.nan  # the length of the child's points (drawn at z scale length / base)
 
     def set(self, vector: Sequence[float], start: Sequence[float] | None = None, shown: bool = True,
-            force: bool = False) -> None:
-        """Draw `vector` (3,) [scene units, parent frame] from `start` (default: where it is)."""
+            exact: bool = True) -> None:
+        """Draw `vector` (3,) [scene units, parent frame] from `start` (default: where it is),
+        snapped to display resolution unless `exact`."""
         length = math.sqrt(sum(float(c) * float(c) for c in vector))
         visible = shown and length > self.MIN_LENGTH
         if self.node.visible != visible:
             self.node.visible = visible
-            force = True
         if not visible:
             return
-        self.pose.reach = length
-        self.pose.set(turn_z_onto(vector), start, force=force)
-        if force or not abs(length - self.length) <= self.tolerance:
-            ratio = length / self._base
-            if force or not abs(ratio - 1.0) <= self.RESCALE:
-                set_points(self.arrow, np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, f32(length)]]], dtype=np.float32))
-                self._base, ratio = length, 1.0
-            scale = (1.0, 1.0, f32(ratio))
+        self.pose.reach = 2.0  # a fixed grid (a function of the state alone), ~1 px at the tip of a 2-unit arrow
+        self.pose.set(turn_z_onto(vector), start, exact=exact)
+        if not exact:
+            length = snap(length, self.tolerance)
+        if length != self.length:
+            # The child's length: exact when paused; while playing the nearest of a geometric grid
+            # (steps of 2 RESCALE), so the head is within RESCALE of its size and the grid point
+            # changes rarely (new points then), the z scale carries the rest.
+            grid = 2.0 * self.RESCALE
+            base = length if exact else f32(math.exp(grid * round(math.log(length) / grid)))
+            if base != self._base:
+                set_points(self.arrow, np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, base]]], dtype=np.float32))
+                self._base = base
+            scale = (1.0, 1.0, f32(length / base))
             if _scale3(self.arrow.scale) != scale:
                 self.arrow.scale = scale
             self.length = length

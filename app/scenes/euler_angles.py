@@ -62,7 +62,7 @@ from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.labels import AXES, DETAIL, KEY, LabelLayer
-from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, world_pose
+from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage
@@ -405,7 +405,6 @@ class EulerAnglesView(SceneView):
             self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/arc_label_{key}", GREEK[key],
                                                               font_screen_scale=1.6, anchor="center-center"), DETAIL)
         self._arc_text_throttle = Throttle(ARC_TEXT_PERIOD)
-        self._theta_sent = math.nan  # θ [rad] when the θ-turned frames were last sent
         self._arc_label_at: dict[str, tuple[float, float, float] | None] = dict.fromkeys(KEYS)
         # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).  φ̇ e_z is
         # fixed in space, θ̇ e_n in the after-φ frame; ψ̇ e_z′ hangs in a frame at the tip of θ̇ e_n
@@ -636,8 +635,8 @@ class EulerAnglesView(SceneView):
             return
         self._drawn_version = self.sim.version
         with self.client.atomic():
-            self.render_pose()
-            self.render_arcs()
+            self.render_pose(exact=not self.room.playing)
+            self.render_arcs(exact=not self.room.playing)
             if self._arc_text_throttle.ready(dt):
                 self.render_arc_text()
             if self._arc_throttle.ready(dt):
@@ -665,8 +664,9 @@ class EulerAnglesView(SceneView):
             self.transport.show(self.room.playing, self.room.time_scale)
             self.presets_row.show_note(self.preset_shown())
             self._sync_sliders()
-            self.render_pose(force=True)
-            self.render_arcs(force=True)
+            exact = not self.room.playing  # a view built while playing draws what the others draw
+            self.render_pose(exact)
+            self.render_arcs(exact)
             self.render_arc_text()
             self.render_single_rotation()
             self._draw_animation()
@@ -695,19 +695,20 @@ class EulerAnglesView(SceneView):
         if self.gui_moments_status.content != status:
             self.gui_moments_status.content = status
 
-    def render_pose(self, force: bool = False) -> None:
+    def render_pose(self, exact: bool = True) -> None:
         """The per-frame part: the chain of frames (after φ, after θ, body), the line of nodes'
-        fade, the ω arrows; each sent only if it moved visibly (all of it with `force`)."""
+        fade, the ω arrows.  While playing (exact=False) each angle is drawn at display
+        resolution (app.kit.lean: a step moves the frame's farthest point by ~1 px) and a
+        message goes only when what is drawn changed."""
         phi, theta, psi = self.sim.angles
-        self.poses["phi"].set((math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi)), force=force)
+        if not exact:  # everything θ turns is drawn from the same snapped θ: sent in the same frames
+            phi = snap(phi, TOLERANCE / PHI_REACH)
+            theta = snap(theta, TOLERANCE / THETA_REACH)
+            psi = snap(psi, TOLERANCE / PSI_REACH)
+        self.poses["phi"].set((math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi)))
         turn_theta = (math.cos(0.5 * theta), math.sin(0.5 * theta), 0.0, 0.0)
-        # Everything θ turns (the after-θ frame, ψ̇ e_z′'s frame, ω) is sent in the same frames, when
-        # θ moved visibly at THETA_REACH: their messages then share a window (repeats compress).
-        theta_due = force or not THETA_REACH * abs(theta - self._theta_sent) <= TOLERANCE
-        if theta_due:
-            self._theta_sent = theta
-        self.poses["theta"].set(turn_theta, force=theta_due)
-        self.poses["psi"].set((math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)), force=force)
+        self.poses["theta"].set(turn_theta)
+        self.poses["psi"].set((math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)))
         show_frames = bool(self.gui_show_frames.value)
         for axes in self.frame_axes:
             if axes.visible != show_frames:
@@ -722,11 +723,9 @@ class EulerAnglesView(SceneView):
         self.rate_vectors["phi"].update(zero, a_phi, show)
         self.rate_vectors["theta"].update(a_phi, a_theta, show)
         self.rate_vectors["psi"].update(zero, np.array([0.0, 0.0, dpsi]), show)  # in its frame at a_theta
-        if theta_due:
-            self.omega_psi_pose.set(position=tuple(a_theta), force=force)
-            self.omega_psi_pose.set(turn_theta, force=True)
-            tip = a_theta + dpsi * np.array([0.0, -math.sin(theta), math.cos(theta)])  # ω, after-φ coordinates
-            self.omega.set(tip, zero, shown=show, force=force)
+        self.omega_psi_pose.set(turn_theta, tuple(a_theta))
+        tip = a_theta + dpsi * np.array([0.0, -math.sin(theta), math.cos(theta)])  # ω, after-φ coordinates
+        self.omega.set(tip, zero, shown=show, exact=exact)
         omega_label = (0.0, 0.0, dpsi + math.copysign(0.16, dpsi))  # beyond the common tip, along e_z′
         if tuple(self.omega_label.position) != omega_label:
             set_position(self.omega_label, omega_label)
@@ -744,16 +743,16 @@ class EulerAnglesView(SceneView):
             chain.append(node_segment @ R.T + p)
         return [*chain, self.omega.world_segment()]
 
-    def render_arcs(self, force: bool = False) -> None:
+    def render_arcs(self, exact: bool = True) -> None:
         """Arcs for φ, θ, ψ (pieces riding on the frames: messages only when a piece appears or
         goes) and their labels; the readings' text throttled by the caller."""
         show_arcs = bool(self.gui_show_arcs.value)
         for key, angle in zip(KEYS, self.sim.angles):
             arc = self.arcs[key]
-            arc.show(angle, show_arcs, force=force)
+            arc.show(angle, show_arcs, exact=exact)
             visible = show_arcs and abs(angle) >= arc.MIN_ANGLE
             where = arc.label_point(angle)
-            if force or where != self._arc_label_at[key]:
+            if where != self._arc_label_at[key]:
                 self._arc_label_at[key] = where
                 set_position(self.arc_labels[key], where)
             self.labels.want(self.arc_labels[key], visible)
