@@ -29,9 +29,9 @@ from scipy.spatial.transform import Rotation
 import app.kit.rigid as rigid
 import app.main as app_main
 from app.kit.common import NODES_FADED_COLOR
+from app.kit.lean import TOLERANCE
 from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME
 from app.main import App
-from app.kit.lean import TOLERANCE
 from app.scenes.euler_angles import INITIAL_ANGLES_DEG, INITIAL_CAMERA, RATE_ARROW_SCALE, SLIDER_PERIOD, THETA_REACH
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import CHUNK_POINTS, TRACE_SECONDS, TRACE_SPACING, HeavyTopView

@@ -75,7 +75,7 @@ class Pose:
         """The next `set` sends."""
         self._wxyz = self._position = None
 
-    def set(self, wxyz: Sequence[float] | None = None, position: Sequence[float] | None = None,
+    def set(self, wxyz: Sequence[float] | None = None, position: Sequence[float] | np.ndarray | None = None,
             exact: bool = True) -> None:
         """Turn the node to `wxyz` (unit quaternion) and move it to `position` (3,) [scene units]
         in its parent's frame: exactly, or snapped (exact=False, while playing)."""
@@ -271,7 +271,7 @@ class ArcPieces:
         return x, y, z
 
 
-def turn_z_onto(vector: Sequence[float]) -> tuple[float, float, float, float]:
+def turn_z_onto(vector: Sequence[float] | np.ndarray) -> tuple[float, float, float, float]:
     """The unit quaternion (w, x, y, z) of the shortest turn taking +z onto the direction of
     `vector` (3,) (nonzero); a half turn about x for -z."""
     x, y, z = (float(c) for c in vector)
@@ -308,8 +308,8 @@ class FrameArrow:
         self.length = math.nan  # drawn [scene units]
         self._base = math.nan  # the length of the child's points (drawn at z scale length / base)
 
-    def set(self, vector: Sequence[float], start: Sequence[float] | None = None, shown: bool = True,
-            exact: bool = True) -> None:
+    def set(self, vector: Sequence[float] | np.ndarray, start: Sequence[float] | np.ndarray | None = None,
+            shown: bool = True, exact: bool = True) -> None:
         """Draw `vector` (3,) [scene units, parent frame] from `start` (default: where it is),
         snapped to display resolution unless `exact`."""
         length = math.sqrt(sum(float(c) * float(c) for c in vector))
