@@ -369,7 +369,6 @@ class EulerAnglesView(SceneView):
         root = self.root
         labels = self.labels
         Stage(scene, root, size=4.0, labels=labels)
-        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
         # The decomposition as a chain of frames, each turned by one angle about one of its own
         # axes (T_parent_local): after φ = Rz(φ) under the root, after θ = Rx(θ) under it, the
         # body = Rz(ψ) under that.  A frame's message is sent only when its angle moved visibly
