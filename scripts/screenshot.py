@@ -74,7 +74,7 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
     """Bring `session` (the page's) to the state of the shot; returns when it is time to shoot."""
     if scene == "euler":
         session.scene.set_angles_deg(30.0, 50.0, 20.0)
-        page.get_by_role("tab", name="ω").click()
+        page.get_by_role("button", name="ω", exact=True).click()  # the readout tab ω
         time.sleep(1.5)
         return
     if scene == "free":

@@ -94,6 +94,7 @@ def test_scrub_shows_the_recorded_moment_and_resume_the_live_one(server: viser.V
         room.scrub(fork.sim.t)
         assert room.mode == SCRUBBING and not room.playing and room.shown_t == fork.sim.t
         assert_same_moment(room.sim, fork.sim, f"{title} scrubbed to frame {frame}")
+        fork.playing = False  # shown paused, as the scrubbed room is (a playing view may draw at display resolution)
         forked_view = build_view(server, fork)
         assert_equal_values(picture(view), picture(forked_view), f"{title}: the view at frame {frame}")
         forked_view.remove()

@@ -14,11 +14,11 @@ from typing import Any
 
 import numpy as np
 import pytest
+from conftest import poll_until
 from viser import _messages
 
 from app.wire import Wire, encode, websocket_frame
 from benchmarks.ws_client import decode_frame, resolve_binary
-from conftest import poll_until
 
 CODE = "271828"
 

@@ -44,6 +44,7 @@ from app.kit.common import CameraView, SliderSpec, Throttle
 from app.kit.fastprops import set_points, set_position
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
+from app.kit.lean import Pose
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -74,6 +75,8 @@ READOUT_PERIOD = 0.2  # [s] of wall time
 PLOT_PERIOD = 0.25
 SLIDER_PERIOD = 0.2
 GUIDE_POINTS = 73  # points of the drawn constraint curve (hoop, rod)
+GUIDE_REACH = 2.5  # [m] the largest hoop radius / rod half length: its far end moves ~1 px per snapping step
+GUIDE_TURN_ATOL = 1e-9  # [m] the curve now is drawn as the first one turned about z if it is that to this
 PARTICLE_RADIUS = 0.07
 PARTICLE_COLORS = ((20, 110, 220), (220, 120, 20))
 ROD_COLOR = (90, 90, 100)
@@ -405,8 +408,15 @@ class ConstrainedView(SceneView):
         self.system_node = scene.add_frame(base, show_axes=False)
         sim = self.sim
         n, m = sim.system.n, sim.system.m
-        self.guide = scene.add_line_segments(f"{base}/guide", np.zeros((1, 2, 3)), GUIDE_COLOR, thickness=4.0,
-                                             thickness_units="screen", visible=sim.system.guide is not None)
+        # The guide (hoop, rod) hangs in a frame: a guide that turns about z (x_0(q, t) = Rz(α) x_0(q, 0))
+        # is drawn once and turned by one small message a frame, not resent as 72 segments.
+        self.guide_frame = scene.add_frame(f"{base}/guide_frame", show_axes=False)
+        self.guide = scene.add_line_segments(f"{base}/guide_frame/guide", np.zeros((1, 2, 3)), GUIDE_COLOR,
+                                             thickness=4.0, thickness_units="screen",
+                                             visible=sim.system.guide is not None)
+        self.guide_pose = Pose(self.guide_frame, reach=GUIDE_REACH)
+        self._guide_start: tuple[System, Array] | None = None  # the system and its guide (N, 3) at t = 0
+        self._guide_turns = True  # whether the guide now is that one turned about z
         self.links = scene.add_line_segments(f"{base}/links", np.zeros((max(1, len(sim.system.links)), 2, 3)),
                                              ROD_COLOR, thickness=4.0, thickness_units="screen",
                                              visible=bool(sim.system.links))
@@ -602,7 +612,7 @@ class ConstrainedView(SceneView):
         ev = sim.evaluation()
         guide = sim.guide()
         if guide is not None:
-            set_points(self.guide, np.stack([guide[:-1], guide[1:]], axis=1).astype(np.float32))
+            self._draw_guide(guide)
         if sim.system.links:
             ends = [np.zeros(3) if a < 0 else ev.x[a] for a, _ in sim.system.links]
             set_points(self.links, np.array([[e, ev.x[b]] for e, (_, b) in zip(ends, sim.system.links)],
@@ -626,6 +636,30 @@ class ConstrainedView(SceneView):
             self.F_arrows[i].update(scale * ev.F[i], start=start)
             self.C_arrows[i].enabled = show_forces
             self.C_arrows[i].update(scale * ev.C[i], start=start)
+
+    def _draw_guide(self, guide: Array) -> None:
+        """The constraint curve now (N, 3): as the curve at t = 0 turned about z when it is that
+        (to GUIDE_TURN_ATOL), else as points."""
+        system = self.sim.system
+        if self._guide_start is None or self._guide_start[0] is not system:
+            assert system.guide is not None
+            lo, hi = system.guide
+            start = np.array([system.positions([q], 0.0)[0] for q in np.linspace(lo, hi, GUIDE_POINTS)], dtype=float)
+            set_points(self.guide, np.stack([start[:-1], start[1:]], axis=1).astype(np.float32))
+            self._guide_start, self._guide_turns = (system, start), True
+        if self._guide_turns:
+            start = self._guide_start[1]
+            k = int(np.argmax(np.hypot(start[:, 0], start[:, 1])))
+            alpha = math.atan2(guide[k, 1], guide[k, 0]) - math.atan2(start[k, 1], start[k, 0])
+            c, s_ = math.cos(alpha), math.sin(alpha)
+            turned = start @ np.array([[c, s_, 0.0], [-s_, c, 0.0], [0.0, 0.0, 1.0]])  # rows Rz(α) x
+            if np.max(np.abs(turned - guide)) <= GUIDE_TURN_ATOL:
+                turn = (math.cos(0.5 * alpha), 0.0, 0.0, math.sin(0.5 * alpha))
+                self.guide_pose.set(turn, exact=not self.room.playing)
+                return
+            self._guide_turns = False  # not a turn of the first curve: drawn as points from now on
+        self.guide_pose.set((1.0, 0.0, 0.0, 0.0))
+        set_points(self.guide, np.stack([guide[:-1], guide[1:]], axis=1).astype(np.float32))
 
     def _refresh_status(self) -> None:
         state = "▶ playing" if self.room.playing else "paused"

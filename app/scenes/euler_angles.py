@@ -59,12 +59,14 @@ from app.kit.common import (
     wrap_deg,
 )
 from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
+from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
-from app.kit.labels import AXES, DETAIL
+from app.kit.labels import AXES, DETAIL, KEY, LabelLayer
+from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Body, LineOfNodes, Stage, Vector
+from app.kit.widgets import Body, LineOfNodes, Stage
+from physics._types import Vec3
 from physics.euler import (
     body_z_axis,
     euler_frames,
@@ -139,8 +141,14 @@ ANIMATION_SECONDS = 4.0  # [s] of wall time: the outlines turn from 1 to D
 ANIMATION_HOLD = 1.5  # [s] they then stay on the body, and go
 ZXZ_KEYS = KEYS  # the three-step outline's colour is ARC_COLORS of the step it is in
 
-ARC_PERIOD = 1.0 / 20.0  # [s] arcs and their labels while playing (20 Hz)
-SLIDER_PERIOD = 0.1  # sliders follow at 10 Hz
+ARC_PERIOD = 1.0 / 20.0  # [s] the single rotation's axis and arc while playing (20 Hz)
+ARC_TEXT_PERIOD = 0.2  # [s] the arcs' readings ("φ = 31°") while playing (5 Hz)
+SLIDER_PERIOD = 0.2  # sliders follow at 5 Hz
+# How far the drawn points of each frame reach from the origin [scene units]: a turn is sent when
+# it moves them by more than app.kit.lean.TOLERANCE (the ω arrows are at most ~2 long at 30°/s per unit).
+PHI_REACH = 2.2  # the line of nodes (1.9), ω's components
+THETA_REACH = 1.6  # the body under the after-θ frame (axes 1.35 and labels), ψ̇ e_z′ (≤ 1.5 at 45°/s) turning ω's tip
+PSI_REACH = 1.6  # the body's axes (1.35) and their labels
 READOUT_PERIOD = 0.2  # readouts at 5 Hz
 
 
@@ -268,6 +276,48 @@ def _box_edges(moments: Sequence[float]) -> np.ndarray:
     return np.maximum(BODY_SIZE * edges / edges.max(), MIN_EDGE)
 
 
+def _arc_point(key: str) -> Callable[[float], np.ndarray]:
+    """The arc of angle `key` at angle t [rad], in the frame the angle is measured in: φ about z
+    from x, θ about x (the line of nodes) from z, ψ about z′ from the line of nodes."""
+    radius = ARC_RADII[key]
+    if key == "theta":
+        return lambda t: np.array([0.0, -radius * math.sin(t), radius * math.cos(t)])
+    return lambda t: np.array([radius * math.cos(t), radius * math.sin(t), 0.0])
+
+
+class RateArrow:
+    """One component of ω (an arrow with its label at the middle) in a frame where it stands still
+    while the rates are constant: `update` sends only when start or end changed."""
+
+    def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, labels: LabelLayer) -> None:
+        self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3), dtype=np.float32), color, shaft_radius=0.018,
+                                      head_radius=0.05, head_length=0.1, visible=False)
+        self.label = labels.add(scene.add_label(f"{name}_label", text, font_screen_scale=1.4, anchor="center-left",
+                                                visible=False), DETAIL)
+        self._labels = labels
+        self._drawn: tuple[tuple[float, ...], bool] | None = None
+
+    def update(self, start: Vec3, end: Vec3, enabled: bool) -> None:
+        """Draw the arrow from `start` to `end` (3,) [scene units, parent frame] if `enabled` and
+        longer than 1e-3."""
+        segment = tuple(float(c) for c in (*start, *end))
+        visible = enabled and math.dist(segment[:3], segment[3:]) > 1e-3
+        if self._drawn == (segment, visible):
+            return
+        self._drawn = (segment, visible)
+        if self.arrow.visible != visible:
+            self.arrow.visible = visible
+        self._labels.want(self.label, visible)
+        if visible:
+            set_points(self.arrow, np.array([[segment[:3], segment[3:]]], dtype=np.float32))
+            mid = [0.5 * (a + b) + 0.06 for a, b in zip(segment[:3], segment[3:])]
+            set_position(self.label, (mid[0], mid[1], mid[2]))
+
+    def segment(self) -> np.ndarray:
+        """(2, 3) start and end as drawn (parent frame)."""
+        return np.asarray(self.arrow.points, dtype=float)[0]
+
+
 class EulerAnglesView(SceneView):
     """One browser's view of a room with an `EulerAnglesSimulation`."""
 
@@ -319,35 +369,60 @@ class EulerAnglesView(SceneView):
         root = self.root
         labels = self.labels
         Stage(scene, root, size=4.0, labels=labels)
-        self.body = Body(scene, f"{root}/body", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
-        # Intermediate frames of the decomposition: thin, faint, toggleable.
-        self.after_phi_node = scene.add_frame(f"{root}/after_phi", show_axes=False)
-        self.after_theta_node = scene.add_frame(f"{root}/after_theta", show_axes=False)
+        # The decomposition as a chain of frames, each turned by one angle about one of its own
+        # axes (T_parent_local): after φ = Rz(φ) under the root, after θ = Rx(θ) under it, the
+        # body = Rz(ψ) under that.  A frame's message is sent only when its angle moved visibly
+        # (app.kit.lean.Pose): a steady precession sends one small message a frame, not four.
+        self.after_phi_node = scene.add_frame(f"{root}/phi", show_axes=False)
+        self.after_theta_node = scene.add_frame(f"{root}/phi/theta", show_axes=False)
+        self.frame_axes = []
         for node, prime in ((self.after_phi_node, ""), (self.after_theta_node, "′")):
+            axes = scene.add_frame(f"{node.name}/axes", show_axes=False)  # thin, faint, toggleable
             scene.add_line_segments(
-                f"{node.name}/axes", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
+                f"{axes.name}/lines", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
                 np.repeat(np.array(FRAME_COLORS, dtype=np.uint8)[:, None, :], 2, axis=1),
                 thickness=2.5, thickness_units="screen",
             )
-            labels.add(scene.add_label(f"{node.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
+            labels.add(scene.add_label(f"{axes.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
                                        font_screen_scale=1.3, anchor="center-center"), DETAIL)
-        self.nodes = LineOfNodes(scene, f"{root}/nodes", labels=labels)
-        self.arcs: dict[str, Any] = {}
+            self.frame_axes.append(axes)
+        self.body = Body(scene, f"{root}/phi/theta/psi", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
+        self.poses = {"phi": Pose(self.after_phi_node, reach=PHI_REACH),
+                      "theta": Pose(self.after_theta_node, reach=THETA_REACH),
+                      "psi": Pose(self.body.node, reach=PSI_REACH)}
+        # The line of nodes is the after-φ frame's x axis: it rides on that frame (no message of its own).
+        self.nodes = LineOfNodes(scene, f"{root}/phi/nodes", labels=labels)
+        # Arcs: fixed pieces in the frame the angle is measured in, a tail piece in the frame it turns.
+        frames = {"phi": (root, f"{root}/phi"), "theta": (f"{root}/phi", f"{root}/phi/theta"),
+                  "psi": (f"{root}/phi/theta", f"{root}/phi/theta/psi")}
+        self.arcs: dict[str, ArcPieces] = {}
         self.arc_labels: dict[str, Any] = {}
         for key in KEYS:
-            self.arcs[key] = scene.add_line_segments(f"{root}/arcs/{key}", np.zeros((1, 2, 3)), ARC_COLORS[key],
-                                                     thickness=4.0, thickness_units="screen")
-            self.arc_labels[key] = labels.add(scene.add_label(f"{root}/arc_labels/{key}", GREEK[key],
+            fixed, moving = frames[key]
+            self.arcs[key] = ArcPieces(scene, fixed, moving, f"arc_{key}", _arc_point(key), ARC_COLORS[key],
+                                       signed=key != "theta")
+            self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/arc_label_{key}", GREEK[key],
                                                               font_screen_scale=1.6, anchor="center-center"), DETAIL)
-        # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).
+        self._arc_text_throttle = Throttle(ARC_TEXT_PERIOD)
+        self._arc_label_at: dict[str, tuple[float, float, float] | None] = dict.fromkeys(KEYS)
+        # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).  φ̇ e_z is
+        # fixed in space, θ̇ e_n in the after-φ frame; ψ̇ e_z′ hangs in a frame at the tip of θ̇ e_n
+        # turned by Rx(θ) like the after-θ frame, and carries ω's label at the common tip; the
+        # resultant is drawn in the after-φ frame (it depends on θ only there).
+        self.omega_node = scene.add_frame(f"{root}/omega", show_axes=False)
+        self.omega_phi_node = scene.add_frame(f"{root}/phi/omega", show_axes=False)
+        self.omega_psi_node = scene.add_frame(f"{root}/phi/omega/psi", show_axes=False)
+        self.omega_psi_pose = Pose(self.omega_psi_node, reach=THETA_REACH)
         self.rate_vectors = {
-            key: Vector(scene, f"{root}/omega/{key}", ARC_COLORS[key], f"d{GREEK[key]}/dt", shaft_radius=0.018,
-                        head_radius=0.05, head_length=0.1, font_scale=1.4, label_at_middle=True, labels=labels,
-                        priority=DETAIL)
-            for key in KEYS
+            "phi": RateArrow(scene, f"{root}/omega/phi", ARC_COLORS["phi"], "dφ/dt", labels),
+            "theta": RateArrow(scene, f"{root}/phi/omega/theta", ARC_COLORS["theta"], "dθ/dt", labels),
+            "psi": RateArrow(scene, f"{root}/phi/omega/psi/arrow", ARC_COLORS["psi"], "dψ/dt", labels),
         }
-        self.omega = Vector(scene, f"{root}/omega/resultant", OMEGA_COLOR, "ω", shaft_radius=0.032,
-                            head_radius=0.085, head_length=0.16, labels=labels)
+        self.omega = FrameArrow(scene, f"{root}/phi/omega/resultant", OMEGA_COLOR, shaft_radius=0.032,
+                                head_radius=0.085, head_length=0.16)
+        self.omega_label = labels.add(scene.add_label(f"{root}/phi/omega/psi/omega_label", "ω", font_screen_scale=2.4,
+                                                      anchor="center-center", visible=False), KEY)
+        self._omega_drawn: tuple[float, ...] | None = None  # (rates, shown) the constant arrows were drawn for
         # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines.
         single = f"{root}/single"
         self.single_node = scene.add_frame(single, show_axes=False, visible=False)
@@ -409,12 +484,13 @@ class EulerAnglesView(SceneView):
             self.readout_single.handle.visible = False
         self.folder_readout = gui.add_folder("Readout")
         with self.folder_readout:
-            tabs = gui.add_tab_group()  # three short texts: all three are sent at 5 Hz at most
-            with tabs.add_tab("D"):
+            # Three texts, one shown at a time (the server knows which: only that one is sent while playing).
+            self.readout_tabs = Tabs(gui, wrap, ("D", "Factors", "ω"), on_change=lambda _name: self.render_readout())
+            with self.readout_tabs.tab("D"):
                 self.readout_matrix = Readout(gui)
-            with tabs.add_tab("Factors"):
+            with self.readout_tabs.tab("Factors"):
                 self.readout_factors = Readout(gui)
-            with tabs.add_tab("ω"):
+            with self.readout_tabs.tab("ω"):
                 self.readout_omega = Readout(gui)
         self.folder_body = gui.add_folder("Body: principal moments [kg m²]", expand_by_default=False)
         with self.folder_body:
@@ -558,15 +634,17 @@ class EulerAnglesView(SceneView):
             return
         self._drawn_version = self.sim.version
         with self.client.atomic():
-            self.render_pose()
+            self.render_pose(exact=not self.room.playing)
+            self.render_arcs(exact=not self.room.playing)
+            if self._arc_text_throttle.ready(dt):
+                self.render_arc_text()
             if self._arc_throttle.ready(dt):
-                self.render_arcs()
                 self.render_single_rotation()
             self.labels.update(dt)
             if self._slider_throttle.ready(dt):
                 self._sync_sliders()
             if self._readout_throttle.ready(dt):
-                self.render_readout()
+                self.render_readout(only_shown=True)
                 self.render_single_readout()
                 self._refresh_status()
 
@@ -585,8 +663,10 @@ class EulerAnglesView(SceneView):
             self.transport.show(self.room.playing, self.room.time_scale)
             self.presets_row.show_note(self.preset_shown())
             self._sync_sliders()
-            self.render_pose()
-            self.render_arcs()
+            exact = not self.room.playing  # a view built while playing draws what the others draw
+            self.render_pose(exact)
+            self.render_arcs(exact)
+            self.render_arc_text()
             self.render_single_rotation()
             self._draw_animation()
             self.render_readout()
@@ -614,55 +694,78 @@ class EulerAnglesView(SceneView):
         if self.gui_moments_status.content != status:
             self.gui_moments_status.content = status
 
-    def render_pose(self) -> None:
-        """The per-frame part: body, intermediate frames, line of nodes, ω arrows."""
+    def render_pose(self, exact: bool = True) -> None:
+        """The per-frame part: the chain of frames (after φ, after θ, body), the line of nodes'
+        fade, the ω arrows.  While playing (exact=False) each angle is drawn at display
+        resolution (app.kit.lean: a step moves the frame's farthest point by ~1 px) and a
+        message goes only when what is drawn changed."""
         phi, theta, psi = self.sim.angles
-        frames = euler_frames(phi, theta, psi)
-        e_n = line_of_nodes(phi)
+        if not exact:  # everything θ turns is drawn from the same snapped θ: sent in the same frames
+            phi = snap(phi, TOLERANCE / PHI_REACH)
+            theta = snap(theta, TOLERANCE / THETA_REACH)
+            psi = snap(psi, TOLERANCE / PSI_REACH)
+        self.poses["phi"].set((math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi)))
+        turn_theta = (math.cos(0.5 * theta), math.sin(0.5 * theta), 0.0, 0.0)
+        self.poses["theta"].set(turn_theta)
+        self.poses["psi"].set((math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)))
         show_frames = bool(self.gui_show_frames.value)
-        self.body.pose(frames.body)
-        self.after_phi_node.wxyz = wxyz_from_matrix(frames.after_phi)
-        self.after_theta_node.wxyz = wxyz_from_matrix(frames.after_theta)
-        if self.after_phi_node.visible != show_frames:
-            self.after_phi_node.visible = show_frames
-            self.after_theta_node.visible = show_frames
-        self.nodes.update(phi, theta)
+        for axes in self.frame_axes:
+            if axes.visible != show_frames:
+                axes.visible = show_frames
+        self.nodes.update(0.0, theta)  # its frame rides on the after-φ frame: only the fade changes
         # ω head to tail: φ̇ e_z, then θ̇ e_n, then ψ̇ e_z′ (each scaled to scene units).
         dphi, dtheta, dpsi = (RATE_ARROW_SCALE * r for r in self.sim.rates_deg)
-        components = {"phi": dphi * np.array([0.0, 0.0, 1.0]), "theta": dtheta * e_n,
-                      "psi": dpsi * body_z_axis(phi, theta)}
         show = bool(self.gui_show_omega.value)
-        start = np.zeros(3)
-        for key in KEYS:
-            self.rate_vectors[key].enabled = show
-            self.rate_vectors[key].update(components[key], start=start)
-            start = start + components[key]
-        self.omega.enabled = show
-        self.omega.update(start)
+        zero = np.zeros(3)
+        a_phi = np.array([0.0, 0.0, dphi])  # tip of φ̇ e_z (space = after-φ coordinates on the z axis)
+        a_theta = np.array([dtheta, 0.0, dphi])  # tip of θ̇ e_n, after-φ coordinates
+        self.rate_vectors["phi"].update(zero, a_phi, show)
+        self.rate_vectors["theta"].update(a_phi, a_theta, show)
+        self.rate_vectors["psi"].update(zero, np.array([0.0, 0.0, dpsi]), show)  # in its frame at a_theta
+        self.omega_psi_pose.set(turn_theta, tuple(a_theta))
+        tip = a_theta + dpsi * np.array([0.0, -math.sin(theta), math.cos(theta)])  # ω, after-φ coordinates
+        self.omega.set(tip, zero, shown=show, exact=exact)
+        omega_label = (0.0, 0.0, dpsi + math.copysign(0.16, dpsi))  # beyond the common tip, along e_z′
+        if tuple(self.omega_label.position) != omega_label:
+            set_position(self.omega_label, omega_label)
+        self.labels.want(self.omega_label, show and self.omega.visible)
 
-    def render_arcs(self) -> None:
-        """Arcs for φ, θ, ψ and their labels."""
-        phi, theta, psi = self.sim.angles
-        frames = euler_frames(phi, theta, psi)
+    def omega_chain(self) -> list[np.ndarray]:
+        """The ω arrows as drawn, in space coordinates: [(2, 3) for φ̇ e_z, θ̇ e_n, ψ̇ e_z′, ω]
+        (each composed through the frames it hangs in; for tests and the export)."""
+        chain = []
+        for node_segment, handle in ((self.rate_vectors["phi"].segment(), self.rate_vectors["phi"].arrow),
+                                     (self.rate_vectors["theta"].segment(), self.rate_vectors["theta"].arrow),
+                                     (self.rate_vectors["psi"].segment(), self.rate_vectors["psi"].arrow),
+                                     ):
+            R, p = world_pose(handle)
+            chain.append(node_segment @ R.T + p)
+        return [*chain, self.omega.world_segment()]
+
+    def render_arcs(self, exact: bool = True) -> None:
+        """Arcs for φ, θ, ψ (pieces riding on the frames: messages only when a piece appears or
+        goes) and their labels; the readings' text throttled by the caller."""
         show_arcs = bool(self.gui_show_arcs.value)
-        arcs = {
-            "phi": [rot_z(t) @ np.array([ARC_RADII["phi"], 0.0, 0.0]) for t in np.linspace(0.0, phi, ARC_SEGMENTS + 1)],
-            "theta": [frames.after_phi @ rot_x(t) @ np.array([0.0, 0.0, ARC_RADII["theta"]])
-                      for t in np.linspace(0.0, theta, ARC_SEGMENTS + 1)],
-            "psi": [frames.after_theta @ rot_z(t) @ np.array([ARC_RADII["psi"], 0.0, 0.0])
-                    for t in np.linspace(0.0, psi, ARC_SEGMENTS + 1)],
-        }
-        for key, angle_deg in zip(KEYS, self.sim.angles_deg):
-            points = np.array(arcs[key])
-            visible = show_arcs and abs(angle_deg) >= 0.5
-            self.arcs[key].points = polyline_segments(points)
-            self.arcs[key].visible = visible
-            self.arc_labels[key].position = tuple(1.18 * points[ARC_SEGMENTS // 2])
-            self.arc_labels[key].text = f"{GREEK[key]} = {format_deg(angle_deg, 0)}°"
+        for key, angle in zip(KEYS, self.sim.angles):
+            arc = self.arcs[key]
+            arc.show(angle, show_arcs, exact=exact)
+            visible = show_arcs and abs(angle) >= arc.MIN_ANGLE
+            where = arc.label_point(angle)
+            if where != self._arc_label_at[key]:
+                self._arc_label_at[key] = where
+                set_position(self.arc_labels[key], where)
             self.labels.want(self.arc_labels[key], visible)
 
-    def render_readout(self) -> None:
-        """D, its factors, ω (space and body components) and the gimbal-lock note."""
+    def render_arc_text(self) -> None:
+        for key, angle_deg in zip(KEYS, self.sim.angles_deg):
+            text = f"{GREEK[key]} = {format_deg(angle_deg, 0)}°"
+            if self.arc_labels[key].text != text:
+                self.arc_labels[key].text = text
+
+    def render_readout(self, only_shown: bool = False) -> None:
+        """D, its factors, ω (space and body components) and the gimbal-lock note; while
+        playing (`only_shown`) only the readout tab on screen."""
+        shown = self.readout_tabs.shown if only_shown else None
         phi, theta, psi = self.sim.angles
         R = euler_frames(phi, theta, psi).body
         e_n = line_of_nodes(phi)
@@ -673,16 +776,20 @@ class EulerAnglesView(SceneView):
             self.gui_gimbal_note.visible = note is not None
         if note is not None and self.gui_gimbal_note.content != note:
             self.gui_gimbal_note.content = note
-        self.readout_matrix.set(
-            "D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components\n"
-            f"```\n{format_matrix(R, 4)}\n```\n"
-            f"e_n = (cos φ, sin φ, 0) = {format_vector(e_n)}  \n"
-            f"e_z′ = D e_z = {format_vector(e_z_body)}"
-        )
+        if shown in (None, "D"):
+            self.readout_matrix.set(
+                "D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components\n"
+                f"```\n{format_matrix(R, 4)}\n```\n"
+                f"e_n = (cos φ, sin φ, 0) = {format_vector(e_n)}  \n"
+                f"e_z′ = D e_z = {format_vector(e_z_body)}"
+            )
         factors = ((f"Rz(φ), φ = {format_deg(angles_deg[0])}°", rot_z(phi)),
                    (f"Rx(θ), θ = {angles_deg[1]:.2f}°", rot_x(theta)),
                    (f"Rz(ψ), ψ = {format_deg(angles_deg[2])}°", rot_z(psi)))
-        self.readout_factors.set("\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors))
+        if shown in (None, "Factors"):
+            self.readout_factors.set("\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors))
+        if shown not in (None, "ω"):
+            return
         angles, rates = np.array([phi, theta, psi]), np.radians(self.sim.rates_deg)
         omega_space = np.degrees(omega_space_from_euler_rates(angles, rates))
         omega_body = np.degrees(omega_body_from_euler_rates(angles, rates))
