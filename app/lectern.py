@@ -63,6 +63,7 @@ import viser
 
 from app.kit.common import apply_camera
 from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
+from app.wire import is_capturing
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT",
            "NARROW_PX", "POINTER_SECONDS", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Pointer", "Seat",
@@ -162,6 +163,9 @@ class Broadcast:
 
     @contextlib.contextmanager
     def atomic(self) -> Iterator[None]:
+        if is_capturing():  # the app loop's frame: its wires hold the frame together
+            yield
+            return
         with self.server.atomic(), self.presenter.atomic():
             yield
 

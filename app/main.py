@@ -12,12 +12,11 @@ ends both the loop and the server.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import logging
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import viser
@@ -32,7 +31,7 @@ from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
-from app.wire import Wire
+from app.wire import Wire, capturing
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
 
@@ -66,15 +65,6 @@ def _browser(view: Any) -> Any:
     return getattr(target, "client", None) or getattr(target, "presenter", None) or target
 
 
-@contextlib.contextmanager
-def _capturing(wires: Sequence[Wire]) -> Iterator[None]:
-    """The update messages this thread queues go to `wires` (app.wire) until the block ends."""
-    with contextlib.ExitStack() as stack:
-        for wire in wires:
-            stack.enter_context(wire.frame())
-        yield
-
-
 class App:
     """A running lecture app: the server, the sessions by client id, and the tick loop.
 
@@ -106,7 +96,8 @@ class App:
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
         self._owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
-        self._wires: dict[int | None, Wire | None] = {}  # app.wire: the shared scene's (None), each browser's
+        # app.wire: the shared scene's (key None) and each browser's
+        self._wires: dict[int | None, Wire | None] = {None: Wire.attach(server)}
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
@@ -138,6 +129,7 @@ class App:
                 session.close()  # disconnected while we were building
                 return
             self.sessions[client.client_id] = session
+            self._wires[client.client_id] = Wire.attach(self.server, client)
             self._sessions_changed.notify_all()
         logger.info("client %d: session started (%d open)", client.client_id, len(self.sessions))
 
@@ -192,13 +184,14 @@ class App:
 
     def frame(self, dt: float, pacer: FramePacer | None = None) -> list[Any]:
         """One frame of the loop: every room advances dt [s], every view whose browser is ready
-        draws (its updates captured by its wires, `app.wire`), the lectern ticks, and the frames
-        go out.  The browsers drawn.  Tests call it with the loop not running (`start_loop=False`)."""
+        draws, the lectern ticks, all inside `app.wire.capturing()`; then each wire sends its
+        frame.  The browsers drawn.  Tests call it with the loop not running (`start_loop=False`)."""
         rooms = self.rooms()
         views = [(room, view, _browser(view)) for room in rooms for view in list(room.views)]
         drawn = []
-        owed = self._owed
-        with pacer.hold(browser for _, _, browser in views) if pacer is not None else contextlib.nullcontext():
+        owed, wires = self._owed, self._wires
+        shared = wires.get(None)
+        with capturing():
             for room in rooms:
                 try:
                     room.advance(dt)
@@ -206,12 +199,12 @@ class App:
                     logger.exception("%s: advance failed", room.scene.title)
             for room, view, browser in views:
                 owed[id(view)] = owed.get(id(view), 0.0) + dt
-                wires = self._wires_of(view, browser)
-                if (pacer is None or pacer.ready(browser)) and not any(wire.busy() for wire in wires):
-                    with _capturing(wires):
-                        room.draw(view, owed.pop(id(view)))
+                own = wires.get(getattr(browser, "client_id", -1))
+                busy = (own is not None and own.busy()) or (
+                    shared is not None and isinstance(view.client, Broadcast) and shared.busy())
+                if (pacer is None or pacer.ready(browser)) and not busy:
+                    room.draw(view, owed.pop(id(view)))
                     drawn.append(browser)
-        with _capturing(self._follower_wires()):  # their panels' refresh
             self.lectern.tick(dt)
         self._end_frames()
         if len(owed) > 2 * len(views) + 16:  # views that left
@@ -225,28 +218,6 @@ class App:
         return not self._wires_busy()
 
     # ------------------------------------------------------------------ frames on the wire
-    def _wire(self, key: int | None, client: viser.ClientHandle | None = None) -> Wire | None:
-        """The wire of the shared scene (key None) or of one browser (made on first use)."""
-        if key not in self._wires:
-            with self._sessions_lock:
-                if key is not None and key not in self.sessions:
-                    return None  # closed
-                self._wires[key] = Wire.attach(self.server, client)
-        return self._wires[key]
-
-    def _wires_of(self, view: Any, browser: Any) -> list[Wire]:
-        """The wires a view's frame goes through: its browser's, and the shared scene's for the
-        presenter's view."""
-        wires = [self._wire(browser.client_id, browser)] if isinstance(browser, viser.ClientHandle) else []
-        if isinstance(view.client, Broadcast):
-            wires.append(self._wire(None))
-        return [wire for wire in wires if wire is not None]
-
-    def _follower_wires(self) -> list[Wire]:
-        wires = [self._wire(client_id, follower.seat.client)
-                 for client_id, follower in list(self.lectern.followers.items())]
-        return [wire for wire in wires if wire is not None]
-
     def _end_frames(self) -> None:
         """Send each wire's frame: the shared scene's to the presenter and the followers, a
         browser's own to that browser."""
@@ -254,7 +225,7 @@ class App:
         for key, wire in list(self._wires.items()):
             if wire is None:
                 continue
-            if key is None:
+            if key is None:  # the shared scene
                 presenter = lectern.presenter
                 recipients = [*lectern.followers, *(() if presenter is None else (presenter.client_id,))]
                 wire.end_frame(recipients)

@@ -44,11 +44,30 @@ import msgspec.msgpack
 import zstandard
 from viser.infra._infra import _append_aligned_buffers
 
-__all__ = ["MAX_UNSENT_BYTES", "Wire", "encode", "websocket_frame"]
+__all__ = ["MAX_UNSENT_BYTES", "Wire", "capturing", "encode", "is_capturing", "websocket_frame"]
 
 MAX_UNSENT_BYTES = 64 * 1024  # a browser with more than this waiting in its socket skips frames
 CAPTURED_PHASES = ("update_simple", "update_dict")
 _ZSTD = threading.local()
+_FRAME = threading.local()  # .on: this thread is inside `capturing()`
+
+
+@contextlib.contextmanager
+def capturing() -> Iterator[None]:
+    """A frame of the app loop: within it, what this thread queues to any interface with a wire
+    is held by that wire until its `end_frame` (updates to be encoded once, everything else to
+    be handed to viser in one atomic block)."""
+    _FRAME.on = True
+    try:
+        yield
+    finally:
+        _FRAME.on = False
+
+
+def is_capturing() -> bool:
+    """This thread is inside `capturing()`: viser's `atomic()` is not needed, the wires hold the
+    frame together."""
+    return bool(getattr(_FRAME, "on", False))
 
 
 def encode(messages: Iterable[Any]) -> bytes:
@@ -94,8 +113,8 @@ def _entity(message: Any) -> tuple[str, str] | None:
 
 
 class Wire:
-    """The update messages one viser interface (the shared scene, or one browser's connection)
-    queues inside `frame()` blocks of the app loop's thread, sent by `end_frame` to recipients.
+    """The messages one viser interface (the shared scene, or one browser's connection) is given
+    inside `capturing()` (the app loop's frame), sent by `end_frame` to recipients.
 
     Made with `Wire.attach`; `detach()` gives the interface back to viser."""
 
@@ -106,8 +125,8 @@ class Wire:
         self._buffer = buffer
         self._shared = buffer is self._server.get_message_buffer()
         self._queue = interface.queue_message  # viser's own (bound method)
-        self._thread: int | None = None  # the thread inside frame(), if any
-        self._frame: list[Any] = []  # captured this frame
+        self._frame: list[Any] = []  # updates captured this frame
+        self._held: list[Any] = []  # anything else queued this frame (for viser, at end_frame)
         self._lock = threading.Lock()
         self._ops: list[tuple[Any, ...]] = []  # ("set", message) / ("purge", key prefix, descendants' prefix)
         self._scheduled = 0  # end_frame calls whose delivery has not run yet
@@ -139,44 +158,45 @@ class Wire:
             del self._interface.queue_message
 
     # ------------------------------------------------------------------ the app loop's side
-    @contextlib.contextmanager
-    def frame(self) -> Iterator[None]:
-        """Within this block, this thread's update messages to the interface are captured."""
-        self._thread = threading.get_ident()
-        try:
-            yield
-        finally:
-            self._thread = None
-
     def _take(self, message: Any) -> None:
         entity = _entity(message)
         phase = getattr(message, "lifecycle_phase", None)
-        if entity is None or phase is None:
-            self._queue(message)
-            return
-        if phase in CAPTURED_PHASES:
-            if self._thread == threading.get_ident():
+        inside = getattr(_FRAME, "on", False)
+        if entity is not None and phase in CAPTURED_PHASES:
+            if inside:
                 self._frame.append(message)
                 return
-            op: tuple[Any, ...] = ("set", message)  # sent by viser; the catch-ups must know it
-        else:  # made or removed: its latest values go
+            op: tuple[Any, ...] | None = ("set", message)  # viser sends it: a catch-up must not undo it
+        elif entity is not None and phase in ("create", "remove"):  # its latest values go
             op = ("purge", f"{entity[0]}:{entity[1]}:", f"{entity[0]}:{entity[1]}/" if phase == "remove" else None)
-        with self._lock:
-            self._ops.append(op)
-        self._queue(message)
+        else:
+            op = None
+        if inside:
+            self._held.append(message)  # to viser at end_frame, in order, in one atomic block
+        else:
+            self._queue(message)
+        if op is not None:
+            with self._lock:
+                self._ops.append(op)
 
     def busy(self) -> bool:
         """A frame was ended and its delivery has not run yet."""
         return self._scheduled > 0
 
     def end_frame(self, recipients: Iterable[int]) -> None:
-        """Send what this frame captured to `recipients` (client ids), once encoded, on viser's
-        event loop; recipients that are behind get their catch-up first."""
+        """Hand what this frame held to viser (one atomic block), then send its updates to
+        `recipients` (client ids), once encoded, on viser's event loop; recipients that are
+        behind get their catch-up first.  Cheap when the frame held nothing."""
+        if self._held:
+            held, self._held = self._held, []
+            with self._interface.atomic():
+                for message in held:
+                    self._queue(message)
+        if not (self._frame or self._ops):
+            return
         messages, self._frame = self._frame, []
         with self._lock:
             ops, self._ops = self._ops, []
-        if not (messages or ops):
-            return
         self._scheduled += 1
         try:
             self._loop.call_soon_threadsafe(self._deliver, messages, ops, tuple(recipients))
@@ -205,8 +225,8 @@ class Wire:
     def _apply(self, messages: list[Any], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]) -> None:
         latest = self._latest
         for op in ops:
-            if op[0] == "set":
-                latest[op[1].redundancy_key()] = (self._count + 1, op[1])
+            if op[0] == "set":  # viser itself brings the newer value to every browser: forget ours
+                latest.pop(op[1].redundancy_key(), None)
                 continue
             _, prefix, under = op
             for key in [k for k in latest if k.startswith(prefix) or (under and k.startswith(under))]:

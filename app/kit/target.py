@@ -25,6 +25,8 @@ from typing import Any, Protocol, runtime_checkable
 
 import viser
 
+from app.wire import is_capturing
+
 __all__ = ["ClientTarget", "DrawTarget", "as_target"]
 
 
@@ -62,6 +64,9 @@ class ClientTarget:
 
     @contextlib.contextmanager
     def atomic(self) -> Iterator[None]:
+        if is_capturing():  # the app loop's frame: the browser's wire holds it together (app.wire)
+            yield
+            return
         with self.client.atomic():
             yield
 
