@@ -3,33 +3,35 @@
 viser 1.1 sends every queued message through a per-connection buffer: one producer task per
 browser takes a window, serialises it (msgpack + zstd) and sends it.  For the presenter's shared
 scene that means the same frame encoded once per follower (500 followers, 500 encodes a frame),
-and for a room of its own one buffer round trip a frame.  While the app loop draws a view,
-a `Wire` takes that view's *update* messages (poses, props, visibility, panel values) instead:
-at the end of the frame it encodes them once, in viser's own wire format, frames them once as a
-websocket message (a server's frames are not masked: the bytes are the same for every browser),
-and writes those bytes to each recipient's transport in one callback on viser's event loop.
-Everything else (nodes and panel elements made or removed, notifications, anything queued outside
-a frame or from another thread) goes through viser as before.
+and every `atomic()` block wakes every follower's producer.  Inside `capturing()` (the app loop's
+frame, `app.main.App.frame`) a `Wire` holds what is queued to its interface instead: the
+*updates* (poses, props, visibility, panel values) it encodes once at `end_frame`, in viser's
+own wire format, frames once as a websocket message (a server's frames are not masked: the
+bytes are the same for every browser) and writes to each recipient's transport in one callback
+on viser's event loop; everything else (nodes and panel elements made or removed, camera moves,
+notifications) it hands to viser in one atomic block.  Outside a frame, or from another thread,
+messages go through viser as before.
 
 Order and late joiners.  A recipient gets a frame only when viser has already taken everything
 queued for it before (its own buffer is empty, its cursor in the shared buffer has caught up:
 `_caught_up`); the producer writes what it takes at once, so a frame never overtakes the message
 that made its node.  A recipient that is not caught up, slow (more than MAX_UNSENT_BYTES waiting
 in its socket), new, or skipped for any reason is *behind*; when it is ready again it gets one
-catch-up frame with the latest value of everything that changed since the last frame it got
+catch-up frame with the latest value of everything the wire sent since the last frame it got
 (`latest`, keyed as viser culls: one value per node and property).  A node made or removed
-drops its entries from `latest` (a removed node's descendants too).
+drops its entries from `latest` (a removed node's descendants too), and so does a value viser
+sent outside a frame (viser brings that newer value to every browser itself).
 
 Counters: `encodes` (payloads built), `frames` (frames ended with something to send), `writes`
 (transport writes) and `bytes_written`; tests count encodes to show one encode per frame.
 
-Internals used (viser 1.1.1, websockets 16), each checked by `available`: the
-`queue_message` of ``server._websock_server`` / ``client._websock_connection``, the buffers'
-``message_from_id`` / ``message_counter`` / ``generator_cursors``, the server's
-``_live_connections`` (their ``transport`` and ``protocol.state``) and
-``_background_event_loop``.  If any is missing, `Wire.attach` returns None and the app sends
-through viser's public path as before; `tests/test_wire.py` checks that a browser stand-in
-ends with the same scene and panel either way.
+Internals used (viser 1.1.1, websockets 16), each checked by `attach`: the `queue_message` of
+``server._websock_server`` / ``client._websock_connection``, the buffers' ``message_from_id`` /
+``message_counter`` / ``generator_cursors``, the server's ``_live_connections`` (their
+``transport`` and ``protocol.state``), ``_client_state_from_id`` and
+``_background_event_loop``, and ``viser.infra._infra._append_aligned_buffers``.  If any is
+missing, `Wire.attach` returns None and the app sends through viser's public path as before;
+`tests/test_wire.py` checks that a browser stand-in ends with the same scene either way.
 """
 
 from __future__ import annotations
