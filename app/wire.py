@@ -49,6 +49,7 @@ from viser.infra._infra import _append_aligned_buffers
 __all__ = ["MAX_UNSENT_BYTES", "Wire", "capturing", "encode", "is_capturing", "websocket_frame"]
 
 MAX_UNSENT_BYTES = 64 * 1024  # a browser with more than this waiting in its socket skips frames
+RETRY_S = 0.002  # [s] a recipient viser had not caught up is tried once more this much later
 CAPTURED_PHASES = ("update_simple", "update_dict")
 _ZSTD = threading.local()
 _FRAME = threading.local()  # .on: this thread is inside `capturing()`
@@ -135,6 +136,7 @@ class Wire:
         self._count = 0  # frames delivered so far (delivery thread)
         self._latest: dict[str, tuple[int, Any]] = {}  # redundancy key -> (frame, message)
         self._delivered: dict[int, int] = {}  # client id -> last frame it got
+        self._payloads: dict[int, Any] = {}  # this frame's: since -> bytes (or messages not yet encoded)
         self.encodes = self.frames = self.writes = self.bytes_written = 0
         interface.queue_message = self._take
 
@@ -242,31 +244,41 @@ class Wire:
         for key, message in unique.items():
             latest[key] = (frame, message)
         self.frames += 1
-        shared: bytes | None = None
-        catch_ups: dict[int, bytes] = {}
-        connections = self._server._live_connections
-        delivered = self._delivered
+        self._payloads = {frame - 1: messages}  # since -> what to send (encoded on first use)
+        late = self._send(frame, recipients)
+        if late:  # viser has not yet taken what this frame handed it: once more, a little later
+            self._loop.call_later(RETRY_S, self._retry, frame, late)
+        connections, delivered = self._server._live_connections, self._delivered
+        if len(delivered) > 2 * len(connections) + 16:  # browsers that left
+            for client_id in [c for c in delivered if c not in connections]:
+                del delivered[client_id]
+
+    def _retry(self, frame: int, recipients: tuple[int, ...]) -> None:
+        if frame == self._count:  # no newer frame went out meanwhile (else its catch-up serves them)
+            self._send(frame, recipients)
+
+    def _send(self, frame: int, recipients: Iterable[int]) -> tuple[int, ...]:
+        """Write frame `frame` to the recipients that are caught up (the shared payload to those
+        that got the previous frame, a catch-up to the others); the ones that are not."""
+        connections, delivered, payloads = self._server._live_connections, self._delivered, self._payloads
+        late = []
         for client_id in recipients:
             connection = connections.get(client_id)
-            if connection is None or not self._caught_up(client_id, connection):
+            if connection is None or delivered.get(client_id, 0) == frame:
+                continue
+            if not self._caught_up(client_id, connection):
+                late.append(client_id)
                 continue
             since = delivered.get(client_id, 0)
-            if since == frame - 1:
-                if shared is None:
-                    shared = self._payload(messages)
-                data = shared
-            else:  # behind: everything that changed after the last frame it got, latest values
-                data = catch_ups.get(since, b"")
-                if not data:
-                    data = catch_ups[since] = self._payload(
-                        [m for f, m in latest.values() if f > since])
+            data = payloads.get(since)
+            if not isinstance(data, bytes):  # behind: what changed after the last frame it got
+                data = payloads[since] = self._payload(
+                    data if data is not None else [m for f, m in self._latest.values() if f > since])
             connection.transport.write(data)
             delivered[client_id] = frame
             self.writes += 1
             self.bytes_written += len(data)
-        if len(delivered) > 2 * len(connections) + 16:  # browsers that left
-            for client_id in [c for c in delivered if c not in connections]:
-                del delivered[client_id]
+        return tuple(late)
 
     def _payload(self, messages: list[Any]) -> bytes:
         self.encodes += 1

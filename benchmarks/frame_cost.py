@@ -59,8 +59,10 @@ FRAME_DT = 1.0 / 60.0
 
 @dataclasses.dataclass
 class FrameCost:
-    """Per-frame times [ms] of one scene: tick = Session.tick(1/60) (wall time, and CPU time of
-    the ticking thread), physics = step_realtime (wall time)."""
+    """Per-frame times [ms] of one scene: tick = App.frame(1/60) (or Session.tick(1/60) in a
+    tree without it; wall time, and CPU time of the ticking thread), sent = the process's CPU time
+    (all threads) from the frame's start until it was written to the socket, physics =
+    step_realtime (wall time)."""
 
     scene: str
     frames: int
@@ -69,6 +71,7 @@ class FrameCost:
     physics_ms: list[float]
     sim_time_advanced_s: float
     paced: bool
+    sent_cpu_ms: list[float] = dataclasses.field(default_factory=list)
 
     @staticmethod
     def _stats(values: list[float]) -> tuple[float, float, float]:
@@ -157,20 +160,28 @@ def measure_scene(scene: str, frames: int = 2000, paced: bool = True, warmup: in
     client = ViserClient(app.port, keep_messages=100)
     try:
         session = _start_playing(app, client, scene)
+        # The loop's own frame where the tree has one (App.frame: the views draw through app.wire,
+        # whose encode and socket writes then run on viser's event loop); else Session.tick.
+        tick = app.frame if hasattr(app, "frame") else session.tick
+        sent = getattr(app, "frames_sent", lambda: True)
         for _ in range(warmup):
-            session.tick(FRAME_DT)
+            tick(FRAME_DT)
         found = find_model_and_state(session.scene)
         if found is None:
             raise RuntimeError(f"{scene}: no physics Model/State found on {type(session.scene).__name__}")
         model, state0 = found
         tick_ms: list[float] = []
         tick_cpu_ms: list[float] = []
+        sent_cpu_ms: list[float] = []  # the process's CPU (all threads) from the frame's start to its delivery
         next_time = time.perf_counter()
         for _ in range(frames):
-            start, start_cpu = time.perf_counter(), time.thread_time()
-            session.tick(FRAME_DT)
+            start, start_cpu, start_process = time.perf_counter(), time.thread_time(), time.process_time()
+            tick(FRAME_DT)
             tick_cpu_ms.append(1e3 * (time.thread_time() - start_cpu))
             tick_ms.append(1e3 * (time.perf_counter() - start))
+            while not sent():  # the frame's delivery (app.wire) is part of its cost
+                time.sleep(0.0002)
+            sent_cpu_ms.append(1e3 * (time.process_time() - start_process))
             if paced:
                 next_time += FRAME_DT
                 time.sleep(max(0.0, next_time - time.perf_counter()))
@@ -197,22 +208,24 @@ def measure_scene(scene: str, frames: int = 2000, paced: bool = True, warmup: in
         if paced:
             next_time += FRAME_DT
             time.sleep(max(0.0, next_time - time.perf_counter()))
-    return FrameCost(scene, frames, tick_ms, tick_cpu_ms, physics_ms, advanced, paced)
+    return FrameCost(scene, frames, tick_ms, tick_cpu_ms, physics_ms, advanced, paced, sent_cpu_ms)
 
 
 def format_table(results: list[FrameCost]) -> str:
     """Markdown table: tick and physics-only median / p95 / max [ms], physics share."""
     lines = [
         "| scene | frames | tick median [ms] | tick p95 | tick max | tick CPU median [ms] "
+        "| to the socket, process CPU median [ms] "
         "| physics median [ms] | physics p95 | physics share of median | sim time advanced [s] |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in results:
         t_med, t_p95, t_max = r.tick_stats
         p_med, p_p95, _p_max = r.physics_stats
         c_med = r.tick_cpu_stats[0]
         lines.append(
-            f"| {r.scene} | {r.frames} | {t_med:.3f} | {t_p95:.3f} | {t_max:.2f} | {c_med:.3f} | {p_med:.3f} "
+            f"| {r.scene} | {r.frames} | {t_med:.3f} | {t_p95:.3f} | {t_max:.2f} | {c_med:.3f} "
+            f"| {statistics.median(r.sent_cpu_ms) if r.sent_cpu_ms else math.nan:.3f} | {p_med:.3f} "
             f"| {p_p95:.3f} | {100.0 * p_med / t_med:.0f} % | {r.sim_time_advanced_s:.2f} |"
         )
     return "\n".join(lines)

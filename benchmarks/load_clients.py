@@ -158,6 +158,11 @@ async def start_playing(client: AsyncViserClient, scene: str, timeout: float = 1
         except TimeoutError:
             if time.monotonic() > deadline:
                 raise TimeoutError(f"{scene}: no motion after pressing {play.label!r}") from None
+            if find_play_control(state, old_uuids) is None:  # it shows Pause: playing, just slow to start
+                busiest = await client.wait_for(
+                    lambda: (b := state.busiest_node()) is not None and b[1].orientations >= 5 and b,
+                    max(deadline - time.monotonic(), 0.1))
+                return busiest[0]
 
 
 # ---------------------------------------------------------------------------- server process
