@@ -332,8 +332,8 @@ def test_a_paused_frame_sends_nothing_and_a_playing_one_only_moving_nodes(manual
     session.play()
     manual.tick(1.0)
     root = view.root + "/world"
-    allowed = (f"{root}/frame", f"{root}/particles/", f"{root}/spring", f"{root}/paths_c/", f"{root}/frame/paths/",
-               f"{root}/frame/forces/")
+    allowed = (f"{root}/frame", f"{root}/frame/particles/", f"{root}/frame/spring", f"{root}/paths_c/",
+               f"{root}/frame/paths/", f"{root}/frame/forces")
     assert sent and all(name == f"{root}/frame" or name.startswith(allowed) for name in sent), set(sent) - {""}
     assert not any(name.startswith(f"{root}/grid") or name == root for name in sent)  # not riding: world still
     per_frame = len(sent) / 60
@@ -394,3 +394,29 @@ def test_browser_opens_the_scene_and_the_camera_toggle_makes_C_prime_stand_still
     assert back < 0.001, back  # the inertial view again, as it was
     print(f"changed pixels: still {still:.4%}, riding {turned:.2%}, back {back:.4%}")
     assert session.last_error is None
+
+
+def test_snapped_while_playing_exact_when_paused_and_the_rider_sends_nothing(manual, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Turntable: while it plays, the particle at rest in C′ (a child of C′) sends no message and
+    every drawn particle is within TOLERANCE of its C′ coordinates; paused, all are exact (float32)."""
+    from app.kit.lean import TOLERANCE
+
+    session, view = _open(manual)
+    session.apply_preset("Turntable")
+    manual.tick(0.2)
+    sent: list[str] = []
+    api = session.client.scene
+    original = api._queue_scene_message
+    monkeypatch.setattr(api, "_queue_scene_message", lambda m: (sent.append(getattr(m, "name", "")), original(m))[1])
+    session.play()
+    manual.tick(1.0)
+    rider = view.particles[1]._impl.name
+    assert sent and rider not in sent
+    x_body, _ = view.sim.body_coordinates()
+    for k, node in enumerate(view.particles):
+        np.testing.assert_allclose(node.position, x_body[k], atol=0.5 * TOLERANCE * math.sqrt(3) + 1e-6)
+    session.pause()
+    x_body, _ = view.sim.body_coordinates()
+    for k, node in enumerate(view.particles):
+        np.testing.assert_allclose(node.position, x_body[k].astype(np.float32), atol=1e-6)
+    assert session.error_count == 0, session.last_error
