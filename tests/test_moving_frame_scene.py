@@ -331,10 +331,9 @@ def test_a_paused_frame_sends_nothing_and_a_playing_one_only_moving_nodes(manual
     assert sent == []
     session.play()
     manual.tick(1.0)
-    root = view.root + "/world"
-    allowed = (f"{root}/frame", f"{root}/frame/particles/", f"{root}/frame/spring", f"{root}/paths_c/",
-               f"{root}/frame/paths/", f"{root}/frame/forces")
-    assert sent and all(name == f"{root}/frame" or name.startswith(allowed) for name in sent), set(sent) - {""}
+    root = view.root + "/w"  # the world; C′ is f, its particles p, spring s, paths t, forces a; paths in C tc
+    allowed = (f"{root}/f", f"{root}/f/p/", f"{root}/f/s", f"{root}/tc/", f"{root}/f/t/", f"{root}/f/a")
+    assert sent and all(name == f"{root}/f" or name.startswith(allowed) for name in sent), set(sent) - {""}
     assert not any(name.startswith(f"{root}/grid") or name == root for name in sent)  # not riding: world still
     per_frame = len(sent) / 60
     assert per_frame < 30, per_frame  # poses, 3 particles, 6 arrows and labels, a path chunk now and then
@@ -413,10 +412,11 @@ def test_snapped_while_playing_exact_when_paused_and_the_rider_sends_nothing(man
     rider = view.particles[1]._impl.name
     assert sent and rider not in sent
     x_body, _ = view.sim.body_coordinates()
-    for k, node in enumerate(view.particles):
-        np.testing.assert_allclose(node.position, x_body[k], atol=0.5 * TOLERANCE * math.sqrt(3) + 1e-6)
+    for k in range(3):
+        np.testing.assert_allclose(view.particle_drawn(k), x_body[k], atol=0.5 * TOLERANCE * math.sqrt(3) + 1e-6)
     session.pause()
     x_body, _ = view.sim.body_coordinates()
-    for k, node in enumerate(view.particles):
-        np.testing.assert_allclose(node.position, x_body[k].astype(np.float32), atol=1e-6)
+    for k in range(3):
+        np.testing.assert_allclose(view.particle_drawn(k), x_body[k].astype(np.float32), atol=1e-6)
+    assert not view.particles[0].visible and view.focus_ball.visible  # the free one: drawn by the ball
     assert session.error_count == 0, session.last_error

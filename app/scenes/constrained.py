@@ -357,7 +357,7 @@ class ConstrainedView(SceneView):
     transport: Transport  # built by build_head
 
     title = "Constrained particles"
-    root = "/constrained"
+    root = "/cp"  # node names are short: every message of a frame carries its node's name
     view = VIEW
 
     @classmethod
@@ -405,14 +405,14 @@ class ConstrainedView(SceneView):
     def _build_system_scene(self) -> None:
         """The nodes of the current system (rebuilt when the system changes)."""
         scene = self.client.scene
-        base = f"{self.root}/system"
+        base = f"{self.root}/s"
         self.system_node = scene.add_frame(base, show_axes=False)
         sim = self.sim
         n, m = sim.system.n, sim.system.m
         # The guide (hoop, rod) hangs in a frame: a guide that turns about z (x_0(q, t) = Rz(α) x_0(q, 0))
         # is drawn once and turned by one small message a frame, not resent as 72 segments.
-        self.guide_frame = scene.add_frame(f"{base}/guide_frame", show_axes=False)
-        self.guide = scene.add_line_segments(f"{base}/guide_frame/guide", np.zeros((1, 2, 3)), GUIDE_COLOR,
+        self.guide_frame = scene.add_frame(f"{base}/g", show_axes=False)
+        self.guide = scene.add_line_segments(f"{base}/g/l", np.zeros((1, 2, 3)), GUIDE_COLOR,
                                              thickness=4.0, thickness_units="screen",
                                              visible=sim.system.guide is not None)
         self.guide_pose = Pose(self.guide_frame, reach=GUIDE_REACH)
@@ -424,23 +424,23 @@ class ConstrainedView(SceneView):
         self.pivot.visible = bool(sim.system.links)
         self._links_drawn: np.ndarray | None = None  # the links' points as sent
         # A particle's arrows hang under it (they start at its centre): they only turn and stretch.
-        self.particles = [scene.add_icosphere(f"{base}/particle{i}", radius=PARTICLE_RADIUS,
+        self.particles = [scene.add_icosphere(f"{base}/p{i}", radius=PARTICLE_RADIUS,
                                               color=PARTICLE_COLORS[i % 2], subdivisions=2, cast_shadow=False,
                                               receive_shadow=False) for i in range(n)]
         self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
-        self.paths_space = [TraceLines(scene, f"{base}/path{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
+        self.paths_space = [TraceLines(scene, f"{base}/t{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
                                        thickness=2.0) for i in range(n)]
         coordinate = sim.system.coordinates
         # Labels only on the last particle's arrows (the others share the colours: the legend says).
         # With two coordinates the second arrow's label sits at its middle (two tips are often close).
-        self.dx_arrows = [[_Arrow(scene, f"{base}/particle{i}/dx{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
+        self.dx_arrows = [[_Arrow(scene, f"{base}/p{i}/dx{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
                                   shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.3,
                                   label_at_middle=j == 1, labels=self.labels, priority=DETAIL)
                            for j in range(m)] for i in range(n)]
-        self.F_arrows = [_Arrow(scene, f"{base}/particle{i}/F", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
+        self.F_arrows = [_Arrow(scene, f"{base}/p{i}/F", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
                                 head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
                          for i in range(n)]
-        self.C_arrows = [_Arrow(scene, f"{base}/particle{i}/C", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
+        self.C_arrows = [_Arrow(scene, f"{base}/p{i}/C", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
                                 head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
                          for i in range(n)]
 

@@ -445,7 +445,7 @@ class MovingFrameView(SceneView):
     transport: Transport  # built by build_head
 
     title = "Moving frame"
-    root = "/moving"
+    root = "/mf"  # node names are short: every message of a frame carries its node's name
     view = VIEW
     preset_file = "moving_frame.json"
     param_specs = PARAM_SPECS
@@ -486,18 +486,18 @@ class MovingFrameView(SceneView):
         # C′, the anchor, a path in C′ cost no message while C′ turns; the force arrows hang
         # under one group at the chosen particle (one position message) and only turn.
         scene = self.client.scene
-        world = f"{self.root}/world"
+        world = f"{self.root}/w"
         self.world = scene.add_frame(world, show_axes=False)
         self.world_pose = Pose(self.world, reach=FRAME_REACH)
         Stage(scene, world, size=8.0, labels=self.labels)
-        self.paths_space = [TraceLines(scene, f"{world}/paths_c/{k}", _lighter(PARTICLE_COLORS[k]),
+        self.paths_space = [TraceLines(scene, f"{world}/tc/{k}", _lighter(PARTICLE_COLORS[k]),
                                        self.sim.paths_space[k])
                             for k in range(len(PARTICLES))]
-        self.body = Body(scene, f"{world}/frame", self._build_disc, axis_length=1.0, labels=self.labels)
+        self.body = Body(scene, f"{world}/f", self._build_disc, axis_length=1.0, labels=self.labels)
         self.frame_pose = Pose(self.body.node, reach=FRAME_REACH)
-        frame = f"{world}/frame"
+        frame = f"{world}/f"
         self.particles = [
-            scene.add_icosphere(f"{frame}/particles/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
+            scene.add_icosphere(f"{frame}/p/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
                                 subdivisions=2, cast_shadow=False, receive_shadow=False)
             for k in range(len(PARTICLES))
         ]
@@ -506,20 +506,25 @@ class MovingFrameView(SceneView):
                                                   thickness=3.0, thickness_units="screen", visible=False)
         self.anchor = scene.add_icosphere(f"{frame}/anchor", radius=0.035, color=(90, 90, 90), subdivisions=1,
                                           cast_shadow=False, receive_shadow=False)
-        self.spring = scene.add_line_segments(f"{frame}/spring", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
+        self.spring = scene.add_line_segments(f"{frame}/s", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
                                               thickness=1.5, thickness_units="screen")
-        self.paths_body = [TraceLines(scene, f"{frame}/paths/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
+        self.paths_body = [TraceLines(scene, f"{frame}/t/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
-        self.forces_group = scene.add_frame(f"{frame}/forces", show_axes=False)
+        self.forces_group = scene.add_frame(f"{frame}/a", show_axes=False)
         self.forces_pose = Pose(self.forces_group, reach=PARTICLE_RADIUS)
+        # The chosen particle is drawn by a ball in the group (its own node hidden): one message
+        # moves the particle and its forces.
+        self.focus_ball = scene.add_icosphere(f"{frame}/a/b", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[0],
+                                              subdivisions=2, cast_shadow=False, receive_shadow=False)
+        self._ball_focus = 0
         # All five forces in one node (one `points` message moves them), the sum in another (thinner).
-        self.force_arrows = Arrows(scene, f"{frame}/forces/arrows", [FORCE_COLORS[key] for key in FORCE_KEYS],
+        self.force_arrows = Arrows(scene, f"{frame}/a/a", [FORCE_COLORS[key] for key in FORCE_KEYS],
                                    shaft_radius=0.018, head_radius=0.05, head_length=0.1)
-        self.sum_arrow = Arrows(scene, f"{frame}/forces/sum", [(200, 0, 0)], shaft_radius=0.01,
+        self.sum_arrow = Arrows(scene, f"{frame}/a/s", [(200, 0, 0)], shaft_radius=0.01,
                                 head_radius=0.035, head_length=0.08)
         texts = {**FORCE_LABELS, "sum": "m ẍ′"}
         self.force_labels = {key: self.labels.add(scene.add_label(
-            f"{frame}/forces/labels/{key}", text, font_screen_scale=LABEL_FONT, visible=False,
+            f"{frame}/a/l/{key}", text, font_screen_scale=LABEL_FONT, visible=False,
             anchor="center-left" if key == "sum" else "center-center"), KEY, wanted=False)
             for key, text in texts.items()}
         self.force_label_poses = {key: Pose(label, tolerance=LABEL_TOLERANCE)
@@ -700,8 +705,16 @@ class MovingFrameView(SceneView):
             self.anchor.position = anchor
         # Particles and the spring, in C′.
         x_body, _ = sim.body_coordinates()
+        focus = sim.setup.focus
         for k, pose in enumerate(self.particle_poses):
-            pose.set(position=x_body[k], exact=exact)
+            own = k != focus  # else drawn by the ball of the forces' group
+            if self.particles[k].visible != own:
+                self.particles[k].visible = own
+            if own:
+                pose.set(position=x_body[k], exact=exact)
+        if self._ball_focus != focus:
+            self.focus_ball.color = PARTICLE_COLORS[focus]
+            self._ball_focus = focus
         spring = np.array([[sim.setup.anchor_body, x_body[2]]], dtype=float)
         if not exact:
             spring = np.round(spring / TOLERANCE) * TOLERANCE
@@ -713,7 +726,6 @@ class MovingFrameView(SceneView):
         # Forces on the chosen particle, body components, drawn in C′ from its centre (the
         # group sits where that particle is drawn).
         report = sim.forces()
-        focus = sim.setup.focus
         scale = sim.setup.value("force_scale")
         show = bool(self.gui_show_forces.value)
         self.forces_pose.set(position=x_body[focus], exact=exact)
@@ -743,6 +755,12 @@ class MovingFrameView(SceneView):
         if self._readout_throttle.ready(dt):
             self._render_readout(report, x_body)
             self._refresh_status()
+
+    def particle_drawn(self, k: int) -> tuple[float, float, float]:
+        """Where particle k is drawn, C′ coordinates [m] (the chosen one: by the forces' group)."""
+        node = self.forces_group if k == self.sim.setup.focus else self.particles[k]
+        x, y, z = (float(c) for c in node.position)
+        return x, y, z
 
     def _draw_paths(self, visible: bool, lazy: bool = False) -> None:
         """The paths so far (only what is new is sent; lazy: a playing frame, the growing head
