@@ -44,7 +44,7 @@ from app.kit.common import CameraView, SliderSpec, Throttle
 from app.kit.fastprops import set_points
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
-from app.kit.lean import TOLERANCE, Pose
+from app.kit.lean import TOLERANCE, Pose, snap
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -638,14 +638,20 @@ class ConstrainedView(SceneView):
         quantum = None if exact else ARROW_QUANTUM
         scale = sim.setup.force_scale
         show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)
+        def drawn(vector: Array) -> Array:
+            """While playing, the vector with its length snapped to TOLERANCE (~1 px): a length
+            message only when the drawn length changed."""
+            length = float(np.linalg.norm(vector))
+            return vector if exact or length < TOLERANCE else vector * (snap(length, TOLERANCE) / length)
+
         for i in range(sim.system.n):
             for j, arrow in enumerate(self.dx_arrows[i]):
                 arrow.enabled = show_dx
-                arrow.update(DELTA_Q * ev.J[i, :, j], quantum=quantum)
+                arrow.update(drawn(DELTA_Q * ev.J[i, :, j]), quantum=quantum)
             self.F_arrows[i].enabled = show_forces
-            self.F_arrows[i].update(scale * ev.F[i], quantum=quantum)
+            self.F_arrows[i].update(drawn(scale * ev.F[i]), quantum=quantum)
             self.C_arrows[i].enabled = show_forces
-            self.C_arrows[i].update(scale * ev.C[i], quantum=quantum)
+            self.C_arrows[i].update(drawn(scale * ev.C[i]), quantum=quantum)
 
     def _draw_guide(self, guide: Array) -> None:
         """The constraint curve now (N, 3): as the curve at t = 0 turned about z when it is that
