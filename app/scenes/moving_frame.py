@@ -30,7 +30,18 @@ residual is at rounding level.
 Paths: each particle leaves a path in C (drawn in C: a straight line for the free particle)
 and one in C′ (drawn in C′, carried by it: the curve a rider sees), the last PATH_SECONDS kept
 by the simulation (`app.kit.trace.Trace`, so a view built later shows them so far) and drawn
-in chunks (`app.kit.widgets.TraceLines`).
+in short chunks (`app.kit.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
+at most at 10 Hz while playing).
+
+**What a playing frame sends** (the frame budget, tests/test_frame_budget.py).  What moves with
+C′ hangs under C′'s node in C′ coordinates: the particles, the anchor, the spring, the paths in
+C′ and the forces, so C′'s turn is one message and a particle at rest in C′ sends none.  The
+forces hang under one group at the chosen particle, which also holds that particle's ball (its
+own node hidden): one position message moves both; the five forces are one `add_arrows` node
+and the sum another (`app.kit.lean.Arrows`: one `points` message each); their labels move in
+steps of LABEL_TOLERANCE.  While playing every pose, point and label is snapped to ~1 px
+(`app.kit.lean.Pose`) and sent only when what is drawn changed; paused, all is exact.
+Node names are short (each message carries its node's name).
 
 **The rider's view.**  "Ride with C′" does not move the camera.  Everything is drawn under
 one node `world` (space coordinates) and C′'s contents under `world/frame` (posed by a, D);
