@@ -39,3 +39,31 @@ def test_the_readout_names_the_conserved_quantity(manual) -> None:  # type: igno
         text = view.conserved_note.handle.content + view.readout.handle.content
         assert words in text and "(5.13)" in text and "(5.7)" in text, text
     assert session.error_count == 0, session.last_error
+
+
+def test_arrows_hang_under_their_particle_and_a_paused_frame_is_exact(manual, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Turning hoop: the applied force (gravity, constant) hangs under the bead and sends nothing
+    while the bead moves; the bead is drawn within TOLERANCE while playing, exactly when paused."""
+    import numpy as np
+
+    from app.kit.lean import TOLERANCE
+
+    session = manual.session
+    session.select_scene("Constrained particles")
+    session.apply_preset("Turning hoop")
+    view = session.scene
+    manual.tick(0.2)
+    sent: list[str] = []
+    api = session.client.scene
+    original = api._queue_scene_message
+    monkeypatch.setattr(api, "_queue_scene_message", lambda m: (sent.append(getattr(m, "name", "")), original(m))[1])
+    session.play()
+    manual.tick(1.0)
+    bead = view.particles[0]._impl.name
+    assert bead in sent and not any(name.startswith(f"{bead}/F") for name in sent)
+    x = view.sim.evaluation().x
+    np.testing.assert_allclose(view.particles[0].position, x[0], atol=0.5 * TOLERANCE * math.sqrt(3) + 1e-6)
+    session.pause()
+    x = view.sim.evaluation().x
+    np.testing.assert_allclose(view.particles[0].position, x[0].astype(np.float32), atol=1e-6)
+    assert session.error_count == 0, session.last_error

@@ -71,6 +71,16 @@ class Pose:
         self._position: tuple[float, float, float] | None = None
         self.sent = 0  # messages sent (tests)
 
+    @property
+    def wxyz(self) -> tuple[float, float, float, float] | None:
+        """The orientation as last sent (None before the first)."""
+        return self._wxyz
+
+    @property
+    def position(self) -> tuple[float, float, float] | None:
+        """The position as last sent (None before the first)."""
+        return self._position
+
     def forget(self) -> None:
         """The next `set` sends."""
         self._wxyz = self._position = None

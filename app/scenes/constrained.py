@@ -41,10 +41,10 @@ import numpy as np
 import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle
-from app.kit.fastprops import set_points, set_position
+from app.kit.fastprops import set_points
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
-from app.kit.lean import Pose
+from app.kit.lean import TOLERANCE, Pose, snap
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
@@ -69,8 +69,9 @@ __all__ = ["KINDS", "ConstrainedSetup", "ConstrainedSimulation", "ConstrainedVie
 DELTA_Q = 0.35  # [rad or m] the virtual displacements are drawn for this δq_j
 PLOT_CAPACITY = 600  # samples (60 s at 10 Hz)
 PATH_SECONDS = 8.0  # [s] of simulated time kept in each particle's path
-PATH_SPACING = 1.0 / 30.0
-PATH_CHUNK = 40
+PATH_SPACING = 1.0 / 15.0  # [s] between stored path points
+PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
+ARROW_QUANTUM = 2.0**-9  # while playing, an arrow turns in steps of ~2 ARROW_QUANTUM rad (~1 px at 1.5 m)
 READOUT_PERIOD = 0.2  # [s] of wall time
 PLOT_PERIOD = 0.25
 SLIDER_PERIOD = 0.2
@@ -356,7 +357,7 @@ class ConstrainedView(SceneView):
     transport: Transport  # built by build_head
 
     title = "Constrained particles"
-    root = "/constrained"
+    root = "/cp"  # node names are short: every message of a frame carries its node's name
     view = VIEW
 
     @classmethod
@@ -404,14 +405,14 @@ class ConstrainedView(SceneView):
     def _build_system_scene(self) -> None:
         """The nodes of the current system (rebuilt when the system changes)."""
         scene = self.client.scene
-        base = f"{self.root}/system"
+        base = f"{self.root}/s"
         self.system_node = scene.add_frame(base, show_axes=False)
         sim = self.sim
         n, m = sim.system.n, sim.system.m
         # The guide (hoop, rod) hangs in a frame: a guide that turns about z (x_0(q, t) = Rz(α) x_0(q, 0))
         # is drawn once and turned by one small message a frame, not resent as 72 segments.
-        self.guide_frame = scene.add_frame(f"{base}/guide_frame", show_axes=False)
-        self.guide = scene.add_line_segments(f"{base}/guide_frame/guide", np.zeros((1, 2, 3)), GUIDE_COLOR,
+        self.guide_frame = scene.add_frame(f"{base}/g", show_axes=False)
+        self.guide = scene.add_line_segments(f"{base}/g/l", np.zeros((1, 2, 3)), GUIDE_COLOR,
                                              thickness=4.0, thickness_units="screen",
                                              visible=sim.system.guide is not None)
         self.guide_pose = Pose(self.guide_frame, reach=GUIDE_REACH)
@@ -421,22 +422,25 @@ class ConstrainedView(SceneView):
                                              ROD_COLOR, thickness=4.0, thickness_units="screen",
                                              visible=bool(sim.system.links))
         self.pivot.visible = bool(sim.system.links)
-        self.particles = [scene.add_icosphere(f"{base}/particle{i}", radius=PARTICLE_RADIUS,
+        self._links_drawn: np.ndarray | None = None  # the links' points as sent
+        # A particle's arrows hang under it (they start at its centre): they only turn and stretch.
+        self.particles = [scene.add_icosphere(f"{base}/p{i}", radius=PARTICLE_RADIUS,
                                               color=PARTICLE_COLORS[i % 2], subdivisions=2, cast_shadow=False,
                                               receive_shadow=False) for i in range(n)]
-        self.paths_space = [TraceLines(scene, f"{base}/path{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
+        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
+        self.paths_space = [TraceLines(scene, f"{base}/t{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
                                        thickness=2.0) for i in range(n)]
         coordinate = sim.system.coordinates
         # Labels only on the last particle's arrows (the others share the colours: the legend says).
         # With two coordinates the second arrow's label sits at its middle (two tips are often close).
-        self.dx_arrows = [[_Arrow(scene, f"{base}/dx{i}_{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
+        self.dx_arrows = [[_Arrow(scene, f"{base}/p{i}/dx{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
                                   shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.3,
                                   label_at_middle=j == 1, labels=self.labels, priority=DETAIL)
                            for j in range(m)] for i in range(n)]
-        self.F_arrows = [_Arrow(scene, f"{base}/F{i}", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
+        self.F_arrows = [_Arrow(scene, f"{base}/p{i}/F", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
                                 head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
                          for i in range(n)]
-        self.C_arrows = [_Arrow(scene, f"{base}/C{i}", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
+        self.C_arrows = [_Arrow(scene, f"{base}/p{i}/C", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
                                 head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
                          for i in range(n)]
 
@@ -613,29 +617,41 @@ class ConstrainedView(SceneView):
         guide = sim.guide()
         if guide is not None:
             self._draw_guide(guide)
+        exact = not self.room.playing  # while playing: at display resolution (~1 px), sent when changed
         if sim.system.links:
             ends = [np.zeros(3) if a < 0 else ev.x[a] for a, _ in sim.system.links]
-            set_points(self.links, np.array([[e, ev.x[b]] for e, (_, b) in zip(ends, sim.system.links)],
-                                            dtype=np.float32))
-        for i, node in enumerate(self.particles):
-            set_position(node, (float(ev.x[i, 0]), float(ev.x[i, 1]), float(ev.x[i, 2])))
+            links = np.array([[e, ev.x[b]] for e, (_, b) in zip(ends, sim.system.links)], dtype=float)
+            if not exact:
+                links = np.round(links / TOLERANCE) * TOLERANCE
+            links32 = links.astype(np.float32)
+            if self._links_drawn is None or not np.array_equal(links32, self._links_drawn):
+                set_points(self.links, links32)
+                self._links_drawn = links32
+        for i, pose in enumerate(self.particle_poses):
+            pose.set(position=ev.x[i], exact=exact)
         show_paths = bool(self.gui_show_paths.value)
         for lines, trace in zip(self.paths_space, sim.paths):
             if show_paths:
-                lines.sync(trace)
+                lines.sync(trace, lazy=not exact)
             else:
                 lines.hide()
+        quantum = None if exact else ARROW_QUANTUM
         scale = sim.setup.force_scale
         show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)
+        def drawn(vector: Array) -> Array:
+            """While playing, the vector with its length snapped to TOLERANCE (~1 px): a length
+            message only when the drawn length changed."""
+            length = float(np.linalg.norm(vector))
+            return vector if exact or length < TOLERANCE else vector * (snap(length, TOLERANCE) / length)
+
         for i in range(sim.system.n):
-            start = ev.x[i]
             for j, arrow in enumerate(self.dx_arrows[i]):
                 arrow.enabled = show_dx
-                arrow.update(DELTA_Q * ev.J[i, :, j], start=start)
+                arrow.update(drawn(DELTA_Q * ev.J[i, :, j]), quantum=quantum)
             self.F_arrows[i].enabled = show_forces
-            self.F_arrows[i].update(scale * ev.F[i], start=start)
+            self.F_arrows[i].update(drawn(scale * ev.F[i]), quantum=quantum)
             self.C_arrows[i].enabled = show_forces
-            self.C_arrows[i].update(scale * ev.C[i], start=start)
+            self.C_arrows[i].update(drawn(scale * ev.C[i]), quantum=quantum)
 
     def _draw_guide(self, guide: Array) -> None:
         """The constraint curve now (N, 3): as the curve at t = 0 turned about z when it is that

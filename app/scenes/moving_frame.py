@@ -30,7 +30,18 @@ residual is at rounding level.
 Paths: each particle leaves a path in C (drawn in C: a straight line for the free particle)
 and one in C′ (drawn in C′, carried by it: the curve a rider sees), the last PATH_SECONDS kept
 by the simulation (`app.kit.trace.Trace`, so a view built later shows them so far) and drawn
-in chunks (`app.kit.widgets.TraceLines`).
+in short chunks (`app.kit.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
+at most at 10 Hz while playing).
+
+**What a playing frame sends** (the frame budget, tests/test_frame_budget.py).  What moves with
+C′ hangs under C′'s node in C′ coordinates: the particles, the anchor, the spring, the paths in
+C′ and the forces, so C′'s turn is one message and a particle at rest in C′ sends none.  The
+forces hang under one group at the chosen particle, which also holds that particle's ball (its
+own node hidden): one position message moves both; the five forces are one `add_arrows` node
+and the sum another (`app.kit.lean.Arrows`: one `points` message each); their labels move in
+steps of LABEL_TOLERANCE.  While playing every pose, point and label is snapped to ~1 px
+(`app.kit.lean.Pose`) and sent only when what is drawn changed; paused, all is exact.
+Node names are short (each message carries its node's name).
 
 **The rider's view.**  "Ride with C′" does not move the camera.  Everything is drawn under
 one node `world` (space coordinates) and C′'s contents under `world/frame` (posed by a, D);
@@ -59,14 +70,16 @@ import numpy as np
 import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
-from app.kit.fastprops import set_points, set_position, set_wxyz
+from app.kit.fastprops import set_points
 from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
+from app.kit.labels import KEY
+from app.kit.lean import TOLERANCE, Arrows, Pose, turn_z_onto
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.trace import Trace
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Body, Stage, TraceLines, Vector
+from app.kit.widgets import Body, Stage, TraceLines
 from physics._types import Array, Vec3
 from physics.moving_frames import (
     FrameMotion,
@@ -96,8 +109,8 @@ EARTH_OMEGA = 2.0 * math.pi / 86164.1  # [rad/s] Earth's sidereal rotation, for 
 PARTICLES = ("free", "at rest in C′", "on a spring")
 PARTICLE_COLORS = ((20, 120, 230), (30, 150, 60), (200, 60, 160))
 PATH_SECONDS = 10.0  # [s] of simulated time kept in each path
-PATH_SPACING = 1.0 / 30.0  # [s] between stored path points
-PATH_CHUNK = 40
+PATH_SPACING = 1.0 / 15.0  # [s] between stored path points (2° of the turntable's turn)
+PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
 PARTICLE_RADIUS = 0.07
 FORCE_KEYS = ("real", "translational", "euler", "centrifugal", "coriolis")
 FORCE_LABELS = {"real": "F (real)", "translational": "−m Dᵀä", "euler": "Euler",
@@ -108,6 +121,11 @@ DISC_COLOR = (210, 205, 190)
 DISC_STRIPE_COLOR = (150, 140, 120)
 LABEL_MIN_LENGTH = 0.25  # [m] a force arrow shorter than this is drawn without its label
 READOUT_PERIOD = 0.2  # [s] of wall time (5 Hz)
+FRAME_REACH = 2.2  # [m] the farthest drawn point of C′ (disc rim, axis labels): its pose's snapping grid
+LABEL_TOLERANCE = 0.02  # [m] while playing, a force's label moves in steps of this (~3 px) behind its tip
+LABEL_BEYOND = 0.16  # [m] a force's label sits this far beyond its tip
+LABEL_ASIDE = 0.06  # [m] ... the sum's this far beside its middle
+LABEL_FONT = 1.5
 
 _DEG = ((-360.0, "-360"), (0.0, "0"), (360.0, "360"))
 PARAM_SPECS = (
@@ -419,6 +437,14 @@ def _disc(scene: Any, parent: str, radius: float) -> None:
                             thickness=2.5, thickness_units="screen")
 
 
+def _matrix_of(wxyz: Sequence[float]) -> Array:
+    """The rotation matrix (3, 3) of a unit quaternion (w, x, y, z)."""
+    w, x, y, z = (float(c) for c in wxyz)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
 def _lighter(color: tuple[int, int, int], weight: float = 0.55) -> tuple[int, int, int]:
     r, g, b = (int(round(c + weight * (255 - c))) for c in color)
     return r, g, b
@@ -430,7 +456,7 @@ class MovingFrameView(SceneView):
     transport: Transport  # built by build_head
 
     title = "Moving frame"
-    root = "/moving"
+    root = "/mf"  # node names are short: every message of a frame carries its node's name
     view = VIEW
     preset_file = "moving_frame.json"
     param_specs = PARAM_SPECS
@@ -461,43 +487,59 @@ class MovingFrameView(SceneView):
         self.sim: MovingFrameSimulation = room.sim
         self._drawn_version = -1
         self._drawn_disc = math.nan
-        self._frame_pose: tuple[tuple[float, ...], tuple[float, float, float]] | None = None
-        self._world_pose: tuple[tuple[float, ...], tuple[float, float, float]] | None = None
-        self._particle_positions: list[tuple[float, float, float] | None] = [None] * len(PARTICLES)
+        self._spring_drawn: np.ndarray | None = None  # the spring's points (1, 2, 3) as sent
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self.build()
 
     # ------------------------------------------------------------------ building
     def _build_scene(self) -> None:
+        # Everything that moves with C′ hangs under it, in C′ coordinates: a particle at rest in
+        # C′, the anchor, a path in C′ cost no message while C′ turns; the force arrows hang
+        # under one group at the chosen particle (one position message) and only turn.
         scene = self.client.scene
-        world = f"{self.root}/world"
+        world = f"{self.root}/w"
         self.world = scene.add_frame(world, show_axes=False)
+        self.world_pose = Pose(self.world, reach=FRAME_REACH)
         Stage(scene, world, size=8.0, labels=self.labels)
+        self.paths_space = [TraceLines(scene, f"{world}/tc/{k}", _lighter(PARTICLE_COLORS[k]),
+                                       self.sim.paths_space[k])
+                            for k in range(len(PARTICLES))]
+        self.body = Body(scene, f"{world}/f", self._build_disc, axis_length=1.0, labels=self.labels)
+        self.frame_pose = Pose(self.body.node, reach=FRAME_REACH)
+        frame = f"{world}/f"
         self.particles = [
-            scene.add_icosphere(f"{world}/particles/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
+            scene.add_icosphere(f"{frame}/p/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
                                 subdivisions=2, cast_shadow=False, receive_shadow=False)
             for k in range(len(PARTICLES))
         ]
-        self.paths_space = [TraceLines(scene, f"{world}/paths_c/{k}", _lighter(PARTICLE_COLORS[k]),
-                                       self.sim.paths_space[k])
-                            for k in range(len(PARTICLES))]
-        self.body = Body(scene, f"{world}/frame", self._build_disc, axis_length=1.0, labels=self.labels)
-        frame = f"{world}/frame"
+        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
         self.radius_rod = scene.add_line_segments(f"{frame}/rod", np.zeros((1, 2, 3)), (110, 110, 120),
                                                   thickness=3.0, thickness_units="screen", visible=False)
         self.anchor = scene.add_icosphere(f"{frame}/anchor", radius=0.035, color=(90, 90, 90), subdivisions=1,
                                           cast_shadow=False, receive_shadow=False)
-        self.spring = scene.add_line_segments(f"{world}/spring", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
+        self.spring = scene.add_line_segments(f"{frame}/s", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
                                               thickness=1.5, thickness_units="screen")
-        self.paths_body = [TraceLines(scene, f"{frame}/paths/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
+        self.paths_body = [TraceLines(scene, f"{frame}/t/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
-        self.forces = {key: Vector(scene, f"{frame}/forces/{key}", FORCE_COLORS[key], FORCE_LABELS[key],
-                                   shaft_radius=0.018, head_radius=0.05, head_length=0.1, font_scale=1.5,
-                                   labels=self.labels)
-                       for key in FORCE_KEYS}
-        self.sum_force = Vector(scene, f"{frame}/forces/sum", (200, 0, 0), "m ẍ′", shaft_radius=0.01,
-                                head_radius=0.035, head_length=0.08, font_scale=1.5, label_at_middle=True,
-                                labels=self.labels)
+        self.forces_group = scene.add_frame(f"{frame}/a", show_axes=False)
+        self.forces_pose = Pose(self.forces_group, reach=PARTICLE_RADIUS)
+        # The chosen particle is drawn by a ball in the group (its own node hidden): one message
+        # moves the particle and its forces.
+        self.focus_ball = scene.add_icosphere(f"{frame}/a/b", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[0],
+                                              subdivisions=2, cast_shadow=False, receive_shadow=False)
+        self._ball_focus = 0
+        # All five forces in one node (one `points` message moves them), the sum in another (thinner).
+        self.force_arrows = Arrows(scene, f"{frame}/a/a", [FORCE_COLORS[key] for key in FORCE_KEYS],
+                                   shaft_radius=0.018, head_radius=0.05, head_length=0.1)
+        self.sum_arrow = Arrows(scene, f"{frame}/a/s", [(200, 0, 0)], shaft_radius=0.01,
+                                head_radius=0.035, head_length=0.08)
+        texts = {**FORCE_LABELS, "sum": "m ẍ′"}
+        self.force_labels = {key: self.labels.add(scene.add_label(
+            f"{frame}/a/l/{key}", text, font_screen_scale=LABEL_FONT, visible=False,
+            anchor="center-left" if key == "sum" else "center-center"), KEY, wanted=False)
+            for key, text in texts.items()}
+        self.force_label_poses = {key: Pose(label, tolerance=LABEL_TOLERANCE)
+                                  for key, label in self.force_labels.items()}
 
     def _build_disc(self, scene: Any, parent: str) -> None:
         radius = self.sim.setup.value("disc_radius")
@@ -644,25 +686,24 @@ class MovingFrameView(SceneView):
             self.labels.settle()
 
     def _draw(self, dt: float) -> None:
+        """Draw the simulation now: exactly when paused, at display resolution while playing
+        (`app.kit.lean.Pose`: ~1 px, sent only when what is drawn changed)."""
         sim = self.sim
         self._drawn_version = sim.version
+        exact = not self.room.playing
         frame = sim.frame
         R, a = frame.R_space_body, frame.a
-        # Poses: C′ in C; while riding, the world turned by the inverse pose (C′ stands still).
-        frame_pose = (wxyz_from_matrix(R), (float(a[0]), float(a[1]), float(a[2])))
-        if frame_pose != self._frame_pose:
-            self._frame_pose = frame_pose
-            self.body.pose(R)
-            set_position(self.body.node, frame_pose[1])
+        # Poses: C′ in C; while riding, the world turned by the inverse of C′'s pose as drawn
+        # (so that C′ stands still on screen to rounding).
+        self.frame_pose.set(wxyz_from_matrix(R), a, exact=exact)
         if self.riding:
-            back = -(a @ R)  # −Dᵀ a
-            world_pose = (wxyz_from_matrix(R.T), (float(back[0]), float(back[1]), float(back[2])))
+            q = self.frame_pose.wxyz or (1.0, 0.0, 0.0, 0.0)
+            p = np.asarray(self.frame_pose.position or (0.0, 0.0, 0.0), dtype=float)
+            R_drawn = _matrix_of(q)
+            back = -(p @ R_drawn)  # −Dᵀ a, as drawn
+            self.world_pose.set((q[0], -q[1], -q[2], -q[3]), back, exact=True)
         else:
-            world_pose = ((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-        if world_pose != self._world_pose:
-            self._world_pose = world_pose
-            set_wxyz(self.world, world_pose[0])
-            set_position(self.world, world_pose[1])
+            self.world_pose.set((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0), exact=True)
         h = sim.setup.value("offset")
         rod_visible = h > 0.0
         if self.radius_rod.visible != rod_visible:
@@ -673,42 +714,72 @@ class MovingFrameView(SceneView):
         anchor = (ax, ay, az)
         if tuple(self.anchor.position) != anchor:
             self.anchor.position = anchor
-        # Particles, the spring, the paths.
+        # Particles and the spring, in C′.
         x_body, _ = sim.body_coordinates()
-        for k, node in enumerate(self.particles):
-            position = (float(sim.x[k, 0]), float(sim.x[k, 1]), float(sim.x[k, 2]))
-            if position != self._particle_positions[k]:
-                self._particle_positions[k] = position
-                set_position(node, position)
-        anchor_space = a + R @ sim.setup.anchor_body
-        set_points(self.spring, np.array([[anchor_space, sim.x[2]]], dtype=np.float32))
-        self._draw_paths(bool(self.gui_show_paths.value))
-        # Forces on the chosen particle, body components, drawn in C′ at x′.
-        report = sim.forces()
         focus = sim.setup.focus
+        for k, pose in enumerate(self.particle_poses):
+            own = k != focus  # else drawn by the ball of the forces' group
+            if self.particles[k].visible != own:
+                self.particles[k].visible = own
+            if own:
+                pose.set(position=x_body[k], exact=exact)
+        if self._ball_focus != focus:
+            self.focus_ball.color = PARTICLE_COLORS[focus]
+            self._ball_focus = focus
+        spring = np.array([[sim.setup.anchor_body, x_body[2]]], dtype=float)
+        if not exact:
+            spring = np.round(spring / TOLERANCE) * TOLERANCE
+        spring32 = spring.astype(np.float32)
+        if self._spring_drawn is None or not np.array_equal(spring32, self._spring_drawn):
+            set_points(self.spring, spring32)
+            self._spring_drawn = spring32
+        self._draw_paths(bool(self.gui_show_paths.value), lazy=not exact)
+        # Forces on the chosen particle, body components, drawn in C′ from its centre (the
+        # group sits where that particle is drawn).
+        report = sim.forces()
         scale = sim.setup.value("force_scale")
         show = bool(self.gui_show_forces.value)
-        start = x_body[focus]
+        self.forces_pose.set(position=x_body[focus], exact=exact)
         vectors = {"real": report.real[focus], "translational": report.inertial.translational[focus],
                    "euler": report.inertial.euler[focus], "centrifugal": report.inertial.centrifugal[focus],
                    "coriolis": report.inertial.coriolis[focus]}
         vectors["sum"] = report.m_x_ddot_body[focus]
-        for key, vector in vectors.items():
-            arrow = self.forces[key] if key != "sum" else self.sum_force
-            arrow.enabled = show
-            arrow.update(scale * vector, start=start)
+        drawn = {key: scale * np.asarray(vector, dtype=float) for key, vector in vectors.items()}
+        origin = np.zeros(3)
+        self.force_arrows.set(np.array([[origin, drawn[key]] for key in FORCE_KEYS]), [show] * len(FORCE_KEYS),
+                              exact=exact)
+        self.sum_arrow.set(np.array([[origin, drawn["sum"]]]), [show], exact=exact)
+        for key, vector in drawn.items():
+            length = float(np.linalg.norm(vector))
             # A short arrow keeps its colour but loses its label: labels of short arrows pile up.
-            arrow.show_label(scale * float(np.linalg.norm(vector)) >= LABEL_MIN_LENGTH)
+            wanted = show and length >= LABEL_MIN_LENGTH
+            self.labels.want(self.force_labels[key], wanted)
+            if not wanted:
+                continue
+            if key == "sum":  # beside its middle, as if turned with the arrow
+                w, x, y, z = turn_z_onto(vector)
+                aside = _matrix_of((w, x, y, z)) @ np.array([LABEL_ASIDE, LABEL_ASIDE, 0.0])
+                where = 0.5 * vector + aside
+            else:
+                where = vector * (1.0 + LABEL_BEYOND / length)
+            self.force_label_poses[key].set(position=where, exact=exact)
         if self._readout_throttle.ready(dt):
             self._render_readout(report, x_body)
             self._refresh_status()
 
-    def _draw_paths(self, visible: bool) -> None:
-        """The paths so far (only what is new is sent), or none."""
+    def particle_drawn(self, k: int) -> tuple[float, float, float]:
+        """Where particle k is drawn, C′ coordinates [m] (the chosen one: by the forces' group)."""
+        node = self.forces_group if k == self.sim.setup.focus else self.particles[k]
+        x, y, z = (float(c) for c in node.position)
+        return x, y, z
+
+    def _draw_paths(self, visible: bool, lazy: bool = False) -> None:
+        """The paths so far (only what is new is sent; lazy: a playing frame, the growing head
+        at most at 10 Hz), or none."""
         sim = self.sim
         for lines, trace in zip((*self.paths_space, *self.paths_body), (*sim.paths_space, *sim.paths_body)):
             if visible:
-                lines.sync(trace)
+                lines.sync(trace, lazy=lazy)
             else:
                 lines.hide()
 
