@@ -159,10 +159,15 @@ class Body:
 class LineOfNodes:
     """The line of nodes e_n = (cos φ, sin φ, 0): a frame turned by Rz(φ) with the line along
     its x axis, fading to grey within GIMBAL_FADE_DEG of θ = 0° or 180° and labelled
-    "(undefined)" within GIMBAL_LOCK_DEG, where only φ ± ψ is defined."""
+    "(undefined)" within GIMBAL_LOCK_DEG, where only φ ± ψ is defined.
+
+    riding=True: `name` hangs from a frame whose x axis already is e_n (the φ-θ frame
+    Rz(φ) Rx(θ) of `RigidBodyView.tilt_frame`): the line's own frame is never turned, only its
+    fade is sent."""
 
     def __init__(self, scene: Any, name: str, *, half_length: float = NODES_HALF_LENGTH,
-                 labels: LabelLayer | None = None) -> None:
+                 labels: LabelLayer | None = None, riding: bool = False) -> None:
+        self.riding = riding
         self.node = scene.add_frame(name, show_axes=False)
         self.line = scene.add_line_segments(
             f"{name}/line", np.array([[[-half_length, 0.0, 0.0], [half_length, 0.0, 0.0]]]),
@@ -173,7 +178,7 @@ class LineOfNodes:
             font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
         ), AXES)
         self._level = -1
-        self._wxyz: tuple[float, ...] = ()
+        self._wxyz: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0) if riding else ()  # as sent (riding: as built)
         self._angles = (0.0, 0.0)  # (φ, θ) [rad] last given
 
     @staticmethod
@@ -188,7 +193,7 @@ class LineOfNodes:
         self._angles = (phi, theta)
         if not self.node.visible:
             return
-        wxyz = (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
+        wxyz = (1.0, 0.0, 0.0, 0.0) if self.riding else (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
         if quantum is not None:
             wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
         if wxyz != self._wxyz:
