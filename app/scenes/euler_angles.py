@@ -143,7 +143,7 @@ ZXZ_KEYS = KEYS  # the three-step outline's colour is ARC_COLORS of the step it 
 
 ARC_PERIOD = 1.0 / 20.0  # [s] the single rotation's axis and arc while playing (20 Hz)
 ARC_TEXT_PERIOD = 0.2  # [s] the arcs' readings ("φ = 31°") while playing (5 Hz)
-SLIDER_PERIOD = 0.2  # sliders follow at 5 Hz
+SLIDER_PERIOD = 0.5  # sliders follow at 2 Hz while playing (read when paused: a refresh writes them exactly)
 # How far the drawn points of each frame reach from the origin [scene units]: a turn is sent when
 # it moves them by more than app.kit.lean.TOLERANCE (the ω arrows are at most ~2 long at 30°/s per unit).
 PHI_REACH = 2.2  # the line of nodes (1.9), ω's components

@@ -66,6 +66,10 @@ HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
 HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
 HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1; few sent twice)
 CURVE_POINTS = 256
+L_DOT_QUANTUM = 2.0**-9
+"""While playing, L_b's frame in the momentum picture is sent as multiples of this (not of
+POSE_QUANTUM): its dot (0.12 across) sits SPHERE_RADIUS from the frame's centre, so a step moves
+it by at most ~2 x 1.1 x 2^-9 = 0.004 scene units (under 1 px); it is sent ~8 times less often."""
 FAMILY_POINTS = 128
 ELLIPSOID_COLOR = (120, 170, 230)
 ENERGY_COLOR = (240, 170, 90)
@@ -347,7 +351,7 @@ class PoinsotView(TorqueFreeView):
             norm = float(np.linalg.norm(L))
             turn = z_onto(L / norm) if norm > 0.0 else (1.0, 0.0, 0.0, 0.0)
             if quantum is not None:
-                turn = quantized(turn, quantum)  # type: ignore[assignment]
+                turn = quantized(turn, L_DOT_QUANTUM)  # type: ignore[assignment]
             if turn != self._L_turn:
                 self._L_turn = turn
                 set_wxyz(self.L_turn, turn)
