@@ -9,8 +9,8 @@ its body's shape, its extras); see `app.kit.torque_free` and `app.scenes.heavy_t
 Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
 ω arrow (L only when it moved), the scene's extras, at display resolution
 (`app.kit.widgets.POSE_QUANTUM`: what did not change at it is not sent); nothing at all while
-paused.  Only for what is on screen: the sliders follow the motion (Setup tab) at 2 Hz, the status
-line at 5 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
+paused.  Only for what is on screen: the sliders follow the motion (Setup tab) and the status
+line at 2 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
 (Plots tab, live plots on).
 
 The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
@@ -73,7 +73,7 @@ __all__ = ["ANGLE_SPECS", "RigidBodyView", "tilt_matrix", "tilt_wxyz"]
 SLIDER_PERIOD = 0.5  # [s] of wall time between slider syncs while playing (2 Hz: they show where the motion is;
 # their numbers are read when paused, and a refresh writes them exactly)
 READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
-STATUS_PERIOD = 0.2  # status line (5 Hz)
+STATUS_PERIOD = 0.5  # status line (2 Hz: its t ticks on; the timeline below says the same once a second)
 PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
 ARROW_RANGE = (0.5, 2.6)  # [scene units] an arrow outside this at a restart is rescaled
 

@@ -64,7 +64,9 @@ L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space pict
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
 HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
 HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
-HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1; few sent twice)
+HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1)
+HERPOLHODE_HEAD_EVERY = 12  # playing frames between sends of its growing chunk: at 1x each point is sent
+# once, in its complete chunk; the line ends at most 0.2 s of motion behind the contact point
 CURVE_POINTS = 256
 L_DOT_QUANTUM = 2.0**-9
 """While playing, L_b's frame in the momentum picture is sent as multiples of this (not of
@@ -199,7 +201,8 @@ class PoinsotView(TorqueFreeView):
             scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
-        self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"])
+        self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"],
+                                     head_every=HERPOLHODE_HEAD_EVERY)
         # The contact point is ω's tip: a child of the arrow's tip, moved with it for nothing.
         self.contact = scene.add_icosphere(f"{root}/omega/tip/contact", radius=0.06, color=(20, 20, 20),
                                            subdivisions=2)
