@@ -543,10 +543,10 @@ def test_sliders_follow_the_motion_without_feedback_and_a_drag_sets_the_state(ma
     for _ in range(int(1.2 / DT)):
         manual.session.tick(DT)
         motion.append(np.array([h.value for h in scene.gui_angles]))
-        # At most SLIDER_PERIOD (0.2 s, 5 Hz) behind: |ω| that long in degrees, plus the 1° step of the slider.
+        # At most SLIDER_PERIOD (0.5 s, 2 Hz) behind: |ω| that long in degrees, plus the 1° step of the slider.
         check_sliders(0.5 + RIGID_SLIDER_PERIOD * math.degrees(float(np.linalg.norm(scene.sim.state.omega_body))),
                       0.005 + 1.0)
-    assert len({tuple(m) for m in motion}) >= 5  # they moved, about five times a second
+    assert len({tuple(m) for m in motion}) >= round(1.2 / RIGID_SLIDER_PERIOD)  # they moved, once a SLIDER_PERIOD
     assert scene.sim.restarts == restarts and scene.sim.state.t == pytest.approx(1.2)
     # Not disturbed by the sliders' (rounded) values: still the independent solution.
     R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.sim.state.t)
