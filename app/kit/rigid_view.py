@@ -461,10 +461,10 @@ class RigidBodyView(SceneView):
             R_tilt = tilt_matrix(phi, theta)
             wxyz = tilt_wxyz(phi, theta)
             if quantum is not None:
-                wxyz = quantized(wxyz, quantum)
+                wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
             if wxyz != self._tilt_wxyz:
                 self._tilt_wxyz = wxyz
-                set_wxyz(self._tilt_node, wxyz)  # type: ignore[arg-type]
+                set_wxyz(self._tilt_node, wxyz)
             R = R_tilt.T @ R  # R_spin: a turn about z′ (exactly, up to rounding)
         self.body.pose(R, quantum)
         self.nodes.update(phi, theta, quantum)
