@@ -63,7 +63,9 @@ class Budget:
 # 8.3 -> 579 / 578, 9.8.  The message limits are today's figures rounded up (no scene may send
 # more); the scenes still over 250 B/frame are xfail for bytes.  Then (r2-rigid: the top's φ-θ
 # frame, sliders at 2 Hz and the status line at 2 Hz while playing, the timeline at 1 Hz while live,
-# leaner traces): Free body 216 / 223, 3.2; Heavy top 225 / 229, 2.7; Poinsot 236 / 235, 2.8.
+# leaner traces; figures of three runs, which differ with the phase of the 1-2 Hz panel updates):
+# Free body 215-216 / 220-223, 3.2; Heavy top 219-225 / 228-230, 2.7; Poinsot 236-243 / 235-239, 2.9;
+# Euler angles 290-295 / 282-285, 5.4 (still over: five turning frames a frame).
 BUDGETS: dict[str, Budget] = {
     "Euler angles": Budget(6.0, 6.0),
     "Inertia": Budget(None, None, (False, False)),  # edited, never played: no Play button
