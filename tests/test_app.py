@@ -543,10 +543,10 @@ def test_sliders_follow_the_motion_without_feedback_and_a_drag_sets_the_state(ma
     for _ in range(int(1.2 / DT)):
         manual.session.tick(DT)
         motion.append(np.array([h.value for h in scene.gui_angles]))
-        # At most SLIDER_PERIOD (0.2 s, 5 Hz) behind: |ω| that long in degrees, plus the 1° step of the slider.
+        # At most SLIDER_PERIOD (0.5 s, 2 Hz) behind: |ω| that long in degrees, plus the 1° step of the slider.
         check_sliders(0.5 + RIGID_SLIDER_PERIOD * math.degrees(float(np.linalg.norm(scene.sim.state.omega_body))),
                       0.005 + 1.0)
-    assert len({tuple(m) for m in motion}) >= 5  # they moved, about five times a second
+    assert len({tuple(m) for m in motion}) >= round(1.2 / RIGID_SLIDER_PERIOD)  # they moved, once a SLIDER_PERIOD
     assert scene.sim.restarts == restarts and scene.sim.state.t == pytest.approx(1.2)
     # Not disturbed by the sliders' (rounded) values: still the independent solution.
     R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.sim.state.t)
@@ -746,7 +746,7 @@ def test_heavy_top_trace_is_bounded_and_invalid_moments_are_refused(manual) -> N
     kept = TRACE_SECONDS / (4.0 * DT)
     assert kept - CHUNK_POINTS <= scene.trace.point_count <= kept + 2 * CHUNK_POINTS < 360
     assert scene.trace.chunk_count <= kept / (CHUNK_POINTS - 1) + 1  # consecutive chunks share a point
-    assert TRACE_SECONDS / TRACE_SPACING == 720  # the bound at 1x or slower
+    assert TRACE_SECONDS / TRACE_SPACING == pytest.approx(360)  # the bound at 1x or slower
     manual.client.set_value(scene.gui_params[1], 2.5)  # I3 = 2.5 > 2 I1 = 2: not a body
     manual.wait(lambda: scene.message.handle.visible)
     assert "I1 + I2 >= I3" in scene.message.handle.content and scene.room.playing

@@ -231,3 +231,30 @@ def test_labels_do_not_overlap_in_the_first_10_s(manual, title: str, preset: str
     assert all(shown[axis] == wanted[axis] for axis in "xyz"), f"space axis labels hidden: {shown} of {wanted}"
     share = sum(shown.values()) / sum(wanted.values())
     assert share >= KEY_SHOWN_SHARE, f"{title} {preset!r}: KEY labels shown at {share:.0%}: {shown} of {wanted}"
+
+
+def test_a_label_world_position_composes_its_parents_poses(scene) -> None:
+    """Against scipy: a label three frames deep (a path segment with no node between) is at
+    T1 T2 T3 p; hiding a parent hides it; a shared cache gives the same answer."""
+    from scipy.spatial.transform import Rotation
+
+    from app.kit.labels import _world_position
+
+    rng = np.random.default_rng(3)
+    poses = [(Rotation.random(random_state=rng), rng.normal(size=3)) for _ in range(3)]
+    names = ["/compose", "/compose/a/b", "/compose/a/b/c"]  # "/compose/a" is no node
+    frames = [scene.add_frame(name, show_axes=False, wxyz=R.as_quat(scalar_first=True), position=t)
+              for name, (R, t) in zip(names, poses)]
+    p = rng.normal(size=3)
+    label = _label(scene, "/compose/a/b/c/label", "q", tuple(p))
+    expected = p
+    for R, t in reversed(poses):
+        expected = R.apply(expected) + t
+    cache: dict[str, Any] = {}
+    for _ in range(2):
+        point, shown = _world_position(label, cache)
+        np.testing.assert_allclose(point, expected, atol=1e-12)
+        assert shown
+    frames[1].visible = False
+    assert _world_position(label) is not None and not _world_position(label)[1]
+    frames[0].remove()

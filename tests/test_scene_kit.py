@@ -285,3 +285,57 @@ def test_fast_pose_and_points_writes_queue_what_the_public_setters_queue(manual,
     frame.remove()
     with pytest.raises(RuntimeError, match="removed"):
         fastprops.set_wxyz(frame, q)
+
+
+def _world_rotation(handle) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """R_world_node (3, 3): the node's wxyz composed with its parents' (viser names are paths)."""
+    impl = handle._impl
+    nodes = impl.api._handle_from_node_name
+    R = Rotation.from_quat(np.asarray(impl.wxyz, dtype=float), scalar_first=True).as_matrix()
+    name = impl.name
+    while "/" in name.strip("/"):
+        name = name.rsplit("/", 1)[0]
+        if name in nodes:
+            R = Rotation.from_quat(np.asarray(nodes[name]._impl.wxyz, dtype=float), scalar_first=True).as_matrix() @ R
+    return R
+
+
+def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(manual, monkeypatch) -> None:
+    """The heavy top's body is the ψ child of the φ-θ frame; the line of nodes, ω and L hang from
+    that frame: in steady precession a frame sends the two poses and nothing for ω, L or the
+    nodes, and what is drawn is the state (composed poses against R_space_body; ω's and L's tips
+    in space against R ω_b and R I ω_b)."""
+    session = manual.session
+    session.select_scene("Heavy top")
+    session.apply_preset("Steady")
+    view = session.scene
+    sent: list[tuple[str, str]] = []
+    api = session.client.scene
+    original = api._queue_scene_message
+
+    def recording(message):  # type: ignore[no-untyped-def]
+        sent.append((getattr(message, "name", ""), type(message).__name__))
+        return original(message)
+
+    manual.tick(0.2)
+    session.play()
+    manual.tick(0.1)  # the first playing frames (the hand gizmos hide, arrows settle at the playing resolution)
+    monkeypatch.setattr(api, "_queue_scene_message", recording)
+    manual.tick(0.5)
+    poses = [name for name, kind in sent if kind == "SetOrientationMessage"]
+    assert poses.count("/top/tilt") == 30 and poses.count("/top/tilt/body") == 30  # every frame
+    moved = {name for name, _ in sent if name.startswith(("/top/tilt/omega", "/top/tilt/L", "/top/tilt/nodes"))
+             and "label" not in name}
+    assert moved == set(), sent
+    sim = view.sim
+    R = sim.state.R_space_body
+    np.testing.assert_allclose(_world_rotation(view.body.node), R, atol=4 * POSE_QUANTUM)
+    session.pause()  # a refresh: exact poses
+    R = sim.state.R_space_body
+    np.testing.assert_allclose(_world_rotation(view.body.node), R, atol=1e-12)
+    R_tilt = _world_rotation(view._tilt_node)
+    np.testing.assert_allclose(R_tilt[:, 0], [math.cos(sim.angles[0]), math.sin(sim.angles[0]), 0.0], atol=1e-12)
+    omega_tip = R_tilt @ view.omega.segment[1] / view.omega_scale
+    L_tip = R_tilt @ view.L.segment[1] / view.L_scale
+    np.testing.assert_allclose(omega_tip, R @ sim.state.omega_body, atol=1e-9)
+    np.testing.assert_allclose(L_tip, R @ (np.asarray(sim.model.inertia) * sim.state.omega_body), atol=1e-9)

@@ -74,30 +74,56 @@ def _rotate(wxyz: Any, v: tuple[float, float, float]) -> tuple[float, float, flo
     return (vx + 2.0 * (w * cx + ccx), vy + 2.0 * (w * cy + ccy), vz + 2.0 * (w * cz + ccz))
 
 
-def _world_position(handle: Any) -> tuple[tuple[float, float, float], bool] | None:
+Pose = tuple[tuple[float, float, float, float], tuple[float, float, float], bool]  # world wxyz, position, shown
+
+
+def _mul(a: Any, b: Any) -> tuple[float, float, float, float]:
+    """The quaternion product a b (w, x, y, z)."""
+    aw, ax, ay, az = (float(c) for c in a)
+    bw, bx, by, bz = (float(c) for c in b)
+    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
+
+
+_IDENTITY: Pose = ((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0), True)
+
+
+def _node_world(name: str, nodes: dict[str, Any], cache: dict[str, Pose]) -> Pose:
+    """The world pose of the node `name` (its wxyz and position composed with its parents') and
+    whether it and every node above it are visible; the root "" is the identity.  Memoised in
+    `cache` (one layout: labels share their parents)."""
+    if not name:
+        return _IDENTITY
+    pose = cache.get(name)
+    if pose is not None:
+        return pose
+    parent_wxyz, parent_at, parent_shown = _node_world(name.rsplit("/", 1)[0], nodes, cache)
+    node = nodes.get(name)
+    if node is None:  # a path segment with no node of its own
+        pose = (parent_wxyz, parent_at, parent_shown)
+    else:
+        impl = node._impl
+        q = impl.position
+        rx, ry, rz = _rotate(parent_wxyz, (float(q[0]), float(q[1]), float(q[2])))
+        pose = (_mul(parent_wxyz, impl.wxyz), (rx + parent_at[0], ry + parent_at[1], rz + parent_at[2]),
+                parent_shown and bool(impl.visible))
+    cache[name] = pose
+    return pose
+
+
+def _world_position(handle: Any,
+                    cache: dict[str, Pose] | None = None) -> tuple[tuple[float, float, float], bool] | None:
     """The label's position in the world [scene units] and whether it and every node above it
-    are visible (viser names are paths: "/a/b" hangs under "/a"); None if it was removed."""
+    are visible (viser names are paths: "/a/b" hangs under "/a"); None if it was removed.
+    cache: the parents' world poses of this layout (`_node_world`), shared between labels."""
     impl = handle._impl
     if impl.removed:
         return None
-    nodes = impl.api._handle_from_node_name
+    wxyz, at, shown = _node_world(impl.name.rsplit("/", 1)[0], impl.api._handle_from_node_name,
+                                  {} if cache is None else cache)
     p = impl.position
-    point = (float(p[0]), float(p[1]), float(p[2]))
-    shown = True
-    name = impl.name
-    while True:
-        name = name.rsplit("/", 1)[0]
-        if not name:
-            break
-        parent = nodes.get(name)
-        if parent is None:
-            continue
-        parent_impl = parent._impl
-        shown = shown and bool(parent_impl.visible)
-        rx, ry, rz = _rotate(parent_impl.wxyz, point)
-        q = parent_impl.position
-        point = (rx + float(q[0]), ry + float(q[1]), rz + float(q[2]))
-    return point, shown
+    rx, ry, rz = _rotate(wxyz, (float(p[0]), float(p[1]), float(p[2])))
+    return (rx + at[0], ry + at[1], rz + at[2]), shown
 
 
 def _gap(a: Box, b: Box) -> float:
@@ -189,11 +215,17 @@ class LabelLayer:
         gap = MIN_GAP_FRACTION * height
         candidates: list[tuple[_Entry, tuple[float, float], float]] = []
         key: list[Any] = [view, width, height]
+        poses: dict[str, Pose] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
-            where = _world_position(entry.handle)
-            if where is None:  # removed with its view or a rebuilt part
+            if entry.handle._impl.removed:  # removed with its view or a rebuilt part
                 del self._entries[id(entry.handle)]
                 continue
+            if not entry.wanted:  # no pose to work out
+                self._show(entry, False)
+                entry.last_px = entry.last_step = None
+                continue
+            where = _world_position(entry.handle, poses)
+            assert where is not None
             point, shown = where
             text = str(entry.handle.text)
             if not (entry.wanted and shown and text.strip()):

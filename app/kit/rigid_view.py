@@ -10,7 +10,7 @@ Per frame (`frame`) the view sends only what changed: the body's pose, the line 
 ω arrow (L only when it moved), the scene's extras, at display resolution
 (`app.kit.widgets.POSE_QUANTUM`: what did not change at it is not sent); nothing at all while
 paused.  Only for what is on screen: the sliders follow the motion (Setup tab) and the status
-line at 5 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
+line at 2 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
 (Plots tab, live plots on).
 
 The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
@@ -45,6 +45,7 @@ from app.kit.common import (
     gimbal_note,
     wrap_deg,
 )
+from app.kit.fastprops import set_wxyz
 from app.kit.ghost import ExactGhost
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.hand import HandControls
@@ -60,22 +61,37 @@ from app.kit.rigid import (
 from app.kit.rigid_text import accuracy_text, lagrange_text, legend_text, readout_text, status_text
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
-from app.kit.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector
+from app.kit.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector, quantized
 from physics._types import Vec3
 from physics.dynamics import Model, State
 from physics.euler import GimbalLockError, matrix_from_euler_zxz
 from physics.inertia import InertiaError
 from physics.lagrange import lagrange_terms
 
-__all__ = ["ANGLE_SPECS", "RigidBodyView"]
+__all__ = ["ANGLE_SPECS", "RigidBodyView", "tilt_matrix", "tilt_wxyz"]
 
-SLIDER_PERIOD = 0.2  # [s] of wall time between slider syncs while playing (5 Hz, with the status line)
+SLIDER_PERIOD = 0.5  # [s] of wall time between slider syncs while playing (2 Hz: they show where the motion is;
+# their numbers are read when paused, and a refresh writes them exactly)
 READOUT_PERIOD = 0.1  # readout text (10 Hz), only while the Readout tab is shown
-STATUS_PERIOD = 0.2  # status line (5 Hz)
+STATUS_PERIOD = 0.5  # status line (2 Hz: its t ticks on; the timeline below says the same once a second)
 PLOT_PERIOD = 0.25  # plot pushes (4 Hz), only while the Plots tab is shown
 ARROW_RANGE = (0.5, 2.6)  # [scene units] an arrow outside this at a restart is rescaled
 
 FLIP_COLOR = "#888888"
+
+
+def tilt_wxyz(phi: float, theta: float) -> tuple[float, float, float, float]:
+    """The unit quaternion (w, x, y, z) of the φ-θ frame Rz(φ) Rx(θ) (angles [rad]): its x axis
+    is the line of nodes, its z axis the body's z′."""
+    cp, sp = math.cos(0.5 * phi), math.sin(0.5 * phi)
+    ct, st = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    return (cp * ct, cp * st, sp * st, sp * ct)
+
+
+def tilt_matrix(phi: float, theta: float) -> np.ndarray:
+    """Rz(φ) Rx(θ) (3, 3) (angles [rad]), the rotation of `tilt_wxyz`."""
+    cp, sp, ct, st = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta)
+    return np.array([[cp, -sp * ct, sp * st], [sp, cp * ct, -cp * st], [0.0, st, ct]])
 
 
 class FlipPlots(LivePlots):
@@ -134,6 +150,13 @@ class RigidBodyView(SceneView):
     body_axis_length: ClassVar[float] = 1.0
     arrow_lengths: ClassVar[tuple[float, float]] = (1.5, 1.5)  # ω and L [scene units] at a rescale
     omega_label_at_middle: ClassVar[bool] = False  # ω's label beside its middle (else beyond its tip)
+    tilt_frame: ClassVar[bool] = False
+    """True: the body hangs from the φ-θ frame `{root}/tilt` (turned by Rz(φ) Rx(θ), its x axis
+    the line of nodes, its z axis the body's z′) as its ψ child (`{root}/tilt/body`, turned by
+    Rz(ψ)), and the line of nodes, ω and L hang from the φ-θ frame too (their components in it).
+    A symmetric top then sends per frame the φ-θ frame and a spin about z′; ω and L only when
+    the nutation changes them (in steady precession: never).  False: the body, nodes, ω and L
+    are children of the root, posed in space."""
     quantum: float | None = None
     """While a playing frame draws: POSE_QUANTUM (poses at display resolution, `app.kit.widgets`);
     None while a refresh draws (exact)."""
@@ -264,13 +287,17 @@ class RigidBodyView(SceneView):
         labels = self.labels
         Stage(scene, root, grid_z=self.grid_z, labels=labels)
         model = self.sim.model
-        self.body = Body(scene, f"{root}/body", lambda s, parent: self.build_shape(s, parent, model),
+        tilt = self.tilt_frame
+        self._tilt_node = scene.add_frame(f"{root}/tilt", show_axes=False) if tilt else None
+        self._tilt_wxyz: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)  # as sent
+        parent = f"{root}/tilt" if tilt else root
+        self.body = Body(scene, f"{parent}/body", lambda s, parent: self.build_shape(s, parent, model),
                          axis_length=self.body_axis_length, labels=labels)
         self._drawn_model = model
-        self.nodes = LineOfNodes(scene, f"{root}/nodes", labels=labels)
-        self.omega = Vector(scene, f"{root}/omega", OMEGA_COLOR, "ω", labels=labels,
+        self.nodes = LineOfNodes(scene, f"{parent}/nodes", labels=labels, riding=tilt)
+        self.omega = Vector(scene, f"{parent}/omega", OMEGA_COLOR, "ω", labels=labels,
                             label_at_middle=self.omega_label_at_middle)
-        self.L = Vector(scene, f"{root}/L", L_COLOR, "L", labels=labels)
+        self.L = Vector(scene, f"{parent}/L", L_COLOR, "L", labels=labels)
         # The Lagrange tab: the torque M and its projections Q_φ e_z, Q_θ e_n, Q_ψ e_z′ (6.10).
         self.q_arrows = GeneralizedForceArrows(scene, root, labels)
         self.build_extras()
@@ -429,11 +456,21 @@ class RigidBodyView(SceneView):
         R = sim.state.R_space_body
         omega_body = sim.state.omega_body
         quantum = self.quantum
+        phi, theta = float(sim.angles[0]), float(sim.angles[1])
+        if self._tilt_node is not None:  # R = R_tilt R_spin: ω and L in the φ-θ frame's components
+            R_tilt = tilt_matrix(phi, theta)
+            wxyz = tilt_wxyz(phi, theta)
+            if quantum is not None:
+                wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
+            if wxyz != self._tilt_wxyz:
+                self._tilt_wxyz = wxyz
+                set_wxyz(self._tilt_node, wxyz)
+            R = R_tilt.T @ R  # R_spin: a turn about z′ (exactly, up to rounding)
         self.body.pose(R, quantum)
-        self.nodes.update(float(sim.angles[0]), float(sim.angles[1]), quantum)
+        self.nodes.update(phi, theta, quantum)
         self.omega.update(R @ omega_body * self.omega_scale, quantum=quantum)
-        L_space = R @ (np.asarray(sim.model.inertia) * omega_body)
-        self.L.update(L_space * self.L_scale, rtol=1e-6, quantum=quantum)
+        L_parent = R @ (np.asarray(sim.model.inertia) * omega_body)
+        self.L.update(L_parent * self.L_scale, rtol=1e-6, quantum=quantum)
         self.ghost.draw(quantum)
         self.draw_extras(sim)
 

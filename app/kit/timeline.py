@@ -8,7 +8,8 @@ adds one under the transport of every scene whose simulation can be replayed (th
 - The slider spans the recorded stretch [t_first, t_live] [s] (rounded outwards to its step;
   a value within one step of an end is taken as that end).  Moving it pauses and shows the
   recorded moment; a time outside the stretch (a hand-written client) is refused with the
-  stretch in the message, and nothing changes.  While live it follows the live time (5 Hz).
+  stretch in the message, and nothing changes.  While live it follows the live time once a
+  second (its text and range with it), while replaying at 5 Hz.
 - Replay: plays the recording from the moment shown (from the start if the live moment is
   shown) at the transport's time scale; Play / Pause pause and go on; it ends at the live moment.
 - Resume: back to the live moment, exactly as it was; plays on if it was playing.
@@ -35,7 +36,8 @@ REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = "Replay", "Resume", "Branch here"
 """(The replay button is not called "Replay": a page's "Play" button must stay the only one whose
 name contains "play", which the browser tests' locators rely on.)"""
 TIMELINE_STEP = 0.01  # [s] the slider's step
-FOLLOW_PERIOD = 0.2  # [s] of wall time between the slider's updates while live (5 Hz)
+FOLLOW_PERIOD = 0.2  # [s] of wall time between the slider's updates while replaying (5 Hz)
+LIVE_FOLLOW_PERIOD = 1.0  # [s] ... while live (1 Hz): the recorded stretch only grows, nobody reads it closely
 
 
 def timeline_text(room: Room) -> str:
@@ -68,6 +70,7 @@ class Timeline:
         self.quiet = Quiet()
         self._range = (0.0, TIMELINE_STEP)
         self._follow = Throttle(FOLLOW_PERIOD)
+        self._follow_live = Throttle(LIVE_FOLLOW_PERIOD)
 
         def scrub(value: float) -> None:
             stretch = room.stretch()
@@ -121,8 +124,12 @@ class Timeline:
         return min(max(round(self.room.shown_t / TIMELINE_STEP) * TIMELINE_STEP, lo), hi)
 
     def frame(self, dt: float) -> None:
-        """Per frame: follow the room at FOLLOW_PERIOD while it moves (live or replaying)."""
-        if self.room.playing and self._follow.ready(dt):
+        """Per frame: follow the room while it moves, at LIVE_FOLLOW_PERIOD live, at FOLLOW_PERIOD
+        replaying."""
+        if not self.room.playing:
+            return
+        throttle = self._follow_live if self.room.mode == LIVE else self._follow
+        if throttle.ready(dt):
             self.refresh()
 
     def refresh(self) -> None:

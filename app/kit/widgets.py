@@ -159,10 +159,15 @@ class Body:
 class LineOfNodes:
     """The line of nodes e_n = (cos φ, sin φ, 0): a frame turned by Rz(φ) with the line along
     its x axis, fading to grey within GIMBAL_FADE_DEG of θ = 0° or 180° and labelled
-    "(undefined)" within GIMBAL_LOCK_DEG, where only φ ± ψ is defined."""
+    "(undefined)" within GIMBAL_LOCK_DEG, where only φ ± ψ is defined.
+
+    riding=True: `name` hangs from a frame whose x axis already is e_n (the φ-θ frame
+    Rz(φ) Rx(θ) of `RigidBodyView.tilt_frame`): the line's own frame is never turned, only its
+    fade is sent."""
 
     def __init__(self, scene: Any, name: str, *, half_length: float = NODES_HALF_LENGTH,
-                 labels: LabelLayer | None = None) -> None:
+                 labels: LabelLayer | None = None, riding: bool = False) -> None:
+        self.riding = riding
         self.node = scene.add_frame(name, show_axes=False)
         self.line = scene.add_line_segments(
             f"{name}/line", np.array([[[-half_length, 0.0, 0.0], [half_length, 0.0, 0.0]]]),
@@ -173,7 +178,7 @@ class LineOfNodes:
             font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
         ), AXES)
         self._level = -1
-        self._wxyz: tuple[float, ...] = ()
+        self._wxyz: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0) if riding else ()  # as sent (riding: as built)
         self._angles = (0.0, 0.0)  # (φ, θ) [rad] last given
 
     @staticmethod
@@ -188,7 +193,7 @@ class LineOfNodes:
         self._angles = (phi, theta)
         if not self.node.visible:
             return
-        wxyz = (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
+        wxyz = (1.0, 0.0, 0.0, 0.0) if self.riding else (math.cos(0.5 * phi), 0.0, 0.0, math.sin(0.5 * phi))
         if quantum is not None:
             wxyz = quantized(wxyz, quantum)  # type: ignore[assignment]
         if wxyz != self._wxyz:
@@ -354,14 +359,15 @@ class TraceLines:
     (~0.5 ms a node): chunk c is drawn by node c mod size.  `sync` sends only the chunks whose
     drawn span changed since the last call and hides the chunks the trace dropped: a complete
     chunk is sent once, when it completes; the growing head chunk, on a playing frame
-    (`lazy=True`), at most every HEAD_EVERY frames (so a scene whose chunks complete every few
+    (`lazy=True`), at most every `head_every` frames (HEAD_EVERY by default; so a scene whose chunks complete every few
     frames sends each point once, and its trace ends at most a chunk behind the moving point),
     and at once otherwise (a refresh: a step, a pause).  A view built later draws the trace so
     far on its first `sync`, and draws exactly what every other view of the trace draws.
     """
 
     def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], trace: Trace, *,
-                 thickness: float = 3.5) -> None:
+                 thickness: float = 3.5, head_every: int = HEAD_EVERY) -> None:
+        self._head_every = head_every  # playing frames between two sends of the growing head chunk
         idle = np.zeros((1, 2, 3), dtype=np.float32)
         self._nodes = [scene.add_line_segments(f"{parent}/{k}", idle, color, thickness=thickness,
                                                thickness_units="screen", visible=False)
@@ -408,7 +414,7 @@ class TraceLines:
     def sync(self, trace: Trace, scale: float = 1.0, *, lazy: bool = False) -> None:
         """Show `trace` (points times `scale`, in the parent node's units): send what changed.
 
-        lazy: a playing frame: the growing head chunk waits up to HEAD_EVERY calls.  The chunks
+        lazy: a playing frame: the growing head chunk waits up to `head_every` calls.  The chunks
         before the last call's head are looked at again only after a rewind or a clear."""
         synced = (trace.generation, trace.count, trace.first, scale)
         if synced == self._synced:
@@ -423,7 +429,7 @@ class TraceLines:
             self._done = 0
         self._count = trace.count
         self._head_wait += 1
-        head_due = not lazy or self._head_wait >= HEAD_EVERY
+        head_due = not lazy or self._head_wait >= self._head_every
         pending = False
         if self._done == 0 or chunks.start != self._first_chunk:  # after a rewind, a clear, a dropped chunk
             self._first_chunk = chunks.start

@@ -52,8 +52,8 @@ DISC_CENTER = 0.85  # [scene units] along z′
 DISC_THICKNESS = 0.1
 STAND_HEIGHT = 1.3  # the stand's base (and the grid) at z = -STAND_HEIGHT
 TRACE_SECONDS = 12.0  # [s] of simulated time kept in the trace
-TRACE_SPACING = 1.0 / 60.0  # [s] of simulated time between stored trace points
-CHUNK_POINTS = 7  # a chunk completes every 0.1 s at time scale 1: each point is sent once (TraceLines)
+TRACE_SPACING = 1.0 / 30.0  # [s] of simulated time between stored trace points (~4 cm of tip at 1 rad/s)
+CHUNK_POINTS = 4  # a chunk completes every 0.1 s at time scale 1: each point is sent once (TraceLines)
 TRACE_COLOR = (200, 0, 120)
 STRIPES = ((200, 40, 40), (250, 235, 210))
 ROD_COLOR = (90, 90, 100)
@@ -109,6 +109,7 @@ class HeavyTopView(RigidBodyView):
     )
     rate_folder = "Spin and Euler rates"
     hand_gizmos = ("omega",)
+    tilt_frame = True  # steady precession: ω and L stand still in the φ-θ frame (nothing sent for them)
     momentum_kind = "z"
     momentum_label = "L_z"
     grid_z = -STAND_HEIGHT

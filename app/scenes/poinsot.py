@@ -64,8 +64,14 @@ L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space pict
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
 HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
 HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
-HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1; few sent twice)
+HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1)
+HERPOLHODE_HEAD_EVERY = 12  # playing frames between sends of its growing chunk: at 1x each point is sent
+# once, in its complete chunk; the line ends at most 0.2 s of motion behind the contact point
 CURVE_POINTS = 256
+L_DOT_QUANTUM = 2.0**-9
+"""While playing, L_b's frame in the momentum picture is sent as multiples of this (not of
+POSE_QUANTUM): its dot (0.12 across) sits SPHERE_RADIUS from the frame's centre, so a step moves
+it by at most ~2 x 1.1 x 2^-9 = 0.004 scene units (under 1 px); it is sent ~8 times less often."""
 FAMILY_POINTS = 128
 ELLIPSOID_COLOR = (120, 170, 230)
 ENERGY_COLOR = (240, 170, 90)
@@ -195,7 +201,8 @@ class PoinsotView(TorqueFreeView):
             scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
-        self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"])
+        self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"],
+                                     head_every=HERPOLHODE_HEAD_EVERY)
         # The contact point is ω's tip: a child of the arrow's tip, moved with it for nothing.
         self.contact = scene.add_icosphere(f"{root}/omega/tip/contact", radius=0.06, color=(20, 20, 20),
                                            subdivisions=2)
@@ -347,7 +354,7 @@ class PoinsotView(TorqueFreeView):
             norm = float(np.linalg.norm(L))
             turn = z_onto(L / norm) if norm > 0.0 else (1.0, 0.0, 0.0, 0.0)
             if quantum is not None:
-                turn = quantized(turn, quantum)  # type: ignore[assignment]
+                turn = quantized(turn, L_DOT_QUANTUM)  # type: ignore[assignment]
             if turn != self._L_turn:
                 self._L_turn = turn
                 set_wxyz(self.L_turn, turn)
