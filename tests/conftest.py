@@ -248,3 +248,19 @@ class LectureHall:
         for client in self.clients:
             client.close()
         self.app.stop()
+
+
+def world_rotation(handle: Any) -> Any:
+    """R_world_node (3, 3): the node's wxyz composed with its parents' (viser names are paths)."""
+    import numpy as _np
+    from scipy.spatial.transform import Rotation as _Rotation
+
+    impl = handle._impl
+    nodes = impl.api._handle_from_node_name
+    R = _Rotation.from_quat(_np.asarray(impl.wxyz, dtype=float), scalar_first=True).as_matrix()
+    name = impl.name
+    while "/" in name.strip("/"):
+        name = name.rsplit("/", 1)[0]
+        if name in nodes:
+            R = _Rotation.from_quat(_np.asarray(nodes[name]._impl.wxyz, dtype=float), scalar_first=True).as_matrix() @ R
+    return R

@@ -21,6 +21,7 @@ import time
 import numpy as np
 import pytest
 import viser
+from conftest import world_rotation
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
@@ -53,19 +54,6 @@ def body_matrix(session: Session) -> np.ndarray:
     """The body node's orientation in the world as the client composes it (each node's wxyz is
     T_parent_local; the Euler explorer hangs the body under the after-θ frame), as a matrix."""
     return world_rotation(session.scene.body.node)
-
-
-def world_rotation(handle) -> np.ndarray:  # type: ignore[no-untyped-def]
-    """R_world_node (3, 3): the node's wxyz composed with its parents' (viser names are paths)."""
-    impl = handle._impl
-    nodes = impl.api._handle_from_node_name
-    R = Rotation.from_quat(np.asarray(impl.wxyz, dtype=float), scalar_first=True).as_matrix()
-    name = impl.name
-    while "/" in name.strip("/"):
-        name = name.rsplit("/", 1)[0]
-        if name in nodes:
-            R = Rotation.from_quat(np.asarray(nodes[name]._impl.wxyz, dtype=float), scalar_first=True).as_matrix() @ R
-    return R
 
 
 def one_session(app: App, connect) -> Session:

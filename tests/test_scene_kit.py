@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import RawClient
+from conftest import RawClient, world_rotation
 from scipy.spatial.transform import Rotation
 
 from app.kit.presets import PRESETS_DIR, PresetError, load_presets
@@ -287,19 +287,6 @@ def test_fast_pose_and_points_writes_queue_what_the_public_setters_queue(manual,
         fastprops.set_wxyz(frame, q)
 
 
-def _world_rotation(handle) -> np.ndarray:  # type: ignore[no-untyped-def]
-    """R_world_node (3, 3): the node's wxyz composed with its parents' (viser names are paths)."""
-    impl = handle._impl
-    nodes = impl.api._handle_from_node_name
-    R = Rotation.from_quat(np.asarray(impl.wxyz, dtype=float), scalar_first=True).as_matrix()
-    name = impl.name
-    while "/" in name.strip("/"):
-        name = name.rsplit("/", 1)[0]
-        if name in nodes:
-            R = Rotation.from_quat(np.asarray(nodes[name]._impl.wxyz, dtype=float), scalar_first=True).as_matrix() @ R
-    return R
-
-
 def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(manual, monkeypatch) -> None:
     """The heavy top's body is the ψ child of the φ-θ frame; the line of nodes, ω and L hang from
     that frame: in steady precession a frame sends the two poses and nothing for ω, L or the
@@ -329,11 +316,11 @@ def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(man
     assert moved == set(), sent
     sim = view.sim
     R = sim.state.R_space_body
-    np.testing.assert_allclose(_world_rotation(view.body.node), R, atol=4 * POSE_QUANTUM)
+    np.testing.assert_allclose(world_rotation(view.body.node), R, atol=4 * POSE_QUANTUM)
     session.pause()  # a refresh: exact poses
     R = sim.state.R_space_body
-    np.testing.assert_allclose(_world_rotation(view.body.node), R, atol=1e-12)
-    R_tilt = _world_rotation(view._tilt_node)
+    np.testing.assert_allclose(world_rotation(view.body.node), R, atol=1e-12)
+    R_tilt = world_rotation(view._tilt_node)
     np.testing.assert_allclose(R_tilt[:, 0], [math.cos(sim.angles[0]), math.sin(sim.angles[0]), 0.0], atol=1e-12)
     omega_tip = R_tilt @ view.omega.segment[1] / view.omega_scale
     L_tip = R_tilt @ view.L.segment[1] / view.L_scale
