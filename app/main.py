@@ -31,7 +31,7 @@ from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
-from app.wire import Wire, capturing
+from app.wire import Wire, capturing, end_frames
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
 
@@ -222,15 +222,10 @@ class App:
         """Send each wire's frame: the shared scene's to the presenter and the followers, a
         browser's own to that browser."""
         lectern = self.lectern
-        for key, wire in list(self._wires.items()):
-            if wire is None:
-                continue
-            if key is None:  # the shared scene
-                presenter = lectern.presenter
-                recipients = [*lectern.followers, *(() if presenter is None else (presenter.client_id,))]
-                wire.end_frame(recipients)
-            else:
-                wire.end_frame((key,))
+        presenter = lectern.presenter
+        shared = [*lectern.followers, *(() if presenter is None else (presenter.client_id,))]
+        end_frames((wire, shared if key is None else (key,))  # key None: the shared scene
+                   for key, wire in list(self._wires.items()) if wire is not None)
 
     def _wires_busy(self) -> bool:
         return any(wire is not None and wire.busy() for wire in list(self._wires.values()))

@@ -37,6 +37,7 @@ missing, `Wire.attach` returns None and the app sends through viser's public pat
 from __future__ import annotations
 
 import contextlib
+import logging
 import threading
 import time
 from collections.abc import Iterable, Iterator
@@ -46,7 +47,9 @@ import msgspec.msgpack
 import zstandard
 from viser.infra._infra import _append_aligned_buffers
 
-__all__ = ["MAX_UNSENT_BYTES", "Wire", "capturing", "encode", "is_capturing", "websocket_frame"]
+__all__ = ["MAX_UNSENT_BYTES", "Wire", "capturing", "encode", "end_frames", "is_capturing", "websocket_frame"]
+
+logger = logging.getLogger(__name__)
 
 MAX_UNSENT_BYTES = 64 * 1024  # a browser with more than this waiting in its socket skips frames
 RETRY_S = 0.002  # [s] a recipient viser had not caught up is tried once more this much later
@@ -105,6 +108,27 @@ def websocket_frame(payload: bytes) -> bytes:
     else:
         header = bytes((0x82, 127)) + size.to_bytes(8, "big")
     return header + payload
+
+
+def end_frames(frames: Iterable[tuple[Wire, Iterable[int]]]) -> None:
+    """`Wire.end_frame` for several wires (each with its recipients) at once: one wake-up of
+    viser's event loop (a self-pipe write) for all of them, not one per wire."""
+    deliveries = [d for d in (wire._close_frame(recipients) for wire, recipients in frames) if d is not None]
+    if not deliveries:
+        return
+
+    def deliver_all() -> None:
+        for wire, messages, ops, recipients in deliveries:
+            try:
+                wire._deliver(messages, ops, recipients)
+            except Exception:  # noqa: BLE001 - one browser's failure must not stop the others' frames
+                logger.exception("a frame could not be delivered")
+
+    try:
+        deliveries[0][0]._loop.call_soon_threadsafe(deliver_all)
+    except RuntimeError:  # the loop is closed: the server stops
+        for wire, *_ in deliveries:
+            wire._scheduled -= 1
 
 
 def _entity(message: Any) -> tuple[str, str] | None:
@@ -191,21 +215,23 @@ class Wire:
         """Hand what this frame held to viser (one atomic block), then send its updates to
         `recipients` (client ids), once encoded, on viser's event loop; recipients that are
         behind get their catch-up first.  Cheap when the frame held nothing."""
+        end_frames([(self, recipients)])
+
+    def _close_frame(self, recipients: Iterable[int]) -> tuple[Any, ...] | None:
+        """The app loop's part of `end_frame`: the held messages to viser; the delivery's
+        arguments, or None when there is nothing to deliver."""
         if self._held:
             held, self._held = self._held, []
             with self._interface.atomic():
                 for message in held:
                     self._queue(message)
         if not (self._frame or self._ops):
-            return
+            return None
         messages, self._frame = self._frame, []
         with self._lock:
             ops, self._ops = self._ops, []
         self._scheduled += 1
-        try:
-            self._loop.call_soon_threadsafe(self._deliver, messages, ops, tuple(recipients))
-        except RuntimeError:  # the loop is closed: the server stops
-            self._scheduled -= 1
+        return self, messages, ops, tuple(recipients)
 
     # ------------------------------------------------------------------ viser's event loop
     def _caught_up(self, client_id: int, connection: Any) -> bool:
