@@ -181,7 +181,7 @@ def test_a_phone_follower_sees_the_body_not_the_panel(browser, hall_app: App, wa
     presenter.pause()  # the body holds still: what is projected is what is drawn
     time.sleep(2.0)
     path = tmp_path / "phone.png"
-    phone.screenshot(path=str(path))
+    phone.screenshot(path=str(path), timeout=120_000)  # SwiftShader at 2x under a loaded suite
     pixels = np.asarray(Image.open(path).convert("RGB"), dtype=int)
     scale = pixels.shape[1] / 390.0  # device pixels per CSS pixel
     # The pivot and the disc's centre (the body) where the phone's camera projects them.
