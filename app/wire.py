@@ -5,7 +5,7 @@ browser takes a window, serialises it (msgpack + zstd) and sends it.  For the pr
 scene that means the same frame encoded once per follower (500 followers, 500 encodes a frame),
 and every `atomic()` block wakes every follower's producer.  Inside `capturing()` (the app loop's
 frame, `app.main.App.frame`) a `Wire` holds what is queued to its interface instead: the
-*updates* (poses, props, visibility, panel values) it encodes once at `end_frame`, in viser's
+*updates* (poses, props, visibility, panel values) it encodes once at the frame's end (`end_frames`), in viser's
 own wire format, frames once as a websocket message (a server's frames are not masked: the
 bytes are the same for every browser) and writes to each recipient's transport in one callback
 on viser's event loop; everything else (nodes and panel elements made or removed, camera moves,
@@ -61,7 +61,7 @@ _FRAME = threading.local()  # .on: this thread is inside `capturing()`
 @contextlib.contextmanager
 def capturing() -> Iterator[None]:
     """A frame of the app loop: within it, what this thread queues to any interface with a wire
-    is held by that wire until its `end_frame` (updates to be encoded once, everything else to
+    is held by that wire until `end_frames` (updates to be encoded once, everything else to
     be handed to viser in one atomic block)."""
     _FRAME.on = True
     try:
@@ -111,8 +111,9 @@ def websocket_frame(payload: bytes) -> bytes:
 
 
 def end_frames(frames: Iterable[tuple[Wire, Iterable[int]]]) -> None:
-    """`Wire.end_frame` for several wires (each with its recipients) at once: one wake-up of
-    viser's event loop (a self-pipe write) for all of them, not one per wire."""
+    """End the frame of each wire: hand what it held to viser, then send its updates to its
+    recipients (client ids), once encoded, on viser's event loop (recipients that are behind get
+    their catch-up first); one wake-up of the loop (a self-pipe write) for all the wires."""
     deliveries = [d for d in (wire._close_frame(recipients) for wire, recipients in frames) if d is not None]
     if not deliveries:
         return
@@ -141,9 +142,9 @@ def _entity(message: Any) -> tuple[str, str] | None:
 
 class Wire:
     """The messages one viser interface (the shared scene, or one browser's connection) is given
-    inside `capturing()` (the app loop's frame), sent by `end_frame` to recipients.
+    inside `capturing()` (the app loop's frame), sent by `end_frames` to recipients.
 
-    Made with `Wire.attach`; `detach()` gives the interface back to viser."""
+    Made with `Wire.attach`."""
 
     def __init__(self, server: Any, interface: Any, buffer: Any) -> None:
         self._server = server._websock_server
@@ -153,10 +154,10 @@ class Wire:
         self._shared = buffer is self._server.get_message_buffer()
         self._queue = interface.queue_message  # viser's own (bound method)
         self._frame: list[Any] = []  # updates captured this frame
-        self._held: list[Any] = []  # anything else queued this frame (for viser, at end_frame)
+        self._held: list[Any] = []  # anything else queued this frame (for viser, at its end)
         self._lock = threading.Lock()
         self._ops: list[tuple[Any, ...]] = []  # ("set", message) / ("purge", key prefix, descendants' prefix)
-        self._scheduled = 0  # end_frame calls whose delivery has not run yet
+        self._scheduled = 0  # frames ended whose delivery has not run yet
         self._count = 0  # frames delivered so far (delivery thread)
         self._latest: dict[str, tuple[int, Any]] = {}  # redundancy key -> (frame, message)
         self._delivered: dict[int, int] = {}  # client id -> last frame it got
@@ -180,11 +181,6 @@ class Wire:
         except AttributeError:
             return None
 
-    def detach(self) -> None:
-        """Give the interface back to viser (what is still captured is dropped)."""
-        with contextlib.suppress(AttributeError):
-            del self._interface.queue_message
-
     # ------------------------------------------------------------------ the app loop's side
     def _take(self, message: Any) -> None:
         entity = _entity(message)
@@ -200,7 +196,7 @@ class Wire:
         else:
             op = None
         if inside:
-            self._held.append(message)  # to viser at end_frame, in order, in one atomic block
+            self._held.append(message)  # to viser at the frame's end, in order, in one atomic block
         else:
             self._queue(message)
         if op is not None:
@@ -211,15 +207,9 @@ class Wire:
         """A frame was ended and its delivery has not run yet."""
         return self._scheduled > 0
 
-    def end_frame(self, recipients: Iterable[int]) -> None:
-        """Hand what this frame held to viser (one atomic block), then send its updates to
-        `recipients` (client ids), once encoded, on viser's event loop; recipients that are
-        behind get their catch-up first.  Cheap when the frame held nothing."""
-        end_frames([(self, recipients)])
-
     def _close_frame(self, recipients: Iterable[int]) -> tuple[Any, ...] | None:
-        """The app loop's part of `end_frame`: the held messages to viser; the delivery's
-        arguments, or None when there is nothing to deliver."""
+        """The app loop's part of ending a frame (`end_frames`): the held messages to viser, in
+        one atomic block; the delivery's arguments, or None when there is nothing to deliver."""
         if self._held:
             held, self._held = self._held, []
             with self._interface.atomic():

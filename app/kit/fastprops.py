@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from viser import _messages
 
-__all__ = ["FAST", "set_points", "set_position", "set_wxyz"]
+__all__ = ["FAST", "set_points", "set_position", "set_scale", "set_wxyz"]
 
 
 def _has_internals() -> bool:
@@ -68,3 +68,12 @@ def set_points(handle: Any, points: np.ndarray) -> None:
         current[:] = points
     else:
         handle._impl.props.points = points.copy()
+
+
+def set_scale(handle: Any, scale: tuple[float, float, float]) -> None:
+    """handle.scale = scale (per-axis, Python floats), unconditionally."""
+    if not FAST:
+        handle.scale = scale
+        return
+    _queue(handle, _messages.SceneNodeUpdateMessage(handle._impl.name, {"scale": scale}))
+    handle._impl.props.scale = scale

@@ -30,6 +30,8 @@ from typing import Any
 import numpy as np
 
 from app.kit.fastprops import set_points, set_position, set_wxyz
+from app.kit.widgets import z_onto
+from physics.quaternion import matrix_from_wxyz
 
 __all__ = ["TOLERANCE", "ArcPieces", "Arrows", "FrameArrow", "Pose", "f32", "quaternion_turn", "snap",
            "turn_z_onto", "world_pose"]
@@ -175,7 +177,7 @@ def world_pose(handle: Any) -> tuple[np.ndarray, np.ndarray]:
     set (viser names are paths: "/a/b" hangs under "/a")."""
     impl = handle._impl
     nodes = impl.api._handle_from_node_name
-    R, p = _matrix(impl.wxyz), np.asarray(impl.position, dtype=float)
+    R, p = matrix_from_wxyz(impl.wxyz), np.asarray(impl.position, dtype=float)
     name = impl.name
     while True:
         name = name.rsplit("/", 1)[0]
@@ -184,19 +186,8 @@ def world_pose(handle: Any) -> tuple[np.ndarray, np.ndarray]:
         parent = nodes.get(name)
         if parent is None:
             continue
-        R_parent = _matrix(parent._impl.wxyz)
+        R_parent = matrix_from_wxyz(parent._impl.wxyz)
         R, p = R_parent @ R, R_parent @ p + np.asarray(parent._impl.position, dtype=float)
-
-
-def _matrix(wxyz: Any) -> np.ndarray:
-    w, x, y, z = (float(c) for c in wxyz)
-    n = math.sqrt(w * w + x * x + y * y + z * z)
-    w, x, y, z = w / n, x / n, y / n, z / n
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])
 
 
 class ArcPieces:
@@ -283,15 +274,10 @@ class ArcPieces:
 
 def turn_z_onto(vector: Sequence[float] | np.ndarray) -> tuple[float, float, float, float]:
     """The unit quaternion (w, x, y, z) of the shortest turn taking +z onto the direction of
-    `vector` (3,) (nonzero); a half turn about x for -z."""
+    `vector` (3,) (nonzero): `app.kit.widgets.z_onto` of its unit vector."""
     x, y, z = (float(c) for c in vector)
     n = math.sqrt(x * x + y * y + z * z)
-    x, y, z = x / n, y / n, z / n
-    w = 1.0 + z
-    if w < 1e-9:
-        return 0.0, 1.0, 0.0, 0.0
-    m = math.sqrt(w * w + x * x + y * y)
-    return w / m, -y / m, x / m, 0.0
+    return z_onto((x / n, y / n, z / n))
 
 
 class FrameArrow:

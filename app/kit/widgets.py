@@ -19,7 +19,6 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from viser import _messages
 
 from app.kit.common import (
     BODY_AXIS_COLORS,
@@ -35,7 +34,7 @@ from app.kit.common import (
     fade_color,
     polyline_segments,
 )
-from app.kit.fastprops import FAST, set_points, set_position, set_wxyz
+from app.kit.fastprops import set_points, set_position, set_scale, set_wxyz
 from app.kit.labels import AXES, KEY, LabelLayer
 from app.kit.trace import Trace
 from physics._types import Mat3, Vec3
@@ -60,19 +59,6 @@ LABEL_ASIDE = 0.06  # [scene units] ... or this far off its middle (x and y of t
 def quantized(values: Any, quantum: float) -> tuple[float, ...]:
     """`values` (floats) rounded to multiples of `quantum` (a power of two: exact in binary)."""
     return tuple(round(float(v) / quantum) * quantum for v in values)
-
-
-def _set_scale(handle: Any, scale: tuple[float, float, float]) -> None:
-    """handle.scale = scale, unconditionally, without viser's per-assignment checks (as
-    `app.kit.fastprops` does for poses and points)."""
-    if not FAST:
-        handle.scale = scale
-        return
-    impl = handle._impl
-    if impl.removed:
-        raise RuntimeError(f"Cannot update the removed scene node {impl.name!r}.")
-    impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, {"scale": scale}))
-    impl.props.scale = scale
 
 
 def _register(labels: LabelLayer | None, handle: Any, priority: float) -> Any:
@@ -336,7 +322,7 @@ class Vector:
             return
         self._length = length
         head = min(1.0, length / self.head_length)  # an arrow shorter than its head: a smaller head
-        _set_scale(self.shaft, (1.0, 1.0, max(length - head * self.head_length, 1e-6)))
+        set_scale(self.shaft, (1.0, 1.0, max(length - head * self.head_length, 1e-6)))
         set_position(self.tip, (0.0, 0.0, length))
         if head != self._head_scale:
             self._head_scale = head
