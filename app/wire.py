@@ -47,7 +47,8 @@ import msgspec.msgpack
 import zstandard
 from viser.infra._infra import _append_aligned_buffers
 
-__all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end_frames", "is_capturing", "websocket_frame"]
+__all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end_frames", "is_capturing",
+           "websocket_frame"]
 
 logger = logging.getLogger(__name__)
 

@@ -34,8 +34,8 @@ from physics.poinsot import flip_times, motion
 from physics.realtime import GridStepper
 from physics.so3 import exp_so3, log_so3
 
-__all__ = ["INTEGRATOR_EXACT", "INTEGRATOR_LAGRANGE", "INTEGRATOR_REALTIME", "SAMPLE_COLUMNS", "RigidBodySimulation",
-           "magnified_attitude"]
+__all__ = ["ERROR_BATCH", "INTEGRATOR_EXACT", "INTEGRATOR_LAGRANGE", "INTEGRATOR_REALTIME", "R_COLUMNS",
+           "SAMPLE_COLUMNS", "RigidBodySimulation", "magnified_attitude", "turn_angles"]
 
 INTEGRATOR_REALTIME = "splitting4 (real time)"
 INTEGRATOR_EXACT = "exact"
@@ -44,6 +44,14 @@ INTEGRATOR_LAGRANGE = "Euler-angle Lagrangian"
 singular where sin θ = 0 (it stops there, and the simulation goes on with splitting4)."""
 SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "w2", "w3",
                   "drift_E", "drift_L", "attitude_error")
+R_COLUMNS = tuple(f"R{k}" for k in range(9))
+"""Columns the samples also keep: R_space_body row by row, the attitude check's input."""
+ERROR_BATCH = 5
+"""The attitude error (integrated against the closed form) is worked out for this many samples at
+once, when the last of them is taken (sample numbers 5, 10, ... since the run's start): one call
+of the closed form for five times instead of five (a call costs ~0.13 ms whatever the number of
+times), so the newest ERROR_BATCH - 1 samples may not have theirs yet (NaN; the plot's line ends
+at most 0.4 s of samples earlier)."""
 PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
 PLOT_SPARE = 620  # samples stored beyond it for the replay (62 s at 1×; less at slow motion)
 
@@ -63,6 +71,14 @@ def magnified_attitude(R_exact: np.ndarray, R: np.ndarray, k: float) -> np.ndarr
     if not math.isfinite(k) or k < 0.0:
         raise ValueError(f"the magnification k must be finite and >= 0, got {k!r}")
     return R_exact @ exp_so3(k * log_so3(R_exact.T @ np.asarray(R, dtype=float)))
+
+
+def turn_angles(R_a: np.ndarray, R_b: np.ndarray) -> np.ndarray:
+    """The angles [rad] of the turns R_aᵀ R_b, (N, 3, 3) each -> (N,): atan2(|vee(M - Mᵀ)| / 2,
+    (tr M - 1) / 2) for M = R_aᵀ R_b, accurate to rounding for small turns as for large ones."""
+    M = np.einsum("nji,njk->nik", R_a, R_b)
+    vee = np.stack([M[:, 2, 1] - M[:, 1, 2], M[:, 0, 2] - M[:, 2, 0], M[:, 1, 0] - M[:, 0, 1]], axis=-1)
+    return np.arctan2(0.5 * np.linalg.norm(vee, axis=-1), 0.5 * (np.trace(M, axis1=1, axis2=2) - 1.0))
 
 
 class RigidBodySimulation:
@@ -89,7 +105,7 @@ class RigidBodySimulation:
         self.substeps = 0
         self.restarts = 0
         self.version = 0
-        self.samples = SampleBuffer(SAMPLE_COLUMNS, PLOT_CAPACITY, PLOT_SPARE)
+        self.samples = SampleBuffer(SAMPLE_COLUMNS + R_COLUMNS, PLOT_CAPACITY, PLOT_SPARE)
         self.max_drift = {"drift_E": 0.0, "drift_L": 0.0, "attitude_error": 0.0}
         self.traces: dict[str, Trace] = {}
         self._tracked: dict[str, PointOf] = {}
@@ -153,6 +169,7 @@ class RigidBodySimulation:
         self.substeps = int(v[16])
         self.max_drift = dict(zip(self.max_drift, (float(x) for x in v[17:20])))
         self.samples.rewind(int(v[20]))
+        self._recheck_attitudes()
         for name, mark in zip(names, trace_marks):
             self.traces[name].rewind(mark)
         if later > 0.0:
@@ -289,9 +306,10 @@ class RigidBodySimulation:
         L = angular_momentum_space(self.model, R, omega_body)
         return float(L[2]) if self.momentum_kind == "z" else float(np.linalg.norm(L))
 
-    def exact_attitude(self) -> np.ndarray | None:
+    def exact_attitude(self, keep: bool = True) -> np.ndarray | None:
         """R_space_body of the exact solution at the current time (3, 3), None without a closed
-        form; evaluated once per simulated time (the ghost and the accuracy panel share it)."""
+        form; evaluated once per simulated time (the ghost draws it every frame; `keep`: remember
+        it for the next call at the same time)."""
         t = self.state.t
         if self._exact_at is not None and self._exact_at[0] == t:
             return self._exact_at[1]
@@ -299,7 +317,8 @@ class RigidBodySimulation:
         if exact is None:
             return None
         R_exact, _ = exact(np.array([t]))
-        self._exact_at = (t, R_exact[0])
+        if keep:
+            self._exact_at = (t, R_exact[0])
         return R_exact[0]
 
     def attitude_error(self) -> float | None:
@@ -307,7 +326,7 @@ class RigidBodySimulation:
         a closed form."""
         if self.integrator == INTEGRATOR_EXACT:
             return 0.0
-        R_exact = self.exact_attitude()
+        R_exact = self.exact_attitude(keep=False)  # a panel's question leaves no trace in the simulation
         if R_exact is None:
             return None
         return float(np.linalg.norm(log_so3(R_exact.T @ self.state.R_space_body)))
@@ -339,13 +358,55 @@ class RigidBodySimulation:
         drift_E = (T + V - self._E0) / self._energy_scale if self._energy_scale > 0.0 else 0.0
         drift_L = ((self.momentum(R, omega) - self._momentum0) / self._momentum_scale
                    if self._momentum_scale > 0.0 else 0.0)
-        error = self.attitude_error()
         phi, theta, psi = np.degrees(self.angles)
         values = {"E": T + V, "T": T, "V": V, "L_norm": float(np.linalg.norm(L)), "L_z": float(L[2]),
                   "phi": math.remainder(phi, 360.0), "theta": float(theta), "psi": math.remainder(psi, 360.0),
                   "w1": omega[0], "w2": omega[1], "w3": omega[2], "drift_E": drift_E, "drift_L": drift_L,
-                  "attitude_error": math.nan if error is None else error}
+                  "attitude_error": math.nan,  # `_check_attitudes`
+                  **dict(zip(R_COLUMNS, R.ravel().tolist()))}
         for key in self.max_drift:
             if math.isfinite(values[key]):
                 self.max_drift[key] = max(self.max_drift[key], abs(values[key]))
         self.samples.append(self.state.t, values)
+        if self.samples.mark() % ERROR_BATCH == 0:
+            self._check_attitudes()
+
+    def _check_attitudes(self, stop: int | None = None) -> None:
+        """The attitude errors of the batch of samples ending before sample number `stop` (default:
+        the newest), from one call of the closed form at their times (0 with the exact
+        integrator); their maximum into `max_drift`."""
+        samples = self.samples
+        stop = samples.mark() if stop is None else stop
+        first = max(samples.oldest, stop - ERROR_BATCH)
+        rows = samples.rows(first, stop)
+        pending = np.flatnonzero(np.isnan(rows[:, 1 + SAMPLE_COLUMNS.index("attitude_error")]))
+        if not pending.size:
+            return
+        if self.integrator == INTEGRATOR_EXACT:
+            errors = np.zeros(pending.size)
+        else:
+            exact = self.exact()
+            if exact is None:
+                return
+            R_exact, _ = exact(rows[pending, 0])
+            errors = turn_angles(R_exact, rows[pending, 1 + len(SAMPLE_COLUMNS):].reshape(-1, 3, 3))
+        for k, error in zip(pending, errors):
+            samples.put(first + int(k), "attitude_error", float(error))
+        self.max_drift["attitude_error"] = max(self.max_drift["attitude_error"], float(np.max(errors)))
+
+    def _recheck_attitudes(self) -> None:
+        """After a rewind: the open batch (samples after the last multiple of ERROR_BATCH) has no
+        attitude errors yet, as when it was live; a closed batch of the window that lost its
+        errors in an earlier rewind gets them back (the same call, the same numbers)."""
+        samples = self.samples
+        mark = samples.mark()
+        opened = mark - mark % ERROR_BATCH
+        for number in range(max(opened, samples.oldest), mark):
+            samples.put(number, "attitude_error", math.nan)
+        first = max(samples.oldest, mark - len(samples))
+        if opened <= first or self.exact() is None and self.integrator != INTEGRATOR_EXACT:
+            return
+        errors = samples.rows(first, opened)[:, 1 + SAMPLE_COLUMNS.index("attitude_error")]
+        for stop in sorted({(first + int(k)) // ERROR_BATCH * ERROR_BATCH + ERROR_BATCH
+                            for k in np.flatnonzero(np.isnan(errors))}):
+            self._check_attitudes(stop)

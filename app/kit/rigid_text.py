@@ -35,13 +35,13 @@ def status_text(sim: RigidBodySimulation, playing: bool, time_scale: float) -> s
 
 def accuracy_text(sim: RigidBodySimulation, momentum_label: str) -> str:
     """The accuracy panel: energy and momentum drift and the attitude error, now and at most."""
-    error = sim.samples.last("attitude_error")
+    error = sim.attitude_error()  # now (the samples' are checked in batches: app.kit.rigid.ERROR_BATCH)
     if sim.integrator == INTEGRATOR_EXACT:
         error_line = "attitude error       —  (the integrator IS the exact solution)"
-    elif math.isnan(error):
+    elif error is None:
         error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"
     else:
-        error_line = f"attitude error   {error:9.2e} rad   (max {sim.max_drift['attitude_error']:.2e})"
+        error_line = f"attitude error   {error:9.2e} rad   (max {max(error, sim.max_drift['attitude_error']):.2e})"
     return (
         f"**Accuracy** of {sim.integrator} since t = 0 (relative; exact would be 0)\n"
         "```\n"

@@ -97,6 +97,24 @@ class SampleBuffer:
         """(n,) values of one column, oldest first."""
         return self._ordered()[:, self._index[name]].copy()
 
+    @property
+    def oldest(self) -> int:
+        """Number of the oldest sample stored (counted since the last clear)."""
+        return max(0, self._written - self._size)
+
+    def rows(self, first: int, stop: int) -> np.ndarray:
+        """(stop - first, 1 + columns) rows of the samples numbered first .. stop - 1 (counted since
+        the last clear; all stored: ValueError otherwise), as in `ordered` (a copy)."""
+        if not (self.oldest <= first <= stop <= self._written):
+            raise ValueError(f"samples {first}..{stop - 1} are not stored")
+        return self._rows[np.arange(first, stop) % self._size].copy()
+
+    def put(self, number: int, name: str, value: float) -> None:
+        """Set one column of the stored sample `number` (counted since the last clear)."""
+        if not self.oldest <= number < self._written:
+            raise ValueError(f"sample {number} is not stored")
+        self._rows[number % self._size, self._index[name]] = value
+
     def last(self, name: str) -> float:
         """The newest value of a column (NaN if empty)."""
         if not len(self):
