@@ -125,6 +125,7 @@ BODY_OPACITY = 0.7
 ARC_COLORS = {"phi": (140, 50, 210), "theta": (215, 0, 120), "psi": (0, 140, 140)}
 GREEK = {"phi": "φ", "theta": "θ", "psi": "ψ"}
 KEYS = ("phi", "theta", "psi")
+SHORT = {"phi": "p", "theta": "t", "psi": "s"}  # in node names (every message carries its node's name)
 
 # Seen from x > 0, y < 0 so that x, y, the line of nodes and x′ are all visible for typical
 # angles (φ ≈ 30°), with the origin left of centre to clear the GUI panel on the right.
@@ -292,7 +293,7 @@ class RateArrow:
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, labels: LabelLayer) -> None:
         self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3), dtype=np.float32), color, shaft_radius=0.018,
                                       head_radius=0.05, head_length=0.1, visible=False)
-        self.label = labels.add(scene.add_label(f"{name}_label", text, font_screen_scale=1.4, anchor="center-left",
+        self.label = labels.add(scene.add_label(f"{name}l", text, font_screen_scale=1.4, anchor="center-left",
                                                 visible=False), DETAIL)
         self._labels = labels
         self._drawn: tuple[tuple[float, ...], bool] | None = None
@@ -324,7 +325,7 @@ class EulerAnglesView(SceneView):
     transport: Transport  # built by build_head
 
     title = "Euler angles"
-    root = "/explorer"
+    root = "/e"  # node names are short: every message of a frame carries its node's name
     view = VIEW
     preset_file = "euler_angles.json"
     rate_specs = RATE_SPECS
@@ -373,35 +374,35 @@ class EulerAnglesView(SceneView):
         # axes (T_parent_local): after φ = Rz(φ) under the root, after θ = Rx(θ) under it, the
         # body = Rz(ψ) under that.  A frame's message is sent only when its angle moved visibly
         # (app.kit.lean.Pose): a steady precession sends one small message a frame, not four.
-        self.after_phi_node = scene.add_frame(f"{root}/phi", show_axes=False)
-        self.after_theta_node = scene.add_frame(f"{root}/phi/theta", show_axes=False)
+        self.after_phi_node = scene.add_frame(f"{root}/p", show_axes=False)
+        self.after_theta_node = scene.add_frame(f"{root}/p/t", show_axes=False)
         self.frame_axes = []
         for node, prime in ((self.after_phi_node, ""), (self.after_theta_node, "′")):
-            axes = scene.add_frame(f"{node.name}/axes", show_axes=False)  # thin, faint, toggleable
+            axes = scene.add_frame(f"{node.name}/x", show_axes=False)  # thin, faint, toggleable
             scene.add_line_segments(
-                f"{axes.name}/lines", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
+                f"{axes.name}/l", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
                 np.repeat(np.array(FRAME_COLORS, dtype=np.uint8)[:, None, :], 2, axis=1),
                 thickness=2.5, thickness_units="screen",
             )
-            labels.add(scene.add_label(f"{axes.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
+            labels.add(scene.add_label(f"{axes.name}/eta", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
                                        font_screen_scale=1.3, anchor="center-center"), DETAIL)
             self.frame_axes.append(axes)
-        self.body = Body(scene, f"{root}/phi/theta/psi", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
+        self.body = Body(scene, f"{root}/p/t/s", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
         self.poses = {"phi": Pose(self.after_phi_node, reach=PHI_REACH),
                       "theta": Pose(self.after_theta_node, reach=THETA_REACH),
                       "psi": Pose(self.body.node, reach=PSI_REACH)}
         # The line of nodes is the after-φ frame's x axis: it rides on that frame (no message of its own).
-        self.nodes = LineOfNodes(scene, f"{root}/phi/nodes", labels=labels)
+        self.nodes = LineOfNodes(scene, f"{root}/p/n", labels=labels)
         # Arcs: fixed pieces in the frame the angle is measured in, a tail piece in the frame it turns.
-        frames = {"phi": (root, f"{root}/phi"), "theta": (f"{root}/phi", f"{root}/phi/theta"),
-                  "psi": (f"{root}/phi/theta", f"{root}/phi/theta/psi")}
+        frames = {"phi": (root, f"{root}/p"), "theta": (f"{root}/p", f"{root}/p/t"),
+                  "psi": (f"{root}/p/t", f"{root}/p/t/s")}
         self.arcs: dict[str, ArcPieces] = {}
         self.arc_labels: dict[str, Any] = {}
         for key in KEYS:
             fixed, moving = frames[key]
-            self.arcs[key] = ArcPieces(scene, fixed, moving, f"arc_{key}", _arc_point(key), ARC_COLORS[key],
+            self.arcs[key] = ArcPieces(scene, fixed, moving, f"a{SHORT[key]}", _arc_point(key), ARC_COLORS[key],
                                        signed=key != "theta")
-            self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/arc_label_{key}", GREEK[key],
+            self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/l{SHORT[key]}", GREEK[key],
                                                               font_screen_scale=1.6, anchor="center-center"), DETAIL)
         self._arc_text_throttle = Throttle(ARC_TEXT_PERIOD)
         self._arc_label_at: dict[str, tuple[float, float, float] | None] = dict.fromkeys(KEYS)
@@ -409,39 +410,39 @@ class EulerAnglesView(SceneView):
         # fixed in space, θ̇ e_n in the after-φ frame; ψ̇ e_z′ hangs in a frame at the tip of θ̇ e_n
         # turned by Rx(θ) like the after-θ frame, and carries ω's label at the common tip; the
         # resultant is drawn in the after-φ frame (it depends on θ only there).
-        self.omega_node = scene.add_frame(f"{root}/omega", show_axes=False)
-        self.omega_phi_node = scene.add_frame(f"{root}/phi/omega", show_axes=False)
-        self.omega_psi_node = scene.add_frame(f"{root}/phi/omega/psi", show_axes=False)
+        self.omega_node = scene.add_frame(f"{root}/w", show_axes=False)
+        self.omega_phi_node = scene.add_frame(f"{root}/p/w", show_axes=False)
+        self.omega_psi_node = scene.add_frame(f"{root}/p/w/s", show_axes=False)
         self.omega_psi_pose = Pose(self.omega_psi_node, reach=THETA_REACH)
         self.rate_vectors = {
-            "phi": RateArrow(scene, f"{root}/omega/phi", ARC_COLORS["phi"], "dφ/dt", labels),
-            "theta": RateArrow(scene, f"{root}/phi/omega/theta", ARC_COLORS["theta"], "dθ/dt", labels),
-            "psi": RateArrow(scene, f"{root}/phi/omega/psi/arrow", ARC_COLORS["psi"], "dψ/dt", labels),
+            "phi": RateArrow(scene, f"{root}/w/p", ARC_COLORS["phi"], "dφ/dt", labels),
+            "theta": RateArrow(scene, f"{root}/p/w/t", ARC_COLORS["theta"], "dθ/dt", labels),
+            "psi": RateArrow(scene, f"{root}/p/w/s/a", ARC_COLORS["psi"], "dψ/dt", labels),
         }
-        self.omega = FrameArrow(scene, f"{root}/phi/omega/resultant", OMEGA_COLOR, shaft_radius=0.032,
+        self.omega = FrameArrow(scene, f"{root}/p/w/r", OMEGA_COLOR, shaft_radius=0.032,
                                 head_radius=0.085, head_length=0.16)
-        self.omega_label = labels.add(scene.add_label(f"{root}/phi/omega/psi/omega_label", "ω", font_screen_scale=2.4,
+        self.omega_label = labels.add(scene.add_label(f"{root}/p/w/s/l", "ω", font_screen_scale=2.4,
                                                       anchor="center-center", visible=False), KEY)
         self._omega_drawn: tuple[float, ...] | None = None  # (rates, shown) the constant arrows were drawn for
         # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines.
-        single = f"{root}/single"
+        single = f"{root}/d"
         self.single_node = scene.add_frame(single, show_axes=False, visible=False)
-        self.single_axis = scene.add_arrows(f"{single}/axis", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
+        self.single_axis = scene.add_arrows(f"{single}/d", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
                                             head_radius=0.06, head_length=0.14)
-        self.single_axis_label = labels.add(scene.add_label(f"{single}/axis_label", "d", font_screen_scale=1.8,
+        self.single_axis_label = labels.add(scene.add_label(f"{single}/dl", "d", font_screen_scale=1.8,
                                                             anchor="center-center"), AXES)
-        self.single_arc = scene.add_line_segments(f"{single}/arc", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
+        self.single_arc = scene.add_line_segments(f"{single}/a", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
                                                   np.zeros((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8),
                                                   thickness=4.0, thickness_units="screen")
-        self.single_arc_label = labels.add(scene.add_label(f"{single}/arc_label", "Φ", font_screen_scale=1.6,
+        self.single_arc_label = labels.add(scene.add_label(f"{single}/al", "Φ", font_screen_scale=1.6,
                                                            anchor="center-center"), AXES)
-        self.ghost_turn = scene.add_frame(f"{single}/ghost_turn", show_axes=False, visible=False)
-        self.ghost_zxz = scene.add_frame(f"{single}/ghost_zxz", show_axes=False, visible=False)
+        self.ghost_turn = scene.add_frame(f"{single}/g1", show_axes=False, visible=False)
+        self.ghost_zxz = scene.add_frame(f"{single}/g3", show_axes=False, visible=False)
         outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
-        self.ghost_turn_lines = scene.add_line_segments(f"{single}/ghost_turn/lines", outline,
+        self.ghost_turn_lines = scene.add_line_segments(f"{single}/g1/l", outline,
                                                         _outline_colors(SINGLE_COLOR), thickness=3.0,
                                                         thickness_units="screen")
-        self.ghost_zxz_lines = scene.add_line_segments(f"{single}/ghost_zxz/lines", outline,
+        self.ghost_zxz_lines = scene.add_line_segments(f"{single}/g3/l", outline,
                                                        _outline_colors(ARC_COLORS["phi"]), thickness=3.0,
                                                        thickness_units="screen")
         self._outline_moments = self.sim.moments
