@@ -487,11 +487,15 @@ class EulerAnglesView(SceneView):
         with self.folder_readout:
             # Three texts, one shown at a time (the server knows which: only that one is sent while playing).
             self.readout_tabs = Tabs(gui, wrap, ("D", "Factors", "ω"), on_change=lambda _name: self.render_readout())
+            # Each tab's fixed heading is a markdown of its own, sent once: only the numbers go at 2 Hz.
             with self.readout_tabs.tab("D"):
+                gui.add_markdown("D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components; "
+                                 "e_n = (cos φ, sin φ, 0), e_z′ = D e_z")
                 self.readout_matrix = Readout(gui)
             with self.readout_tabs.tab("Factors"):
                 self.readout_factors = Readout(gui)
             with self.readout_tabs.tab("ω"):
+                gui.add_markdown("ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b")
                 self.readout_omega = Readout(gui)
         self.folder_body = gui.add_folder("Body: principal moments [kg m²]", expand_by_default=False)
         with self.folder_body:
@@ -778,11 +782,10 @@ class EulerAnglesView(SceneView):
         if note is not None and self.gui_gimbal_note.content != note:
             self.gui_gimbal_note.content = note
         if shown in (None, "D"):
-            self.readout_matrix.set(
-                "D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components\n"
+            self.readout_matrix.set(  # under its fixed heading (built in _build_gui)
                 f"```\n{format_matrix(R, 4)}\n```\n"
-                f"e_n = (cos φ, sin φ, 0) = {format_vector(e_n)}  \n"
-                f"e_z′ = D e_z = {format_vector(e_z_body)}"
+                f"e_n = {format_vector(e_n)}  \n"
+                f"e_z′ = {format_vector(e_z_body)}"
             )
         factors = ((f"Rz(φ), φ = {format_deg(angles_deg[0])}°", rot_z(phi)),
                    (f"Rx(θ), θ = {angles_deg[1]:.2f}°", rot_x(theta)),
@@ -800,7 +803,7 @@ class EulerAnglesView(SceneView):
             return f"{name:<14}" + "".join(f"{(0.0 if abs(x) < 5e-4 else x):10.3f}" for x in v)
 
         self.readout_omega.set(
-            "ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b\n```\n"
+            "```\n"  # under its fixed heading (built in _build_gui)
             f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [deg/s]\n\n"
             f"{'':<14}{'x | x′':>10}{'y | y′':>10}{'z | z′':>10}\n"
             f"{row('(dφ/dt) e_z', (0.0, 0.0, dphi))}\n"
