@@ -30,6 +30,27 @@ The simulation (`EulerAnglesSimulation`, no viser) advances the angles at the se
 fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every formula comes from
 `physics`; degrees on the sliders, radians everywhere else.  Presets:
 `assets/presets/euler_angles.json`.
+
+**What a playing frame sends** (the frame budget, tests/test_frame_budget.py; the first
+preset, φ̇ θ̇ ψ̇ = 20, 10, 45 °/s).  The decomposition is a chain of frames, each turned by one
+angle about one of its own axes: after φ (`/e/p`), after θ (`/e/p/t`), the body (`/e/p/t/s`);
+everything else rides on the frame it is fixed in (the line of nodes and the fixed arc pieces
+on the after-φ frame, η′ and the ψ arc on the after-θ frame, the box and its axes on the body).
+While playing each angle is snapped so that a step moves its frame's farthest point by ~1 px
+(`app.kit.lean.Pose`), and a frame's turn is sent only when its snapped angle changed: φ and ψ
+one orientation message every frame, θ about three frames in four.  ω's components are fixed
+in frames that are sent anyway: φ̇ e_z in space, θ̇ e_n in the after-φ frame (no message while
+the rates are constant), ψ̇ e_z′ (with ω's label) in a frame at θ̇ e_n's tip turned by the same
+Rx(θ) as the after-θ frame, so its orientation message repeats the after-θ frame's values in
+the same window (~5 B compressed).  The resultant ω depends on θ (and the rates) only: it
+lives in the after-φ frame as an `app.kit.lean.FrameArrow`, an orientation message at each
+θ step that moves its tip and a z-scale message when its length moved by ~1 px (about one
+frame in five).  Labels: anchors and visibility only when the view's `LabelLayer` changes
+them (10 Hz), the arcs' readings at 2 Hz; the sliders, the status line and the readout tab
+shown at 2 Hz (the readouts' fixed headings are markdowns of their own, sent once).  Node
+names are short (`/e`, `/e/p`, ...): every message carries its node's name.  Measured
+(2026-11-25): 262 / 254 B/frame own / follower, 5.3 scene messages a frame (4.3 of them
+orientations).
 """
 
 from __future__ import annotations
@@ -409,7 +430,9 @@ class EulerAnglesView(SceneView):
         # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).  φ̇ e_z is
         # fixed in space, θ̇ e_n in the after-φ frame; ψ̇ e_z′ hangs in a frame at the tip of θ̇ e_n
         # turned by Rx(θ) like the after-θ frame, and carries ω's label at the common tip; the
-        # resultant is drawn in the after-φ frame (it depends on θ only there).
+        # resultant is drawn in the after-φ frame (it depends on θ only there).  ψ̇ e_z′'s frame costs
+        # ~5 B a θ step: its orientation repeats the after-θ frame's in the same window (hung under
+        # the after-θ frame instead, its position would change with θ: a position message, ~38 B).
         self.omega_node = scene.add_frame(f"{root}/w", show_axes=False)
         self.omega_phi_node = scene.add_frame(f"{root}/p/w", show_axes=False)
         self.omega_psi_node = scene.add_frame(f"{root}/p/w/s", show_axes=False)
