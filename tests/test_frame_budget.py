@@ -65,9 +65,11 @@ class Budget:
 # frame, sliders at 2 Hz and the status line at 2 Hz while playing, the timeline at 1 Hz while live,
 # leaner traces; figures of three runs, which differ with the phase of the 1-2 Hz panel updates):
 # Free body 215-216 / 220-223, 3.2; Heavy top 219-225 / 228-230, 2.7; Poinsot 236-243 / 235-239, 2.9;
-# Euler angles 290-295 / 282-285, 5.4 (still over: five turning frames a frame).
+# Euler angles 290-295 / 282-285, 5.4 (still over: five turning frames a frame).  Then
+# (euler-bytes, 2026-11-25: short node names, the readouts' fixed headings sent once):
+# Euler angles 261-262 / 254-255, 5.2-5.3 (still over: φ, θ, ψ and ω's resultant turn).
 BUDGETS: dict[str, Budget] = {
-    "Euler angles": Budget(6.0, 6.0),
+    "Euler angles": Budget(5.5, 5.5),
     "Inertia": Budget(None, None, (False, False)),  # edited, never played: no Play button
     "Free body": Budget(3.5, 3.5, (False, False)),
     "Heavy top": Budget(3.0, 3.0, (False, False)),

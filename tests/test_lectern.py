@@ -147,7 +147,7 @@ def test_stop_presenting_keeps_the_room_in_the_presenters_browser(hall: Hall) ->
     hall.frames(1)
     presenter.stop_presenting()
     assert presenter.mode == "own" and hall.app.lectern.presenter is None
-    assert presenter.scene.root == "/explorer" and presenter._shadow is not None
+    assert presenter.scene.root == "/e" and presenter._shadow is not None
     assert follower.mode == "following"  # the last state stays on the followers' screens
     assert presenter.gui_present.visible and not presenter.gui_stop.visible
     assert not presenter.gui_follow.visible  # nobody presents: nothing to follow

@@ -30,6 +30,27 @@ The simulation (`EulerAnglesSimulation`, no viser) advances the angles at the se
 fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every formula comes from
 `physics`; degrees on the sliders, radians everywhere else.  Presets:
 `assets/presets/euler_angles.json`.
+
+**What a playing frame sends** (the frame budget, tests/test_frame_budget.py; the first
+preset, φ̇ θ̇ ψ̇ = 20, 10, 45 °/s).  The decomposition is a chain of frames, each turned by one
+angle about one of its own axes: after φ (`/e/p`), after θ (`/e/p/t`), the body (`/e/p/t/s`);
+everything else rides on the frame it is fixed in (the line of nodes and the fixed arc pieces
+on the after-φ frame, η′ and the ψ arc on the after-θ frame, the box and its axes on the body).
+While playing each angle is snapped so that a step moves its frame's farthest point by ~1 px
+(`app.kit.lean.Pose`), and a frame's turn is sent only when its snapped angle changed: φ and ψ
+one orientation message every frame, θ about three frames in four.  ω's components are fixed
+in frames that are sent anyway: φ̇ e_z in space, θ̇ e_n in the after-φ frame (no message while
+the rates are constant), ψ̇ e_z′ (with ω's label) in a frame at θ̇ e_n's tip turned by the same
+Rx(θ) as the after-θ frame, so its orientation message repeats the after-θ frame's values in
+the same window (~5 B compressed).  The resultant ω depends on θ (and the rates) only: it
+lives in the after-φ frame as an `app.kit.lean.FrameArrow`, an orientation message at each
+θ step that moves its tip and a z-scale message when its length moved by ~1 px (about one
+frame in five).  Labels: anchors and visibility only when the view's `LabelLayer` changes
+them (10 Hz), the arcs' readings at 2 Hz; the sliders, the status line and the readout tab
+shown at 2 Hz (the readouts' fixed headings are markdowns of their own, sent once).  Node
+names are short (`/e`, `/e/p`, ...): every message carries its node's name.  Measured
+(2026-11-25): 262 / 254 B/frame own / follower, 5.3 scene messages a frame (4.3 of them
+orientations).
 """
 
 from __future__ import annotations
@@ -125,6 +146,7 @@ BODY_OPACITY = 0.7
 ARC_COLORS = {"phi": (140, 50, 210), "theta": (215, 0, 120), "psi": (0, 140, 140)}
 GREEK = {"phi": "φ", "theta": "θ", "psi": "ψ"}
 KEYS = ("phi", "theta", "psi")
+SHORT = {"phi": "p", "theta": "t", "psi": "s"}  # in node names (every message carries its node's name)
 
 # Seen from x > 0, y < 0 so that x, y, the line of nodes and x′ are all visible for typical
 # angles (φ ≈ 30°), with the origin left of centre to clear the GUI panel on the right.
@@ -292,7 +314,7 @@ class RateArrow:
     def __init__(self, scene: Any, name: str, color: tuple[int, int, int], text: str, labels: LabelLayer) -> None:
         self.arrow = scene.add_arrows(name, np.zeros((1, 2, 3), dtype=np.float32), color, shaft_radius=0.018,
                                       head_radius=0.05, head_length=0.1, visible=False)
-        self.label = labels.add(scene.add_label(f"{name}_label", text, font_screen_scale=1.4, anchor="center-left",
+        self.label = labels.add(scene.add_label(f"{name}l", text, font_screen_scale=1.4, anchor="center-left",
                                                 visible=False), DETAIL)
         self._labels = labels
         self._drawn: tuple[tuple[float, ...], bool] | None = None
@@ -324,7 +346,7 @@ class EulerAnglesView(SceneView):
     transport: Transport  # built by build_head
 
     title = "Euler angles"
-    root = "/explorer"
+    root = "/e"  # node names are short: every message of a frame carries its node's name
     view = VIEW
     preset_file = "euler_angles.json"
     rate_specs = RATE_SPECS
@@ -373,75 +395,77 @@ class EulerAnglesView(SceneView):
         # axes (T_parent_local): after φ = Rz(φ) under the root, after θ = Rx(θ) under it, the
         # body = Rz(ψ) under that.  A frame's message is sent only when its angle moved visibly
         # (app.kit.lean.Pose): a steady precession sends one small message a frame, not four.
-        self.after_phi_node = scene.add_frame(f"{root}/phi", show_axes=False)
-        self.after_theta_node = scene.add_frame(f"{root}/phi/theta", show_axes=False)
+        self.after_phi_node = scene.add_frame(f"{root}/p", show_axes=False)
+        self.after_theta_node = scene.add_frame(f"{root}/p/t", show_axes=False)
         self.frame_axes = []
         for node, prime in ((self.after_phi_node, ""), (self.after_theta_node, "′")):
-            axes = scene.add_frame(f"{node.name}/axes", show_axes=False)  # thin, faint, toggleable
+            axes = scene.add_frame(f"{node.name}/x", show_axes=False)  # thin, faint, toggleable
             scene.add_line_segments(
-                f"{axes.name}/lines", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
+                f"{axes.name}/l", axis_segments(np.eye(3), FRAME_AXIS_LENGTH),
                 np.repeat(np.array(FRAME_COLORS, dtype=np.uint8)[:, None, :], 2, axis=1),
                 thickness=2.5, thickness_units="screen",
             )
-            labels.add(scene.add_label(f"{axes.name}/label", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
+            labels.add(scene.add_label(f"{axes.name}/eta", f"η{prime}", position=(0.0, FRAME_AXIS_LENGTH + 0.08, 0.0),
                                        font_screen_scale=1.3, anchor="center-center"), DETAIL)
             self.frame_axes.append(axes)
-        self.body = Body(scene, f"{root}/phi/theta/psi", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
+        self.body = Body(scene, f"{root}/p/t/s", self._build_box, axis_length=BODY_AXIS_LENGTH, labels=labels)
         self.poses = {"phi": Pose(self.after_phi_node, reach=PHI_REACH),
                       "theta": Pose(self.after_theta_node, reach=THETA_REACH),
                       "psi": Pose(self.body.node, reach=PSI_REACH)}
         # The line of nodes is the after-φ frame's x axis: it rides on that frame (no message of its own).
-        self.nodes = LineOfNodes(scene, f"{root}/phi/nodes", labels=labels)
+        self.nodes = LineOfNodes(scene, f"{root}/p/n", labels=labels)
         # Arcs: fixed pieces in the frame the angle is measured in, a tail piece in the frame it turns.
-        frames = {"phi": (root, f"{root}/phi"), "theta": (f"{root}/phi", f"{root}/phi/theta"),
-                  "psi": (f"{root}/phi/theta", f"{root}/phi/theta/psi")}
+        frames = {"phi": (root, f"{root}/p"), "theta": (f"{root}/p", f"{root}/p/t"),
+                  "psi": (f"{root}/p/t", f"{root}/p/t/s")}
         self.arcs: dict[str, ArcPieces] = {}
         self.arc_labels: dict[str, Any] = {}
         for key in KEYS:
             fixed, moving = frames[key]
-            self.arcs[key] = ArcPieces(scene, fixed, moving, f"arc_{key}", _arc_point(key), ARC_COLORS[key],
+            self.arcs[key] = ArcPieces(scene, fixed, moving, f"a{SHORT[key]}", _arc_point(key), ARC_COLORS[key],
                                        signed=key != "theta")
-            self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/arc_label_{key}", GREEK[key],
+            self.arc_labels[key] = labels.add(scene.add_label(f"{moving}/l{SHORT[key]}", GREEK[key],
                                                               font_screen_scale=1.6, anchor="center-center"), DETAIL)
         self._arc_text_throttle = Throttle(ARC_TEXT_PERIOD)
         self._arc_label_at: dict[str, tuple[float, float, float] | None] = dict.fromkeys(KEYS)
         # ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′, head to tail, and the resultant (orange, thick).  φ̇ e_z is
         # fixed in space, θ̇ e_n in the after-φ frame; ψ̇ e_z′ hangs in a frame at the tip of θ̇ e_n
         # turned by Rx(θ) like the after-θ frame, and carries ω's label at the common tip; the
-        # resultant is drawn in the after-φ frame (it depends on θ only there).
-        self.omega_node = scene.add_frame(f"{root}/omega", show_axes=False)
-        self.omega_phi_node = scene.add_frame(f"{root}/phi/omega", show_axes=False)
-        self.omega_psi_node = scene.add_frame(f"{root}/phi/omega/psi", show_axes=False)
+        # resultant is drawn in the after-φ frame (it depends on θ only there).  ψ̇ e_z′'s frame costs
+        # ~5 B a θ step: its orientation repeats the after-θ frame's in the same window (hung under
+        # the after-θ frame instead, its position would change with θ: a position message, ~38 B).
+        self.omega_node = scene.add_frame(f"{root}/w", show_axes=False)
+        self.omega_phi_node = scene.add_frame(f"{root}/p/w", show_axes=False)
+        self.omega_psi_node = scene.add_frame(f"{root}/p/w/s", show_axes=False)
         self.omega_psi_pose = Pose(self.omega_psi_node, reach=THETA_REACH)
         self.rate_vectors = {
-            "phi": RateArrow(scene, f"{root}/omega/phi", ARC_COLORS["phi"], "dφ/dt", labels),
-            "theta": RateArrow(scene, f"{root}/phi/omega/theta", ARC_COLORS["theta"], "dθ/dt", labels),
-            "psi": RateArrow(scene, f"{root}/phi/omega/psi/arrow", ARC_COLORS["psi"], "dψ/dt", labels),
+            "phi": RateArrow(scene, f"{root}/w/p", ARC_COLORS["phi"], "dφ/dt", labels),
+            "theta": RateArrow(scene, f"{root}/p/w/t", ARC_COLORS["theta"], "dθ/dt", labels),
+            "psi": RateArrow(scene, f"{root}/p/w/s/a", ARC_COLORS["psi"], "dψ/dt", labels),
         }
-        self.omega = FrameArrow(scene, f"{root}/phi/omega/resultant", OMEGA_COLOR, shaft_radius=0.032,
+        self.omega = FrameArrow(scene, f"{root}/p/w/r", OMEGA_COLOR, shaft_radius=0.032,
                                 head_radius=0.085, head_length=0.16)
-        self.omega_label = labels.add(scene.add_label(f"{root}/phi/omega/psi/omega_label", "ω", font_screen_scale=2.4,
+        self.omega_label = labels.add(scene.add_label(f"{root}/p/w/s/l", "ω", font_screen_scale=2.4,
                                                       anchor="center-center", visible=False), KEY)
         self._omega_drawn: tuple[float, ...] | None = None  # (rates, shown) the constant arrows were drawn for
         # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines.
-        single = f"{root}/single"
+        single = f"{root}/d"
         self.single_node = scene.add_frame(single, show_axes=False, visible=False)
-        self.single_axis = scene.add_arrows(f"{single}/axis", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
+        self.single_axis = scene.add_arrows(f"{single}/d", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
                                             head_radius=0.06, head_length=0.14)
-        self.single_axis_label = labels.add(scene.add_label(f"{single}/axis_label", "d", font_screen_scale=1.8,
+        self.single_axis_label = labels.add(scene.add_label(f"{single}/dl", "d", font_screen_scale=1.8,
                                                             anchor="center-center"), AXES)
-        self.single_arc = scene.add_line_segments(f"{single}/arc", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
+        self.single_arc = scene.add_line_segments(f"{single}/a", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
                                                   np.zeros((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8),
                                                   thickness=4.0, thickness_units="screen")
-        self.single_arc_label = labels.add(scene.add_label(f"{single}/arc_label", "Φ", font_screen_scale=1.6,
+        self.single_arc_label = labels.add(scene.add_label(f"{single}/al", "Φ", font_screen_scale=1.6,
                                                            anchor="center-center"), AXES)
-        self.ghost_turn = scene.add_frame(f"{single}/ghost_turn", show_axes=False, visible=False)
-        self.ghost_zxz = scene.add_frame(f"{single}/ghost_zxz", show_axes=False, visible=False)
+        self.ghost_turn = scene.add_frame(f"{single}/g1", show_axes=False, visible=False)
+        self.ghost_zxz = scene.add_frame(f"{single}/g3", show_axes=False, visible=False)
         outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
-        self.ghost_turn_lines = scene.add_line_segments(f"{single}/ghost_turn/lines", outline,
+        self.ghost_turn_lines = scene.add_line_segments(f"{single}/g1/l", outline,
                                                         _outline_colors(SINGLE_COLOR), thickness=3.0,
                                                         thickness_units="screen")
-        self.ghost_zxz_lines = scene.add_line_segments(f"{single}/ghost_zxz/lines", outline,
+        self.ghost_zxz_lines = scene.add_line_segments(f"{single}/g3/l", outline,
                                                        _outline_colors(ARC_COLORS["phi"]), thickness=3.0,
                                                        thickness_units="screen")
         self._outline_moments = self.sim.moments
@@ -486,11 +510,15 @@ class EulerAnglesView(SceneView):
         with self.folder_readout:
             # Three texts, one shown at a time (the server knows which: only that one is sent while playing).
             self.readout_tabs = Tabs(gui, wrap, ("D", "Factors", "ω"), on_change=lambda _name: self.render_readout())
+            # Each tab's fixed heading is a markdown of its own, sent once: only the numbers go at 2 Hz.
             with self.readout_tabs.tab("D"):
+                gui.add_markdown("D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components; "
+                                 "e_n = (cos φ, sin φ, 0), e_z′ = D e_z")
                 self.readout_matrix = Readout(gui)
             with self.readout_tabs.tab("Factors"):
                 self.readout_factors = Readout(gui)
             with self.readout_tabs.tab("ω"):
+                gui.add_markdown("ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b")
                 self.readout_omega = Readout(gui)
         self.folder_body = gui.add_folder("Body: principal moments [kg m²]", expand_by_default=False)
         with self.folder_body:
@@ -777,11 +805,10 @@ class EulerAnglesView(SceneView):
         if note is not None and self.gui_gimbal_note.content != note:
             self.gui_gimbal_note.content = note
         if shown in (None, "D"):
-            self.readout_matrix.set(
-                "D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components\n"
+            self.readout_matrix.set(  # under its fixed heading (built in _build_gui)
                 f"```\n{format_matrix(R, 4)}\n```\n"
-                f"e_n = (cos φ, sin φ, 0) = {format_vector(e_n)}  \n"
-                f"e_z′ = D e_z = {format_vector(e_z_body)}"
+                f"e_n = {format_vector(e_n)}  \n"
+                f"e_z′ = {format_vector(e_z_body)}"
             )
         factors = ((f"Rz(φ), φ = {format_deg(angles_deg[0])}°", rot_z(phi)),
                    (f"Rx(θ), θ = {angles_deg[1]:.2f}°", rot_x(theta)),
@@ -799,7 +826,7 @@ class EulerAnglesView(SceneView):
             return f"{name:<14}" + "".join(f"{(0.0 if abs(x) < 5e-4 else x):10.3f}" for x in v)
 
         self.readout_omega.set(
-            "ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b\n```\n"
+            "```\n"  # under its fixed heading (built in _build_gui)
             f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [deg/s]\n\n"
             f"{'':<14}{'x | x′':>10}{'y | y′':>10}{'z | z′':>10}\n"
             f"{row('(dφ/dt) e_z', (0.0, 0.0, dphi))}\n"
