@@ -27,6 +27,33 @@ The simulation (`ConstrainedSimulation`, no viser) integrates with
 `physics.constrained.GridIntegrator` (8th order, fixed grid of 1/120 s), keeps the plot samples
 (q, h, T + V, the drift of h) and each particle's path (`app.kit.trace.Trace`), so a view built
 later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
+
+What a playing frame sends (the turning hoop, the default: 270 / 271 B a frame own / follower,
+4.2 scene messages, measured by tests/test_frame_budget.py; it was 360 / 352 and 6.1): the
+hoop's turn (one orientation), the bead's position, the turn of the bead's frame `o` and C's tip
+(a position) — the four numbers α, θ, C's direction about the hoop and |C|, each message 20-30
+B after compression over a window of ~60 B.  How:
+
+- a particle's virtual displacements and C hang in a frame `o` at the particle turned so that
+  its z runs along ∂x_i/∂q_1 and its x along C_i's part across it: on a smooth single constraint
+  (hoop, rod, the spherical pendulum's θ) δx_1 and C's direction are then fixed in it (5.7) and
+  the frame's turn moves them all; F (gravity) hangs under the particle unturned and is sent
+  never;
+- an arrow's shaft is two pieces of one length P = 2^k (one from the start, one ending at the
+  head, overlapping in the middle) covering any shaft length in [P, 2P]: a change of length
+  moves the tip only (one position message; the label rides on the tip), the pieces' scale is
+  sent when the length leaves [P, 2P];
+- while playing, poses and lengths are on power-of-two grids (positions and lengths 2^-8 m,
+  quaternion components 2^-9, the guide's 2^-10: ~1 px or finer; a float64 on such a grid ends
+  in zero bytes, which compress) and a node is sent only when what is drawn changed; paused,
+  everything is exact (float32).  What is drawn is a function of the state alone, so followers
+  and late views draw the same;
+- the status line and the q, q̇ sliders follow at 2 Hz while playing, the paths' chunks as
+  `app.kit.widgets.TraceLines` sends them (~15 B a frame).
+
+Below ~245 B it does not go with today's wire: a window of those four messages is ~238 B on
+the wire (2 + 16 + zstd of ~220 B), and F needs a frame at the particle that turns about z only,
+so the bead's position cannot ride on a turn.
 """
 
 from __future__ import annotations
@@ -53,7 +80,6 @@ from app.kit.trace import Trace
 from app.kit.view import SceneView, nth
 from app.kit.widgets import LABEL_ASIDE, Stage, TraceLines, Vector, quantized
 from physics._types import Array
-from physics.quaternion import wxyz_from_matrix
 from physics.constrained import (
     Evaluation,
     GridIntegrator,
@@ -64,6 +90,7 @@ from physics.constrained import (
     hoop_equilibrium,
     spherical_pendulum,
 )
+from physics.quaternion import wxyz_from_matrix
 
 __all__ = ["KINDS", "ConstrainedSetup", "ConstrainedSimulation", "ConstrainedView", "Kind"]
 
@@ -649,8 +676,8 @@ class ConstrainedView(SceneView):
         scale = sim.setup.force_scale
         show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)
         def drawn(vector: Array) -> Array:
-            """While playing, the vector with its length snapped to TOLERANCE (~1 px): a length
-            message only when the drawn length changed."""
+            """While playing, the vector with its length on the POSITION_QUANTUM grid (~0.5 px): a
+            length message only when the drawn length changed."""
             length = float(np.linalg.norm(vector))
             return vector if exact or length < TOLERANCE else vector * (snap(length, POSITION_QUANTUM) / length)
 
