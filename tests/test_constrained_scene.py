@@ -5,6 +5,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+import pytest
+
+from app.scenes.constrained import DELTA_Q
+from physics.quaternion import matrix_from_wxyz
+
 
 def test_bad_values_are_refused_and_the_state_kept(manual) -> None:  # type: ignore[no-untyped-def]
     session = manual.session
@@ -66,4 +72,52 @@ def test_arrows_hang_under_their_particle_and_a_paused_frame_is_exact(manual, mo
     session.pause()
     x = view.sim.evaluation().x
     np.testing.assert_allclose(view.particles[0].position, x[0].astype(np.float32), atol=1e-6)
+    assert session.error_count == 0, session.last_error
+
+
+def _three(wxyz):  # type: ignore[no-untyped-def]
+    """The matrix three.js draws for a quaternion as sent (not renormalized: a quantized one is
+    not quite unit): (1 − |q|²) I + |q|² R(q / |q|)."""
+    k2 = float(np.dot(wxyz, wxyz))
+    return (1.0 - k2) * np.eye(3) + k2 * matrix_from_wxyz(wxyz)
+
+
+def _drawn(arrow, frame, particle):  # type: ignore[no-untyped-def]
+    """The arrow's (start, tip) in the world as sent: particle position, the turned frame `o`,
+    the arrow's own turn and its tip's position (the shaft pieces' cover checked separately)."""
+    R_o, R_a = _three(frame.wxyz), _three(arrow.node.wxyz)
+    at, start = np.asarray(particle.position), np.asarray(arrow.node.position)
+    return at + R_o @ start, at + R_o @ (start + R_a @ np.asarray(arrow.tip.position))
+
+
+@pytest.mark.parametrize("preset", ["Turning hoop", "Spherical pendulum", "Double pendulum, chaotic", "Turning rod"])
+def test_arrows_in_the_turned_frame_are_the_vectors(manual, preset) -> None:  # type: ignore[no-untyped-def]
+    """δx_j and C hang in the particle's turned frame: what is drawn is δq ∂x_i/∂q_j and s C_i,
+    to ~1 px while playing and exactly when paused; the two shaft pieces cover the shaft."""
+    session = manual.session
+    session.select_scene("Constrained particles")
+    session.apply_preset(preset)
+    view = session.scene
+    session.play()
+    manual.tick(0.6)
+    for atol in (0.008, 1e-5):  # playing (~1 px at the default view), then paused (float32)
+        if atol < 0.01:
+            session.pause()
+            manual.tick(0.05)
+        ev = view.sim.evaluation()
+        scale = view.sim.setup.force_scale
+        for i in range(view.sim.system.n):
+            expected = [(view.C_arrows[i], scale * ev.C[i])]
+            expected += [(arrow, DELTA_Q * ev.J[i, :, j]) for j, arrow in enumerate(view.dx_arrows[i])]
+            for arrow, vector in expected:
+                if np.linalg.norm(vector) < 0.01:
+                    continue
+                assert arrow.visible
+                start, tip = _drawn(arrow, view.turns[i], view.particles[i])
+                np.testing.assert_allclose(start, ev.x[i], atol=atol)
+                np.testing.assert_allclose(tip - start, vector, atol=atol)
+                shaft = arrow._length - arrow._head_scale * arrow.head_length
+                piece = arrow.shaft.scale[2]
+                assert arrow.back.scale[2] == piece and piece <= shaft + 1e-9 <= 2 * piece + 2e-9
+                assert arrow.back.position[2] == pytest.approx(-arrow._head_scale * arrow.head_length)
     assert session.error_count == 0, session.last_error

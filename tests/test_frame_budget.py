@@ -77,7 +77,9 @@ BUDGETS: dict[str, Budget] = {
     # Moving frame 580 / 550, 9.0 / 9.2; Constrained particles 361 / 357, 6.1 (2026-11-24, r2-moving:
     # children of what carries them, snapped poses, batched force arrows, short lazy path chunks).
     "Moving frame": Budget(10.0, 10.0),
-    "Constrained particles": Budget(7.0, 7.0),
+    # Constrained particles 270 / 271, 4.25 / 4.17 (2026-11-25, constrained-bytes: the particle's
+    # arrows in one turned frame, two-piece shafts, power-of-two grids, status and sliders at 2 Hz).
+    "Constrained particles": Budget(4.5, 4.5),
 }
 HOW = ("own", "follower")  # the browser plays in its own room / follows a presenter who plays
 

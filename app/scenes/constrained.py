@@ -27,6 +27,33 @@ The simulation (`ConstrainedSimulation`, no viser) integrates with
 `physics.constrained.GridIntegrator` (8th order, fixed grid of 1/120 s), keeps the plot samples
 (q, h, T + V, the drift of h) and each particle's path (`app.kit.trace.Trace`), so a view built
 later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
+
+What a playing frame sends (the turning hoop, the default: 270 / 271 B a frame own / follower,
+4.2 scene messages, measured by tests/test_frame_budget.py; it was 360 / 352 and 6.1): the
+hoop's turn (one orientation), the bead's position, the turn of the bead's frame `o` and C's tip
+(a position) — the four numbers α, θ, C's direction about the hoop and |C|, each message 20-30
+B after compression over a window of ~60 B.  How:
+
+- a particle's virtual displacements and C hang in a frame `o` at the particle turned so that
+  its z runs along ∂x_i/∂q_1 and its x along C_i's part across it: on a smooth single constraint
+  (hoop, rod, the spherical pendulum's θ) δx_1 and C's direction are then fixed in it (5.7) and
+  the frame's turn moves them all; F (gravity) hangs under the particle unturned and is sent
+  never;
+- an arrow's shaft is two pieces of one length P = 2^k (one from the start, one ending at the
+  head, overlapping in the middle) covering any shaft length in [P, 2P]: a change of length
+  moves the tip only (one position message; the label rides on the tip), the pieces' scale is
+  sent when the length leaves [P, 2P];
+- while playing, poses and lengths are on power-of-two grids (positions and lengths 2^-8 m,
+  quaternion components 2^-9, the guide's 2^-10: ~1 px or finer; a float64 on such a grid ends
+  in zero bytes, which compress) and a node is sent only when what is drawn changed; paused,
+  everything is exact (float32).  What is drawn is a function of the state alone, so followers
+  and late views draw the same;
+- the status line and the q, q̇ sliders follow at 2 Hz while playing, the paths' chunks as
+  `app.kit.widgets.TraceLines` sends them (~15 B a frame).
+
+Below ~245 B it does not go with today's wire: a window of those four messages is ~238 B on
+the wire (2 + 16 + zstd of ~220 B), and F needs a frame at the particle that turns about z only,
+so the bead's position cannot ride on a turn.
 """
 
 from __future__ import annotations
@@ -41,17 +68,17 @@ import numpy as np
 import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle
-from app.kit.fastprops import set_points
+from app.kit.fastprops import set_points, set_position, set_scale, set_wxyz
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
-from app.kit.lean import TOLERANCE, Pose, snap
+from app.kit.lean import TOLERANCE, f32, snap
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
 from app.kit.samples import SampleBuffer
 from app.kit.trace import Trace
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Stage, TraceLines, Vector
+from app.kit.widgets import LABEL_ASIDE, Stage, TraceLines, Vector, quantized
 from physics._types import Array
 from physics.constrained import (
     Evaluation,
@@ -63,6 +90,7 @@ from physics.constrained import (
     hoop_equilibrium,
     spherical_pendulum,
 )
+from physics.quaternion import wxyz_from_matrix
 
 __all__ = ["KINDS", "ConstrainedSetup", "ConstrainedSimulation", "ConstrainedView", "Kind"]
 
@@ -72,9 +100,13 @@ PATH_SECONDS = 8.0  # [s] of simulated time kept in each particle's path
 PATH_SPACING = 1.0 / 15.0  # [s] between stored path points
 PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
 ARROW_QUANTUM = 2.0**-9  # while playing, an arrow turns in steps of ~2 ARROW_QUANTUM rad (~1 px at 1.5 m)
-READOUT_PERIOD = 0.2  # [s] of wall time
+POSITION_QUANTUM = 2.0**-8  # [m] while playing, a particle moves in steps of this (~0.5 px)
+DX_HEAD = 18 * POSITION_QUANTUM  # [m] head lengths on the grid (0.07, 0.09 m): a shaft's length is too
+FORCE_HEAD = 23 * POSITION_QUANTUM
+GUIDE_QUANTUM = 2.0**-10  # the guide turns in steps of ~2 GUIDE_QUANTUM rad (~1 px at GUIDE_REACH)
+READOUT_PERIOD = 0.5  # [s] of wall time: the status line and the Readout tab shown, while playing (2 Hz)
 PLOT_PERIOD = 0.25
-SLIDER_PERIOD = 0.2
+SLIDER_PERIOD = 0.5  # the q, q̇ sliders follow at 2 Hz while playing (a refresh writes them exactly)
 GUIDE_POINTS = 73  # points of the drawn constraint curve (hoop, rod)
 GUIDE_REACH = 2.5  # [m] the largest hoop radius / rod half length: its far end moves ~1 px per snapping step
 GUIDE_TURN_ATOL = 1e-9  # [m] the curve now is drawn as the first one turned about z if it is that to this
@@ -415,7 +447,7 @@ class ConstrainedView(SceneView):
         self.guide = scene.add_line_segments(f"{base}/g/l", np.zeros((1, 2, 3)), GUIDE_COLOR,
                                              thickness=4.0, thickness_units="screen",
                                              visible=sim.system.guide is not None)
-        self.guide_pose = Pose(self.guide_frame, reach=GUIDE_REACH)
+        self.guide_pose = _GridPose(self.guide_frame, turn_quantum=GUIDE_QUANTUM)
         self._guide_start: tuple[System, Array] | None = None  # the system and its guide (N, 3) at t = 0
         self._guide_turns = True  # whether the guide now is that one turned about z
         self.links = scene.add_line_segments(f"{base}/links", np.zeros((max(1, len(sim.system.links)), 2, 3)),
@@ -427,21 +459,26 @@ class ConstrainedView(SceneView):
         self.particles = [scene.add_icosphere(f"{base}/p{i}", radius=PARTICLE_RADIUS,
                                               color=PARTICLE_COLORS[i % 2], subdivisions=2, cast_shadow=False,
                                               receive_shadow=False) for i in range(n)]
-        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
+        self.particle_poses = [_GridPose(node) for node in self.particles]
         self.paths_space = [TraceLines(scene, f"{base}/t{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
                                        thickness=2.0) for i in range(n)]
         coordinate = sim.system.coordinates
         # Labels only on the last particle's arrows (the others share the colours: the legend says).
         # With two coordinates the second arrow's label sits at its middle (two tips are often close).
-        self.dx_arrows = [[_Arrow(scene, f"{base}/p{i}/dx{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
-                                  shaft_radius=0.012, head_radius=0.035, head_length=0.07, font_scale=1.3,
+        # Each particle's virtual displacements and C hang in a frame `o` turned so that its z runs along
+        # ∂x_i/∂q_1 and its x along C_i's part across it: on one smooth constraint (hoop, rod) the frame's
+        # turn is all that moves them (one message a frame), C only stretches (5.7: C ⊥ δx).
+        self.turns = [scene.add_frame(f"{base}/p{i}/o", show_axes=False) for i in range(n)]
+        self.turn_poses = [_GridPose(node) for node in self.turns]
+        self.dx_arrows = [[_Arrow(scene, f"{base}/p{i}/o/dx{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
+                                  shaft_radius=0.012, head_radius=0.035, head_length=DX_HEAD, font_scale=1.3,
                                   label_at_middle=j == 1, labels=self.labels, priority=DETAIL)
                            for j in range(m)] for i in range(n)]
         self.F_arrows = [_Arrow(scene, f"{base}/p{i}/F", F_COLOR, "F", i == n - 1, shaft_radius=0.016,
-                                head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
+                                head_radius=0.045, head_length=FORCE_HEAD, font_scale=1.5, labels=self.labels)
                          for i in range(n)]
-        self.C_arrows = [_Arrow(scene, f"{base}/p{i}/C", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
-                                head_radius=0.045, head_length=0.09, font_scale=1.5, labels=self.labels)
+        self.C_arrows = [_Arrow(scene, f"{base}/p{i}/o/C", C_COLOR, "C", i == n - 1, shaft_radius=0.016,
+                                head_radius=0.045, head_length=FORCE_HEAD, font_scale=1.5, labels=self.labels)
                          for i in range(n)]
 
     def _build_gui(self) -> None:
@@ -639,19 +676,24 @@ class ConstrainedView(SceneView):
         scale = sim.setup.force_scale
         show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)
         def drawn(vector: Array) -> Array:
-            """While playing, the vector with its length snapped to TOLERANCE (~1 px): a length
-            message only when the drawn length changed."""
+            """While playing, the vector with its length on the POSITION_QUANTUM grid (~0.5 px): a
+            length message only when the drawn length changed."""
             length = float(np.linalg.norm(vector))
-            return vector if exact or length < TOLERANCE else vector * (snap(length, TOLERANCE) / length)
+            return vector if exact or length < TOLERANCE else vector * (snap(length, POSITION_QUANTUM) / length)
 
+        grid = None if exact else POSITION_QUANTUM
+        for arrow in (*(a for row in self.dx_arrows for a in row), *self.F_arrows, *self.C_arrows):
+            arrow.grid = grid
         for i in range(sim.system.n):
+            R = _turn(ev.J[i, :, 0], ev.C[i])
+            self.turn_poses[i].set(wxyz_from_matrix(R), exact=exact)
             for j, arrow in enumerate(self.dx_arrows[i]):
                 arrow.enabled = show_dx
-                arrow.update(drawn(DELTA_Q * ev.J[i, :, j]), quantum=quantum)
+                arrow.update(drawn(R.T @ (DELTA_Q * ev.J[i, :, j])), quantum=quantum)
             self.F_arrows[i].enabled = show_forces
             self.F_arrows[i].update(drawn(scale * ev.F[i]), quantum=quantum)
             self.C_arrows[i].enabled = show_forces
-            self.C_arrows[i].update(drawn(scale * ev.C[i]), quantum=quantum)
+            self.C_arrows[i].update(drawn(R.T @ (scale * ev.C[i])), quantum=quantum)
 
     def _draw_guide(self, guide: Array) -> None:
         """The constraint curve now (N, 3): as the curve at t = 0 turned about z when it is that
@@ -759,9 +801,52 @@ def _clamped(values: Sequence[float], specs: Sequence[SliderSpec]) -> list[float
     return [min(max(value, spec.lo), spec.hi) for value, spec in zip(_wrapped(values, specs), specs)]
 
 
+def _turn(along: Array, across: Array) -> Array:
+    """The frame (columns x, y, z, a rotation (3, 3)) whose z runs along `along` and whose x along
+    `across`'s part perpendicular to it (fallbacks when either is ~0 or they are parallel: world
+    axes), a function of the two vectors alone."""
+    length = float(np.linalg.norm(along))
+    z = np.asarray(along, dtype=float) / length if length > 1e-9 else np.array([0.0, 0.0, 1.0])
+    for candidate in (np.asarray(across, dtype=float), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])):
+        x = candidate - float(candidate @ z) * z
+        norm = float(np.linalg.norm(x))
+        if norm > 1e-6 * max(1.0, float(np.linalg.norm(candidate))):
+            x = x / norm
+            break
+    return np.column_stack([x, np.cross(z, x), z])
+
+
 def _lighter(color: tuple[int, int, int], weight: float = 0.5) -> tuple[int, int, int]:
     r, g, b = (int(round(c + weight * (255 - c))) for c in color)
     return r, g, b
+
+
+class _GridPose:
+    """A node's pose sent when what is drawn changed: exact (float32) when paused; while playing
+    on power-of-two grids (`quantized`: a float64 on such a grid ends in zero bytes, which
+    compress on the wire), the quaternion's components in steps of `turn_quantum` (not
+    renormalized, as `Vector` does), the position in steps of `quantum` [m].  A function of the
+    state alone (followers and late views draw the same)."""
+
+    def __init__(self, handle: Any, quantum: float = POSITION_QUANTUM, turn_quantum: float = ARROW_QUANTUM) -> None:
+        self.handle = handle
+        self.quantum = quantum
+        self.turn_quantum = turn_quantum
+        self.wxyz: tuple[float, ...] | None = None  # as sent
+        self.position: tuple[float, ...] | None = None
+
+    def set(self, wxyz: Sequence[float] | None = None, position: Sequence[float] | None = None,
+            exact: bool = True) -> None:
+        if wxyz is not None:
+            q = tuple(f32(c) for c in wxyz) if exact else quantized(wxyz, self.turn_quantum)
+            if q != self.wxyz:
+                set_wxyz(self.handle, q)  # type: ignore[arg-type]
+                self.wxyz = q
+        if position is not None:
+            p = tuple(f32(c) for c in position) if exact else quantized(position, self.quantum)
+            if p != self.position:
+                set_position(self.handle, p)  # type: ignore[arg-type]
+                self.position = p
 
 
 class _Arrow(Vector):
@@ -773,3 +858,39 @@ class _Arrow(Vector):
             kwargs.pop("labels", None)  # no label: nothing for the view's LabelLayer
         super().__init__(scene, name, color, text, labelled=labelled, **kwargs)
         self.labelled = labelled
+        self.grid: float | None = None  # while playing, lengths are sent as multiples of this [m]
+        # The shaft in two pieces of one length P: one from the start (`shaft`), one ending at the
+        # head (`back`, under the tip): they cover a shaft of length S in [P, 2P] exactly (overlapping
+        # in the middle), so a change of length moves the tip only; P = 2^k changes rarely.
+        radius = float(kwargs.get("shaft_radius", 0.03))
+        self._back_at = -self.head_length
+        self._piece = 1.0 - self.head_length  # as built: both pieces cover the shaft of length 1
+        self.back = scene.add_arrows(f"{name}/tip/b", np.array([[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]]]), color,
+                                     shaft_radius=radius, head_radius=radius, head_length=1e-6,
+                                     position=(0.0, 0.0, self._back_at), scale=(1.0, 1.0, self._piece))
+        self.shaft.scale = (1.0, 1.0, self._piece)
+
+    def _set_length(self, length: float) -> None:
+        """Draw the arrow `length` long: the tip moves; the pieces change only when the shaft's
+        length leaves [P, 2P].  While playing the length is on the grid (a float64 on a
+        power-of-two grid ends in zero bytes: the tip's position compresses)."""
+        if self.grid is not None:
+            length = max(round(length / self.grid), 1) * self.grid
+        if length == self._length:
+            return
+        self._length = length
+        head = min(1.0, length / self.head_length)  # an arrow shorter than its head: a smaller head
+        shaft = max(length - head * self.head_length, 1e-6)
+        piece = 2.0 ** math.floor(math.log2(shaft))
+        if piece != self._piece:
+            self._piece = piece
+            set_scale(self.shaft, (1.0, 1.0, piece))
+            set_scale(self.back, (1.0, 1.0, piece))
+        set_position(self.tip, (0.0, 0.0, length))
+        if head != self._head_scale:
+            self._head_scale = head
+            self.head.scale = head
+            self._back_at = -head * self.head_length
+            set_position(self.back, (0.0, 0.0, self._back_at))
+        if self.label_at_middle and self.label is not None:
+            set_position(self.label, (LABEL_ASIDE, LABEL_ASIDE, 0.5 * length))
