@@ -70,11 +70,11 @@ import numpy as np
 import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
-from app.kit.fastprops import set_points
+from app.kit.fastprops import set_scale
 from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.labels import KEY
-from app.kit.lean import TOLERANCE, Arrows, Pose, turn_z_onto
+from app.kit.lean import TOLERANCE, Arrows, Pose, f32, snap, turn_z_onto
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.trace import Trace
@@ -109,7 +109,7 @@ EARTH_OMEGA = 2.0 * math.pi / 86164.1  # [rad/s] Earth's sidereal rotation, for 
 PARTICLES = ("free", "at rest in C′", "on a spring")
 PARTICLE_COLORS = ((20, 120, 230), (30, 150, 60), (200, 60, 160))
 PATH_SECONDS = 10.0  # [s] of simulated time kept in each path
-PATH_SPACING = 1.0 / 15.0  # [s] between stored path points (2° of the turntable's turn)
+PATH_SPACING = 1.0 / 10.0  # [s] between stored path points (3° of the turntable's turn)
 PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
 PARTICLE_RADIUS = 0.07
 FORCE_KEYS = ("real", "translational", "euler", "centrifugal", "coriolis")
@@ -120,9 +120,9 @@ FORCE_COLORS = {"real": (30, 30, 30), "translational": (120, 120, 0), "euler": (
 DISC_COLOR = (210, 205, 190)
 DISC_STRIPE_COLOR = (150, 140, 120)
 LABEL_MIN_LENGTH = 0.25  # [m] a force arrow shorter than this is drawn without its label
-READOUT_PERIOD = 0.2  # [s] of wall time (5 Hz)
+READOUT_PERIOD = 0.5  # [s] of wall time (2 Hz)
 FRAME_REACH = 2.2  # [m] the farthest drawn point of C′ (disc rim, axis labels): its pose's snapping grid
-LABEL_TOLERANCE = 0.02  # [m] while playing, a force's label moves in steps of this (~3 px) behind its tip
+LABEL_TOLERANCE = 0.05  # [m] while playing, a force's label moves in steps of this (~7 px) behind its tip
 LABEL_BEYOND = 0.16  # [m] a force's label sits this far beyond its tip
 LABEL_ASIDE = 0.06  # [m] ... the sum's this far beside its middle
 LABEL_FONT = 1.5
@@ -487,7 +487,7 @@ class MovingFrameView(SceneView):
         self.sim: MovingFrameSimulation = room.sim
         self._drawn_version = -1
         self._drawn_disc = math.nan
-        self._spring_drawn: np.ndarray | None = None  # the spring's points (1, 2, 3) as sent
+        self._spring_drawn: tuple[float, ...] | None = None  # the spring's scale (its vector d) as sent
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self.build()
 
@@ -507,18 +507,22 @@ class MovingFrameView(SceneView):
         self.body = Body(scene, f"{world}/f", self._build_disc, axis_length=1.0, labels=self.labels)
         self.frame_pose = Pose(self.body.node, reach=FRAME_REACH)
         frame = f"{world}/f"
+        # The spring's group sits at its anchor (fixed in C′): its particle hangs in it at d = x′ − anchor
+        # and the spring is a segment from (0, 0, 0) to (1, 1, 1) scaled by d, so that both messages
+        # of a frame carry the same three numbers (they compress) and no points are sent.
+        self.spring_group = scene.add_frame(f"{frame}/s", show_axes=False)
         self.particles = [
-            scene.add_icosphere(f"{frame}/p/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
-                                subdivisions=2, cast_shadow=False, receive_shadow=False)
+            scene.add_icosphere(f"{frame}/p/{k}" if k < 2 else f"{frame}/s/p", radius=PARTICLE_RADIUS,
+                                color=PARTICLE_COLORS[k], subdivisions=2, cast_shadow=False, receive_shadow=False)
             for k in range(len(PARTICLES))
         ]
         self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
         self.radius_rod = scene.add_line_segments(f"{frame}/rod", np.zeros((1, 2, 3)), (110, 110, 120),
                                                   thickness=3.0, thickness_units="screen", visible=False)
-        self.anchor = scene.add_icosphere(f"{frame}/anchor", radius=0.035, color=(90, 90, 90), subdivisions=1,
+        self.anchor = scene.add_icosphere(f"{frame}/s/o", radius=0.035, color=(90, 90, 90), subdivisions=1,
                                           cast_shadow=False, receive_shadow=False)
-        self.spring = scene.add_line_segments(f"{frame}/s", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
-                                              thickness=1.5, thickness_units="screen")
+        self.spring = scene.add_line_segments(f"{frame}/s/l", np.array([[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]]),
+                                              PARTICLE_COLORS[2], thickness=1.5, thickness_units="screen")
         self.paths_body = [TraceLines(scene, f"{frame}/t/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
         self.forces_group = scene.add_frame(f"{frame}/a", show_axes=False)
@@ -711,28 +715,26 @@ class MovingFrameView(SceneView):
         if rod_visible and float(self.radius_rod.points[0, 1, 2]) != -h:
             self.radius_rod.points = np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, -h]]], dtype=np.float32)
         ax, ay, az = (float(c) for c in sim.setup.anchor_body)
-        anchor = (ax, ay, az)
-        if tuple(self.anchor.position) != anchor:
-            self.anchor.position = anchor
-        # Particles and the spring, in C′.
+        anchor = (f32(ax), f32(ay), f32(az))
+        if tuple(self.spring_group.position) != anchor:
+            self.spring_group.position = anchor
+        # Particles and the spring, in C′ (the spring particle and the spring from the anchor).
         x_body, _ = sim.body_coordinates()
+        d = x_body[2] - np.array(anchor)
+        stretch = (tuple(f32(c) for c in d) if exact else tuple(snap(float(c), TOLERANCE) for c in d))
         focus = sim.setup.focus
         for k, pose in enumerate(self.particle_poses):
             own = k != focus  # else drawn by the ball of the forces' group
             if self.particles[k].visible != own:
                 self.particles[k].visible = own
             if own:
-                pose.set(position=x_body[k], exact=exact)
+                pose.set(position=stretch if k == 2 else x_body[k], exact=exact)
         if self._ball_focus != focus:
             self.focus_ball.color = PARTICLE_COLORS[focus]
             self._ball_focus = focus
-        spring = np.array([[sim.setup.anchor_body, x_body[2]]], dtype=float)
-        if not exact:
-            spring = np.round(spring / TOLERANCE) * TOLERANCE
-        spring32 = spring.astype(np.float32)
-        if self._spring_drawn is None or not np.array_equal(spring32, self._spring_drawn):
-            set_points(self.spring, spring32)
-            self._spring_drawn = spring32
+        if stretch != self._spring_drawn:
+            set_scale(self.spring, stretch)  # type: ignore[arg-type]
+            self._spring_drawn = stretch
         self._draw_paths(bool(self.gui_show_paths.value), lazy=not exact)
         # Forces on the chosen particle, body components, drawn in C′ from its centre (the
         # group sits where that particle is drawn).
@@ -771,6 +773,9 @@ class MovingFrameView(SceneView):
         """Where particle k is drawn, C′ coordinates [m] (the chosen one: by the forces' group)."""
         node = self.forces_group if k == self.sim.setup.focus else self.particles[k]
         x, y, z = (float(c) for c in node.position)
+        if node is self.particles[2]:  # in the spring's group, at the anchor
+            ax, ay, az = (float(c) for c in self.spring_group.position)
+            x, y, z = x + ax, y + ay, z + az
         return x, y, z
 
     def _draw_paths(self, visible: bool, lazy: bool = False) -> None:
