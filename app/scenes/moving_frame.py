@@ -437,6 +437,14 @@ def _disc(scene: Any, parent: str, radius: float) -> None:
                             thickness=2.5, thickness_units="screen")
 
 
+def _spread(trace: Trace) -> float:
+    """How far [m] the points of `trace` lie from its oldest one (0 if it has fewer than two)."""
+    if trace.count - trace.first < 2:
+        return 0.0
+    points = trace.points(trace.first, trace.count)
+    return float(np.max(np.abs(points - points[0])))
+
+
 def _matrix_of(wxyz: Sequence[float]) -> Array:
     """The rotation matrix (3, 3) of a unit quaternion (w, x, y, z)."""
     w, x, y, z = (float(c) for c in wxyz)
@@ -783,9 +791,9 @@ class MovingFrameView(SceneView):
         at most at 10 Hz), or none."""
         sim = self.sim
         for lines, trace in zip((*self.paths_space, *self.paths_body), (*sim.paths_space, *sim.paths_body)):
-            if visible:
+            if visible and _spread(trace) > TOLERANCE:
                 lines.sync(trace, lazy=lazy)
-            else:
+            else:  # hidden, or a path that is one point (the particle at rest in C′, seen in C′): nothing to draw
                 lines.hide()
 
     def _refresh_status(self) -> None:
