@@ -122,7 +122,9 @@ DISC_STRIPE_COLOR = (150, 140, 120)
 LABEL_MIN_LENGTH = 0.25  # [m] a force arrow shorter than this is drawn without its label
 READOUT_PERIOD = 0.5  # [s] of wall time (2 Hz)
 FRAME_REACH = 2.2  # [m] the farthest drawn point of C′ (disc rim, axis labels): its pose's snapping grid
-LABEL_TOLERANCE = 0.05  # [m] while playing, a force's label moves in steps of this (~7 px) behind its tip
+GRID = 1.0 / 256.0  # [m] while playing, particles and the spring are snapped to this (~0.6 px): a power of two,
+# so a snapped coordinate has few significant bits and its float64 ends in zero bytes (they compress)
+LABEL_TOLERANCE = 1.0 / 32.0  # [m] while playing, a force's label moves in steps of this (~4 px; a power of 2)
 LABEL_BEYOND = 0.16  # [m] a force's label sits this far beyond its tip
 LABEL_ASIDE = 0.06  # [m] ... the sum's this far beside its middle
 LABEL_FONT = 1.5
@@ -524,7 +526,7 @@ class MovingFrameView(SceneView):
                                 color=PARTICLE_COLORS[k], subdivisions=2, cast_shadow=False, receive_shadow=False)
             for k in range(len(PARTICLES))
         ]
-        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
+        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS, tolerance=GRID) for node in self.particles]
         self.radius_rod = scene.add_line_segments(f"{frame}/rod", np.zeros((1, 2, 3)), (110, 110, 120),
                                                   thickness=3.0, thickness_units="screen", visible=False)
         self.anchor = scene.add_icosphere(f"{frame}/s/o", radius=0.035, color=(90, 90, 90), subdivisions=1,
@@ -534,7 +536,7 @@ class MovingFrameView(SceneView):
         self.paths_body = [TraceLines(scene, f"{frame}/t/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
         self.forces_group = scene.add_frame(f"{frame}/a", show_axes=False)
-        self.forces_pose = Pose(self.forces_group, reach=PARTICLE_RADIUS)
+        self.forces_pose = Pose(self.forces_group, reach=PARTICLE_RADIUS, tolerance=GRID)
         # The chosen particle is drawn by a ball in the group (its own node hidden): one message
         # moves the particle and its forces.
         self.focus_ball = scene.add_icosphere(f"{frame}/a/b", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[0],
@@ -729,13 +731,16 @@ class MovingFrameView(SceneView):
         # Particles and the spring, in C′ (the spring particle and the spring from the anchor).
         x_body, _ = sim.body_coordinates()
         d = x_body[2] - np.array(anchor)
-        stretch = (tuple(f32(c) for c in d) if exact else tuple(snap(float(c), TOLERANCE) for c in d))
+        stretch = (tuple(f32(c) for c in d) if exact else tuple(snap(float(c), GRID) for c in d))
         focus = sim.setup.focus
         for k, pose in enumerate(self.particle_poses):
             own = k != focus  # else drawn by the ball of the forces' group
             if self.particles[k].visible != own:
                 self.particles[k].visible = own
-            if own:
+            if own and k == 1:  # snapped about its place in C′: at rest there, it is drawn there and sends nothing
+                place = sim.setup.rider_body
+                pose.set(position=x_body[1] if exact else place + [snap(float(c), GRID) for c in x_body[1] - place])
+            elif own:
                 pose.set(position=stretch if k == 2 else x_body[k], exact=exact)
         if self._ball_focus != focus:
             self.focus_ball.color = PARTICLE_COLORS[focus]
