@@ -33,15 +33,25 @@ by the simulation (`app.kit.trace.Trace`, so a view built later shows them so fa
 in short chunks (`app.kit.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
 at most at 10 Hz while playing).
 
-**What a playing frame sends** (the frame budget, tests/test_frame_budget.py).  What moves with
-C′ hangs under C′'s node in C′ coordinates: the particles, the anchor, the spring, the paths in
-C′ and the forces, so C′'s turn is one message and a particle at rest in C′ sends none.  The
-forces hang under one group at the chosen particle, which also holds that particle's ball (its
-own node hidden): one position message moves both; the five forces are one `add_arrows` node
-and the sum another (`app.kit.lean.Arrows`: one `points` message each); their labels move in
-steps of LABEL_TOLERANCE.  While playing every pose, point and label is snapped to ~1 px
-(`app.kit.lean.Pose`) and sent only when what is drawn changed; paused, all is exact.
-Node names are short (each message carries its node's name).
+**What a playing frame sends** (the frame budget, tests/test_frame_budget.py; Turntable, the
+default: ~470 B and ~8.5 scene messages a frame, own room or following, 2026-11-25).  What
+moves with C′ hangs under C′'s node in C′ coordinates: the particles, the anchor, the spring,
+the paths in C′ and the forces, so C′'s turn is one message (~45 B: four float64s) and a
+particle at rest in C′ sends none.  The forces hang under one group at the chosen particle,
+which also holds that particle's ball (its own node hidden): one position message moves both;
+the five forces are one `add_arrows` node and the sum another, thinner (`app.kit.lean.Arrows`:
+one `points` message each, raw float32, 24 B an arrow: ~72 B of the frame, the largest part);
+their labels move in steps of LABEL_TOLERANCE (~4 px).  The spring's group sits at its anchor:
+the spring particle hangs in it at d = x′ − anchor and the spring is a unit segment (0 → (1, 1,
+1)) scaled by d, so the two messages carry the same three numbers (the second compresses to a
+few bytes) and no points are sent.  The paths: a new chunk or head every few frames (~45 B a
+frame); a path that is one point (the particle at rest in C′, seen in C′) is not drawn.  While
+playing every pose, point and label is snapped (`app.kit.lean.Pose`; C′ to ~1 px, particles
+and the spring to GRID = 1/256 m, a power of two, so their float64s end in zero bytes that
+compress) and sent only when what is drawn changed; paused, all is exact.  Node names are
+short (each message carries its node's name); each message type a frame holds costs its name
+once (~20-30 B; SetOrientation, SetPosition, SceneNodeUpdate), which no node layout avoids.
+The readout and the status line are rewritten at 2 Hz (READOUT_PERIOD).
 
 **The rider's view.**  "Ride with C′" does not move the camera.  Everything is drawn under
 one node `world` (space coordinates) and C′'s contents under `world/frame` (posed by a, D);
@@ -120,7 +130,7 @@ FORCE_COLORS = {"real": (30, 30, 30), "translational": (120, 120, 0), "euler": (
 DISC_COLOR = (210, 205, 190)
 DISC_STRIPE_COLOR = (150, 140, 120)
 LABEL_MIN_LENGTH = 0.25  # [m] a force arrow shorter than this is drawn without its label
-READOUT_PERIOD = 0.5  # [s] of wall time (2 Hz)
+READOUT_PERIOD = 0.5  # [s] of wall time (2 Hz): the readout and the status line
 FRAME_REACH = 2.2  # [m] the farthest drawn point of C′ (disc rim, axis labels): its pose's snapping grid
 GRID = 1.0 / 256.0  # [m] while playing, particles and the spring are snapped to this (~0.6 px): a power of two,
 # so a snapped coordinate has few significant bits and its float64 ends in zero bytes (they compress)
