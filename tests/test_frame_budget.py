@@ -76,7 +76,10 @@ BUDGETS: dict[str, Budget] = {
     "Poinsot": Budget(3.0, 3.0, (False, False)),
     # Moving frame 580 / 550, 9.0 / 9.2; Constrained particles 361 / 357, 6.1 (2026-11-24, r2-moving:
     # children of what carries them, snapped poses, batched force arrows, short lazy path chunks).
-    "Moving frame": Budget(10.0, 10.0),
+    # Moving frame 2026-11-25 (moving-bytes: the spring a scaled unit segment in a group at its anchor, its
+    # particle in the same group; particles and labels on power-of-two grids; a path that is one point not
+    # drawn; readout and status line at 2 Hz): 467-476 / 468-479, 8.3-8.6 scene msgs/frame.
+    "Moving frame": Budget(9.0, 9.0),
     # Constrained particles 270 / 271, 4.25 / 4.17 (2026-11-25, constrained-bytes: the particle's
     # arrows in one turned frame, two-piece shafts, power-of-two grids, status and sliders at 2 Hz).
     "Constrained particles": Budget(4.5, 4.5),

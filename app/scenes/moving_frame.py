@@ -33,15 +33,25 @@ by the simulation (`app.kit.trace.Trace`, so a view built later shows them so fa
 in short chunks (`app.kit.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
 at most at 10 Hz while playing).
 
-**What a playing frame sends** (the frame budget, tests/test_frame_budget.py).  What moves with
-C′ hangs under C′'s node in C′ coordinates: the particles, the anchor, the spring, the paths in
-C′ and the forces, so C′'s turn is one message and a particle at rest in C′ sends none.  The
-forces hang under one group at the chosen particle, which also holds that particle's ball (its
-own node hidden): one position message moves both; the five forces are one `add_arrows` node
-and the sum another (`app.kit.lean.Arrows`: one `points` message each); their labels move in
-steps of LABEL_TOLERANCE.  While playing every pose, point and label is snapped to ~1 px
-(`app.kit.lean.Pose`) and sent only when what is drawn changed; paused, all is exact.
-Node names are short (each message carries its node's name).
+**What a playing frame sends** (the frame budget, tests/test_frame_budget.py; Turntable, the
+default: ~470 B and ~8.5 scene messages a frame, own room or following, 2026-11-25).  What
+moves with C′ hangs under C′'s node in C′ coordinates: the particles, the anchor, the spring,
+the paths in C′ and the forces, so C′'s turn is one message (~45 B: four float64s) and a
+particle at rest in C′ sends none.  The forces hang under one group at the chosen particle,
+which also holds that particle's ball (its own node hidden): one position message moves both;
+the five forces are one `add_arrows` node and the sum another, thinner (`app.kit.lean.Arrows`:
+one `points` message each, raw float32, 24 B an arrow: ~72 B of the frame, the largest part);
+their labels move in steps of LABEL_TOLERANCE (~4 px).  The spring's group sits at its anchor:
+the spring particle hangs in it at d = x′ − anchor and the spring is a unit segment (0 → (1, 1,
+1)) scaled by d, so the two messages carry the same three numbers (the second compresses to a
+few bytes) and no points are sent.  The paths: a new chunk or head every few frames (~45 B a
+frame); a path that is one point (the particle at rest in C′, seen in C′) is not drawn.  While
+playing every pose, point and label is snapped (`app.kit.lean.Pose`; C′ to ~1 px, particles
+and the spring to GRID = 1/256 m, a power of two, so their float64s end in zero bytes that
+compress) and sent only when what is drawn changed; paused, all is exact.  Node names are
+short (each message carries its node's name); each message type a frame holds costs its name
+once (~20-30 B; SetOrientation, SetPosition, SceneNodeUpdate), which no node layout avoids.
+The readout and the status line are rewritten at 2 Hz (READOUT_PERIOD).
 
 **The rider's view.**  "Ride with C′" does not move the camera.  Everything is drawn under
 one node `world` (space coordinates) and C′'s contents under `world/frame` (posed by a, D);
@@ -70,11 +80,11 @@ import numpy as np
 import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle, canonical_angles_deg, format_deg, format_vector, wrap_deg
-from app.kit.fastprops import set_points
+from app.kit.fastprops import set_scale
 from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.labels import KEY
-from app.kit.lean import TOLERANCE, Arrows, Pose, turn_z_onto
+from app.kit.lean import TOLERANCE, Arrows, Pose, f32, snap, turn_z_onto
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.trace import Trace
@@ -120,9 +130,11 @@ FORCE_COLORS = {"real": (30, 30, 30), "translational": (120, 120, 0), "euler": (
 DISC_COLOR = (210, 205, 190)
 DISC_STRIPE_COLOR = (150, 140, 120)
 LABEL_MIN_LENGTH = 0.25  # [m] a force arrow shorter than this is drawn without its label
-READOUT_PERIOD = 0.2  # [s] of wall time (5 Hz)
+READOUT_PERIOD = 0.5  # [s] of wall time (2 Hz): the readout and the status line
 FRAME_REACH = 2.2  # [m] the farthest drawn point of C′ (disc rim, axis labels): its pose's snapping grid
-LABEL_TOLERANCE = 0.02  # [m] while playing, a force's label moves in steps of this (~3 px) behind its tip
+GRID = 1.0 / 256.0  # [m] while playing, particles and the spring are snapped to this (~0.6 px): a power of two,
+# so a snapped coordinate has few significant bits and its float64 ends in zero bytes (they compress)
+LABEL_TOLERANCE = 1.0 / 32.0  # [m] while playing, a force's label moves in steps of this (~4 px; a power of 2)
 LABEL_BEYOND = 0.16  # [m] a force's label sits this far beyond its tip
 LABEL_ASIDE = 0.06  # [m] ... the sum's this far beside its middle
 LABEL_FONT = 1.5
@@ -437,6 +449,14 @@ def _disc(scene: Any, parent: str, radius: float) -> None:
                             thickness=2.5, thickness_units="screen")
 
 
+def _spread(trace: Trace) -> float:
+    """How far [m] the points of `trace` lie from its oldest one (0 if it has fewer than two)."""
+    if trace.count - trace.first < 2:
+        return 0.0
+    points = trace.points(trace.first, trace.count)
+    return float(np.max(np.abs(points - points[0])))
+
+
 def _matrix_of(wxyz: Sequence[float]) -> Array:
     """The rotation matrix (3, 3) of a unit quaternion (w, x, y, z)."""
     w, x, y, z = (float(c) for c in wxyz)
@@ -487,7 +507,7 @@ class MovingFrameView(SceneView):
         self.sim: MovingFrameSimulation = room.sim
         self._drawn_version = -1
         self._drawn_disc = math.nan
-        self._spring_drawn: np.ndarray | None = None  # the spring's points (1, 2, 3) as sent
+        self._spring_drawn: tuple[float, ...] | None = None  # the spring's scale (its vector d) as sent
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self.build()
 
@@ -507,22 +527,26 @@ class MovingFrameView(SceneView):
         self.body = Body(scene, f"{world}/f", self._build_disc, axis_length=1.0, labels=self.labels)
         self.frame_pose = Pose(self.body.node, reach=FRAME_REACH)
         frame = f"{world}/f"
+        # The spring's group sits at its anchor (fixed in C′): its particle hangs in it at d = x′ − anchor
+        # and the spring is a segment from (0, 0, 0) to (1, 1, 1) scaled by d, so that both messages
+        # of a frame carry the same three numbers (they compress) and no points are sent.
+        self.spring_group = scene.add_frame(f"{frame}/s", show_axes=False)
         self.particles = [
-            scene.add_icosphere(f"{frame}/p/{k}", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[k],
-                                subdivisions=2, cast_shadow=False, receive_shadow=False)
+            scene.add_icosphere(f"{frame}/p/{k}" if k < 2 else f"{frame}/s/p", radius=PARTICLE_RADIUS,
+                                color=PARTICLE_COLORS[k], subdivisions=2, cast_shadow=False, receive_shadow=False)
             for k in range(len(PARTICLES))
         ]
-        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS) for node in self.particles]
+        self.particle_poses = [Pose(node, reach=PARTICLE_RADIUS, tolerance=GRID) for node in self.particles]
         self.radius_rod = scene.add_line_segments(f"{frame}/rod", np.zeros((1, 2, 3)), (110, 110, 120),
                                                   thickness=3.0, thickness_units="screen", visible=False)
-        self.anchor = scene.add_icosphere(f"{frame}/anchor", radius=0.035, color=(90, 90, 90), subdivisions=1,
+        self.anchor = scene.add_icosphere(f"{frame}/s/o", radius=0.035, color=(90, 90, 90), subdivisions=1,
                                           cast_shadow=False, receive_shadow=False)
-        self.spring = scene.add_line_segments(f"{frame}/s", np.zeros((1, 2, 3)), PARTICLE_COLORS[2],
-                                              thickness=1.5, thickness_units="screen")
+        self.spring = scene.add_line_segments(f"{frame}/s/l", np.array([[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]]),
+                                              PARTICLE_COLORS[2], thickness=1.5, thickness_units="screen")
         self.paths_body = [TraceLines(scene, f"{frame}/t/{k}", PARTICLE_COLORS[k], self.sim.paths_body[k])
                            for k in range(len(PARTICLES))]
         self.forces_group = scene.add_frame(f"{frame}/a", show_axes=False)
-        self.forces_pose = Pose(self.forces_group, reach=PARTICLE_RADIUS)
+        self.forces_pose = Pose(self.forces_group, reach=PARTICLE_RADIUS, tolerance=GRID)
         # The chosen particle is drawn by a ball in the group (its own node hidden): one message
         # moves the particle and its forces.
         self.focus_ball = scene.add_icosphere(f"{frame}/a/b", radius=PARTICLE_RADIUS, color=PARTICLE_COLORS[0],
@@ -711,28 +735,29 @@ class MovingFrameView(SceneView):
         if rod_visible and float(self.radius_rod.points[0, 1, 2]) != -h:
             self.radius_rod.points = np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, -h]]], dtype=np.float32)
         ax, ay, az = (float(c) for c in sim.setup.anchor_body)
-        anchor = (ax, ay, az)
-        if tuple(self.anchor.position) != anchor:
-            self.anchor.position = anchor
-        # Particles and the spring, in C′.
+        anchor = (f32(ax), f32(ay), f32(az))
+        if tuple(self.spring_group.position) != anchor:
+            self.spring_group.position = anchor
+        # Particles and the spring, in C′ (the spring particle and the spring from the anchor).
         x_body, _ = sim.body_coordinates()
+        d = x_body[2] - np.array(anchor)
+        stretch = (tuple(f32(c) for c in d) if exact else tuple(snap(float(c), GRID) for c in d))
         focus = sim.setup.focus
         for k, pose in enumerate(self.particle_poses):
             own = k != focus  # else drawn by the ball of the forces' group
             if self.particles[k].visible != own:
                 self.particles[k].visible = own
-            if own:
-                pose.set(position=x_body[k], exact=exact)
+            if own and k == 1:  # snapped about its place in C′: at rest there, it is drawn there and sends nothing
+                place = sim.setup.rider_body
+                pose.set(position=x_body[1] if exact else place + [snap(float(c), GRID) for c in x_body[1] - place])
+            elif own:
+                pose.set(position=stretch if k == 2 else x_body[k], exact=exact)
         if self._ball_focus != focus:
             self.focus_ball.color = PARTICLE_COLORS[focus]
             self._ball_focus = focus
-        spring = np.array([[sim.setup.anchor_body, x_body[2]]], dtype=float)
-        if not exact:
-            spring = np.round(spring / TOLERANCE) * TOLERANCE
-        spring32 = spring.astype(np.float32)
-        if self._spring_drawn is None or not np.array_equal(spring32, self._spring_drawn):
-            set_points(self.spring, spring32)
-            self._spring_drawn = spring32
+        if stretch != self._spring_drawn:
+            set_scale(self.spring, stretch)  # type: ignore[arg-type]
+            self._spring_drawn = stretch
         self._draw_paths(bool(self.gui_show_paths.value), lazy=not exact)
         # Forces on the chosen particle, body components, drawn in C′ from its centre (the
         # group sits where that particle is drawn).
@@ -771,6 +796,9 @@ class MovingFrameView(SceneView):
         """Where particle k is drawn, C′ coordinates [m] (the chosen one: by the forces' group)."""
         node = self.forces_group if k == self.sim.setup.focus else self.particles[k]
         x, y, z = (float(c) for c in node.position)
+        if node is self.particles[2]:  # in the spring's group, at the anchor
+            ax, ay, az = (float(c) for c in self.spring_group.position)
+            x, y, z = x + ax, y + ay, z + az
         return x, y, z
 
     def _draw_paths(self, visible: bool, lazy: bool = False) -> None:
@@ -778,9 +806,9 @@ class MovingFrameView(SceneView):
         at most at 10 Hz), or none."""
         sim = self.sim
         for lines, trace in zip((*self.paths_space, *self.paths_body), (*sim.paths_space, *sim.paths_body)):
-            if visible:
+            if visible and _spread(trace) > TOLERANCE:
                 lines.sync(trace, lazy=lazy)
-            else:
+            else:  # hidden, or a path that is one point (the particle at rest in C′, seen in C′): nothing to draw
                 lines.hide()
 
     def _refresh_status(self) -> None:
