@@ -71,7 +71,8 @@ __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "M
 
 logger = logging.getLogger(__name__)
 
-LIVE_ROOT = "/live"  # the presenter's 3D in the shared scene hangs under this node
+LIVE_ROOT = "/l"  # the presenter's 3D in the shared scene hangs under this node (every follower message
+# carries its node's name: short)
 MAX_TRIES = 5  # wrong codes a browser may try ...
 TRIES_WINDOW = 60.0  # ... per this many seconds
 FOLLOW_PERIOD = 0.5  # [s] the followers' panels refresh this often (they are many)

@@ -17,6 +17,7 @@ import pytest
 from conftest import poll_until
 from viser import _messages
 
+from app.lectern import LIVE_ROOT
 from app.wire import Wire, encode, websocket_frame
 from benchmarks.ws_client import decode_frame, resolve_binary
 
@@ -198,9 +199,9 @@ def test_followers_frame_is_encoded_once() -> None:
         assert shared.encodes <= 1.25 * shared.frames, (shared.encodes, shared.frames)
         assert shared.writes >= 4 * shared.frames * 0.8  # every follower got (nearly) every frame
         for mirror in mirrors:
-            assert _differences(mirror, app.server.scene, "/live") == []
+            assert _differences(mirror, app.server.scene, LIVE_ROOT) == []
             with mirror.lock:
-                assert any(name.startswith("/live") for name in mirror.nodes)
+                assert any(name.startswith(LIVE_ROOT) for name in mirror.nodes)
     finally:
         for mirror in mirrors:
             mirror.close()
