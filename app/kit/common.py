@@ -22,6 +22,7 @@ __all__ = [
     "BODY_AXIS_COLORS",
     "GIMBAL_FADE_DEG",
     "format_deg",
+    "keep_phase",
     "GIMBAL_LOCK_DEG",
     "L_COLOR",
     "NODES_COLOR",
@@ -179,6 +180,16 @@ def gimbal_note(theta_deg: float) -> str | None:
     return None
 
 
+def keep_phase(elapsed: float, period: float) -> float:
+    """What is left of `elapsed` [s] after a periodic task ran (elapsed >= period): the time it
+    ran late, modulo the period.  Not 0: after a long frame every view (every room) of the app
+    would run its periodic work in the same later frames (their phases snapped together); 60
+    rooms laying out their labels and sampling their plots in one frame out of six made that
+    frame ~40 ms."""
+    late = max(0.0, elapsed - period)
+    return 0.0 if math.isinf(late) else late % period
+
+
 class Throttle:
     """True at most once per `period` [s] of the time fed to `ready` (the tick's dt).
 
@@ -193,7 +204,7 @@ class Throttle:
     def ready(self, dt: float) -> bool:
         self._elapsed += dt
         if self._elapsed >= self.period * (1.0 - 1e-9):  # 6 x (1/60) s is 0.1 s, not 0.0999...
-            self._elapsed = 0.0
+            self._elapsed = keep_phase(self._elapsed, self.period)
             return True
         return False
 

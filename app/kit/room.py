@@ -40,7 +40,7 @@ import threading
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
-from app.kit.common import CameraView
+from app.kit.common import CameraView, keep_phase
 from app.kit.gui import Wrap
 from app.kit.history import History, is_replayable
 from app.kit.presets import Preset
@@ -405,7 +405,7 @@ class Room:
                 self.ticks += 1
                 self._since_sample += dt
                 if self._since_sample >= SAMPLE_PERIOD * (1.0 - 1e-9):
-                    self._since_sample = 0.0
+                    self._since_sample = keep_phase(self._since_sample, SAMPLE_PERIOD)
                     self._sample()
                 self._record()
 
