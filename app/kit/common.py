@@ -197,14 +197,18 @@ class Throttle:
     the same schedule as the running app.
     """
 
-    def __init__(self, period: float) -> None:
+    def __init__(self, period: float, phase: float = 0.0) -> None:
+        """phase [s] in [0, period): after the first (immediate) time, the next comes period -
+        phase later (throttles of many views made in the same frame can so take turns)."""
         self.period = period
+        self.phase = phase % period if period > 0.0 else 0.0
         self._elapsed = math.inf  # the first call is ready
 
     def ready(self, dt: float) -> bool:
         self._elapsed += dt
         if self._elapsed >= self.period * (1.0 - 1e-9):  # 6 x (1/60) s is 0.1 s, not 0.0999...
-            self._elapsed = keep_phase(self._elapsed, self.period)
+            first = math.isinf(self._elapsed)
+            self._elapsed = self.phase if first else keep_phase(self._elapsed, self.period)
             return True
         return False
 
