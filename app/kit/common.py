@@ -9,6 +9,7 @@ through the client handle it is given.
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -23,6 +24,7 @@ __all__ = [
     "GIMBAL_FADE_DEG",
     "format_deg",
     "keep_phase",
+    "staggered",
     "GIMBAL_LOCK_DEG",
     "L_COLOR",
     "NODES_COLOR",
@@ -190,6 +192,17 @@ def keep_phase(elapsed: float, period: float) -> float:
     return 0.0 if math.isinf(late) else late % period
 
 
+_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+_TURNS = itertools.count()
+
+
+def staggered(period: float) -> Throttle:
+    """A Throttle whose phase is frac(k φ) of its period for the k-th one made (φ the golden
+    ratio: any number of them spread evenly): the periodic work of many browsers' views (label
+    layouts, panel text) then falls into different frames, not all into the same one."""
+    return Throttle(period, phase=period * (next(_TURNS) * _GOLDEN % 1.0))
+
+
 class Throttle:
     """True at most once per `period` [s] of the time fed to `ready` (the tick's dt).
 
@@ -198,8 +211,9 @@ class Throttle:
     """
 
     def __init__(self, period: float, phase: float = 0.0) -> None:
-        """phase [s] in [0, period): after the first (immediate) time, the next comes period -
-        phase later (throttles of many views made in the same frame can so take turns)."""
+        """phase [s] in [0, period): after the first (immediate) time, the next comes period +
+        phase later (throttles of many views made in the same frame so take turns; never sooner
+        than a period)."""
         self.period = period
         self.phase = phase % period if period > 0.0 else 0.0
         self._elapsed = math.inf  # the first call is ready
@@ -208,7 +222,7 @@ class Throttle:
         self._elapsed += dt
         if self._elapsed >= self.period * (1.0 - 1e-9):  # 6 x (1/60) s is 0.1 s, not 0.0999...
             first = math.isinf(self._elapsed)
-            self._elapsed = self.phase if first else keep_phase(self._elapsed, self.period)
+            self._elapsed = -self.phase if first else keep_phase(self._elapsed, self.period)
             return True
         return False
 

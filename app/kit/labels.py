@@ -29,12 +29,11 @@ frames, component arrows).
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.kit.common import CameraView, Throttle
+from app.kit.common import CameraView, staggered
 from app.kit.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, project_one, text_box
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]
@@ -43,12 +42,8 @@ KEY = 3  # space axes, ω, L, forces, gravity: what a lecture talks about
 AXES = 2  # body axes x′ y′ z′, the line of nodes
 DETAIL = 1  # readings on arcs, titles, intermediate frames, component arrows
 
-PERIOD = 0.1  # [s] of wall time between two layouts while the view draws (10 Hz)
-# Layers take turns: the k-th layer made lays out at phase frac(k φ) of the period (φ the golden
-# ratio: any number of layers spread evenly), so 60 browsers' layouts (~0.3-0.8 ms each) fall
-# into different frames, not all into one frame in six.
-_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
-_TURNS = itertools.count()
+PERIOD = 0.1  # [s] of wall time between two layouts while the view draws (10 Hz); the layers take
+# turns (`staggered`): 60 browsers' layouts (~0.3-0.8 ms each) fall into different frames
 FALLBACK_SIZE_PX = (1280, 800)  # the window assumed when the view has no browser camera
 MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height apart (6 px at 800)
 TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
@@ -154,7 +149,7 @@ class LabelLayer:
         self.camera = camera
         self.fallback = fallback
         self._entries: dict[int, _Entry] = {}  # by id(handle)
-        self._throttle = Throttle(PERIOD, phase=PERIOD * next(_TURNS) * _GOLDEN % PERIOD)
+        self._throttle = staggered(PERIOD)
         self._last_key: Any = None  # what the last layout saw (camera, boxes, wants)
         self._moving = False  # the last layout grew some box for its label's motion
         self._last_view: tuple[CameraView, int, int] | None = None
