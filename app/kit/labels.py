@@ -253,7 +253,9 @@ class LabelLayer:
             dx, dy = (x - entry.last_px[0], y - entry.last_px[1]) if entry.last_px is not None else (0.0, 0.0)
             bend = math.hypot(dx - entry.last_step[0], dy - entry.last_step[1]) if entry.last_step is not None else 0.0
             margin = TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)
-            entry.last_px, entry.last_step = (x, y), (dx, dy)
+            # Its step is known only from its second layout on: a label that just appeared (or
+            # just started moving) is not taken to have turned from standing still.
+            entry.last_px, entry.last_step = (x, y), ((dx, dy) if entry.last_px is not None else None)
             self._moving = self._moving or margin > 0.0
             text = str(entry.handle.text)
             current = str(entry.handle.anchor)
