@@ -13,8 +13,8 @@ or two small messages.  So a scene sends
   What is drawn is then a function of the state alone (not of what was sent before), so a view
   built later, a fork's view and every follower draw exactly the same; paused (`exact=True`,
   after an edit, a step, a reset) everything is drawn exactly;
-- floats rounded to float32 (`f32`): a float64 with a float32 mantissa ends in three zero bytes,
-  which compress (viser keeps poses float32-exact at worst anyway);
+- floats rounded to float32 (`f32`): `app.wire` sends a float32-exact pose number as a 5-byte
+  float32 instead of a 9-byte float64 (viser's client draws in float32 anyway);
 - many arrows of one style in one `add_arrows` node (`Arrows`): one `points` message for all;
 - text only when it changed, at a reader's rate (the scenes' throttles).
 
