@@ -8,6 +8,7 @@ the number of followers (the encodes are counted, nothing is timed).
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from typing import Any
@@ -206,3 +207,31 @@ def test_followers_frame_is_encoded_once() -> None:
         for mirror in mirrors:
             mirror.close()
         app.stop()
+
+
+def test_pose_messages_are_serialised_as_viser_does_with_their_numbers_in_the_shortest_exact_form() -> None:
+    """app.wire builds a pose message's dict itself: the same keys and values as viser's own
+    `as_serializable_dict`, the numbers as integers / float32 / float64, whichever is exact."""
+    import msgspec
+
+    from app.wire import _serialise
+
+    values = (0.0, -0.0, 1.0, -1.0, 0.5, 0.1, 1e-300, 3e38, 1e40, 2.0**31)
+    for message in (_messages.SetOrientationMessage("/l/a", values[:4]),
+                    _messages.SetOrientationMessage("/l/b", values[4:8]),
+                    _messages.SetPositionMessage("/c", values[7:10])):
+        message.owner = "7"
+        ours, viser_own = _serialise(message, []), message.as_serializable_dict([])
+        assert list(ours) == list(viser_own) and ours["type"] == viser_own["type"] == type(message).__name__
+        decoded = msgspec.msgpack.decode(msgspec.msgpack.encode(ours))
+        field = "wxyz" if "wxyz" in ours else "position"
+        got, want = decoded[field], list(viser_own[field])
+        assert [float(x) for x in got] == want  # exactly
+        assert [math.copysign(1.0, x) for x in got] == [math.copysign(1.0, x) for x in want]  # -0.0 kept
+        assert {k: v for k, v in decoded.items() if k != field} == {k: v for k, v in viser_own.items() if k != field}
+    # Shorter: 0 and ±1 take a byte, a float32-exact number five, others nine.
+    short = msgspec.msgpack.encode(_serialise(_messages.SetOrientationMessage("/a", (1.0, 0.0, 0.0, 0.0)), []))
+    long = msgspec.msgpack.encode(_messages.SetOrientationMessage("/a", (1.0, 0.0, 0.0, 0.0)).as_serializable_dict([]))
+    assert len(long) - len(short) == 4 * (9 - 1)
+    message = _messages.SceneNodeUpdateMessage("/b", {"scale": 0.5})  # not a pose: viser's own
+    assert _serialise(message, []) == message.as_serializable_dict([])
