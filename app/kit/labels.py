@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from app.kit.common import CameraView, staggered
-from app.kit.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, project_one, text_box
+from app.kit.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, box_at, project_one, text_size
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]
 
@@ -127,13 +127,19 @@ def _world_position(handle: Any,
     return (rx + at[0], ry + at[1], rz + at[2]), shown
 
 
-def _gap(a: Box, b: Box) -> float:
-    """The distance [px] between two boxes; negative (minus the overlap) when they overlap."""
-    dx = max(b[0] - a[2], a[0] - b[2])
-    dy = max(b[1] - a[3], a[1] - b[3])
-    if dx < 0.0 and dy < 0.0:
-        return max(dx, dy)
-    return math.hypot(max(dx, 0.0), max(dy, 0.0))
+def _clear(box: Box, placed: list[Box], gap: float) -> bool:
+    """Whether `box` keeps at least `gap` [px] from every placed box (their distance, or minus
+    their overlap when they overlap)."""
+    x0, y0, x1, y1 = box
+    for b0, c0, b1, c1 in placed:
+        dx = max(b0 - x1, x0 - b1)
+        dy = max(c0 - y1, y0 - c1)
+        if dx < 0.0 and dy < 0.0:
+            if max(dx, dy) < gap:
+                return False
+        elif math.hypot(max(dx, 0.0), max(dy, 0.0)) < gap:
+            return False
+    return True
 
 
 class LabelLayer:
@@ -214,7 +220,7 @@ class LabelLayer:
             self._forget_motion()  # the camera moved (an orbit, a reset): the labels jumped on the screen
         em_per_scale = SCREEN_EM_PX * height / REFERENCE_HEIGHT_PX
         gap = MIN_GAP_FRACTION * height
-        candidates: list[tuple[_Entry, tuple[float, float], float]] = []
+        candidates: list[tuple[_Entry, tuple[float, float], tuple[float, float]]] = []  # entry, (x, y), (w, h) [px]
         key: list[Any] = [view, width, height]
         poses: dict[str, Pose] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
@@ -239,7 +245,7 @@ class LabelLayer:
                 entry.last_px = entry.last_step = None
                 continue
             em = em_per_scale * float(entry.handle.font_screen_scale)
-            candidates.append((entry, (x, y), em))
+            candidates.append((entry, (x, y), text_size(text, em)))
             key.append((entry.order, round(x, 1), round(y, 1), text))
         if key == self._last_key and not self._moving:
             return  # nothing moved since a layout that had nothing moving either
@@ -248,7 +254,7 @@ class LabelLayer:
         self.layouts += 1
         placed: list[Box] = []
         candidates.sort(key=lambda c: (-c[0].priority, c[0].order))
-        for entry, (x, y), em in candidates:
+        for entry, (x, y), (w, h) in candidates:
             # Where it will be at the next layout, and how far it may stray from the straight way there.
             dx, dy = (x - entry.last_px[0], y - entry.last_px[1]) if entry.last_px is not None else (0.0, 0.0)
             bend = math.hypot(dx - entry.last_step[0], dy - entry.last_step[1]) if entry.last_step is not None else 0.0
@@ -257,17 +263,16 @@ class LabelLayer:
             # just started moving) is not taken to have turned from standing still.
             entry.last_px, entry.last_step = (x, y), ((dx, dy) if entry.last_px is not None else None)
             self._moving = self._moving or margin > 0.0
-            text = str(entry.handle.text)
             current = str(entry.handle.anchor)
             # Its own anchor, then the others in a fixed order: the same picture for the same positions.
             anchors = [entry.anchor]
             if entry.nudge:
                 anchors += [a for a in NUDGE_ANCHORS if a != entry.anchor]
             for anchor in anchors:
-                x0, y0, x1, y1 = text_box(anchor, x, y, text, em)
+                x0, y0, x1, y1 = box_at(anchor, x, y, w, h)
                 box = (min(x0, x0 + dx) - margin, min(y0, y0 + dy) - margin,
                        max(x1, x1 + dx) + margin, max(y1, y1 + dy) + margin)
-                if all(_gap(box, other) >= gap for other in placed):
+                if _clear(box, placed, gap):
                     placed.append(box)
                     if current != anchor:
                         entry.handle.anchor = anchor

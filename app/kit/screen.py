@@ -25,7 +25,7 @@ import numpy as np
 from app.kit.common import CameraView
 from physics.quaternion import matrix_from_wxyz
 
-__all__ = ["LabelBox", "label_boxes", "overlapping", "project", "project_one", "text_box"]
+__all__ = ["LabelBox", "box_at", "label_boxes", "overlapping", "project", "project_one", "text_box", "text_size"]
 
 REFERENCE_HEIGHT_PX = 800.0  # viser sizes screen labels relative to an 800 px tall viewport
 SCREEN_EM_PX = 12.0  # [px] a screen label's em at font_screen_scale 1, at REFERENCE_HEIGHT_PX
@@ -126,16 +126,30 @@ def _world_poses(handles: dict[str, Any]) -> dict[str, tuple[np.ndarray, np.ndar
     return poses
 
 
-def text_box(anchor: str, x: float, y: float, text: str, em: float) -> tuple[float, float, float, float]:
-    """The padded text block (x0, y0, x1, y1) [px] of a label whose `anchor` ("top-left", ...,
-    "center-center", "bottom-right") sits at (x, y) [px]; em [px] is its font size."""
+def text_size(text: str, em: float) -> tuple[float, float]:
+    """(width, height) [px] of a label's padded text block; em [px] is its font size."""
     lines = text.split("\n")
     w = max(len(line) for line in lines) * CHAR_WIDTH_EM * em + 2.0 * PADDING_EM * em
     h = len(lines) * LINE_HEIGHT_EM * em + 2.0 * PADDING_EM * em
-    vertical, horizontal = anchor.split("-")
-    x0 = {"left": x, "center": x - 0.5 * w, "right": x - w}[horizontal]
-    y0 = {"top": y, "center": y - 0.5 * h, "bottom": y - h}[vertical]
+    return w, h
+
+
+_ANCHOR_SHIFT = {f"{v}-{h}": (fh, fv) for v, fv in (("top", 0.0), ("center", -0.5), ("bottom", -1.0))
+                 for h, fh in (("left", 0.0), ("center", -0.5), ("right", -1.0))}
+
+
+def box_at(anchor: str, x: float, y: float, w: float, h: float) -> tuple[float, float, float, float]:
+    """The block (x0, y0, x1, y1) [px] of size (w, h) [px] whose `anchor` ("top-left", ...,
+    "center-center", "bottom-right") sits at (x, y) [px]."""
+    fh, fv = _ANCHOR_SHIFT[anchor]
+    x0, y0 = x + fh * w, y + fv * h
     return (x0, y0, x0 + w, y0 + h)
+
+
+def text_box(anchor: str, x: float, y: float, text: str, em: float) -> tuple[float, float, float, float]:
+    """The padded text block (x0, y0, x1, y1) [px] of a label whose `anchor` ("top-left", ...,
+    "center-center", "bottom-right") sits at (x, y) [px]; em [px] is its font size."""
+    return box_at(anchor, x, y, *text_size(text, em))
 
 
 def label_boxes(scene: Any, view: CameraView, width: int, height: int) -> list[LabelBox]:
