@@ -153,7 +153,7 @@ class PoinsotView(TorqueFreeView):
     """Poinsot's construction (see the module docstring)."""
 
     title = "Poinsot"
-    root = "/poinsot"
+    root = "/pt"  # node names are short: every message of a frame carries its node's name
     view = CameraView(position=(2.6, -8.2, 1.9), look_at=(1.1, 0.5, -0.5))
     intro = (
         "### Poinsot: the ellipsoid rolls on the invariable plane\n"
@@ -210,7 +210,7 @@ class PoinsotView(TorqueFreeView):
                                                  subdivisions=2, visible=False)  # while the ω arrow is off
 
         # Body angular-momentum space, beside it (body components, not turning).
-        ls = f"{root}/Lspace"
+        ls = f"{root}/Ls"
         self.lspace = scene.add_frame(ls, show_axes=False, position=L_SPACE_AT)
         scene.add_mesh_simple(f"{ls}/sphere", vertices * SPHERE_RADIUS, faces, color=SPHERE_COLOR, opacity=0.22,
                               cast_shadow=False, receive_shadow=False)
@@ -237,8 +237,8 @@ class PoinsotView(TorqueFreeView):
                                                thickness_units="screen")
         # |L| is conserved: L_b's dot stays on the sphere, at the +z of a frame turned onto L_b
         # (one orientation message when it moves, the kind the frame sends anyway).
-        self.L_turn = scene.add_frame(f"{ls}/L_turn", show_axes=False)
-        self.L_dot = scene.add_icosphere(f"{ls}/L_turn/L_b", radius=0.06, color=(120, 40, 200), subdivisions=2,
+        self.L_turn = scene.add_frame(f"{ls}/Lt", show_axes=False)
+        self.L_dot = scene.add_icosphere(f"{ls}/Lt/L_b", radius=0.06, color=(120, 40, 200), subdivisions=2,
                                          position=(0.0, 0.0, SPHERE_RADIUS))
         self._drawn_family: tuple[float, ...] | None = None
         self._flip_schedule: tuple[float, float] | None = None  # (next flip, period) [s]
