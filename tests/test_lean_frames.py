@@ -115,7 +115,7 @@ def test_a_vector_that_turns_sends_one_orientation_and_its_length_only_beyond_LE
     assert sent == []  # the same at display resolution: nothing
     vector.update(1.5 * (1.0 + 3.0 * LENGTH_RTOL) * np.array([math.sin(turn), math.cos(turn), 0.0]),
                   quantum=POSE_QUANTUM)
-    assert sorted(sent) == [("/lean/omega/shaft", "scale"), ("/lean/omega/tip", "SetPositionMessage")]
+    assert sorted(sent) == [("/lean/omega/s", "scale"), ("/lean/omega/t", "SetPositionMessage")]
     tip = vector.segment[1]
     np.testing.assert_allclose(np.linalg.norm(tip), 1.5 * (1.0 + 3.0 * LENGTH_RTOL), rtol=1e-12)
     np.testing.assert_allclose(tip / np.linalg.norm(tip), [math.sin(turn), math.cos(turn), 0.0], atol=2 * POSE_QUANTUM)

@@ -29,6 +29,11 @@ from physics.exact_top import steady_precession_rate
 DT = 1.0 / 60.0
 
 
+
+def _is_label(name: str) -> bool:
+    """A label node's name: "...label..." or an arrow's label "<arrow>/t/l" / "<arrow>/l" (app.kit.widgets.Vector)."""
+    return "label" in name or name.endswith("/l")
+
 def _state_vector(sim) -> np.ndarray:  # type: ignore[no-untyped-def]
     """Every number a simulation's state holds, for a finiteness check."""
     if hasattr(sim, "state"):
@@ -147,7 +152,7 @@ def test_a_paused_frame_sends_nothing_and_a_free_body_sends_L_once(manual, monke
     hand = [u for u in sent if u[0].startswith("/free/hand/")]  # the ω and L gizmos hide once, at Play
     assert sorted(hand) == [(f"/free/hand/{k}", ("SetSceneNodeVisibilityMessage",)) for k in ("L", "omega")]
     # Labels: shown, hidden or moved to another anchor by the view's LabelLayer, at most 10 times a second.
-    layout = [u for u in sent if u[1] in (("anchor",), ("SetSceneNodeVisibilityMessage",)) and "label" in u[0]]
+    layout = [u for u in sent if u[1] in (("anchor",), ("SetSceneNodeVisibilityMessage",)) and _is_label(u[0])]
     assert len(layout) <= 5 * len(session.scene.labels._entries)
     assert {name for name, _ in sent if name not in dict(hand) and (name, _) not in layout} <= {
         "/free/body", "/free/nodes", "/free/omega", "/free/omega_label"}
@@ -312,7 +317,7 @@ def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(man
     poses = [name for name, kind in sent if kind == "SetOrientationMessage"]
     assert poses.count("/top/tilt") == 30 and poses.count("/top/tilt/body") == 30  # every frame
     moved = {name for name, _ in sent if name.startswith(("/top/tilt/omega", "/top/tilt/L", "/top/tilt/nodes"))
-             and "label" not in name}
+             and not _is_label(name)}
     assert moved == set(), sent
     sim = view.sim
     R = sim.state.R_space_body

@@ -221,8 +221,9 @@ class Vector:
     whenever the arrow is drawn (`show_label(False)` drops it while the arrow stays).
 
     Nodes (under `name`): a frame at the arrow's start turned so that its +z runs along the
-    vector (`node`), the shaft (a unit cylinder scaled along z), and a frame at the tip (`tip`,
-    at z = length) holding the head and the label.  So a vector that turns costs one orientation
+    vector (`node`), the shaft `s` (a unit cylinder scaled along z), and a frame `t` at the tip
+    (`tip`, at z = length) holding the head `h` and the label `l` (short names: a playing frame's
+    messages carry them).  So a vector that turns costs one orientation
     message; its length is sent (the shaft's scale and the tip's position) only when it changed
     by more than LENGTH_RTOL (while playing), its start only when it moved (see `update`).  Children of `tip`
     (e.g. a dot where the arrow ends) move with it for nothing.
@@ -237,10 +238,10 @@ class Vector:
         self.node = scene.add_frame(name, show_axes=False, visible=False, position=self.origin)
         # viser's own arrows (their material, as every other arrow of the app): the shaft a unit
         # arrow with a head no wider than the shaft and vanishingly short, the head one that is all head.
-        self.shaft = scene.add_arrows(f"{name}/shaft", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]]), color,
+        self.shaft = scene.add_arrows(f"{name}/s", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]]), color,
                                       shaft_radius=shaft_radius, head_radius=shaft_radius, head_length=1e-6)
-        self.tip = scene.add_frame(f"{name}/tip", show_axes=False, position=(0.0, 0.0, 1.0))
-        self.head = scene.add_arrows(f"{name}/tip/head", np.array([[[0.0, 0.0, -head_length], [0.0, 0.0, 0.0]]]),
+        self.tip = scene.add_frame(f"{name}/t", show_axes=False, position=(0.0, 0.0, 1.0))
+        self.head = scene.add_arrows(f"{name}/t/h", np.array([[[0.0, 0.0, -head_length], [0.0, 0.0, 0.0]]]),
                                      color, shaft_radius=shaft_radius, head_radius=head_radius,
                                      head_length=head_length)
         self.head_length = float(head_length)
@@ -249,7 +250,7 @@ class Vector:
         # labelled=False: no label at all (`label` is None).
         self.label_at_middle = label_at_middle
         self.label = None if not labelled else _register(labels, scene.add_label(
-            f"{name}/label" if label_at_middle else f"{name}/tip/label", text, font_screen_scale=font_scale,
+            f"{name}/l" if label_at_middle else f"{name}/t/l", text, font_screen_scale=font_scale,
             anchor="center-left" if label_at_middle else "center-center", visible=False,
             position=(LABEL_ASIDE, LABEL_ASIDE, 0.5) if label_at_middle else (0.0, 0.0, LABEL_BEYOND)), priority)
         self._labels = labels

@@ -865,7 +865,7 @@ class _Arrow(Vector):
         radius = float(kwargs.get("shaft_radius", 0.03))
         self._back_at = -self.head_length
         self._piece = 1.0 - self.head_length  # as built: both pieces cover the shaft of length 1
-        self.back = scene.add_arrows(f"{name}/tip/b", np.array([[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]]]), color,
+        self.back = scene.add_arrows(f"{name}/t/b", np.array([[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]]]), color,
                                      shaft_radius=radius, head_radius=radius, head_length=1e-6,
                                      position=(0.0, 0.0, self._back_at), scale=(1.0, 1.0, self._piece))
         self.shaft.scale = (1.0, 1.0, self._piece)
