@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.widgets import z_onto
+from app.kit.widgets import quantized, z_onto
 from physics.quaternion import matrix_from_wxyz
 
 __all__ = ["TOLERANCE", "ArcPieces", "Arrows", "FrameArrow", "Pose", "f32", "quaternion_turn", "snap",
@@ -62,13 +62,18 @@ class Pose:
     change dq of a quaternion component turns it by about 2 dq, moving that point by 2 reach dq).
     `set(wxyz, position, exact)`: with exact=False the quaternion's components are snapped to
     the grid tolerance / (2 reach) (then normalized) and the position to the grid tolerance;
-    a message goes only when what is drawn changed.
+    a message goes only when what is drawn changed.  turn_quantum (a power of two): the
+    components are snapped to this grid instead and not renormalized (a float64 on it ends in
+    zero bytes, which compress; the browser draws the slightly non-unit quaternion as a turn
+    within ~turn_quantum of it).
     """
 
-    def __init__(self, handle: Any, reach: float = 1.0, tolerance: float = TOLERANCE) -> None:
+    def __init__(self, handle: Any, reach: float = 1.0, tolerance: float = TOLERANCE,
+                 turn_quantum: float | None = None) -> None:
         self.handle = handle
         self.reach = float(reach)
         self.tolerance = float(tolerance)
+        self.turn_quantum = turn_quantum
         self._wxyz: tuple[float, float, float, float] | None = None
         self._position: tuple[float, float, float] | None = None
         self.sent = 0  # messages sent (tests)
@@ -94,6 +99,8 @@ class Pose:
         if wxyz is not None:
             if exact:
                 q = tuple(f32(c) for c in wxyz)
+            elif self.turn_quantum is not None:
+                q = quantized(wxyz, self.turn_quantum)
             else:
                 step = self.tolerance / (2.0 * max(self.reach, 1e-9))
                 snapped = [round(float(c) / step) * step for c in wxyz]

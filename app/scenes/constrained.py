@@ -28,8 +28,9 @@ The simulation (`ConstrainedSimulation`, no viser) integrates with
 (q, h, T + V, the drift of h) and each particle's path (`app.kit.trace.Trace`), so a view built
 later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
 
-What a playing frame sends (the turning hoop, the default: 270 / 271 B a frame own / follower,
-4.2 scene messages, measured by tests/test_frame_budget.py; it was 360 / 352 and 6.1): the
+What a playing frame sends (the turning hoop, the default: 241 / 244 B a frame own / follower,
+4.2 scene messages, measured by tests/test_frame_budget.py on 2026-11-25; it was 360 / 352 and
+6.1): the
 hoop's turn (one orientation), the bead's position, the turn of the bead's frame `o` and C's tip
 (a position) — the four numbers α, θ, C's direction about the hoop and |C|, each message 20-30
 B after compression over a window of ~60 B.  How:
@@ -43,17 +44,18 @@ B after compression over a window of ~60 B.  How:
   head, overlapping in the middle) covering any shaft length in [P, 2P]: a change of length
   moves the tip only (one position message; the label rides on the tip), the pieces' scale is
   sent when the length leaves [P, 2P];
-- while playing, poses and lengths are on power-of-two grids (positions and lengths 2^-8 m,
-  quaternion components 2^-9, the guide's 2^-10: ~1 px or finer; a float64 on such a grid ends
-  in zero bytes, which compress) and a node is sent only when what is drawn changed; paused,
+- while playing, poses and lengths are on power-of-two grids (`app.kit.lean.Pose` with a
+  turn_quantum; positions and lengths 2^-8 m, quaternion components 2^-9, the guide's 2^-10:
+  ~1 px or finer; such numbers go on the wire as float32) and a node is sent only when what is
+  drawn changed; paused,
   everything is exact (float32).  What is drawn is a function of the state alone, so followers
   and late views draw the same;
 - the status line and the q, q̇ sliders follow at 2 Hz while playing, the paths' chunks as
   `app.kit.widgets.TraceLines` sends them (~15 B a frame).
 
-Below ~245 B it does not go with today's wire: a window of those four messages is ~238 B on
-the wire (2 + 16 + zstd of ~220 B), and F needs a frame at the particle that turns about z only,
-so the bead's position cannot ride on a turn.
+Much lower it does not go: those four messages carry four changing numbers a frame, and F
+needs a frame at the particle that turns about z only, so the bead's position cannot ride on a
+turn.
 """
 
 from __future__ import annotations
@@ -68,17 +70,17 @@ import numpy as np
 import viser
 
 from app.kit.common import CameraView, SliderSpec, Throttle
-from app.kit.fastprops import set_points, set_position, set_scale, set_wxyz
+from app.kit.fastprops import set_points, set_position, set_scale
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
-from app.kit.lean import TOLERANCE, f32, snap
+from app.kit.lean import TOLERANCE, Pose, snap
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.room import Room
 from app.kit.samples import SampleBuffer
 from app.kit.trace import Trace
 from app.kit.view import SceneView, nth
-from app.kit.widgets import LABEL_ASIDE, Stage, TraceLines, Vector, quantized
+from app.kit.widgets import LABEL_ASIDE, Stage, TraceLines, Vector
 from physics._types import Array
 from physics.constrained import (
     Evaluation,
@@ -447,7 +449,7 @@ class ConstrainedView(SceneView):
         self.guide = scene.add_line_segments(f"{base}/g/l", np.zeros((1, 2, 3)), GUIDE_COLOR,
                                              thickness=4.0, thickness_units="screen",
                                              visible=sim.system.guide is not None)
-        self.guide_pose = _GridPose(self.guide_frame, turn_quantum=GUIDE_QUANTUM)
+        self.guide_pose = Pose(self.guide_frame, tolerance=POSITION_QUANTUM, turn_quantum=GUIDE_QUANTUM)
         self._guide_start: tuple[System, Array] | None = None  # the system and its guide (N, 3) at t = 0
         self._guide_turns = True  # whether the guide now is that one turned about z
         self.links = scene.add_line_segments(f"{base}/links", np.zeros((max(1, len(sim.system.links)), 2, 3)),
@@ -459,7 +461,8 @@ class ConstrainedView(SceneView):
         self.particles = [scene.add_icosphere(f"{base}/p{i}", radius=PARTICLE_RADIUS,
                                               color=PARTICLE_COLORS[i % 2], subdivisions=2, cast_shadow=False,
                                               receive_shadow=False) for i in range(n)]
-        self.particle_poses = [_GridPose(node) for node in self.particles]
+        self.particle_poses = [Pose(node, tolerance=POSITION_QUANTUM, turn_quantum=ARROW_QUANTUM)
+                               for node in self.particles]
         self.paths_space = [TraceLines(scene, f"{base}/t{i}", _lighter(PARTICLE_COLORS[i % 2]), sim.paths[i],
                                        thickness=2.0) for i in range(n)]
         coordinate = sim.system.coordinates
@@ -469,7 +472,7 @@ class ConstrainedView(SceneView):
         # ∂x_i/∂q_1 and its x along C_i's part across it: on one smooth constraint (hoop, rod) the frame's
         # turn is all that moves them (one message a frame), C only stretches (5.7: C ⊥ δx).
         self.turns = [scene.add_frame(f"{base}/p{i}/o", show_axes=False) for i in range(n)]
-        self.turn_poses = [_GridPose(node) for node in self.turns]
+        self.turn_poses = [Pose(node, tolerance=POSITION_QUANTUM, turn_quantum=ARROW_QUANTUM) for node in self.turns]
         self.dx_arrows = [[_Arrow(scene, f"{base}/p{i}/o/dx{j}", DX_COLORS[j], f"δx({coordinate[j]})", i == n - 1,
                                   shaft_radius=0.012, head_radius=0.035, head_length=DX_HEAD, font_scale=1.3,
                                   label_at_middle=j == 1, labels=self.labels, priority=DETAIL)
@@ -821,34 +824,6 @@ def _lighter(color: tuple[int, int, int], weight: float = 0.5) -> tuple[int, int
     return r, g, b
 
 
-class _GridPose:
-    """A node's pose sent when what is drawn changed: exact (float32) when paused; while playing
-    on power-of-two grids (`quantized`: a float64 on such a grid ends in zero bytes, which
-    compress on the wire), the quaternion's components in steps of `turn_quantum` (not
-    renormalized, as `Vector` does), the position in steps of `quantum` [m].  A function of the
-    state alone (followers and late views draw the same)."""
-
-    def __init__(self, handle: Any, quantum: float = POSITION_QUANTUM, turn_quantum: float = ARROW_QUANTUM) -> None:
-        self.handle = handle
-        self.quantum = quantum
-        self.turn_quantum = turn_quantum
-        self.wxyz: tuple[float, ...] | None = None  # as sent
-        self.position: tuple[float, ...] | None = None
-
-    def set(self, wxyz: Sequence[float] | None = None, position: Sequence[float] | None = None,
-            exact: bool = True) -> None:
-        if wxyz is not None:
-            q = tuple(f32(c) for c in wxyz) if exact else quantized(wxyz, self.turn_quantum)
-            if q != self.wxyz:
-                set_wxyz(self.handle, q)  # type: ignore[arg-type]
-                self.wxyz = q
-        if position is not None:
-            p = tuple(f32(c) for c in position) if exact else quantized(position, self.quantum)
-            if p != self.position:
-                set_position(self.handle, p)  # type: ignore[arg-type]
-                self.position = p
-
-
 class _Arrow(Vector):
     """A `Vector` whose label is drawn only if `labelled` (3D labels sparingly)."""
 
@@ -865,7 +840,7 @@ class _Arrow(Vector):
         radius = float(kwargs.get("shaft_radius", 0.03))
         self._back_at = -self.head_length
         self._piece = 1.0 - self.head_length  # as built: both pieces cover the shaft of length 1
-        self.back = scene.add_arrows(f"{name}/t/b", np.array([[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]]]), color,
+        self.back = scene.add_arrows(f"{self.tip.name}/b", np.array([[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]]]), color,
                                      shaft_radius=radius, head_radius=radius, head_length=1e-6,
                                      position=(0.0, 0.0, self._back_at), scale=(1.0, 1.0, self._piece))
         self.shaft.scale = (1.0, 1.0, self._piece)

@@ -449,12 +449,24 @@ def _disc(scene: Any, parent: str, radius: float) -> None:
                             thickness=2.5, thickness_units="screen")
 
 
-def _spread(trace: Trace) -> float:
-    """How far [m] the points of `trace` lie from its oldest one (0 if it has fewer than two)."""
-    if trace.count - trace.first < 2:
-        return 0.0
-    points = trace.points(trace.first, trace.count)
-    return float(np.max(np.abs(points - points[0])))
+class _Spread:
+    """Whether a path's points lie farther than TOLERANCE from its oldest one, looking only at the
+    points added since the last call (a playing frame adds one at most): the same answer as
+    scanning the whole path, without scanning it every frame."""
+
+    def __init__(self) -> None:
+        self._seen: dict[int, tuple[Trace, int, int, bool]] = {}  # id -> (trace, first, checked up to, wide)
+
+    def wide(self, trace: Trace) -> bool:
+        seen, first, checked, wide = self._seen.get(id(trace), (None, -1, 0, False))
+        if seen is not trace or first != trace.first or checked > trace.count:  # new, older points dropped, rewound
+            first, checked, wide = trace.first, trace.first, False
+        if not wide and checked < trace.count and trace.count - first >= 2:
+            origin = trace.points(first, first + 1)[0]
+            wide = float(np.max(np.abs(trace.points(checked, trace.count) - origin))) > TOLERANCE
+            checked = trace.count
+        self._seen[id(trace)] = (trace, first, checked, wide)
+        return wide
 
 
 def _matrix_of(wxyz: Sequence[float]) -> Array:
@@ -508,6 +520,7 @@ class MovingFrameView(SceneView):
         self._drawn_version = -1
         self._drawn_disc = math.nan
         self._spring_drawn: tuple[float, ...] | None = None  # the spring's scale (its vector d) as sent
+        self._spread = _Spread()  # which paths are more than one point (only those are drawn)
         self._readout_throttle = Throttle(READOUT_PERIOD)
         self.build()
 
@@ -806,7 +819,7 @@ class MovingFrameView(SceneView):
         at most at 10 Hz), or none."""
         sim = self.sim
         for lines, trace in zip((*self.paths_space, *self.paths_body), (*sim.paths_space, *sim.paths_body)):
-            if visible and _spread(trace) > TOLERANCE:
+            if visible and self._spread.wide(trace):
                 lines.sync(trace, lazy=lazy)
             else:  # hidden, or a path that is one point (the particle at rest in C′, seen in C′): nothing to draw
                 lines.hide()

@@ -204,7 +204,7 @@ class PoinsotView(TorqueFreeView):
         self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"],
                                      head_every=HERPOLHODE_HEAD_EVERY)
         # The contact point is ω's tip: a child of the arrow's tip, moved with it for nothing.
-        self.contact = scene.add_icosphere(f"{root}/omega/t/contact", radius=0.06, color=(20, 20, 20),
+        self.contact = scene.add_icosphere(f"{self.omega.tip.name}/contact", radius=0.06, color=(20, 20, 20),
                                            subdivisions=2)
         self.contact_alone = scene.add_icosphere(f"{root}/contact", radius=0.06, color=(20, 20, 20),
                                                  subdivisions=2, visible=False)  # while the ω arrow is off
