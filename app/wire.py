@@ -115,12 +115,17 @@ def _serialise(message: Any, buffers: list[memoryview]) -> dict[str, Any]:
     msgpack form: a whole number (not -0.0) as an integer (1 byte for 0, ±1), a float32-exact one
     (the poses snapped while playing, `app.kit.lean`) as float32 (5 bytes), others as float64 (9).
     Lossless: viser's client reads every msgpack number as a JavaScript number (a float64), so
-    it gets the same values.  A pose message's dict is built here (its three fields and its type,
+    it gets the same values.  A node's per-axis scale (a `SceneNodeUpdateMessage`'s "scale") is
+    sent the same way (a shaft scaled along its arrow, a spring: (1, 1, length) takes 2 bytes, not 18,
+    for its ones).  A pose message's dict is built here (its three fields and its type,
     as viser builds it, `tests/test_wire.py`): viser's generic serialiser is 4-5 us a message."""
     kind = type(message).__name__
     field = _POSE_FIELDS.get(kind)
     if field is None:
-        return message.as_serializable_dict(buffers)
+        serialised = message.as_serializable_dict(buffers)
+        if kind == "SceneNodeUpdateMessage" and isinstance(serialised["updates"].get("scale"), (tuple, list)):
+            serialised["updates"]["scale"] = tuple(_number(float(x)) for x in serialised["updates"]["scale"])
+        return serialised
     return {"name": message.name, field: tuple(_number(float(x)) for x in getattr(message, field)),
             "owner": message.owner, "type": kind}
 

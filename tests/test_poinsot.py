@@ -208,7 +208,7 @@ def test_the_scene_draws_omega_to_the_contact_point_on_the_plane_and_the_ellipso
         R = _pose(view.body.node)
         np.testing.assert_allclose(R, sim.state.R_space_body, atol=1e-6)
         start, contact = view.omega.segment  # the contact point hangs at ω's tip: ω runs from the centre to it
-        assert view.contact._impl.name == f"{view.root}/omega/t/contact" and view.contact.visible
+        assert view.contact._impl.name == f"{view.root}/w/t/contact" and view.contact.visible
         scale = view.omega_scale
         np.testing.assert_allclose(contact, R @ sim.state.omega_body * scale, atol=1e-5)
         np.testing.assert_allclose(start, 0.0, atol=1e-6)

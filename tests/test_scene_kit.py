@@ -147,7 +147,7 @@ def test_a_paused_frame_sends_nothing_and_a_free_body_sends_L_once(manual, monke
     assert sent == []  # paused: nothing at all
     session.play()
     manual.tick(0.5)
-    assert [u for u in sent if u[0] == "/free/body"] == [("/free/body", ("SetOrientationMessage",))] * 30  # every frame
+    assert [u for u in sent if u[0] == "/free/b"] == [("/free/b", ("SetOrientationMessage",))] * 30  # every frame
     assert [u for u in sent if u[0].startswith("/free/L")] == []  # L is fixed in space: never resent
     hand = [u for u in sent if u[0].startswith("/free/hand/")]  # the ω and L gizmos hide once, at Play
     assert sorted(hand) == [(f"/free/hand/{k}", ("SetSceneNodeVisibilityMessage",)) for k in ("L", "omega")]
@@ -155,7 +155,7 @@ def test_a_paused_frame_sends_nothing_and_a_free_body_sends_L_once(manual, monke
     layout = [u for u in sent if u[1] in (("anchor",), ("SetSceneNodeVisibilityMessage",)) and _is_label(u[0])]
     assert len(layout) <= 5 * len(session.scene.labels._entries)
     assert {name for name, _ in sent if name not in dict(hand) and (name, _) not in layout} <= {
-        "/free/body", "/free/nodes", "/free/omega", "/free/omega_label"}
+        "/free/b", "/free/nodes", "/free/w", "/free/omega_label"}
 
 
 # ---------------------------------------------------------------------------- presets
@@ -315,8 +315,8 @@ def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(man
     monkeypatch.setattr(api, "_queue_scene_message", recording)
     manual.tick(0.5)
     poses = [name for name, kind in sent if kind == "SetOrientationMessage"]
-    assert poses.count("/top/tilt") == 30 and poses.count("/top/tilt/body") == 30  # every frame
-    moved = {name for name, _ in sent if name.startswith(("/top/tilt/omega", "/top/tilt/L", "/top/tilt/nodes"))
+    assert poses.count("/top/tilt") == 30 and poses.count("/top/tilt/b") == 30  # every frame
+    moved = {name for name, _ in sent if name.startswith(("/top/tilt/w", "/top/tilt/L", "/top/tilt/nodes"))
              and not _is_label(name)}
     assert moved == set(), sent
     sim = view.sim

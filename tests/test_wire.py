@@ -233,5 +233,14 @@ def test_pose_messages_are_serialised_as_viser_does_with_their_numbers_in_the_sh
     short = msgspec.msgpack.encode(_serialise(_messages.SetOrientationMessage("/a", (1.0, 0.0, 0.0, 0.0)), []))
     long = msgspec.msgpack.encode(_messages.SetOrientationMessage("/a", (1.0, 0.0, 0.0, 0.0)).as_serializable_dict([]))
     assert len(long) - len(short) == 4 * (9 - 1)
-    message = _messages.SceneNodeUpdateMessage("/b", {"scale": 0.5})  # not a pose: viser's own
+    message = _messages.SceneNodeUpdateMessage("/b", {"scale": 0.5})  # a uniform scale: viser's own
     assert _serialise(message, []) == message.as_serializable_dict([])
+    # A node's per-axis scale (a scaled shaft, a spring) takes the shortest exact form too.
+    message = _messages.SceneNodeUpdateMessage("/b", {"scale": (1.0, -0.0, 0.1)})
+    ours, viser_own = _serialise(message, []), message.as_serializable_dict([])
+    decoded = msgspec.msgpack.decode(msgspec.msgpack.encode(ours))
+    assert [float(x) for x in decoded["updates"]["scale"]] == list(viser_own["updates"]["scale"])
+    assert math.copysign(1.0, decoded["updates"]["scale"][1]) == -1.0
+    assert {k: v for k, v in decoded.items() if k != "updates"} == \
+        {k: v for k, v in viser_own.items() if k != "updates"}
+    assert len(msgspec.msgpack.encode(viser_own)) - len(msgspec.msgpack.encode(ours)) == (9 - 1) + (9 - 5)  # 1.0, -0.0

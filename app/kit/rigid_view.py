@@ -152,7 +152,7 @@ class RigidBodyView(SceneView):
     omega_label_at_middle: ClassVar[bool] = False  # ω's label beside its middle (else beyond its tip)
     tilt_frame: ClassVar[bool] = False
     """True: the body hangs from the φ-θ frame `{root}/tilt` (turned by Rz(φ) Rx(θ), its x axis
-    the line of nodes, its z axis the body's z′) as its ψ child (`{root}/tilt/body`, turned by
+    the line of nodes, its z axis the body's z′) as its ψ child (`{root}/tilt/b`, turned by
     Rz(ψ)), and the line of nodes, ω and L hang from the φ-θ frame too (their components in it).
     A symmetric top then sends per frame the φ-θ frame and a spin about z′; ω and L only when
     the nutation changes them (in steady precession: never).  False: the body, nodes, ω and L
@@ -291,11 +291,11 @@ class RigidBodyView(SceneView):
         self._tilt_node = scene.add_frame(f"{root}/tilt", show_axes=False) if tilt else None
         self._tilt_wxyz: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0)  # as sent
         parent = f"{root}/tilt" if tilt else root
-        self.body = Body(scene, f"{parent}/body", lambda s, parent: self.build_shape(s, parent, model),
+        self.body = Body(scene, f"{parent}/b", lambda s, parent: self.build_shape(s, parent, model),
                          axis_length=self.body_axis_length, labels=labels)
         self._drawn_model = model
         self.nodes = LineOfNodes(scene, f"{parent}/nodes", labels=labels, riding=tilt)
-        self.omega = Vector(scene, f"{parent}/omega", OMEGA_COLOR, "ω", labels=labels,
+        self.omega = Vector(scene, f"{parent}/w", OMEGA_COLOR, "ω", labels=labels,
                             label_at_middle=self.omega_label_at_middle)
         self.L = Vector(scene, f"{parent}/L", L_COLOR, "L", labels=labels)
         # The Lagrange tab: the torque M and its projections Q_φ e_z, Q_θ e_n, Q_ψ e_z′ (6.10).

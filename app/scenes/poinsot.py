@@ -183,7 +183,7 @@ class PoinsotView(TorqueFreeView):
         unit = trimesh.creation.icosphere(subdivisions=4, radius=1.0)
         vertices, faces = unit.vertices.astype(np.float32), unit.faces.astype(np.uint32)
         idle = np.zeros((1, 2, 3), dtype=np.float32)
-        body = f"{root}/body/poinsot"  # under the body's frame: turned with it, nothing sent per frame
+        body = f"{self.body.node.name}/poinsot"  # under the body's frame: turned with it, nothing sent per frame
         self.ellipsoid = scene.add_mesh_simple(f"{body}/ellipsoid", vertices, faces, color=ELLIPSOID_COLOR,
                                                opacity=0.28, cast_shadow=False, receive_shadow=False)
         self.polhode = scene.add_line_segments(f"{body}/polhode", idle, POLHODE_COLOR, thickness=4.0,
