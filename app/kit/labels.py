@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from app.kit.common import CameraView, staggered
-from app.kit.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, box_at, project_one, text_size
+from app.kit.screen import _ANCHOR_SHIFT, REFERENCE_HEIGHT_PX, SCREEN_EM_PX, Projector, text_size
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]
 
@@ -64,11 +64,29 @@ class _Entry:
     wanted: bool
     last_px: tuple[float, float] | None = field(default=None)  # where it was at the last layout
     last_step: tuple[float, float] | None = field(default=None)  # how it moved before that layout [px]
+    # Fixed at registration, for the layout's hot loop: viser's state object behind the handle
+    # (`handle._impl`: its props read directly, not through viser's __getattr__), the parent
+    # node's name, the anchors tried in order (its own first) with their box shifts, the sort rank.
+    impl: Any = field(default=None)
+    parent: str = ""
+    tries: tuple[tuple[str, float, float], ...] = ()
+    rank: tuple[float, int] = (0.0, 0)
+    # The text block's size [px] for the text and em it was last worked out for.
+    size_of: tuple[str, float] | None = field(default=None)
+    size: tuple[float, float] = (0.0, 0.0)
+    blank: bool = False  # that text is only white space
+
+    def __post_init__(self) -> None:
+        self.impl = self.handle._impl
+        self.parent = self.impl.name.rsplit("/", 1)[0]
+        anchors = (self.anchor, *(a for a in NUDGE_ANCHORS if a != self.anchor)) if self.nudge else (self.anchor,)
+        self.tries = tuple((a, *_ANCHOR_SHIFT[a]) for a in anchors)
+        self.rank = (-self.priority, self.order)
 
 
 def _rotate(wxyz: Any, v: tuple[float, float, float]) -> tuple[float, float, float]:
-    """v turned by the unit quaternion (w, x, y, z): v + 2w (u × v) + 2 u × (u × v)."""
-    w, x, y, z = (float(c) for c in wxyz)
+    """v turned by the unit quaternion (w, x, y, z) (Python floats): v + 2w (u × v) + 2 u × (u × v)."""
+    w, x, y, z = wxyz
     vx, vy, vz = v
     cx, cy, cz = y * vz - z * vy, z * vx - x * vz, x * vy - y * vx
     ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
@@ -79,9 +97,9 @@ Pose = tuple[tuple[float, float, float, float], tuple[float, float, float], bool
 
 
 def _mul(a: Any, b: Any) -> tuple[float, float, float, float]:
-    """The quaternion product a b (w, x, y, z)."""
-    aw, ax, ay, az = (float(c) for c in a)
-    bw, bx, by, bz = (float(c) for c in b)
+    """The quaternion product a b (w, x, y, z), of Python floats."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
     return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
             aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
 
@@ -103,10 +121,9 @@ def _node_world(name: str, nodes: dict[str, Any], cache: dict[str, Pose]) -> Pos
     if node is None:  # a path segment with no node of its own
         pose = (parent_wxyz, parent_at, parent_shown)
     else:
-        impl = node._impl
-        q = impl.position
-        rx, ry, rz = _rotate(parent_wxyz, (float(q[0]), float(q[1]), float(q[2])))
-        pose = (_mul(parent_wxyz, impl.wxyz), (rx + parent_at[0], ry + parent_at[1], rz + parent_at[2]),
+        impl = node._impl  # its wxyz and position: float64 arrays (tolist: Python floats, the same values)
+        rx, ry, rz = _rotate(parent_wxyz, impl.position.tolist())
+        pose = (_mul(parent_wxyz, impl.wxyz.tolist()), (rx + parent_at[0], ry + parent_at[1], rz + parent_at[2]),
                 parent_shown and bool(impl.visible))
     cache[name] = pose
     return pose
@@ -122,24 +139,39 @@ def _world_position(handle: Any,
         return None
     wxyz, at, shown = _node_world(impl.name.rsplit("/", 1)[0], impl.api._handle_from_node_name,
                                   {} if cache is None else cache)
-    p = impl.position
-    rx, ry, rz = _rotate(wxyz, (float(p[0]), float(p[1]), float(p[2])))
+    rx, ry, rz = _rotate(wxyz, impl.position.tolist())
     return (rx + at[0], ry + at[1], rz + at[2]), shown
 
 
 def _clear(box: Box, placed: list[Box], gap: float) -> bool:
     """Whether `box` keeps at least `gap` [px] from every placed box (their distance, or minus
     their overlap when they overlap)."""
+    # Plain comparisons (the hot loop of a layout); gap > 0.  dx, dy: the boxes' distance apart
+    # along x and along y (negative: they overlap along that axis).  Far enough apart along one
+    # axis: clear of that box.  Else, overlapping or apart along one axis only (their distance is
+    # then that one, < gap): too close; apart along both: their corners' distance decides.
     x0, y0, x1, y1 = box
     for b0, c0, b1, c1 in placed:
-        dx = max(b0 - x1, x0 - b1)
-        dy = max(c0 - y1, y0 - c1)
-        if dx < 0.0 and dy < 0.0:
-            if max(dx, dy) < gap:
-                return False
-        elif math.hypot(max(dx, 0.0), max(dy, 0.0)) < gap:
+        dx = b0 - x1
+        t = x0 - b1
+        if t > dx:
+            dx = t
+        if dx >= gap:
+            continue
+        dy = c0 - y1
+        t = y0 - c1
+        if t > dy:
+            dy = t
+        if dy >= gap:
+            continue
+        if dx <= 0.0 or dy <= 0.0 or math.hypot(dx, dy) < gap:
             return False
     return True
+
+
+def _rank(candidate: tuple[_Entry, float, float, float, float]) -> tuple[float, int]:
+    """The placing order: priority, highest first, then the order of registration."""
+    return candidate[0].rank
 
 
 class LabelLayer:
@@ -220,32 +252,38 @@ class LabelLayer:
             self._forget_motion()  # the camera moved (an orbit, a reset): the labels jumped on the screen
         em_per_scale = SCREEN_EM_PX * height / REFERENCE_HEIGHT_PX
         gap = MIN_GAP_FRACTION * height
-        candidates: list[tuple[_Entry, tuple[float, float], tuple[float, float]]] = []  # entry, (x, y), (w, h) [px]
+        project = Projector(view, width, height)
+        candidates: list[tuple[_Entry, float, float, float, float]] = []  # entry, x, y, w, h [px]
         key: list[Any] = [view, width, height]
         poses: dict[str, Pose] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
-            if entry.handle._impl.removed:  # removed with its view or a rebuilt part
+            impl = entry.impl
+            if impl.removed:  # removed with its view or a rebuilt part
                 del self._entries[id(entry.handle)]
                 continue
             if not entry.wanted:  # no pose to work out
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
-            where = _world_position(entry.handle, poses)
-            assert where is not None
-            point, shown = where
-            text = str(entry.handle.text)
-            if not (entry.wanted and shown and text.strip()):
+            # _world_position, inlined (its parent's name known)
+            wxyz, at, shown = _node_world(entry.parent, impl.api._handle_from_node_name, poses)
+            rx, ry, rz = _rotate(wxyz, impl.position.tolist())
+            props = impl.props
+            text = str(props.text)
+            em = em_per_scale * float(props.font_screen_scale)
+            if entry.size_of != (text, em):  # the text or the window changed: its block's size anew
+                entry.size_of, entry.size, entry.blank = (text, em), text_size(text, em), not text.strip()
+            if not shown or entry.blank:
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
-            (x, y), depth = project_one(view, point, width, height)
+            (x, y), depth = project(rx + at[0], ry + at[1], rz + at[2])
             if not depth > 0.0 or not (math.isfinite(x) and math.isfinite(y)):
                 self._show(entry, False)  # behind the camera
                 entry.last_px = entry.last_step = None
                 continue
-            em = em_per_scale * float(entry.handle.font_screen_scale)
-            candidates.append((entry, (x, y), text_size(text, em)))
+            w, h = entry.size
+            candidates.append((entry, x, y, w, h))
             key.append((entry.order, round(x, 1), round(y, 1), text))
         if key == self._last_key and not self._moving:
             return  # nothing moved since a layout that had nothing moving either
@@ -253,28 +291,36 @@ class LabelLayer:
         self._moving = False
         self.layouts += 1
         placed: list[Box] = []
-        candidates.sort(key=lambda c: (-c[0].priority, c[0].order))
-        for entry, (x, y), (w, h) in candidates:
+        candidates.sort(key=_rank)
+        for entry, x, y, w, h in candidates:
             # Where it will be at the next layout, and how far it may stray from the straight way there.
-            dx, dy = (x - entry.last_px[0], y - entry.last_px[1]) if entry.last_px is not None else (0.0, 0.0)
-            bend = math.hypot(dx - entry.last_step[0], dy - entry.last_step[1]) if entry.last_step is not None else 0.0
+            last_px, last_step = entry.last_px, entry.last_step
+            dx, dy = (x - last_px[0], y - last_px[1]) if last_px is not None else (0.0, 0.0)
+            bend = math.hypot(dx - last_step[0], dy - last_step[1]) if last_step is not None else 0.0
             margin = TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)
             # Its step is known only from its second layout on: a label that just appeared (or
             # just started moving) is not taken to have turned from standing still.
-            entry.last_px, entry.last_step = (x, y), ((dx, dy) if entry.last_px is not None else None)
-            self._moving = self._moving or margin > 0.0
-            current = str(entry.handle.anchor)
+            entry.last_px, entry.last_step = (x, y), ((dx, dy) if last_px is not None else None)
+            if margin > 0.0:
+                self._moving = True
             # Its own anchor, then the others in a fixed order: the same picture for the same positions.
-            anchors = [entry.anchor]
-            if entry.nudge:
-                anchors += [a for a in NUDGE_ANCHORS if a != entry.anchor]
-            for anchor in anchors:
-                x0, y0, x1, y1 = box_at(anchor, x, y, w, h)
-                box = (min(x0, x0 + dx) - margin, min(y0, y0 + dy) - margin,
-                       max(x1, x1 + dx) + margin, max(y1, y1 + dy) + margin)
+            for anchor, fh, fv in entry.tries:
+                # box_at's block, swept by (dx, dy): (min(x0, x0 + dx), ..., max(x1, x1 + dx), ...)
+                # grown by the margin (the branch picks the same float as min/max).
+                x0, y0 = x + fh * w, y + fv * h
+                x1, y1 = x0 + w, y0 + h
+                if dx < 0.0:
+                    x0 += dx
+                else:
+                    x1 += dx
+                if dy < 0.0:
+                    y0 += dy
+                else:
+                    y1 += dy
+                box = (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
                 if _clear(box, placed, gap):
                     placed.append(box)
-                    if current != anchor:
+                    if entry.impl.props.anchor != anchor:
                         entry.handle.anchor = anchor
                     self._show(entry, True)
                     break
@@ -300,5 +346,5 @@ class LabelLayer:
 
     @staticmethod
     def _show(entry: _Entry, visible: bool) -> None:
-        if bool(entry.handle.visible) != visible:
+        if bool(entry.impl.visible) != visible:
             entry.handle.visible = visible

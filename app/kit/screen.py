@@ -25,7 +25,8 @@ import numpy as np
 from app.kit.common import CameraView
 from physics.quaternion import matrix_from_wxyz
 
-__all__ = ["LabelBox", "box_at", "label_boxes", "overlapping", "project", "project_one", "text_box", "text_size"]
+__all__ = ["LabelBox", "Projector", "box_at", "label_boxes", "overlapping", "project", "project_one", "text_box",
+           "text_size"]
 
 REFERENCE_HEIGHT_PX = 800.0  # viser sizes screen labels relative to an 800 px tall viewport
 SCREEN_EM_PX = 12.0  # [px] a screen label's em at font_screen_scale 1, at REFERENCE_HEIGHT_PX
@@ -80,6 +81,46 @@ def project_one(view: CameraView, point: Any, width: int, height: int) -> tuple[
     focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
     return (0.5 * width + focal * (dx * rx + dy * ry + dz * rz) / depth,
             0.5 * height - focal * (dx * sx + dy * sy + dz * sz) / depth), depth
+
+
+class Projector:
+    """`project_one` for many points seen by one view: the camera basis and the focal length
+    are worked out once (a layout projects every label through the same camera).  `(x, y, z)`
+    gives the same pixel and depth as `project_one(view, (x, y, z), width, height)`, to the
+    last bit (the same operations in the same order)."""
+
+    __slots__ = ("_eye", "_forward", "_right", "_up", "_focal", "_cx", "_cy")
+
+    def __init__(self, view: CameraView, width: int, height: int) -> None:
+        ex, ey, ez = view.position
+        fx, fy, fz = view.look_at[0] - ex, view.look_at[1] - ey, view.look_at[2] - ez
+        norm = math.sqrt(fx * fx + fy * fy + fz * fz)
+        fx, fy, fz = fx / norm, fy / norm, fz / norm
+        ux, uy, uz = view.up
+        rx, ry, rz = fy * uz - fz * uy, fz * ux - fx * uz, fx * uy - fy * ux
+        norm = math.sqrt(rx * rx + ry * ry + rz * rz)
+        rx, ry, rz = rx / norm, ry / norm, rz / norm
+        self._eye = (ex, ey, ez)
+        self._forward = (fx, fy, fz)
+        self._right = (rx, ry, rz)
+        self._up = (ry * fz - rz * fy, rz * fx - rx * fz, rx * fy - ry * fx)  # screen up = right x forward
+        self._focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
+        self._cx, self._cy = 0.5 * width, 0.5 * height
+
+    def __call__(self, x: float, y: float, z: float) -> tuple[tuple[float, float], float]:
+        """The pixel (x, y) and depth [scene units] of the world point (x, y, z); NaN pixels if
+        depth <= NEAR."""
+        ex, ey, ez = self._eye
+        fx, fy, fz = self._forward
+        dx, dy, dz = x - ex, y - ey, z - ez
+        depth = dx * fx + dy * fy + dz * fz
+        if depth <= NEAR:
+            return (math.nan, math.nan), depth
+        rx, ry, rz = self._right
+        sx, sy, sz = self._up
+        focal = self._focal
+        return (self._cx + focal * (dx * rx + dy * ry + dz * rz) / depth,
+                self._cy - focal * (dx * sx + dy * sy + dz * sz) / depth), depth
 
 
 @dataclass(frozen=True)
