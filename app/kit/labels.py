@@ -43,7 +43,9 @@ AXES = 2  # body axes x′ y′ z′, the line of nodes
 DETAIL = 1  # readings on arcs, titles, intermediate frames, component arrows
 
 PERIOD = 0.1  # [s] of wall time between two layouts while the view draws (10 Hz); the layers take
-# turns (`staggered`): 60 browsers' layouts (~0.3-0.8 ms each) fall into different frames
+# turns (`staggered`): 60 browsers' layouts fall into different frames (a layout: ~50 us for the free
+# body's 13 labels, ~90 us for the Euler scene's 18, one warm browser, 2026-11-25; 3x that before the
+# Projector and the per-entry caches; more under load, when the caches are cold)
 FALLBACK_SIZE_PX = (1280, 800)  # the window assumed when the view has no browser camera
 MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height apart (6 px at 800)
 TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
