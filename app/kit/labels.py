@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from app.kit.common import CameraView, staggered
-from app.kit.screen import _ANCHOR_SHIFT, REFERENCE_HEIGHT_PX, SCREEN_EM_PX, Projector, text_size
+from app.kit.screen import ANCHOR_SHIFT, REFERENCE_HEIGHT_PX, SCREEN_EM_PX, Projector, text_size
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]
 
@@ -82,7 +82,7 @@ class _Entry:
         self.impl = self.handle._impl
         self.parent = self.impl.name.rsplit("/", 1)[0]
         anchors = (self.anchor, *(a for a in NUDGE_ANCHORS if a != self.anchor)) if self.nudge else (self.anchor,)
-        self.tries = tuple((a, *_ANCHOR_SHIFT[a]) for a in anchors)
+        self.tries = tuple((a, *ANCHOR_SHIFT[a]) for a in anchors)
         self.rank = (-self.priority, self.order)
 
 

@@ -25,8 +25,8 @@ import numpy as np
 from app.kit.common import CameraView
 from physics.quaternion import matrix_from_wxyz
 
-__all__ = ["LabelBox", "Projector", "box_at", "label_boxes", "overlapping", "project", "project_one", "text_box",
-           "text_size"]
+__all__ = ["ANCHOR_SHIFT", "LabelBox", "Projector", "box_at", "label_boxes", "overlapping", "project", "project_one",
+           "text_box", "text_size"]
 
 REFERENCE_HEIGHT_PX = 800.0  # viser sizes screen labels relative to an 800 px tall viewport
 SCREEN_EM_PX = 12.0  # [px] a screen label's em at font_screen_scale 1, at REFERENCE_HEIGHT_PX
@@ -64,30 +64,16 @@ def project(view: CameraView, points: Any, width: int, height: int) -> tuple[np.
 
 def project_one(view: CameraView, point: Any, width: int, height: int) -> tuple[tuple[float, float], float]:
     """`project` for one point (3,) on Python floats (a few µs, for per-frame layout): its pixel
-    (x, y) and depth [scene units]; NaN pixels if depth <= NEAR."""
-    ex, ey, ez = view.position
-    fx, fy, fz = view.look_at[0] - ex, view.look_at[1] - ey, view.look_at[2] - ez
-    norm = math.sqrt(fx * fx + fy * fy + fz * fz)
-    fx, fy, fz = fx / norm, fy / norm, fz / norm
-    ux, uy, uz = view.up
-    rx, ry, rz = fy * uz - fz * uy, fz * ux - fx * uz, fx * uy - fy * ux
-    norm = math.sqrt(rx * rx + ry * ry + rz * rz)
-    rx, ry, rz = rx / norm, ry / norm, rz / norm
-    sx, sy, sz = ry * fz - rz * fy, rz * fx - rx * fz, rx * fy - ry * fx  # screen up = right x forward
-    dx, dy, dz = float(point[0]) - ex, float(point[1]) - ey, float(point[2]) - ez
-    depth = dx * fx + dy * fy + dz * fz
-    if depth <= NEAR:
-        return (math.nan, math.nan), depth
-    focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
-    return (0.5 * width + focal * (dx * rx + dy * ry + dz * rz) / depth,
-            0.5 * height - focal * (dx * sx + dy * sy + dz * sz) / depth), depth
+    (x, y) and depth [scene units]; NaN pixels if depth <= NEAR.  Many points through one view:
+    `Projector`."""
+    return Projector(view, width, height)(float(point[0]), float(point[1]), float(point[2]))
 
 
 class Projector:
-    """`project_one` for many points seen by one view: the camera basis and the focal length
-    are worked out once (a layout projects every label through the same camera).  `(x, y, z)`
-    gives the same pixel and depth as `project_one(view, (x, y, z), width, height)`, to the
-    last bit (the same operations in the same order)."""
+    """`project` on Python floats for many points seen by one view: the camera basis and the
+    focal length are worked out once (a layout projects every label through the same camera);
+    `(x, y, z)` gives that world point's pixel and depth (a few µs; tests/test_screen.py checks
+    it against the vectorised `project`)."""
 
     __slots__ = ("_eye", "_forward", "_right", "_up", "_focal", "_cx", "_cy")
 
@@ -175,14 +161,15 @@ def text_size(text: str, em: float) -> tuple[float, float]:
     return w, h
 
 
-_ANCHOR_SHIFT = {f"{v}-{h}": (fh, fv) for v, fv in (("top", 0.0), ("center", -0.5), ("bottom", -1.0))
-                 for h, fh in (("left", 0.0), ("center", -0.5), ("right", -1.0))}
+# A label's anchor -> (fx, fy): its block's top-left corner is (x + fx w, y + fy h) for the anchor at (x, y).
+ANCHOR_SHIFT = {f"{v}-{h}": (fh, fv) for v, fv in (("top", 0.0), ("center", -0.5), ("bottom", -1.0))
+                for h, fh in (("left", 0.0), ("center", -0.5), ("right", -1.0))}
 
 
 def box_at(anchor: str, x: float, y: float, w: float, h: float) -> tuple[float, float, float, float]:
     """The block (x0, y0, x1, y1) [px] of size (w, h) [px] whose `anchor` ("top-left", ...,
     "center-center", "bottom-right") sits at (x, y) [px]."""
-    fh, fv = _ANCHOR_SHIFT[anchor]
+    fh, fv = ANCHOR_SHIFT[anchor]
     x0, y0 = x + fh * w, y + fv * h
     return (x0, y0, x0 + w, y0 + h)
 
