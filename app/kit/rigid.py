@@ -329,7 +329,7 @@ class RigidBodySimulation:
         R_exact = self.exact_attitude(keep=False)  # a panel's question leaves no trace in the simulation
         if R_exact is None:
             return None
-        return float(np.linalg.norm(log_so3(R_exact.T @ self.state.R_space_body)))
+        return float(turn_angles(R_exact[None], self.state.R_space_body[None])[0])  # as the samples' check
 
     def flips(self, t_lo: float, t_hi: float) -> np.ndarray:
         """Times [s] in [t_lo, t_hi] at which the exact solution of this run flips (ω along the

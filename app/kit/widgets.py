@@ -323,13 +323,19 @@ class Vector:
             return
         self._length = length
         head = min(1.0, length / self.head_length)  # an arrow shorter than its head: a smaller head
-        set_scale(self.shaft, (1.0, 1.0, max(length - head * self.head_length, 1e-6)))
+        self._draw_shaft(max(length - head * self.head_length, 1e-6), head)
         set_position(self.tip, (0.0, 0.0, length))
         if head != self._head_scale:
             self._head_scale = head
             self.head.scale = head
         if self.label_at_middle and self.label is not None:
             set_position(self.label, (LABEL_ASIDE, LABEL_ASIDE, 0.5 * length))
+
+
+    def _draw_shaft(self, shaft: float, head: float) -> None:
+        """Draw the shaft `shaft` long [scene units] under a head scaled by `head` (before the
+        head's own scale is sent): the unit shaft scaled along z."""
+        set_scale(self.shaft, (1.0, 1.0, shaft))
 
 
 def _rotate(wxyz: tuple[float, ...], length: float) -> np.ndarray:

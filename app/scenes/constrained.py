@@ -80,7 +80,7 @@ from app.kit.room import Room
 from app.kit.samples import SampleBuffer
 from app.kit.trace import Trace
 from app.kit.view import SceneView, nth
-from app.kit.widgets import LABEL_ASIDE, Stage, TraceLines, Vector
+from app.kit.widgets import Stage, TraceLines, Vector
 from physics._types import Array
 from physics.constrained import (
     Evaluation,
@@ -838,34 +838,25 @@ class _Arrow(Vector):
         # head (`back`, under the tip): they cover a shaft of length S in [P, 2P] exactly (overlapping
         # in the middle), so a change of length moves the tip only; P = 2^k changes rarely.
         radius = float(kwargs.get("shaft_radius", 0.03))
-        self._back_at = -self.head_length
         self._piece = 1.0 - self.head_length  # as built: both pieces cover the shaft of length 1
         self.back = scene.add_arrows(f"{self.tip.name}/b", np.array([[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]]]), color,
                                      shaft_radius=radius, head_radius=radius, head_length=1e-6,
-                                     position=(0.0, 0.0, self._back_at), scale=(1.0, 1.0, self._piece))
+                                     position=(0.0, 0.0, -self.head_length), scale=(1.0, 1.0, self._piece))
         self.shaft.scale = (1.0, 1.0, self._piece)
 
     def _set_length(self, length: float) -> None:
-        """Draw the arrow `length` long: the tip moves; the pieces change only when the shaft's
-        length leaves [P, 2P].  While playing the length is on the grid (a float64 on a
-        power-of-two grid ends in zero bytes: the tip's position compresses)."""
+        """Draw the arrow `length` long (`Vector`'s, the shaft in two pieces: the tip moves; the
+        pieces change only when the shaft's length leaves [P, 2P]).  While playing the length is
+        on the grid (a float64 on a power-of-two grid ends in zero bytes: the tip's position compresses)."""
         if self.grid is not None:
             length = max(round(length / self.grid), 1) * self.grid
-        if length == self._length:
-            return
-        self._length = length
-        head = min(1.0, length / self.head_length)  # an arrow shorter than its head: a smaller head
-        shaft = max(length - head * self.head_length, 1e-6)
+        super()._set_length(length)
+
+    def _draw_shaft(self, shaft: float, head: float) -> None:
         piece = 2.0 ** math.floor(math.log2(shaft))
         if piece != self._piece:
             self._piece = piece
             set_scale(self.shaft, (1.0, 1.0, piece))
             set_scale(self.back, (1.0, 1.0, piece))
-        set_position(self.tip, (0.0, 0.0, length))
-        if head != self._head_scale:
-            self._head_scale = head
-            self.head.scale = head
-            self._back_at = -head * self.head_length
-            set_position(self.back, (0.0, 0.0, self._back_at))
-        if self.label_at_middle and self.label is not None:
-            set_position(self.label, (LABEL_ASIDE, LABEL_ASIDE, 0.5 * length))
+        if head != self._head_scale:  # the back piece ends where the head begins
+            set_position(self.back, (0.0, 0.0, -head * self.head_length))
