@@ -159,7 +159,12 @@ class App:
         """The rooms shown by the open sessions, each once."""
         with self._sessions_lock:
             sessions = list(self.sessions.values())
-        return list({id(s.room): s.room for s in sessions if not s.closed}.values())
+        rooms: dict[int, Room] = {}
+        for session in sessions:
+            if not session.closed:
+                room = session.room  # a property (a follower's: the live room)
+                rooms[id(room)] = room
+        return list(rooms.values())
 
     def _run_loop(self) -> None:
         """Advance every room once a frame and draw its views, paced by a `FramePacer`.

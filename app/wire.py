@@ -36,13 +36,12 @@ missing, `Wire.attach` returns None and the app sends through viser's public pat
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import math
 import struct
 import threading
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from typing import Any
 
 import msgspec.msgpack
@@ -67,16 +66,25 @@ _ZSTD = threading.local()
 _FRAME = threading.local()  # .on: this thread is inside `capturing()`
 
 
-@contextlib.contextmanager
-def capturing() -> Iterator[None]:
+class _Capturing:
+    """`capturing()`'s context: a flag on this thread (a class, not a generator: it is entered
+    every frame)."""
+
+    def __enter__(self) -> None:
+        _FRAME.on = True
+
+    def __exit__(self, *exc: object) -> None:
+        _FRAME.on = False
+
+
+_CAPTURING = _Capturing()
+
+
+def capturing() -> _Capturing:
     """A frame of the app loop: within it, what this thread queues to any interface with a wire
     is held by that wire until `end_frames` (updates to be encoded once, everything else to
     be handed to viser in one atomic block)."""
-    _FRAME.on = True
-    try:
-        yield
-    finally:
-        _FRAME.on = False
+    return _CAPTURING
 
 
 def is_capturing() -> bool:

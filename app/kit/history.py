@@ -196,18 +196,18 @@ class History:
             self.clear()
             self.run = run
         snap = sim.snapshot()
-        snap = Snapshot(np.concatenate([[aux], snap.values]), snap.refs)  # the row: aux, then the values
-        t = float(snap.values[1])
+        values = snap.values
+        t = float(values[0])
         if self._len:
             last = self.t_last
-            if t < last or snap.values.shape[0] != self._values.shape[1]:
+            if t < last or values.shape[0] + 1 != self._values.shape[1]:
                 self.clear()
                 self.run = run
             elif t == last or (not force and t - last < self.spacing * (1.0 - 1e-9)):
                 if t == last and force:
-                    self._put(self._len - 1, snap)
+                    self._put(self._len - 1, snap, aux)
                 return
-        self._append(snap)
+        self._append(snap, aux)
         while self._len > 1 and t - self.t_first > self.seconds + _T_SLACK:
             self._drop_oldest()
 
@@ -216,9 +216,12 @@ class History:
         while self._len and self.t_last > t + _T_SLACK:
             self._len -= 1
 
-    def _put(self, index: int, snap: Snapshot) -> None:
+    def _put(self, index: int, snap: Snapshot, aux: float) -> None:
+        """Row `index`: aux, then the snapshot's values (written in place)."""
         slot = self._slot(index)
-        self._values[slot] = snap.values
+        row = self._values[slot]
+        row[0] = aux
+        row[1:] = snap.values
         previous = self._refs[self._slot(index - 1)] if index > 0 else None
         # Equal refs share one tuple (a pointer per row, not a tuple per row).
         same = previous is not None and len(previous) == len(snap.refs) and all(
@@ -229,8 +232,8 @@ class History:
         """Rows that fit max_bytes (the float row and its refs pointer; a margin for the tuples)."""
         return max(2, self.max_bytes // (8 * width + 8) - 8)
 
-    def _append(self, snap: Snapshot) -> None:
-        width = snap.values.shape[0]
+    def _append(self, snap: Snapshot, aux: float) -> None:
+        width = snap.values.shape[0] + 1  # aux, then the values
         rows = self._values.shape[0]
         if self._len == rows:
             limit = self._max_rows(width)
@@ -239,7 +242,7 @@ class History:
             else:
                 self._grow(min(limit, max(_INITIAL_ROWS, 2 * rows)), width)
         self._len += 1
-        self._put(self._len - 1, snap)
+        self._put(self._len - 1, snap, aux)
 
     def _grow(self, rows: int, width: int) -> None:
         values = np.zeros((rows, width))
