@@ -12,9 +12,12 @@ difference of the medians.
     python benchmarks/frame_cost.py                 # 2000 frames per scene, paced (~70 s)
     python benchmarks/frame_cost.py --frames 600 --unpaced
     python benchmarks/frame_cost.py --baseline 2cce6d0   # and the same at that commit, side by side
+    python benchmarks/frame_cost.py --frames 1200 --baseline 21f6295 --rounds 3   # alternating, 3 each
 
 --baseline REF checks REF out in a temporary git worktree and runs REF's own frame_cost.py
-there, in a subprocess, right before this tree's run: the same machine, the same minute.
+there, in a subprocess, right before this tree's run: the same machine, the same minute.  This
+machine's speed drifts by a quarter within minutes, so one pair can mislead: --rounds N runs REF
+and this tree alternately N times each (every run in its own process) and sums up the medians.
 
 Target (scene-kit issue): tick median <= 0.4 ms per frame, one client.  Times in ms; p95 and
 max include garbage collection and whatever else shares the machine.  "tick CPU" is the ticking thread's own CPU time
@@ -52,7 +55,8 @@ except ImportError:  # an older tree (--baseline): the stateless function
     RealtimeStepper = None  # type: ignore[assignment,misc]
 from physics.integrators import step_realtime  # noqa: E402
 
-__all__ = ["FrameCost", "find_model_and_state", "format_table", "main", "measure_scene"]
+__all__ = ["FrameCost", "compare_rounds", "find_model_and_state", "format_table", "main", "measure_scene",
+           "tick_medians"]
 
 FRAME_DT = 1.0 / 60.0
 
@@ -237,13 +241,26 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--scene", action="append", help=f"scene(s) to time (default: {', '.join(SCENES)})")
     parser.add_argument("--unpaced", action="store_true", help="tick back to back instead of at 60 Hz")
     parser.add_argument("--baseline", metavar="REF", help="also run REF's frame_cost.py (a git commit) first")
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="with --baseline: alternate REF and this tree this many times, each in its own "
+                             "process, and sum up the medians (default %(default)s)")
     args = parser.parse_args(argv)
-    if args.frames < 1:
-        parser.error("--frames must be >= 1")
+    if args.frames < 1 or args.rounds < 1:
+        parser.error("--frames and --rounds must be >= 1")
+    passed = list(argv if argv is not None else sys.argv[1:])
+    for option in ("--baseline", "--rounds"):  # not passed on to the runs
+        for k, a in reversed(list(enumerate(passed))):
+            if a == option:
+                del passed[k:k + 2]
+            elif a.startswith(option + "="):
+                del passed[k]
+    if args.baseline and args.rounds > 1:
+        compare_rounds(args.baseline, args.rounds, passed)
+        return
     if args.baseline:
         print(f"## baseline: {args.baseline}\n")
-        print(run_baseline(args.baseline, [a for a in (argv if argv is not None else sys.argv[1:])
-                                           if not a.startswith("--baseline") and a != args.baseline]))
+        with _worktree(args.baseline) as tree:
+            print(_run_tree(tree, passed))
         print("\n## this tree\n")
     results = [measure_scene(scene, args.frames, paced=not args.unpaced) for scene in (args.scene or SCENES)]
     print(format_table(results))
@@ -251,17 +268,59 @@ def main(argv: list[str] | None = None) -> None:
           "target: tick median <= 0.4 ms.")
 
 
-def run_baseline(ref: str, argv: list[str]) -> str:
-    """REF's own frame_cost.py run in a temporary worktree of REF (its output, as printed)."""
+def tick_medians(output: str) -> dict[str, float]:
+    """{scene: tick median [ms]} read from a table frame_cost.py printed (this tree's or an older one's)."""
+    medians: dict[str, float] = {}
+    column = None
+    for line in output.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if column is None and "tick median [ms]" in cells:
+            column = cells.index("tick median [ms]")
+        elif column is not None and len(cells) > column and cells[0] in SCENES:
+            medians[cells[0]] = float(cells[column])
+    return medians
+
+
+def compare_rounds(ref: str, rounds: int, argv: list[str]) -> None:
+    """REF and this tree alternately, `rounds` times each, every run in a process of its own (this
+    machine's speed drifts by a quarter within minutes: alternating spreads the drift over both);
+    each run's table, then per scene the medians of every round and their median."""
+    runs: dict[str, list[dict[str, float]]] = {ref: [], "this tree": []}
+    with _worktree(ref) as tree:
+        for k in range(rounds):
+            for name, where in ((ref, tree), ("this tree", ROOT)):
+                out = _run_tree(where, argv)
+                print(f"## round {k + 1}: {name}\n\n{out}\n")
+                runs[name].append(tick_medians(out))
+    print(f"## {rounds} rounds, tick median [ms] of each run (alternating, {ref} first)\n")
+    print(f"| scene | {ref}: each round | this tree: each round | median of rounds, {ref} / this tree | ratio |")
+    print("|---|---|---|---|---:|")
+    for scene in SCENES:
+        base = [r[scene] for r in runs[ref] if scene in r]
+        own = [r[scene] for r in runs["this tree"] if scene in r]
+        if base and own:
+            b, o = statistics.median(base), statistics.median(own)
+            print(f"| {scene} | {', '.join(f'{x:.3f}' for x in base)} | {', '.join(f'{x:.3f}' for x in own)} "
+                  f"| {b:.3f} / {o:.3f} | {o / b:.2f} |")
+
+
+@contextlib.contextmanager
+def _worktree(ref: str) -> Any:
+    """A temporary git worktree of REF (its path), removed afterwards."""
     with tempfile.TemporaryDirectory(prefix="frame_cost_") as tmp:
         tree = Path(tmp) / "tree"
         subprocess.run(["git", "worktree", "add", "--detach", "--quiet", str(tree), ref], cwd=ROOT, check=True)
         try:
-            out = subprocess.run([sys.executable, "benchmarks/frame_cost.py", *argv], cwd=tree, check=True,
-                                 capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(tree)})
-            return out.stdout.strip()
+            yield tree
         finally:
             subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, check=False)
+
+
+def _run_tree(tree: Path, argv: list[str]) -> str:
+    """`tree`'s own frame_cost.py run in a subprocess (its output, as printed)."""
+    out = subprocess.run([sys.executable, "benchmarks/frame_cost.py", *argv], cwd=tree, check=True,
+                         capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(tree)})
+    return out.stdout.strip()
 
 
 if __name__ == "__main__":

@@ -101,11 +101,14 @@ def test_load_clients_smoke() -> None:
 
 def test_frame_cost_smoke() -> None:
     """100 unpaced ticks of the heavy top: finite positive costs; the motion really advanced."""
-    from benchmarks.frame_cost import format_table, measure_scene
+    from benchmarks.frame_cost import format_table, measure_scene, tick_medians
 
     result = measure_scene("Heavy top", frames=100, paced=False, warmup=5)
     assert len(result.tick_ms) == len(result.physics_ms) == 100
     for values in (result.tick_stats, result.physics_stats):
         assert all(math.isfinite(v) and v > 0.0 for v in values)
     assert result.sim_time_advanced_s > 0.0
-    assert "| Heavy top | 100 |" in format_table([result])
+    table = format_table([result])
+    assert "| Heavy top | 100 |" in table
+    # --rounds reads the medians back from the printed table (3 decimals)
+    assert tick_medians(table) == {"Heavy top": pytest.approx(result.tick_stats[0], abs=5e-4)}
