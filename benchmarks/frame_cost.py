@@ -17,7 +17,8 @@ difference of the medians.
 --baseline REF checks REF out in a temporary git worktree and runs REF's own frame_cost.py
 there, in a subprocess, right before this tree's run: the same machine, the same minute.  This
 machine's speed drifts by a quarter within minutes, so one pair can mislead: --rounds N runs REF
-and this tree alternately N times each (every run in its own process) and sums up the medians.
+and this tree alternately N times each (every run in its own process): every round's medians
+and the median of them.
 
 Target (scene-kit issue): tick median <= 0.4 ms per frame, one client.  Times in ms; p95 and
 max include garbage collection and whatever else shares the machine.  "tick CPU" is the ticking thread's own CPU time
@@ -243,7 +244,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--baseline", metavar="REF", help="also run REF's frame_cost.py (a git commit) first")
     parser.add_argument("--rounds", type=int, default=1,
                         help="with --baseline: alternate REF and this tree this many times, each in its own "
-                             "process, and sum up the medians (default %(default)s)")
+                             "process: every round's medians and their median (default %(default)s)")
     args = parser.parse_args(argv)
     if args.frames < 1 or args.rounds < 1:
         parser.error("--frames and --rounds must be >= 1")
