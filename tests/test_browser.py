@@ -223,3 +223,67 @@ def test_inertia_scene_weighs_a_mass_from_the_browser(wait_until, app: App, page
     page.get_by_text("Principal moments I1 ≤ I2 ≤ I3 = " + ", ".join(f"{m:.5g}" for m in moments),
                      exact=False).wait_for(timeout=10_000)
     assert session.last_error is None
+
+
+def test_arrows_and_segments_sent_inline_draw_as_the_raw_buffers_do(wait_until, page, monkeypatch) -> None:
+    """The wire sends small arrow and segment points as msgpack numbers, not as viser's raw
+    buffers (`app.wire.INLINE_NODES`): the browser draws the same pixels either way.  The same
+    arrows and segments are set once through a wire's frame and once through viser's public
+    path, each on a fresh server, and the two screenshots compared."""
+    import viser
+
+    from app import wire as wire_module
+    from app.kit.fastprops import set_points
+    from app.wire import Wire, capturing, end_frames
+
+    inlined: list[str] = []
+    original = wire_module._inline_points
+
+    def counted(message, inline):  # type: ignore[no-untyped-def]
+        raw = original(message, inline)
+        if raw is not None:
+            inlined.append(message.name)
+        return raw
+
+    monkeypatch.setattr(wire_module, "_inline_points", counted)
+    arrows = np.array([[[0.0, 0.0, 0.0], [1.5, 0.0, 0.0]], [[0.0, 0.0, 0.0], [0.0, 1.25, 0.75]],
+                       [[0.0, 0.0, 0.0], [-0.5, -1.0, 1.5]]], dtype=np.float32)
+    angles = np.linspace(0.0, 1.5 * np.pi, 9)
+    curve = np.stack([np.cos(angles), np.sin(angles), 0.25 * angles], axis=1).astype(np.float32)
+    segments = np.stack([curve[:-1], curve[1:]], axis=1)
+    shots = []
+    for through_wire in (True, False):
+        server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+        try:
+            wire = Wire.attach(server) if through_wire else None
+            node_a = server.scene.add_arrows("/a", np.zeros((3, 2, 3), dtype=np.float32), (200, 30, 30),
+                                             shaft_radius=0.04, head_radius=0.09, head_length=0.2)
+            node_s = server.scene.add_line_segments("/s", np.zeros((8, 2, 3), dtype=np.float32), (20, 20, 160),
+                                                    thickness=4.0, thickness_units="screen")
+            page.goto(f"http://127.0.0.1:{server.get_port()}/?fixedDpr={page.evaluate('window.devicePixelRatio')}")
+            (client,) = wait_until(lambda server=server: list(server.get_clients().values()), timeout=30.0)
+            page.locator("canvas").first.wait_for(timeout=30_000)
+            if wire is not None:  # frames until one is written (the browser may not be caught up yet)
+                for _ in range(100):
+                    with capturing():
+                        set_points(node_a, arrows)
+                        set_points(node_s, segments)
+                    end_frames([(wire, [client.client_id])])
+                    time.sleep(0.05)
+                    if wire.writes:
+                        break
+            else:
+                set_points(node_a, arrows)
+                set_points(node_s, segments)
+            time.sleep(2.0)
+            shots.append(page.screenshot(clip=SCENE_CLIP))
+        finally:
+            server.stop()
+    assert sorted(inlined) == ["/a", "/s"]  # the first server's frame, inline; the second's, viser's
+    changed = changed_fraction(*shots)
+    print(f"changed pixels, inline against raw buffers: {changed:.4%}")
+    assert changed < 0.001
+    r, g, b = np.moveaxis(np.asarray(Image.open(io.BytesIO(shots[0])).convert("RGB"), dtype=np.int16), -1, 0)
+    reds = np.mean((r > 150) & (r - g > 60) & (r - b > 60))  # the (lit) arrows are drawn at all
+    blues = np.mean((b > 100) & (b - r > 60) & (b - g > 60))  # ... and so is the curve
+    assert reds > 0.0003 and blues > 0.0003, (reds, blues)

@@ -148,7 +148,7 @@ def _settled(mirror: SceneMirror) -> None:
 
 
 @pytest.mark.parametrize("wired", [True, False], ids=["wire", "public path"])
-@pytest.mark.parametrize("scene", ["Free body", "Heavy top"])
+@pytest.mark.parametrize("scene", ["Free body", "Heavy top", "Moving frame"])  # Moving frame: arrows inline
 def test_own_room_ends_as_the_server(monkeypatch: pytest.MonkeyPatch, wired: bool, scene: str) -> None:
     """A room of its own plays 1 s and pauses: the browser's nodes are the server's."""
     from app.main import create_server
@@ -244,3 +244,52 @@ def test_pose_messages_are_serialised_as_viser_does_with_their_numbers_in_the_sh
     assert {k: v for k, v in decoded.items() if k != "updates"} == \
         {k: v for k, v in viser_own.items() if k != "updates"}
     assert len(msgspec.msgpack.encode(viser_own)) - len(msgspec.msgpack.encode(ours)) == (9 - 1) + (9 - 5)  # 1.0, -0.0
+
+
+def test_small_points_of_arrows_and_segments_go_inline_exactly() -> None:
+    """A float32 `points` update of a node the wire saw made as arrows or line segments goes in
+    the msgpack as an array of numbers: the same float32 values (+0.0 a one-byte 0, -0.0 kept);
+    another node's, or a big array with few zeros, stays a raw buffer as viser sends it."""
+    import msgspec
+
+    from app.wire import INLINE_SLACK, _serialise
+
+    points = np.array([[[0.0, 0.0, 0.0], [0.1, -0.0, 3e38]], [[0.0, 0.0, 0.0], [-1.5, 2.0 ** -20, 1.0]]],
+                      dtype=np.float32)
+    message = _messages.SceneNodeUpdateMessage("/a", {"points": points})
+    buffers: list[Any] = []
+    ours = _serialise(message, buffers, {"/a"})
+    assert buffers == []  # no raw buffer
+    decoded = msgspec.msgpack.decode(msgspec.msgpack.encode(ours))
+    got = decoded["updates"]["points"]
+    assert np.array_equal(np.array(got, dtype=np.float32), points.ravel())  # exactly, as float32
+    assert [math.copysign(1.0, x) for x in got] == [math.copysign(1.0, float(x)) for x in points.ravel()]
+    assert {k: v for k, v in decoded.items() if k != "updates"} == \
+        {k: v for k, v in message.as_serializable_dict([]).items() if k != "updates"}
+    assert sum(1 for x in got if type(x) is int) == 6  # the +0.0s: a byte each
+    viser_own = message.as_serializable_dict(viser_buffers := [])
+    assert len(msgspec.msgpack.encode(ours)) < len(msgspec.msgpack.encode(viser_own)) + viser_buffers[0].nbytes
+    # Not a node of the wire's arrows or segments, or too big and too few zeros: viser's own form.
+    for name, array in (("/b", points), ("/a", np.ones((INLINE_SLACK // 6 + 1, 2, 3), dtype=np.float32))):
+        message = _messages.SceneNodeUpdateMessage(name, {"points": array})
+        ours_buffers: list[Any] = []
+        viser_buffers = []
+        assert _serialise(message, ours_buffers, {"/a"}) == message.as_serializable_dict(viser_buffers)
+        assert [bytes(b) for b in ours_buffers] == [bytes(b) for b in viser_buffers]
+
+
+def test_the_wire_inlines_points_only_for_nodes_it_saw_made_as_arrows_or_segments(server: Any) -> None:
+    """The wire learns the names from the nodes' creation messages (and forgets one made again
+    as another kind)."""
+    wire = Wire.attach(server)
+    assert wire is not None
+    try:
+        segments = np.zeros((1, 2, 3), dtype=np.float32)
+        server.scene.add_arrows("/inline/a", segments, (255, 0, 0))
+        server.scene.add_line_segments("/inline/s", segments, (0, 0, 0))
+        server.scene.add_point_cloud("/inline/p", np.zeros((2, 3), dtype=np.float32), (0, 0, 0), point_size=0.1)
+        assert {"/inline/a", "/inline/s"} <= wire._inline and "/inline/p" not in wire._inline
+        server.scene.add_frame("/inline/a")  # the name made again as a frame
+        assert "/inline/a" not in wire._inline and "/inline/s" in wire._inline
+    finally:
+        server._websock_server.queue_message = wire._queue  # the module's server back as it was
