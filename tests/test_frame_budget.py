@@ -79,7 +79,10 @@ class Budget:
 # 3.8 (over by a byte: xfail); Moving frame 468 / 467, 8.4; Constrained particles 242 / 245, 4.2.  Then
 # (2026-11-25, later: a node's per-axis scale in its shortest form, the rigid views' body and ω nodes
 # named b and w): Poinsot 238 / 239, 3.8 (within, by 11 B: no longer xfail); Free body 224 / 224, 3.7;
-# Heavy top 204 / 211, 2.5; Moving frame 452 / 450, 8.4.
+# Heavy top 204 / 211, 2.5; Moving frame 452 / 450, 8.4.  Then (2026-11-25, the wire sends small
+# arrow and segment points as msgpack numbers, `app.wire.INLINE_NODES`): Moving frame 360 / 358, 8.3;
+# Constrained particles 234 / 237, 4.2 (within by 13 B: no longer xfail); Poinsot 229 / 230, 3.8;
+# Heavy top 196 / 201, 2.5; Free body 224 / 225, 3.7; Euler angles 222 / 220, 5.1.
 BUDGETS: dict[str, Budget] = {
     "Euler angles": Budget(5.5, 5.5, (False, False)),
     "Inertia": Budget(None, None, (False, False)),  # edited, never played: no Play button
@@ -94,7 +97,7 @@ BUDGETS: dict[str, Budget] = {
     "Moving frame": Budget(9.0, 9.0),
     # Constrained particles 270 / 271, 4.25 / 4.17 (2026-11-25, constrained-bytes: the particle's
     # arrows in one turned frame, two-piece shafts, power-of-two grids, status and sliders at 2 Hz).
-    "Constrained particles": Budget(4.5, 4.5),
+    "Constrained particles": Budget(4.5, 4.5, (False, False)),
 }
 HOW = ("own", "follower")  # the browser plays in its own room / follows a presenter who plays
 
