@@ -36,7 +36,6 @@ missing, `Wire.attach` returns None and the app sends through viser's public pat
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 import struct
@@ -149,13 +148,8 @@ def _serialise(message: Any, buffers: list[memoryview], inline: Container[str] =
     field = _POSE_FIELDS.get(kind)
     if field is None:
         points = _inline_points(message, inline) if kind == "SceneNodeUpdateMessage" else None
-        if points is not None and len(message.updates) == 1:  # as viser builds it (`tests/test_wire.py`)
+        if points is not None:  # as viser builds it (`tests/test_wire.py`)
             return {"name": message.name, "updates": {"points": points}, "owner": message.owner, "type": kind}
-        if points is not None:
-            rest = dataclasses.replace(message, updates={k: v for k, v in message.updates.items() if k != "points"})
-            serialised = rest.as_serializable_dict(buffers)
-            serialised["updates"]["points"] = points
-            return serialised
         serialised = message.as_serializable_dict(buffers)
         if kind == "SceneNodeUpdateMessage" and isinstance(serialised["updates"].get("scale"), (tuple, list)):
             serialised["updates"]["scale"] = tuple(_number(float(x)) for x in serialised["updates"]["scale"])
@@ -166,10 +160,11 @@ def _serialise(message: Any, buffers: list[memoryview], inline: Container[str] =
 
 def _inline_points(message: Any, inline: Container[str]) -> msgspec.Raw | None:
     """The message's `points` as one msgpack array (+0.0 as the integer 0, every other value as
-    a float32: lossless, they are float32), or None if it does not go inline."""
+    a float32: lossless, they are float32), or None if it does not go inline (only an update of
+    `points` alone does, as `app.kit.fastprops.set_points` sends it)."""
     points = message.updates.get("points")
-    if message.name not in inline or not isinstance(points, np.ndarray) or points.dtype != np.float32 \
-            or points.size >= 1 << 16:
+    if message.name not in inline or len(message.updates) != 1 or not isinstance(points, np.ndarray) \
+            or points.dtype != np.float32 or points.size >= 1 << 16:
         return None
     pack = _F32.pack
     parts = [b"\x00" if x == 0.0 and math.copysign(1.0, x) > 0.0 else b"\xca" + pack(x)

@@ -269,9 +269,12 @@ def test_small_points_of_arrows_and_segments_go_inline_exactly() -> None:
     assert sum(1 for x in got if type(x) is int) == 6  # the +0.0s: a byte each
     viser_own = message.as_serializable_dict(viser_buffers := [])
     assert len(msgspec.msgpack.encode(ours)) < len(msgspec.msgpack.encode(viser_own)) + viser_buffers[0].nbytes
-    # Not a node of the wire's arrows or segments, or too big and too few zeros: viser's own form.
-    for name, array in (("/b", points), ("/a", np.ones((INLINE_SLACK // 6 + 1, 2, 3), dtype=np.float32))):
-        message = _messages.SceneNodeUpdateMessage(name, {"points": array})
+    # Not a node of the wire's arrows or segments, too big with too few zeros, or not points
+    # alone: viser's own form.
+    colors = {"colors": np.zeros((2, 3), dtype=np.uint8)}
+    for name, updates in (("/b", {"points": points}), ("/a", {"points": points, **colors}),
+                          ("/a", {"points": np.ones((INLINE_SLACK // 6 + 1, 2, 3), dtype=np.float32)})):
+        message = _messages.SceneNodeUpdateMessage(name, updates)
         ours_buffers: list[Any] = []
         viser_buffers = []
         assert _serialise(message, ours_buffers, {"/a"}) == message.as_serializable_dict(viser_buffers)
