@@ -35,20 +35,20 @@ def changed_fraction(png_a: bytes, png_b: bytes) -> float:
     return float(np.mean(np.any(np.abs(a - b) > 8, axis=-1)))
 
 
-def app_url(page, app: App) -> str:
-    """The app's address with the page's own device pixel ratio pinned (viser's `fixedDpr`).
+def app_url(page, port: int) -> str:
+    """The address of the server on `port` with the page's own device pixel ratio pinned (viser's `fixedDpr`).
 
     viser's client lowers the canvas resolution to 0.75-0.875 of it when frames come slowly (its
     adaptive DPR); on a loaded CI machine that happened between two screenshots of one paused
     view and every edge moved by a sub-pixel (1.9 % of pixels changed).  Pinned, a still view
     renders to the same pixels whenever it is taken."""
-    return f"http://127.0.0.1:{app.port}/?fixedDpr={page.evaluate('window.devicePixelRatio')}"
+    return f"http://127.0.0.1:{port}/?fixedDpr={page.evaluate('window.devicePixelRatio')}"
 
 
 def open_app(page, app: App, sessions: int = 1, wait: bool = True):
     """Load the app; its session (the newest one); the software-WebGL toast closed."""
     before = set(app.sessions)
-    page.goto(app_url(page, app))
+    page.goto(app_url(page, app.port))
     current = app.wait_for_sessions(sessions, timeout=30.0)
     (session,) = (s for cid, s in current.items() if cid not in before)
     if wait:
@@ -176,7 +176,7 @@ def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_l
     app = create_server("127.0.0.1", 0, verbose=False, projector=True)
     try:
         page.set_viewport_size({"width": 1024, "height": 768})
-        page.goto(app_url(page, app))
+        page.goto(app_url(page, app.port))
         session = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
         page.get_by_text("Euler angles, z-x-z").wait_for(timeout=30_000)
         time.sleep(1.0)
@@ -260,7 +260,7 @@ def test_arrows_and_segments_sent_inline_draw_as_the_raw_buffers_do(wait_until, 
                                              shaft_radius=0.04, head_radius=0.09, head_length=0.2)
             node_s = server.scene.add_line_segments("/s", np.zeros((8, 2, 3), dtype=np.float32), (20, 20, 160),
                                                     thickness=4.0, thickness_units="screen")
-            page.goto(f"http://127.0.0.1:{server.get_port()}/?fixedDpr={page.evaluate('window.devicePixelRatio')}")
+            page.goto(app_url(page, server.get_port()))
             (client,) = wait_until(lambda server=server: list(server.get_clients().values()), timeout=30.0)
             page.locator("canvas").first.wait_for(timeout=30_000)
             if wire is not None:  # frames until one is written (the browser may not be caught up yet)

@@ -62,7 +62,7 @@ def open_page(browser, app: App, **context):  # type: ignore[no-untyped-def]
     opened = browser.new_context(**context)
     _CONTEXTS.append(opened)
     page = opened.new_page()
-    page.goto(app_url(page, app))
+    page.goto(app_url(page, app.port))
     sessions = app.wait_for_sessions(len(before) + 1, timeout=30.0)
     (session,) = (s for cid, s in sessions.items() if cid not in before)
     page.locator("canvas").first.wait_for(timeout=30_000)

@@ -139,8 +139,12 @@ def _world_position(handle: Any,
     impl = handle._impl
     if impl.removed:
         return None
-    wxyz, at, shown = _node_world(impl.name.rsplit("/", 1)[0], impl.api._handle_from_node_name,
-                                  {} if cache is None else cache)
+    return _world_point(impl, impl.name.rsplit("/", 1)[0], {} if cache is None else cache)
+
+
+def _world_point(impl: Any, parent: str, cache: dict[str, Pose]) -> tuple[tuple[float, float, float], bool]:
+    """`_world_position` of a label's state `impl` (`handle._impl`) hanging from node `parent`."""
+    wxyz, at, shown = _node_world(parent, impl.api._handle_from_node_name, cache)
     rx, ry, rz = _rotate(wxyz, impl.position.tolist())
     return (rx + at[0], ry + at[1], rz + at[2]), shown
 
@@ -267,9 +271,7 @@ class LabelLayer:
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
-            # _world_position, inlined (its parent's name known)
-            wxyz, at, shown = _node_world(entry.parent, impl.api._handle_from_node_name, poses)
-            rx, ry, rz = _rotate(wxyz, impl.position.tolist())
+            point, shown = _world_point(impl, entry.parent, poses)
             props = impl.props
             text = str(props.text)
             em = em_per_scale * float(props.font_screen_scale)
@@ -279,7 +281,7 @@ class LabelLayer:
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
-            (x, y), depth = project(rx + at[0], ry + at[1], rz + at[2])
+            (x, y), depth = project(*point)
             if not depth > 0.0 or not (math.isfinite(x) and math.isfinite(y)):
                 self._show(entry, False)  # behind the camera
                 entry.last_px = entry.last_step = None

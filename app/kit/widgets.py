@@ -331,7 +331,6 @@ class Vector:
         if self.label_at_middle and self.label is not None:
             set_position(self.label, (LABEL_ASIDE, LABEL_ASIDE, 0.5 * length))
 
-
     def _draw_shaft(self, shaft: float, head: float) -> None:
         """Draw the shaft `shaft` long [scene units] under a head scaled by `head` (before the
         head's own scale is sent): the unit shaft scaled along z."""
