@@ -1,8 +1,9 @@
 """app.kit.binding on the server, no browser: a fake handle, a ManualClock, updates counted.
 
-The browser sends a box's value once per keystroke unless guarded (measured: `-0.8` arrives as
-0 then 0.8, `1e9` as 1 then 19); these tests feed such streams to a binding and check what is
-applied, refused and written back.
+The page sends complete values (its typing guard, tested in the browser in
+test_browser_typing.py); here every update must be applied the moment it arrives, however slowly
+or quickly updates come, checked and refused with the field back at the value in force, and the
+server's quiet writes must leave a field alone while its user moves it.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from typing import Any
 
 import pytest
 
-from app.kit.binding import DRAG_S, SETTLE_S, ManualClock, Refused, bind
+from app.kit.binding import HANDS_OFF_S, ManualClock, Refused, bind
 from app.kit.common import SliderSpec
 from app.kit.gui import Quiet
 
@@ -92,100 +93,78 @@ class Rig:
             self.handle.receive(value)
 
 
-def test_a_keystroke_burst_applies_only_the_complete_value() -> None:
-    for gap in (0.05, 0.15, 0.3):  # typed fast (one throttled send per 50 ms) or slowly
-        rig = Rig(spec=ANGLE)
-        rig.stream([-0.0, -0.8], gap)
-        rig.clock.advance(SETTLE_S)
-        assert rig.applied == [-0.8], gap
-        assert rig.handle.writes == []  # nothing written into the field the user typed in
-        assert math.copysign(1.0, rig.in_force) == -1.0 and rig.handle.value == -0.8
+@pytest.mark.parametrize("gap", [0.0, 0.03, 0.05, 0.12, 0.25, 0.6, 2.0])
+def test_each_update_applies_when_it_arrives_however_far_apart(gap: float) -> None:
+    rig = Rig()
+    values = [1.0 + 0.1 * k for k in range(1, 9)]  # a thumb dragged fast (50 ms) or slowly (250 ms a step)
+    for k, value in enumerate(values, start=1):
+        rig.clock.advance(gap)
+        rig.handle.receive(value)
+        assert rig.applied == values[:k]  # this value, now: no pause waited for, none skipped
+    assert rig.handle.writes == [] and rig.message.text == ""
 
 
-def test_a_refused_completion_applies_nothing_and_puts_the_value_in_force_back() -> None:
-    for gap in (0.05, 0.3):
-        rig = Rig(value=1.5)
-        rig.stream([1.0, 1e9], gap)  # "1e9" typed: 1, then 1e9
-        rig.clock.advance(SETTLE_S)
-        assert rig.applied == [] and rig.in_force == 1.5, gap
-        assert "1000000000.0 refused: the range is 0.05 to 5" in rig.message.text
-        assert rig.handle.value == 1.5 and rig.handle.writes == [1.5]  # back to the value in force, not to 1
+def test_a_typed_negative_fraction_applies_exactly_once() -> None:
+    rig = Rig(spec=ANGLE)
+    rig.handle.receive(-0.8)  # what the page's guard sends for "-0.8" typed
+    assert rig.applied == [-0.8] and rig.binding.applied == 1
+    assert math.copysign(1.0, rig.in_force) == -1.0 and rig.handle.writes == []
+
+
+def test_a_refused_value_applies_nothing_and_puts_the_value_in_force_back() -> None:
+    rig = Rig(value=1.5)
+    rig.handle.receive(1e9)
+    assert rig.applied == [] and rig.in_force == 1.5 and rig.binding.refused == 1
+    assert "1000000000.0 refused: the range is 0.05 to 5" in rig.message.text
+    assert rig.handle.value == 1.5 and rig.handle.writes == [1.5]  # back to the value in force
 
 
 def test_a_refusal_by_apply_is_said_and_the_field_goes_back() -> None:
     rig = Rig(value=1.5)
     rig.handle.receive(4.9)
-    assert rig.applied == [] and rig.binding.held == (4.9,)  # held: not yet decided
-    rig.clock.advance(SETTLE_S)
     assert "I3 = 4.9 refused: not a rigid body" in rig.message.text
-    assert rig.handle.value == 1.5 and rig.in_force == 1.5
+    assert rig.applied == [] and rig.handle.value == 1.5 and rig.in_force == 1.5
 
 
-def test_a_drag_stream_applies_each_value_as_it_comes() -> None:
+def test_a_good_value_after_a_refusal_clears_the_message() -> None:
+    rig = Rig(value=1.5)
+    rig.handle.receive(4.9)
+    rig.handle.receive(1.75)
+    assert rig.applied == [1.75] and rig.message.text == ""
+
+
+def test_nothing_is_written_into_a_slider_while_it_is_moved_nor_just_after() -> None:
     rig = Rig()
-    values = [1.0 + 0.01 * k for k in range(1, 21)]
-    rig.handle.receive(values[0])
-    for k, value in enumerate(values[1:], start=1):
-        rig.clock.advance(0.05)  # the browser's cadence while the thumb moves
+    for value in (1.1, 1.2, 1.3):
+        rig.clock.advance(0.25)  # a slow hand
         rig.handle.receive(value)
-        assert rig.applied[-1] == value and len(rig.applied) == k  # live: applied at once
-    rig.clock.advance(SETTLE_S)
-    assert rig.applied == values[1:]  # the first was superseded within the drag, never applied
-    assert rig.clock.pending == 0
-
-
-def test_a_lone_update_applies_after_the_pause_and_not_before() -> None:
-    rig = Rig()
-    rig.handle.receive(1.7)
-    rig.clock.advance(SETTLE_S * 0.9)
-    assert rig.applied == []
-    rig.clock.advance(SETTLE_S * 0.2)
-    assert rig.applied == [1.7] and rig.message.text == ""
-
-
-def test_nothing_is_written_into_the_field_while_an_edit_is_held() -> None:
-    rig = Rig()
-    rig.handle.receive(1.2)
-    rig.quiet.write(rig.handle, 1.0)  # the server following the motion
-    assert rig.handle.writes == [] and rig.binding.editing()
-    rig.clock.advance(SETTLE_S)
-    assert rig.applied == [1.2] and not rig.binding.editing()
+        rig.quiet.write(rig.handle, 1.0)  # the server following the motion
+    rig.clock.advance(HANDS_OFF_S * 0.9)
     rig.quiet.write(rig.handle, 1.0)
-    assert rig.handle.writes == [1.0]
-
-
-def test_nothing_is_written_into_a_slider_while_it_is_dragged_nor_in_the_pause_after() -> None:
-    rig = Rig()
-    rig.stream([1.1, 1.2, 1.3], 0.05)
+    assert rig.handle.writes == [] and rig.applied == [1.1, 1.2, 1.3] and rig.binding.editing()
+    rig.clock.advance(HANDS_OFF_S * 0.2)
     rig.quiet.write(rig.handle, 1.0)
-    rig.clock.advance(SETTLE_S * 0.9)
-    rig.quiet.write(rig.handle, 1.0)
-    assert rig.handle.writes == [] and rig.applied == [1.2, 1.3]
-    rig.clock.advance(SETTLE_S * 0.2)
-    rig.quiet.write(rig.handle, 1.0)
-    assert rig.handle.writes == [1.0]
+    assert rig.handle.writes == [1.0] and not rig.binding.editing()
 
 
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), "abc", "1e", None, [1.0], -5.0, 0.0, 1e9])
 def test_not_a_number_or_out_of_range_is_refused(bad: Any) -> None:
     rig = Rig(value=1.5)
     rig.handle.receive(bad)
-    rig.clock.advance(SETTLE_S)
     assert rig.applied == [] and rig.in_force == 1.5
     assert f"{bad!r} refused" in rig.message.text
     assert rig.handle.value == 1.5
 
 
-def test_the_servers_own_assignment_applies_at_once() -> None:
+def test_the_servers_own_assignment_applies_at_once_and_does_not_count_as_a_hand() -> None:
     rig = Rig()
     rig.handle.value = 1.25  # handle.value = x on the server: the callback runs with client None
-    assert rig.applied == [1.25] and rig.clock.pending == 0
+    assert rig.applied == [1.25] and not rig.binding.editing()
     rig.handle.value = 7.0
     assert "refused" in rig.message.text and rig.handle.value == 1.25
 
 
 def test_a_custom_check_and_a_closed_binding() -> None:
-    clock = ManualClock()
     handle = FakeHandle((0.0, 0.0, 0.0))
     message, applied = Message(), []
 
@@ -195,15 +174,12 @@ def test_a_custom_check_and_a_closed_binding() -> None:
         return tuple(value)
 
     binding = bind(handle, where="x", wrap=lambda _where, fn: fn, message=message, quiet=Quiet(),
-                   apply=lambda v: applied.append(v), current=lambda: (0.0, 0.0, 0.0), check=check, clock=clock)
+                   apply=lambda v: applied.append(v), current=lambda: (0.0, 0.0, 0.0), check=check,
+                   clock=ManualClock())
     handle.receive((9.0, 0.0, 0.0))
-    clock.advance(SETTLE_S)
     assert applied == [] and "within ±3 m" in message.text and handle.value == (0.0, 0.0, 0.0)
     handle.receive((1.0, 2.0, 3.0))
-    binding.close()  # the view went away before the pause ended
-    clock.advance(SETTLE_S)
-    assert applied == []
-
-
-def test_drag_window_is_shorter_than_the_pause() -> None:
-    assert 0.05 < DRAG_S < SETTLE_S <= 0.4
+    assert applied == [(1.0, 2.0, 3.0)]
+    binding.close()  # the view went away
+    handle.receive((1.5, 2.0, 3.0))
+    assert applied == [(1.0, 2.0, 3.0)]

@@ -1,6 +1,6 @@
 """Every scene's bound controls, through a raw websocket client against the real app: a refused
 value leaves the simulation unchanged, the message line says why, and the control shows the
-value in force again (app.kit.binding; a browser's update applies after SETTLE_S)."""
+value in force again (app.kit.binding: a browser's update applies when it arrives)."""
 
 from __future__ import annotations
 
@@ -97,3 +97,41 @@ def test_a_good_value_after_a_refusal_applies_and_clears_the_message(manual) -> 
     manual.client.set_value(view.gui_mass, 2.5)
     manual.wait(lambda: view.sim.masses[view.selected] == 2.5)
     assert view.message.text == "" and view.gui_mass.value == 2.5
+
+
+def test_every_bound_slider_in_every_scene_applies_a_browser_value_when_it_arrives(manual, monkeypatch) -> None:
+    """Time stands still (a ManualClock nobody moves): a binding that waited for a pause, or for
+    a next value, would never apply.  Each slider of each scene gets one value a step away from
+    the one it shows, from the raw client, and must take it at once (or refuse it, said)."""
+    import viser
+
+    from app.kit.binding import ManualClock
+    from app.kit.view import SceneView
+    from app.scenes import SCENES
+
+    monkeypatch.setattr(SceneView, "clock", ManualClock())
+    session = manual.session
+    tried = 0
+    for title in [*list(SCENES)[1:], list(SCENES)[0]]:  # the first scene last: its view made after the patch
+        session.select_scene(title)
+        view = session.scene
+        bindings = list(view._bindings)
+        if view.transport is not None:
+            bindings.append(view.transport.time_scale_binding)
+        for binding in bindings:
+            handle = binding.handle
+            if not isinstance(handle, viser.GuiSliderHandle) or not handle.visible \
+                    or view.timeline is not None and binding is view.timeline.binding:
+                continue
+            shown = float(handle.value)
+            step = float(handle.step)
+            value = shown + step if shown + step <= handle.max else shown - step
+            refused = binding.refused
+            decided = binding.applied + refused
+            manual.client.set_value(handle, value)
+            manual.wait(lambda b=binding, d=decided: b.applied + b.refused > d)
+            assert binding.applied + binding.refused == decided + 1, (title, binding.where)
+            if binding.refused == refused:
+                assert handle.value == pytest.approx(value), (title, binding.where)
+            tried += 1
+    assert tried >= 20 and session.last_error is None

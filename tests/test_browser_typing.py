@@ -4,18 +4,25 @@ What the browser did before (measured, app.kit.binding's docstring): `-0.8` type
 box arrived as 0 then 0.8, `1e-3` as 1, -1, -13, -10, `1e9` as 1, 19 and then the maximum.  Here
 the keys are typed into the boxes (`page.keyboard.type` with a delay per key), the edit ends with
 Tab, Enter or a pause, and the server's state is read: the value applied is exactly the one
-typed; a refused value is said in the page and the box shows the value in force again; a
-mouse drag of a slider thumb still moves the value while the mouse moves.
+typed, and applied once (nothing on the way); a refused value is said in the page and the box
+shows the value in force again.  A slider's thumb dragged fast or slowly moves the simulation
+while the mouse moves, with both cores busy (the test makes the load itself), for a presenter
+whom a follower watches too.
 """
 
 from __future__ import annotations
 
+import subprocess
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
 
 import pytest
 
 from app.kit.binding import TYPED_PAUSE_MS
-from app.main import App
+from app.main import App, create_server
+from tests.conftest import RawClient
 from tests.test_browser import open_app
 
 pytestmark = pytest.mark.browser
@@ -27,6 +34,12 @@ def number_box(page, handle):
     if root.evaluate("el => el.tagName") == "INPUT":
         return root
     return root.locator("xpath=..").locator("input.mantine-NumberInput-input")
+
+
+def binding_of(view, handle):  # type: ignore[no-untyped-def]
+    """The view's binding of `handle` (its `applied` counts the values it took)."""
+    (binding,) = (b for b in view._bindings if b.handle is handle)
+    return binding
 
 
 def type_into(page, box, text: str, delay: float, end: str | None) -> None:
@@ -44,10 +57,12 @@ def test_typed_values_arrive_exactly_and_a_refused_moment_goes_back(wait_until, 
     session = open_app(page, app)
     view = session.scene  # Euler angles
     phi = number_box(page, view.gui_angles[0])
+    taken = binding_of(view, view.gui_angles[0]).applied
     type_into(page, phi, "-0.8", delay=0, end="Tab")
     wait_until(lambda: view.sim.angles_deg[0] == -0.8, timeout=10.0)
     time.sleep(0.5)
     assert view.sim.angles_deg[0] == -0.8 and phi.input_value() == "-0.8"  # not 0.8, not rounded to -1
+    assert binding_of(view, view.gui_angles[0]).applied == taken + 1  # one value: nothing on the way
 
     psi = number_box(page, view.gui_angles[2])
     type_into(page, psi, "2.5", delay=150, end="Enter")
@@ -86,8 +101,11 @@ def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_un
     wait_until(lambda: view.sim.masses[view.selected] == 2.5, timeout=10.0)
 
     x = number_box(page, view.gui_position)
+    taken = binding_of(view, view.gui_position).applied
     type_into(page, x, "-0.8", delay=60, end="Tab")
     wait_until(lambda: view.sim.positions[view.selected][0] == -0.8, timeout=10.0)
+    time.sleep(0.5)
+    assert binding_of(view, view.gui_position).applied == taken + 1  # not (0, y, z) first
 
     page.get_by_text("Solid mesh").click()
     weight = number_box(page, view.gui_mesh_mass)
@@ -97,22 +115,66 @@ def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_un
     assert weight.input_value() == "0.001" and session.last_error is None
 
 
-def test_a_slider_thumb_dragged_with_the_mouse_moves_the_value_while_dragging(wait_until, app: App, page) -> None:
-    session = open_app(page, app)
-    view = session.scene
-    start = view.sim.angles_deg[0]
-    thumb = page.locator(f'[id="{view.gui_angles[0]._impl.uuid}"] [role="slider"]')
+@contextmanager
+def busy_cores(count: int = 2) -> Iterator[None]:
+    """`count` processes that keep a core each busy (`yes > /dev/null`) while the block runs."""
+    hogs = [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL) for _ in range(count)]
+    try:
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+
+
+def drag(page, handle, steps: int, px: float, gap_s: float, value: Any) -> list[float]:  # type: ignore[no-untyped-def]
+    """Press the slider's thumb, move the mouse `px` to the right `steps` times, `gap_s` apart,
+    and read `value()` just before each next move (and before the release); release."""
+    thumb = page.locator(f'[id="{handle._impl.uuid}"] [role="slider"]')
     box = thumb.bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
     page.mouse.move(x, y)
     page.mouse.down()
     seen = []
-    for k in range(1, 13):
-        page.mouse.move(x + 4 * k, y)
-        time.sleep(0.03)
-        seen.append(view.sim.angles_deg[0])
-    during = set(seen)
-    page.mouse.up()
-    wait_until(lambda: view.sim.angles_deg[0] == view.gui_angles[0].value, timeout=5.0)
-    assert len(during - {start}) >= 3  # the body followed the thumb while the mouse was down
-    assert view.sim.angles_deg[0] > start and session.last_error is None
+    try:
+        for k in range(1, steps + 1):
+            page.mouse.move(x + px * k, y)
+            time.sleep(gap_s)
+            seen.append(value())
+    finally:
+        page.mouse.up()
+    return seen
+
+
+@pytest.mark.parametrize(("steps", "px", "gap_s", "moved_at_least"), [
+    pytest.param(12, 4.0, 0.03, 3, id="fast"),
+    pytest.param(8, 6.0, 0.25, 6, id="slow, a step every 250 ms"),
+])
+def test_a_dragged_thumb_moves_the_presenters_body_while_the_hand_moves_with_both_cores_busy(
+        wait_until, page, steps: int, px: float, gap_s: float, moved_at_least: int) -> None:
+    code = "135791"
+    running = create_server("127.0.0.1", 0, verbose=False, presenter_code=code)
+    follower = None
+    try:
+        session = open_app(page, running)
+        session.present(code)
+        follower = RawClient(running.port)  # a follower watches the presenter's room
+        running.wait_for_sessions(2, timeout=30.0)
+        view = session.scene
+        wait_until(lambda: page.locator(f'[id="{view.gui_angles[0]._impl.uuid}"] [role="slider"]').count() == 1,
+                   timeout=30.0)
+        start = view.sim.angles_deg[0]
+        with busy_cores():
+            seen = drag(page, view.gui_angles[0], steps, px, gap_s, lambda: view.sim.angles_deg[0])
+        new = [b for a, b in zip([start, *seen], seen) if b != a]  # a reading that differs from the one before
+        # The old binding held a value until it had stood 0.4 s, or came within 0.12 s of the one
+        # before: the slow drag moved nothing while the mouse was down, the fast one nothing on a
+        # busy machine.  Now each value the page sends is applied when it arrives.
+        assert len(new) >= moved_at_least, (start, seen)
+        assert seen[-1] > start
+        wait_until(lambda: view.sim.angles_deg[0] == view.gui_angles[0].value, timeout=10.0)
+        assert session.last_error is None
+    finally:
+        if follower is not None:
+            follower.close()
+        running.stop()

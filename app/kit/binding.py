@@ -1,45 +1,42 @@
-"""A control bound to a simulation value in one call: typed numbers arrive as typed.
+"""A control bound to a simulation value in one call: every value the page sends is complete.
 
 What the browser does (measured with viser 1.1.1 in Chromium, docs in VISER.md §8): a slider's
 number box, an `add_number` and an `add_vector3` field are controlled React inputs, re-rendered
 from the number they last sent.  Without help they send one update per keystroke (throttled to
 one per 50 ms) and wreck what is typed on the way: `-0.8` arrives as 0, then 0.8 (the box
 re-renders "-0" as "0"); `1e-3` as 1, -1, -13 (the "e" is dropped) and then -10 (clamped on
-blur); `1e9` as 1, then 19, then the slider's maximum.  A slider drag sends a value every 50 ms
-or so while the value changes (100-300 ms apart on a coarse slider dragged slowly).
+blur); `1e9` as 1, then 19, then the slider's maximum.  A slider's thumb sends a value every
+50 ms or so while it moves; each of those is a complete value.
 
-Two parts, one per side:
+The two sides split the work where each thing is known:
 
 * **In the browser**, `TYPING_GUARD_JS` (installed once per page by `install_typing_guard`)
   keeps keystrokes in a number box away from React until the text is complete: Enter, leaving
   the field, or TYPED_PAUSE_MS without a key while the text is a number.  Then the number
-  (`Number(text)`, so `1e-3` and `-0.8` are understood) is handed to the box as plain decimals,
-  and the box sends it once.  Text that is not a number goes back to the value in force; keys
-  that cannot be part of a number are not typed at all; Escape undoes the edit.  While its user
-  types, nothing the server sends is written into that box (it is shown after the commit).
-  The slider's clamp-on-blur is skipped: an out-of-range value reaches the server, which says
-  why it is refused.
+  (`Number(text)`, so `1e-3` and `-0.8` are understood) is handed to the box as plain decimals
+  in one input event, and the box sends it once.  Text that is not a number goes back to the
+  value in force; keys that cannot be part of a number are not typed at all; Escape undoes the
+  edit.  While its user types, nothing the server sends is written into that box (it is shown
+  after the commit).  The slider's clamp-on-blur is skipped: an out-of-range value reaches the
+  server, which says why it is refused.  Thumb drags, arrow keys on a thumb and the number
+  boxes' step buttons are not touched: they send complete values.
 * **On the server**, `bind(...)` gives a handle one callback (instead of a hand-written one per
-  control): every update from a browser is *held*; it is applied when it has stood SETTLE_S
-  with no newer update from that handle, or at once when it follows the previous update within
-  DRAG_S (a slider drag: its values are complete, the held older one is superseded, never
-  applied).  A value is parsed and checked (`check`: a `SliderSpec`'s range, or a function that
-  raises `Refused`), then `apply(value)`; a refusal (not a number, NaN, out of range, or
-  `apply` returning/raising one) is said in the message line and the field goes back to
-  `current()`, the value in force, never to an intermediate keystroke.  While an edit is held,
-  and for SETTLE_S after a browser's last update, the server's quiet writes (a slider following
-  the motion) skip the field.  An update the server itself makes (`handle.value = x`, event
-  without a client) is applied at once.
+  control): every update is applied when it arrives, so the next frame draws it.  A value is
+  parsed and checked (`check`: a `SliderSpec`'s range, or a function that raises `Refused`),
+  then `apply(value)`; a refusal (not a number, NaN, out of range, or `apply` returning/raising
+  one) is said in the message line and the field goes back to `current()`, the value in force.
+  For HANDS_OFF_S after a browser's last update, the server's quiet writes (a slider following
+  the motion) skip the field, so a thumb under the hand is not pulled back.
 
-The timers are a `Clock` (threading.Timer by default); tests pass a `ManualClock` and count
-instead of waiting.  Each timer fires through the session's guard (`wrap`), like any callback.
+A page without the guard (a raw websocket client) gets each value it sends checked and applied
+in its own room like any other: nothing it sends skips the check.  The time is a `Clock`
+(`time.monotonic` by default); tests pass a `ManualClock`.
 """
 
 from __future__ import annotations
 
 import html
 import math
-import threading
 import time
 from collections.abc import Callable
 from typing import Any, Protocol
@@ -47,26 +44,23 @@ from typing import Any, Protocol
 from app.kit.common import SliderSpec
 
 __all__ = [
-    "DRAG_S",
-    "SETTLE_S",
+    "BOX_DIGITS",
+    "HANDS_OFF_S",
     "TYPED_PAUSE_MS",
     "TYPING_GUARD_JS",
-    "BOX_DIGITS",
     "Binding",
     "Clock",
     "ManualClock",
+    "MonotonicClock",
     "Refused",
-    "ThreadingClock",
     "bind",
     "install_typing_guard",
     "spec_check",
 ]
 
-SETTLE_S = 0.4
-"""[s] a browser's update stands this long with no newer one from its handle before it applies."""
-DRAG_S = 0.12
-"""[s] an update this soon after the previous one from the same handle is part of a slider drag
-(the browser sends one per 50 ms, measured outliers up to ~130 ms): applied at once."""
+HANDS_OFF_S = 0.4
+"""[s] after a browser's last update to a field, the server's quiet writes leave the field alone
+(a slider's thumb sends every 50 ms while it moves; a slow hand pauses longer between values)."""
 TYPED_PAUSE_MS = 1500
 """[ms] in the browser: a number typed into a box is committed after this long without a key."""
 BOX_DIGITS = 3
@@ -79,70 +73,34 @@ class Refused(ValueError):
 
 
 class Clock(Protocol):
-    """Time and one-shot timers for the bindings."""
+    """The time the bindings read."""
 
     def now(self) -> float:
         """[s] monotonic."""
         ...
 
-    def call_later(self, delay: float, fn: Callable[[], None]) -> Callable[[], None]:
-        """Run fn after `delay` [s]; returns a function that cancels it."""
-        ...
 
-
-class ThreadingClock:
-    """time.monotonic and daemon threading.Timer (the running app)."""
+class MonotonicClock:
+    """time.monotonic (the running app)."""
 
     def now(self) -> float:
         return time.monotonic()
 
-    def call_later(self, delay: float, fn: Callable[[], None]) -> Callable[[], None]:
-        timer = threading.Timer(delay, fn)
-        timer.daemon = True
-        timer.start()
-        return timer.cancel
-
 
 class ManualClock:
-    """A clock the test moves by hand: `advance(dt)` runs the timers that fall due, in order."""
+    """A clock the test moves by hand with `advance(dt)` [s]."""
 
     def __init__(self) -> None:
         self.t = 0.0
-        self._timers: list[tuple[float, int, Callable[[], None]]] = []
-        self._count = 0
 
     def now(self) -> float:
         return self.t
 
-    def call_later(self, delay: float, fn: Callable[[], None]) -> Callable[[], None]:
-        self._count += 1
-        entry = (self.t + delay, self._count, fn)
-        self._timers.append(entry)
-
-        def cancel() -> None:
-            if entry in self._timers:
-                self._timers.remove(entry)
-
-        return cancel
-
-    @property
-    def pending(self) -> int:
-        return len(self._timers)
-
     def advance(self, dt: float) -> None:
-        end = self.t + dt
-        while True:
-            due = sorted(e for e in self._timers if e[0] <= end + 1e-12)
-            if not due:
-                break
-            entry = due[0]
-            self._timers.remove(entry)
-            self.t = max(self.t, entry[0])
-            entry[2]()
-        self.t = end
+        self.t += dt
 
 
-DEFAULT_CLOCK: Clock = ThreadingClock()
+DEFAULT_CLOCK: Clock = MonotonicClock()
 
 
 def spec_check(spec: SliderSpec) -> Callable[[Any], float]:
@@ -178,60 +136,28 @@ class Binding:
         self._current = current
         self._check = check
         self.clock = clock
-        self.held: tuple[Any] | None = None  # (value,) of the update waiting for its pause
         self.applied = 0  # values applied (tests count them)
         self.refused = 0
         self._last_update = -math.inf  # [s] clock time of the last browser update
-        self._cancel: Callable[[], None] | None = None
         self._active = True
-        self._settle = wrap(f"{where} (settled)", self.settle_now)
         quiet.guard(handle, self.editing)
         handle.on_update(wrap(where, self._received))
 
-    # ------------------------------------------------------------------ state
     def editing(self) -> bool:
-        """True while an edit is held or a browser's last update is less than SETTLE_S old: the
-        server's quiet writes skip the field then."""
-        return self.held is not None or self.clock.now() - self._last_update < SETTLE_S
+        """True for HANDS_OFF_S after a browser's last update: the server's quiet writes skip the
+        field then."""
+        return self.clock.now() - self._last_update < HANDS_OFF_S
 
     def close(self) -> None:
-        """The view goes away: nothing held is applied any more."""
+        """The view goes away: updates are no longer applied."""
         self._active = False
-        self.held = None
-        if self._cancel is not None:
-            self._cancel()
-            self._cancel = None
 
-    # ------------------------------------------------------------------ updates
     def _received(self, event: Any) -> None:
         if self._quiet.active or not self._active:
             return  # the server itself is showing a value on the control
-        value = self.handle.value
-        if getattr(event, "client", None) is None:  # the server assigned it (a test, a lesson): at once
-            self.held = None
-            self.decide(value)
-            return
-        now = self.clock.now()
-        in_drag = now - self._last_update <= DRAG_S
-        self._last_update = now
-        if self._cancel is not None:
-            self._cancel()
-            self._cancel = None
-        if in_drag:  # a drag stream: this value is complete, the held older one is superseded
-            self.held = None
-            self.decide(value)
-            return
-        self.held = (value,)
-        self._cancel = self.clock.call_later(SETTLE_S, self._settle)
-
-    def settle_now(self) -> None:
-        """Apply (or refuse) the held value now (what the timer does after SETTLE_S)."""
-        self._cancel = None
-        if self.held is None or not self._active:
-            return
-        (value,) = self.held
-        self.held = None
-        self.decide(value)
+        if getattr(event, "client", None) is not None:
+            self._last_update = self.clock.now()
+        self.decide(self.handle.value)
 
     def decide(self, value: Any) -> None:
         """Check and apply `value`; a refusal is said and the field goes back to the value in force."""
@@ -271,7 +197,7 @@ def bind(handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], C
         apply: called with the checked value; returns a refusal text (or raises Refused) or None.
         current: the value in force, shown again after a refusal.
         spec: the slider's range (its refusal text), or `check`: value -> parsed, or Refused.
-        clock: the timers (tests pass a ManualClock).
+        clock: the time (tests pass a ManualClock).
     """
     if check is None:
         if spec is None:
@@ -324,14 +250,15 @@ TYPING_GUARD_JS = """
     proto.set.call(el, s.wanted !== null ? String(s.wanted) : s.shown);
     s.wanted = null;
   }
-  function send(el, text) {
+  function send(el, rendered, text) {
     committing = true;
     try {
-      for (const t of ["", text]) {
-        proto.set.call(el, t);
-        try { el.setSelectionRange(t.length, t.length); } catch (_) {}
-        el.dispatchEvent(new Event("input", { bubbles: true }));
-      }
+      states.get(el).own.set.call(el, rendered);  // the box as React last rendered it, all selected ...
+      try { el.setSelectionRange(0, rendered.length); } catch (_) {}
+      el.dispatchEvent(new KeyboardEvent("keydown", { key: "Unidentified", bubbles: true }));
+      proto.set.call(el, text);  // ... and replaced by the number: one change, sent once
+      try { el.setSelectionRange(text.length, text.length); } catch (_) {}
+      el.dispatchEvent(new Event("input", { bubbles: true }));
     } finally { committing = false; }
   }
   function commit(el) {
@@ -341,9 +268,10 @@ TYPING_GUARD_JS = """
     const text = proto.get.call(el).trim();
     const x = text === "" ? NaN : Number(text);
     if (!Number.isFinite(x)) { revert(el, s); return; }
+    const rendered = s.wanted !== null ? String(s.wanted) : s.shown;
     s.dirty = false;
     s.wanted = null;
-    send(el, x.toLocaleString("en-US", { useGrouping: false, maximumFractionDigits: 20 }));
+    send(el, rendered, x.toLocaleString("en-US", { useGrouping: false, maximumFractionDigits: 20 }));
   }
   window.addEventListener("keydown", (e) => {
     const el = box(e);

@@ -56,7 +56,7 @@ class SceneView:
     """Set by the session: open the scene `title` in this browser with a new room, after
     `prepare(room)` has set its simulation up; returns that room.  A scene hands a body to
     another by title, never by importing it ("Spin it": `self.open_scene("Free body", prepare)`)."""
-    clock: Clock | None = None  # the bindings' timers (None: threading.Timer); tests set a ManualClock
+    clock: Clock | None = None  # the bindings' time (None: time.monotonic); tests set a ManualClock
     timeline: Timeline | None = None
     transport: Transport | None = None
     """The transport (`build_head`), if the scene has motion."""
@@ -252,9 +252,9 @@ class SceneView:
     # ------------------------------------------------------------------ bound controls
     def bind(self, handle: Any, where: str, apply: Callable[[Any], str | None], current: Callable[[], Any],
              spec: SliderSpec | None = None, check: Callable[[Any], Any] | None = None) -> Binding:
-        """Bind a control of this view to a simulation value (`app.kit.binding.bind`): held until
-        complete, checked by `spec` or `check`, `apply`'d, or refused in the message line with the
-        field back at `current()`."""
+        """Bind a control of this view to a simulation value (`app.kit.binding.bind`): each value
+        the browser sends is checked by `spec` or `check` and `apply`'d when it arrives, or refused
+        in the message line with the field back at `current()`."""
         binding = bind(handle, where=where, wrap=self._wrap, message=self.message, quiet=self.quiet, apply=apply,
                        current=current, spec=spec, check=check, clock=self.clock)
         self._bindings.append(binding)
