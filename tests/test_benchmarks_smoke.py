@@ -112,3 +112,15 @@ def test_frame_cost_smoke() -> None:
     assert "| Heavy top | 100 |" in table
     # --rounds reads the medians back from the printed table (3 decimals)
     assert tick_medians(table) == {"Heavy top": pytest.approx(result.tick_stats[0], abs=5e-4)}
+
+
+def test_drag_latency_owes_each_pixel_change_to_one_mouse_step() -> None:
+    """benchmarks/drag_latency.py: a change answers the first step before it that has no answer
+    yet; a step with no change after it by the end of the drag is infinite."""
+    from benchmarks.drag_latency import _latencies, _quantile
+
+    moves = [0.0, 250.0, 500.0, 750.0]  # [ms]
+    changes = [40.0, 60.0, 290.0, 760.0]  # the second change (60 ms) is still the first step's picture
+    assert _latencies(moves, changes) == pytest.approx([0.04, 0.04, 0.26, math.inf])
+    assert _latencies(moves, []) == [math.inf] * 4  # the body moved only after the thumb stopped
+    assert _quantile([0.1, 0.2, 0.3, math.inf], 0.5) == 0.2 and _quantile([0.1, math.inf], 0.95) == math.inf
