@@ -8,16 +8,19 @@ accurate the project has for that model (the exact solution where one exists).  
 display step; `applicable(model)` are the names of the methods that apply to a body, in
 registry order; `realtime_method()` is the method the app starts with and falls back on.
 
-Adding a method is one entry in `_registry()`: `Method(name, summary, applies, run, ...)`.  Its
-`run(model, state0, t)` is all the command line needs, and by default the app steps it frame by
-frame through `run` (`RunStepper`: from the current state to t + dt, nothing carried between
-frames but the state), so the new name appears in the CLI and, for every body it `applies` to,
-in the app's menu.  Give `start` only when the method carries more than the state between
-frames (a fixed grid, a closed form from the run's start: `GridStepper`, `ExactStepper`) or
-must refuse a starting state; set `realtime=True` only when a frame costs a bounded, small
-time whatever the body does.  A method that cannot go on from a state where the motion can (a
-singularity of its coordinates) raises a `GimbalLockError` from `Stepper.step`: the app then
-goes on with `realtime_method()`.
+Adding a method is one entry in `_registry()`, e.g. for a method of any torque
+
+    Method("name", "one line: order, what it conserves", always, run)
+
+with `run(model, state0, t) -> Trajectory`.  `run` is all the command line needs, and by
+default the app steps it frame by frame through `run` (`RunStepper`: from the current state to
+t + dt, nothing carried between frames but the state), so the new name appears in the CLI and,
+for every body it `applies` to, in the app's menu.  Give `start` only when the method carries
+more than the state between frames (a fixed grid, a closed form from the run's start:
+`GridStepper`, `ExactStepper`) or must refuse a starting state; set `realtime=True` only when
+a frame costs a bounded, small time whatever the body does.  A method that cannot go on from a
+state where the motion can (a singularity of its coordinates) raises a `GimbalLockError` from
+`Stepper.step`: the app then goes on with `realtime_method()`.
 """
 
 from __future__ import annotations
@@ -153,7 +156,7 @@ class Method:
 
     name: the registry name (the CLI's --method, the app's menu).  summary: one line on its
     order and what it conserves.  applies(model): whether it can compute this body's motion;
-    bodies: the same in words (for a menu's hint).  run(model, state0, t): the motion sampled
+    bodies: the same in words (for messages).  run(model, state0, t): the motion sampled
     at t.  realtime: a frame costs a small, bounded time whatever the body does (the app can
     run it at any display rate).  reference: its motion IS the reference the app measures the
     attitude error against (the closed form), so its error is 0 by definition.  start: how
