@@ -5,6 +5,7 @@
          "camera": {"position": [5.9, -2.0, 3.3], "look_at": [0, 0, 0]},   # optional
          "display": {"Angle arcs": true},                        # optional: the scene's checkboxes
          "tab": "Lagrange", "integrator": "exact",               # optional: panel tab, integrator
+                                                                 # (a name of physics.methods)
          "play": false,                                          # optional: play or pause
          "text": "θ = 0: only φ + ψ is defined (memo 1.13)."}]}
 
@@ -25,6 +26,7 @@ from typing import Any
 
 from app.data import files_in, lessons_dir
 from app.kit.common import CameraView
+from physics.methods import methods
 
 __all__ = ["LESSONS_DIR", "Lesson", "LessonError", "Step", "lessons", "load_lesson", "load_lessons"]
 
@@ -92,6 +94,10 @@ def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
     for name in ("tab", "integrator"):
         if name in entry and not isinstance(entry[name], str):
             raise LessonError(f"{where}.{name}: a name wanted, got {entry[name]!r}")
+    registry = methods()
+    if "integrator" in entry and entry["integrator"] not in registry:
+        raise LessonError(f"{where}.integrator: {entry['integrator']!r} is not a method "
+                          f"(the methods of `python -m physics methods`: {', '.join(registry)})")
     text = entry.get("text")
     if not isinstance(text, str) or not text.strip():
         raise LessonError(f"{where}.text: missing (what to look at, which equation)")

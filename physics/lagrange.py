@@ -104,7 +104,7 @@ class EulerLagrangeSingularityError(IntegrationError, GimbalLockError):
         self.theta = float(theta)
         super().__init__(
             f"the Euler-angle Lagrangian is singular at θ = {self.theta:.6g} rad "
-            f"(sin θ = {math.sin(self.theta):.3g}) reached at t = {self.t:.9g} s{detail}; "
+            f"(sin θ in a denominator, sin θ = {math.sin(self.theta):.3g}) reached at t = {self.t:.9g} s{detail}; "
             "use another method (e.g. 'adaptive' or 'splitting4', which have no singularity)"
         )
 

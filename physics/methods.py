@@ -1,31 +1,186 @@
-"""The registry of ways to compute a motion, each with its order and what it conserves.
+"""The registry of ways to compute a motion, each with its order and what it conserves: the
+one list the command line (`python -m physics methods`, `--method NAME`) and the app's
+integrator menu read, under the same names.
 
 `simulate(model, state0, t, method)` runs one by name; `default_method(model)` is the most
-accurate the project has for that model (the exact solution where one exists).
+accurate the project has for that model (the exact solution where one exists).  For the app,
+`Method.stepper(model, state, origin)` builds a `Stepper` that advances (R, ω_b) display step by
+display step; `applicable(model)` are the names of the methods that apply to a body, in
+registry order; `realtime_method()` is the method the app starts with and falls back on.
+
+Adding a method is one entry in `_registry()`, e.g. for a method of any torque
+
+    Method("name", "one line: order, what it conserves", always, run)
+
+with `run(model, state0, t) -> Trajectory`.  `run` is all the command line needs, and by
+default the app steps it frame by frame through `run` (`RunStepper`: from the current state to
+t + dt, nothing carried between frames but the state), so the new name appears in the CLI and,
+for every body it `applies` to, in the app's menu.  Give `start` only when the method carries
+more than the state between frames (a fixed grid, a closed form from the run's start:
+`GridStepper`, `ExactStepper`) or must refuse a starting state; set `realtime=True` only when
+a frame costs a bounded, small time whatever the body does.  A method that cannot go on from a
+state where the motion can (a singularity of its coordinates) raises a `GimbalLockError` from
+`Stepper.step`: the app then goes on with `realtime_method()`.
 """
 
 from __future__ import annotations
 
 import functools
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from physics.dynamics import Model, State, Trajectory
 
-__all__ = ["Method", "default_method", "exact_solution", "methods", "simulate"]
+__all__ = ["ExactStepper", "Method", "RunStepper", "Stepper", "applicable", "default_method", "exact_solution",
+           "methods", "realtime_method", "simulate"]
+
+Run = Callable[[Model, State, np.ndarray], Trajectory]
+"""run(model, state0, t (N,) [s]) -> the Trajectory sampled at t (t[0] >= state0.t)."""
+
+
+@runtime_checkable
+class Stepper(Protocol):
+    """Advances one body display step by display step and owns its state between frames.
+
+    state: the current State (R_space_body (3, 3), omega_body (3,) [rad/s], t [s]).
+    substeps: sub-steps taken by the last `step` (0 for a method without them).
+    step(dt): the state dt [s] later (dt > 0 and finite, else ValueError; IntegrationError when
+        the motion cannot be computed; GimbalLockError where the method's coordinates are
+        singular though the motion is not).
+    snapshot(): everything that changes as it steps, as floats; restore(values) puts it back
+        bit for bit (ValueError, nothing changed, if the values are not this stepper's).
+    """
+
+    substeps: int
+
+    @property
+    def state(self) -> State: ...
+
+    def step(self, dt: float) -> State: ...
+
+    def snapshot(self) -> tuple[float, ...]: ...
+
+    def restore(self, values: list[float]) -> None: ...
+
+
+StartStepper = Callable[[Model, State, State], Stepper]
+"""start(model, state, origin) -> a Stepper at `state`; origin: the start of the run (a method
+whose motion is the closed form follows the closed form from there)."""
+
+
+def _checked_dt(dt: float) -> float:
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise ValueError(f"display step dt must be positive and finite, got {dt}")
+    return float(dt)
+
+
+def _state_floats(state: State) -> tuple[float, ...]:
+    return (*np.asarray(state.R_space_body, dtype=float).ravel().tolist(),
+            *np.asarray(state.omega_body, dtype=float).tolist(), float(state.t))
+
+
+def _state_of(values: list[float]) -> State:
+    if len(values) != 13:
+        raise ValueError(f"not a snapshot of this stepper ({len(values)} values, 13 wanted)")
+    return State(np.array(values[:9], dtype=float).reshape(3, 3), np.array(values[9:12], dtype=float),
+                 float(values[12]))
+
+
+class RunStepper:
+    """A method's `run` frame by frame: each `step(dt)` is run(model, state, [t + dt]) from the
+    current state, so nothing but the state is carried between frames.  substeps is 0."""
+
+    def __init__(self, run: Run, model: Model, state: State) -> None:
+        self._run = run
+        self.model = model
+        self._state = state
+        self.substeps = 0
+
+    @property
+    def state(self) -> State:
+        return self._state
+
+    def step(self, dt: float) -> State:
+        state = self._state
+        trajectory = self._run(self.model, state, np.array([state.t + _checked_dt(dt)]))
+        self._state = State(trajectory.R_space_body[0], trajectory.omega_body[0], float(trajectory.t[0]))
+        return self._state
+
+    def snapshot(self) -> tuple[float, ...]:
+        """The state: R (9), ω_b (3), t."""
+        return _state_floats(self._state)
+
+    def restore(self, values: list[float]) -> None:
+        self._state = _state_of(values)
+
+
+class ExactStepper:
+    """The closed form (`exact_solution`) from the run's start `origin`, evaluated at each time
+    asked: `step(dt)` is the exact state at state.t + dt, whatever `state` was (a stepper built
+    mid-run joins the exact motion at its next step).  substeps is 0.  ValueError (no closed
+    form) as `exact_solution`."""
+
+    def __init__(self, model: Model, state: State, origin: State) -> None:
+        self._solution = exact_solution(model, origin)
+        self._t0 = float(origin.t)
+        self._state = state
+        self.model = model
+        self.substeps = 0
+
+    @property
+    def state(self) -> State:
+        return self._state
+
+    def step(self, dt: float) -> State:
+        t = self._state.t + _checked_dt(dt)
+        R, omega = self._solution(np.array([t - self._t0]))
+        self._state = State(R[0], omega[0], t)
+        return self._state
+
+    def snapshot(self) -> tuple[float, ...]:
+        """The state: R (9), ω_b (3), t."""
+        return _state_floats(self._state)
+
+    def restore(self, values: list[float]) -> None:
+        self._state = _state_of(values)
 
 
 @dataclass(frozen=True)
 class Method:
-    """name; summary: one line on its order and what it conserves; applies: which models."""
+    """One way to compute a motion.
+
+    name: the registry name (the CLI's --method, the app's menu).  summary: one line on its
+    order and what it conserves.  applies(model): whether it can compute this body's motion;
+    bodies: the same in words (for messages).  run(model, state0, t): the motion sampled
+    at t.  realtime: a frame costs a small, bounded time whatever the body does (the app can
+    run it at any display rate).  reference: its motion IS the reference the app measures the
+    attitude error against (the closed form), so its error is 0 by definition.  start: how
+    the app's `Stepper` is built (None: `RunStepper` over `run`).
+    """
 
     name: str
     summary: str
     applies: Callable[[Model], bool]
-    run: Callable[[Model, State, np.ndarray], Trajectory]
+    run: Run
+    bodies: str = "any torque"
+    realtime: bool = False
+    reference: bool = False
+    start: StartStepper | None = None
+
+    def stepper(self, model: Model, state: State, origin: State | None = None) -> Stepper:
+        """A Stepper for `model` at `state`; origin: the run's start (default: state).
+        ValueError if the method does not apply to the model or cannot start from `state`."""
+        if not self.applies(model):
+            raise ValueError(f"{self.name} does not apply to a {model.kind} model with inertia {model.inertia} "
+                             f"(it applies to: {self.bodies})")
+        if self.start is None:
+            return RunStepper(self.run, model, state)
+        return self.start(model, state, state if origin is None else origin)
 
 
 def _has_closed_form(model: Model) -> bool:
@@ -58,6 +213,28 @@ def _run_exact(model: Model, state0: State, t: np.ndarray) -> Trajectory:
     return Trajectory(np.asarray(t), R, omega, 0, time.perf_counter() - start, "exact")
 
 
+def _start_grid(model: Model, state: State, origin: State) -> Stepper:
+    from physics.realtime import GridStepper
+
+    return GridStepper(model, state)
+
+
+def _start_exact(model: Model, state: State, origin: State) -> Stepper:
+    return ExactStepper(model, state, origin)
+
+
+def _start_euler_lagrange(model: Model, state: State, origin: State) -> Stepper:
+    """A RunStepper, refused (EulerLagrangeSingularityError, a ValueError) where sin θ of the
+    state is below the method's stop (`physics.lagrange.SIN_THETA_STOP`)."""
+    from physics.euler import euler_zxz_from_matrix
+    from physics.lagrange import SIN_THETA_STOP, EulerLagrangeSingularityError, integrate_euler_lagrange
+
+    theta = float(euler_zxz_from_matrix(np.asarray(state.R_space_body, dtype=float))[1])
+    if not abs(math.sin(theta)) >= SIN_THETA_STOP:
+        raise EulerLagrangeSingularityError(state.t, theta, " (the starting state)")
+    return RunStepper(integrate_euler_lagrange, model, state)
+
+
 def _registry() -> dict[str, Method]:
     from physics import integrators, lagrange
 
@@ -66,10 +243,13 @@ def _registry() -> dict[str, Method]:
         method.name: method
         for method in (
             Method("exact", "closed form (elliptic functions): exact to rounding; free body and "
-                   "heavy symmetric top only", _has_closed_form, _run_exact),
+                   "heavy symmetric top only", _has_closed_form, _run_exact,
+                   bodies="torque-free body, heavy symmetric top", realtime=True, reference=True,
+                   start=_start_exact),
             Method("splitting4", "4th-order symplectic splitting, fixed step with sub-steps: "
                    "exact |L| (free) and L·e_z (top), no energy drift; the real-time method",
-                   always, lambda m, s, t: integrators.integrate_splitting(m, s, t)),
+                   always, lambda m, s, t: integrators.integrate_splitting(m, s, t),
+                   realtime=True, start=_start_grid),
             Method("adaptive", "adaptive high-order Runge-Kutta on the singularity-free state "
                    "(rtol 1e-12): accurate to the tolerance, conserves nothing exactly",
                    always, lambda m, s, t: integrators.integrate_adaptive(m, s, t)),
@@ -78,7 +258,8 @@ def _registry() -> dict[str, Method]:
                    lambda m, s, t: integrators.integrate_dop853(m, s, t)),
             Method("euler_lagrange", "Lagrange's equations in z-x-z angles (memo 5.13, 6.4, 6.10), "
                    "adaptive scipy solver: literal and for teaching; fails at sin θ = 0",
-                   always, lambda m, s, t: lagrange.integrate_euler_lagrange(m, s, t)),
+                   always, lambda m, s, t: lagrange.integrate_euler_lagrange(m, s, t),
+                   start=_start_euler_lagrange),
         )
     }
 
@@ -87,6 +268,17 @@ def _registry() -> dict[str, Method]:
 def methods() -> dict[str, Method]:
     """The registry by name (built on first use so importing `physics` stays cheap)."""
     return _registry()
+
+
+def applicable(model: Model) -> list[str]:
+    """The names of the methods that apply to `model`, in registry order (the app's menu)."""
+    return [name for name, method in methods().items() if method.applies(model)]
+
+
+def realtime_method() -> str:
+    """The method the app starts with and goes on with when another stops: real time, any
+    torque, no singularity."""
+    return "splitting4"
 
 
 def default_method(model: Model) -> str:

@@ -31,7 +31,6 @@ import app.kit.rigid as rigid
 import app.main as app_main
 from app.kit.common import NODES_FADED_COLOR
 from app.kit.lean import TOLERANCE
-from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_REALTIME
 from app.kit.rigid_view import SLIDER_PERIOD as RIGID_SLIDER_PERIOD
 from app.main import App
 from app.scenes.euler_angles import INITIAL_ANGLES_DEG, INITIAL_CAMERA, RATE_ARROW_SCALE, THETA_REACH
@@ -581,7 +580,7 @@ def test_exact_integrator_and_the_accuracy_readout(manual) -> None:
     scene = start_free_body(manual)
     I = np.array(scene.sim.model.inertia)
     R0, omega0 = scene.sim.state.R_space_body.copy(), scene.sim.state.omega_body.copy()
-    assert scene.sim.integrator == INTEGRATOR_REALTIME
+    assert scene.sim.integrator == "splitting4"
     scene.tabs.show("Plots")
     manual.session.play()
     manual.tick(2.0)
@@ -595,8 +594,8 @@ def test_exact_integrator_and_the_accuracy_readout(manual) -> None:
     expected = abs(E(scene.sim.state.omega_body) - E(omega0)) / E(omega0)
     assert drift == pytest.approx(expected, rel=0.05, abs=1e-15)
 
-    scene.transport.gui_integrator.value = INTEGRATOR_EXACT
-    assert scene.sim.integrator == INTEGRATOR_EXACT
+    scene.transport.gui_integrator.value = "exact"
+    assert scene.sim.integrator == "exact"
     manual.session.play()
     manual.tick(1.0)
     R_ref, omega_ref = free_body_reference(I, R0, omega0, scene.sim.state.t)
@@ -863,7 +862,7 @@ def test_the_lagrange_tab_balances_at_rounding_and_draws_Q_as_projections_of_M(m
     manual.session.select_scene("Heavy top")
     manual.session.apply_preset("Loop")
     scene = manual.session.scene
-    scene.transport.gui_integrator.value = INTEGRATOR_EXACT
+    scene.transport.gui_integrator.value = "exact"
     scene.tabs.show("Lagrange")
     manual.session.play()
     manual.tick(0.7)
@@ -885,13 +884,13 @@ def test_the_euler_angle_lagrangian_stops_at_the_vertical_and_offers_the_splitti
     manual.session.select_scene("Heavy top")
     manual.session.apply_preset("Through the vertical")
     scene = manual.session.scene
-    scene.transport.gui_integrator.value = "Euler-angle Lagrangian"
-    assert scene.sim.integrator == "Euler-angle Lagrangian"
+    scene.transport.gui_integrator.value = "euler_lagrange"
+    assert scene.sim.integrator == "euler_lagrange"
     manual.session.play()
     manual.tick(1.0)  # θ reaches the vertical at t ≈ 0.59 s
     assert not scene.room.playing and 0.4 < scene.sim.t < 0.7
     assert "singular" in scene.message.text and "sin θ in a denominator" in scene.message.text
-    assert scene.sim.integrator == INTEGRATOR_REALTIME and scene.transport.gui_integrator.value == INTEGRATOR_REALTIME
+    assert scene.sim.integrator == "splitting4" and scene.transport.gui_integrator.value == "splitting4"
     manual.session.play()  # goes on with the splitting, through the vertical
     manual.tick(1.0)
     assert scene.room.playing and scene.sim.t > 1.4 and manual.session.last_error is None

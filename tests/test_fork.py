@@ -25,7 +25,6 @@ import pytest
 import viser
 
 from app.export import RecorderTarget
-from app.kit.rigid import INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE, INTEGRATOR_REALTIME
 from app.kit.room import Room
 from app.kit.trace import Trace
 from app.kit.widgets import TraceLines
@@ -179,13 +178,13 @@ def _edit_inertia(room: Room, view: Any, index: int) -> None:
 
 def _edit_free(room: Room, view: Any, index: int) -> None:
     room.sim.set_model(Model(inertia=(1.1, 2.0, 2.5)))
-    view.set_integrator((INTEGRATOR_REALTIME, INTEGRATOR_EXACT)[index % 2])
+    view.set_integrator(("splitting4", "exact")[index % 2])
 
 
 def _edit_top(room: Room, view: Any, index: int) -> None:
     model = room.sim.model
     room.sim.set_model(Model(inertia=model.inertia, mgl=0.8 * model.mgl))
-    view.set_integrator((INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE)[index % 3])
+    view.set_integrator(("splitting4", "exact", "euler_lagrange")[index % 3])
 
 
 def _edit_poinsot(room: Room, view: Any, index: int) -> None:

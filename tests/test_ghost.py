@@ -14,7 +14,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 from test_app import free_body_reference
 
-from app.kit.rigid import INTEGRATOR_EXACT, magnified_attitude
+from app.kit.rigid import magnified_attitude
 from app.kit.widgets import POSE_QUANTUM
 
 POSE_ATOL = 1e-6  # node poses travel as float quaternions (exact ones after a refresh)
@@ -97,7 +97,7 @@ def test_the_ghost_follows_the_exact_solution_at_k0_and_the_solid_body_at_k1(man
     session.pause()
     R_exact = top.sim.exact()(np.array([top.sim.t]))[0][0]
     np.testing.assert_allclose(_pose(top.ghost.body.node), R_exact, atol=POSE_ATOL)
-    top.set_integrator(INTEGRATOR_EXACT)
+    top.set_integrator("exact")
     assert top.sim.attitude_error() == 0.0
     assert session.error_count == 0, session.last_error
 

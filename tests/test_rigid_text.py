@@ -10,7 +10,7 @@ import re
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from app.kit.rigid import INTEGRATOR_EXACT, RigidBodySimulation
+from app.kit.rigid import RigidBodySimulation
 from app.kit.rigid_text import accuracy_text, ghost_note, lagrange_text, legend_text, readout_text, status_text
 from physics.dynamics import Model, State
 from physics.lagrange import lagrange_terms
@@ -77,7 +77,7 @@ def test_status_accuracy_ghost_and_legend() -> None:
     assert "|ΔL_z| / |L₀|" in accuracy
     note = ghost_note(sim, 1e6, "10⁶")
     assert f"{sim.attitude_error():.2e} rad" in note and "k = 10⁶" in note
-    sim.set_integrator(INTEGRATOR_EXACT)
+    sim.set_integrator("exact")
     assert "IS the exact solution" in accuracy_text(sim, "L_z")
     legend = legend_text(True, 0.25, 0.5)
     assert "from the pivot" in legend and "1 unit = 4 rad/s" in legend and "1 unit = 2 kg m²/s" in legend

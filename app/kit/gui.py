@@ -25,8 +25,6 @@ from app.kit.common import SliderSpec, checked_value
 from app.kit.presets import Preset
 
 __all__ = [
-    "INTEGRATOR_EXACT",
-    "INTEGRATOR_REALTIME",
     "PAUSE_LABEL",
     "PLAY_LABEL",
     "RESET_LABEL",
@@ -41,10 +39,6 @@ __all__ = [
     "add_slider",
 ]
 
-INTEGRATOR_REALTIME = "splitting4 (real time)"
-"""physics.realtime.RealtimeStepper: 4th-order symplectic splitting with automatic sub-steps."""
-INTEGRATOR_EXACT = "exact"
-"""physics.methods.exact_solution evaluated at the simulated time (closed form)."""
 TIME_SCALE_RANGE = (0.1, 4.0)
 PLAY_LABEL, PAUSE_LABEL = "Play", "Pause"
 STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (⏭ ⏸ are missing)
@@ -122,12 +116,15 @@ class Transport:
     The handles only report: `on_toggle()`, `on_step()`, `on_reset()`, `on_time_scale(x)`,
     `on_integrator(name)`.  `show(playing, time_scale, integrator)` makes them show a room's
     state (a click never changes them directly, so every view of a room shows the same).
+    integrators: the menu's names (a scene's methods; no menu if empty); integrator: the one
+    shown first (default: the first); integrator_hint: the menu's hint.
     """
 
     def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, *,
                  on_toggle: Callable[[], None], on_step: Callable[[], None], on_reset: Callable[[], None],
                  on_time_scale: Callable[[float], None],
                  integrators: Sequence[str] = (), on_integrator: Callable[[str], None] | None = None,
+                 integrator: str | None = None, integrator_hint: str | None = None,
                  clock: Clock | None = None) -> None:
         self._message = message
         self.gui_play = gui.add_button(PLAY_LABEL, color="green", icon=viser.Icon.PLAYER_PLAY_FILLED,
@@ -140,14 +137,13 @@ class Transport:
             hint="simulated seconds per second of wall time (slow motion below 1)",
         )
         self.gui_integrator = None
+        first = integrator if integrator is not None else (integrators[0] if integrators else "")
         if integrators:
-            self.gui_integrator = gui.add_dropdown(
-                "Integrator", tuple(integrators), initial_value=integrators[0],
-                hint="splitting4: the real-time symplectic method; exact: the closed form",
-            )
+            self.gui_integrator = gui.add_dropdown("Integrator", tuple(integrators), initial_value=first,
+                                                   hint=integrator_hint)
         self.gui_status = gui.add_markdown("")
         self._time_scale = 1.0
-        self._integrator = integrators[0] if integrators else ""
+        self._integrator = first
         self.quiet = Quiet()
 
         self.gui_play.on_click(wrap("play button", lambda _event: on_toggle()))
@@ -175,18 +171,18 @@ class Transport:
                                        quiet=self.quiet, apply=time_scale, current=lambda: self._time_scale,
                                        check=check_time_scale, clock=clock)
         if self.gui_integrator is not None and on_integrator is not None:
-            integrator = self.gui_integrator
+            menu = self.gui_integrator
 
             def choose(_event: Any) -> None:
                 if self.quiet.active:
                     return
-                if integrator.value not in integrator.options:  # a client can send any string
-                    message.show(f"Integrator {integrator.value!r} refused.")
-                    self.quiet.write(integrator, self._integrator)
+                if menu.value not in menu.options:  # a client can send any string
+                    message.show(f"Integrator {menu.value!r} refused.")
+                    self.quiet.write(menu, self._integrator)
                     return
-                on_integrator(str(integrator.value))
+                on_integrator(str(menu.value))
 
-            integrator.on_update(wrap("integrator", choose))
+            menu.on_update(wrap("integrator", choose))
 
     @property
     def handles(self) -> list[Any]:

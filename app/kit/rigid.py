@@ -1,14 +1,15 @@
 """The simulation of a rigid body for the animated scenes (free body, heavy top): no viser here.
 
-`RigidBodySimulation` owns the model, the state, the integrator (the real-time splitting
-`physics.realtime.GridStepper`: fixed steps of 1/60 s whatever the frame rate, or the closed
-form of `physics.methods.exact_solution` evaluated at the simulated time), the exact solution
-where one exists (for the attitude error and the "exact ghost"), the drift references of this
-run, the plot samples and the traces of the points a scene follows (`track`: the heavy top's
-tip, Poinsot's herpolhode), so that a view built later draws them so far.  `restart(state)`
-starts a run at t = 0 from a state it is given, `reset()` goes back to this run's own initial
-state: a simulation never reads a widget.  Several views may draw one simulation.  `fork()` is
-an exact, independent copy.
+`RigidBodySimulation` owns the model, the state, the integrator (a method of the registry
+`physics.methods`, by its name there, stepped through its `Stepper`: for splitting4 the
+real-time `physics.realtime.GridStepper`, fixed steps of 1/60 s whatever the frame rate; for
+exact the closed form evaluated at the simulated time), the exact solution where one exists
+(for the attitude error and the "exact ghost"), the drift references of this run, the plot
+samples and the traces of the points a scene follows (`track`: the heavy top's tip, Poinsot's
+herpolhode), so that a view built later draws them so far.  `restart(state)` starts a run at
+t = 0 from a state it is given, `reset()` goes back to this run's own initial state: a
+simulation never reads a widget.  Several views may draw one simulation.  `fork()` is an
+exact, independent copy.
 
 Conventions as in `physics` (docs/CONVENTIONS.md): R = R_space_body, z-x-z Euler angles,
 hat(ω_b) = Rᵀ Ṙ, L_s = R I ω_b, SI units.
@@ -27,21 +28,13 @@ from app.kit.samples import SampleBuffer
 from app.kit.trace import Trace
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space, energy, kinetic_energy
-from physics.euler import euler_zxz_from_matrix, euler_zxz_from_matrix_near
-from physics.lagrange import SIN_THETA_STOP, EulerLagrangeSingularityError, integrate_euler_lagrange
-from physics.methods import exact_solution
+from physics.euler import GimbalLockError, euler_zxz_from_matrix, euler_zxz_from_matrix_near
+from physics.methods import Method, Stepper, exact_solution, methods, realtime_method
 from physics.poinsot import flip_times, motion
-from physics.realtime import GridStepper
 from physics.so3 import exp_so3, log_so3
 
-__all__ = ["ERROR_BATCH", "INTEGRATOR_EXACT", "INTEGRATOR_LAGRANGE", "INTEGRATOR_REALTIME", "R_COLUMNS",
-           "SAMPLE_COLUMNS", "RigidBodySimulation", "magnified_attitude", "turn_angles"]
+__all__ = ["ERROR_BATCH", "R_COLUMNS", "SAMPLE_COLUMNS", "RigidBodySimulation", "magnified_attitude", "turn_angles"]
 
-INTEGRATOR_REALTIME = "splitting4 (real time)"
-INTEGRATOR_EXACT = "exact"
-INTEGRATOR_LAGRANGE = "Euler-angle Lagrangian"
-"""physics.lagrange.integrate_euler_lagrange from frame to frame: the memo's (5.13) in φ θ ψ,
-singular where sin θ = 0 (it stops there, and the simulation goes on with splitting4)."""
 SAMPLE_COLUMNS = ("E", "T", "V", "L_norm", "L_z", "phi", "theta", "psi", "w1", "w2", "w3",
                   "drift_E", "drift_L", "attitude_error")
 R_COLUMNS = tuple(f"R{k}" for k in range(9))
@@ -88,7 +81,9 @@ class RigidBodySimulation:
         model: the `physics.dynamics.Model`.  state: the current `State` (t since the restart).
         initial_state, initial_angles: where `reset` goes back to.
         angles: continuous z-x-z angles (φ, θ, ψ) [rad] of the state (φ, ψ unwrapped), for display.
-        integrator: INTEGRATOR_REALTIME or INTEGRATOR_EXACT.  substeps: of the last real-time step.
+        integrator: the name of the method stepping it (`physics.methods.methods()`; `method` is
+            its entry); it starts with `physics.methods.realtime_method()`.  substeps: of the
+            last step (0 for a method without sub-steps).
         momentum_kind: "norm" (|L|, conserved by a free body) or "z" (L_z, by a heavy top).
         samples: the plot window; max_drift: the largest |drift| of this run per drift column.
         traces: name -> `Trace` of a followed point (`track`), cleared at every restart.
@@ -101,7 +96,7 @@ class RigidBodySimulation:
         self.momentum_kind = momentum_kind
         self.preset: str | None = None  # the preset this run started from, if any
         self.mesh: tuple[np.ndarray, np.ndarray] | None = None  # a body's own mesh (handed on), or None
-        self.integrator = INTEGRATOR_REALTIME
+        self.integrator = realtime_method()
         self.substeps = 0
         self.restarts = 0
         self.version = 0
@@ -140,7 +135,8 @@ class RigidBodySimulation:
     def snapshot(self) -> Snapshot:
         """The moment now: t, R (9), ω_b (3), the shown angles (3), sub-steps, the drift maxima
         (3), the samples' mark, each trace's (count, first), the stepper's floats
-        (`GridStepper.snapshot`); refs: the integrator's name, the stepper, the trace names."""
+        (`physics.methods.Stepper.snapshot`); refs: the integrator's name, its stepper, the
+        trace names."""
         state = self.state
         marks = [float(m) for trace in self.traces.values() for m in trace.mark()]
         values = [state.t, *state.R_space_body.ravel().tolist(), *state.omega_body.tolist(),
@@ -157,7 +153,7 @@ class RigidBodySimulation:
         n_traces = len(names)
         marks_at = 21  # t, R, ω_b, angles, sub-steps, drift maxima, the samples' mark: 21 values
         trace_marks = [(int(v[marks_at + 2 * k]), int(v[marks_at + 2 * k + 1])) for k in range(n_traces)]
-        if names != tuple(self.traces) or not isinstance(stepper, GridStepper) or not (
+        if names != tuple(self.traces) or integrator not in methods() or not isinstance(stepper, Stepper) or not (
                 0 <= int(v[20]) <= self.samples.written) or not all(
                 self.traces[name].can_rewind(mark) for name, mark in zip(names, trace_marks)):
             raise ValueError("this snapshot is not one of this run's moments")
@@ -177,21 +173,15 @@ class RigidBodySimulation:
         self.version += 1
 
     def _show_later(self, dt: float) -> None:
-        """The state dt [s] after a restored moment, for display: the stepper steps (its grid
-        is the recorded one, so this is the state the run showed, or would have shown, at
-        t + dt); a singular Lagrange step leaves the recorded state shown."""
-        if self.integrator != INTEGRATOR_LAGRANGE:
-            try:
-                self._move(dt)
-            except (ArithmeticError, ValueError, RuntimeError):  # IntegrationError: shown as recorded
-                pass
-            return
+        """The state dt [s] after a restored moment, for display: the stepper steps (a grid is
+        the recorded one, so this is the state the run showed, or would have shown, at t + dt);
+        a step that fails (a singular method, IntegrationError) leaves the recorded state shown
+        and the method in use."""
         try:
-            trajectory = integrate_euler_lagrange(self.model, self.state, np.array([self.state.t + dt]))
-        except (EulerLagrangeSingularityError, ArithmeticError, ValueError):
+            state = self._stepper.step(dt)
+        except (ArithmeticError, ValueError, RuntimeError):  # IntegrationError is a RuntimeError
             return
-        self.state = State(trajectory.R_space_body[0], trajectory.omega_body[0], float(trajectory.t[0]))
-        self.angles = euler_zxz_from_matrix_near(self.state.R_space_body, self.angles)
+        self._moved(state)
 
     def truncate(self) -> None:
         """Forget the histories after now (a branch from a replayed moment)."""
@@ -214,7 +204,6 @@ class RigidBodySimulation:
         self.initial_angles = (np.array(angles, dtype=float) if angles is not None
                                else euler_zxz_from_matrix(R))
         self.angles = self.initial_angles.copy()
-        self._stepper = GridStepper(self.model, self.state)
         self._exact: ExactSolution | None = None
         self._exact_at: tuple[float, np.ndarray] | None = None  # (t, R_exact(t)), the last one asked
         self.exact_failed: str | None = None
@@ -224,8 +213,11 @@ class RigidBodySimulation:
         self._momentum0 = self.momentum(R, omega)
         self._momentum_scale = float(np.linalg.norm(angular_momentum_space(self.model, R, omega)))
         self.max_drift = dict.fromkeys(self.max_drift, 0.0)
-        if self.integrator == INTEGRATOR_EXACT and self.exact() is None:
-            self.integrator = INTEGRATOR_REALTIME
+        try:  # the method in use, from the new start; the real-time one where it cannot start
+            self._stepper = self.method.stepper(self.model, self.state)
+        except (ValueError, ArithmeticError):
+            self.integrator = realtime_method()
+            self._stepper = self.method.stepper(self.model, self.state)
         self.samples.clear()
         self.take_sample()
         for trace in self.traces.values():
@@ -241,22 +233,29 @@ class RigidBodySimulation:
         self.model = model
         self.restart(self.state, angles=self.angles)
 
+    @property
+    def method(self) -> Method:
+        """The registry entry of the integrator in use."""
+        return methods()[self.integrator]
+
     def set_integrator(self, name: str) -> str | None:
-        """Use `name`; returns a message (and keeps the real-time method) if there is no closed form."""
-        message = None
-        if name == INTEGRATOR_EXACT and self.exact() is None:
-            message = f"No closed form here ({self.exact_failed}); using {INTEGRATOR_REALTIME}."
-            name = INTEGRATOR_REALTIME
-        if name == INTEGRATOR_LAGRANGE and abs(math.sin(float(self.angles[1]))) < SIN_THETA_STOP:
-            message = (f"The Euler-angle equations are singular at θ = {math.degrees(float(self.angles[1])):.2f}° "
-                       f"(sin θ in a denominator); staying with {self.integrator}.")
-            name = self.integrator
-        if name != self.integrator:
-            self.integrator = name
-            if name == INTEGRATOR_REALTIME:  # go on from where the other method is
-                self._stepper = GridStepper(self.model, self.state)
-            self.version += 1
-        return message
+        """Go on with the method `name` of `physics.methods` from the current state (a method
+        whose motion is the closed form goes on along the closed form of this run); returns a
+        message, and keeps the method in use, if `name` does not apply to this body or cannot
+        start from this state.  ValueError for a name that is not in the registry."""
+        registry = methods()
+        if name not in registry:
+            raise ValueError(f"unknown integrator {name!r}; the methods are {', '.join(registry)}")
+        if name == self.integrator:
+            return None
+        try:
+            stepper = registry[name].stepper(self.model, self.state, self.initial_state)
+        except (ValueError, ArithmeticError) as error:
+            return f"{name} cannot go on from here: {error}. Staying with {self.integrator}."
+        self.integrator = name
+        self._stepper = stepper
+        self.version += 1
+        return None
 
     def exact(self) -> ExactSolution | None:
         """The closed form from this run's initial state (built once per run), or None."""
@@ -277,28 +276,21 @@ class RigidBodySimulation:
         self.version += 1
 
     def _move(self, dt: float) -> None:
-        """The state dt [s] on (state, angles, sub-steps; no history)."""
-        exact = self.exact() if self.integrator == INTEGRATOR_EXACT else None
-        if exact is not None:
-            t = self.state.t + dt
-            R, omega = exact(np.array([t]))
-            self.state = State(R[0], omega[0], t)
-            self.substeps = 0
-        elif self.integrator == INTEGRATOR_LAGRANGE:
-            try:
-                trajectory = integrate_euler_lagrange(self.model, self.state, np.array([self.state.t + dt]))
-            except EulerLagrangeSingularityError as error:
-                self.set_integrator(INTEGRATOR_REALTIME)
-                raise ValueError(
-                    f"the Euler-angle equations are singular near θ = 0° or 180° (sin θ in a "
-                    f"denominator): {error}. Press Play to go on with {INTEGRATOR_REALTIME}, which has no "
-                    "singularity.") from None
-            self.state = State(trajectory.R_space_body[0], trajectory.omega_body[0], float(trajectory.t[0]))
-            self.substeps = 0
-        else:
-            self.state = self._stepper.step(dt)
-            self.substeps = self._stepper.substeps
-        self.angles = euler_zxz_from_matrix_near(self.state.R_space_body, self.angles)
+        """The state dt [s] on (state, angles, sub-steps; no history).  Where the method's
+        coordinates are singular (GimbalLockError from its stepper) the state stays, the
+        simulation changes to `physics.methods.realtime_method()` and ValueError says why."""
+        try:
+            state = self._stepper.step(dt)
+        except GimbalLockError as error:
+            stopped, going_on = self.integrator, realtime_method()
+            self.set_integrator(going_on)
+            raise ValueError(f"{stopped} stopped: {error}. Press Play to go on with {going_on}.") from None
+        self._moved(state)
+
+    def _moved(self, state: State) -> None:
+        self.state = state
+        self.substeps = self._stepper.substeps
+        self.angles = euler_zxz_from_matrix_near(state.R_space_body, self.angles)
 
     # ------------------------------------------------------------------ derived quantities
     def momentum(self, R: np.ndarray, omega_body: Vec3) -> float:
@@ -322,9 +314,9 @@ class RigidBodySimulation:
         return R_exact[0]
 
     def attitude_error(self) -> float | None:
-        """Angle [rad] of R_exactᵀ R at the current time, 0 for the exact method, None without
-        a closed form."""
-        if self.integrator == INTEGRATOR_EXACT:
+        """Angle [rad] of R_exactᵀ R at the current time, 0 for a method whose motion is the
+        closed form (`Method.reference`), None without a closed form."""
+        if self.method.reference:
             return 0.0
         R_exact = self.exact_attitude(keep=False)  # a panel's question leaves no trace in the simulation
         if R_exact is None:
@@ -373,8 +365,8 @@ class RigidBodySimulation:
 
     def _check_attitudes(self, stop: int | None = None) -> None:
         """The attitude errors of the batch of samples ending before sample number `stop` (default:
-        the newest), from one call of the closed form at their times (0 with the exact
-        integrator); their maximum into `max_drift`."""
+        the newest), from one call of the closed form at their times (0 with a method whose
+        motion is the closed form); their maximum into `max_drift`."""
         samples = self.samples
         stop = samples.mark() if stop is None else stop
         first = max(samples.oldest, stop - ERROR_BATCH)
@@ -382,7 +374,7 @@ class RigidBodySimulation:
         pending = np.flatnonzero(np.isnan(rows[:, 1 + SAMPLE_COLUMNS.index("attitude_error")]))
         if not pending.size:
             return
-        if self.integrator == INTEGRATOR_EXACT:
+        if self.method.reference:
             errors = np.zeros(pending.size)
         else:
             exact = self.exact()
@@ -404,7 +396,7 @@ class RigidBodySimulation:
         for number in range(max(opened, samples.oldest), mark):
             samples.put(number, "attitude_error", math.nan)
         first = max(samples.oldest, mark - len(samples))
-        if opened <= first or self.exact() is None and self.integrator != INTEGRATOR_EXACT:
+        if opened <= first or self.exact() is None and not self.method.reference:
             return
         errors = samples.rows(first, opened)[:, 1 + SAMPLE_COLUMNS.index("attitude_error")]
         for stop in sorted({(first + int(k)) // ERROR_BATCH * ERROR_BATCH + ERROR_BATCH

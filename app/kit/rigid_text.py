@@ -14,29 +14,39 @@ import math
 import numpy as np
 
 from app.kit.common import format_deg, format_matrix, gimbal_note
-from app.kit.rigid import INTEGRATOR_EXACT, RigidBodySimulation
-from physics.dynamics import kinetic_energy
+from app.kit.rigid import RigidBodySimulation
+from physics.dynamics import Model, kinetic_energy
 from physics.lagrange import LagrangeTerms, generalized_forces
+from physics.methods import applicable, methods
 
-__all__ = ["READOUT_HEAD", "accuracy_text", "ghost_note", "lagrange_text", "legend_text", "readout_text",
-           "status_text"]
+__all__ = ["READOUT_HEAD", "accuracy_text", "ghost_note", "integrator_hint", "lagrange_text", "legend_text",
+           "readout_text", "status_text"]
 
 READOUT_HEAD = ("ω_s = D ω_b: space components; ω_b: body; L_s = D I ω_b; M: torque (space); "
                 "Q: generalized forces of φ θ ψ (memo 6.10).")
 
 
 def status_text(sim: RigidBodySimulation, playing: bool, time_scale: float) -> str:
-    """The transport's status line: time, playing or paused, time scale, method."""
+    """The transport's status line: time, playing or paused, time scale, method (with its
+    sub-steps in the last frame, if it takes any; "closed form" for the reference)."""
     state = "▶ playing" if playing else "paused"
-    method = ("exact (closed form)" if sim.integrator == INTEGRATOR_EXACT
-              else f"splitting4, {max(sim.substeps, 1)} sub-step(s)/frame")
+    method = (f"{sim.integrator} (closed form)" if sim.method.reference
+              else f"{sim.integrator}, {sim.substeps} sub-step(s)/frame" if sim.substeps else sim.integrator)
     return f"**t = {sim.t:.2f} s** · {state} · {time_scale:g}× · {method}"
+
+
+def integrator_hint(model: Model) -> str:
+    """The integrator menu's hint: each method that applies to `model` (`physics.methods`, the
+    CLI's names), whether it keeps up with real time, and its one line."""
+    registry = methods()
+    return "\n".join(f"{name}{' (real time)' if registry[name].realtime else ''}: {registry[name].summary}"
+                     for name in applicable(model))
 
 
 def accuracy_text(sim: RigidBodySimulation, momentum_label: str) -> str:
     """The accuracy panel: energy and momentum drift and the attitude error, now and at most."""
     error = sim.attitude_error()  # now (the samples' are checked in batches: app.kit.rigid.ERROR_BATCH)
-    if sim.integrator == INTEGRATOR_EXACT:
+    if sim.method.reference:
         error_line = "attitude error       —  (the integrator IS the exact solution)"
     elif error is None:
         error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"

@@ -52,13 +52,15 @@ from app.kit.hand import HandControls
 from app.kit.lagrange_arrows import GeneralizedForceArrows
 from app.kit.plots import LivePlots, PlotSpec
 from app.kit.presets import Preset
-from app.kit.rigid import (
-    INTEGRATOR_EXACT,
-    INTEGRATOR_LAGRANGE,
-    INTEGRATOR_REALTIME,
-    RigidBodySimulation,
+from app.kit.rigid import RigidBodySimulation
+from app.kit.rigid_text import (
+    accuracy_text,
+    integrator_hint,
+    lagrange_text,
+    legend_text,
+    readout_text,
+    status_text,
 )
-from app.kit.rigid_text import accuracy_text, lagrange_text, legend_text, readout_text, status_text
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector, quantized
@@ -67,6 +69,7 @@ from physics.dynamics import Model, State
 from physics.euler import GimbalLockError, matrix_from_euler_zxz
 from physics.inertia import InertiaError
 from physics.lagrange import lagrange_terms
+from physics.methods import applicable
 
 __all__ = ["ANGLE_SPECS", "RigidBodyView", "tilt_matrix", "tilt_wxyz"]
 
@@ -305,8 +308,8 @@ class RigidBodyView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        self.build_head(self.intro, integrators=(INTEGRATOR_REALTIME, INTEGRATOR_EXACT, INTEGRATOR_LAGRANGE),
-                        on_integrator=self.set_integrator)
+        self.build_head(self.intro, integrators=applicable(self.sim.model), on_integrator=self.set_integrator,
+                        integrator=self.sim.integrator, integrator_hint=integrator_hint(self.sim.model))
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange", *self.extra_tabs),
                          on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
