@@ -154,7 +154,6 @@ class ConstrainedSetup:
                                 tuple(float(p) for p in (self.rates_shown if rates_shown is None else rates_shown)))
 
 
-
 def _shown(system: System, values: Array) -> list[float]:
     """SI -> display units (rad -> deg)."""
     return [math.degrees(float(v)) if a else float(v) for v, a in zip(values, system.angular)]
