@@ -88,9 +88,6 @@ DX_COLORS = ((0, 150, 150), (140, 60, 210))
 VIEW = CameraView(position=(3.2, -5.2, 1.6), look_at=(0.0, 0.0, -0.6), fov_deg=45.0)
 
 
-_PRESETS: list[tuple[Preset, ...]] = []
-
-
 class ConstrainedView(SceneView):
     """One browser's view of a room with a `ConstrainedSimulation`."""
 
@@ -101,26 +98,16 @@ class ConstrainedView(SceneView):
     view = VIEW
 
     @classmethod
-    def presets(cls) -> tuple[Preset, ...]:
-        if not _PRESETS:
-            _PRESETS.append(load_constrained_presets())
-        return _PRESETS[0]
+    def read_presets(cls) -> tuple[Preset, ...]:
+        return load_constrained_presets()
 
     @classmethod
-    def new_simulation(cls) -> ConstrainedSimulation:
-        first = cls.presets()[0]
-        sim = ConstrainedSimulation(setup_of(first))
-        sim.preset = first.name
-        return sim
+    def simulation_from_preset(cls, preset: Preset) -> ConstrainedSimulation:
+        return ConstrainedSimulation(setup_of(preset))
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
-        preset = cls.preset(name)
-        sim: ConstrainedSimulation = room.sim
-        room.playing = False
+    def start_preset(cls, sim: ConstrainedSimulation, preset: Preset) -> None:
         sim.set_setup(setup_of(preset))
-        sim.preset = name
-        room.refresh()
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:

@@ -155,20 +155,12 @@ class MovingFrameView(SceneView):
         MovingFrameSetup(preset.params, preset.angles_deg)
 
     @classmethod
-    def new_simulation(cls) -> MovingFrameSimulation:
-        first = cls.presets()[0]
-        sim = MovingFrameSimulation(MovingFrameSetup(first.params, first.angles_deg))
-        sim.preset = first.name
-        return sim
+    def simulation_from_preset(cls, preset: Preset) -> MovingFrameSimulation:
+        return MovingFrameSimulation(MovingFrameSetup(preset.params, preset.angles_deg))
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
-        preset = cls.preset(name)
-        sim: MovingFrameSimulation = room.sim
-        room.playing = False
+    def start_preset(cls, sim: MovingFrameSimulation, preset: Preset) -> None:
         sim.set_setup(MovingFrameSetup(preset.params, preset.angles_deg))
-        sim.preset = name
-        room.refresh()
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
