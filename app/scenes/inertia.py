@@ -384,7 +384,7 @@ class InertiaView(SceneView):
     @classmethod
     def start_preset(cls, sim: InertiaSystem, preset: Preset) -> None:
         sim.set_particles(*_unpack(preset))
-        sim.set_about(None)
+        sim.reset()  # t = 0, O back to the centre of mass
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
