@@ -59,9 +59,7 @@ from app.scenes.constrained.simulation import (
     setup_of,
 )
 from physics._types import Array
-from physics.constrained import (
-    System,
-)
+from physics.constrained import System
 from physics.quaternion import wxyz_from_matrix
 
 __all__ = ["DELTA_Q", "VIEW", "ConstrainedView"]
