@@ -4,7 +4,10 @@ function level and under TYPE_CHECKING):
 - no import cycle anywhere in `app/` or `physics/`;
 - `physics` never imports `app` (nor viser);
 - the app stacks kit ← scenes ← lectern, export ← session ← main: a layer imports only
-  layers below it, and a scene never imports another scene.
+  layers below it, and a scene never imports another scene (a scene is a module or a package
+  `app.scenes.<name>`: the modules of one package import each other);
+- a scene package's `simulation` and `readouts` import no viser, not even through the modules
+  they import.
 """
 
 from __future__ import annotations
@@ -94,6 +97,12 @@ def test_physics_imports_no_app_and_no_viser() -> None:
             assert "import viser" not in source and "from viser" not in source, name
 
 
+def _scene(module: str) -> str:
+    """The scene `app.scenes.<name>` a module belongs to ("" outside the scenes)."""
+    parts = module.split(".")
+    return ".".join(parts[:3]) if parts[:2] == ["app", "scenes"] and len(parts) > 2 else ""
+
+
 def test_app_layers_stack_and_no_scene_imports_another() -> None:
     wrong = []
     for name, deps in GRAPH.items():
@@ -104,7 +113,7 @@ def test_app_layers_stack_and_no_scene_imports_another() -> None:
             there = _layer(dep)
             if there is None:
                 continue  # physics
-            if name.startswith("app.scenes.") and dep.startswith("app.scenes.") :
+            if _scene(name) and _scene(dep) and _scene(name) != _scene(dep):
                 wrong.append(f"{name} imports the scene {dep}")
             elif there[1] > here[1] or (there[1] == here[1] and there[0] != here[0]):
                 wrong.append(f"{name} (layer {here[0]}) imports {dep} (layer {there[0]})")
@@ -114,3 +123,28 @@ def test_app_layers_stack_and_no_scene_imports_another() -> None:
 def test_the_layer_table_covers_every_app_module() -> None:
     missing = [name for name in MODULES if name.startswith("app") and _layer(name) is None]
     assert not missing, missing
+
+
+def _imports_viser(path: Path) -> bool:
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and not node.level and (node.module or "").split(".")[0] == "viser":
+            return True
+        if isinstance(node, ast.Import) and any(alias.name.split(".")[0] == "viser" for alias in node.names):
+            return True
+    return False
+
+
+def test_scene_simulations_and_readouts_import_no_viser() -> None:
+    pure = sorted(name for name in MODULES if _scene(name) and name.rpartition(".")[2] in ("simulation", "readouts"))
+    assert pure, "no scene package has a simulation module"
+    wrong = []
+    for name in pure:
+        seen, todo = {name}, [name]
+        while todo:
+            module = todo.pop()
+            if _imports_viser(MODULES[module]):
+                wrong.append(f"{name} imports viser" + ("" if module == name else f" through {module}"))
+            for dep in GRAPH[module] - seen:
+                seen.add(dep)
+                todo.append(dep)
+    assert not wrong, "\n".join(wrong)

@@ -70,6 +70,28 @@ def test_every_scene_builds_plays_every_preset_steps_resets_and_goes(manual, tit
     assert view._root_node._impl.removed
 
 
+@pytest.mark.parametrize("title", list(SCENES))
+def test_a_preset_starts_paused_at_its_t_0_in_every_scene(manual, title: str) -> None:
+    """The one rule of `SceneView.apply_preset`: whatever the room was doing, a preset stops it
+    at the preset's t = 0 and names it; a new simulation is at the first preset; the presets
+    are read once per scene."""
+    session = manual.session
+    session.select_scene(title)
+    scene = SCENES[title]
+    assert scene.presets() is scene.presets()
+    first, last = scene.presets()[0], scene.presets()[-1]
+    assert session.simulation.preset == first.name
+    session.play()
+    manual.tick(0.5)
+    session.apply_preset(last.name)
+    assert not session.room.playing and session.simulation.t == 0.0, (title, session.last_error)
+    assert session.simulation.preset == last.name and session.error_count == 0
+    transport = getattr(session.scene, "transport", None)
+    assert transport is None or transport.gui_play.label == "Play"
+    fresh = scene.new_simulation()
+    assert fresh.preset == first.name and fresh.t == 0.0
+
+
 def test_a_preset_the_scene_does_not_have_is_a_clear_error_through_the_guard(manual) -> None:
     session = manual.session
     assert session.scene.title == "Euler angles"

@@ -12,19 +12,28 @@
    one: `app.kit.rigid.RigidBodySimulation` (`track` follows a point).  Physics formulas live
    in `physics/`, with tests.
 
-2. **A view class** in one file under `app/scenes/`, subclassing `app.kit.view.SceneView`.
+2. **A view class** under `app/scenes/`, subclassing `app.kit.view.SceneView`: a small scene is
+   one file; a big one is a package (`app/scenes/moving_frame/`): `simulation.py` (no viser:
+   `tests/test_layers.py` checks it, through everything it imports), `readouts.py` (its texts
+   as pure functions, numbers to strings, tested without viser as `tests/test_*_readouts.py`
+   do), `view.py`, and an `__init__.py` that re-exports the names others import.
    The class is the scene: class attributes `title` (the dropdown option), `root` (the scene
    node everything hangs under), `view` (a `CameraView`), `preset_file` (and `param_specs`,
-   `rate_specs` if its presets carry parameters or rates); classmethods `new_simulation()`
-   (at the first preset) and `apply_preset(room, name)` (`presets()` and `preset(name)` come
-   from the base).  An instance draws the room's simulation for one client: `__init__` sets
-   its state and ends with `self.build()`, which calls `_build_scene` and `_build_gui` and
-   joins the room; `frame(dt)` sends, per frame, only what changed since the last one and
+   `rate_specs` if its presets carry parameters or rates); classmethods
+   `simulation_from_preset(preset)` (a new simulation at the preset's t = 0) and
+   `start_preset(sim, preset)` (the preset's run started in the room's simulation, the same
+   object), and `read_presets()` only if its preset file has fields of its own.  The base
+   does the rest once for every scene: `presets()` (read once per scene), `preset(name)`,
+   `new_simulation()` (at the first preset) and `apply_preset(room, name)`, whose rule is
+   the same everywhere: **a preset starts paused at its t = 0** (the lecturer shows the
+   initial condition, then presses Play).  An instance draws the room's simulation for one
+   client: `__init__` sets its state and ends with `self.build()`, which calls `_build_scene`
+   and `_build_gui` and joins the room; `frame(dt)` sends, per frame, only what changed since the last one and
    what is on screen; `refresh()` redraws everything after an edit.  Messages, errors, the
    camera, removal and quiet slider writes (`self.quiet`, no feedback) come from the base.
    A rigid-body scene subclasses `app.kit.rigid_view.RigidBodyView` instead and only fills in
    its parameters, rate sliders, shape and extras (`app/kit/torque_free.py`, ~150 lines, and the
-   scenes `app/scenes/free_body.py` and `app/scenes/poinsot.py` built on it).
+   scenes `app/scenes/free_body.py` and `app/scenes/poinsot/` built on it).
 
    Build it from the shared pieces, never a copy of them:
    - panel (`app.kit.gui`): `MessageLine` (refusals), `Transport` (Play / Pause, ▶| Step,
@@ -63,6 +72,14 @@
    `tests/test_scene_kit.py` then builds the scene, applies every preset, plays, steps,
    resets and removes it.
 
-The loop (`app.main.App`) ticks each room once per frame: its simulation advances once, then
-each of its views draws (`app.kit.room.Room.tick`).
+5. **Its budgets and its fork**: an entry in `BUDGETS` of `tests/test_frame_budget.py` (the
+   scene messages a playing frame may send, own room and follower, and whether it is within
+   the byte budget), and a bit-exact `fork()` (item 1) with the scene's edit in `EDITS` of
+   `tests/test_fork.py`, which checks that a fork draws and goes on exactly as the original.
+
+The loop (`app.main.App.frame`, once per frame): every room advances once (`Room.advance`: its
+simulation, if playing, whatever the number of views), then each view draws (`Room.draw`) if
+its browser is ready for a frame (`app.backpressure.FramePacer`) and its wire is not busy, with
+the wall time it owes since it last drew; then each wire sends its frame (`app.wire`).
+`Room.tick` does both for one room (tests).
 """

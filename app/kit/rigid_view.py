@@ -245,24 +245,18 @@ class RigidBodyView(SceneView):
         return model, state, angles
 
     @classmethod
-    def new_simulation(cls) -> RigidBodySimulation:
-        first = cls.presets()[0]
-        model, state, angles = cls.initial_conditions(first)
+    def simulation_from_preset(cls, preset: Preset) -> RigidBodySimulation:
+        model, state, angles = cls.initial_conditions(preset)
         sim = RigidBodySimulation(model, state, angles=angles, momentum_kind=cls.momentum_kind)
-        sim.preset = first.name
         cls.track_points(sim)
         return sim
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
-        """Load a preset into a room's simulation (keeps playing if it was)."""
-        model, state, angles = cls.initial_conditions(cls.preset(name))
-        sim: RigidBodySimulation = room.sim
+    def start_preset(cls, sim: RigidBodySimulation, preset: Preset) -> None:
+        model, state, angles = cls.initial_conditions(preset)
         sim.model = model
         sim.mesh = None  # a body handed on ("Spin it") gives way to the preset
-        sim.preset = name
         sim.restart(state, angles=angles)
-        room.refresh()
 
     # ------------------------------------------------------------------ construction
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,

@@ -122,7 +122,8 @@ class Scene(Protocol):
 
     @classmethod
     def apply_preset(cls, room: Room, name: str) -> None:
-        """Load the preset `name` into the room's simulation (ValueError naming the valid ones)."""
+        """Load the preset `name` into the room's simulation, paused at its t = 0 (ValueError
+        naming the valid ones)."""
         ...
 
     def __call__(self, client: Any, room: Room, wrap: Wrap,

@@ -54,7 +54,7 @@ def shape_of(model: Model) -> tuple[str, tuple[float, float, float]]:
 class TorqueFreeView(RigidBodyView):
     """A torque-free body (see the module docstring): its parameters (I1, I2, I3), rates (ω_b),
     shape and readout.  A scene subclasses it with its title, root, camera view, intro and
-    preset file (`app/scenes/free_body.py`, `app/scenes/poinsot.py`)."""
+    preset file (`app/scenes/free_body.py`, `app/scenes/poinsot/`)."""
 
     param_specs = tuple(
         SliderSpec(f"I{k + 1}", f"I{k + 1} [kg m²]", 0.05, 5.0, 0.01,

@@ -4,7 +4,14 @@
 attributes `title`, `view` (its camera) and `preset_file`, builds its nodes under `root` and
 its panel in `_build_scene` and `_build_gui` (keeping the top-level GUI handles in
 `_gui_roots` and a `MessageLine` in `message`), implements `frame`, `refresh` and the
-classmethods `new_simulation` and `apply_preset`, and ends its `__init__` with `self.build()`.
+classmethods `simulation_from_preset` and `start_preset` (how a preset becomes a simulation,
+and a new run of the room's one), and ends its `__init__` with `self.build()`.
+
+Presets, once for every scene: `presets()` reads the scene's file once (`read_presets`, cached
+per scene class), `new_simulation()` is `simulation_from_preset` of the first preset, and
+`apply_preset(room, name)` follows one rule in every scene: **a preset starts paused at its
+t = 0** (the room stops playing, the simulation starts the preset's run, every view redraws), so
+that the lecturer can show the initial condition before pressing Play.
 
 A scene whose room records its motion (`Room.history`: the simulation is replayable, see
 `app.kit.history`) and that has a `transport` gets a `Timeline` (`app.kit.timeline`) right
@@ -130,11 +137,17 @@ class SceneView:
         """A scene's own test of a preset (ValueError with a message); none by default."""
 
     @classmethod
+    def read_presets(cls) -> tuple[Preset, ...]:
+        """Read the scene's preset file now (PresetError naming the file and the field):
+        assets/presets/<preset_file> against `param_specs`, `rate_specs` and `check_preset`.  A
+        scene whose file has fields of its own overrides this (and only this: `presets` caches)."""
+        return load_presets(PRESETS_DIR / cls.preset_file, cls.param_specs, cls.rate_specs, check=cls.check_preset)
+
+    @classmethod
     def presets(cls) -> tuple[Preset, ...]:
-        """The scene's presets from assets/presets/<preset_file>, read once (PresetError if broken)."""
+        """The scene's presets, read once per scene class (`read_presets`; PresetError if broken)."""
         if cls not in _PRESETS:
-            _PRESETS[cls] = load_presets(PRESETS_DIR / cls.preset_file, cls.param_specs, cls.rate_specs,
-                                         check=cls.check_preset)
+            _PRESETS[cls] = cls.read_presets()
         return _PRESETS[cls]
 
     @classmethod
@@ -147,8 +160,33 @@ class SceneView:
                          f"the presets are {', '.join(p.name for p in cls.presets())}")
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
+    def simulation_from_preset(cls, preset: Preset) -> Any:
+        """A new simulation at the preset's t = 0 (the scene's part of `new_simulation`)."""
         raise NotImplementedError
+
+    @classmethod
+    def start_preset(cls, sim: Any, preset: Preset) -> None:
+        """Start the preset's run in the room's simulation `sim`, at its t = 0 (the scene's part
+        of `apply_preset`): the same object, since the views draw it and hold its traces."""
+        raise NotImplementedError
+
+    @classmethod
+    def new_simulation(cls) -> Any:
+        """A simulation at the scene's first preset (its `preset` names it)."""
+        first = cls.presets()[0]
+        sim = cls.simulation_from_preset(first)
+        sim.preset = first.name
+        return sim
+
+    @classmethod
+    def apply_preset(cls, room: Room, name: str) -> None:
+        """Load the preset `name` into the room (ValueError naming the valid ones): the rule of
+        every scene, a preset starts **paused at its t = 0**; every view of the room redraws."""
+        preset = cls.preset(name)
+        cls.start_preset(room.sim, preset)
+        room.sim.preset = name
+        room.playing = False
+        room.refresh()
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""

@@ -1,6 +1,7 @@
 """The registry of scenes: the Scene dropdown lists them in this order (the first is the default).
 
-A new scene is one new file in this folder and one line here (see `app.kit` for the recipe).
+A new scene is one new file (a big one: a package) in this folder and one line here (see `app.kit`
+for the recipe).
 """
 
 from __future__ import annotations

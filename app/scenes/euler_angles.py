@@ -84,6 +84,7 @@ from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.history import Snapshot
 from app.kit.labels import AXES, DETAIL, KEY, LabelLayer
 from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
+from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage
@@ -352,21 +353,13 @@ class EulerAnglesView(SceneView):
     rate_specs = RATE_SPECS
 
     @classmethod
-    def new_simulation(cls) -> EulerAnglesSimulation:
-        first = cls.presets()[0]
-        sim = EulerAnglesSimulation(first.angles_deg, first.rates)
-        sim.preset = first.name
-        return sim
+    def simulation_from_preset(cls, preset: Preset) -> EulerAnglesSimulation:
+        return EulerAnglesSimulation(preset.angles_deg, preset.rates)
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
-        preset = cls.preset(name)
-        sim: EulerAnglesSimulation = room.sim
-        room.playing = False
+    def start_preset(cls, sim: EulerAnglesSimulation, preset: Preset) -> None:
         sim.set_rates(preset.rates)
         sim.set_angles(preset.angles_deg)
-        sim.preset = name
-        room.refresh()
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:

@@ -372,29 +372,19 @@ class InertiaView(SceneView):
     root = "/inertia"
     view = CameraView(position=(5.0, -4.2, 3.2), look_at=(0.3, 0.6, 0.2))
     preset_file = "inertia.json"
-    _presets: tuple[Preset, ...] | None = None
 
     @classmethod
-    def presets(cls) -> tuple[Preset, ...]:
-        if cls._presets is None:
-            cls._presets = load_inertia_presets(PRESETS_DIR / cls.preset_file)
-        return cls._presets
+    def read_presets(cls) -> tuple[Preset, ...]:
+        return load_inertia_presets(PRESETS_DIR / cls.preset_file)
 
     @classmethod
-    def new_simulation(cls) -> InertiaSystem:
-        first = cls.presets()[0]
-        system = InertiaSystem(*_unpack(first))
-        system.preset = first.name
-        return system
+    def simulation_from_preset(cls, preset: Preset) -> InertiaSystem:
+        return InertiaSystem(*_unpack(preset))
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
-        preset = cls.preset(name)
-        system: InertiaSystem = room.sim
-        system.set_particles(*_unpack(preset))
-        system.set_about(None)
-        system.preset = name
-        room.refresh()
+    def start_preset(cls, sim: InertiaSystem, preset: Preset) -> None:
+        sim.set_particles(*_unpack(preset))
+        sim.reset()  # t = 0, O back to the centre of mass
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:

@@ -1,32 +1,5 @@
-"""Particles held by constraints, in generalized coordinates ("Constrained particles" scene).
-
-What it shows (memo §2 and §5): a system of N particles with m degrees of freedom, positions
-x_i(q_1 … q_m, t) (2.1)/(5.1), given by nothing else than that function, the masses and the
-applied forces (`physics.constrained`).  Per particle it draws
-
-- the virtual displacements ∂x_i/∂q_j δq_j (5.6) (teal for q₁, violet for q₂; drawn for
-  δq = DELTA_Q rad or m): the ways the constraints let the particle move *at frozen t*;
-- the applied force F_i (black) and the constraint force C_i = m_i ẍ_i − F_i (red): on a
-  smooth single-particle constraint C_i is perpendicular to every virtual displacement (5.7);
-
-and reads out (Readout tab) the virtual work C_i · ∂x_i/∂q_j (per particle and summed: on the
-double pendulum the middle rod pushes the two particles with equal and opposite forces that
-do virtual work on each, none in total), the generalized forces Q_j (5.12), Lagrange's
-equations (5.13) term by term and their residual, T = T₂ + T₁ + T₀, V, and the conserved
-quantity: the energy T + V when the constraints are fixed, Jacobi's integral h = T₂ − T₀ + V
-when they move (the turning hoop and rod: the motor turning them does work, the energy changes;
-the panel says so).
-
-Presets (`assets/presets/constrained.json`): each names a system (`system`: hoop, spherical,
-double, rod), its parameters and the initial q, q̇.  The Setup tab's sliders are the chosen
-system's: its parameters (an edit keeps the state and restarts the run at t = 0) and its q, q̇
-(setting the state, also from t = 0).  Bad values (lengths ≤ 0, NaN, a rate out of range, a bead
-placed off its rod) are refused with a message and the state kept.
-
-The simulation (`ConstrainedSimulation`, no viser) integrates with
-`physics.constrained.GridIntegrator` (8th order, fixed grid of 1/120 s), keeps the plot samples
-(q, h, T + V, the drift of h) and each particle's path (`app.kit.trace.Trace`), so a view built
-later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
+"""The "Constrained particles" scene's view: `ConstrainedView` draws a `ConstrainedSimulation`
+for one browser (`app.scenes.constrained`).
 
 What a playing frame sends (the turning hoop, the default: 241 / 244 B a frame own / follower,
 4.2 scene messages, measured by tests/test_frame_budget.py on 2026-11-25; it was 360 / 352 and
@@ -60,10 +33,8 @@ turn.
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -75,32 +46,25 @@ from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
 from app.kit.labels import DETAIL
 from app.kit.lean import TOLERANCE, Pose, snap
 from app.kit.plots import LivePlots, PlotSpec
-from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
+from app.kit.presets import Preset
 from app.kit.room import Room
-from app.kit.samples import SampleBuffer
-from app.kit.trace import Trace
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Stage, TraceLines, Vector
-from physics._types import Array
-from physics.constrained import (
-    Evaluation,
-    GridIntegrator,
-    System,
-    bead_on_turning_hoop,
-    bead_on_turning_rod,
-    double_pendulum,
-    hoop_equilibrium,
-    spherical_pendulum,
+from app.scenes.constrained.readouts import conserved_text, readout_text, status_text
+from app.scenes.constrained.simulation import (
+    GUIDE_POINTS,
+    ConstrainedSetup,
+    ConstrainedSimulation,
+    load_constrained_presets,
+    setup_of,
 )
+from physics._types import Array
+from physics.constrained import System
 from physics.quaternion import wxyz_from_matrix
 
-__all__ = ["KINDS", "ConstrainedSetup", "ConstrainedSimulation", "ConstrainedView", "Kind"]
+__all__ = ["DELTA_Q", "VIEW", "ConstrainedView"]
 
 DELTA_Q = 0.35  # [rad or m] the virtual displacements are drawn for this δq_j
-PLOT_CAPACITY = 600  # samples (60 s at 10 Hz)
-PATH_SECONDS = 8.0  # [s] of simulated time kept in each particle's path
-PATH_SPACING = 1.0 / 15.0  # [s] between stored path points
-PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
 ARROW_QUANTUM = 2.0**-9  # while playing, an arrow turns in steps of ~2 ARROW_QUANTUM rad (~1 px at 1.5 m)
 POSITION_QUANTUM = 2.0**-8  # [m] while playing, a particle moves in steps of this (~0.5 px)
 DX_HEAD = 18 * POSITION_QUANTUM  # [m] head lengths on the grid (0.07, 0.09 m): a shaft's length is too
@@ -109,7 +73,6 @@ GUIDE_QUANTUM = 2.0**-10  # the guide turns in steps of ~2 GUIDE_QUANTUM rad (~1
 READOUT_PERIOD = 0.5  # [s] of wall time: the status line and the Readout tab shown, while playing (2 Hz)
 PLOT_PERIOD = 0.25
 SLIDER_PERIOD = 0.5  # the q, q̇ sliders follow at 2 Hz while playing (a refresh writes them exactly)
-GUIDE_POINTS = 73  # points of the drawn constraint curve (hoop, rod)
 GUIDE_REACH = 2.5  # [m] the largest hoop radius / rod half length: its far end moves ~1 px per snapping step
 GUIDE_TURN_ATOL = 1e-9  # [m] the curve now is drawn as the first one turned about z if it is that to this
 PARTICLE_RADIUS = 0.07
@@ -120,271 +83,9 @@ F_COLOR = (25, 25, 25)
 C_COLOR = (210, 30, 30)
 DX_COLORS = ((0, 150, 150), (140, 60, 210))
 
-_MASS = SliderSpec("m", "m [kg]", 0.1, 5.0, 0.1, "the particle's mass")
-_G = SliderSpec("g", "g [m/s²]", 0.0, 20.0, 0.01, "gravity, along −z")
-_FORCE_SCALE = SliderSpec("force_scale", "arrow scale [m/N]", 0.005, 0.5, 0.005, "length of a force arrow per newton")
-
-
-@dataclass(frozen=True)
-class Kind:
-    """A system of the scene: its key (presets' `system`), title, parameter and state sliders.
-
-    param_specs: its parameters (the builder's arguments in order, plus the arrow scale last).
-    q_specs, rate_specs: per coordinate, in display units (deg and deg/s for an angle, m and m/s
-    for a length).  build(*params) -> System.
-    """
-
-    key: str
-    title: str
-    param_specs: tuple[SliderSpec, ...]
-    q_specs: tuple[SliderSpec, ...]
-    rate_specs: tuple[SliderSpec, ...]
-    build: Callable[..., System]
-
-    def system(self, params: Sequence[float]) -> System:
-        return self.build(*params[:-1])
-
-
-def _angle(key: str, label: str, lo: float = -180.0, hi: float = 180.0) -> SliderSpec:
-    return SliderSpec(key, f"{label} [deg]", lo, hi, 0.5, f"the generalized coordinate {label}")
-
-
-def _rate(key: str, label: str) -> SliderSpec:
-    return SliderSpec(key, f"d{label}/dt [deg/s]", -1440.0, 1440.0, 1.0, f"the generalized velocity d{label}/dt")
-
-
-KINDS: dict[str, Kind] = {k.key: k for k in (
-    Kind("hoop", "Bead on a turning hoop",
-         (SliderSpec("R", "hoop radius R [m]", 0.2, 2.5, 0.05, "the hoop's radius"),
-          SliderSpec("Omega", "Ω [rad/s]", 0.0, 15.0, 0.05, "the hoop turns about its vertical diameter at Ω; "
-                     "above Ω² R = g the bottom is unstable"),
-          _MASS, _G, _FORCE_SCALE),
-         (_angle("q1", "θ"),), (_rate("v1", "θ"),), bead_on_turning_hoop),
-    Kind("spherical", "Spherical pendulum",
-         (SliderSpec("L", "rod L [m]", 0.2, 2.5, 0.05, "the rod's length"), _MASS, _G, _FORCE_SCALE),
-         (_angle("q1", "θ", 1.0, 179.0), _angle("q2", "φ")), (_rate("v1", "θ"), _rate("v2", "φ")),
-         spherical_pendulum),
-    Kind("double", "Double pendulum",
-         (SliderSpec("L1", "rod L₁ [m]", 0.2, 1.5, 0.05, "the upper rod"),
-          SliderSpec("L2", "rod L₂ [m]", 0.2, 1.5, 0.05, "the lower rod"),
-          SliderSpec("m1", "m₁ [kg]", 0.1, 5.0, 0.1, "the upper particle"),
-          SliderSpec("m2", "m₂ [kg]", 0.1, 5.0, 0.1, "the lower particle"), _G, _FORCE_SCALE),
-         (_angle("q1", "θ₁"), _angle("q2", "θ₂")), (_rate("v1", "θ₁"), _rate("v2", "θ₂")), double_pendulum),
-    Kind("rod", "Bead on a turning rod",
-         (SliderSpec("Omega", "Ω [rad/s]", 0.0, 5.0, 0.05, "the rod turns about space z at Ω"),
-          SliderSpec("length", "rod half length ℓ [m]", 0.5, 2.5, 0.05, "the bead leaves the rod at |r| = ℓ"),
-          _MASS, _G, _FORCE_SCALE),
-         (SliderSpec("q1", "r [m]", -2.5, 2.5, 0.01, "the bead's signed distance from the axis"),),
-         (SliderSpec("v1", "dr/dt [m/s]", -5.0, 5.0, 0.01, "the bead's speed along the rod"),),
-         bead_on_turning_rod),
-)}
-
 VIEW = CameraView(position=(3.2, -5.2, 1.6), look_at=(0.0, 0.0, -0.6), fov_deg=45.0)
 
 
-# ---------------------------------------------------------------------------- simulation (no viser)
-@dataclass(frozen=True)
-class ConstrainedSetup:
-    """What a run starts from.  kind: a key of KINDS.  params: its parameter sliders' values.
-    q_shown, rates_shown: the initial q, q̇ in display units (deg, deg/s or m, m/s).
-    ValueError (with the message to show) if anything is out of range or not a system."""
-
-    kind: str
-    params: tuple[float, ...]
-    q_shown: tuple[float, ...]
-    rates_shown: tuple[float, ...]
-
-    def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise ValueError(f"system {self.kind!r} refused: one of {', '.join(KINDS)}")
-        kind = KINDS[self.kind]
-        for specs, values in ((kind.param_specs, self.params), (kind.q_specs, self.q_shown),
-                              (kind.rate_specs, self.rates_shown)):
-            if len(values) != len(specs):
-                keys = ", ".join(s.key for s in specs)
-                raise ValueError(f"{len(specs)} values expected for {keys}, got {len(values)}")
-            for spec, value in zip(specs, values):
-                if spec.check(value) is None:
-                    raise ValueError(spec.refusal(value))
-        system = kind.system(self.params)  # ValueError from the physics' own checks
-        if system.limit is not None and abs(self.q_shown[0]) >= system.limit:
-            raise ValueError(f"r = {self.q_shown[0]:g} m refused: the bead must start on the rod, |r| < ℓ = "
-                             f"{system.limit:g} m")
-
-    @property
-    def kind_spec(self) -> Kind:
-        return KINDS[self.kind]
-
-    def system(self) -> System:
-        return self.kind_spec.system(self.params)
-
-    @property
-    def force_scale(self) -> float:
-        return float(self.params[-1])
-
-    def to_si(self, values: Sequence[float]) -> Array:
-        """Display units -> SI (deg -> rad for the angles)."""
-        angular = self.system().angular
-        return np.array([math.radians(v) if a else float(v) for v, a in zip(values, angular)])
-
-    def with_values(self, params: Sequence[float] | None = None, q_shown: Sequence[float] | None = None,
-                    rates_shown: Sequence[float] | None = None) -> ConstrainedSetup:
-        return ConstrainedSetup(self.kind, tuple(float(p) for p in (self.params if params is None else params)),
-                                tuple(float(p) for p in (self.q_shown if q_shown is None else q_shown)),
-                                tuple(float(p) for p in (self.rates_shown if rates_shown is None else rates_shown)))
-
-
-def _shown(system: System, values: Array) -> list[float]:
-    """SI -> display units (rad -> deg)."""
-    return [math.degrees(float(v)) if a else float(v) for v, a in zip(values, system.angular)]
-
-
-class ConstrainedSimulation:
-    """A constrained particle system and its run (no viser).
-
-    Attributes:
-        setup: the run's initial conditions.  system: the System built from it.  t [s], version.
-        integrator: the GridIntegrator (its q, q̇ are the state).  samples: plot samples
-        (q1, q2 in display units, h, E = T + V, drift = |h − h₀| / scale).  paths: per particle,
-        the `Trace` of its position [m].  h0: h at t = 0.  preset: the preset the run started from.
-    """
-
-    def __init__(self, setup: ConstrainedSetup) -> None:
-        self.preset: str | None = None
-        self.version = 0
-        self.samples = SampleBuffer(("q1", "q2", "h", "E", "drift"), PLOT_CAPACITY)
-        self.set_setup(setup)
-
-    # ------------------------------------------------------------------ the Simulation protocol
-    @property
-    def t(self) -> float:
-        return self.integrator.t
-
-    def reset(self) -> None:
-        setup = self.setup
-        self.integrator = GridIntegrator(self.system, setup.to_si(setup.q_shown), setup.to_si(setup.rates_shown))
-        self._evaluation: Evaluation | None = None
-        first = self.evaluation()
-        self.h0 = first.h
-        self.energy_scale = max(abs(first.T) + abs(first.V if math.isfinite(first.V) else 0.0), 1e-12)
-        for path in self.paths:
-            path.clear()
-        self.samples.clear()
-        self._record()
-        self.take_sample()
-        self.version += 1
-
-    def advance(self, dt: float) -> None:
-        """dt [s] of simulated time in grid steps (physics.constrained.GridIntegrator); on an
-        error (a bead off its rod, singular coordinates) the state stays and the error is raised."""
-        if dt == 0.0:
-            return
-        self.integrator.advance(dt)
-        self._evaluation = None
-        self._record()
-        self.version += 1
-
-    def fork(self) -> ConstrainedSimulation:
-        """An exact, independent copy: setup, state, integrator grid, samples, paths, preset,
-        version (a deep copy; the system's functions are shared, they hold no mutable state)."""
-        return copy.deepcopy(self)
-
-    def take_sample(self) -> None:
-        ev = self.evaluation()
-        q = _shown(self.system, ev.q)
-        self.samples.append(self.t, {"q1": q[0], "q2": q[1] if len(q) > 1 else math.nan, "h": ev.h,
-                                     "E": ev.T + ev.V, "drift": abs(ev.h - self.h0) / self.energy_scale})
-
-    # ------------------------------------------------------------------ edits
-    def set_setup(self, setup: ConstrainedSetup) -> None:
-        """New initial conditions (the run restarts at t = 0); a new kind gets new paths."""
-        old = getattr(self, "setup", None)
-        self.setup = setup
-        self.system = setup.system()
-        if old is None or old.kind != setup.kind or not hasattr(self, "paths"):
-            self.paths = [Trace(PATH_SECONDS, PATH_SPACING, PATH_CHUNK) for _ in range(self.system.n)]
-        self.reset()
-
-    def set_display(self, force_scale: float) -> None:
-        """The arrow scale only (no restart)."""
-        params = list(self.setup.params)
-        params[-1] = force_scale
-        self.setup = self.setup.with_values(params=params)
-        self.version += 1
-
-    # ------------------------------------------------------------------ readouts
-    def evaluation(self) -> Evaluation:
-        """Everything (5.1)-(5.13) says about the state now (cached until it changes)."""
-        if self._evaluation is None:
-            g = self.integrator
-            self._evaluation = self.system.evaluate(g.q, g.q_dot, g.t)
-        return self._evaluation
-
-    def _record(self) -> None:
-        x = self.evaluation().x
-        for k, path in enumerate(self.paths):
-            path.add(self.t, x[k])
-
-    @property
-    def q_shown(self) -> list[float]:
-        return _shown(self.system, self.integrator.q)
-
-    @property
-    def rates_shown(self) -> list[float]:
-        return _shown(self.system, self.integrator.q_dot)
-
-    def guide(self) -> Array | None:
-        """The constraint curve at time t (N points, 3) [m]: {x_0(q, t)} for q over the system's
-        guide range (hoop, rod), or None."""
-        if self.system.guide is None:
-            return None
-        lo, hi = self.system.guide
-        rows = [self.system.positions([q], self.t)[0] for q in np.linspace(lo, hi, GUIDE_POINTS)]
-        return np.array(rows, dtype=float)
-
-
-# ---------------------------------------------------------------------------- presets
-def load_constrained_presets() -> tuple[Preset, ...]:
-    """The scene's presets: each entry has `system` (a key of KINDS), `params`, `q`, `rates`
-    (objects keyed by the system's slider keys, display units); PresetError naming the field."""
-    path = PRESETS_DIR / "constrained.json"
-    presets = []
-    for where, name, entry in preset_entries(path):
-        try:
-            kind = KINDS.get(entry.get("system", ""))
-            if kind is None:
-                raise PresetError(f"{where}.system: {entry.get('system')!r} is not one of {', '.join(KINDS)}")
-            values = []
-            for field, specs in (("params", kind.param_specs), ("q", kind.q_specs), ("rates", kind.rate_specs)):
-                given = entry.get(field)
-                if not isinstance(given, dict) or set(given) != {s.key for s in specs}:
-                    raise PresetError(f"{where}.{field}: an object with keys {', '.join(s.key for s in specs)}")
-                values.append(tuple(given[s.key] for s in specs))
-            try:
-                setup = ConstrainedSetup(kind.key, *values)
-            except (ValueError, TypeError) as error:
-                raise PresetError(f"{where} ({name}): {error}") from None
-        except PresetError as error:
-            raise PresetError(f"{path}: {error}") from None
-        presets.append(Preset(name=name, group=str(entry.get("group", "Presets")), note=str(entry.get("note", "")),
-                              params=(float(list(KINDS).index(kind.key)), *setup.params, *setup.q_shown,
-                                      *setup.rates_shown),
-                              angles_deg=(0.0, 0.0, 0.0), rates=()))
-    return tuple(presets)
-
-
-def setup_of(preset: Preset) -> ConstrainedSetup:
-    """The setup a preset stands for (its params pack: kind index, parameters, q, q̇)."""
-    kind = KINDS[list(KINDS)[int(preset.params[0])]]
-    a = 1 + len(kind.param_specs)
-    b = a + len(kind.q_specs)
-    return ConstrainedSetup(kind.key, preset.params[1:a], preset.params[a:b], preset.params[b:])
-
-
-_PRESETS: list[tuple[Preset, ...]] = []
-
-
-# ---------------------------------------------------------------------------- view
 class ConstrainedView(SceneView):
     """One browser's view of a room with a `ConstrainedSimulation`."""
 
@@ -395,26 +96,16 @@ class ConstrainedView(SceneView):
     view = VIEW
 
     @classmethod
-    def presets(cls) -> tuple[Preset, ...]:
-        if not _PRESETS:
-            _PRESETS.append(load_constrained_presets())
-        return _PRESETS[0]
+    def read_presets(cls) -> tuple[Preset, ...]:
+        return load_constrained_presets()
 
     @classmethod
-    def new_simulation(cls) -> ConstrainedSimulation:
-        first = cls.presets()[0]
-        sim = ConstrainedSimulation(setup_of(first))
-        sim.preset = first.name
-        return sim
+    def simulation_from_preset(cls, preset: Preset) -> ConstrainedSimulation:
+        return ConstrainedSimulation(setup_of(preset))
 
     @classmethod
-    def apply_preset(cls, room: Room, name: str) -> None:
-        preset = cls.preset(name)
-        sim: ConstrainedSimulation = room.sim
-        room.playing = False
+    def start_preset(cls, sim: ConstrainedSimulation, preset: Preset) -> None:
         sim.set_setup(setup_of(preset))
-        sim.preset = name
-        room.refresh()
 
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
@@ -723,75 +414,12 @@ class ConstrainedView(SceneView):
         set_points(self.guide, np.stack([guide[:-1], guide[1:]], axis=1).astype(np.float32))
 
     def _refresh_status(self) -> None:
-        state = "▶ playing" if self.room.playing else "paused"
-        self.transport.set_status(f"**t = {self.sim.t:.2f} s** · {state} · {self.room.time_scale:g}× · "
-                                  f"RK8, steps of 1/120 s")
+        self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale))
 
     def _render_readout(self) -> None:
-        sim = self.sim
-        ev = sim.evaluation()
-        system = sim.system
-        drift = abs(ev.h - sim.h0) / sim.energy_scale
-        if system.rheonomic:
-            note = (f"**The constraint moves (∂x/∂t ≠ 0): the energy T + V = {ev.T + ev.V:.4f} J is not conserved** "
-                    "(the motor turning it does work).  Conserved: **Jacobi's integral h = T₂ − T₀ + V = "
-                    f"{ev.h:.6f} J** (drift {drift:.1e}).")
-        else:
-            note = (f"Fixed constraints (∂x/∂t = 0): T₁ = T₀ = 0 and h = T + V is the **energy, conserved: "
-                    f"{ev.h:.6f} J** (drift {drift:.1e}).")
-        extra = _extra_line(sim, ev)
-        self.conserved_note.set(note + ("  \n" + extra if extra else ""))
-        names = system.coordinates
-        units = ["N m" if a else "N" for a in system.angular]
-
-        def num(x: float) -> str:
-            return f"{0.0 if abs(x) < 5e-13 else x:10.4g}"
-
-        lines = ["```", "q       " + "".join(f"{n:>10}" for n in names),
-                 "q       " + "".join(num(v) for v in sim.q_shown) + "   (deg or m)",
-                 "q̇       " + "".join(num(v) for v in sim.rates_shown) + "   (deg/s or m/s)",
-                 "",
-                 f"T = {ev.T:.4f}  T₂ = {ev.T2:.4f}  T₁ = {ev.T1:.4f}  T₀ = {ev.T0:.4f}  V = {ev.V:.4f}  [J]",
-                 "",
-                 "(5.7) virtual work C_i·∂x_i/∂q_j  [" + ", ".join(units) + "]"]
-        for i in range(system.n):
-            lines.append(f"particle {i + 1}" + "".join(num(w) for w in ev.virtual_work[i]))
-        if system.n > 1:
-            lines.append("sum       " + "".join(num(w) for w in ev.virtual_work.sum(axis=0)))
-        lines += ["", "(5.13) per coordinate   d/dt∂T/∂q̇   ∂T/∂q        Q_j   residual"]
-        terms = ev.terms
-        for j, name in enumerate(names):
-            lines.append(f"{name:<21}" + num(terms.ddt_dT_dqdot[j]) + num(terms.dT_dq[j]) + num(terms.Q[j])
-                         + f"{terms.residual[j]:11.1e}")
-        lines += ["", "forces [N]         x         y         z"]
-        for i in range(system.n):
-            lines.append(f"F{i + 1}       " + "".join(num(c) for c in ev.F[i]))
-            lines.append(f"C{i + 1}=mẍ−F  " + "".join(num(c) for c in ev.C[i]))
-        lines.append("```")
-        if system.n > 1:
-            lines.append("On each particle of the double pendulum the middle rod's push does virtual work; on the two "
-                         "together it does none (equal and opposite along the rod): the **sum** is what "
-                         "(5.8)–(5.11) use.")
-        self.readout.set("\n".join(lines))
-
-
-def _extra_line(sim: ConstrainedSimulation, ev: Evaluation) -> str:
-    """A system's own reference numbers (the hoop's equilibrium, the spherical pendulum's L_z)."""
-    key = sim.setup.kind
-    params = dict(sim.system.params)
-    if key == "hoop":
-        R, Omega, g = params["R"], params["Ω"], params["g"]
-        eq = math.degrees(hoop_equilibrium(R, Omega, g))
-        where = (f"Ω² R = {Omega * Omega * R:.3g} > g: the bottom is unstable, the bead settles about "
-                 f"θ∗ = ±{eq:.1f}° (cos θ∗ = g/(Ω² R))" if Omega * Omega * R > g
-                 else f"Ω² R = {Omega * Omega * R:.3g} ≤ g = {g:g}: the bottom θ = 0 is stable")
-        return where + "."
-    if key == "spherical":
-        L_z = float(sim.system.masses[0] * (ev.x[0, 0] * ev.x_dot[0, 1] - ev.x[0, 1] * ev.x_dot[0, 0]))
-        return f"L_z = m (x ẏ − y ẋ) = p_φ = {L_z:.6f} kg m²/s (φ is cyclic: conserved)."
-    if key == "rod":
-        return "Q = 0 (gravity ⊥ the rod): r̈ = Ω² r, the bead flies out; C holds it up and pushes it round."
-    return ""
+        ev = self.sim.evaluation()
+        self.conserved_note.set(conserved_text(self.sim, ev))
+        self.readout.set(readout_text(self.sim, ev))
 
 
 def _wrapped(values: Sequence[float], specs: Sequence[SliderSpec]) -> list[float]:
@@ -860,3 +488,4 @@ class _Arrow(Vector):
             set_scale(self.back, (1.0, 1.0, piece))
         if head != self._head_scale:  # the back piece ends where the head begins
             set_position(self.back, (0.0, 0.0, -head * self.head_length))
+

@@ -1,30 +1,5 @@
-"""Poinsot's construction of the free body ("Poinsot" scene).
-
-The torque-free body of `app.kit.torque_free` (the Free body scene's simulation, sliders,
-presets format, ghost), with the geometry of `physics.poinsot` drawn around it, in ω units
-(1 rad/s = `scale` scene units):
-
-* **Poinsot's ellipsoid** ω · I ω = 2T (semi-axes sqrt(2T/I_k)), centred on the fixed point and
-  fixed in the body: a child of the body's frame, so it turns with the body at no cost per frame.
-  The **polhode** (the path of ω on it) is drawn on it, also in the body frame.
-* The **invariable plane** n · x = 2T/|L| (n = L/|L|, fixed in space), on which the ellipsoid
-  rolls without slipping; the contact point is ω itself (the orange ω arrow ends there), and
-  its path on the plane is the **herpolhode** (the last HERPOLHODE_SECONDS of simulated time).
-  The two dashed circles on the plane are the herpolhode's radii ρ_min, ρ_max.
-* Beside it (left), **body angular-momentum space**: the sphere |L| = const and the energy ellipsoid
-  L · I⁻¹ L = 2T meet along the current polhode (magenta, with the current L_b as a dot), drawn
-  in a family of polhodes of other energies (grey: around the largest and the smallest axis)
-  and the separatrix through ±|L| e_y′ (red, for I1 < I2 < I3).  The "Energy" slider moves the
-  motion to another energy at the same |L| and the same L in space (across the separatrix).
-
-Readouts: T, |L|, the flip period 2K(m)/λ of the current motion (ω_q, the intermediate axis'
-component, changes sign every flip period: half the polhode period) and the time of the next
-flip, from the closed form (`physics.poinsot`).  Nodes are built once; a new run sets their
-scale, points and pose; per frame only L_b's frame (its dot rides on it) and, every few frames,
-the herpolhode's newest chunk are sent besides the body, ω and the ghost: the contact point
-hangs at ω's tip (`Vector.tip`), and nothing is sent for the hidden line of nodes.
-Presets: `assets/presets/poinsot.json` (their angles put L along −z, so the plane is a table
-under the body).
+"""The "Poinsot" scene's view: `PoinsotView` draws the torque-free body with Poinsot's construction
+around it (`app.scenes.poinsot` says what is drawn and what a frame sends).
 """
 
 from __future__ import annotations
@@ -43,8 +18,19 @@ from app.kit.labels import AXES, DETAIL
 from app.kit.rigid import RigidBodySimulation
 from app.kit.torque_free import TorqueFreeView
 from app.kit.widgets import TraceLines, quantized, z_onto
-from physics.dynamics import State
+from app.scenes.poinsot.readouts import poinsot_text
+from app.scenes.poinsot.simulation import (
+    CURVE_POINTS,
+    energy_setting,
+    next_flip_time,
+    omega_space,
+    run_energy,
+    sorted_moments,
+    state_at_energy,
+    track_herpolhode,
+)
 from physics.poinsot import (
+    PolhodeMotion,
     herpolhode_radii,
     invariable_plane,
     motion,
@@ -54,20 +40,15 @@ from physics.poinsot import (
     separatrix_L,
 )
 from physics.quaternion import wxyz_from_matrix
-from physics.so3 import exp_so3
 
-__all__ = ["PoinsotView", "energy_setting", "omega_space", "state_at_energy"]
+__all__ = ["ENERGY_SPEC", "PoinsotView"]
 
 ELLIPSOID_SIZE = 1.5  # [scene units] Poinsot's ellipsoid's largest semi-axis
 SPHERE_RADIUS = 1.1  # [scene units] the |L| sphere of the momentum-space picture
 L_SPACE_AT = (-2.8, 0.8, 0.2)  # [scene units] centre of the momentum-space picture
 PLANE_HALF = 2.0  # [scene units] half the side of the drawn invariable plane
-HERPOLHODE_SECONDS = 40.0  # [s] of simulated time kept in the herpolhode
-HERPOLHODE_SPACING = 1.0 / 30.0  # [s] of simulated time between its points
-HERPOLHODE_CHUNK = 7  # points per chunk of the herpolhode (one every 0.2 s at time scale 1)
 HERPOLHODE_HEAD_EVERY = 12  # playing frames between sends of its growing chunk: at 1x each point is sent
 # once, in its complete chunk; the line ends at most 0.2 s of motion behind the contact point
-CURVE_POINTS = 256
 L_DOT_QUANTUM = 2.0**-9
 """While playing, L_b's frame in the momentum picture is sent as multiples of this (not of
 POSE_QUANTUM): its dot (0.12 across) sits SPHERE_RADIUS from the frame's centre, so a step moves
@@ -87,52 +68,6 @@ ENERGY_SPEC = SliderSpec(
     "I_max (+1: about the largest-moment axis); |L| and L in space are kept",
     ((-1.0, "x′"), (0.0, "sep."), (1.0, "z′")),
 )
-
-
-def _sorted(inertia: Any) -> tuple[float, float, float]:
-    lo, mid, hi = (float(x) for x in np.sort(np.asarray(inertia, dtype=float)))
-    return lo, mid, hi
-
-
-def energy_setting(inertia: Any, T: float, L_norm: float) -> float:
-    """The Energy slider's value of a motion: -1 .. 0 .. 1 as |L|²/(2T) goes I_min .. I_mid .. I_max."""
-    lo, mid, hi = _sorted(inertia)
-    effective = L_norm * L_norm / (2.0 * T)
-    if effective >= mid:
-        return 0.0 if hi == mid else min(1.0, (effective - mid) / (hi - mid))
-    return 0.0 if mid == lo else max(-1.0, (effective - mid) / (mid - lo))
-
-
-def state_at_energy(inertia: Any, state: State, setting: float) -> State:
-    """A state at the Energy setting (−1 .. 1) with the same |L| and L in space: L_b moves to
-    the nearest point of the new polhode and the body turns so that R L_b stays L_s.  ValueError
-    if the body has no such motion (a sphere; the side of an axis that two equal moments close)."""
-    I = np.asarray(inertia, dtype=float)
-    lo, mid, hi = _sorted(I)
-    if not -1.0 <= setting <= 1.0:
-        raise ValueError(f"the energy setting must be in [-1, 1], got {setting!r}")
-    if lo == hi:
-        raise ValueError("a ball (I1 = I2 = I3) turns steadily about any axis: every energy is |L|²/(2I)")
-    if setting < 0.0 and lo == mid or setting > 0.0 and mid == hi:
-        raise ValueError("two equal moments: there is no polhode on that side of the separatrix")
-    L_body = I * state.omega_body
-    L_norm = float(np.linalg.norm(L_body))
-    if L_norm == 0.0:
-        raise ValueError("the body is not turning (|L| = 0)")
-    effective = mid + setting * ((hi - mid) if setting >= 0.0 else (mid - lo))
-    T = L_norm * L_norm / (2.0 * effective)
-    candidates = np.concatenate([polhode_L(I, T, L_norm, CURVE_POINTS, sign) for sign in (1.0, -1.0)])
-    new_L = candidates[int(np.argmin(np.linalg.norm(candidates - L_body, axis=1)))]
-    axis = np.cross(new_L, L_body)
-    angle = math.atan2(float(np.linalg.norm(axis)), float(new_L @ L_body))
-    turn = exp_so3(axis / np.linalg.norm(axis) * angle) if angle > 0.0 else np.eye(3)  # turn @ new_L ∥ L_body
-    return State(state.R_space_body @ turn, new_L / I, 0.0)
-
-
-def omega_space(state: State) -> np.ndarray:
-    """ω in space components (3,) [rad/s]: the contact point of the ellipsoid and the plane
-    (drawn at the scene's ω scale); its path is the herpolhode."""
-    return state.R_space_body @ state.omega_body
 
 
 def _triple(v: np.ndarray) -> tuple[float, float, float]:
@@ -242,6 +177,7 @@ class PoinsotView(TorqueFreeView):
                                          position=(0.0, 0.0, SPHERE_RADIUS))
         self._drawn_family: tuple[float, ...] | None = None
         self._flip_schedule: tuple[float, float] | None = None  # (next flip, period) [s]
+        self._motion: PolhodeMotion | None = None  # the run's polhode (None: a body at rest)
         self._L_scale_space = 1.0  # [scene units per kg m²/s] of the momentum picture
         self._L_turn: tuple[float, ...] = ()  # L_b's frame as sent
 
@@ -305,7 +241,7 @@ class PoinsotView(TorqueFreeView):
             curves = polhode_family(I, 1.0, 3, FAMILY_POINTS)
             set_points(self.family, np.concatenate([_closed_segments(c * SPHERE_RADIUS) for c in curves])
                        if curves else np.zeros((1, 2, 3), dtype=np.float32))
-            lo, mid, hi = _sorted(I)
+            lo, mid, hi = sorted_moments(I)
             if lo < mid < hi:
                 seps = separatrix_L(I, 1.0, CURVE_POINTS)
                 set_points(self.separatrix, np.concatenate([_closed_segments(c * SPHERE_RADIUS) for c in seps]))
@@ -333,8 +269,7 @@ class PoinsotView(TorqueFreeView):
     # ------------------------------------------------------------------ per frame
     @classmethod
     def track_points(cls, sim: RigidBodySimulation) -> None:
-        sim.track("herpolhode", omega_space, seconds=HERPOLHODE_SECONDS, spacing=HERPOLHODE_SPACING,
-                  chunk_points=HERPOLHODE_CHUNK)
+        track_herpolhode(sim)
 
     def draw_extras(self, sim: RigidBodySimulation) -> None:
         if not self.contact.visible:
@@ -362,37 +297,12 @@ class PoinsotView(TorqueFreeView):
             self._refresh_poinsot_readout()
 
     def _next_flip(self) -> float | None:
-        if self._flip_schedule is None:
-            return None
-        first, period = self._flip_schedule
-        t = self.sim.t
-        return first if t < first else first + period * (math.floor((t - first) / period) + 1)
+        return next_flip_time(self._flip_schedule, self.sim.t)
 
     def _refresh_poinsot_readout(self) -> None:
         sim = self.sim
-        omega = sim.initial_state.omega_body
-        I = np.asarray(sim.model.inertia, dtype=float)
-        T = 0.5 * float(omega @ (I * omega))
-        if T == 0.0:
-            self.poinsot_readout.set("The body is at rest: no ellipsoid.")
-            return
-        mo = self._motion
-        L_norm = mo.L_norm
-        lines = [f"T = {T:.5g} J    |L| = {L_norm:.5g} kg m²/s",
-                 f"|L|²/(2T) = {L_norm * L_norm / (2 * T):.5g} kg m²  (I_mid = {_sorted(I)[1]:g})",
-                 f"ω: 1 rad/s = {self.omega_scale:.3g} scene units"]
-        if mo.kind == "flip":
-            next_flip = self._next_flip()
-            lines += [f"flip period 2K(m)/λ = {mo.flip_period:.4f} s",
-                      f"  (m = {mo.m:.6f}, λ = {mo.rate:.4g} rad/s)",
-                      f"next flip at t = {next_flip:.3f} s" if next_flip is not None else ""]
-        elif mo.kind == "symmetric":
-            lines += [f"symmetric body: circular polhode, ω_⊥ turns at λ = {mo.rate:.4g} rad/s; no flip"]
-        elif mo.kind == "separatrix":
-            lines += ["on the separatrix: flip period infinite (m = 1)"]
-        else:
-            lines += ["steady rotation about a principal axis: no flip"]
-        self.poinsot_readout.set("```\n" + "\n".join(line for line in lines if line) + "\n```")
+        self.poinsot_readout.set(poinsot_text(sim.model.inertia, run_energy(sim), self._motion, self.omega_scale,
+                                              self._next_flip()))
 
     def readout_extras(self, sim: RigidBodySimulation) -> str:
         return str(self.poinsot_readout.handle.content).strip("`\n")
@@ -429,3 +339,4 @@ class PoinsotView(TorqueFreeView):
         sim.restart(state)
         self.room.refresh()
         return None
+

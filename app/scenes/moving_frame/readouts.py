@@ -1,0 +1,68 @@
+"""The "Moving frame" scene's texts as pure functions (no viser): the status line and the
+readout, numbers in, Markdown out.  `MovingFrameView` puts them into its panel at READOUT_PERIOD;
+tests/test_moving_frame_readouts.py checks them without a browser.  Angles in degrees
+(`format_deg`: wrapped to (−180°, 180°]), SI units otherwise; forces in C′ (body components).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from app.kit.common import format_deg, format_vector
+from app.scenes.moving_frame.simulation import PARTICLES, ForceReport, MovingFrameSimulation
+from physics._types import Array, Vec3
+
+__all__ = ["EARTH_OMEGA", "force_row", "readout_text", "status_text"]
+
+EARTH_OMEGA = 2.0 * math.pi / 86164.1  # [rad/s] Earth's sidereal rotation, for the readout
+
+
+def status_text(t: float, playing: bool, time_scale: float, riding: bool) -> str:
+    """The transport's status line: t [s], playing or paused, the time scale, the camera (riding
+    with C′ or the inertial view)."""
+    state = "▶ playing" if playing else "paused"
+    view = "riding with C′" if riding else "inertial view (C)"
+    return f"**t = {t:.2f} s** · {state} · {time_scale:g}× · {view}"
+
+
+def force_row(name: str, v: Vec3) -> str:
+    """One row of the forces' table: the name in 15 columns, then x′ y′ z′ [N] in 9 columns of
+    3 decimals each (|c| < 5e-4 shown as 0.000, never −0.000)."""
+    return f"{name:<15}" + "".join(f"{(0.0 if abs(c) < 5e-4 else c):9.3f}" for c in v)
+
+
+def readout_text(sim: MovingFrameSimulation, report: ForceReport, x_body: Array) -> str:
+    """The readout (Markdown): C′ now (its angles [deg], ω_b [rad/s] and |ω| in Earth's rotation
+    rates, a and ä), the chosen particle's x′ [m] and ẋ′ [m/s], the table of the forces on it in
+    C′ [N] (real, the four inertial ones, their sum, m ẍ′ found without (1.28)) and the residual.
+
+    report: `sim.forces()` now; x_body: (3, 3) the particles' x′ now [m] (`sim.body_coordinates()`).
+    """
+    frame = sim.frame
+    focus = sim.setup.focus
+    _, v_body = sim.body_coordinates()
+    w = float(np.linalg.norm(frame.omega_body))
+    residual = float(np.max(np.abs(report.residual[focus])))
+    force_scale = max(1.0, float(np.max(np.abs(report.m_x_ddot_body[focus]))))
+    phi, theta, psi = sim.angles_deg
+    lines = [
+        f"C′ now: φ θ ψ = {format_deg(phi, 1)}°, {theta:.1f}°, {format_deg(psi, 1)}°  \n"
+        f"ω_b = {format_vector(frame.omega_body)} rad/s, |ω| = {w:.3f} rad/s "
+        f"= {w / EARTH_OMEGA:,.0f} × Earth's  \n"
+        f"a = {format_vector(frame.a)} m, ä = {format_vector(frame.a_ddot)} m/s²",
+        f"**{PARTICLES[focus]}**: x′ = {format_vector(x_body[focus])} m, ẋ′ = {format_vector(v_body[focus])} m/s",
+        "```\nforce in C′ [N]     x′       y′       z′",
+        force_row("Dᵀ F (real)", report.real[focus]),
+        force_row("−m Dᵀ ä", report.inertial.translational[focus]),
+        force_row("−m ω̇ × x′", report.inertial.euler[focus]),
+        force_row("−m ω×(ω×x′)", report.inertial.centrifugal[focus]),
+        force_row("−2m ω × ẋ′", report.inertial.coriolis[focus]),
+        force_row("sum", report.real[focus] + report.inertial.total[focus]),
+        force_row("m ẍ′", report.m_x_ddot_body[focus]),
+        "```",
+        f"m ẍ′ from x′ = Dᵀ(x − a) differentiated (no (1.28)); |m ẍ′ − sum| = {residual:.1e} N "
+        f"({residual / force_scale:.1e} relative).",
+    ]
+    return "\n".join(lines)
