@@ -12,7 +12,10 @@
    one: `app.kit.rigid.RigidBodySimulation` (`track` follows a point).  Physics formulas live
    in `physics/`, with tests.
 
-2. **A view class** in one file under `app/scenes/`, subclassing `app.kit.view.SceneView`.
+2. **A view class** in one file under `app/scenes/`, subclassing `app.kit.view.SceneView`
+   (a big scene is a package, `app/scenes/euler_angles/`: `simulation` and `readouts`, its
+   texts as pure functions, import no viser (tests/test_layers.py), then `view` and its parts;
+   its `__init__` re-exports the view).
    The class is the scene: class attributes `title` (the dropdown option), `root` (the scene
    node everything hangs under), `view` (a `CameraView`), `preset_file` (and `param_specs`,
    `rate_specs` if its presets carry parameters or rates); classmethods `new_simulation()`
