@@ -51,7 +51,7 @@ CASES = [
     ("Inertia", lambda v: v.gui_mass, 1e9, "m [kg] = 1000000000.0 refused"),
     ("Inertia", lambda v: v.gui_position, (99.0, 0.0, 0.0), "x = (99.0, 0.0, 0.0) refused: three numbers within"),
     ("Inertia", lambda v: v.gui_about, (0.0, float("nan"), 0.0), "O = (0.0, nan, 0.0) refused"),
-    ("Inertia", lambda v: v.gui_mesh_mass, -1.0, "Refused: mass -1.0 kg: a number from 0.001 to 10000 wanted"),
+    ("Inertia", lambda v: v.mesh_panel.gui_amount, -1.0, "Refused: mass -1.0 kg: a number from 0.001 to 10000 wanted"),
 ]
 
 

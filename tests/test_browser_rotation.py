@@ -26,7 +26,7 @@ MIN_CHANGED_FRACTION = 0.005  # the axis, the arc and the outlines: far more tha
 
 
 def drawn_axis(view) -> np.ndarray:  # type: ignore[no-untyped-def]
-    tail, head = np.asarray(view.single_axis.points, dtype=float)[0]
+    tail, head = np.asarray(view.single_rotation.axis.points, dtype=float)[0]
     return (head - tail) / np.linalg.norm(head - tail)
 
 
@@ -37,15 +37,15 @@ def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until,
     before = page.screenshot(clip=SCENE_CLIP)
 
     # The checkbox, clicked: the axis, the arc and the animation appear; the readout too.
-    page.locator(f'[id="{scene.gui_single_rotation._impl.uuid}"]').click()
-    wait_until(lambda: scene.gui_single_rotation.value and scene.single_axis.visible, timeout=10.0)
+    page.locator(f'[id="{scene.single_rotation.gui_toggle._impl.uuid}"]').click()
+    wait_until(lambda: scene.single_rotation.gui_toggle.value and scene.single_rotation.axis.visible, timeout=10.0)
     page.get_by_text("A = Φ hat(d), D = exp(A)").first.wait_for(timeout=10_000)
     page.mouse.move(5, 5)  # away from the checkbox: its hint closes
     time.sleep(1.5)  # mid-animation (ANIMATION_SECONDS = 4)
     animating = page.screenshot(clip=SCENE_CLIP)
     (tmp_path / "single_rotation_generic.png").write_bytes(page.screenshot())
     assert changed_fraction(before, animating) > MIN_CHANGED_FRACTION
-    assert "Φ = 69.55°" in scene.readout_single.handle.content  # SciPy: |rotvec| of ZXZ (30°, 50°, 20°)
+    assert "Φ = 69.55°" in scene.single_rotation.readout.handle.content  # SciPy: |rotvec| of ZXZ (30°, 50°, 20°)
 
     # The half turn preset, then θ dragged with the mouse: Φ stays 180°, d never flips.
     page.get_by_role("button", name="half turn").click()
@@ -66,7 +66,7 @@ def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until,
     time.sleep(0.3)
     axes.append(drawn_axis(scene))
     theta = scene.sim.angles_deg[1]
-    assert "Φ = 180.00°" in scene.readout_single.handle.content
+    assert "Φ = 180.00°" in scene.single_rotation.readout.handle.content
     steps = [float(a @ b) for a, b in zip(axes[:-1], axes[1:])]
     assert min(steps) > 0.0, steps  # the sign of d is kept while θ moves through half turns
     expected = np.array([0.0, -math.sin(math.radians(theta / 2)), math.cos(math.radians(theta / 2))])
@@ -77,7 +77,7 @@ def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until,
     # Φ = 0: no axis, and the readout says so.
     page.get_by_role("button", name="D = 1").click()
     page.get_by_text("d undefined").first.wait_for(timeout=10_000)
-    wait_until(lambda: not scene.single_axis.visible, timeout=10.0)
+    wait_until(lambda: not scene.single_rotation.axis.visible, timeout=10.0)
     time.sleep(1.0)
     (tmp_path / "single_rotation_phi_zero.png").write_bytes(page.screenshot())
     print(f"θ dragged to {theta}°; screenshots in {tmp_path}")

@@ -108,10 +108,10 @@ def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_un
     assert binding_of(view, view.gui_position).applied == taken + 1  # not (0, y, z) first
 
     page.get_by_text("Solid mesh").click()
-    weight = number_box(page, view.gui_mesh_mass)
+    weight = number_box(page, view.mesh_panel.gui_amount)
     weight.wait_for(timeout=10_000)
     type_into(page, weight, "1e-3", delay=60, end="Enter")  # the box's step (0.001) allows it
-    wait_until(lambda: view.gui_mesh_mass.value == 0.001, timeout=10.0)
+    wait_until(lambda: view.mesh_panel.gui_amount.value == 0.001, timeout=10.0)
     assert weight.input_value() == "0.001" and session.last_error is None
 
 

@@ -23,6 +23,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 import app.scenes.inertia as inertia_scene
+import app.scenes.inertia.simulation as inertia_simulation
 from app.kit.presets import PresetError
 from physics.inertia import box_inertia, mesh_mass_properties, principal_axes_near
 
@@ -57,7 +58,7 @@ def upload(manual, view, name: str, content: bytes) -> None:  # type: ignore[no-
     before = view.sim.version, view.message.text
     transfer, part = str(uuid.uuid4()), 1 << 20
     parts = [content[k:k + part] for k in range(0, len(content), part)]
-    source = view.gui_upload._impl.uuid
+    source = view.mesh_panel.gui_upload._impl.uuid
     manual.client.send(_messages.FileTransferStartUpload(source, transfer, name, "application/octet-stream",
                                                          len(parts), len(content)))
     for index, chunk in enumerate(parts):
@@ -245,7 +246,7 @@ def test_masses_are_added_weighed_moved_selected_and_bad_values_refused(manual) 
 @pytest.mark.parametrize("kind", ["stl", "obj", "ply", "off", "glb"])
 def test_a_mesh_in_each_format_matches_trimesh_and_its_parallel_axis_term(manual, kind: str) -> None:
     view = _inertia(manual)
-    view.gui_mesh_mass.value = 2.0
+    view.mesh_panel.gui_amount.value = 2.0
     mesh = asymmetric_mesh()
     upload(manual, view, f"body.{kind}", exported(mesh, kind))
     assert view.sim.mesh is not None, view.message.text
@@ -272,7 +273,7 @@ def test_a_mesh_in_each_format_matches_trimesh_and_its_parallel_axis_term(manual
 
 def test_each_bad_mesh_is_refused_with_its_reason_and_the_last_body_stays(manual, monkeypatch) -> None:
     view = _inertia(manual)
-    view.gui_mesh_mass.value = 2.0
+    view.mesh_panel.gui_amount.value = 2.0
     upload(manual, view, "box.stl", exported(trimesh.creation.box(extents=(0.6, 0.4, 0.2)), "stl"))
     props = view.sim.properties()
     assert props["mass"] == pytest.approx(2.0)
@@ -293,7 +294,7 @@ def test_each_bad_mesh_is_refused_with_its_reason_and_the_last_body_stays(manual
         assert "Mesh refused" in view.message.text and reason in view.message.text, (name, view.message.text)
         assert name in view.message.text and "last valid body stays" in view.message.text
         assert view.sim.mesh is good  # the last valid body stays
-    monkeypatch.setattr(inertia_scene, "MAX_FACES", 100)  # 500k faces would be a 25 MB upload
+    monkeypatch.setattr(inertia_simulation, "MAX_FACES", 100)  # 500k faces would be a 25 MB upload
     upload(manual, view, "ball.stl", exported(trimesh.creation.icosphere(subdivisions=2), "stl"))
     assert "320 faces, more than 100" in view.message.text and view.sim.mesh is good
     assert manual.session.error_count == 0, manual.session.last_error
@@ -301,21 +302,21 @@ def test_each_bad_mesh_is_refused_with_its_reason_and_the_last_body_stays(manual
 
 def test_a_mesh_given_by_its_density_and_reweighed(manual) -> None:
     view = _inertia(manual)
-    view.gui_mesh_given.value = "density [kg/m³]"
-    assert view.gui_mesh_mass.label == "density [kg/m³]" and view.gui_mesh_mass.value == 1000.0
-    view.gui_mesh_mass.value = 500.0
+    view.mesh_panel.gui_given.value = "density [kg/m³]"
+    assert view.mesh_panel.gui_amount.label == "density [kg/m³]" and view.mesh_panel.gui_amount.value == 1000.0
+    view.mesh_panel.gui_amount.value = 500.0
     upload(manual, view, "box.stl", exported(trimesh.creation.box(extents=(1.0, 2.0, 3.0)), "stl"))
     assert view.sim.properties()["mass"] == pytest.approx(3000.0, rel=1e-6)
-    view.gui_mesh_mass.value = -1.0
+    view.mesh_panel.gui_amount.value = -1.0
     assert "density -1.0 kg/m³: a number from 1 to 100000 wanted" in view.message.text
-    assert view.sim.mesh_mass == pytest.approx(3000.0) and view.gui_mesh_mass.value == pytest.approx(500.0)
-    view.gui_mesh_mass.value = 1000.0  # re-weighed: I scales with the mass
+    assert view.sim.mesh_mass == pytest.approx(3000.0) and view.mesh_panel.gui_amount.value == pytest.approx(500.0)
+    view.mesh_panel.gui_amount.value = 1000.0  # re-weighed: I scales with the mass
     assert view.sim.properties()["mass"] == pytest.approx(6000.0, rel=1e-6)
-    view.gui_mesh_given.value = "mass [kg]"  # nothing changes, the box shows the mass
-    assert view.gui_mesh_mass.value == pytest.approx(6000.0) and view.sim.mesh_mass == pytest.approx(6000.0)
-    view.load_shipped("book")
+    view.mesh_panel.gui_given.value = "mass [kg]"  # nothing changes, the box shows the mass
+    assert view.mesh_panel.gui_amount.value == pytest.approx(6000.0) and view.sim.mesh_mass == pytest.approx(6000.0)
+    view.mesh_panel.load_shipped("book")
     assert view.sim.mesh_name == "book.stl" and view.sim.mesh_mass == pytest.approx(6000.0)
-    view.load_shipped("../../etc/passwd")
+    view.mesh_panel.load_shipped("../../etc/passwd")
     assert "No shipped mesh" in view.message.text and view.sim.mesh_name == "book.stl"
 
 
@@ -326,7 +327,7 @@ def test_O_is_dragged_with_its_own_gizmo(manual) -> None:
     np.testing.assert_allclose(view.sim.properties()["O"], (0.5, 0.5, -0.5))
     np.testing.assert_allclose(view.gui_about.value, (0.5, 0.5, -0.5))
     assert "m(|d|²𝟙 − d dᵀ)" in view.readout.handle.content
-    view.load_shipped("book")  # a mesh drawn ×k: the gizmo is in scene units, O in metres
+    view.mesh_panel.load_shipped("book")  # a mesh drawn ×k: the gizmo is in scene units, O in metres
     k = view.sim.display_scale()
     assert k > 1.0 and f"drawn ×{k:g}" in view.readout.handle.content
     view.O_gizmo.position = (0.1 * k, 0.0, 0.0)
@@ -350,7 +351,7 @@ def test_spin_it_hands_the_body_to_the_free_body_scene(manual) -> None:
 
     manual.session.select_scene("Inertia")
     view = manual.session.scene
-    view.gui_mesh_mass.value = 1.0
+    view.mesh_panel.gui_amount.value = 1.0
     mesh = asymmetric_mesh()
     upload(manual, view, "box.stl", exported(mesh, "stl"))
     view.spin_it()

@@ -51,7 +51,7 @@ def parse_single_readout(text: str) -> dict[str, object]:
 
 def drawn_axis(view) -> np.ndarray:  # type: ignore[no-untyped-def]
     """The unit vector the d arrow points along (from its tail at -L d to its head at +L d)."""
-    tail, head = np.asarray(view.single_axis.points, dtype=float)[0]
+    tail, head = np.asarray(view.single_rotation.axis.points, dtype=float)[0]
     return (head - tail) / np.linalg.norm(head - tail)
 
 
@@ -64,21 +64,22 @@ def view(manual):  # type: ignore[no-untyped-def]
 
 def switch(manual, on: bool) -> None:  # type: ignore[no-untyped-def]
     with manual.session.lock:
-        manual.session.scene.gui_single_rotation.value = on  # runs its callback, as a click does
+        manual.session.scene.single_rotation.gui_toggle.value = on  # runs its callback, as a click does
 
 
 def test_the_toggle_draws_and_hides_the_axis_and_the_arc(manual, view) -> None:  # type: ignore[no-untyped-def]
-    assert not view.gui_single_rotation.value and not view.single_node.visible
-    assert not view.readout_single.handle.visible
+    single = view.single_rotation
+    assert not single.gui_toggle.value and not single.node.visible
+    assert not single.readout.handle.visible
     switch(manual, True)
-    assert view.single_node.visible and view.single_axis.visible and view.single_arc.visible
-    assert view.readout_single.handle.visible
+    assert single.node.visible and single.axis.visible and single.arc.visible
+    assert single.readout.handle.visible
     D = view.sim.R_space_body  # the first preset: (30°, 50°, 20°)
     reference = Rotation.from_matrix(D)
     d = reference.as_rotvec() / reference.magnitude()
     np.testing.assert_allclose(drawn_axis(view), d, atol=POSE_TOL)
     # The arc: in the plane ⟂ d at SINGLE_ARC_RADIUS, from u to D u, turning by Φ about d.
-    segments = np.asarray(view.single_arc.points, dtype=float)
+    segments = np.asarray(single.arc.points, dtype=float)
     arc = np.concatenate([segments[:ARC_SEGMENTS, 0], segments[ARC_SEGMENTS - 1:ARC_SEGMENTS, 1]])
     np.testing.assert_allclose(arc @ d, 0.0, atol=POSE_TOL)
     np.testing.assert_allclose(np.linalg.norm(arc, axis=1), SINGLE_ARC_RADIUS, atol=POSE_TOL)
@@ -87,20 +88,21 @@ def test_the_toggle_draws_and_hides_the_axis_and_the_arc(manual, view) -> None: 
     assert turned == pytest.approx(reference.magnitude(), abs=1e-6)
     np.testing.assert_allclose(segments[ARC_SEGMENTS:, 0], 0.0)  # two spokes from the origin to the ends
     switch(manual, False)
-    assert not view.single_node.visible and not view.readout_single.handle.visible
-    assert view.animation_time is None and not view.ghost_turn.visible
+    assert not single.node.visible and not single.readout.handle.visible
+    assert single.animation_time is None and not single.ghost_turn.visible
     assert manual.session.error_count == 0, manual.session.last_error
 
 
 @pytest.mark.parametrize("angles_deg", [(30.0, 50.0, 20.0), (-120.0, 100.0, 170.0), (0.0, 60.0, 180.0),
                                         (90.0, 180.0, 0.0), (10.0, 1.0, -10.0), (0.0, 0.0, 0.0)])
 def test_the_readout_parses_back_to_scipys_numbers(manual, view, angles_deg) -> None:  # type: ignore[no-untyped-def]
+    single = view.single_rotation
     switch(manual, True)
     with manual.session.lock:
         view.set_angles_deg(*angles_deg)
     D = Rotation.from_euler("ZXZ", np.radians(angles_deg)).as_matrix()
     reference = Rotation.from_matrix(D)
-    shown = parse_single_readout(view.readout_single.handle.content)
+    shown = parse_single_readout(single.readout.handle.content)
     assert shown["angle_deg"] == pytest.approx(math.degrees(reference.magnitude()), abs=DEG_TOL)
     rotvec = reference.as_rotvec()
     quat = reference.as_quat(canonical=True, scalar_first=True)
@@ -112,7 +114,7 @@ def test_the_readout_parses_back_to_scipys_numbers(manual, view, angles_deg) -> 
     hat = np.array([[0.0, -rotvec[2], rotvec[1]], [rotvec[2], 0.0, -rotvec[0]], [-rotvec[1], rotvec[0], 0.0]])
     np.testing.assert_allclose(shown["A"], hat, atol=READOUT_TOL)  # type: ignore[arg-type]
     if reference.magnitude() < 1e-9:
-        assert shown["axis"] is None and not view.single_axis.visible and not view.single_arc.visible
+        assert shown["axis"] is None and not single.axis.visible and not single.arc.visible
     else:
         np.testing.assert_allclose(shown["axis"], rotvec / reference.magnitude(), atol=READOUT_TOL)  # type: ignore[arg-type]
         np.testing.assert_allclose(drawn_axis(view), rotvec / reference.magnitude(), atol=POSE_TOL)
@@ -120,27 +122,29 @@ def test_the_readout_parses_back_to_scipys_numbers(manual, view, angles_deg) -> 
 
 
 def test_phi_zero_says_the_axis_is_undefined_and_draws_none(manual, view) -> None:  # type: ignore[no-untyped-def]
+    single = view.single_rotation
     switch(manual, True)
     manual.session.apply_preset("D = 1")
-    content = view.readout_single.handle.content
+    content = single.readout.handle.content
     assert "d undefined" in content and "Φ = 0.00°" in content
-    assert view.single_node.visible and not view.single_axis.visible and not view.single_arc_label.visible
+    assert single.node.visible and not single.axis.visible and not single.arc_label.visible
     with manual.session.lock:
         view.set_angles_deg(40.0, 0.0, -40.0)  # Rz(40°) Rz(-40°): 1 up to rounding, still no axis
-    assert not view.single_axis.visible and "d undefined" in view.readout_single.handle.content
+    assert not single.axis.visible and "d undefined" in single.readout.handle.content
     with manual.session.lock:
         view.set_angles_deg(1.0, 0.0, 0.0)  # one degree about z: the axis is back, along +z
-    assert view.single_axis.visible
+    assert single.axis.visible
     np.testing.assert_allclose(drawn_axis(view), [0.0, 0.0, 1.0], atol=POSE_TOL)
 
 
 def test_sliders_through_half_turns_never_flip_the_drawn_axis(manual, view) -> None:  # type: ignore[no-untyped-def]
     """(φ, θ, 180° − φ) is a half turn for every φ, θ: dragging θ then φ in 1° steps moves d
     continuously (each drawn axis within 1.5° of the last), and the readout names the half turn."""
+    single = view.single_rotation
     switch(manual, True)
     manual.session.apply_preset("half turn")
-    assert "Φ = 180.00°" in view.readout_single.handle.content
-    assert "Half turn" in view.readout_single.handle.content
+    assert "Φ = 180.00°" in single.readout.handle.content
+    assert "Half turn" in single.readout.handle.content
     previous = drawn_axis(view)
     path = [(0.0, float(theta), 180.0) for theta in [*range(60, 181), *range(179, 119, -1)]] + \
         [(float(phi), 120.0, 180.0 - phi) for phi in range(0, 181)]
@@ -154,36 +158,38 @@ def test_sliders_through_half_turns_never_flip_the_drawn_axis(manual, view) -> N
 
 
 def test_switching_on_animates_the_single_turn_beside_the_zxz_turn(manual, view) -> None:  # type: ignore[no-untyped-def]
+    single = view.single_rotation
     switch(manual, True)
-    assert view.animation_time == 0.0 and view.ghost_turn.visible and view.ghost_zxz.visible
+    assert single.animation_time == 0.0 and single.ghost_turn.visible and single.ghost_zxz.visible
     phi, theta, psi = view.sim.angles
     rotvec = Rotation.from_matrix(view.sim.R_space_body).as_rotvec()
 
     def pose(node) -> np.ndarray:  # type: ignore[no-untyped-def]
         return Rotation.from_quat(np.asarray(node.wxyz), scalar_first=True).as_matrix()
 
-    np.testing.assert_allclose(pose(view.ghost_turn), np.eye(3), atol=POSE_TOL)
+    np.testing.assert_allclose(pose(single.ghost_turn), np.eye(3), atol=POSE_TOL)
     manual.tick(ANIMATION_SECONDS / 2)  # s = 1/2: half of Φ about d; z-x-z in the middle of its θ step
-    np.testing.assert_allclose(pose(view.ghost_turn), exp_so3(0.5 * rotvec), atol=1e-6)
-    np.testing.assert_allclose(pose(view.ghost_zxz), rot_z(phi) @ rot_x(0.5 * theta), atol=1e-6)
+    np.testing.assert_allclose(pose(single.ghost_turn), exp_so3(0.5 * rotvec), atol=1e-6)
+    np.testing.assert_allclose(pose(single.ghost_zxz), rot_z(phi) @ rot_x(0.5 * theta), atol=1e-6)
     manual.tick(ANIMATION_SECONDS / 2 + 0.1)  # both end on D and stay there
-    for node in (view.ghost_turn, view.ghost_zxz):
+    for node in (single.ghost_turn, single.ghost_zxz):
         assert node.visible
         np.testing.assert_allclose(pose(node), rot_z(phi) @ rot_x(theta) @ rot_z(psi), atol=1e-6)
     manual.tick(ANIMATION_HOLD)
-    assert view.animation_time is None and not view.ghost_turn.visible and not view.ghost_zxz.visible
+    assert single.animation_time is None and not single.ghost_turn.visible and not single.ghost_zxz.visible
     with manual.session.lock:
-        view.animate()  # the Animate button replays it
-    assert view.animation_time == 0.0 and view.ghost_turn.visible
+        single.animate()  # the Animate button replays it
+    assert single.animation_time == 0.0 and single.ghost_turn.visible
     assert manual.session.error_count == 0, manual.session.last_error
 
 
 def test_the_animate_button_switches_the_toggle_on(manual, view) -> None:  # type: ignore[no-untyped-def]
     from viser import _messages
 
-    manual.client.send(_messages.GuiUpdateMessage(view.gui_animate._impl.uuid, {"value": True}))  # a click
-    manual.wait(lambda: view.gui_single_rotation.value)
-    assert view.animation_time is not None and view.single_axis.visible
+    single = view.single_rotation
+    manual.client.send(_messages.GuiUpdateMessage(single.gui_animate._impl.uuid, {"value": True}))  # a click
+    manual.wait(lambda: single.gui_toggle.value)
+    assert single.animation_time is not None and single.axis.visible
     assert manual.session.error_count == 0, manual.session.last_error
 
 
@@ -191,10 +197,10 @@ def test_the_euler_lessons_first_step_shows_the_single_rotation(manual) -> None:
     session = manual.session
     with session.lock:
         session.start_lesson("§1 Euler angles and ω")
-    view = session.scene
+    single = session.scene.single_rotation
     assert session.lesson_step == 0
-    assert view.gui_single_rotation.value and view.single_axis.visible and view.animation_time == 0.0
-    assert "d = (" in view.readout_single.handle.content
+    assert single.gui_toggle.value and single.axis.visible and single.animation_time == 0.0
+    assert "d = (" in single.readout.handle.content
     # Stepping through the whole lesson, each step's animation done before the next: under a minute.
     seconds = 0.0
     for k in range(1, len(session.lesson.steps)):

@@ -1,4 +1,4 @@
-"""The z-x-z Euler-angle explorer ("Euler angles" scene).
+"""The z-x-z Euler-angle explorer's view ("Euler angles" scene): nodes, panel and drawing.
 
 What it shows (docs/CONVENTIONS.md, "Euler angles", "Angular velocity"): the space axes x y z,
 a box whose proportions follow its principal moments, its body axes x′ y′ z′, the line of nodes
@@ -6,30 +6,14 @@ e_n = (cos φ, sin φ, 0), the two intermediate frames of D = Rz(φ) Rx(θ) Rz(�
 ξηζ = Rz(φ); after θ: ξ′η′ζ′ = Rz(φ) Rx(θ)), arcs for φ, θ, ψ, and the angular velocity
 ω = φ̇ e_z + θ̇ e_n + ψ̇ e_z′ (memo 1.17) drawn head to tail: φ̇ e_z from the origin, θ̇ e_n
 from its tip, ψ̇ e_z′ from that one, and the resultant ω from the origin to the end.
-Readouts: D, its three factors, and ω with its space (ω_s) and body (ω_b) components.
+Readouts (`app.scenes.euler_angles.readouts`): D, its three factors, and ω with its space (ω_s)
+and body (ω_b) components.  The single rotation D = exp(Φ hat(d)) (the toggle `Single rotation`,
+off by default) is `app.scenes.euler_angles.single_rotation`.
 
-The single rotation (memo 1.1-1.3; the toggle `Single rotation`, off by default): the same D as
-one turn, D = exp(A), A = Φ hat(d).  Drawn: the axis d (a near-black line through the origin,
-both ways, its head at +d) and the angle Φ (an arc about d, in the plane through the origin
-perpendicular to d, from the projection of the space axis e_k most perpendicular to d to D of
-it, which is the projection of the body axis e_k′; the two spokes in the colours of e_k and
-e_k′).  Read out: Φ, d, A = Φ hat(d), the rotation vector Φ d and the quaternion.  At Φ = 0
-(below `physics.so3.AXIS_UNDEFINED_ANGLE`) no axis is drawn and the readout says the axis is
-undefined; within `HALF_TURN_BAND` of Φ = π the axis comes from (D + 1)/2 = d dᵀ with the sign
-nearer the last axis drawn (`physics.so3.single_rotation`), so sliders through half turns do not
-flip it.  The animation: switching the toggle on, or the `Animate` button, turns two outlines of
-the box from the space axes to D over ANIMATION_SECONDS: a dark one by exp(s Φ hat(d)), s = 0 →
-1 (the single turn), and beside it a coloured one through the three Euler steps z-x-z (purple
-while φ turns about z, pink for θ about the line of nodes, teal for ψ about z′); both end on the
-body, stay ANIMATION_HOLD seconds and go.  The animation is this view's (a presenter's is seen by
-the followers); it follows D if the angles move meanwhile.
-
-The simulation (`EulerAnglesSimulation`, no viser) advances the angles at the set rates
-(φ, θ, ψ grow linearly; a θ outside [0°, 180°] is shown as the equivalent
-(φ + 180°, 360° − θ, ψ + 180°), so the sliders wrap).  Near θ = 0° or 180° the line of nodes
-fades and the panel says that only φ + ψ (or φ − ψ) is defined.  Every formula comes from
-`physics`; degrees on the sliders, radians everywhere else.  Presets:
-`assets/presets/euler_angles.json`.
+The simulation (`app.scenes.euler_angles.simulation.EulerAnglesSimulation`, no viser) advances
+the angles at the set rates, so the sliders wrap.  Near θ = 0° or 180° the line of nodes fades
+and the panel says that only φ + ψ (or φ − ψ) is defined.  Every formula comes from `physics`;
+degrees on the sliders, radians everywhere else.  Presets: `assets/presets/euler_angles.json`.
 
 **What a playing frame sends** (the frame budget, tests/test_frame_budget.py; the first
 preset, φ̇ θ̇ ψ̇ = 20, 10, 45 °/s).  The decomposition is a chain of frames, each turned by one
@@ -55,63 +39,44 @@ them orientations).
 
 from __future__ import annotations
 
-import copy
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 import viser
 
 from app.kit.common import (
-    BODY_AXIS_COLORS,
     OMEGA_COLOR,
-    SPACE_AXIS_COLORS,
     CameraView,
     SliderSpec,
     Throttle,
     axis_segments,
-    canonical_angles_deg,
-    format_deg,
-    format_matrix,
-    format_vector,
     gimbal_note,
-    polyline_segments,
-    wrap_deg,
 )
-from app.kit.fastprops import set_points, set_position, set_wxyz
+from app.kit.fastprops import set_points, set_position
 from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
-from app.kit.history import Snapshot
-from app.kit.labels import AXES, DETAIL, KEY, LabelLayer
+from app.kit.labels import DETAIL, KEY, LabelLayer
 from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
 from app.kit.presets import Preset
 from app.kit.room import Room
 from app.kit.view import SceneView, nth
 from app.kit.widgets import Body, LineOfNodes, Stage
+from app.scenes.euler_angles import readouts
+from app.scenes.euler_angles.simulation import GREEK, KEYS, EulerAnglesSimulation, box_edges
+from app.scenes.euler_angles.single_rotation import SingleRotationPart
 from physics._types import Vec3
-from physics.euler import (
-    body_z_axis,
-    euler_frames,
-    line_of_nodes,
-    omega_body_from_euler_rates,
-    omega_space_from_euler_rates,
-)
-from physics.inertia import InertiaError, box_extents_from_moments, validate_principal_moments
-from physics.quaternion import wxyz_from_matrix
-from physics.so3 import HALF_TURN_BAND, SingleRotation, exp_so3, rot_x, rot_z, single_rotation, turn_path
+from physics.inertia import InertiaError
 
 __all__ = [
     "ANGLE_SPECS",
-    "INITIAL_ANGLES_DEG",
     "INITIAL_CAMERA",
     "INITIAL_FOV_DEG",
+    "MOMENT_SPECS",
     "RATE_ARROW_SCALE",
+    "RATE_SPECS",
     "VIEW",
-    "EulerAnglesSimulation",
     "EulerAnglesView",
-    "arc_reference_axis",
-    "box_outline_segments",
-    "canonical_angles_deg",
 ]
 
 _FULL_MARKS = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
@@ -132,21 +97,14 @@ MOMENT_SPECS = tuple(
     SliderSpec(f"I{k + 1}", f"I{k + 1} [kg m²]", 0.1, 5.0, 0.05, f"principal moment about the body {'xyz'[k]}′ axis")
     for k in range(3)
 )
-INITIAL_ANGLES_DEG = (30.0, 50.0, 20.0)  # the first preset's pose
-INITIAL_MOMENTS = (1.0, 2.0, 2.6)  # box with edges a : b : c = 3 : 2 : 1
-BODY_SIZE = 1.25  # display length [scene units] of the body's longest edge
-MIN_EDGE = 0.02  # display thickness of a flat body (a lamina: I1 + I2 = I3)
 BODY_AXIS_LENGTH = 1.35
 FRAME_AXIS_LENGTH = 1.1
 ARC_RADII = {"phi": 1.2, "theta": 1.05, "psi": 0.95}
-ARC_SEGMENTS = 48
 RATE_ARROW_SCALE = 1.0 / 30.0  # [scene units per deg/s]: 30°/s is one unit long
 FRAME_COLORS = ((240, 160, 160), (150, 215, 160), (160, 180, 245))
 BODY_COLOR = (235, 170, 70)
 BODY_OPACITY = 0.7
 ARC_COLORS = {"phi": (140, 50, 210), "theta": (215, 0, 120), "psi": (0, 140, 140)}
-GREEK = {"phi": "φ", "theta": "θ", "psi": "ψ"}
-KEYS = ("phi", "theta", "psi")
 SHORT = {"phi": "p", "theta": "t", "psi": "s"}  # in node names (every message carries its node's name)
 
 # Seen from x > 0, y < 0 so that x, y, the line of nodes and x′ are all visible for typical
@@ -154,15 +112,6 @@ SHORT = {"phi": "p", "theta": "t", "psi": "s"}  # in node names (every message c
 VIEW = CameraView(position=(5.9, -2.0, 3.3), look_at=(0.5, 1.15, 0.25), fov_deg=40.0)
 INITIAL_CAMERA = {"position": VIEW.position, "look_at": VIEW.look_at, "up": VIEW.up}
 INITIAL_FOV_DEG = VIEW.fov_deg
-
-# The single rotation D = exp(Φ hat(d)).
-SINGLE_COLOR = (40, 40, 40)  # the axis d, the arc Φ and the single-turn outline: near black
-SINGLE_AXIS_HALF_LENGTH = 2.3  # [scene units] d is drawn from -this to +this, past the space axes
-SINGLE_ARC_RADIUS = 1.6  # [scene units] outside the φ θ ψ arcs (at most 1.2)
-ARC_HYSTERESIS = 0.25  # the Φ arc keeps its space axis e_k until another is this much more perpendicular to d
-ANIMATION_SECONDS = 4.0  # [s] of wall time: the outlines turn from 1 to D
-ANIMATION_HOLD = 1.5  # [s] they then stay on the body, and go
-ZXZ_KEYS = KEYS  # the three-step outline's colour is ARC_COLORS of the step it is in
 
 ARC_PERIOD = 1.0 / 20.0  # [s] the single rotation's axis and arc while playing (20 Hz)
 ARC_TEXT_PERIOD = 0.5  # [s] the arcs' readings ("φ = 31°") while playing (2 Hz; exact when paused)
@@ -173,130 +122,6 @@ PHI_REACH = 2.2  # the line of nodes (1.9), ω's components
 THETA_REACH = 1.6  # the body under the after-θ frame (axes 1.35 and labels), ψ̇ e_z′ (≤ 1.5 at 45°/s) turning ω's tip
 PSI_REACH = 1.6  # the body's axes (1.35) and their labels
 READOUT_PERIOD = 0.5  # the readout tab shown and the status line, while playing (2 Hz; exact when paused)
-
-
-class EulerAnglesSimulation:
-    """Angles advancing at constant Euler rates (no viser).
-
-    Attributes:
-        angles_deg: [φ, θ, ψ] [deg] in the principal ranges (what the sliders show).
-        rates_deg: [φ̇, θ̇, ψ̇] [deg/s].  moments: (I1, I2, I3) [kg m²] of the box drawn.
-        t: seconds played since the angles were last set.  version: bumped on every change.
-        run: bumped at every reset (the replay's history starts afresh).
-    """
-
-    def __init__(self, angles_deg: Sequence[float], rates_deg: Sequence[float],
-                 moments: Sequence[float] = INITIAL_MOMENTS) -> None:
-        self.rates_deg = [float(r) for r in rates_deg]
-        self.moments = tuple(float(m) for m in validate_principal_moments(moments))
-        self.preset: str | None = None
-        self.version = 0
-        self.run = 0
-        self.set_angles(angles_deg)
-
-    def set_angles(self, angles_deg: Sequence[float]) -> None:
-        """Set (φ, θ, ψ) [deg]: playing and Reset start from here (t = 0)."""
-        self._initial_deg = np.array(angles_deg, dtype=float)
-        self.reset()
-
-    def set_rates(self, rates_deg: Sequence[float]) -> None:
-        self.rates_deg = [float(r) for r in rates_deg]
-        self.version += 1
-
-    def set_moments(self, moments: Sequence[float]) -> None:
-        """InertiaError (nothing changes) if the moments are not a body."""
-        self.moments = tuple(float(m) for m in validate_principal_moments(moments))
-        self.version += 1
-
-    def reset(self) -> None:
-        self._played_deg = self._initial_deg.copy()
-        self.run += 1
-        self.t = 0.0
-        self.angles_deg = list(canonical_angles_deg(*self._played_deg))
-        self.version += 1
-
-    def advance(self, dt: float) -> None:
-        played = self._played_deg + np.array(self.rates_deg) * dt
-        played[[0, 2]] = [wrap_deg(a) for a in played[[0, 2]]]
-        played[1] %= 360.0
-        self._played_deg = played
-        self.t += dt
-        self.angles_deg = list(canonical_angles_deg(*played))
-        self.version += 1
-
-    # ------------------------------------------------------------------ replay (app.kit.history)
-    def snapshot(self) -> Snapshot:
-        """The moment now: t, the angles as played (3) [deg], the rates (3) [deg/s] (the angles
-        shown are a function of those played)."""
-        values = [self.t, *self._played_deg.tolist(), *self.rates_deg]
-        return Snapshot(np.array(values, dtype=float))
-
-    def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
-        """The recorded moment back bit for bit (then `later` [s] on, for display)."""
-        v = snapshot.values
-        if v.shape != (7,):
-            raise ValueError("this snapshot is not an Euler-angles moment")
-        self.t = float(v[0])
-        self._played_deg = v[1:4].copy()
-        self.angles_deg = list(canonical_angles_deg(*self._played_deg))
-        self.rates_deg = [float(r) for r in v[4:7]]
-        if later > 0.0:
-            self.advance(later)
-        self.version += 1
-
-    def truncate(self) -> None:
-        """No history to cut (the scene keeps none)."""
-
-    def fork(self) -> EulerAnglesSimulation:
-        """An exact, independent copy: angles (as played and as shown), rates, moments, t, the
-        angles Reset goes back to, preset and version (a deep copy: a few small arrays)."""
-        return copy.deepcopy(self)
-
-    @property
-    def angles(self) -> tuple[float, float, float]:
-        """(φ, θ, ψ) [rad]."""
-        phi, theta, psi = (math.radians(a) for a in self.angles_deg)
-        return phi, theta, psi
-
-    @property
-    def R_space_body(self) -> np.ndarray:
-        return euler_frames(*self.angles).body
-
-
-def arc_reference_axis(axis: np.ndarray, previous: int | None = None) -> int:
-    """Index k of the space axis e_k the Φ arc starts from: the one most perpendicular to the
-    unit axis d (3,) (smallest |d_k|), except that `previous` is kept while it is within
-    ARC_HYSTERESIS of the best (near a tie, as for d = (1, 1, 1)/√3, the arc does not jump)."""
-    magnitudes = np.abs(np.asarray(axis, dtype=float))
-    best = int(np.argmin(magnitudes))
-    if previous is not None and magnitudes[previous] <= magnitudes[best] + ARC_HYSTERESIS:
-        return previous
-    return best
-
-
-def box_outline_segments(edges: Sequence[float] | np.ndarray, axis_length: float) -> np.ndarray:
-    """The 12 edges of a box centred at the origin with edge lengths `edges` (3,) along x y z,
-    then its three axes from the origin, `axis_length` long: segments (15, 2, 3)."""
-    half = 0.5 * np.asarray(edges, dtype=float)
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float) * half
-    lines = [(a, b) for a in range(8) for b in range(a + 1, 8) if bin(a ^ b).count("1") == 1]
-    box = np.array([[corners[a], corners[b]] for a, b in lines])
-    return np.concatenate([box, axis_segments(np.eye(3), axis_length)])
-
-
-def _outline_colors(color: tuple[int, int, int]) -> np.ndarray:
-    """Colours (15, 2, 3) of `box_outline_segments`: the box in `color`, the axes x′ y′ z′."""
-    colors = np.empty((15, 2, 3), dtype=np.uint8)
-    colors[:12] = color
-    colors[12:] = np.array(BODY_AXIS_COLORS, dtype=np.uint8)[:, None, :]
-    return colors
-
-
-def _box_edges(moments: Sequence[float]) -> np.ndarray:
-    """The drawn box's edges (3,) [scene units]: the uniform box of these moments, scaled so the
-    longest edge is BODY_SIZE (a flat lamina is drawn MIN_EDGE thick)."""
-    edges = np.asarray(box_extents_from_moments(moments, mass=1.0), dtype=float)
-    return np.maximum(BODY_SIZE * edges / edges.max(), MIN_EDGE)
 
 
 def _arc_point(key: str) -> Callable[[float], np.ndarray]:
@@ -370,12 +195,6 @@ class EulerAnglesView(SceneView):
         self._arc_throttle = Throttle(ARC_PERIOD)
         self._slider_throttle = Throttle(SLIDER_PERIOD)
         self._readout_throttle = Throttle(READOUT_PERIOD)
-        self._single: tuple[int, SingleRotation] | None = None  # (sim version, D as one turn)
-        self._last_axis: np.ndarray | None = None  # the axis d last drawn (its sign is kept near Φ = π)
-        self._arc_axis: int | None = None  # k of the space axis e_k the Φ arc starts from
-        self.animation_time: float | None = None  # [s] into the animation; None: not animating
-        self._zxz_step = -1
-        self._outline_moments: tuple[float, ...] = ()
         self.build()
 
     # ------------------------------------------------------------------ building
@@ -440,32 +259,14 @@ class EulerAnglesView(SceneView):
         self.omega_label = labels.add(scene.add_label(f"{root}/p/w/s/l", "ω", font_screen_scale=2.4,
                                                       anchor="center-center", visible=False), KEY)
         self._omega_drawn: tuple[float, ...] | None = None  # (rates, shown) the constant arrows were drawn for
-        # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines.
-        single = f"{root}/d"
-        self.single_node = scene.add_frame(single, show_axes=False, visible=False)
-        self.single_axis = scene.add_arrows(f"{single}/d", np.zeros((1, 2, 3)), SINGLE_COLOR, shaft_radius=0.014,
-                                            head_radius=0.06, head_length=0.14)
-        self.single_axis_label = labels.add(scene.add_label(f"{single}/dl", "d", font_screen_scale=1.8,
-                                                            anchor="center-center"), AXES)
-        self.single_arc = scene.add_line_segments(f"{single}/a", np.zeros((ARC_SEGMENTS + 2, 2, 3)),
-                                                  np.zeros((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8),
-                                                  thickness=4.0, thickness_units="screen")
-        self.single_arc_label = labels.add(scene.add_label(f"{single}/al", "Φ", font_screen_scale=1.6,
-                                                           anchor="center-center"), AXES)
-        self.ghost_turn = scene.add_frame(f"{single}/g1", show_axes=False, visible=False)
-        self.ghost_zxz = scene.add_frame(f"{single}/g3", show_axes=False, visible=False)
-        outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
-        self.ghost_turn_lines = scene.add_line_segments(f"{single}/g1/l", outline,
-                                                        _outline_colors(SINGLE_COLOR), thickness=3.0,
-                                                        thickness_units="screen")
-        self.ghost_zxz_lines = scene.add_line_segments(f"{single}/g3/l", outline,
-                                                       _outline_colors(ARC_COLORS["phi"]), thickness=3.0,
-                                                       thickness_units="screen")
-        self._outline_moments = self.sim.moments
+        # The single rotation D = exp(Φ hat(d)): axis, arc (with its two spokes), two animated outlines;
+        # its folder comes between the rates and the readout.
+        self.single_rotation = SingleRotationPart(self.client, root, labels, self.sim,
+                                                  tuple(ARC_COLORS[key] for key in KEYS), 0.6 * BODY_AXIS_LENGTH)
 
     def _build_box(self, scene: Any, parent: str) -> None:
         self.body_box = scene.add_box(
-            f"{parent}/box", color=BODY_COLOR, dimensions=tuple(float(e) for e in _box_edges(self.sim.moments)),
+            f"{parent}/box", color=BODY_COLOR, dimensions=tuple(float(e) for e in box_edges(self.sim.moments)),
             opacity=BODY_OPACITY, flat_shading=True, cast_shadow=False, receive_shadow=False,
         )
         self._drawn_moments = self.sim.moments
@@ -488,17 +289,7 @@ class EulerAnglesView(SceneView):
         self.folder_rates = gui.add_folder("Euler rates [deg/s]")
         with self.folder_rates:
             self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(RATE_SPECS, self.sim.rates_deg)]
-        self.folder_single = gui.add_folder("Single rotation D = exp(Φ hat d)")
-        with self.folder_single:
-            self.gui_single_rotation = gui.add_checkbox(
-                "Single rotation", False,
-                hint="D as one turn by Φ about the unit axis d (memo 1.1-1.3); switching it on animates once")
-            self.gui_animate = gui.add_button(
-                "Animate", icon=viser.Icon.PLAYER_PLAY,
-                hint="two outlines turn from the space axes to D: dark, by sΦ about d (s = 0 → 1); "
-                     "coloured, z-x-z in three steps (φ purple, θ pink, ψ teal)")
-            self.readout_single = Readout(gui)
-            self.readout_single.handle.visible = False
+        self.folder_single = self.single_rotation.build_gui()
         self.folder_readout = gui.add_folder("Readout")
         with self.folder_readout:
             # Three texts, one shown at a time (the server knows which: only that one is sent while playing).
@@ -543,8 +334,7 @@ class EulerAnglesView(SceneView):
         for handle in (self.gui_show_frames, self.gui_show_arcs, self.gui_show_omega):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
-        self.gui_single_rotation.on_update(wrap("single rotation", lambda _event: self._single_toggled()))
-        self.gui_animate.on_click(wrap("animate", lambda _event: self.animate()))
+        self.single_rotation.connect(wrap, self.refresh)
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, self.folder_angles,
                            self.folder_rates, self.folder_single, self.folder_readout, self.folder_body,
                            self.folder_display]
@@ -577,65 +367,12 @@ class EulerAnglesView(SceneView):
             try:
                 self.sim.set_moments(moments)
             except InertiaError as error:
-                shown = ", ".join(f"{m:.2f}" for m in self.sim.moments)
-                self.gui_moments_status.content = (
-                    f"**⚠ Not a rigid body:** {error}  \n"
-                    "Each moment must be at most the sum of the other two "
-                    f"(I1 + I2 ≥ I3 and cyclic).  Showing the last valid body, I = ({shown}) kg m²."
-                )
-                return (f"I{index + 1} = {value:g} refused: not a rigid body ({error}); "
-                        f"the body stays I = ({shown}) kg m².")
+                self.gui_moments_status.content = readouts.moments_refused_text(error, self.sim.moments)
+                return readouts.moments_refused_message(index, value, error, self.sim.moments)
             self.room.refresh()
             return None
 
         return apply
-
-    def _single_toggled(self) -> None:
-        if self.gui_single_rotation.value:
-            self.animate()
-        else:
-            self._stop_animation()
-        self.refresh()
-
-    def animate(self) -> None:
-        """Run the animation from s = 0 (switching `Single rotation` on if it is off, which
-        starts it)."""
-        if not self.gui_single_rotation.value:
-            self.gui_single_rotation.value = True  # its callback comes back here
-            return
-        self.animation_time = 0.0
-        self._zxz_step = -1
-        self._draw_animation()
-
-    def _stop_animation(self) -> None:
-        self.animation_time = None
-        for node in (self.ghost_turn, self.ghost_zxz):
-            if node.visible:
-                node.visible = False
-
-    def _draw_animation(self) -> None:
-        """The two outlines at the animation's time: exp(s Φ hat(d)) and the z-x-z turn, where
-        s = time / ANIMATION_SECONDS (at most 1); gone after ANIMATION_HOLD more seconds."""
-        time = self.animation_time
-        if time is None:
-            return
-        if time >= ANIMATION_SECONDS + ANIMATION_HOLD or not self.gui_single_rotation.value:
-            self._stop_animation()
-            return
-        s = min(time / ANIMATION_SECONDS, 1.0)
-        rotation = self.single()
-        phi, theta, psi = self.sim.angles
-        steps = [min(max(3.0 * s - k, 0.0), 1.0) for k in range(3)]  # φ, then θ, then ψ
-        R_zxz = rot_z(steps[0] * phi) @ rot_x(steps[1] * theta) @ rot_z(steps[2] * psi)
-        step = min(int(3.0 * s), 2)
-        if step != self._zxz_step:
-            self._zxz_step = step
-            self.ghost_zxz_lines.colors = _outline_colors(ARC_COLORS[ZXZ_KEYS[step]])
-        set_wxyz(self.ghost_turn, wxyz_from_matrix(exp_so3(s * rotation.rotvec)))
-        set_wxyz(self.ghost_zxz, wxyz_from_matrix(R_zxz))
-        for node in (self.ghost_turn, self.ghost_zxz):
-            if not node.visible:
-                node.visible = True
 
     def set_angles_deg(self, phi: float, theta: float, psi: float) -> None:
         """Set (φ, θ, ψ) [deg], as dragging the three sliders does."""
@@ -646,10 +383,7 @@ class EulerAnglesView(SceneView):
     def frame(self, dt: float) -> None:
         """The per-frame update while the angles move (and while the single rotation animates);
         arcs, sliders and text throttled."""
-        if self.animation_time is not None:
-            self.animation_time += dt
-            with self.client.atomic():
-                self._draw_animation()
+        self.single_rotation.advance(dt)
         if self.sim.version == self._drawn_version:
             self.labels.update(dt)  # the camera may have moved
             return
@@ -660,13 +394,13 @@ class EulerAnglesView(SceneView):
             if self._arc_text_throttle.ready(dt):
                 self.render_arc_text()
             if self._arc_throttle.ready(dt):
-                self.render_single_rotation()
+                self.single_rotation.render()
             self.labels.update(dt)
             if self._slider_throttle.ready(dt):
                 self._sync_sliders()
             if self._readout_throttle.ready(dt):
                 self.render_readout(only_shown=True)
-                self.render_single_readout()
+                self.single_rotation.render_readout()
                 self._refresh_status()
 
     def refresh(self) -> None:
@@ -675,11 +409,7 @@ class EulerAnglesView(SceneView):
         with self.client.atomic():
             if self.sim.moments != self._drawn_moments:
                 self.body.reshape(self._build_box)
-            if self.sim.moments != self._outline_moments:
-                outline = box_outline_segments(_box_edges(self.sim.moments), 0.6 * BODY_AXIS_LENGTH)
-                self.ghost_turn_lines.points = outline
-                self.ghost_zxz_lines.points = outline
-                self._outline_moments = self.sim.moments
+            self.single_rotation.reshape()
             self._refresh_moments_status()
             self.transport.show(self.room.playing, self.room.time_scale)
             self.presets_row.show_note(self.preset_shown())
@@ -688,10 +418,10 @@ class EulerAnglesView(SceneView):
             self.render_pose(exact)
             self.render_arcs(exact)
             self.render_arc_text()
-            self.render_single_rotation()
-            self._draw_animation()
+            self.single_rotation.render()
+            self.single_rotation.draw_animation()
             self.render_readout()
-            self.render_single_readout()
+            self.single_rotation.render_readout()
             self._refresh_status()
             self.labels.settle()
 
@@ -702,16 +432,10 @@ class EulerAnglesView(SceneView):
         self.show_values(self.gui_moments, MOMENT_SPECS, self.sim.moments)
 
     def _refresh_status(self) -> None:
-        state = "▶ playing" if self.room.playing else "paused"
-        self.transport.set_status(f"**t = {self.sim.t:.2f} s** · {state} · {self.room.time_scale:g}×")
+        self.transport.set_status(readouts.status_text(self.sim.t, self.room.playing, self.room.time_scale))
 
     def _refresh_moments_status(self) -> None:
-        edges = _box_edges(self.sim.moments)
-        flat = edges.min() <= MIN_EDGE
-        shown = edges / edges.min()
-        status = f"Uniform box with edges along x′, y′, z′ in the ratio **{', '.join(f'{r:.2f}' for r in shown)}**."
-        if flat:
-            status += "  \nA flat lamina: one triangle inequality holds with equality."
+        status = readouts.body_text(self.sim.moments)
         if self.gui_moments_status.content != status:
             self.gui_moments_status.content = status
 
@@ -779,18 +503,15 @@ class EulerAnglesView(SceneView):
 
     def render_arc_text(self) -> None:
         for key, angle_deg in zip(KEYS, self.sim.angles_deg):
-            text = f"{GREEK[key]} = {format_deg(angle_deg, 0)}°"
+            text = readouts.arc_text(key, angle_deg)
             if self.arc_labels[key].text != text:
                 self.arc_labels[key].text = text
 
     def render_readout(self, only_shown: bool = False) -> None:
         """D, its factors, ω (space and body components) and the gimbal-lock note; while
-        playing (`only_shown`) only the readout tab on screen."""
+        playing (`only_shown`) only the readout tab on screen (each under its fixed heading,
+        built in _build_gui)."""
         shown = self.readout_tabs.shown if only_shown else None
-        phi, theta, psi = self.sim.angles
-        R = euler_frames(phi, theta, psi).body
-        e_n = line_of_nodes(phi)
-        e_z_body = body_z_axis(phi, theta)
         angles_deg = self.sim.angles_deg
         note = gimbal_note(angles_deg[1])
         if self.gui_gimbal_note.visible != (note is not None):
@@ -798,113 +519,8 @@ class EulerAnglesView(SceneView):
         if note is not None and self.gui_gimbal_note.content != note:
             self.gui_gimbal_note.content = note
         if shown in (None, "D"):
-            self.readout_matrix.set(  # under its fixed heading (built in _build_gui)
-                f"```\n{format_matrix(R, 4)}\n```\n"
-                f"e_n = {format_vector(e_n)}  \n"
-                f"e_z′ = {format_vector(e_z_body)}"
-            )
-        factors = ((f"Rz(φ), φ = {format_deg(angles_deg[0])}°", rot_z(phi)),
-                   (f"Rx(θ), θ = {angles_deg[1]:.2f}°", rot_x(theta)),
-                   (f"Rz(ψ), ψ = {format_deg(angles_deg[2])}°", rot_z(psi)))
+            self.readout_matrix.set(readouts.matrix_text(angles_deg))
         if shown in (None, "Factors"):
-            self.readout_factors.set("\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors))
-        if shown not in (None, "ω"):
-            return
-        angles, rates = np.array([phi, theta, psi]), np.radians(self.sim.rates_deg)
-        omega_space = np.degrees(omega_space_from_euler_rates(angles, rates))
-        omega_body = np.degrees(omega_body_from_euler_rates(angles, rates))
-        dphi, dtheta, dpsi = self.sim.rates_deg
-
-        def row(name: str, v: Any) -> str:
-            return f"{name:<14}" + "".join(f"{(0.0 if abs(x) < 5e-4 else x):10.3f}" for x in v)
-
-        self.readout_omega.set(
-            "```\n"  # under its fixed heading (built in _build_gui)
-            f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [deg/s]\n\n"
-            f"{'':<14}{'x | x′':>10}{'y | y′':>10}{'z | z′':>10}\n"
-            f"{row('(dφ/dt) e_z', (0.0, 0.0, dphi))}\n"
-            f"{row('(dθ/dt) e_n', dtheta * e_n)}\n"
-            f"{row('(dψ/dt) e_z′', dpsi * e_z_body)}\n"
-            f"{row('ω_s (space)', omega_space)}\n"
-            f"{row('ω_b (body)', omega_body)}\n"
-            f"|ω| = {float(np.linalg.norm(omega_space)):.3f} deg/s\n```"
-        )
-
-    # ------------------------------------------------------------------ the single rotation
-    def single(self) -> SingleRotation:
-        """D as one turn (`physics.so3.single_rotation`), computed once per simulation version,
-        the sign of d near Φ = π the one nearer the axis last drawn."""
-        if self._single is None or self._single[0] != self.sim.version:
-            rotation = single_rotation(self.sim.R_space_body, self._last_axis)
-            if rotation.axis is not None:
-                self._last_axis = rotation.axis
-            self._single = (self.sim.version, rotation)
-        return self._single[1]
-
-    def render_single_rotation(self) -> None:
-        """The axis d (both ways from the origin) and the arc Φ about it, if the toggle is on and
-        D has an axis (Φ > 0)."""
-        on = bool(self.gui_single_rotation.value)
-        rotation = self.single() if on else None
-        shown = rotation is not None and rotation.axis is not None
-        if self.single_node.visible != on:
-            self.single_node.visible = on
-        for node in (self.single_axis, self.single_arc):
-            if node.visible != shown:
-                node.visible = shown
-        for label in (self.single_axis_label, self.single_arc_label):
-            self.labels.want(label, shown)  # the view's LabelLayer shows it where there is room
-        if rotation is None or rotation.axis is None:
-            return
-        d = rotation.axis
-        set_points(self.single_axis, np.array([[-SINGLE_AXIS_HALF_LENGTH * d, SINGLE_AXIS_HALF_LENGTH * d]],
-                                              dtype=np.float32))
-        tip = (SINGLE_AXIS_HALF_LENGTH + 0.25) * d
-        set_position(self.single_axis_label, (float(tip[0]), float(tip[1]), float(tip[2])))
-        k = arc_reference_axis(d, self._arc_axis)
-        if k != self._arc_axis:
-            self._arc_axis = k
-            colors = np.empty((ARC_SEGMENTS + 2, 2, 3), dtype=np.uint8)
-            colors[:ARC_SEGMENTS] = SINGLE_COLOR
-            colors[ARC_SEGMENTS] = SPACE_AXIS_COLORS[k]
-            colors[ARC_SEGMENTS + 1] = BODY_AXIS_COLORS[k]
-            self.single_arc.colors = colors
-        e_k = np.eye(3)[k]
-        u = e_k - float(d @ e_k) * d  # e_k projected on the plane ⟂ d
-        u *= SINGLE_ARC_RADIUS / float(np.linalg.norm(u))
-        points = turn_path(d, rotation.angle, u, ARC_SEGMENTS)  # u, ..., D u
-        spokes = np.array([[np.zeros(3), points[0]], [np.zeros(3), points[-1]]])
-        set_points(self.single_arc, np.concatenate([polyline_segments(points), spokes]).astype(np.float32))
-        middle = 0.8 * points[ARC_SEGMENTS // 2]  # inside the arc: clear of the d label at the axis tip
-        set_position(self.single_arc_label, (float(middle[0]), float(middle[1]), float(middle[2])))
-        text = f"Φ = {math.degrees(rotation.angle):.1f}°"
-        if self.single_arc_label.text != text:
-            self.single_arc_label.text = text
-
-    def render_single_readout(self) -> None:
-        """Φ, d, A = Φ hat(d), the rotation vector and the quaternion (shown with the toggle)."""
-        on = bool(self.gui_single_rotation.value)
-        if self.readout_single.handle.visible != on:
-            self.readout_single.handle.visible = on
-        if not on:
-            return
-        rotation = self.single()
-        D = self.sim.R_space_body
-        angle_deg = math.degrees(rotation.angle)
-        lines = [f"**Φ = {angle_deg:.2f}°** = {rotation.angle:.4f} rad;  "
-                 f"cos Φ = (tr D − 1)/2 = {0.5 * (float(np.trace(D)) - 1.0):.4f} (1.1)  "]
-        if rotation.axis is None:
-            lines.append("**d undefined**: Φ = 0, D = 1 — a turn by 0 about any axis.  ")
-        else:
-            lines.append(f"**d = {format_vector(rotation.axis, 4)}** (D d = d)  ")
-            if math.pi - rotation.angle <= HALF_TURN_BAND:
-                lines.append("Half turn: d and −d give the same D; d from (D + 1)/2 = d dᵀ, "
-                             "its sign kept from the axis drawn before.  ")
-        w, x, y, z = rotation.wxyz
-        lines.append(
-            "```\n"
-            f"A = Φ hat(d), D = exp(A) (1.2, 1.3)\n{format_matrix(rotation.A, 4)}\n"
-            f"Φ d = {format_vector(rotation.rotvec, 4)} rad\n"
-            f"q = (cos Φ/2, sin Φ/2 d)\n  = {format_vector(np.array([w, x, y, z]), 4)}\n```"
-        )
-        self.readout_single.set("\n".join(lines))
+            self.readout_factors.set(readouts.factors_text(angles_deg))
+        if shown in (None, "ω"):
+            self.readout_omega.set(readouts.omega_text(angles_deg, self.sim.rates_deg))

@@ -1,4 +1,4 @@
-"""The inertia tensor of a system of particles, or of a solid mesh ("Inertia" scene, memo §3).
+"""The Inertia scene's view: the inertia tensor of a system of particles, or of a solid mesh (memo §3).
 
 What it shows (memo 3.1-3.8, docs/CONVENTIONS.md "Inertia tensor"): point masses m_i at x_i,
 drawn as balls whose volume follows the mass, their centre of mass c, and a reference point O
@@ -21,96 +21,55 @@ assets/meshes/ load with one click.  A mesh is drawn scaled to fit the view (`di
 said in the readout); the numbers are in metres.  "Spin it" hands the body (its principal
 moments, and a mesh in its principal frame) to the Free body scene.
 
-The simulation (`InertiaSystem`, no viser) has no motion: `advance` only counts time; every edit
-bumps `version`.  Presets: `assets/presets/inertia.json`, read by `load_inertia_presets` (each
-entry has `masses` and `positions` instead of the kit's params/angles/rates).
+The simulation (`app.scenes.inertia.simulation.InertiaSystem`, no viser) has no motion:
+`advance` only counts time; every edit bumps `version`.  The readout's texts are
+`app.scenes.inertia.readouts`, the "Solid mesh" folder `app.scenes.inertia.mesh_panel`.
+Presets: `assets/presets/inertia.json`, read by `load_inertia_presets` (each entry has `masses`
+and `positions` instead of the kit's params/angles/rates).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from importlib.resources.abc import Traversable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import trimesh
 import viser
 
-from app.data import files_in, meshes_dir
 from app.kit.binding import Refused
-from app.kit.common import (
-    BODY_AXIS_COLORS,
-    CameraView,
-    SliderSpec,
-    axis_segments,
-    checked_value,
-    fork_sharing,
-    format_matrix,
-)
+from app.kit.common import BODY_AXIS_COLORS, CameraView, axis_segments
 from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
 from app.kit.labels import AXES, KEY
-from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
+from app.kit.presets import PRESETS_DIR, Preset
 from app.kit.room import Room
 from app.kit.view import SceneView
 from app.kit.widgets import Stage
+from app.scenes.inertia import readouts
+from app.scenes.inertia.mesh_panel import MeshPanel
+from app.scenes.inertia.simulation import (
+    COORD_LIMIT,
+    MASS_SPEC,
+    MAX_MASSES,
+    InertiaSystem,
+    load_inertia_presets,
+    spin_moments,
+)
 from physics._types import Mat3, Vec3
 from physics.dynamics import Model, State
 from physics.euler import matrix_from_euler_zxz
-from physics.inertia import (
-    InertiaError,
-    MeshError,
-    inertia_tensor_of_particles,
-    mesh_mass_properties,
-    principal_axes,
-    principal_axes_near,
-    validate_principal_moments,
-)
-from physics.meshfile import read_mesh_bytes
+from physics.inertia import InertiaError, principal_axes
 from physics.quaternion import wxyz_from_matrix
 
-__all__ = ["MAX_FACES", "MAX_UPLOAD_BYTES", "MESHES_DIR", "InertiaSystem", "InertiaView", "load_inertia_presets",
-           "read_mesh"]
+__all__ = ["BALL_RADIUS", "ELLIPSOID_CUT", "ELLIPSOID_SIZE", "InertiaView"]
 
-MAX_UPLOAD_BYTES = 20 * 1024 * 1024  # 20 MiB
-MAX_FACES = 500_000
-MAX_MASSES = 12
-MESHES_DIR = meshes_dir()  # the shipped meshes (app.data: the checkout's or the installed ones)
-MESH_SUFFIXES = ("stl", "obj", "ply", "off", "glb")
-EQUAL_RTOL = 1e-6  # principal moments closer than this times the largest are "equal" (3.8)
-ZERO_RTOL = 1e-9  # a principal moment below this times the largest is "zero" (masses on a line)
-MASS_SPEC = SliderSpec("m", "m [kg]", 0.1, 10.0, 0.1, "the selected mass")
-MESH_MASS_RANGE = (1e-3, 1e4)  # [kg] a mesh's mass
-MESH_DENSITY_RANGE = (1.0, 1e5)  # [kg/m³] a mesh's density (air-light foam to osmium x 4)
-COORD_LIMIT = 3.0  # [m] positions and O within ±this
 BALL_RADIUS = 0.12  # [m] drawn radius of a 1 kg ball (∝ m^(1/3))
 ELLIPSOID_SIZE = 1.2  # [scene units] the momental ellipsoid's largest drawn semi-axis
 ELLIPSOID_CUT = 4.0  # a semi-axis longer than this times the shortest is drawn cut at it
-MESH_DISPLAY_SIZE = 2.4  # [scene units] a mesh is drawn about this large (display_scale)
 SPIN_SCENE = "Free body"  # "Spin it" hands the body to this scene (by its title: no scene imports another)
-FREE_BODY_MOMENTS = (0.05, 5.0)  # [kg m²] the Free body scene's slider range ("Spin it")
 SPIN_RATE = 4.0  # [rad/s] "Spin it": about the intermediate axis e2, with a small wobble
 SPIN_ANGLES_DEG = (-30.0, 60.0, 0.0)  # "Spin it": the attitude it starts from (as the Dzhanibekov preset)
-
-
-def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
-    """(vertices (V, 3), faces (F, 3)) of an uploaded mesh file (`physics.meshfile`); MeshError
-    saying what is wrong (too large, not a mesh type, unreadable, too many faces).  Vertices are
-    merged (an STL repeats them per face), faces are kept as they are: an open or inside-out mesh
-    is left for `mesh_mass_properties` to refuse, never repaired."""
-    if len(content) > MAX_UPLOAD_BYTES:
-        raise MeshError(f"{name}: {len(content) / 2**20:.1f} MiB is larger than {MAX_UPLOAD_BYTES / 2**20:.0f} MiB")
-    kind = name.rsplit(".", 1)[-1].lower() if "." in name else ""
-    if kind not in MESH_SUFFIXES:
-        raise MeshError(f"{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)")
-    try:
-        vertices, faces = read_mesh_bytes(name, content)  # the same reader as python -m physics inertia
-    except MeshError as error:
-        raise MeshError(f"{name}: unreadable ({str(error).split(' (', 1)[-1].rstrip(')')})") from None
-    if len(faces) > MAX_FACES:
-        raise MeshError(f"{name}: {len(faces)} faces, more than {MAX_FACES}")
-    return vertices, faces
 
 
 def _shown(x: Any) -> tuple[float, float, float]:
@@ -119,218 +78,9 @@ def _shown(x: Any) -> tuple[float, float, float]:
     return a, b, c
 
 
-class InertiaSystem:
-    """Point masses (or one solid mesh) and a reference point O; their inertia (no viser).
-
-    Attributes:
-        masses: (N,) [kg]; positions: (N, 3) [m]; about: O (3,) [m] or None (the centre of mass).
-        mesh: (vertices, faces) of a uniform solid of mass `mesh_mass`, or None (particles).
-        version: bumped on every edit.  t: the time the room let pass (nothing moves here).
-    """
-
-    def __init__(self, masses: Sequence[float], positions: Any) -> None:
-        self.t = 0.0
-        self.version = 0
-        self.preset: str | None = None
-        self.mesh: tuple[np.ndarray, np.ndarray] | None = None
-        self.mesh_name = ""
-        self.mesh_mass = 1.0
-        self._mesh_unit: Any = None  # the mesh's MassProperties at density 1
-        self.about: np.ndarray | None = None
-        self._axes = np.eye(3)  # the principal axes last drawn (kept where they are not determined)
-        self._cache: tuple[int, dict[str, Any]] | None = None
-        self.set_particles(masses, positions)
-
-    def fork(self) -> InertiaSystem:
-        """An exact, independent copy: masses, positions, O, mesh and its weight, the principal
-        axes last drawn (kept where they are not determined), t, preset and version.  A mesh's
-        arrays (up to MAX_FACES faces) are shared, made read-only; everything else is copied."""
-        return fork_sharing(self, self.mesh or ())
-
-    def advance(self, dt: float) -> None:
-        """Time passes (`t`), nothing moves: a rigid system's inertia does not change."""
-        self.t += dt
-
-    def reset(self) -> None:
-        """t back to 0 and O back to the centre of mass."""
-        self.t = 0.0
-        self.set_about(None)
-
-    def set_particles(self, masses: Sequence[float], positions: Any) -> None:
-        """Masses (N,) [kg] at positions (N, 3) [m]: the body becomes these particles.
-        ValueError (nothing changes) unless 1..MAX_MASSES positive masses at finite positions."""
-        m = np.asarray(masses, dtype=float)
-        x = np.asarray(positions, dtype=float)
-        if m.ndim != 1 or x.shape != (len(m), 3) or not 1 <= len(m) <= MAX_MASSES:
-            raise ValueError(f"1 to {MAX_MASSES} masses, each with a position [x, y, z], wanted; "
-                             f"got {m.shape} masses and {x.shape} positions")
-        if not (np.all(np.isfinite(m)) and np.all(m > 0.0) and np.all(np.isfinite(x))):
-            raise ValueError("masses must be positive and positions finite")
-        self.masses, self.positions = m.copy(), x.copy()
-        self.mesh = None
-        self.version += 1
-
-    def set_mesh(self, name: str, vertices: np.ndarray, faces: np.ndarray, mass: float | None = None,
-                 density: float | None = None) -> None:
-        """A uniform solid of `mass` [kg] or `density` [kg/m³] (one of them); MeshError if it
-        bounds no solid, ValueError for a bad mass or density; nothing changes then."""
-        unit = mesh_mass_properties(vertices, faces, density=1.0)  # raises MeshError
-        total = self._mesh_weight(unit.volume, mass, density)
-        self.mesh, self.mesh_name, self.mesh_mass, self._mesh_unit = (vertices, faces), name, total, unit
-        self.version += 1
-
-    def weigh_mesh(self, *, mass: float | None = None, density: float | None = None) -> None:
-        """The current mesh, now of `mass` [kg] or `density` [kg/m³]; ValueError if bad."""
-        if self.mesh is None or self._mesh_unit is None:
-            raise ValueError("no mesh to weigh")
-        self.mesh_mass = self._mesh_weight(self._mesh_unit.volume, mass, density)
-        self.version += 1
-
-    def mesh_volume(self) -> float:
-        """The mesh's volume [m³] (ValueError without a mesh)."""
-        if self.mesh is None or self._mesh_unit is None:
-            raise ValueError("no mesh")
-        return float(self._mesh_unit.volume)
-
-    @staticmethod
-    def _mesh_weight(volume: float, mass: float | None, density: float | None) -> float:
-        if (mass is None) == (density is None):
-            raise ValueError("a mass or a density, not both")
-        value: Any = mass if mass is not None else density
-        (lo, hi), unit = (MESH_MASS_RANGE, "kg") if mass is not None else (MESH_DENSITY_RANGE, "kg/m³")
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
-            raise ValueError(f"{'mass' if mass is not None else 'density'} {value!r} {unit}: "
-                             f"a number from {lo:g} to {hi:g} wanted")
-        return float(value) if mass is not None else float(value) * volume
-
-    def set_about(self, about: Vec3 | None) -> None:
-        """O [m] (3,), or None for the centre of mass."""
-        self.about = None if about is None else np.asarray(about, dtype=float).copy()
-        self.version += 1
-
-    # ------------------------------------------------------------------ the inertia
-    def properties(self) -> dict[str, Any]:
-        """mass [kg], com (3,), I_cm (3, 3), O (3,), d = com - O, I_O, parallel (the term
-        m(|d|²𝟙 − d dᵀ)), moments (3,) ascending and axes (3, 3) columns about O (the
-        eigenbasis closest to the last one where moments are equal), equal (groups of equal
-        moments), zero (which moments are zero), notes (the cases of (3.8) in words).
-        Computed once per version (every view of the room reads the same)."""
-        if self._cache is not None and self._cache[0] == self.version:
-            return self._cache[1]
-        if self.mesh is not None:
-            unit = self._mesh_unit
-            scale = self.mesh_mass / unit.mass
-            mass, com, I_cm = self.mesh_mass, np.array(unit.center_of_mass), scale * np.array(unit.inertia_cm)
-            size = float(np.ptp(self.mesh[0], axis=0).max())
-        else:
-            mass = float(self.masses.sum())
-            com = (self.masses[:, None] * self.positions).sum(axis=0) / mass
-            I_cm = inertia_tensor_of_particles(self.masses, self.positions, about=com)
-            size = float(np.abs(self.positions - com).max())
-        O = com if self.about is None else self.about
-        d = com - O
-        parallel = mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
-        I_O = I_cm + parallel
-        # I_O = 0 (all the mass at O) up to rounding: relative to m (size + |d| + 1 µm)² [kg m²].
-        nothing = mass * (size + float(np.linalg.norm(d)) + 1e-6) ** 2
-        notes: list[str] = []
-        if float(np.abs(I_O).max()) <= 1e-12 * nothing:
-            moments, axes, equal = np.zeros(3), self._axes, [[0, 1, 2]]
-            zero = [True, True, True]
-            notes.append("**I_O = 0**: all the mass is at O, every moment about O is zero and every axis is "
-                         "principal (the frame drawn is only one choice; no ellipsoid).")
-        else:
-            moments, axes, equal = principal_axes_near(I_O, self._axes, rtol=EQUAL_RTOL)
-            zero = [bool(moments[k] <= ZERO_RTOL * moments[2]) for k in range(3)]
-            if zero[0]:
-                notes.append("A principal moment is **zero**: all the mass lies on one line through O (3.8); "
-                             "e1 is that line, and the momental ellipsoid is an endless cylinder about it "
-                             "(drawn cut).")
-            if equal == [[0, 1, 2]]:
-                notes.append("**All three moments are equal**: every axis through O is principal (3.8); the "
-                             "frame drawn is only one choice (it keeps its last directions).")
-            elif equal and not zero[0]:
-                pair = "I1 = I2" if equal[0] == [0, 1] else "I2 = I3"
-                notes.append(f"**Two moments are equal** ({pair}): any axis in their plane is principal (3.8); "
-                             "the frame drawn keeps its last directions there.")
-            elif equal:
-                notes.append("**Two moments are equal** (I2 = I3): any axis across the line is principal (3.8); "
-                             "the frame drawn keeps its last directions there.")
-        self._axes = axes
-        result = {"mass": mass, "com": com, "I_cm": I_cm, "O": O, "d": d, "I_O": I_O, "parallel": parallel,
-                  "moments": moments, "axes": axes, "equal": equal, "zero": zero, "notes": notes, "size": size}
-        self._cache = (self.version, result)
-        return result
-
-    def display_scale(self) -> float:
-        """Scene units per metre the body is drawn at: 1 for particles, a power of ten times 1,
-        2, 4 or 5 for a mesh, so it is about MESH_DISPLAY_SIZE large."""
-        if self.mesh is None:
-            return 1.0
-        size = float(np.ptp(self.mesh[0], axis=0).max())
-        wanted = MESH_DISPLAY_SIZE / size
-        exponent = math.floor(math.log10(wanted))
-        mantissa = max(m for m in (1.0, 2.0, 4.0, 5.0) if m <= wanted / 10.0**exponent)
-        return mantissa * 10.0**exponent
-
-
-def load_inertia_presets(path: Path | Traversable) -> tuple[Preset, ...]:
-    """The Inertia scene's presets: like the other scenes' files, but each preset carries
-    `masses` (N,) [kg] and `positions` (N, 3) [m] (they go into `Preset.params`, masses first,
-    then the positions row by row); PresetError "file: presets[i].field: message"."""
-    presets: list[Preset] = []
-    for place, name, entry in preset_entries(path):
-        where = f"{path}: {place}"
-        unknown = sorted(set(entry) - {"name", "group", "note", "masses", "positions"})
-        if unknown:
-            raise PresetError(f"{where}: unknown key {unknown[0]!r} (name, group, note, masses, positions)")
-        masses, positions = entry.get("masses"), entry.get("positions")
-        try:
-            m = np.asarray(masses, dtype=float)
-        except (TypeError, ValueError):
-            raise PresetError(f"{where}.masses: {masses!r} is not a list of numbers") from None
-        if m.ndim != 1 or not 1 <= len(m) <= MAX_MASSES:
-            raise PresetError(f"{where}.masses: 1 to {MAX_MASSES} numbers wanted")
-        for k, value in enumerate(m):
-            if not (math.isfinite(value) and MASS_SPEC.lo <= value <= MASS_SPEC.hi):
-                raise PresetError(f"{where}.masses[{k}]: {float(value):g} is outside "
-                                  f"[{MASS_SPEC.lo:g}, {MASS_SPEC.hi:g}]")
-        try:
-            x = np.asarray(positions, dtype=float)
-        except (TypeError, ValueError):
-            raise PresetError(f"{where}.positions: {positions!r} is not a list of [x, y, z]") from None
-        if x.shape != (len(m), 3):
-            raise PresetError(f"{where}.positions: {len(m)} points [x, y, z] wanted (one per mass)")
-        bad = ~(np.isfinite(x) & (np.abs(x) <= COORD_LIMIT))
-        if np.any(bad):
-            k, j = (int(v) for v in np.argwhere(bad)[0])
-            raise PresetError(f"{where}.positions[{k}][{j}]: {float(x[k, j]):g} is outside "
-                              f"[-{COORD_LIMIT:g}, {COORD_LIMIT:g}]")
-        presets.append(Preset(name=name, group=str(entry.get("group", "Presets")), note=str(entry.get("note", "")),
-                              params=tuple(float(v) for v in [*m, *x.ravel()]), angles_deg=(0.0, 0.0, 0.0),
-                              rates=()))
-    return tuple(presets)
-
-
 def _unpack(preset: Preset) -> tuple[list[float], np.ndarray]:
     n = len(preset.params) // 4
     return list(preset.params[:n]), np.asarray(preset.params[n:], dtype=float).reshape(n, 3)
-
-
-def spin_moments(moments: Vec3) -> tuple[tuple[float, float, float], float]:
-    """The principal moments (ascending) handed to the Free body scene, and the factor k they
-    were multiplied by so that they fit its sliders (FREE_BODY_MOMENTS; k = 1 if they do).
-    Euler's equations are homogeneous in I: k changes T and L by k, never the motion.
-    InertiaError if the moments are no rigid body (a zero moment: masses on a line)."""
-    I = validate_principal_moments(np.asarray(moments, dtype=float))
-    if float(I.min()) <= ZERO_RTOL * float(I.max()):
-        raise InertiaError(f"a principal moment is zero ({float(I.min()):.3g} kg m²)")
-    lo, hi = FREE_BODY_MOMENTS
-    k = 1.0
-    if I.min() < lo or I.max() > hi:
-        k = min(2.0 / float(I.max()), hi / float(I.max()))  # the largest becomes 2 kg m²
-    scaled = k * I
-    return (float(scaled[0]), float(scaled[1]), float(scaled[2])), k
 
 
 class _Ball:
@@ -397,6 +147,7 @@ class InertiaView(SceneView):
         self._mesh_drawn: Any = None
         self._ellipsoid: Any = None
         self._dragging: str | None = None  # "mass" or "O" while that gizmo's edit is drawn
+        self.mesh_panel = MeshPanel(self, self.sim)  # the "Solid mesh" folder, built with the panel
         self.build()
 
     # ------------------------------------------------------------------ building
@@ -451,18 +202,7 @@ class InertiaView(SceneView):
                                              min=(-COORD_LIMIT,) * 3, max=(COORD_LIMIT,) * 3,
                                              hint="or drag the small gizmo at O")
             self.gui_O_at_com = gui.add_button("O at the centre of mass")
-        self.folder_mesh = gui.add_folder("Solid mesh", expand_by_default=False)
-        with self.folder_mesh:
-            self.gui_mesh_given = gui.add_dropdown("Given", ("mass [kg]", "density [kg/m³]"),
-                                                initial_value="mass [kg]")
-            self.gui_mesh_mass = gui.add_number("mass [kg]", 1.0, min=MESH_MASS_RANGE[0], max=MESH_DENSITY_RANGE[1],
-                                                  step=0.001)
-            self.gui_upload = gui.add_upload_button("Upload STL / OBJ / PLY / OFF / GLB", icon=viser.Icon.UPLOAD,
-                                                    hint="a closed, outward-oriented triangle mesh, in metres; "
-                                                         f"up to {MAX_UPLOAD_BYTES // 2**20} MiB and {MAX_FACES} faces")
-            self.shipped = {path.name.removesuffix(".stl").replace("_", "-"): path
-                            for path in files_in(MESHES_DIR, ".stl")}
-            self.gui_shipped = gui.add_button_group("Shipped", tuple(self.shipped)) if self.shipped else None
+        self.folder_mesh = self.mesh_panel.build()
         self.gui_spin = gui.add_button("Spin it", icon=viser.Icon.ROTATE_360,
                                        hint="this body, in the Free body scene")
         self.folder_readout = gui.add_folder("Readout")
@@ -477,12 +217,7 @@ class InertiaView(SceneView):
         self.bind(self.gui_about, "O", self._set_about, lambda: _shown(self.sim.properties()["O"]),
                   check=lambda value: self._coords(value, "O"))
         self.gui_O_at_com.on_click(wrap("O at c", lambda _event: self._set_about(None)))
-        self.gui_mesh_given.on_update(wrap("mesh weighed by", lambda _event: self._mesh_by_changed()))
-        self.bind(self.gui_mesh_mass, "mesh mass", self._mesh_amount_edited, self._weight_shown,
-                  check=self._check_weight)
-        self.gui_upload.on_upload(wrap("upload", lambda _event: self._uploaded()))
-        if self.gui_shipped is not None:
-            self.gui_shipped.on_click(wrap("shipped mesh", lambda event: self.load_shipped(str(event.target.value))))
+        self.mesh_panel.connect(wrap)
         self.gui_spin.on_click(wrap("spin it", lambda _event: self.spin_it()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.presets_row.groups, self.presets_row.gui_note,
                            self.folder_masses, self.folder_O, self.folder_mesh, self.gui_spin, self.folder_readout]
@@ -584,83 +319,6 @@ class InertiaView(SceneView):
         self.sim.set_about(O)
         self._redraw(dragging)
 
-    # ------------------------------------------------------------------ meshes
-    def _weight(self) -> dict[str, float]:
-        """{"mass": …} or {"density": …} from the panel (checked by InertiaSystem)."""
-        try:
-            value = float(self.gui_mesh_mass.value)
-        except (TypeError, ValueError):
-            value = math.nan
-        return {"density": value} if self._by_density() else {"mass": value}
-
-    def _mesh_by_changed(self) -> None:
-        """Mass or density: the number box shows the current mesh's (nothing changes), or a
-        default (1 kg, 1000 kg/m³) while there is no mesh."""
-        self.gui_mesh_mass.label = "density [kg/m³]" if self._by_density() else "mass [kg]"
-        self._show_weight()
-
-    def _by_density(self) -> bool:
-        return str(self.gui_mesh_given.value).startswith("density")
-
-    def _weight_shown(self) -> float:
-        """What the mass / density box shows: the mesh's (6 significant digits), or the default."""
-        sim, by_density = self.sim, self._by_density()
-        if sim.mesh is None:
-            return 1000.0 if by_density else 1.0
-        value = sim.mesh_mass / sim.mesh_volume() if by_density else sim.mesh_mass
-        return float(f"{value:.6g}")
-
-    def _show_weight(self) -> None:
-        self.quiet.write(self.gui_mesh_mass, self._weight_shown())
-
-    def _check_weight(self, value: Any) -> float:
-        """A mass [kg] or density [kg/m³] in its range (MESH_MASS_RANGE, MESH_DENSITY_RANGE)."""
-        by_density = self._by_density()
-        (lo, hi), what = (MESH_DENSITY_RANGE, "density") if by_density else (MESH_MASS_RANGE, "mass")
-        number = checked_value(value, lo, hi)
-        if number is None:
-            kept = f" The mesh keeps its {self.sim.mesh_mass:.4g} kg." if self.sim.mesh is not None else ""
-            unit = "kg/m³" if by_density else "kg"
-            raise Refused(f"Refused: {what} {value!r} {unit}: a number from {lo:g} to {hi:g} wanted.{kept}")
-        return number
-
-    def _mesh_amount_edited(self, value: float) -> str | None:
-        """A new mass or density for the mesh shown (kept for the next mesh while there is none)."""
-        if self.sim.mesh is None:
-            return None
-        try:
-            self.sim.weigh_mesh(**({"density": value} if self._by_density() else {"mass": value}))
-        except ValueError as error:
-            return f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg."
-        self.room.refresh()
-        return None
-
-    def _uploaded(self) -> None:
-        upload = self.gui_upload.value
-        self.load_mesh(str(upload.name), bytes(upload.content))
-
-    def load_shipped(self, name: str) -> None:
-        """One of the meshes of assets/meshes/ (a button; a client can send any name)."""
-        path = self.shipped.get(name)
-        if path is None:
-            self.message.show(f"No shipped mesh named {name!r}.")
-            return
-        self.load_mesh(path.name, path.read_bytes())
-
-    def load_mesh(self, name: str, content: bytes) -> None:
-        """Read, check and show a mesh file; refused with the reason, the last valid body staying."""
-        try:
-            vertices, faces = read_mesh(name, content)
-            self.sim.set_mesh(name, vertices, faces, **self._weight())
-        except (MeshError, ValueError) as error:
-            text = str(error) if str(error).startswith(name) else f"{name}: {error}"
-            self.message.show(f"Mesh refused: {text}. The last valid body stays.")
-            return
-        self.message.clear()
-        self.sim.set_about(None)
-        self.sim.preset = None
-        self.room.refresh()
-
     def spin_it(self) -> None:
         """Hand this body to the Free body scene: its principal moments about the centre of mass
         (ascending, along x′ y′ z′; scaled to the scene's sliders if needed, said there) and, for
@@ -691,22 +349,15 @@ class InertiaView(SceneView):
 
         what = self.sim.mesh_name or f"{len(self.sim.masses)} point masses"
         room = self.open_scene(SPIN_SCENE, prepare)
-        text = f"Spun from the Inertia scene: {what}, about its middle axis y′."
-        if k != 1.0:
-            text += (f" Its moments ({', '.join(f'{m:.3g}' for m in moments)} kg m²) are shown ×{k:.3g} to fit the "
-                     "sliders: the motion is the same (Euler's equations are homogeneous in I), T and L are ×k.")
-        room.notify(text)
+        room.notify(readouts.spin_text(what, moments, k))
 
     def key_numbers(self) -> list[str]:
         """For the followers' panel: the body (masses, or the mesh and its mass) and its
         principal moments about O."""
-        sim, props = self.sim, self.sim.properties()
+        sim = self.sim
         if sim.mesh is not None:
-            body = f"{sim.mesh_name}: m = {props['mass']:.4g} kg"
-        else:
-            body = f"{len(sim.masses)} masses [kg]: " + ", ".join(f"{m:.3g}" for m in sim.masses)
-        moments = ", ".join(f"{m:.4g}" for m in props["moments"])
-        return [body, f"principal moments about O: {moments} kg m²"]
+            return readouts.key_numbers_text(sim.properties(), mesh_name=sim.mesh_name)
+        return readouts.key_numbers_text(sim.properties(), masses=sim.masses)
 
     # ------------------------------------------------------------------ drawing
     def frame(self, dt: float) -> None:
@@ -815,25 +466,7 @@ class InertiaView(SceneView):
 
     def _refresh_readout(self, props: dict[str, Any], k: float) -> None:
         sim = self.sim
-        O, d = props["O"], props["d"]
-        what = (f"a uniform solid **{sim.mesh_name}**, m = {props['mass']:.4g} kg" if sim.mesh is not None
-                else f"**{len(sim.masses)} point masses**, m = {props['mass']:.4g} kg")
-        def point(x: Vec3) -> str:  # rounding noise (1e-17 of a 0.5 m body) shown as 0
-            return ", ".join(f"{0.0 if abs(v) <= 1e-12 * max(props['size'], 1e-300) else v:.4g}" for v in x)
-
-        lines = [what, f"centre of mass c = ({point(props['com'])}) m",
-                 f"O = ({point(O)}) m" + (" = c" if not np.any(d) else "")]
-        if k != 1.0:
-            lines.append(f"drawn ×{k:g} (its size is {props['size']:.3g} m)")
-        scale = float(np.abs(props["I_O"]).max())
-        decimals = 4 if scale == 0.0 else min(12, max(4, 4 - math.floor(math.log10(scale))))  # ~5 digits
-        text = "  \n".join(lines) + "\n\n**I_O** [kg m²]\n```\n" + format_matrix(props["I_O"], decimals) + "\n```\n"
-        if np.any(d):
-            text += ("**I_O = I_cm + m(|d|²𝟙 − d dᵀ)**, d = c − O:\n```\n" + format_matrix(props["I_cm"], decimals)
-                     + "\n+\n" + format_matrix(props["parallel"], decimals) + "\n```\n")
-        moments = props["moments"]
-        text += ("Principal moments I1 ≤ I2 ≤ I3 = " + ", ".join(f"{m:.5g}" for m in moments) + " kg m²  \n"
-                 "principal axes e1 e2 e3 (columns, right-handed)\n```\n" + format_matrix(props["axes"], 4) + "\n```\n")
-        for note in props["notes"]:
-            text += note + "  \n"
-        self.readout.set(text)
+        if sim.mesh is not None:
+            self.readout.set(readouts.readout_text(props, k, mesh_name=sim.mesh_name))
+        else:
+            self.readout.set(readouts.readout_text(props, k, masses=len(sim.masses)))
