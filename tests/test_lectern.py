@@ -11,8 +11,9 @@ import pytest
 from conftest import LectureHall, poll_until
 from scipy.spatial.transform import Rotation
 
+from app.hall.follower import Follower
 from app.kit.widgets import POSE_QUANTUM
-from app.lectern import LIVE_ROOT, MAX_TRIES, Follower, Lectern
+from app.lectern import LIVE_ROOT, MAX_TRIES, Lectern
 from app.main import App
 
 DT = 1.0 / 60.0
@@ -227,11 +228,11 @@ def test_projector_layout_styles_the_panel_and_enlarges_the_3d_labels(hall: Hall
     label = session.scene.nodes.label
     before = float(label.font_screen_scale)
     session.gui_projector.value = True  # the panel's toggle
-    assert session.projector and session._projector_style is not None
-    assert "font-size: 19px" in session._projector_style.content
+    assert session.projector and session.projector_layout.style is not None
+    assert "font-size: 19px" in session.projector_layout.style.content
     assert float(label.font_screen_scale) == pytest.approx(1.4 * before)
     session.select_scene("Heavy top")  # a new scene is built large too
     assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(1.4 * before)
     session.set_projector(False)
-    assert session._projector_style is None
+    assert session.projector_layout.style is None
     assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(before)
