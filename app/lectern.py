@@ -372,7 +372,8 @@ class Lectern:
     def followers(self) -> Mapping[int, Follower]:
         """The following browsers' panels by client id (read only: `add_follower`,
         `remove_follower` change them)."""
-        return MappingProxyType({client_id: follower for client_id, (_, follower) in self._followers.items()})
+        entries = list(self._followers.items())  # one step: other threads add and remove followers
+        return MappingProxyType({client_id: follower for client_id, (_, follower) in entries})
 
     def add_follower(self, seat: Seat) -> Follower:
         """`seat` follows: its panel (`Follower`, hiding the seat's own folders when collapsed),
