@@ -29,12 +29,13 @@ The rest:
 - **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
   (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
-  panel (`Follower`): who presents what (scene, preset, lesson step, time, the scene's key
-  numbers), or plainly that the presenter stopped or left; `Follow camera` (the presenter's
-  viewing direction, framed for the follower's own screen) and `Explore on my own`, which gives
-  it an exact copy of the room as shown now (`Room.fork`: state, time, traces, plots, playing).
-  `Follow presenter` comes back to the live scene.  On a narrow screen (a phone) the panel
-  shrinks to one status line and a `Details` button, so the body stays in view.
+  panel (`app.hall.follower.Follower`, built and written here): who presents what (scene,
+  preset, lesson step, time, the scene's key numbers), or plainly that the presenter stopped or
+  left; `Follow camera` (the presenter's viewing direction, framed for the follower's own
+  screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
+  (`Room.fork`: state, time, traces, plots, playing).  `Follow presenter` comes back to the
+  live scene.  On a narrow screen (a phone) the panel shrinks to one status line and a
+  `Details` button, so the body stays in view.
 - **The pointer.**  The presenter ticks `Pointer` (or holds Shift) and clicks in the 3D view: a
   marker (a ring and a dot, and the short label typed under `Pointer label`) appears there on
   every follower's screen and fades within POINTER_SECONDS.  The click handler is registered on
@@ -43,7 +44,8 @@ The rest:
   copy, which `Explore` copies), with a note; a new presenter takes over with the code.
 
 The lectern talks to a browser's session through the small `Seat` protocol; it never imports
-the session (layers: kit ← scenes ← lectern ← session ← main).
+the session (layers: kit ← scenes ← follower ← lectern ← the session's parts ← session ← main).
+The followers are changed only through `add_follower` and `remove_follower`.
 """
 
 from __future__ import annotations
@@ -55,19 +57,20 @@ import logging
 import secrets
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
+from types import MappingProxyType
 from typing import Any, Protocol
 
 import numpy as np
 import viser
 
+from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
 from app.kit.common import apply_camera
-from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
+from app.kit.room import Room
 from app.wire import is_capturing
 
-__all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT",
-           "NARROW_PX", "POINTER_SECONDS", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Pointer", "Seat",
-           "fitted_camera", "is_narrow", "new_code", "pointed_at"]
+__all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "POINTER_SECONDS",
+           "Broadcast", "Lectern", "Mode", "Pointer", "Seat", "fitted_camera", "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
 
@@ -77,9 +80,6 @@ MAX_TRIES = 5  # wrong codes a browser may try ...
 TRIES_WINDOW = 60.0  # ... per this many seconds
 FOLLOW_PERIOD = 0.5  # [s] the followers' panels refresh this often (they are many)
 CAMERA_PERIOD = 0.1  # [s] the presenter's camera reaches the followers at most this often
-NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
-NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
-DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 POINTER_SECONDS = 4.0  # [s] a pointer marker stays this long, fading
 POINTER_MARKERS = 4  # at most this many at once (the oldest goes)
 POINTER_COLOR = (235, 0, 140)
@@ -96,15 +96,6 @@ class Mode(enum.StrEnum):
     FOLLOWING = "following"  # the live room, read only
 
 
-class Hall(enum.StrEnum):
-    """What the shared screen shows."""
-
-    EMPTY = "empty"  # nobody has presented yet
-    LIVE = "live"  # a presenter is presenting
-    STOPPED = "stopped"  # the presenter pressed Stop presenting: the last state stays
-    LEFT = "left"  # the presenter's browser went away: the last state stays
-
-
 class Seat(Protocol):
     """What the lectern needs of a browser's session (`app.session.Session` is one)."""
 
@@ -112,6 +103,8 @@ class Seat(Protocol):
     client_id: int
     closed: bool
     mode: Mode
+    own_folders: tuple[Any, ...]
+    """The session's own folders (projector, notes, lecture), which a collapsed follower's panel hides."""
 
     def guard(self, where: str, fn: Callable[..., Any]) -> Callable[..., Any]:
         """`fn` run under the session's locks, its errors shown in its panel, never raised."""
@@ -135,10 +128,6 @@ class Seat(Protocol):
 
     def lesson_text(self) -> str:
         """The presenter's current lesson step, or ""."""
-        ...
-
-    def show_own_panel(self, shown: bool) -> None:
-        """Show or hide the session's own folders (a narrow follower hides them)."""
         ...
 
 
@@ -172,26 +161,6 @@ class Broadcast:
 
     def add_notification(self, title: str, body: str, **kwargs: Any) -> Any:
         return self.presenter.add_notification(title, body, **kwargs)
-
-
-def _aspect(camera: Any) -> float:
-    """Width / height of a browser's 3D view (DEFAULT_ASPECT before it is known)."""
-    try:
-        width, height = float(camera.image_width), float(camera.image_height)
-    except (AttributeError, TypeError, ValueError):
-        return DEFAULT_ASPECT
-    return width / height if width > 0.0 and height > 0.0 else DEFAULT_ASPECT
-
-
-def is_narrow(camera: Any) -> bool:
-    """A phone-like view: at most NARROW_PX wide, or portrait (aspect below NARROW_ASPECT).  (viser
-    reports the view's size in device pixels; a phone's CSS width of ~400 px is 800-1200 of
-    them, which the portrait test catches.)"""
-    try:
-        width = float(camera.image_width)
-    except (AttributeError, TypeError, ValueError):
-        return False
-    return (0.0 < width <= NARROW_PX) or _aspect(camera) < NARROW_ASPECT
 
 
 def fitted_camera(position: Any, look_at: Any, aspect_from: float,
@@ -283,84 +252,12 @@ class Pointer:
             handles[0].remove()
 
 
-def _transport_words(room: Room) -> str:
-    """What the presenter's transport is doing, in words (playing, paused, looking back, replaying)."""
-    if room.mode == REPLAYING:
-        return f"⟲ replaying t = {room.shown_t:.1f} s of {room.live_t:.1f} s ({room.time_scale:g}×)"
-    if room.mode == SCRUBBING:
-        return f"⟲ looking back at t = {room.shown_t:.1f} s (live: {room.live_t:.1f} s)"
-    return "▶ playing" if room.playing else "paused"
-
-
-class Follower:
-    """A following browser's panel: what the presenter shows, read only, and the way out.
-
-    Wide screens see the whole status; a narrow one (`is_narrow`) sees one status line and a
-    `Details` button that opens the rest (and the session's own folders)."""
-
-    def __init__(self, seat: Seat, lectern: Lectern) -> None:
-        gui = seat.client.gui
-        self.seat = seat
-        self.narrow = is_narrow(seat.client.camera)
-        self.expanded = not self.narrow
-        self.folder = gui.add_folder("Following the presenter", order=-10.0)
-        with self.folder:
-            self.gui_line = gui.add_markdown("")
-            self.gui_details = gui.add_button("Details", icon=viser.Icon.CHEVRON_DOWN,
-                                              hint="the presenter's numbers and your options")
-            self.gui_status = gui.add_markdown("")
-            self.gui_follow_camera = gui.add_checkbox("Follow camera", True,
-                                                      hint="see what the presenter's camera sees")
-            self.gui_explore = gui.add_button("Explore on my own", icon=viser.Icon.USER,
-                                              hint="an exact copy of what the presenter shows now, yours to change")
-        self.gui_explore.on_click(seat.guard("explore", lambda _event: seat.explore()))
-        self.gui_details.on_click(seat.guard("details", lambda _event: self.set_expanded(not self.expanded)))
-        self.gui_follow_camera.on_update(seat.guard("follow camera", lambda _event: lectern.send_camera(self)))
-        self._layout()
-        self.refresh(lectern)
-
-    @property
-    def follow_camera(self) -> bool:
-        return bool(self.gui_follow_camera.value)
-
-    def set_expanded(self, expanded: bool) -> None:
-        self.expanded = bool(expanded)
-        self._layout()
-
-    def set_narrow(self, narrow: bool) -> None:
-        """The browser's view became narrow (or wide): collapse (or expand) the panel."""
-        if narrow != self.narrow:
-            self.narrow = narrow
-            self.expanded = not narrow
-            self._layout()
-
-    def _layout(self) -> None:
-        full = self.expanded
-        self.gui_line.visible = not full
-        self.gui_details.visible = self.narrow
-        self.gui_details.label = "Hide details" if full else "Details"
-        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore):
-            handle.visible = full
-        self.seat.show_own_panel(full)
-
-    def refresh(self, lectern: Lectern) -> None:
-        status, line = lectern.status(), lectern.status_line()
-        if self.gui_status.content != status:
-            self.gui_status.content = status
-        if self.gui_line.content != line:
-            self.gui_line.content = line
-
-    def remove(self) -> None:
-        self.folder.remove()
-        self.seat.show_own_panel(True)
-
-
 class Lectern:
     """The presenter lock, the live room and the followers (see the module docstring).
 
     Attributes:
         code: the presenter code.  presenter: the presenting seat, or None.
-        hall: what the shared screen shows (`Hall`).
+        hall: what the shared screen shows (`app.hall.follower.Hall`).
         live_view: the view drawing the shared scene (kept after the presenter stops or leaves,
             its nodes the followers' last state, until a new presenter starts).
     """
@@ -373,7 +270,7 @@ class Lectern:
         self.hall = Hall.EMPTY
         self.live_view: Any = None
         self._live_room: Room | None = None
-        self.followers: dict[int, Follower] = {}
+        self._followers: dict[int, tuple[Seat, Follower]] = {}  # by client id
         self._tries: dict[int, collections.deque[float]] = collections.defaultdict(collections.deque)
         self._clock = clock
         self._lock = threading.RLock()
@@ -471,26 +368,35 @@ class Lectern:
         """Something is on the shared screen (a presenter, or the last state one left)."""
         return self.live_view is not None
 
+    @property
+    def followers(self) -> Mapping[int, Follower]:
+        """The following browsers' panels by client id (read only: `add_follower`,
+        `remove_follower` change them)."""
+        entries = list(self._followers.items())  # one step: other threads add and remove followers
+        return MappingProxyType({client_id: follower for client_id, (_, follower) in entries})
+
     def add_follower(self, seat: Seat) -> Follower:
-        follower = Follower(seat, self)
-        self.followers[seat.client_id] = follower
+        """`seat` follows: its panel (`Follower`, hiding the seat's own folders when collapsed),
+        the status written, the presenter's camera sent."""
+        follower = Follower(seat.client, seat.guard, explore=seat.explore, follow_camera_changed=self.send_camera,
+                            own_folders=seat.own_folders)
+        follower.show_status(self.status(), self.status_line())
+        self._followers[seat.client_id] = (seat, follower)
         self._watch_camera(seat)
         self.send_camera(follower)
         return follower
 
-    def remove_follower(self, seat: Seat) -> None:
-        follower = self.followers.pop(seat.client_id, None)
-        if follower is not None:
-            follower.remove()
+    def remove_follower(self, seat: Seat, *, disconnected: bool = False) -> None:
+        """`seat` follows no more: its panel goes (nothing to remove if its browser has
+        `disconnected`)."""
+        entry = self._followers.pop(seat.client_id, None)
+        if entry is not None and not disconnected:
+            entry[1].remove()
 
-    def _follower_resized(self, follower: Follower) -> None:
+    def _follower_resized(self, seat: Seat, follower: Follower) -> None:
         """A follower's view changed size (or its camera moved): collapse its panel on a narrow
         screen, and frame the presenter's view for its aspect."""
-        if self.followers.get(follower.seat.client_id) is not follower:
-            return
-        narrow = is_narrow(follower.seat.client.camera)
-        if narrow != follower.narrow:
-            follower.seat.guard("follower layout", follower.set_narrow)(narrow)
+        if seat.guard("follower layout", follower.fit_screen)():
             self.send_camera(follower)
 
     def _key_numbers(self) -> list[str]:
@@ -504,47 +410,23 @@ class Lectern:
             return []
 
     def status(self) -> str:
-        """The followers' panel text: who presents what, the lesson step, the time, the scene's
-        key numbers (read only)."""
-        room = self.live_room
-        if room is None:
-            return "Nobody is presenting."
-        head = {
-            Hall.LIVE: "**Presenter:** " + _transport_words(room),
-            Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
-                          "Explore it on your own, or wait for the next presenter.",
-            Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
-                       "A new presenter can take over with the code.",
-        }.get(self.hall, "")
-        preset = getattr(room.sim, "preset", None)
-        lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else ""),
-                 f"t = {room.sim.t:.1f} s · {room.time_scale:g}×"]
+        """The followers' panel text (`app.hall.follower.status_text`)."""
         presenter = self.presenter
         lesson = presenter.lesson_text() if presenter is not None and self.hall is Hall.LIVE else ""
-        if lesson:
-            lines.append(lesson)
-        lines.extend(self._key_numbers())
-        return "  \n".join(lines)
+        return status_text(self.live_room, self.hall, lesson, self._key_numbers())
 
     def status_line(self) -> str:
-        """One line for a narrow screen."""
-        room = self.live_room
-        if room is None:
-            return "Nobody is presenting."
-        if self.hall is Hall.LIVE:
-            if room.mode != LIVE:
-                return f"**⟲ {room.scene.title}** · t = {room.shown_t:.1f} of {room.live_t:.1f} s"
-            state = "▶" if room.playing else "⏸"
-            return f"**{state} {room.scene.title}** · t = {room.sim.t:.1f} s"
-        word = "stopped" if self.hall is Hall.STOPPED else "left"
-        return f"**Presenter {word}** · last state: {room.scene.title}"
+        """The followers' status in one line, for a narrow screen (`app.hall.follower.status_line`)."""
+        return status_line(self.live_room, self.hall)
 
     def refresh_followers(self) -> None:
-        for follower in list(self.followers.values()):
-            if follower.seat.closed:
+        """Write the status into every follower's panel."""
+        status, line = self.status(), self.status_line()
+        for seat, follower in list(self._followers.values()):
+            if seat.closed:
                 continue
             try:
-                follower.refresh(self)
+                follower.show_status(status, line)
             except Exception:  # noqa: BLE001 - a follower that just left
                 logger.debug("follower refresh failed", exc_info=True)
 
@@ -561,14 +443,14 @@ class Lectern:
             with self._lock:
                 self.pointer.tick(dt)
         self._since_status += dt
-        if self._since_status >= FOLLOW_PERIOD and self.followers:
+        if self._since_status >= FOLLOW_PERIOD and self._followers:
             self._since_status = 0.0
             self.refresh_followers()
         self._since_camera += dt
         if self._camera_due and self._since_camera >= CAMERA_PERIOD:
             self._camera_due = False
             self._since_camera = 0.0
-            for follower in list(self.followers.values()):
+            for _, follower in list(self._followers.values()):
                 self.send_camera(follower)
 
     def point(self, seat: Seat, ray_origin: Any, ray_direction: Any, label: str = "") -> np.ndarray:
@@ -587,9 +469,9 @@ class Lectern:
         if seat is self.presenter:
             self._camera_due = True
             return
-        follower = self.followers.get(seat.client_id)
-        if follower is not None:
-            self._follower_resized(follower)
+        entry = self._followers.get(seat.client_id)
+        if entry is not None and entry[0] is seat:
+            self._follower_resized(*entry)
 
     def send_camera(self, follower: Follower) -> None:
         """Put a follower's camera where the presenter's is (if it follows the camera): the
@@ -600,8 +482,9 @@ class Lectern:
             return
         source = presenter.client.camera
         try:
-            camera = follower.seat.client.camera
-            position, look_at = fitted_camera(source.position, source.look_at, _aspect(source), _aspect(camera))
+            camera = follower.camera
+            position, look_at = fitted_camera(source.position, source.look_at, view_aspect(source),
+                                              view_aspect(camera))
             camera.up_direction = tuple(source.up_direction)
             camera.position = position
             camera.look_at = look_at

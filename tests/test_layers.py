@@ -3,9 +3,9 @@ function level and under TYPE_CHECKING):
 
 - no import cycle anywhere in `app/` or `physics/`;
 - `physics` never imports `app` (nor viser);
-- the app stacks kit ← scenes ← lectern, export ← session ← main: a layer imports only
-  layers below it, and a scene never imports another scene (the modules of one scene's package,
-  `app.scenes.<scene>.*`, import each other);
+- the app stacks kit ← scenes ← the follower's panel ← lectern ← the session's other parts
+  (app.hall) ← session ← main: a layer imports only layers below it, and a scene never imports
+  another scene (the modules of one scene's package, `app.scenes.<scene>.*`, import each other);
 - a scene's simulation and readouts (`app.scenes.<scene>.simulation`, `.readouts`) import no
   viser, neither directly nor through a project module that does.
 """
@@ -21,8 +21,8 @@ ROOT = Path(__file__).resolve().parents[1]
 # layer where the pair is listed in SAME_LAYER_OK).
 LAYERS = {
     "app.data": 0, "app.backpressure": 0, "app.wire": 0, "app.kit": 1, "app.scenes": 2, "app.theme": 2,
-    "app.lessons": 3,
-    "app.lectern": 3, "app.export": 3, "app.session": 4, "app.main": 5, "app.__main__": 6, "app": 6,
+    "app.lessons": 3, "app.export": 3, "app.hall.follower": 3,
+    "app.lectern": 4, "app.hall": 5, "app.session": 6, "app.main": 7, "app.__main__": 8, "app": 8,
 }
 
 

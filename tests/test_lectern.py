@@ -11,8 +11,9 @@ import pytest
 from conftest import LectureHall, poll_until
 from scipy.spatial.transform import Rotation
 
+from app.hall.follower import Follower
 from app.kit.widgets import POSE_QUANTUM
-from app.lectern import LIVE_ROOT, MAX_TRIES, Follower, Lectern
+from app.lectern import LIVE_ROOT, MAX_TRIES, Lectern
 from app.main import App
 
 DT = 1.0 / 60.0
@@ -141,6 +142,25 @@ def test_a_presenter_who_leaves_leaves_the_last_state_and_a_new_one_takes_over(h
     assert follower.scene.root == LIVE_ROOT + "/free"
 
 
+def test_the_followers_change_only_through_the_lectern(hall: Hall) -> None:
+    """Follow, explore and leave go through `add_follower` / `remove_follower`; the followers
+    the lectern shows are a read-only view."""
+    presenter, follower, leaver = hall.join(), hall.join(), hall.join()
+    presenter.present(CODE)
+    hall.frames(1)
+    lectern = hall.app.lectern
+    assert set(lectern.followers) == {follower.client_id, leaver.client_id}
+    with pytest.raises(TypeError):
+        lectern.followers[presenter.client_id] = lectern.followers[follower.client_id]  # type: ignore[index]
+    follower.explore()
+    assert set(lectern.followers) == {leaver.client_id} and follower.lecture_folder.visible
+    hall.clients[2].close()  # the leaver's browser goes away
+    poll_until(lambda: len(hall.app.sessions) == 2)
+    assert not lectern.followers
+    hall.frames(40)  # nothing is written to a browser that left
+    assert presenter.error_count == follower.error_count == 0, (presenter.last_error, follower.last_error)
+
+
 def test_stop_presenting_keeps_the_room_in_the_presenters_browser(hall: Hall) -> None:
     presenter, follower = hall.join(), hall.join()
     presenter.present(CODE)
@@ -227,11 +247,11 @@ def test_projector_layout_styles_the_panel_and_enlarges_the_3d_labels(hall: Hall
     label = session.scene.nodes.label
     before = float(label.font_screen_scale)
     session.gui_projector.value = True  # the panel's toggle
-    assert session.projector and session._projector_style is not None
-    assert "font-size: 19px" in session._projector_style.content
+    assert session.projector and session.projector_layout.style is not None
+    assert "font-size: 19px" in session.projector_layout.style.content
     assert float(label.font_screen_scale) == pytest.approx(1.4 * before)
     session.select_scene("Heavy top")  # a new scene is built large too
     assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(1.4 * before)
     session.set_projector(False)
-    assert session._projector_style is None
+    assert session.projector_layout.style is None
     assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(before)

@@ -1,0 +1,14 @@
+"""The parts of one browser's session (`app.session.Session`), one module per concern:
+
+- `app.hall.follower`: a following browser's panel (`Follower`) and the status words it shows;
+  built by the lectern, below it.
+- `app.hall.projector`: the projector layout (large text, a docked panel, large 3D labels).
+- `app.hall.lesson_runner`: the Lesson folder and the running lesson's steps.
+- `app.hall.notes`: the For the notes folder (Record, Screenshot).
+- `app.hall.lecture_panel`: the Lecture folder (Present, Stop presenting, Follow presenter, the
+  pointer).
+
+Each part builds its own widgets and wires its own callbacks through the session's guard; it is
+handed what it acts on (callables, or the session through a small protocol), and never imports
+the session.
+"""

@@ -1,0 +1,200 @@
+"""A following browser's panel (`Follower`) and the words it shows.
+
+This module owns:
+
+- `Hall`: what the shared screen shows (the lectern keeps it; the words follow it).
+- The status words: `status_text` (who presents what: the transport, the scene and preset, the
+  time, the lesson step, the scene's key numbers; or plainly that the presenter stopped or
+  left) and `status_line` (the same in one line, for a narrow screen).
+- `is_narrow`: a phone-like view, whose panel collapses to one line and a `Details` button so
+  the body stays in view.
+- `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`.
+
+The panel knows nothing of the lectern or the session: whoever builds it (`Lectern.add_follower`)
+hands it the browser's client, its guard, the actions of its buttons and the browser's own
+folders, which a collapsed panel hides; the lectern writes the status into it (`show_status`).
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import viser
+
+from app.kit.gui import Wrap
+from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
+
+__all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "is_narrow", "status_line",
+           "status_text", "transport_words", "view_aspect"]
+
+NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
+NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
+DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
+
+
+class Hall(enum.StrEnum):
+    """What the shared screen shows."""
+
+    EMPTY = "empty"  # nobody has presented yet
+    LIVE = "live"  # a presenter is presenting
+    STOPPED = "stopped"  # the presenter pressed Stop presenting: the last state stays
+    LEFT = "left"  # the presenter's browser went away: the last state stays
+
+
+def view_aspect(camera: Any) -> float:
+    """Width / height of a browser's 3D view (DEFAULT_ASPECT before it is known)."""
+    try:
+        width, height = float(camera.image_width), float(camera.image_height)
+    except (AttributeError, TypeError, ValueError):
+        return DEFAULT_ASPECT
+    return width / height if width > 0.0 and height > 0.0 else DEFAULT_ASPECT
+
+
+def is_narrow(camera: Any) -> bool:
+    """A phone-like view: at most NARROW_PX wide, or portrait (aspect below NARROW_ASPECT).  (viser
+    reports the view's size in device pixels; a phone's CSS width of ~400 px is 800-1200 of
+    them, which the portrait test catches.)"""
+    try:
+        width = float(camera.image_width)
+    except (AttributeError, TypeError, ValueError):
+        return False
+    return (0.0 < width <= NARROW_PX) or view_aspect(camera) < NARROW_ASPECT
+
+
+def transport_words(room: Room) -> str:
+    """What the presenter's transport is doing, in words (playing, paused, looking back, replaying)."""
+    if room.mode == REPLAYING:
+        return f"⟲ replaying t = {room.shown_t:.1f} s of {room.live_t:.1f} s ({room.time_scale:g}×)"
+    if room.mode == SCRUBBING:
+        return f"⟲ looking back at t = {room.shown_t:.1f} s (live: {room.live_t:.1f} s)"
+    return "▶ playing" if room.playing else "paused"
+
+
+def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Sequence[str] = ()) -> str:
+    """The followers' panel text (Markdown): who presents what in `room` (the room on the shared
+    screen, None if there is none), the lesson step `lesson` (or ""), the time, the scene's
+    `key_numbers` (lines)."""
+    if room is None:
+        return "Nobody is presenting."
+    head = {
+        Hall.LIVE: "**Presenter:** " + transport_words(room),
+        Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
+                      "Explore it on your own, or wait for the next presenter.",
+        Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
+                   "A new presenter can take over with the code.",
+    }.get(hall, "")
+    preset = getattr(room.sim, "preset", None)
+    lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else ""),
+             f"t = {room.sim.t:.1f} s · {room.time_scale:g}×"]
+    if lesson:
+        lines.append(lesson)
+    lines.extend(key_numbers)
+    return "  \n".join(lines)
+
+
+def status_line(room: Room | None, hall: Hall) -> str:
+    """The followers' status in one line (Markdown), for a narrow screen."""
+    if room is None:
+        return "Nobody is presenting."
+    if hall is Hall.LIVE:
+        if room.mode != LIVE:
+            return f"**⟲ {room.scene.title}** · t = {room.shown_t:.1f} of {room.live_t:.1f} s"
+        state = "▶" if room.playing else "⏸"
+        return f"**{state} {room.scene.title}** · t = {room.sim.t:.1f} s"
+    word = "stopped" if hall is Hall.STOPPED else "left"
+    return f"**Presenter {word}** · last state: {room.scene.title}"
+
+
+class Follower:
+    """A following browser's panel: what the presenter shows, read only, and the way out.
+
+    Wide screens see the whole status; a narrow one (`is_narrow`) sees one status line and a
+    `Details` button that opens the rest.  The collapsed panel also hides `own_folders` (the
+    browser's own folders: projector, notes, lecture); `remove` shows them again.
+
+    Args:
+        client: the following browser.
+        guard: its session's guard (`Session.guard`): every callback of the panel runs in it.
+        explore: the `Explore on my own` button's action.
+        follow_camera_changed: called with this panel when `Follow camera` is toggled.
+        own_folders: handles of the browser's own panel that a collapsed panel hides.
+
+    Attributes:
+        camera: the browser's camera (its view's size sets the layout; the lectern moves it while
+            `follow_camera`).
+        narrow: the view is narrow; expanded: the whole panel is shown.
+    """
+
+    def __init__(self, client: viser.ClientHandle, guard: Wrap, *,
+                 explore: Callable[[], None], follow_camera_changed: Callable[[Follower], None],
+                 own_folders: Sequence[Any] = ()) -> None:
+        gui = client.gui
+        self.camera = client.camera
+        self.own_folders = tuple(own_folders)
+        self.narrow = is_narrow(self.camera)
+        self.expanded = not self.narrow
+        self.folder = gui.add_folder("Following the presenter", order=-10.0)
+        with self.folder:
+            self.gui_line = gui.add_markdown("")
+            self.gui_details = gui.add_button("Details", icon=viser.Icon.CHEVRON_DOWN,
+                                              hint="the presenter's numbers and your options")
+            self.gui_status = gui.add_markdown("")
+            self.gui_follow_camera = gui.add_checkbox("Follow camera", True,
+                                                      hint="see what the presenter's camera sees")
+            self.gui_explore = gui.add_button("Explore on my own", icon=viser.Icon.USER,
+                                              hint="an exact copy of what the presenter shows now, yours to change")
+        self.gui_explore.on_click(guard("explore", lambda _event: explore()))
+        self.gui_details.on_click(guard("details", lambda _event: self.set_expanded(not self.expanded)))
+        self.gui_follow_camera.on_update(guard("follow camera", lambda _event: follow_camera_changed(self)))
+        self._layout()
+
+    @property
+    def follow_camera(self) -> bool:
+        return bool(self.gui_follow_camera.value)
+
+    def set_expanded(self, expanded: bool) -> None:
+        self.expanded = bool(expanded)
+        self._layout()
+
+    def set_narrow(self, narrow: bool) -> None:
+        """The browser's view became narrow (or wide): collapse (or expand) the panel."""
+        if narrow != self.narrow:
+            self.narrow = narrow
+            self.expanded = not narrow
+            self._layout()
+
+    def fit_screen(self) -> bool:
+        """Lay the panel out for the browser's view size now (`set_narrow`); True if it changed."""
+        narrow = is_narrow(self.camera)
+        if narrow == self.narrow:
+            return False
+        self.set_narrow(narrow)
+        return True
+
+    def _layout(self) -> None:
+        full = self.expanded
+        self.gui_line.visible = not full
+        self.gui_details.visible = self.narrow
+        self.gui_details.label = "Hide details" if full else "Details"
+        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore):
+            handle.visible = full
+        self._show_own_folders(full)
+
+    def _show_own_folders(self, shown: bool) -> None:
+        for handle in self.own_folders:
+            if handle.visible != shown:
+                handle.visible = shown
+
+    def show_status(self, status: str, line: str) -> None:
+        """Write the status (`status_text`) and the one line (`status_line`); unchanged text is not sent."""
+        if self.gui_status.content != status:
+            self.gui_status.content = status
+        if self.gui_line.content != line:
+            self.gui_line.content = line
+
+    def remove(self) -> None:
+        """The panel goes; the browser's own folders are shown again."""
+        self.folder.remove()
+        self._show_own_folders(True)

@@ -1,0 +1,148 @@
+"""The `Lesson` folder of one browser's panel and the lesson it runs (`app.lessons`: the data).
+
+This module owns `LessonRunner`: the folder (the lesson dropdown, Back / Next, the step's
+text), the → / ← keys, the running lesson and its step, and applying a step to the browser's
+stage (`Stage`: the scene, the preset, the toggles, the tab, the integrator, the camera, play
+or pause).  A scene chosen by hand ends the lesson (`scene_changed`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Protocol
+
+import viser
+
+from app.kit.common import apply_camera
+from app.kit.gui import Wrap
+from app.kit.room import Room
+from app.lessons import Lesson, lessons
+
+__all__ = ["NO_LESSON", "LessonRunner", "Stage"]
+
+NO_LESSON = "—"  # the dropdown's entry for no lesson
+
+
+class Stage(Protocol):
+    """What a lesson step drives: a browser's session (`app.session.Session` is one)."""
+
+    client: viser.ClientHandle
+    scene: Any
+    """The view of the room shown."""
+
+    @property
+    def room(self) -> Room:
+        """The room shown."""
+        ...
+
+    def controlled_room(self) -> Room:
+        """The room the browser may change; PermissionError while it follows the presenter."""
+        ...
+
+    def switch_scene(self, title: str) -> None:
+        """Show a new room of the scene `title`, as the scene dropdown does."""
+        ...
+
+
+class LessonRunner:
+    """The Lesson folder and the running lesson.
+
+    Args:
+        gui: the browser's panel.
+        guard: its session's guard: the folder's and the keys' callbacks run in it.
+        stage: what the steps drive.
+        on_step: called after a step has been applied (the presenter's followers read its text).
+
+    Attributes:
+        lessons: the lessons by title.  lesson: the one running, or None; step: its step shown
+        (0-based; -1 before the first).  folder: the Lesson folder.
+    """
+
+    def __init__(self, gui: Any, guard: Wrap, stage: Stage, on_step: Callable[[], None]) -> None:
+        self.stage = stage
+        self._on_step = on_step
+        self.lessons = {lesson.title: lesson for lesson in lessons()}
+        self.lesson: Lesson | None = None
+        self.step = -1
+        self._stepping = False  # a step is switching the scene: the lesson goes on
+        self.folder = gui.add_folder("Lesson", expand_by_default=False)
+        with self.folder:
+            self.gui_lesson = gui.add_dropdown("Lesson", (NO_LESSON, *self.lessons), initial_value=NO_LESSON,
+                                               hint="a walk through one section of the memo")
+            self.gui_steps = gui.add_button_group("Step", ("◀ Back", "Next ▶"))
+            self.gui_text = gui.add_markdown("")
+        self.gui_lesson.on_update(guard("lesson", lambda _event: self.start(str(self.gui_lesson.value))))
+        self.gui_steps.on_click(guard("lesson step", lambda event: self.next_step(
+            -1 if str(event.target.value).startswith("◀") else 1)))
+        for label, key, delta in (("Lesson: next step", "arrowright", 1), ("Lesson: back", "arrowleft", -1)):
+            command = gui.add_command(label, hotkey=key, description=f"key: {key}")
+            command.on_trigger(guard(label, lambda _event, delta=delta: self.next_step(delta)))
+
+    def text(self) -> str:
+        """The current step's text (Markdown; shown to the followers of a presenter running a lesson)."""
+        if self.lesson is None or self.step < 0:
+            return ""
+        return f"**{self.lesson.title}**, step {self.step + 1}/{len(self.lesson.steps)}: " + \
+            self.lesson.steps[self.step].text
+
+    def end(self) -> None:
+        """No lesson runs: its text goes (here and, for a presenter, on the followers' panels)."""
+        self.lesson, self.step = None, -1
+        self.gui_text.content = ""
+        if self.gui_lesson.value != NO_LESSON:
+            self.gui_lesson.value = NO_LESSON  # runs start(NO_LESSON): nothing more
+
+    def scene_changed(self) -> None:
+        """The browser's scene changes: by hand, the lesson (and its text) ends; by a step, it goes on."""
+        if not self._stepping:
+            self.end()
+
+    def start(self, title: str) -> None:
+        """Run the lesson `title` from its first step (NO_LESSON: none)."""
+        if title not in self.lessons:  # NO_LESSON, or anything a client sends
+            self.lesson, self.step = None, -1
+            self.gui_text.content = ""
+            return
+        self.stage.controlled_room()  # PermissionError while following
+        self.lesson = self.lessons[title]
+        self.step = -1
+        self.next_step(1)
+
+    def next_step(self, delta: int) -> None:
+        """Go `delta` steps on (1 Next, -1 Back) in the running lesson, and apply that step."""
+        if self.lesson is None:
+            return
+        stage = self.stage
+        stage.controlled_room()  # PermissionError while following
+        k = min(max(self.step + delta, 0), len(self.lesson.steps) - 1)
+        self.step = k
+        step = self.lesson.steps[k]
+        if step.scene != stage.room.scene.title:
+            self._stepping = True
+            try:
+                stage.switch_scene(step.scene)
+            finally:
+                self._stepping = False
+        room = stage.room
+        if step.preset is not None:
+            room.scene.apply_preset(room, step.preset)
+        view = stage.scene
+        toggles = view.checkboxes()
+        for label, value in step.display.items():
+            toggle = toggles.get(label)
+            if toggle is None:
+                raise ValueError(f"lesson step {self.step + 1}: {step.scene} has no checkbox {label!r}")
+            if toggle.value != value:
+                toggle.value = value  # runs its callback: the view redraws
+        if step.tab is not None:
+            view.show_tab(step.tab)
+        if step.integrator is not None:
+            view.set_integrator(step.integrator)
+        if step.camera is not None:
+            apply_camera(stage.client, step.camera)
+        if step.play is True:
+            room.play()
+        elif step.play is False:
+            room.pause()
+        self.gui_text.content = self.text()
+        self._on_step()

@@ -1,0 +1,108 @@
+"""The `For the notes` folder of one browser's panel: recordings and screenshots for lecture notes.
+
+This module owns `Notes`: the folder, `Record` (the next seconds of the scene shown, computed
+from a copy of its room faster than real time, offered as .html and .viser downloads) and
+`Screenshot` (a PNG of the browser's view).  Both work in a thread and report their errors in
+the browser's panel.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import imageio.v3 as iio
+import viser
+
+from app.export import MAX_SECONDS, record
+from app.kit.common import checked_value
+from app.kit.gui import Wrap
+from app.kit.room import Room
+
+__all__ = ["Notes"]
+
+
+class Notes:
+    """The `For the notes` folder and what its buttons make.
+
+    Args:
+        client: the browser.
+        guard: its session's guard: the buttons' callbacks run in it.
+        report_error: shows an error in the browser's panel (the threads' errors go there).
+        room: the room the browser shows now.
+
+    Attributes:
+        folder: the folder.  last_recording: (.html, .viser) last offered, or None;
+        last_screenshot: the PNG last offered, or None.
+    """
+
+    def __init__(self, client: viser.ClientHandle, guard: Wrap,
+                 report_error: Callable[[str, BaseException], None], room: Callable[[], Room]) -> None:
+        self.client = client
+        self._report_error = report_error
+        self._room = room
+        self.last_recording: tuple[bytes, bytes] | None = None
+        self.last_screenshot: bytes | None = None
+        gui = client.gui
+        self.folder = gui.add_folder("For the notes", expand_by_default=False)
+        with self.folder:
+            self.gui_record_seconds = gui.add_number("Record [s]", 10.0, min=1.0, max=60.0, step=1.0,
+                                                     hint="simulated seconds from now, computed faster than real time")
+            self.gui_record = gui.add_button("Record", icon=viser.Icon.VIDEO,
+                                             hint="download the motion as .html (plays offline) and .viser")
+            self.gui_record_progress = gui.add_progress_bar(0.0, visible=False)
+            self.gui_screenshot = gui.add_button("Screenshot", icon=viser.Icon.CAMERA,
+                                                 hint="download a PNG of this view, for slides")
+        self.gui_record.on_click(guard("record", lambda _event: self.record(self.gui_record_seconds.value)))
+        self.gui_screenshot.on_click(guard("screenshot", lambda _event: self.screenshot()))
+
+    def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
+        """Record the next `seconds` of the scene shown, from its current state, and offer it as
+        .html and .viser downloads.  The copy is taken now (`Room.fork`; the room shown is not
+        touched); the frames are computed in a thread.  ValueError for a value out of range."""
+        value = checked_value(seconds, 1.0, MAX_SECONDS)
+        if value is None:
+            raise ValueError(f"Record: {seconds!r} s refused: between 1 and {MAX_SECONDS:g} s")
+        room = self._room()
+        copy = room.fork()
+        title = room.scene.title.lower().replace(" ", "_")
+        bar = self.gui_record_progress
+
+        def work() -> None:
+            try:
+                bar.visible = True
+                html = record(copy, value, fmt="html", progress=lambda f: setattr(bar, "value", 50.0 * f))
+                data = record(copy, value, fmt="viser", progress=lambda f: setattr(bar, "value", 50.0 + 50.0 * f))
+                self.client.send_file_download(f"{title}_{value:g}s.html", html)
+                self.client.send_file_download(f"{title}_{value:g}s.viser", data)
+                self.last_recording = (html, data)
+            except Exception as error:  # noqa: BLE001 - shown, never raised into a thread
+                self._report_error("record", error)
+            finally:
+                bar.visible = False
+
+        thread = threading.Thread(target=work, name=f"record-{self.client.client_id}", daemon=True)
+        thread.start()
+        if wait:
+            thread.join()
+        return thread
+
+    def screenshot(self, *, wait: bool = False) -> threading.Thread:
+        """Ask this browser for a render of its view and offer it as a PNG download (in a
+        thread: the browser answers in a second or so)."""
+
+        def work() -> None:
+            try:
+                image = self.client.get_render(height=720, width=1280, transport_format="png")
+                png = iio.imwrite("<bytes>", image, extension=".png")
+                self.client.send_file_download("scene.png", png)
+                self.last_screenshot = png
+            except Exception as error:  # noqa: BLE001
+                self._report_error("screenshot", error)
+
+        thread = threading.Thread(target=work, name=f"screenshot-{self.client.client_id}", daemon=True)
+        thread.start()
+        if wait:
+            thread.join()
+        return thread

@@ -1,0 +1,107 @@
+"""The projector layout of one browser: the `Projector` checkbox and what it changes.
+
+This module owns the layout (`ProjectorLayout`): panel text >= 18 px (PROJECTOR_CSS), a narrow
+panel docked on the right, 3D labels PROJECTOR_LABEL_SCALE times larger, and the scene's camera
+view moved for the narrow panel (`projector_view`).  A follower's browser takes the panel part
+only: the shared scene's labels and camera are not its own.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import viser
+
+from app.kit.common import CameraView, apply_camera
+from app.kit.gui import Wrap
+
+__all__ = ["BRAND_COLOR", "PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "ProjectorLayout", "projector_view"]
+
+BRAND_COLOR = (200, 110, 0)
+PROJECTOR_LABEL_SCALE = 1.4
+PROJECTOR_CSS = """<style>
+html { font-size: 20px; }
+label, button, input, .mantine-Text-root, .mantine-Button-label, .mantine-InputWrapper-label,
+.mantine-NumberInput-input, .mantine-Select-input, .mantine-TextInput-input, p, li, td { font-size: 19px !important; }
+code, pre { font-size: 15px !important; }
+.mantine-Slider-markLabel { display: none; }
+.mantine-Flex-root:has(> div > p > label) { flex-wrap: wrap; }
+.mantine-Flex-root > div:has(> p > label) { width: 100% !important; }
+h3 { font-size: 22px !important; }
+</style>"""
+
+
+def projector_view(view: CameraView) -> CameraView:
+    """A scene's camera view for the projector layout: the panel is a narrow side bar there, so
+    the view looks nearer the origin (scenes frame their body left of centre, for the floating
+    panel) and from 10 % farther."""
+    look_at = tuple(0.3 * c for c in view.look_at)
+    position = tuple(a + 1.1 * (p - a) for p, a in zip(view.position, look_at))
+    return CameraView(position, look_at, view.up, view.fov_deg)  # type: ignore[arg-type]
+
+
+class ProjectorLayout:
+    """One browser's projector layout and its `Projector` checkbox (built where the panel is).
+
+    Args:
+        client: the browser.
+        guard: its session's guard: the checkbox's callback runs in it.
+        own_view: the browser's own scene view now (its labels and camera are the layout's), or
+            None while it follows the presenter.
+
+    Attributes:
+        on: the layout is in force.  style: the CSS element while on, else None.
+        gui_checkbox: the panel's `Projector` checkbox.
+    """
+
+    def __init__(self, client: viser.ClientHandle, guard: Wrap, own_view: Callable[[], Any]) -> None:
+        self.client = client
+        self.on = False
+        self.style: Any = None
+        self._own_view = own_view
+        gui: Any = client.gui  # viser's handles type `value` read-only; it is not
+        self.gui_checkbox = gui.add_checkbox("Projector", False, hint="large text, a narrow panel, large 3D labels")
+        self.gui_checkbox.on_update(guard("projector", lambda _event: self.set(bool(self.gui_checkbox.value))))
+
+    def set(self, on: bool) -> None:
+        """Projector layout on or off: panel text >= 18 px, a narrower collapsible panel, 3D labels
+        PROJECTOR_LABEL_SCALE times larger, the camera at `projector_view`."""
+        on = bool(on)
+        if on == self.on:
+            return
+        self.on = on
+        if on:
+            self.style = self.client.gui.add_html(PROJECTOR_CSS)
+        elif self.style is not None:
+            self.style.remove()
+            self.style = None
+        gui = self.client.gui
+        gui.configure_theme(show_share_button=False, brand_color=BRAND_COLOR,
+                            control_width="small" if on else "large")
+        if on:  # docked on the right, narrow and collapsible: the 3D view keeps >= 70 % of 1024 px
+            gui.main_panel.dock_right()
+        else:
+            gui.main_panel.float()
+        if self.gui_checkbox.value != on:
+            self.gui_checkbox.value = on
+        view = self._own_view()
+        if view is not None:
+            self._scale_labels(view.root, PROJECTOR_LABEL_SCALE if on else 1.0 / PROJECTOR_LABEL_SCALE)
+            self.reset_camera(view.room.scene.view)
+
+    def fit_new_view(self, view: Any) -> None:
+        """A new scene view of this browser: its labels take the layout's size."""
+        if self.on:
+            self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
+
+    def reset_camera(self, view: CameraView) -> None:
+        """Move the camera to the scene's camera `view` (centred for the projector layout)."""
+        apply_camera(self.client, projector_view(view) if self.on else view)
+
+    def _scale_labels(self, root: str, factor: float) -> None:
+        """Multiply the screen size of every 3D label under `root` (this browser's nodes)."""
+        handles = getattr(self.client.scene, "_handle_from_node_name", {})
+        for name, handle in list(handles.items()):
+            if name.startswith(root + "/") and hasattr(handle, "font_screen_scale"):
+                handle.font_screen_scale = float(handle.font_screen_scale) * factor
