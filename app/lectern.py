@@ -55,7 +55,7 @@ import logging
 import secrets
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any, Protocol
 
 import numpy as np
@@ -63,7 +63,7 @@ import viser
 
 from app.kit.common import apply_camera
 from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
-from app.wire import is_capturing
+from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "NARROW_ASPECT",
            "NARROW_PX", "POINTER_SECONDS", "Broadcast", "Follower", "Hall", "Lectern", "Mode", "Pointer", "Seat",
@@ -162,13 +162,10 @@ class Broadcast:
         self.camera = client.camera
         self.client_id = client.client_id
 
-    @contextlib.contextmanager
-    def atomic(self) -> Iterator[None]:
-        if is_capturing():  # the app loop's frame: its wires hold the frame together
-            yield
-            return
-        with self.server.atomic(), self.presenter.atomic():
-            yield
+    def atomic(self) -> contextlib.AbstractContextManager[None]:
+        """The shared scene's and the presenter's `atomic()`, except inside the app loop's frame
+        for those a wire holds together (`app.viser_internals.atomic_unless_captured`)."""
+        return atomic_unless_captured(self.server, self.presenter)
 
     def add_notification(self, title: str, body: str, **kwargs: Any) -> Any:
         return self.presenter.add_notification(title, body, **kwargs)

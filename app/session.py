@@ -32,6 +32,7 @@ from app.kit.room import Room, Scene
 from app.lectern import LIVE_ROOT, Lectern, Mode
 from app.lessons import Lesson, lessons
 from app.scenes import DEFAULT_SCENE, SCENES
+from app.viser_internals import scene_nodes
 
 __all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Mode", "Session", "projector_view"]
 
@@ -356,8 +357,7 @@ class Session:
 
     def _scale_labels(self, root: str, factor: float) -> None:
         """Multiply the screen size of every 3D label under `root` (this browser's nodes)."""
-        handles = getattr(self.client.scene, "_handle_from_node_name", {})
-        for name, handle in list(handles.items()):
+        for name, handle in scene_nodes(self.client.scene).items():
             if name.startswith(root + "/") and hasattr(handle, "font_screen_scale"):
                 handle.font_screen_scale = float(handle.font_screen_scale) * factor
 
