@@ -40,6 +40,7 @@ import struct
 import threading
 import time
 from collections.abc import Container, Iterable
+from contextlib import AbstractContextManager
 from typing import Any
 
 import msgspec.msgpack
@@ -59,7 +60,7 @@ from app.viser_internals import (
     pack_window,
 )
 
-__all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end_frames", "is_capturing",
+__all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end_frames",
            "websocket_frame"]
 
 logger = logging.getLogger(__name__)
@@ -75,16 +76,11 @@ CAPTURED_PHASES = ("update_simple", "update_dict")
 _ZSTD = threading.local()
 
 
-def capturing() -> Any:
+def capturing() -> AbstractContextManager[None]:
     """A frame of the app loop (`app.viser_internals.frame_capture`): within it, what this
     thread queues to any interface with a wire is held by that wire until `end_frames`
     (updates to be encoded once, everything else to be handed to viser in one atomic block)."""
     return frame_capture()
-
-
-def is_capturing() -> bool:
-    """This thread is inside `capturing()`."""
-    return in_frame_capture()
 
 
 def encode(messages: Iterable[Any], inline: Container[str] = ()) -> bytes:
