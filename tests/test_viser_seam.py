@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import re
 import time
@@ -37,9 +38,11 @@ PRIVATE_ACCESS = re.compile(r"""(?<!self)(?<!cls)(\.|["'])(""" + "|".join(
 
 
 @pytest.fixture
-def restore() -> Iterator[None]:
-    """Put every feature back as the installed viser allows after the test."""
+def restore(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Put every feature back as the installed viser allows after the test (after putting back
+    what the test took away)."""
     yield
+    monkeypatch.undo()
     seam.configure()
 
 
@@ -126,15 +129,12 @@ def test_the_scan_sees_what_it_looks_for() -> None:
 
 
 # ---------------------------------------------------------------------- the app with a feature off
-@pytest.mark.parametrize("feature", [f.name for f in seam.FEATURES])
-def test_with_a_feature_off_a_browser_ends_with_the_servers_scene(feature: str, restore) -> None:
-    """Euler angles (labels, arcs, frames) plays 1 s and pauses with one feature off: frames go
-    out (by viser's path when the wire is off) and the browser's nodes are the server's."""
+def _plays_as_the_server(wired: bool) -> None:
+    """Euler angles (labels, arcs, frames) plays 1 s and pauses: frames go out (by a wire or by
+    viser's path, as `wired` says) and the browser's nodes are the server's."""
     from app.main import create_server
     from tests.test_wire import SceneMirror, _differences, _settled
 
-    (off,) = (f for f in seam.FEATURES if f.name == feature)
-    off.on, off.why = False, "switched off by the test"
     app = create_server("127.0.0.1", 0, verbose=False)
     mirror = SceneMirror(app.port)
     try:
@@ -146,8 +146,7 @@ def test_with_a_feature_off_a_browser_ends_with_the_servers_scene(feature: str, 
         time.sleep(1.0)
         session.pause()
         _settled(mirror)
-        wire = app._wires.get(session.client.client_id)
-        assert (wire is None) == (off is seam.FRAME_CAPTURE)
+        assert (app._wires.get(session.client.client_id) is not None) == wired
         with mirror.lock:
             assert mirror.frames - before > 20, "frames were served"
         with session.lock:
@@ -156,6 +155,24 @@ def test_with_a_feature_off_a_browser_ends_with_the_servers_scene(feature: str, 
     finally:
         mirror.close()
         app.stop()
+
+
+@pytest.mark.parametrize("feature", [f.name for f in seam.FEATURES])
+def test_with_a_feature_off_a_browser_ends_with_the_servers_scene(feature: str, restore) -> None:
+    (off,) = (f for f in seam.FEATURES if f.name == feature)
+    off.on, off.why = False, "switched off by the test"
+    _plays_as_the_server(wired=off is not seam.FRAME_CAPTURE)
+
+
+def test_when_viser_renames_the_buffer_helper_the_app_serves_frames_through_viser(restore) -> None:
+    """A viser whose `_append_aligned_buffers` (the wire's envelope) has another name (the name
+    the seam looks for is renamed here: viser itself still needs its own): no wire, viser's
+    own frames."""
+    needs = [dataclasses.replace(need, attribute="_append_aligned_buffers_renamed")
+             if need.attribute == "_append_aligned_buffers" else need for need in seam.NEEDS]
+    assert seam.configure(needs) == ["viser.infra._infra._append_aligned_buffers_renamed"]
+    assert not seam.FRAME_CAPTURE.on and all(f.on for f in seam.FEATURES if f is not seam.FRAME_CAPTURE)
+    _plays_as_the_server(wired=False)
 
 
 def test_without_visers_panel_registry_a_view_finds_the_same_checkboxes(manual, restore) -> None:
