@@ -247,6 +247,8 @@ def report() -> None:
     if _REPORTED:
         return
     _REPORTED.append(True)
+    if all(feature.on for feature in FEATURES):
+        logger.info("viser %s: every internal the app uses is there", VERSION)
     for feature in FEATURES:
         if not feature.on:
             logger.warning("viser internals: %s off (%s); %s", feature.name, feature.why, feature.fallback)
