@@ -1,53 +1,44 @@
 """Backpressure for per-client scene streaming with viser 1.1: skip, don't queue.
 
-How viser 1.1.1 sends a per-client node update (read from the installed source):
+How viser 1.1 sends a per-client node update:
 
 1. ``handle.wxyz = q`` (``.position``, ``.points``, any prop) runs in the caller's thread (our
    app loop).  It builds one message (``SetOrientationMessage``, ``SetPositionMessage``,
-   ``SceneNodeUpdateMessage({"points": ...})``), stamps its owner and calls
-   ``WebsockClientConnection.queue_message`` -> ``AsyncMessageBuffer.push`` on **that client's
-   own buffer** (``client._websock_connection._state.message_buffer``).  ``wxyz``/``position``
-   setters first run ``np.allclose`` against the cached value and queue nothing if unchanged.
-2. ``push`` (under the buffer's ``threading.Lock``) stores the message under a new integer id in
-   ``message_from_id`` and **culls** the buffered message with the same redundancy key
-   (``scene:<name>:update:<prop>`` style keys: one pending orientation per node, one pending
-   ``points`` per node...).  So a backlog never grows past "latest state of every node"; a
-   client that is behind loses intermediate frames, never receives them late in a burst of its
-   own.  Outside ``atomic()`` every push also wakes the sender with
-   ``loop.call_soon_threadsafe`` (a self-pipe write: a syscall that releases the GIL).
-3. ``client.atomic()`` increments the buffer's ``atomic_counter``; the sender does not take
-   messages from a buffer whose counter is non-zero, and leaving the outermost block wakes the
-   sender once.  It is per buffer, so it groups one client's messages into one window; it
-   nests (only the outermost exit wakes).
-4. The sender is viser's single asyncio thread (started by ``ViserServer()``).  For every
-   connection it runs two ``_message_producer`` tasks (per-client buffer and broadcast buffer).
-   Each iterates ``AsyncMessageBuffer._window_loop``: it takes up to ``max_window_size`` (128)
-   messages in id order, **popping them from ``message_from_id``** (per-client buffers are not
-   persistent), serialises them (``as_serializable_dict``, msgpack, zstd level 1, a 16-byte
-   header plus raw numpy buffers) into **one websocket message** and ``await ws.send()``.  After
-   a window, if nothing newer is queued it waits ``window_duration_sec`` (1/60 s) unless the
-   buffer's ``flush_event`` is set (``client.flush()``); with nothing queued it waits on
-   ``message_event`` then again up to 1/60 s.  So without a flush, a frame can sit in the buffer
-   for up to one window period after it was queued.
-5. ``ws.send`` writes into the asyncio transport; when the transport holds more than the
-   websockets write limit (32 KiB) it awaits drain.  A client that stops reading therefore
-   parks its own producer at ``send``; its buffer keeps only the latest state of each node
-   (culling), and other clients are unaffected.
+   ``SceneNodeUpdateMessage({"points": ...})``), stamps its owner and pushes it into **that
+   client's own send buffer**.  ``wxyz``/``position`` setters first run ``np.allclose`` against
+   the cached value and queue nothing if unchanged.
+2. The push (under the buffer's lock) stores the message under a new id and **culls** the
+   buffered message with the same redundancy key (one pending orientation per node, one
+   pending ``points`` per node...).  So a backlog never grows past "latest state of every
+   node"; a client that is behind loses intermediate frames, never receives them late in a
+   burst of its own.  Outside ``atomic()`` every push also wakes the sender (a self-pipe
+   write: a syscall that releases the GIL).
+3. ``client.atomic()`` holds the client's buffer: the sender takes nothing from it until the
+   outermost block ends, which wakes the sender once; so it groups one client's messages into
+   one window.
+4. The sender is viser's single asyncio thread.  For every connection it takes windows of up to
+   128 messages in id order from the client's buffer and from the broadcast buffer, serialises
+   each (msgpack, zstd, raw numpy buffers) into **one websocket message** and sends it.  After a
+   window it waits one window period (1/60 s) unless the buffer is flushed
+   (``client.flush()``), so without a flush a frame can sit in the buffer that long.
+5. The send writes into the asyncio transport; when the transport holds more than websockets'
+   write limit it awaits drain.  A client that stops reading therefore parks its own sender;
+   its buffer keeps only the latest state of each node (culling), and other clients are
+   unaffected.
 
-The failure mode this module addresses: all of that Python (roughly 0.1-0.5 ms per client frame
-in viser) runs on the asyncio thread and needs the GIL, and the app loop's own node assignments
-(about 25 us per property: ``np.allclose``, message construction, ``push``) need it too.  An app
-loop that ticks N clients back to back at 60 Hz stops sleeping once N is large; from then on
-the sender only gets the GIL in slices, and (measured with benchmarks/overload_probe.py) the
-delivered rate does not degrade but collapses, bimodally: 60 clients got 35 or 16 fps in two
-identical runs, 80 clients 6-14 fps with multi-second gaps.  The likely mechanism is the GIL
-"convoy": each syscall the sender makes (socket send, epoll) hands the GIL to the CPU-bound loop
-thread and costs the sender up to the 5 ms switch interval to get it back.
+The failure mode this module addresses: all of that Python runs on the asyncio thread and needs
+the GIL, and the app loop's own node assignments (``np.allclose``, message construction, the
+push) need it too.  An app loop that ticks N clients back to back at 60 Hz stops sleeping once
+N is large; from then on the sender only gets the GIL in slices, and the delivered rate does
+not degrade but collapses (docs/VISER.md, "How a frame leaves"; benchmarks/overload_probe.py).
+The likely mechanism is the GIL "convoy": each syscall the sender makes (socket send, epoll)
+hands the GIL to the CPU-bound loop thread and costs the sender up to the switch interval to
+get it back.
 
 The remedy, as helpers the app loop can use (nothing here knows the app's classes):
 
 - `pending(client)`: messages queued for that client that the sender has not yet taken
-  (a few hundred ns).  Non-zero at the start of a frame means "your last frame has not
+  (a dict's length).  Non-zero at the start of a frame means "your last frame has not
   left yet": skip drawing that client this frame (drop the frame, don't queue it).
 - `FramePacer`: per-frame policy.  ``begin()`` / ``ready(client)`` / ``hold(clients)`` /
   ``end(drawn)``.  ``end`` wakes the sender for all drawn clients at once, then sleeps (GIL
@@ -55,12 +46,10 @@ The remedy, as helpers the app loop can use (nothing here knows the app's classe
   time the loop worked, and at least until the next 1/rate boundary.  Under overload the
   whole loop slows down: every client loses the same frames and the sender always runs.
 
-Internals used (viser 1.1.1), each behind a fallback:
-``ClientHandle._websock_connection.get_message_buffer()`` -> ``AsyncMessageBuffer`` with
-``message_from_id``, ``done``, ``flush_event``, ``event_loop``; ``ClientHandle._viser_server.
-_websock_server._live_connections[client_id].transport``.  If they change, `pending` returns
-0 and `internals_available()` is False: the pacer then still enforces the idle share and the
-60 Hz period (time-based pacing only), and `flush_all` falls back to ``client.flush()``.
+What viser keeps private (the send buffers, the transports) is read through
+`app.viser_internals` (its SEND_QUEUE).  When that is off `pending` returns 0 and
+`internals_available()` is False: the pacer then still enforces the idle share and the 60 Hz
+period (time-based pacing only), and `flush_all` falls back to ``client.flush()``.
 """
 
 from __future__ import annotations
@@ -70,6 +59,10 @@ import dataclasses
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
+
+from app.viser_internals import connection_closed, pending_messages
+from app.viser_internals import flush_all as _flush_all
+from app.viser_internals import unsent_bytes as _unsent_bytes
 
 if TYPE_CHECKING:
     from viser import ClientHandle
@@ -85,84 +78,37 @@ __all__ = [
 ]
 
 
-def _buffer(client: Any) -> Any | None:
-    """The client's ``AsyncMessageBuffer`` (viser 1.1.1 internals), or None if not found."""
-    try:
-        return client._websock_connection.get_message_buffer()
-    except AttributeError:
-        return None
-
-
 def internals_available(client: ClientHandle) -> bool:
-    """True if `pending` can see this client's queue (viser internals as in 1.1.1)."""
-    buffer = _buffer(client)
-    return buffer is not None and isinstance(getattr(buffer, "message_from_id", None), dict)
+    """True if `pending` can see this client's queue (`app.viser_internals.SEND_QUEUE`)."""
+    return pending_messages(client) is not None
 
 
 def pending(client: ClientHandle) -> int:
     """Messages queued for `client` that viser's sender has not yet taken into a window.
 
     0 means everything queued so far has been handed to serialisation/the socket (it may still
-    sit in the socket's buffers).  Cost: a few attribute lookups and ``len`` of a dict, no lock
-    (``len`` of a dict is atomic under the GIL).  Returns 0 if the internals are not found
-    (see `internals_available`), so callers degrade to time-based pacing, never to "skip all".
+    sit in the socket's buffers).  Returns 0 if the queue is not found (see
+    `internals_available`), so callers degrade to time-based pacing, never to "skip all".
     """
-    try:
-        return len(client._websock_connection._state.message_buffer.message_from_id)
-    except AttributeError:
-        buffer = _buffer(client)
-        table = getattr(buffer, "message_from_id", None)
-        return len(table) if isinstance(table, dict) else 0
+    return pending_messages(client) or 0
 
 
 def is_closed(client: ClientHandle) -> bool:
     """True if the client's connection is gone (its buffer is done): draw nothing for it."""
-    buffer = _buffer(client)
-    return bool(getattr(buffer, "done", False))
+    return connection_closed(client)
 
 
 def unsent_bytes(client: ClientHandle) -> int:
     """Bytes written to the client's socket transport and not yet accepted by the kernel
     (``transport.get_write_buffer_size()``); 0 if unknown.  A client that stopped reading shows
-    up here (then in `pending`, once websockets' 32 KiB write limit parks the sender)."""
-    try:
-        connection = client._viser_server._websock_server._live_connections[client.client_id]
-        return int(connection.transport.get_write_buffer_size())
-    except (AttributeError, KeyError, TypeError):
-        return 0
+    up here (then in `pending`, once websockets' write limit parks the sender)."""
+    return _unsent_bytes(client)
 
 
 def flush_all(clients: Iterable[ClientHandle]) -> None:
-    """Wake viser's sender for all `clients` now, skipping its 1/60 s window delay.
-
-    One ``call_soon_threadsafe`` for the whole list (``client.flush()`` costs one self-pipe
-    write, and a GIL hand-off, per client).  Falls back to ``client.flush()`` per client.
-    """
-    events: list[Any] = []
-    loop: Any = None
-    fallback: list[Any] = []
-    for client in clients:
-        buffer = _buffer(client)
-        event = getattr(buffer, "flush_event", None)
-        buffer_loop = getattr(buffer, "event_loop", None)
-        if event is None or buffer_loop is None or (loop is not None and buffer_loop is not loop):
-            fallback.append(client)
-            continue
-        loop = buffer_loop
-        events.append(event)
-    if events:
-
-        def _set_all() -> None:
-            for event in events:
-                event.set()
-
-        try:
-            loop.call_soon_threadsafe(_set_all)
-        except RuntimeError:  # loop closed: server stopping
-            pass
-    for client in fallback:
-        with contextlib.suppress(Exception):
-            client.flush()
+    """Wake viser's sender for all `clients` now, skipping its window delay: one call on its
+    event loop for the whole list, else ``client.flush()`` per client."""
+    _flush_all(clients)
 
 
 @dataclasses.dataclass

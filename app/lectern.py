@@ -57,7 +57,7 @@ import logging
 import secrets
 import threading
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from types import MappingProxyType
 from typing import Any, Protocol
 
@@ -67,7 +67,7 @@ import viser
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
 from app.kit.common import apply_camera
 from app.kit.room import Room
-from app.wire import is_capturing
+from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "POINTER_SECONDS",
            "Broadcast", "Lectern", "Mode", "Pointer", "Seat", "fitted_camera", "new_code", "pointed_at"]
@@ -151,13 +151,10 @@ class Broadcast:
         self.camera = client.camera
         self.client_id = client.client_id
 
-    @contextlib.contextmanager
-    def atomic(self) -> Iterator[None]:
-        if is_capturing():  # the app loop's frame: its wires hold the frame together
-            yield
-            return
-        with self.server.atomic(), self.presenter.atomic():
-            yield
+    def atomic(self) -> contextlib.AbstractContextManager[None]:
+        """The shared scene's and the presenter's `atomic()`, except inside the app loop's frame
+        for those a wire holds together (`app.viser_internals.atomic_unless_captured`)."""
+        return atomic_unless_captured(self.server, self.presenter)
 
     def add_notification(self, title: str, body: str, **kwargs: Any) -> Any:
         return self.presenter.add_notification(title, body, **kwargs)

@@ -31,6 +31,7 @@ from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
+from app.viser_internals import report as report_viser_internals
 from app.wire import Wire, capturing, end_frames
 
 __all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
@@ -83,6 +84,7 @@ class App:
         presenter_code: str | None = None,
         projector: bool = False,
     ) -> None:
+        report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
         self.sessions: dict[int, Session] = {}
         self.tick_hz = tick_hz

@@ -25,13 +25,11 @@ sent outside a frame (viser brings that newer value to every browser itself).
 Counters: `encodes` (payloads built), `frames` (frames ended with something to send), `writes`
 (transport writes) and `bytes_written`; tests count encodes to show one encode per frame.
 
-Internals used (viser 1.1.1, websockets 16), each checked by `attach`: the `queue_message` of
-``server._websock_server`` / ``client._websock_connection``, the buffers' ``message_from_id`` /
-``message_counter`` / ``generator_cursors``, the server's ``_live_connections`` (their
-``transport`` and ``protocol.state``), ``_client_state_from_id`` and
-``_background_event_loop``, and ``viser.infra._infra._append_aligned_buffers``.  If any is
-missing, `Wire.attach` returns None and the app sends through viser's public path as before;
-`tests/test_wire.py` checks that a browser stand-in ends with the same scene either way.
+viser's internals it uses (its interfaces' queues and buffers, the browsers' connections, the
+event loop, the window envelope) come from `app.viser_internals`, the app's one seam to them:
+when its FRAME_CAPTURE is off `Wire.attach` returns None and the app sends through viser's
+public path; `tests/test_wire.py` checks that a browser stand-in ends with the same scene
+either way.
 """
 
 from __future__ import annotations
@@ -42,14 +40,27 @@ import struct
 import threading
 import time
 from collections.abc import Container, Iterable
+from contextlib import AbstractContextManager
 from typing import Any
 
 import msgspec.msgpack
 import numpy as np
 import zstandard
-from viser.infra._infra import _append_aligned_buffers
 
-__all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end_frames", "is_capturing",
+from app.viser_internals import (
+    FRAME_CAPTURE,
+    client_buffer,
+    divert_queue,
+    event_loop,
+    frame_capture,
+    in_frame_capture,
+    interface_of,
+    live_connections,
+    message_buffer,
+    pack_window,
+)
+
+__all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end_frames",
            "websocket_frame"]
 
 logger = logging.getLogger(__name__)
@@ -57,41 +68,19 @@ logger = logging.getLogger(__name__)
 MAX_UNSENT_BYTES = 64 * 1024  # a browser with more than this waiting in its socket skips frames
 RETRY_S = 0.002  # [s] a recipient viser had not caught up is tried once more this much later
 # zstd level of a frame's msgpack (viser's own producer uses 1).  A frame is a few hundred bytes
-# and compressed alone, so every name and key is new in each: on the scenes' playing frames
-# (2026-11-25, 120 frames each) level 6 sends 7-17 B a frame less than level 1 (Euler angles
-# 281 -> 267 B, Moving frame 537 -> 520, Free body 263 -> 252) for ~3 us more per encode
-# (~10 us); beyond 6 the gain is 0-6 B for up to 10x the time.
+# and compressed alone, so every name and key is new in each: a higher level finds more of the
+# repeats within a frame; beyond 6 the gain is small for many times the time (docs/VISER.md,
+# "Smaller frames").
 ZSTD_LEVEL = 6
 CAPTURED_PHASES = ("update_simple", "update_dict")
 _ZSTD = threading.local()
-_FRAME = threading.local()  # .on: this thread is inside `capturing()`
 
 
-class _Capturing:
-    """`capturing()`'s context: a flag on this thread (a class, not a generator: it is entered
-    every frame)."""
-
-    def __enter__(self) -> None:
-        _FRAME.on = True
-
-    def __exit__(self, *exc: object) -> None:
-        _FRAME.on = False
-
-
-_CAPTURING = _Capturing()
-
-
-def capturing() -> _Capturing:
-    """A frame of the app loop: within it, what this thread queues to any interface with a wire
-    is held by that wire until `end_frames` (updates to be encoded once, everything else to
-    be handed to viser in one atomic block)."""
-    return _CAPTURING
-
-
-def is_capturing() -> bool:
-    """This thread is inside `capturing()`: viser's `atomic()` is not needed, the wires hold the
-    frame together."""
-    return bool(getattr(_FRAME, "on", False))
+def capturing() -> AbstractContextManager[None]:
+    """A frame of the app loop (`app.viser_internals.frame_capture`): within it, what this
+    thread queues to any interface with a wire is held by that wire until `end_frames`
+    (updates to be encoded once, everything else to be handed to viser in one atomic block)."""
+    return frame_capture()
 
 
 def encode(messages: Iterable[Any], inline: Container[str] = ()) -> bytes:
@@ -109,11 +98,7 @@ def encode(messages: Iterable[Any], inline: Container[str] = ()) -> bytes:
     if buffers:  # viser's client reads a missing list as none (21 bytes a frame saved)
         envelope["binaryBufferLengths"] = tuple(b.nbytes for b in buffers)
     inner = msgspec.msgpack.encode(envelope)
-    compressed = compressor.compress(inner)
-    parts: list[bytes | memoryview] = [len(inner).to_bytes(8, "little"), len(compressed).to_bytes(8, "little"),
-                                       compressed]
-    _append_aligned_buffers(parts, buffers, 16 + len(compressed))
-    return b"".join(parts)
+    return pack_window(inner, compressor.compress(inner), buffers)
 
 
 _F32 = struct.Struct(">f")
@@ -123,12 +108,10 @@ _POSE_FIELDS = {"SetOrientationMessage": "wxyz", "SetPositionMessage": "position
 # LineSegmentsGeometry.setPositions, which takes an Array too).
 INLINE_NODES = frozenset({"ArrowMessage", "LineSegmentsMessage"})
 # A float32 `points` update goes in the msgpack when (values - 4 zeros) is at most this.  A raw
-# buffer costs 4 B a value, never compressed, 0-7 B of alignment and ~25 B of placeholder and
-# length; inline a value costs 5 B (1 for +0.0) before the frame's compression, which squeezes
-# the zero low bytes of values on the power-of-two grids.  Measured over 240 playing frames
-# (B/frame, 2026-11-25): none inline / slack 16 / 64 / 256: Moving frame 453 / 361 / 361 / 361,
-# Constrained particles 239 / 236 / 233 / 233, Heavy top 207 / 207 / 195 / 195, Poinsot
-# 238 / 238 / 229 / 229 (the traces' chunks of up to 10 segments go inline from 64 on).
+# buffer costs 4 B a value, never compressed, plus alignment, a placeholder and a length; inline
+# a value costs 5 B (1 for +0.0) before the frame's compression, which squeezes the zero low
+# bytes of values on the power-of-two grids (the traces' chunks of up to 10 segments go inline;
+# docs/VISER.md, "Smaller frames").
 INLINE_SLACK = 64
 
 
@@ -140,7 +123,7 @@ def _serialise(message: Any, buffers: list[memoryview], inline: Container[str] =
     it gets the same values.  A node's per-axis scale (a `SceneNodeUpdateMessage`'s "scale") is
     sent the same way (a shaft scaled along its arrow, a spring: (1, 1, length) takes 2 bytes, not 18,
     for its ones).  A pose message's dict is built here (its three fields and its type,
-    as viser builds it, `tests/test_wire.py`): viser's generic serialiser is 4-5 us a message.
+    as viser builds it, `tests/test_wire.py`), faster than viser's generic serialiser.
     A small float32 `points` update of a node named in `inline` goes in the msgpack as an array
     of numbers (`_inline_points`) rather than as a raw buffer: its zeros take a byte and the
     frame's compression reaches it (a force arrow drawn from its origin: half its numbers are 0)."""
@@ -236,12 +219,11 @@ class Wire:
     Made with `Wire.attach`."""
 
     def __init__(self, server: Any, interface: Any, buffer: Any) -> None:
-        self._server = server._websock_server
-        self._loop = self._server._background_event_loop
+        self._server = server
+        self._loop = event_loop(server)
         self._interface = interface
         self._buffer = buffer
-        self._shared = buffer is self._server.get_message_buffer()
-        self._queue = interface.queue_message  # viser's own (bound method)
+        self._shared = buffer is message_buffer(interface_of(server))
         self._frame: list[Any] = []  # updates captured this frame
         self._held: list[Any] = []  # anything else queued this frame (for viser, at its end)
         self._lock = threading.Lock()
@@ -253,18 +235,20 @@ class Wire:
         self._payloads: dict[int, Any] = {}  # this frame's: since -> bytes (or messages not yet encoded)
         self._inline: set[str] = set()  # nodes made by an INLINE_NODES message (`encode`)
         self.encodes = self.frames = self.writes = self.bytes_written = 0
-        interface.queue_message = self._take
+        self._queue = divert_queue(interface, self._take)  # viser's own queue_message
 
     @classmethod
     def attach(cls, server: Any, client: Any | None = None) -> Wire | None:
         """A wire for the shared scene (`client` None) or for one browser's own messages; None
-        if viser's internals are not as expected (then nothing changes)."""
+        if `app.viser_internals.FRAME_CAPTURE` is off or viser's objects are not as expected
+        (then nothing changes)."""
+        if not FRAME_CAPTURE.on:
+            return None
         try:
-            websock = server._websock_server
-            interface = websock if client is None else client._websock_connection
-            buffer = interface.get_message_buffer()
+            interface = interface_of(server, client)
+            buffer = message_buffer(interface)
             if not (isinstance(buffer.message_from_id, dict) and isinstance(buffer.generator_cursors, dict)
-                    and isinstance(websock._live_connections, dict) and websock._background_event_loop is not None
+                    and isinstance(live_connections(server), dict) and event_loop(server) is not None
                     and callable(interface.queue_message)):
                 return None
             return cls(server, interface, buffer)
@@ -275,7 +259,7 @@ class Wire:
     def _take(self, message: Any) -> None:
         entity = _entity(message)
         phase = getattr(message, "lifecycle_phase", None)
-        inside = getattr(_FRAME, "on", False)
+        inside = in_frame_capture()
         if entity is not None and phase in CAPTURED_PHASES:
             if inside:
                 self._frame.append(message)
@@ -318,8 +302,8 @@ class Wire:
     # ------------------------------------------------------------------ viser's event loop
     def _caught_up(self, client_id: int, connection: Any) -> bool:
         """Viser has taken everything queued for this browser before, and its socket keeps up."""
-        state = self._server._client_state_from_id.get(client_id)
-        if state is None or state.message_buffer.message_from_id:
+        own = client_buffer(self._server, client_id)
+        if own is None or own.message_from_id:
             return False
         cursor = self._buffer.generator_cursors.get(client_id) if self._shared else None
         if self._shared and (cursor is None or cursor < self._buffer.message_counter - 1):
@@ -356,7 +340,7 @@ class Wire:
         late = self._send(frame, recipients)
         if late:  # viser has not yet taken what this frame handed it: once more, a little later
             self._loop.call_later(RETRY_S, self._retry, frame, late)
-        connections, delivered = self._server._live_connections, self._delivered
+        connections, delivered = live_connections(self._server), self._delivered
         if len(delivered) > 2 * len(connections) + 16:  # browsers that left
             for client_id in [c for c in delivered if c not in connections]:
                 del delivered[client_id]
@@ -368,7 +352,7 @@ class Wire:
     def _send(self, frame: int, recipients: Iterable[int]) -> tuple[int, ...]:
         """Write frame `frame` to the recipients that are caught up (the shared payload to those
         that got the previous frame, a catch-up to the others); the ones that are not."""
-        connections, delivered, payloads = self._server._live_connections, self._delivered, self._payloads
+        connections, delivered, payloads = live_connections(self._server), self._delivered, self._payloads
         late = []
         for client_id in recipients:
             connection = connections.get(client_id)

@@ -238,7 +238,7 @@ def test_a_label_world_position_composes_its_parents_poses(scene) -> None:
     T1 T2 T3 p; hiding a parent hides it; a shared cache gives the same answer."""
     from scipy.spatial.transform import Rotation
 
-    from app.kit.labels import _world_position
+    from app.viser_internals import world_point
 
     rng = np.random.default_rng(3)
     poses = [(Rotation.random(random_state=rng), rng.normal(size=3)) for _ in range(3)]
@@ -252,9 +252,9 @@ def test_a_label_world_position_composes_its_parents_poses(scene) -> None:
         expected = R.apply(expected) + t
     cache: dict[str, Any] = {}
     for _ in range(2):
-        point, shown = _world_position(label, cache)
+        point, shown = world_point(label, cache)
         np.testing.assert_allclose(point, expected, atol=1e-12)
         assert shown
     frames[1].visible = False
-    assert _world_position(label) is not None and not _world_position(label)[1]
+    assert world_point(label) is not None and not world_point(label)[1]
     frames[0].remove()

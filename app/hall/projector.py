@@ -15,6 +15,7 @@ import viser
 
 from app.kit.common import CameraView, apply_camera
 from app.kit.gui import Wrap
+from app.viser_internals import scene_nodes
 
 __all__ = ["BRAND_COLOR", "PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "ProjectorLayout", "projector_view"]
 
@@ -101,7 +102,6 @@ class ProjectorLayout:
 
     def _scale_labels(self, root: str, factor: float) -> None:
         """Multiply the screen size of every 3D label under `root` (this browser's nodes)."""
-        handles = getattr(self.client.scene, "_handle_from_node_name", {})
-        for name, handle in list(handles.items()):
+        for name, handle in scene_nodes(self.client.scene).items():
             if name.startswith(root + "/") and hasattr(handle, "font_screen_scale"):
                 handle.font_screen_scale = float(handle.font_screen_scale) * factor

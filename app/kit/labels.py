@@ -22,6 +22,9 @@ that whizzes round with a fast spin gets a large box and is mostly hidden: it co
 Only changes are sent: a visibility or an anchor message when it changed, nothing when the
 picture stood still.
 
+World positions come from the app's one walker of world poses (`app.viser_internals.world_point`);
+when it is off (SCENE_NODES) every wanted label is shown at its own anchor, with no layout.
+
 Priorities (higher is shown first): KEY (space axes x y z, the body's vectors ω and L, forces,
 g), AXES (body axes x′ y′ z′, the line of nodes), DETAIL (arc readings, titles, intermediate
 frames, component arrows).
@@ -35,6 +38,7 @@ from typing import Any
 
 from app.kit.common import CameraView, staggered
 from app.kit.screen import ANCHOR_SHIFT, REFERENCE_HEIGHT_PX, SCREEN_EM_PX, Projector, text_size
+from app.viser_internals import SCENE_NODES, label_props, node_removed, world_point
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]
 
@@ -43,9 +47,7 @@ AXES = 2  # body axes x′ y′ z′, the line of nodes
 DETAIL = 1  # readings on arcs, titles, intermediate frames, component arrows
 
 PERIOD = 0.1  # [s] of wall time between two layouts while the view draws (10 Hz); the layers take
-# turns (`staggered`): 60 browsers' layouts fall into different frames (a layout: ~50 us for the free
-# body's 13 labels, ~90 us for the Euler scene's 18, one warm browser, 2026-11-25; 3x that before the
-# Projector and the per-entry caches; more under load, when the caches are cold)
+# turns (`staggered`): many browsers' layouts fall into different frames
 FALLBACK_SIZE_PX = (1280, 800)  # the window assumed when the view has no browser camera
 MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height apart (6 px at 800)
 TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
@@ -66,10 +68,8 @@ class _Entry:
     wanted: bool
     last_px: tuple[float, float] | None = field(default=None)  # where it was at the last layout
     last_step: tuple[float, float] | None = field(default=None)  # how it moved before that layout [px]
-    # Fixed at registration, for the layout's hot loop: viser's state object behind the handle
-    # (`handle._impl`: its props read directly, not through viser's __getattr__), the parent
-    # node's name, the anchors tried in order (its own first) with their box shifts, the sort rank.
-    impl: Any = field(default=None)
+    # Fixed at registration, for the layout's hot loop: the parent node's name, the anchors tried
+    # in order (its own first) with their box shifts, the sort rank.
     parent: str = ""
     tries: tuple[tuple[str, float, float], ...] = ()
     rank: tuple[float, int] = (0.0, 0)
@@ -79,74 +79,10 @@ class _Entry:
     blank: bool = False  # that text is only white space
 
     def __post_init__(self) -> None:
-        self.impl = self.handle._impl
-        self.parent = self.impl.name.rsplit("/", 1)[0]
+        self.parent = str(self.handle.name).rsplit("/", 1)[0]
         anchors = (self.anchor, *(a for a in NUDGE_ANCHORS if a != self.anchor)) if self.nudge else (self.anchor,)
         self.tries = tuple((a, *ANCHOR_SHIFT[a]) for a in anchors)
         self.rank = (-self.priority, self.order)
-
-
-def _rotate(wxyz: Any, v: tuple[float, float, float]) -> tuple[float, float, float]:
-    """v turned by the unit quaternion (w, x, y, z) (Python floats): v + 2w (u × v) + 2 u × (u × v)."""
-    w, x, y, z = wxyz
-    vx, vy, vz = v
-    cx, cy, cz = y * vz - z * vy, z * vx - x * vz, x * vy - y * vx
-    ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
-    return (vx + 2.0 * (w * cx + ccx), vy + 2.0 * (w * cy + ccy), vz + 2.0 * (w * cz + ccz))
-
-
-Pose = tuple[tuple[float, float, float, float], tuple[float, float, float], bool]  # world wxyz, position, shown
-
-
-def _mul(a: Any, b: Any) -> tuple[float, float, float, float]:
-    """The quaternion product a b (w, x, y, z), of Python floats."""
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
-
-
-_IDENTITY: Pose = ((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0), True)
-
-
-def _node_world(name: str, nodes: dict[str, Any], cache: dict[str, Pose]) -> Pose:
-    """The world pose of the node `name` (its wxyz and position composed with its parents') and
-    whether it and every node above it are visible; the root "" is the identity.  Memoised in
-    `cache` (one layout: labels share their parents)."""
-    if not name:
-        return _IDENTITY
-    pose = cache.get(name)
-    if pose is not None:
-        return pose
-    parent_wxyz, parent_at, parent_shown = _node_world(name.rsplit("/", 1)[0], nodes, cache)
-    node = nodes.get(name)
-    if node is None:  # a path segment with no node of its own
-        pose = (parent_wxyz, parent_at, parent_shown)
-    else:
-        impl = node._impl  # its wxyz and position: float64 arrays (tolist: Python floats, the same values)
-        rx, ry, rz = _rotate(parent_wxyz, impl.position.tolist())
-        pose = (_mul(parent_wxyz, impl.wxyz.tolist()), (rx + parent_at[0], ry + parent_at[1], rz + parent_at[2]),
-                parent_shown and bool(impl.visible))
-    cache[name] = pose
-    return pose
-
-
-def _world_position(handle: Any,
-                    cache: dict[str, Pose] | None = None) -> tuple[tuple[float, float, float], bool] | None:
-    """The label's position in the world [scene units] and whether it and every node above it
-    are visible (viser names are paths: "/a/b" hangs under "/a"); None if it was removed.
-    cache: the parents' world poses of this layout (`_node_world`), shared between labels."""
-    impl = handle._impl
-    if impl.removed:
-        return None
-    return _world_point(impl, impl.name.rsplit("/", 1)[0], {} if cache is None else cache)
-
-
-def _world_point(impl: Any, parent: str, cache: dict[str, Pose]) -> tuple[tuple[float, float, float], bool]:
-    """`_world_position` of a label's state `impl` (`handle._impl`) hanging from node `parent`."""
-    wxyz, at, shown = _node_world(parent, impl.api._handle_from_node_name, cache)
-    rx, ry, rz = _rotate(wxyz, impl.position.tolist())
-    return (rx + at[0], ry + at[1], rz + at[2]), shown
 
 
 def _clear(box: Box, placed: list[Box], gap: float) -> bool:
@@ -221,7 +157,7 @@ class LabelLayer:
         next layout (which checks it has room).  KeyError for a label never registered."""
         entry = self._entries.get(id(handle))
         if entry is None:
-            raise KeyError(f"the label {handle._impl.name!r} is not registered with the view's LabelLayer")
+            raise KeyError(f"the label {handle.name!r} is not registered with the view's LabelLayer")
         visible = bool(visible)
         if entry.wanted == visible:
             return
@@ -252,6 +188,10 @@ class LabelLayer:
         self._last_key = None
 
     def _lay_out(self) -> None:
+        if not SCENE_NODES.on:  # no walker of world poses (app.viser_internals): no layout
+            for entry in self._entries.values():
+                self._show(entry, entry.wanted)
+            return
         view, width, height = self._view()
         if (view, width, height) != self._last_view:
             self._last_view = (view, width, height)
@@ -261,20 +201,23 @@ class LabelLayer:
         project = Projector(view, width, height)
         candidates: list[tuple[_Entry, float, float, float, float]] = []  # entry, x, y, w, h [px]
         key: list[Any] = [view, width, height]
-        poses: dict[str, Pose] = {}  # the parents' world poses, shared by the labels of this layout
+        poses: dict[str, Any] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
-            impl = entry.impl
-            if impl.removed:  # removed with its view or a rebuilt part
-                del self._entries[id(entry.handle)]
+            handle = entry.handle
+            if node_removed(handle):  # removed with its view or a rebuilt part
+                del self._entries[id(handle)]
                 continue
             if not entry.wanted:  # no pose to work out
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
-            point, shown = _world_point(impl, entry.parent, poses)
-            props = impl.props
-            text = str(props.text)
-            em = em_per_scale * float(props.font_screen_scale)
+            placed_at = world_point(handle, poses, entry.parent)
+            if placed_at is None:  # removed meanwhile
+                continue
+            point, shown = placed_at
+            text, font_scale, _anchor, _visible = label_props(handle)
+            text = str(text)
+            em = em_per_scale * float(font_scale)
             if entry.size_of != (text, em):  # the text or the window changed: its block's size anew
                 entry.size_of, entry.size, entry.blank = (text, em), text_size(text, em), not text.strip()
             if not shown or entry.blank:
@@ -324,7 +267,7 @@ class LabelLayer:
                 box = (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
                 if _clear(box, placed, gap):
                     placed.append(box)
-                    if entry.impl.props.anchor != anchor:
+                    if label_props(entry.handle)[2] != anchor:
                         entry.handle.anchor = anchor
                     self._show(entry, True)
                     break
@@ -350,5 +293,5 @@ class LabelLayer:
 
     @staticmethod
     def _show(entry: _Entry, visible: bool) -> None:
-        if bool(entry.impl.visible) != visible:
+        if bool(entry.handle.visible) != visible:
             entry.handle.visible = visible

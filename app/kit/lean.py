@@ -1,11 +1,8 @@
 """Lean frames: send a node only when it moved visibly, many arrows in one message.
 
-What a playing frame costs (viser 1.1.1, measured with /work/prompts/probe.py's encoder): viser
-sends one websocket window per frame, 16 B of header plus zstd(msgpack) plus raw numpy buffers.
-An almost empty window is ~80 B; one small pose message makes it ~150-165 B; each further pose
-message of the same kind adds ~25-40 B (names and repeated keys compress within a window; the
-float64s of a pose do not).  At 60 frames a second the budget of 12 kB/s is 200 B a frame: one
-or two small messages.  So a scene sends
+A playing frame is one websocket window: a header, zstd(msgpack) and raw numpy buffers; each
+pose message adds to it, and the frame budget (`tests/test_frame_budget.py`; figures in
+docs/VISER.md, "Smaller frames") allows only a few small messages a frame.  So a scene sends
 
 - while playing, poses at display resolution: snapped to a grid on which a step moves the
   node's farthest drawn point by `TOLERANCE` [scene units] (~1 px), and sent only when the
@@ -31,7 +28,7 @@ import numpy as np
 
 from app.kit.fastprops import set_points, set_position, set_wxyz
 from app.kit.widgets import quantized, z_onto
-from physics.quaternion import matrix_from_wxyz
+from app.viser_internals import world_pose
 
 __all__ = ["TOLERANCE", "ArcPieces", "Arrows", "FrameArrow", "Pose", "f32", "quaternion_turn", "snap",
            "turn_z_onto", "world_pose"]
@@ -177,24 +174,6 @@ class Arrows:
         if self._which is None or k not in self._which or self._drawn is None:
             return None
         return np.asarray(self._drawn[self._which.index(k)], dtype=float)
-
-
-def world_pose(handle: Any) -> tuple[np.ndarray, np.ndarray]:
-    """(R (3, 3), p (3,)) of the node in the world, composed from its parents' poses as last
-    set (viser names are paths: "/a/b" hangs under "/a")."""
-    impl = handle._impl
-    nodes = impl.api._handle_from_node_name
-    R, p = matrix_from_wxyz(impl.wxyz), np.asarray(impl.position, dtype=float)
-    name = impl.name
-    while True:
-        name = name.rsplit("/", 1)[0]
-        if not name:
-            return R, p
-        parent = nodes.get(name)
-        if parent is None:
-            continue
-        R_parent = matrix_from_wxyz(parent._impl.wxyz)
-        R, p = R_parent @ R, R_parent @ p + np.asarray(parent._impl.position, dtype=float)
 
 
 class ArcPieces:

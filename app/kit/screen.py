@@ -3,9 +3,8 @@
 For checks (tests/test_labels.py) and layout decisions, not for drawing.  A scene's camera is
 its `CameraView` (position, look_at, up, vertical fov); the canvas is the whole browser window
 (viser's panel floats over it).  A label's world position composes the poses of the nodes
-above it (viser names are paths: "/a/b" is a child of "/a"), read from the client's scene
-handles (viser 1.1: `client.scene._handle_from_node_name`, every node of that client, with
-`_impl.position`, `_impl.wxyz`, `_impl.visible`).
+above it (viser names are paths: "/a/b" is a child of "/a"), through the app's one walker of
+world poses (`app.viser_internals.node_world`, over the nodes of the client's scene).
 
 Text boxes follow viser 1.1's label renderer (client/src/label/LabelRenderer.tsx and
 labelLayout.ts): a "screen" label's em is 12 CSS px times `font_screen_scale` in an 800 px tall
@@ -23,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from app.kit.common import CameraView
-from physics.quaternion import matrix_from_wxyz
+from app.viser_internals import node_world, scene_nodes
 
 __all__ = ["ANCHOR_SHIFT", "LabelBox", "Projector", "box_at", "label_boxes", "overlapping", "project", "project_one",
            "text_box", "text_size"]
@@ -130,29 +129,6 @@ class LabelBox:
         return math.hypot(max(dx, 0.0), max(dy, 0.0))
 
 
-def _world_poses(handles: dict[str, Any]) -> dict[str, tuple[np.ndarray, np.ndarray, bool]]:
-    """name -> (R_world_node (3, 3), p_world (3,), shown: the node and all its ancestors visible)."""
-    poses: dict[str, tuple[np.ndarray, np.ndarray, bool]] = {}
-
-    def pose(name: str) -> tuple[np.ndarray, np.ndarray, bool]:
-        if name in poses:
-            return poses[name]
-        impl = handles[name]._impl
-        R = matrix_from_wxyz(np.asarray(impl.wxyz, dtype=float))
-        p = np.asarray(impl.position, dtype=float)
-        shown = bool(impl.visible) and not impl.removed
-        parent = name.rsplit("/", 1)[0]
-        if parent and parent in handles:
-            R_parent, p_parent, parent_shown = pose(parent)
-            R, p, shown = R_parent @ R, p_parent + R_parent @ p, shown and parent_shown
-        poses[name] = (R, p, shown)
-        return poses[name]
-
-    for name in handles:
-        pose(name)
-    return poses
-
-
 def text_size(text: str, em: float) -> tuple[float, float]:
     """(width, height) [px] of a label's padded text block; em [px] is its font size."""
     lines = text.split("\n")
@@ -183,12 +159,12 @@ def text_box(anchor: str, x: float, y: float, text: str, em: float) -> tuple[flo
 def label_boxes(scene: Any, view: CameraView, width: int, height: int) -> list[LabelBox]:
     """The boxes of every label of a client's scene (`client.scene`) that is shown (it and its
     ancestors visible, non-empty text, in front of the camera and inside the window)."""
-    handles = dict(scene._handle_from_node_name)
-    poses = _world_poses(handles)
+    handles = scene_nodes(scene)
+    poses: dict[str, Any] = {}
     labels = [(name, h) for name, h in handles.items() if type(h).__name__ == "LabelHandle"]
     boxes = []
     for name, handle in labels:
-        _, p_world, shown = poses[name]
+        _, p_world, shown = node_world(name, handles, poses)
         text = str(handle.text)
         if not shown or not text.strip():
             continue

@@ -20,12 +20,11 @@ controls in the presenter's browser.  The exporter's recorder has no controls.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
 from typing import Any, Protocol, runtime_checkable
 
 import viser
 
-from app.wire import is_capturing
+from app.viser_internals import atomic_unless_captured
 
 __all__ = ["ClientTarget", "DrawTarget", "as_target"]
 
@@ -62,13 +61,10 @@ class ClientTarget:
         self.camera = client.camera
         self.client_id = client.client_id
 
-    @contextlib.contextmanager
-    def atomic(self) -> Iterator[None]:
-        if is_capturing():  # the app loop's frame: the browser's wire holds it together (app.wire)
-            yield
-            return
-        with self.client.atomic():
-            yield
+    def atomic(self) -> contextlib.AbstractContextManager[None]:
+        """The browser's `atomic()`, except inside the app loop's frame when the browser's wire
+        holds the frame together (`app.viser_internals.atomic_unless_captured`)."""
+        return atomic_unless_captured(self.client)
 
     def add_notification(self, title: str, body: str, **kwargs: Any) -> Any:
         return self.client.add_notification(title, body, **kwargs)

@@ -37,10 +37,38 @@ from app.kit.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.room import Room
 from app.kit.target import DrawTarget, as_target
 from app.kit.timeline import Timeline
+from app.viser_internals import panel_checkboxes, remove_under
 
 __all__ = ["SceneView", "nth"]
 
 _PRESETS: dict[type, tuple[Preset, ...]] = {}
+
+
+def _held_checkboxes(view: SceneView) -> list[viser.GuiCheckboxHandle]:
+    """The checkboxes held in the view's attributes, and in those of its parts (objects of the
+    app, lists, dicts), two levels down; other views and rooms are not looked into."""
+    found: dict[int, viser.GuiCheckboxHandle] = {}
+
+    def visit(value: Any, depth: int) -> None:
+        if isinstance(value, viser.GuiCheckboxHandle):
+            found[id(value)] = value
+            return
+        if depth == 0 or isinstance(value, (SceneView, Room)):
+            return
+        if isinstance(value, dict):
+            children: Any = value.values()
+        elif isinstance(value, (list, tuple)):
+            children = value
+        elif type(value).__module__.startswith("app.") and hasattr(value, "__dict__"):
+            children = vars(value).values()
+        else:
+            return
+        for child in list(children):
+            visit(child, depth - 1)
+
+    for value in list(vars(view).values()):
+        visit(value, 2)
+    return list(found.values())
 
 
 def nth(values: Callable[[], Sequence[Any]], index: int) -> Callable[[], Any]:
@@ -245,25 +273,17 @@ class SceneView:
         controls = self.controls
         if controls is None or controls is self.client.scene:
             return
-        for name, handle in list(controls._handle_from_node_name.items()):  # viser's registry of that scope
-            if name.startswith(self.root + "/") and not handle._impl.removed:
-                handle.remove()
+        remove_under(controls, self.root)
 
     def checkboxes(self) -> dict[str, viser.GuiCheckboxHandle]:
         """The view's checkboxes by label (what a lesson step may switch): every checkbox of its
-        panel, found in the panel's tree below the view's top-level handles (`_gui_roots`)."""
-        gui = self.client.gui
-        roots = {handle._impl.uuid for handle in self._gui_roots}
-        containers = gui._container_handle_from_uuid  # viser's registry of this panel's containers
-
-        def ours(container: str) -> bool:
-            while container in containers and container not in roots and container != "root":
-                container = containers[container]._impl.parent_container_id
-            return container in roots
-
-        return {str(handle.label): handle for handle in list(gui._gui_input_handle_from_uuid.values())
-                if isinstance(handle, viser.GuiCheckboxHandle) and not handle._impl.removed
-                and (handle._impl.uuid in roots or ours(handle._impl.parent_container_id))}
+        panel, found in the panel's tree below the view's top-level handles (`_gui_roots`), or,
+        without viser's panel registry (`app.viser_internals.PANEL_INPUTS`), every checkbox the
+        view or its parts hold."""
+        found = panel_checkboxes(self.client.gui, self._gui_roots)
+        if found is None:
+            found = _held_checkboxes(self)
+        return {str(handle.label): handle for handle in found}
 
     def show_tab(self, name: str) -> None:
         """Open the panel tab `name` (a lesson step); ValueError if the scene has no such tab."""
