@@ -84,10 +84,15 @@ def brentq_turning_points(picture) -> tuple[float, float]:
     def gap(theta: float) -> float:
         return float(picture.energy - picture.U_eff(theta))
 
-    lo = 0.0 if gap(0.0) >= 0.0 else brentq(gap, 1e-300, theta_min_U, xtol=1e-15, rtol=1e-15)
-    hi = math.pi if gap(math.pi) >= 0.0 else brentq(gap, theta_min_U, math.pi * (1 - 1e-16), xtol=1e-15,
-                                                     rtol=1e-15)
-    return lo, hi
+    def zero(pole: float, near_pole: float) -> float:
+        """The zero between U_eff's minimum and `pole`; the pole itself where E − U_eff has no sign
+        change a float can show (a top nearly at rest: the zero is within 1e-16 rad of the pole)."""
+        if gap(pole) >= 0.0 or gap(near_pole) >= 0.0:
+            return pole
+        a, b = sorted((theta_min_U, near_pole))
+        return float(brentq(gap, a, b, xtol=1e-15, rtol=1e-15))
+
+    return zero(0.0, 1e-300), zero(math.pi, math.pi * (1 - 1e-16))
 
 
 # ---------------------------------------------------------------------------- U_eff
