@@ -44,7 +44,7 @@ def assets_root() -> Traversable:
 
 
 def presets_dir() -> Traversable:
-    """presets/: one JSON file per scene (format in `app.kit.presets`)."""
+    """presets/: one JSON file per scene (format in `app.kit.core.presets`)."""
     return assets_root() / "presets"
 
 

@@ -24,7 +24,7 @@ from typing import Any
 
 import viser
 
-from app.kit.room import Room
+from app.kit.core.room import Room
 from app.scenes import SCENES
 from app.theme import configure_scene
 
@@ -35,7 +35,7 @@ MAX_SECONDS = 120.0
 
 
 class RecorderTarget:
-    """What a view draws into while recording (an `app.kit.target.DrawTarget`): the private
+    """What a view draws into while recording (an `app.kit.core.target.DrawTarget`): the private
     server's scene and panel, which no browser sees, under `root_prefix`; no controls (nobody
     acts on a recording) and no camera."""
 

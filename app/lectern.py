@@ -11,7 +11,7 @@
    it was addressed to; a handle in the shared scene (`server.scene`) answers *every* browser.
    So the shared scene holds drawings only: a presenter's view draws its 3D there through a
    `Broadcast` target, whose panel and whose interactive handles (`controls`: gizmos, clickable
-   nodes) are the presenter's own (`app.kit.target`).  A follower's panel holds only its own
+   nodes) are the presenter's own (`app.kit.core.target`).  A follower's panel holds only its own
    things (follow the camera, explore, the projector layout, the presenter code); its session
    refuses every action on a room while it follows (PermissionError, said in its panel).
 3. Tests: a hostile follower on a raw websocket that drags every gizmo it was sent, clicks every
@@ -65,8 +65,8 @@ import numpy as np
 import viser
 
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
-from app.kit.common import apply_camera
-from app.kit.room import Room
+from app.kit.core.common import apply_camera
+from app.kit.core.room import Room
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "POINTER_SECONDS",
@@ -137,7 +137,7 @@ def new_code() -> str:
 
 
 class Broadcast:
-    """The presenter's draw target (`app.kit.target.DrawTarget`): the 3D into the shared scene
+    """The presenter's draw target (`app.kit.core.target.DrawTarget`): the 3D into the shared scene
     under LIVE_ROOT, the panel, the interactive handles and the camera in the presenter's browser."""
 
     root_prefix = LIVE_ROOT

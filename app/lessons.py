@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from app.data import files_in, lessons_dir
-from app.kit.common import CameraView
+from app.kit.core.common import CameraView
 from physics.methods import methods
 
 __all__ = ["LESSONS_DIR", "Lesson", "LessonError", "Step", "lessons", "load_lesson", "load_lessons"]

@@ -23,8 +23,8 @@ import viser
 
 from app.backpressure import FramePacer, PacerStats
 from app.export import export_main
-from app.kit.presets import PresetError
-from app.kit.room import Room
+from app.kit.core.presets import PresetError
+from app.kit.core.room import Room
 from app.lectern import Broadcast, Lectern
 from app.lessons import LessonError, lessons
 from app.scenes import check_presets

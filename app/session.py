@@ -1,6 +1,6 @@
 """One `Session` per connected browser: its scene dropdown, its error display, its view, its mode.
 
-A session shows one room (`app.kit.room.Room`: a simulation, its transport state and the views
+A session shows one room (`app.kit.core.room.Room`: a simulation, its transport state and the views
 watching it) through one view built for its client: its own room, or, while it follows a
 presenter, the room on the shared screen (`app.lectern`).  The dropdown at the top switches
 scenes: the old view leaves, a new room and view are built and the camera moves to the scene's
@@ -36,7 +36,7 @@ from app.hall.lecture_panel import LecturePanel
 from app.hall.lesson_runner import LessonRunner
 from app.hall.notes import Notes
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
-from app.kit.room import Room, Scene
+from app.kit.core.room import Room, Scene
 from app.lectern import LIVE_ROOT, Lectern, Mode
 from app.lessons import Lesson
 from app.scenes import DEFAULT_SCENE, SCENES

@@ -7,7 +7,7 @@ import math
 
 import viser
 
-from app.kit.common import CameraView
+from app.kit.core.common import CameraView
 
 __all__ = ["BRAND_COLOR", "configure_scene"]
 

@@ -16,7 +16,7 @@ Features and what the app does without them:
   widgets send only what changed); off: the public setters (`handle.wxyz = ...`).
 - `SCENE_NODES`: a scope's nodes by name (`scene_nodes`), the one walker of world poses
   (`world_pose`, `world_point`, `node_world`), a node's removed flag and a label's props; off:
-  no walker (`app.kit.labels` shows every wanted label, with no layout), `remove_under` removes
+  no walker (`app.kit.draw.labels` shows every wanted label, with no layout), `remove_under` removes
   a subtree by replacing its root, `node_removed` is False.
 - `PANEL_INPUTS`: a panel's checkboxes below given top-level handles (`panel_checkboxes`); off:
   None (`app.kit.view` looks through the view's attributes).

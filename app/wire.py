@@ -118,7 +118,7 @@ INLINE_SLACK = 64
 def _serialise(message: Any, buffers: list[memoryview], inline: Container[str] = ()) -> dict[str, Any]:
     """`message.as_serializable_dict(buffers)`, a pose message's numbers in their shortest exact
     msgpack form: a whole number (not -0.0) as an integer (1 byte for 0, ±1), a float32-exact one
-    (the poses snapped while playing, `app.kit.lean`) as float32 (5 bytes), others as float64 (9).
+    (the poses snapped while playing, `app.kit.draw.lean`) as float32 (5 bytes), others as float64 (9).
     Lossless: viser's client reads every msgpack number as a JavaScript number (a float64), so
     it gets the same values.  A node's per-axis scale (a `SceneNodeUpdateMessage`'s "scale") is
     sent the same way (a shaft scaled along its arrow, a spring: (1, 1, length) takes 2 bytes, not 18,
@@ -144,7 +144,7 @@ def _serialise(message: Any, buffers: list[memoryview], inline: Container[str] =
 def _inline_points(message: Any, inline: Container[str]) -> msgspec.Raw | None:
     """The message's `points` as one msgpack array (+0.0 as the integer 0, every other value as
     a float32: lossless, they are float32), or None if it does not go inline (only an update of
-    `points` alone does, as `app.kit.fastprops.set_points` sends it)."""
+    `points` alone does, as `app.viser_internals.set_points` sends it)."""
     points = message.updates.get("points")
     if message.name not in inline or len(message.updates) != 1 or not isinstance(points, np.ndarray) \
             or points.dtype != np.float32 or points.size >= 1 << 16:
@@ -336,7 +336,9 @@ class Wire:
         for key, message in unique.items():
             latest[key] = (frame, message)
         self.frames += 1
-        self._payloads = {frame - 1: messages}  # since -> what to send (encoded on first use)
+        overtaken = self._drop_overtaken()
+        # since -> what to send (encoded on first use); from `latest` when viser overtook a value
+        self._payloads = {} if overtaken else {frame - 1: messages}
         late = self._send(frame, recipients)
         if late:  # viser has not yet taken what this frame handed it: once more, a little later
             self._loop.call_later(RETRY_S, self._retry, frame, late)
@@ -347,7 +349,26 @@ class Wire:
 
     def _retry(self, frame: int, recipients: tuple[int, ...]) -> None:
         if frame == self._count:  # no newer frame went out meanwhile (else its catch-up serves them)
+            if self._drop_overtaken():
+                self._payloads = {}  # each late browser: what is left of the frames it missed
             self._send(frame, recipients)
+
+    def _drop_overtaken(self) -> bool:
+        """Forget the values of `latest` that viser was handed a newer value for, or whose node
+        went, after the last frame closed (ops not yet applied: they stay for the next frame's
+        `_apply`), so that no frame written later brings a browser an older value back; whether
+        any went."""
+        with self._lock:
+            pending = list(self._ops)
+        if not pending:
+            return False
+        newer = {op[1].redundancy_key() for op in pending if op[0] == "set"}
+        gone = [(op[1], op[2]) for op in pending if op[0] == "purge"]
+        stale = [key for key in self._latest if key in newer
+                 or any(key.startswith(prefix) or (under and key.startswith(under)) for prefix, under in gone)]
+        for key in stale:
+            del self._latest[key]
+        return bool(stale)
 
     def _send(self, frame: int, recipients: Iterable[int]) -> tuple[int, ...]:
         """Write frame `frame` to the recipients that are caught up (the shared payload to those

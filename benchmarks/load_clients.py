@@ -217,7 +217,7 @@ def serve(max_lifetime: float) -> None:
         return run
 
     try:
-        from app.kit.room import Room
+        from app.kit.core.room import Room
     except ImportError:  # a tree from before the scene kit: its loop calls Session.tick
         from app.session import Session
 

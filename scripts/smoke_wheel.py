@@ -41,7 +41,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGED = ("pyproject.toml", "README.md", "app", "physics", "assets")  # what the wheel is built from
 SCENE = "Free body"  # the scene the client selects and plays (and the export records)
-SCENE_LABEL, PLAY_LABEL, PAUSE_LABEL = "Scene", "Play", "Pause"  # app.session, app.kit.gui
+SCENE_LABEL, PLAY_LABEL, PAUSE_LABEL = "Scene", "Play", "Pause"  # app.session, app.kit.panel.gui
 EXPORT_ARGS = ("export", "--scene", SCENE, "--preset", "Dzhanibekov", "--seconds", "2", "--out", "flip.html")
 MIN_EXPORT_BYTES = 100_000  # an export holds viser's client (~0.8 MB); an error page is far smaller
 PLAY_SECONDS = 2.0  # [s] the client watches the playing scene this long

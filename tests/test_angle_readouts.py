@@ -1,5 +1,5 @@
 """Every angle a readout prints in degrees is in (−180°, 180°], however long the run: the
-simulations keep φ and ψ continuous (unwrapped), the texts wrap them (`app.kit.common.format_deg`).
+simulations keep φ and ψ continuous (unwrapped), the texts wrap them (`app.kit.core.common.format_deg`).
 The sliders' own values are not readouts and are not checked here.
 """
 
@@ -12,8 +12,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from app.kit.common import format_deg
-from app.kit.gui import Readout
+from app.kit.core.common import format_deg
+from app.kit.panel.gui import Readout
 
 _NUMBER = r"[-+−]?\d+(?:\.\d+)?(?:e[-+]?\d+)?"
 _DEGREES = re.compile(rf"({_NUMBER})\s*°(?!/)")  # "12.5°", not "12.5°/s"

@@ -27,11 +27,11 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-import app.kit.rigid as rigid
+import app.kit.rigid.simulation as rigid
 import app.main as app_main
-from app.kit.common import NODES_FADED_COLOR
-from app.kit.lean import TOLERANCE
-from app.kit.rigid_view import SLIDER_PERIOD as RIGID_SLIDER_PERIOD
+from app.kit.core.common import NODES_FADED_COLOR
+from app.kit.draw.lean import TOLERANCE
+from app.kit.rigid.view import SLIDER_PERIOD as RIGID_SLIDER_PERIOD
 from app.main import App
 from app.scenes.euler_angles import INITIAL_ANGLES_DEG, INITIAL_CAMERA, RATE_ARROW_SCALE, THETA_REACH
 from app.scenes.euler_angles import SLIDER_PERIOD as EULER_SLIDER_PERIOD
@@ -272,7 +272,7 @@ def test_euler_play_advances_angles_and_sliders_follow_without_feedback(manual) 
         session.tick(DT)
         poses.append(body_matrix(session))
     assert scene.sim.angles_deg == pytest.approx([-170.0, 170.0, -160.0], abs=1e-6)
-    # Playing, θ is drawn at display resolution (app.kit.lean): within half a step of the
+    # Playing, θ is drawn at display resolution (app.kit.draw.lean): within half a step of the
     # snapping grid, a step moving the body's farthest point (THETA_REACH) by TOLERANCE.
     theta_step = TOLERANCE / THETA_REACH  # [rad]
     np.testing.assert_allclose(poses[-1], D_reference(10.0, 190.0, 20.0), atol=0.5 * theta_step + 1e-6)

@@ -1,4 +1,4 @@
-"""The attitude check of the plots (app.kit.rigid: the integrated attitude against the closed
+"""The attitude check of the plots (app.kit.rigid.simulation: the integrated attitude against the closed
 form, worked out for ERROR_BATCH samples at once): each sample's error equals the angle of
 R_exact(t)ᵀ R(t) evaluated alone for that sample, SciPy's Rotation measuring the angle."""
 
@@ -9,7 +9,7 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from app.kit.rigid import ERROR_BATCH, SAMPLE_COLUMNS, RigidBodySimulation, turn_angles
+from app.kit.rigid.simulation import ERROR_BATCH, SAMPLE_COLUMNS, RigidBodySimulation, turn_angles
 from physics.dynamics import Model, State
 
 DT = 1.0 / 60.0

@@ -1,4 +1,4 @@
-"""app.kit.binding on the server, no browser: a fake handle, a ManualClock, updates counted.
+"""app.kit.panel.binding on the server, no browser: a fake handle, a ManualClock, updates counted.
 
 The page sends complete values (its typing guard, tested in the browser in
 test_browser_typing.py); here every update must be applied the moment it arrives, however slowly
@@ -14,9 +14,9 @@ from typing import Any
 
 import pytest
 
-from app.kit.binding import HANDS_OFF_S, ManualClock, Refused, bind
-from app.kit.common import SliderSpec
-from app.kit.gui import Quiet
+from app.kit.core.common import SliderSpec
+from app.kit.panel.binding import HANDS_OFF_S, ManualClock, Refused, bind
+from app.kit.panel.gui import Quiet
 
 SPEC = SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01)
 ANGLE = SliderSpec("phi", "φ [deg]", -180.0, 180.0, 1.0)

@@ -1,6 +1,6 @@
 """Every scene's bound controls, through a raw websocket client against the real app: a refused
 value leaves the simulation unchanged, the message line says why, and the control shows the
-value in force again (app.kit.binding: a browser's update applies when it arrives)."""
+value in force again (app.kit.panel.binding: a browser's update applies when it arrives)."""
 
 from __future__ import annotations
 
@@ -105,7 +105,7 @@ def test_every_bound_slider_in_every_scene_applies_a_browser_value_when_it_arriv
     the one it shows, from the raw client, and must take it at once (or refuse it, said)."""
     import viser
 
-    from app.kit.binding import ManualClock
+    from app.kit.panel.binding import ManualClock
     from app.kit.view import SceneView
     from app.scenes import SCENES
 

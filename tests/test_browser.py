@@ -233,7 +233,7 @@ def test_arrows_and_segments_sent_inline_draw_as_the_raw_buffers_do(wait_until, 
     import viser
 
     from app import wire as wire_module
-    from app.kit.fastprops import set_points
+    from app.viser_internals import set_points
     from app.wire import Wire, capturing, end_frames
 
     inlined: list[str] = []

@@ -5,7 +5,7 @@ entirely and the shipped book wherever it was inside.  Now only its back faces a
 (`side="back"`: the far half of the shell, behind anything inside it).  Through the page: the
 scene is chosen in the dropdown, a preset and the shipped book clicked, a 0.6 m box uploaded;
 then the orange (body-coloured) pixels of a patch around the body's projected centre of mass
-(`app.kit.screen.project` through the scene's camera view) are counted with the ellipsoid shown
+(`app.kit.draw.screen.project` through the scene's camera view) are counted with the ellipsoid shown
 and hidden: nearly as many must show through it (the old ellipsoid left 0 % of the box).
 """
 
@@ -20,7 +20,7 @@ import trimesh
 from PIL import Image
 from test_browser import open_app
 
-from app.kit.screen import project
+from app.kit.draw.screen import project
 from app.scenes.inertia import InertiaView
 
 pytestmark = pytest.mark.browser

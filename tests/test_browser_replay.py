@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from app.kit.room import LIVE, REPLAYING, SCRUBBING
+from app.kit.core.room import LIVE, REPLAYING, SCRUBBING
 from app.main import App
 from tests.test_browser import open_app, slider_thumb, wait_for_gui
 

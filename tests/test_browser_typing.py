@@ -1,6 +1,6 @@
 """Typed numbers arrive as typed, in headless Chromium, through the page only.
 
-What the browser did before (measured, app.kit.binding's docstring): `-0.8` typed into a number
+What the browser did before (measured, app.kit.panel.binding's docstring): `-0.8` typed into a number
 box arrived as 0 then 0.8, `1e-3` as 1, -1, -13, -10, `1e9` as 1, 19 and then the maximum.  Here
 the keys are typed into the boxes (`page.keyboard.type` with a delay per key), the edit ends with
 Tab, Enter or a pause, and the server's state is read: the value applied is exactly the one
@@ -20,7 +20,7 @@ from typing import Any
 
 import pytest
 
-from app.kit.binding import TYPED_PAUSE_MS
+from app.kit.panel.binding import TYPED_PAUSE_MS
 from app.main import App, create_server
 from tests.conftest import RawClient
 from tests.test_browser import open_app

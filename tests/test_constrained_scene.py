@@ -52,7 +52,7 @@ def test_arrows_hang_under_their_particle_and_a_paused_frame_is_exact(manual, mo
     while the bead moves; the bead is drawn within TOLERANCE while playing, exactly when paused."""
     import numpy as np
 
-    from app.kit.lean import TOLERANCE
+    from app.kit.draw.lean import TOLERANCE
 
     session = manual.session
     session.select_scene("Constrained particles")

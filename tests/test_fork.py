@@ -25,9 +25,9 @@ import pytest
 import viser
 
 from app.export import RecorderTarget
-from app.kit.room import Room
-from app.kit.trace import Trace
-from app.kit.widgets import TraceLines
+from app.kit.core.room import Room
+from app.kit.core.trace import Trace
+from app.kit.draw.widgets import TraceLines
 from app.scenes import SCENES
 from app.scenes.moving_frame import KEYS as MOVING_KEYS
 from app.scenes.moving_frame import MovingFrameSetup
@@ -253,7 +253,7 @@ def test_a_fork_is_exact_independent_and_goes_on_identically(server: viser.Viser
 
     # A view built on the fork now shows what the original's view shows.
     forked_view = build_view(server, fork)
-    view.refresh()  # playing frames draw at display resolution (app.kit.widgets.POSE_QUANTUM), a new view exactly
+    view.refresh()  # playing frames draw at display resolution (app.kit.draw.widgets.POSE_QUANTUM), a new view exactly
     shown, shown_fork = picture(view), picture(forked_view)
     assert_equal_values(shown, shown_fork, f"{title}/{preset} at the fork")
     if title in ("Heavy top", "Poinsot", "Moving frame") and room.playing:

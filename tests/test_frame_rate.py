@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from app.kit.room import Room
+from app.kit.core.room import Room
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
 from app.scenes.moving_frame import MovingFrameView

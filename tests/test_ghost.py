@@ -14,8 +14,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 from test_app import free_body_reference
 
-from app.kit.rigid import magnified_attitude
-from app.kit.widgets import POSE_QUANTUM
+from app.kit.draw.widgets import POSE_QUANTUM
+from app.kit.rigid.simulation import magnified_attitude
 
 POSE_ATOL = 1e-6  # node poses travel as float quaternions (exact ones after a refresh)
 

@@ -1,4 +1,4 @@
-"""Setting the motion by hand (app.kit.hand) and the heavy top's Energy tab (app.kit.energy_plot),
+"""Setting the motion by hand (app.kit.rigid.hand) and the heavy top's Energy tab (app.kit.rigid.energy_plot),
 driven as a browser would (a raw websocket client sending gizmo drags and GUI updates).
 
 References: ω from a gizmo position by the definition ω_s = p / scale, ω_b = Rᵀ ω_s (L: I⁻¹ Rᵀ L_s),
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from viser import _messages
 
-from app.kit.energy_plot import energy_plot_data
-from app.kit.hand import KICK_SPEC
+from app.kit.rigid.energy_plot import energy_plot_data
+from app.kit.rigid.hand import KICK_SPEC
 from physics.top_energy import CUSP, LOOP, SLEEPING, STEADY, THROUGH_VERTICAL, TOO_SLOW, WAVE
 
 OMEGA_RTOL = 1e-12  # ω from a gizmo position: a few roundings

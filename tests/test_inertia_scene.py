@@ -24,7 +24,7 @@ from scipy.spatial.transform import Rotation
 
 import app.scenes.inertia as inertia_scene
 import app.scenes.inertia.simulation as inertia_simulation
-from app.kit.presets import PresetError
+from app.kit.core.presets import PresetError
 from physics.inertia import box_inertia, mesh_mass_properties, principal_axes_near
 
 ATOL = 1e-12  # [kg m²] tensors of particles: the same sums in another order
@@ -368,6 +368,17 @@ def test_spin_it_hands_the_body_to_the_free_body_scene(manual) -> None:
     np.testing.assert_allclose(own.inertia_cm, np.diag(expected), atol=1e-6 * expected[2])
     manual.session.apply_preset("Disc")  # a preset: the mesh gives way
     assert free.sim.mesh is None and manual.session.error_count == 0
+
+
+def test_spin_it_after_a_mesh_and_then_a_preset_names_the_point_masses(manual) -> None:
+    view = _inertia(manual)
+    view.mesh_panel.gui_amount.value = 1.0
+    upload(manual, view, "box.stl", exported(asymmetric_mesh(), "stl"))
+    manual.session.apply_preset("L-shape")  # the mesh gives way to point masses
+    assert view.sim.mesh is None and view.sim.mesh_name == ""
+    view.spin_it()
+    text = manual.session.scene.message.text
+    assert "point masses" in text and "box.stl" not in text
 
 
 # ---------------------------------------------------------------------------------------- presets

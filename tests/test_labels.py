@@ -1,9 +1,9 @@
 """3D labels do not overlap: every scene, every preset, its first 10 s, at 1280x800.
 
-Each label shown is projected through the scene's camera view (`app.kit.screen.project`, a
+Each label shown is projected through the scene's camera view (`app.kit.draw.screen.project`, a
 pinhole checked here against hand-computed cases) and its text box estimated from viser's
-label layout (`app.kit.screen.label_boxes`); any two boxes must be at least MIN_GAP_PX apart at
-every sampled time.  What is shown is what each view's `LabelLayer` (app.kit.labels) left
+label layout (`app.kit.draw.screen.label_boxes`); any two boxes must be at least MIN_GAP_PX apart at
+every sampled time.  What is shown is what each view's `LabelLayer` (app.kit.draw.labels) left
 visible; the layer must not get there by hiding what matters: the space axes x y z are shown
 at every sample, and the KEY labels (ω, L, forces, g, ...) most of the time.  Sessions come
 from a raw websocket client (`manual`); nothing is drawn.
@@ -23,9 +23,9 @@ import numpy as np
 import pytest
 import viser
 
-from app.kit.common import CameraView
-from app.kit.labels import DETAIL, KEY, LabelLayer
-from app.kit.screen import LabelBox, label_boxes, overlapping, project, project_one
+from app.kit.core.common import CameraView
+from app.kit.draw.labels import DETAIL, KEY, LabelLayer
+from app.kit.draw.screen import LabelBox, label_boxes, overlapping, project, project_one
 from app.scenes import SCENES
 
 WIDTH, HEIGHT = 1280, 800

@@ -6,8 +6,10 @@ function level and under TYPE_CHECKING):
 - the app stacks kit ← scenes ← the follower's panel ← lectern ← the session's other parts
   (app.hall) ← session ← main: a layer imports only layers below it, and a scene never imports
   another scene (the modules of one scene's package, `app.scenes.<scene>.*`, import each other);
-- a scene's simulation and readouts (`app.scenes.<scene>.simulation`, `.readouts`) import no
-  viser, neither directly nor through a project module that does.
+- the kit's rooms stack core ← panel, draw (neither imports the other) ← view ← rigid;
+- a scene's simulation and readouts (`app.scenes.<scene>.simulation`, `.readouts`), the rigid
+  body's simulation and texts, and the kit's core but its draw target import no viser, neither
+  directly nor through a project module that does.
 """
 
 from __future__ import annotations
@@ -21,7 +23,11 @@ ROOT = Path(__file__).resolve().parents[1]
 # layer where the pair is listed in SAME_LAYER_OK).
 LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
-    "app.data": 0, "app.backpressure": 0, "app.wire": 0, "app.kit": 1, "app.scenes": 2, "app.theme": 2,
+    "app.data": 0, "app.backpressure": 0, "app.wire": 0,
+    # the kit's rooms: core <- panel, draw (neither imports the other) <- view <- rigid
+    "app.kit": 1.0, "app.kit.core": 1.0, "app.kit.panel": 1.2, "app.kit.draw": 1.2, "app.kit.view": 1.4,
+    "app.kit.rigid": 1.6,
+    "app.scenes": 2, "app.theme": 2,
     "app.lessons": 3, "app.export": 3, "app.hall.follower": 3,
     "app.lectern": 4, "app.hall": 5, "app.session": 6, "app.main": 7, "app.__main__": 8, "app": 8,
 }
@@ -163,5 +169,11 @@ def test_scene_simulations_and_readouts_import_no_viser() -> None:
     packages = ("euler_angles", "inertia", "moving_frame", "constrained", "poinsot")
     assert {f"app.scenes.{p}.{m}" for p in packages for m in ("simulation", "readouts")} <= set(checked), checked
     assert _viser_chain("app.scenes.euler_angles.view") is not None  # the check finds viser where it is
+    checked += ["app.kit.rigid.simulation", "app.kit.rigid.text", *KIT_CORE_WITHOUT_VISER]
     wrong = [" -> ".join(chain) for chain in map(_viser_chain, checked) if chain is not None]
     assert not wrong, "\n".join(wrong)
+
+
+KIT_CORE_WITHOUT_VISER = [name for name in MODULES
+                          if name.startswith("app.kit.core.") and name != "app.kit.core.target"]
+"""The kit's core but the draw target (which wraps a viser client) holds no viser."""

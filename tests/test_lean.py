@@ -1,4 +1,4 @@
-"""app.kit.lean: poses at display resolution, arcs in pieces, arrows as turned frames."""
+"""app.kit.draw.lean: poses at display resolution, arcs in pieces, arrows as turned frames."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 import viser
 from scipy.spatial.transform import Rotation
 
-from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, turn_z_onto, world_pose
+from app.kit.draw.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, turn_z_onto, world_pose
 
 
 @pytest.fixture(scope="module")

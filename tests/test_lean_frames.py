@@ -14,8 +14,8 @@ import pytest
 import zstandard
 from viser.infra import _async_message_buffer
 
-from app.kit.trace import Trace
-from app.kit.widgets import HEAD_EVERY, LENGTH_RTOL, POSE_QUANTUM, TraceLines, Vector, quantized, z_onto
+from app.kit.core.trace import Trace
+from app.kit.draw.widgets import HEAD_EVERY, LENGTH_RTOL, POSE_QUANTUM, TraceLines, Vector, quantized, z_onto
 
 DT = 1.0 / 60.0
 FPS = 60.0

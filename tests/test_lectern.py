@@ -12,7 +12,7 @@ from conftest import LectureHall, poll_until
 from scipy.spatial.transform import Rotation
 
 from app.hall.follower import Follower
-from app.kit.widgets import POSE_QUANTUM
+from app.kit.draw.widgets import POSE_QUANTUM
 from app.lectern import LIVE_ROOT, MAX_TRIES, Lectern
 from app.main import App
 

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from app.kit.rigid import RigidBodySimulation
+from app.kit.rigid.simulation import RigidBodySimulation
 from app.lessons import LESSONS_DIR, LessonError, load_lesson
 from app.scenes import SCENES
 from physics.dop853 import integrate_adaptive

@@ -18,8 +18,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from app.kit.lean import TOLERANCE
-from app.kit.presets import PresetError, load_presets
+from app.kit.core.presets import PresetError, load_presets
+from app.kit.draw.lean import TOLERANCE
 from app.scenes.moving_frame import (
     KEYS,
     PARAM_SPECS,
@@ -272,7 +272,7 @@ def test_bad_setups_are_refused_with_a_message() -> None:
 def test_a_broken_preset_is_refused_naming_the_field(tmp_path) -> None:  # type: ignore[no-untyped-def]
     import json
 
-    from app.kit.presets import PRESETS_DIR
+    from app.kit.core.presets import PRESETS_DIR
 
     data = json.loads((PRESETS_DIR / "moving_frame.json").read_text(encoding="utf-8"))
     data["presets"][1]["params"]["forces_on"] = 2.5
@@ -305,7 +305,7 @@ def test_riding_turns_the_world_so_that_C_prime_stands_still(manual) -> None:  #
     R_w, p_w = _pose(view.world)
     np.testing.assert_allclose(R_w, np.eye(3), atol=1e-12)  # inertial view: the world is C
     R_f, p_f = _pose(view.body.node)
-    # Playing: drawn at display resolution (app.kit.lean.Pose: ~1 px at the disc's rim, 2.2 m)
+    # Playing: drawn at display resolution (app.kit.draw.lean.Pose: ~1 px at the disc's rim, 2.2 m)
     np.testing.assert_allclose(R_f, frame.R_space_body, atol=TOLERANCE / 2.2)
     np.testing.assert_allclose(p_f, frame.a, atol=TOLERANCE)
     view.set_riding(True)

@@ -102,7 +102,7 @@ def test_a_broken_installed_preset_is_named_by_its_installed_path(site: Path, tm
     broken = copy / "app" / "assets" / "presets" / "free_body.json"
     broken.write_text("{", encoding="utf-8")
     script = ("import sys; sys.path.insert(0, sys.argv[1])\n"
-              "from app.kit.presets import PresetError\nfrom app.scenes.free_body import FreeBodyView\n"
+              "from app.kit.core.presets import PresetError\nfrom app.scenes.free_body import FreeBodyView\n"
               "try:\n    FreeBodyView.presets()\nexcept PresetError as error:\n    print(error)\n")
     out = subprocess.run([sys.executable, "-I", "-c", script, str(copy)], cwd=tmp_path, capture_output=True,
                          text=True, timeout=120)

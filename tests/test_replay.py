@@ -1,4 +1,4 @@
-"""Replay (app.kit.history, Room.scrub / replay / resume / branch), without a browser.
+"""Replay (app.kit.core.history, Room.scrub / replay / resume / branch), without a browser.
 
 For every scene with motion: play 20 s with a view drawing it, taking forks (`Room.fork`, an
 exact copy: tests/test_fork.py) at a few moments; then scrubbing to each of those moments must
@@ -19,11 +19,11 @@ import numpy as np
 import pytest
 import viser
 
-from app.kit.history import HISTORY_BYTES, HISTORY_SECONDS, RECORD_SPACING, History
-from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
-from app.kit.samples import SampleBuffer
-from app.kit.timeline import BRANCH_LABEL, REPLAY_LABEL, RESUME_LABEL, timeline_text
-from app.kit.trace import Trace
+from app.kit.core.history import HISTORY_BYTES, HISTORY_SECONDS, RECORD_SPACING, History
+from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
+from app.kit.core.samples import SampleBuffer
+from app.kit.core.trace import Trace
+from app.kit.panel.timeline import BRANCH_LABEL, REPLAY_LABEL, RESUME_LABEL, timeline_text
 from app.scenes import SCENES
 from tests.test_fork import assert_equal_values, assert_same, build_view, picture
 
@@ -259,7 +259,7 @@ def test_history_refuses_outside_and_finds_the_moment_at_or_before() -> None:
             self.t = 0.0
 
         def snapshot(self) -> Any:
-            from app.kit.history import Snapshot
+            from app.kit.core.history import Snapshot
             return Snapshot(np.array([self.t, 2.0 * self.t]))
 
     sim = Counter()
@@ -287,7 +287,7 @@ def test_the_timeline_buttons_drive_the_room(server: viser.ViserServer) -> None:
             callback(type("Event", (), {"target": type("T", (), {"value": label})(), "client": None})())
 
     room.pause()
-    timeline.gui_slider.value = 2.0  # the server's own write applies at once (app.kit.binding)
+    timeline.gui_slider.value = 2.0  # the server's own write applies at once (app.kit.panel.binding)
     assert room.mode == SCRUBBING and room.shown_t == 2.0
     click(REPLAY_LABEL)
     assert room.mode == REPLAYING

@@ -1,4 +1,4 @@
-"""The rigid-body texts (app.kit.rigid_text) as pure functions of a simulation: no browser, no
+"""The rigid-body texts (app.kit.rigid.text) as pure functions of a simulation: no browser, no
 viser; the numbers they print are read back and checked against independent formulas (SciPy's
 Rotation for D, ½ ω·Iω for T, m g ℓ cos θ for V, M·e for Q)."""
 
@@ -10,8 +10,8 @@ import re
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from app.kit.rigid import RigidBodySimulation
-from app.kit.rigid_text import accuracy_text, ghost_note, lagrange_text, legend_text, readout_text, status_text
+from app.kit.rigid.simulation import RigidBodySimulation
+from app.kit.rigid.text import accuracy_text, ghost_note, lagrange_text, legend_text, readout_text, status_text
 from physics.dynamics import Model, State
 from physics.lagrange import lagrange_terms
 

@@ -18,9 +18,9 @@ import pytest
 from conftest import RawClient, world_rotation
 from scipy.spatial.transform import Rotation
 
-from app.kit.presets import PRESETS_DIR, PresetError, load_presets
-from app.kit.room import Room
-from app.kit.widgets import POSE_QUANTUM
+from app.kit.core.presets import PRESETS_DIR, PresetError, load_presets
+from app.kit.core.room import Room
+from app.kit.draw.widgets import POSE_QUANTUM
 from app.scenes import SCENES
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
@@ -31,7 +31,7 @@ DT = 1.0 / 60.0
 
 
 def _is_label(name: str) -> bool:
-    """A label node's name: "...label..." or an arrow's label "<arrow>/t/l" / "<arrow>/l" (app.kit.widgets.Vector)."""
+    """A label node's name: "...label..." or an arrow's label "<arrow>/t/l" / "<arrow>/l" (draw.widgets.Vector)."""
     return "label" in name or name.endswith("/l")
 
 def _state_vector(sim) -> np.ndarray:  # type: ignore[no-untyped-def]
@@ -136,7 +136,7 @@ def test_one_simulation_drawn_by_two_views_advances_once_per_frame(manual) -> No
 
 def test_a_view_can_draw_two_bodies(manual) -> None:
     """The kit's Body is instantiable twice (a solid body and, say, a ghost) on one client."""
-    from app.kit.widgets import Body
+    from app.kit.draw.widgets import Body
 
     session = manual.session
     session.select_scene("Free body")
@@ -233,7 +233,7 @@ def test_the_app_refuses_to_start_with_a_broken_preset_file(monkeypatch: pytest.
 
 # ---------------------------------------------------------------------------- layering
 def test_simulations_and_physics_import_no_viser() -> None:
-    code = ("import sys, app.kit.rigid, app.kit.samples, app.kit.presets, physics.realtime; "
+    code = ("import sys, app.kit.rigid.simulation, app.kit.core.samples, app.kit.core.presets, physics.realtime; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] in {'viser', 'trimesh'}))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).resolve().parents[1]).stdout.strip()
@@ -278,9 +278,9 @@ def test_room_pauses_and_tells_every_view_when_the_simulation_fails() -> None:
 
 
 def test_fast_pose_and_points_writes_queue_what_the_public_setters_queue(manual, monkeypatch) -> None:
-    from app.kit import fastprops
+    from app import viser_internals as seam
 
-    assert fastprops.FAST  # viser 1.1's internals are there (pyproject pins viser to 1.1.x)
+    assert seam.FAST_SETTERS.on  # viser 1.1's internals are there (pyproject pins viser to 1.1.x)
     scene = manual.session.client.scene
     frame = scene.add_frame("/probe/frame", show_axes=False)
     label = scene.add_label("/probe/label", "x")
@@ -296,9 +296,9 @@ def test_fast_pose_and_points_writes_queue_what_the_public_setters_queue(manual,
     q = (math.cos(0.3), 0.0, math.sin(0.3), 0.0)
     points = np.array([[[0.0, 0.0, 0.0], [1.0, 2.0, 3.0]]], dtype=np.float32)
     for public, fast, value in (
-        (lambda v: setattr(frame, "wxyz", v), lambda v: fastprops.set_wxyz(frame, v), q),
-        (lambda v: setattr(label, "position", v), lambda v: fastprops.set_position(label, v), (1.0, 2.0, 3.0)),
-        (lambda v: setattr(arrow, "points", v), lambda v: fastprops.set_points(arrow, v), points),
+        (lambda v: setattr(frame, "wxyz", v), lambda v: seam.set_wxyz(frame, v), q),
+        (lambda v: setattr(label, "position", v), lambda v: seam.set_position(label, v), (1.0, 2.0, 3.0)),
+        (lambda v: setattr(arrow, "points", v), lambda v: seam.set_points(arrow, v), points),
     ):
         public(value)
         by_setter = wire(queued[-1])
@@ -311,7 +311,7 @@ def test_fast_pose_and_points_writes_queue_what_the_public_setters_queue(manual,
         np.testing.assert_array_equal(np.array(arrow.points), stored[2])
     frame.remove()
     with pytest.raises(RuntimeError, match="removed"):
-        fastprops.set_wxyz(frame, q)
+        seam.set_wxyz(frame, q)
 
 
 def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(manual, monkeypatch) -> None:

@@ -1,4 +1,4 @@
-"""app.kit.screen.Projector (and project_one, built on it): the same pixels as the vectorised project."""
+"""app.kit.draw.screen.Projector (and project_one, built on it): the same pixels as the vectorised project."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from app.kit.common import CameraView
-from app.kit.screen import Projector, project, project_one
+from app.kit.core.common import CameraView
+from app.kit.draw.screen import Projector, project, project_one
 
 VIEWS = [
     (CameraView(position=(0.0, -10.0, 0.0), look_at=(0.0, 0.0, 0.0), fov_deg=90.0), 1280, 800),

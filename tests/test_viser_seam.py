@@ -201,8 +201,8 @@ def test_without_visers_scene_registry_controls_are_removed_and_labels_shown(man
     left = set(seam.scene_nodes(scene))
     assert "/probe/a" not in left and "/probe/a/b" not in left and "/kept" in left
 
-    from app.kit.common import CameraView
-    from app.kit.labels import KEY, LabelLayer
+    from app.kit.core.common import CameraView
+    from app.kit.draw.labels import KEY, LabelLayer
 
     layer = LabelLayer(None, CameraView((0.0, -5.0, 0.0), (0.0, 0.0, 0.0)))
     labels = [layer.add(scene.add_label(f"/kept/l{i}", "same place", visible=False), KEY, wanted=True)

@@ -23,8 +23,8 @@ from typing import Any
 
 import viser
 
-from app.kit.gui import Wrap
-from app.kit.room import LIVE, REPLAYING, SCRUBBING, Room
+from app.kit.core.common import Wrap
+from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 
 __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "is_narrow", "status_line",
            "status_text", "transport_words", "view_aspect"]

@@ -13,7 +13,7 @@ from typing import Any, Protocol
 
 import viser
 
-from app.kit.gui import Wrap
+from app.kit.core.common import Wrap
 from app.lectern import Lectern, Mode, Seat
 
 __all__ = ["Lecturer", "LecturePanel"]

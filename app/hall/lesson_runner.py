@@ -13,9 +13,8 @@ from typing import Any, Protocol
 
 import viser
 
-from app.kit.common import apply_camera
-from app.kit.gui import Wrap
-from app.kit.room import Room
+from app.kit.core.common import Wrap, apply_camera
+from app.kit.core.room import Room
 from app.lessons import Lesson, lessons
 
 __all__ = ["NO_LESSON", "LessonRunner", "Stage"]

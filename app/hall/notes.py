@@ -16,9 +16,8 @@ import imageio.v3 as iio
 import viser
 
 from app.export import MAX_SECONDS, record
-from app.kit.common import checked_value
-from app.kit.gui import Wrap
-from app.kit.room import Room
+from app.kit.core.common import Wrap, checked_value
+from app.kit.core.room import Room
 
 __all__ = ["Notes"]
 

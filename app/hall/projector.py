@@ -13,8 +13,7 @@ from typing import Any
 
 import viser
 
-from app.kit.common import CameraView, apply_camera
-from app.kit.gui import Wrap
+from app.kit.core.common import CameraView, Wrap, apply_camera
 from app.viser_internals import scene_nodes
 
 __all__ = ["BRAND_COLOR", "PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "ProjectorLayout", "projector_view"]

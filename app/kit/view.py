@@ -14,7 +14,7 @@ t = 0** (the room stops playing, the simulation starts the preset's run, every v
 that the lecturer can show the initial condition before pressing Play.
 
 A scene whose room records its motion (`Room.history`: the simulation is replayable, see
-`app.kit.history`) and that has a `transport` gets a `Timeline` (`app.kit.timeline`) right
+`app.kit.core.history`) and that has a `transport` gets a `Timeline` (`app.kit.panel.timeline`) right
 under it, built here; the room draws it after the view.
 
 Its 3D labels are registered with `self.labels` (a `LabelLayer`: "this label, this priority"),
@@ -29,14 +29,14 @@ from typing import Any, ClassVar
 
 import viser
 
-from app.kit.binding import Binding, Clock, bind, install_typing_guard
-from app.kit.common import CameraView, SliderSpec, apply_camera
-from app.kit.gui import MessageLine, Quiet, Tabs, Transport, Wrap
-from app.kit.labels import LabelLayer
-from app.kit.presets import PRESETS_DIR, Preset, load_presets
-from app.kit.room import Room
-from app.kit.target import DrawTarget, as_target
-from app.kit.timeline import Timeline
+from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
+from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
+from app.kit.core.room import Room
+from app.kit.core.target import DrawTarget, as_target
+from app.kit.draw.labels import LabelLayer
+from app.kit.panel.binding import Binding, Clock, bind, install_typing_guard
+from app.kit.panel.gui import MessageLine, Quiet, Tabs, Transport
+from app.kit.panel.timeline import Timeline
 from app.viser_internals import panel_checkboxes, remove_under
 
 __all__ = ["SceneView", "nth"]
@@ -102,7 +102,7 @@ class SceneView:
         target = as_target(client)
         self.client = target
         # Interactive handles (gizmos, click handlers) go here and nowhere else: the scene of
-        # the one browser that controls the room, or None (app.kit.target).
+        # the one browser that controls the room, or None (app.kit.core.target).
         self.controls = target.controls
         # A presenter's view draws into the shared scene under a prefix (app.lectern.Broadcast).
         self.root = target.root_prefix + type(self).root
@@ -116,7 +116,7 @@ class SceneView:
         self._bindings: list[Binding] = []
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
         # Every 3D label of the view is registered here with a priority; `frame` ends with
-        # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.labels).
+        # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.draw.labels).
         self.labels = LabelLayer(target.camera, type(self).view)
 
     def build(self) -> None:
@@ -144,7 +144,7 @@ class SceneView:
 
     def build_head(self, intro: str, **transport_options: Any) -> None:
         """The top of a scene's panel: its intro (Markdown), the message line and the transport
-        (Play / Pause, Step · Reset, time scale: `app.kit.gui.Transport`, calling the room;
+        (Play / Pause, Step · Reset, time scale: `app.kit.panel.gui.Transport`, calling the room;
         `transport_options` such as `integrators=`, `on_integrator=`)."""
         gui, room = self.client.gui, self.room
         self.gui_intro = gui.add_markdown(intro)
@@ -310,7 +310,7 @@ class SceneView:
     # ------------------------------------------------------------------ bound controls
     def bind(self, handle: Any, where: str, apply: Callable[[Any], str | None], current: Callable[[], Any],
              spec: SliderSpec | None = None, check: Callable[[Any], Any] | None = None) -> Binding:
-        """Bind a control of this view to a simulation value (`app.kit.binding.bind`): each value
+        """Bind a control of this view to a simulation value (`app.kit.panel.binding.bind`): each value
         the browser sends is checked by `spec` or `check` and `apply`'d when it arrives, or refused
         in the message line with the field back at `current()`."""
         binding = bind(handle, where=where, wrap=self._wrap, message=self.message, quiet=self.quiet, apply=apply,

@@ -6,7 +6,7 @@ for the recipe).
 
 from __future__ import annotations
 
-from app.kit.room import Scene
+from app.kit.core.room import Scene
 from app.scenes.constrained import ConstrainedView
 from app.scenes.euler_angles import EulerAnglesView
 from app.scenes.free_body import FreeBodyView

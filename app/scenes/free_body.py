@@ -2,16 +2,16 @@
 
 Models only what it needs: `Model(inertia=(I1, I2, I3))`, no torque.  L_s = D I ω_b is fixed
 in space (drawn violet), E = T is conserved, ω (orange) wanders in space and in the body.  The
-body, its sliders and readout are `app.kit.torque_free.TorqueFreeView`'s (shared with Poinsot);
+body, its sliders and readout are `app.kit.rigid.torque_free.TorqueFreeView`'s (shared with Poinsot);
 presets: `assets/presets/free_body.json`.  ω is also set by hand
-(`app.kit.hand`): gizmos at the tips of ω and L while paused, and Kick about x′ y′ z′ (kick
+(`app.kit.rigid.hand`): gizmos at the tips of ω and L while paused, and Kick about x′ y′ z′ (kick
 about the largest, smallest and middle axes to see which spins are stable).
 """
 
 from __future__ import annotations
 
-from app.kit.common import CameraView
-from app.kit.torque_free import TorqueFreeView
+from app.kit.core.common import CameraView
+from app.kit.rigid.torque_free import TorqueFreeView
 
 __all__ = ["FreeBodyView"]
 

@@ -8,15 +8,15 @@ parameter set of this scene, since it is always symmetric (I1 = I2).
 
 Drawn: a disc on a rod (pivot at the origin, on a stand), the disc painted in sectors so the
 spin shows, and the trace of the symmetry-axis tip: the simulation follows e_z′ (`tip_axis`,
-`app.kit.trace.Trace`: the last TRACE_SECONDS of simulated time, in chunks of CHUNK_POINTS
+`app.kit.core.trace.Trace`: the last TRACE_SECONDS of simulated time, in chunks of CHUNK_POINTS
 points, at most TRACE_SECONDS / TRACE_SPACING of them), and the view draws it ROD_LENGTH long
-(`app.kit.widgets.TraceLines`: a frame sends only the short newest chunk).
+(`app.kit.draw.widgets.TraceLines`: a frame sends only the short newest chunk).
 
-The Energy tab (`app.kit.energy_plot`, physics in `physics.top_energy`): U_eff(θ) of this run's
+The Energy tab (`app.kit.rigid.energy_plot`, physics in `physics.top_energy`): U_eff(θ) of this run's
 constants of motion (E, L_z = p_φ, p_ψ), the energy line, the turning points θ₁ θ₂ (from the
 closed form), the current θ (moved at most twice a second while playing, and only while the tab
 is shown), and the class of motion named: steady precession, wave, loop, cusp, sleeping, too slow
-to sleep, through the vertical.  ω is also set by hand (`app.kit.hand`): a gizmo at ω's tip
+to sleep, through the vertical.  ω is also set by hand (`app.kit.rigid.hand`): a gizmo at ω's tip
 while paused, and Kick about x′ y′ z′.
 
 Presets (`assets/presets/heavy_top.json`): the classic patterns of the tip with θ̇(0) = 0 at
@@ -34,12 +34,12 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from app.kit.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, striped_parts
-from app.kit.energy_plot import EnergyPlot
-from app.kit.labels import KEY
-from app.kit.rigid import RigidBodySimulation
-from app.kit.rigid_view import RigidBodyView
-from app.kit.widgets import TraceLines
+from app.kit.core.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, striped_parts
+from app.kit.draw.labels import KEY
+from app.kit.draw.widgets import TraceLines
+from app.kit.rigid.energy_plot import EnergyPlot
+from app.kit.rigid.simulation import RigidBodySimulation
+from app.kit.rigid.view import RigidBodyView
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space
 from physics.euler import euler_rates_from_omega_body, omega_body_from_euler_rates

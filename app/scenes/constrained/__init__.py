@@ -25,7 +25,7 @@ placed off its rod) are refused with a message and the state kept.
 
 The simulation (`ConstrainedSimulation`, no viser) integrates with
 `physics.constrained.GridIntegrator` (8th order, fixed grid of 1/120 s), keeps the plot samples
-(q, h, T + V, the drift of h) and each particle's path (`app.kit.trace.Trace`), so a view built
+(q, h, T + V, the drift of h) and each particle's path (`app.kit.core.trace.Trace`), so a view built
 later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
 
 The package: `simulation` (the systems, the setup, the run and the presets, no viser), `readouts`

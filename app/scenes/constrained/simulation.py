@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.kit.common import SliderSpec
-from app.kit.presets import PRESETS_DIR, Preset, PresetError, preset_entries
-from app.kit.samples import SampleBuffer
-from app.kit.trace import Trace
+from app.kit.core.common import SliderSpec
+from app.kit.core.presets import PRESETS_DIR, Preset, PresetError, preset_entries
+from app.kit.core.samples import SampleBuffer
+from app.kit.core.trace import Trace
 from physics._types import Array
 from physics.constrained import (
     Evaluation,

@@ -1,12 +1,10 @@
 """The "Constrained particles" scene's view: `ConstrainedView` draws a `ConstrainedSimulation`
 for one browser (`app.scenes.constrained`).
 
-What a playing frame sends (the turning hoop, the default: 241 / 244 B a frame own / follower,
-4.2 scene messages, measured by tests/test_frame_budget.py on 2026-11-25; it was 360 / 352 and
-6.1): the
-hoop's turn (one orientation), the bead's position, the turn of the bead's frame `o` and C's tip
-(a position) — the four numbers α, θ, C's direction about the hoop and |C|, each message 20-30
-B after compression over a window of ~60 B.  How:
+What a playing frame sends (the turning hoop, the default; tests/test_frame_budget.py counts the
+bytes, the README has the figures): the hoop's turn (one orientation), the bead's position, the
+turn of the bead's frame `o` and C's tip (a position) — the four numbers α, θ, C's direction
+about the hoop and |C|.  How:
 
 - a particle's virtual displacements and C hang in a frame `o` at the particle turned so that
   its z runs along ∂x_i/∂q_1 and its x along C_i's part across it: on a smooth single constraint
@@ -17,14 +15,14 @@ B after compression over a window of ~60 B.  How:
   head, overlapping in the middle) covering any shaft length in [P, 2P]: a change of length
   moves the tip only (one position message; the label rides on the tip), the pieces' scale is
   sent when the length leaves [P, 2P];
-- while playing, poses and lengths are on power-of-two grids (`app.kit.lean.Pose` with a
+- while playing, poses and lengths are on power-of-two grids (`app.kit.draw.lean.Pose` with a
   turn_quantum; positions and lengths 2^-8 m, quaternion components 2^-9, the guide's 2^-10:
   ~1 px or finer; such numbers go on the wire as float32) and a node is sent only when what is
   drawn changed; paused,
   everything is exact (float32).  What is drawn is a function of the state alone, so followers
   and late views draw the same;
 - the status line and the q, q̇ sliders follow at 2 Hz while playing, the paths' chunks as
-  `app.kit.widgets.TraceLines` sends them (~15 B a frame).
+  `app.kit.draw.widgets.TraceLines` sends them.
 
 Much lower it does not go: those four messages carry four changing numbers a frame, and F
 needs a frame at the particle that turns about z only, so the bead's position cannot ride on a
@@ -40,16 +38,15 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.kit.common import CameraView, SliderSpec, Throttle
-from app.kit.fastprops import set_points, set_position, set_scale
-from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
-from app.kit.labels import DETAIL
-from app.kit.lean import TOLERANCE, Pose, snap
-from app.kit.plots import LivePlots, PlotSpec
-from app.kit.presets import Preset
-from app.kit.room import Room
+from app.kit.core.common import CameraView, SliderSpec, Throttle, Wrap
+from app.kit.core.presets import Preset
+from app.kit.core.room import Room
+from app.kit.draw.labels import DETAIL
+from app.kit.draw.lean import TOLERANCE, Pose, snap
+from app.kit.draw.widgets import Stage, TraceLines, Vector
+from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
+from app.kit.panel.plots import LivePlots, PlotSpec
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Stage, TraceLines, Vector
 from app.scenes.constrained.readouts import conserved_text, readout_text, status_text
 from app.scenes.constrained.simulation import (
     GUIDE_POINTS,
@@ -58,6 +55,7 @@ from app.scenes.constrained.simulation import (
     load_constrained_presets,
     setup_of,
 )
+from app.viser_internals import set_points, set_position, set_scale
 from physics._types import Array
 from physics.constrained import System
 from physics.quaternion import wxyz_from_matrix

@@ -12,7 +12,7 @@ The names other modules and the tests use are re-exported here.
 
 from __future__ import annotations
 
-from app.kit.common import canonical_angles_deg
+from app.kit.core.common import canonical_angles_deg
 from app.scenes.euler_angles.simulation import INITIAL_ANGLES_DEG, EulerAnglesSimulation
 from app.scenes.euler_angles.single_rotation import (
     ANIMATION_HOLD,

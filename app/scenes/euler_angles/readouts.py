@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.common import format_deg, format_matrix, format_vector
+from app.kit.core.common import format_deg, format_matrix, format_vector
 from app.scenes.euler_angles.simulation import GREEK, MIN_EDGE, box_edges
 from physics.euler import (
     body_z_axis,

@@ -15,8 +15,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from app.kit.common import canonical_angles_deg, wrap_deg
-from app.kit.history import Snapshot
+from app.kit.core.common import canonical_angles_deg, wrap_deg
+from app.kit.core.history import Snapshot
 from physics.euler import euler_frames
 from physics.inertia import box_extents_from_moments, validate_principal_moments
 
@@ -80,7 +80,7 @@ class EulerAnglesSimulation:
         self.angles_deg = list(canonical_angles_deg(*played))
         self.version += 1
 
-    # ------------------------------------------------------------------ replay (app.kit.history)
+    # ------------------------------------------------------------------ replay (app.kit.core.history)
     def snapshot(self) -> Snapshot:
         """The moment now: t, the angles as played (3) [deg], the rates (3) [deg/s] (the angles
         shown are a function of those played)."""

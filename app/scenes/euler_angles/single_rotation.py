@@ -27,13 +27,13 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.kit.common import BODY_AXIS_COLORS, SPACE_AXIS_COLORS, axis_segments, polyline_segments
-from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.gui import Readout, Wrap
-from app.kit.labels import AXES, LabelLayer
-from app.kit.target import DrawTarget
+from app.kit.core.common import BODY_AXIS_COLORS, SPACE_AXIS_COLORS, Wrap, axis_segments, polyline_segments
+from app.kit.core.target import DrawTarget
+from app.kit.draw.labels import AXES, LabelLayer
+from app.kit.panel.gui import Readout
 from app.scenes.euler_angles.readouts import single_angle_text, single_rotation_text
 from app.scenes.euler_angles.simulation import EulerAnglesSimulation, box_edges
+from app.viser_internals import set_points, set_position, set_wxyz
 from physics.quaternion import wxyz_from_matrix
 from physics.so3 import SingleRotation, exp_so3, rot_x, rot_z, single_rotation, turn_path
 

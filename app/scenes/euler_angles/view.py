@@ -21,13 +21,13 @@ angle about one of its own axes: after φ (`/e/p`), after θ (`/e/p/t`), the bod
 everything else rides on the frame it is fixed in (the line of nodes and the fixed arc pieces
 on the after-φ frame, η′ and the ψ arc on the after-θ frame, the box and its axes on the body).
 While playing each angle is snapped so that a step moves its frame's farthest point by ~1 px
-(`app.kit.lean.Pose`), and a frame's turn is sent only when its snapped angle changed: φ and ψ
+(`app.kit.draw.lean.Pose`), and a frame's turn is sent only when its snapped angle changed: φ and ψ
 one orientation message every frame, θ about three frames in four.  ω's components are fixed
 in frames that are sent anyway: φ̇ e_z in space, θ̇ e_n in the after-φ frame (no message while
 the rates are constant), ψ̇ e_z′ (with ω's label) in a frame at θ̇ e_n's tip turned by the same
 Rx(θ) as the after-θ frame, so its orientation message repeats the after-θ frame's values in
 the same window (~5 B compressed).  The resultant ω depends on θ (and the rates) only: it
-lives in the after-φ frame as an `app.kit.lean.FrameArrow`, an orientation message at each
+lives in the after-φ frame as an `app.kit.draw.lean.FrameArrow`, an orientation message at each
 θ step that moves its tip and a z-scale message when its length moved by ~1 px (about one
 frame in five).  Labels: anchors and visibility only when the view's `LabelLayer` changes
 them (10 Hz), the arcs' readings at 2 Hz; the sliders, the status line and the readout tab
@@ -46,25 +46,26 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.kit.common import (
+from app.kit.core.common import (
     OMEGA_COLOR,
     CameraView,
     SliderSpec,
     Throttle,
+    Wrap,
     axis_segments,
     gimbal_note,
 )
-from app.kit.fastprops import set_points, set_position
-from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
-from app.kit.labels import DETAIL, KEY, LabelLayer
-from app.kit.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
-from app.kit.presets import Preset
-from app.kit.room import Room
+from app.kit.core.presets import Preset
+from app.kit.core.room import Room
+from app.kit.draw.labels import DETAIL, KEY, LabelLayer
+from app.kit.draw.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
+from app.kit.draw.widgets import Body, LineOfNodes, Stage
+from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Body, LineOfNodes, Stage
 from app.scenes.euler_angles import readouts
 from app.scenes.euler_angles.simulation import GREEK, KEYS, EulerAnglesSimulation, box_edges
 from app.scenes.euler_angles.single_rotation import SingleRotationPart
+from app.viser_internals import set_points, set_position
 from physics._types import Vec3
 from physics.inertia import InertiaError
 
@@ -117,7 +118,7 @@ ARC_PERIOD = 1.0 / 20.0  # [s] the single rotation's axis and arc while playing 
 ARC_TEXT_PERIOD = 0.5  # [s] the arcs' readings ("φ = 31°") while playing (2 Hz; exact when paused)
 SLIDER_PERIOD = 0.5  # sliders follow at 2 Hz while playing (read when paused: a refresh writes them exactly)
 # How far the drawn points of each frame reach from the origin [scene units]: a turn is sent when
-# it moves them by more than app.kit.lean.TOLERANCE (the ω arrows are at most ~2 long at 30°/s per unit).
+# it moves them by more than app.kit.draw.lean.TOLERANCE (the ω arrows are at most ~2 long at 30°/s per unit).
 PHI_REACH = 2.2  # the line of nodes (1.9), ω's components
 THETA_REACH = 1.6  # the body under the after-θ frame (axes 1.35 and labels), ψ̇ e_z′ (≤ 1.5 at 45°/s) turning ω's tip
 PSI_REACH = 1.6  # the body's axes (1.35) and their labels
@@ -206,7 +207,7 @@ class EulerAnglesView(SceneView):
         # The decomposition as a chain of frames, each turned by one angle about one of its own
         # axes (T_parent_local): after φ = Rz(φ) under the root, after θ = Rx(θ) under it, the
         # body = Rz(ψ) under that.  A frame's message is sent only when its angle moved visibly
-        # (app.kit.lean.Pose): a steady precession sends one small message a frame, not four.
+        # (app.kit.draw.lean.Pose): a steady precession sends one small message a frame, not four.
         self.after_phi_node = scene.add_frame(f"{root}/p", show_axes=False)
         self.after_theta_node = scene.add_frame(f"{root}/p/t", show_axes=False)
         self.frame_axes = []
@@ -442,7 +443,7 @@ class EulerAnglesView(SceneView):
     def render_pose(self, exact: bool = True) -> None:
         """The per-frame part: the chain of frames (after φ, after θ, body), the line of nodes'
         fade, the ω arrows.  While playing (exact=False) each angle is drawn at display
-        resolution (app.kit.lean: a step moves the frame's farthest point by ~1 px) and a
+        resolution (app.kit.draw.lean: a step moves the frame's farthest point by ~1 px) and a
         message goes only when what is drawn changed."""
         phi, theta, psi = self.sim.angles
         if not exact:  # everything θ turns is drawn from the same snapped θ: sent in the same frames

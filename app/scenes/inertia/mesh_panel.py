@@ -17,9 +17,8 @@ from typing import Any
 import viser
 
 from app.data import files_in, meshes_dir
-from app.kit.binding import Refused
-from app.kit.common import checked_value
-from app.kit.gui import Wrap
+from app.kit.core.common import Wrap, checked_value
+from app.kit.panel.binding import Refused
 from app.kit.view import SceneView
 from app.scenes.inertia.simulation import (
     MAX_FACES,

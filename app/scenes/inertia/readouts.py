@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.common import format_matrix
+from app.kit.core.common import format_matrix
 from physics._types import Vec3
 
 __all__ = ["key_numbers_text", "readout_text", "spin_text"]

@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.common import SliderSpec, fork_sharing
-from app.kit.presets import Preset, PresetError, preset_entries
+from app.kit.core.common import SliderSpec, fork_sharing
+from app.kit.core.presets import Preset, PresetError, preset_entries
 from physics._types import Vec3
 from physics.inertia import (
     InertiaError,
@@ -115,7 +115,7 @@ class InertiaSystem:
         if not (np.all(np.isfinite(m)) and np.all(m > 0.0) and np.all(np.isfinite(x))):
             raise ValueError("masses must be positive and positions finite")
         self.masses, self.positions = m.copy(), x.copy()
-        self.mesh = None
+        self.mesh, self.mesh_name = None, ""
         self.version += 1
 
     def set_mesh(self, name: str, vertices: np.ndarray, faces: np.ndarray, mass: float | None = None,

@@ -38,14 +38,14 @@ import numpy as np
 import trimesh
 import viser
 
-from app.kit.binding import Refused
-from app.kit.common import BODY_AXIS_COLORS, CameraView, axis_segments
-from app.kit.gui import MessageLine, PresetsRow, Readout, Wrap, add_slider
-from app.kit.labels import AXES, KEY
-from app.kit.presets import PRESETS_DIR, Preset
-from app.kit.room import Room
+from app.kit.core.common import BODY_AXIS_COLORS, CameraView, Wrap, axis_segments
+from app.kit.core.presets import PRESETS_DIR, Preset
+from app.kit.core.room import Room
+from app.kit.draw.labels import AXES, KEY
+from app.kit.draw.widgets import Stage
+from app.kit.panel.binding import Refused
+from app.kit.panel.gui import MessageLine, PresetsRow, Readout, add_slider
 from app.kit.view import SceneView
-from app.kit.widgets import Stage
 from app.scenes.inertia import readouts
 from app.scenes.inertia.mesh_panel import MeshPanel
 from app.scenes.inertia.simulation import (
@@ -167,7 +167,7 @@ class InertiaView(SceneView):
                                             font_screen_scale=1.8, anchor="center-center"), AXES)
         self.O_label = self.labels.add(scene.add_label(f"{root}/O_label", "O", font_screen_scale=1.8,
                                                        anchor="bottom-right"), KEY)
-        # The gizmos are interactive: only in the controlling browser's own scene (app.kit.target).
+        # The gizmos are interactive: only in the controlling browser's own scene (app.kit.core.target).
         self.gizmo: Any = None
         self.O_gizmo: Any = None
         if self.controls is not None:

@@ -29,8 +29,8 @@ residual is at rounding level.
 
 Paths: each particle leaves a path in C (drawn in C: a straight line for the free particle)
 and one in C′ (drawn in C′, carried by it: the curve a rider sees), the last PATH_SECONDS kept
-by the simulation (`app.kit.trace.Trace`, so a view built later shows them so far) and drawn
-in short chunks (`app.kit.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
+by the simulation (`app.kit.core.trace.Trace`, so a view built later shows them so far) and drawn
+in short chunks (`app.kit.draw.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
 at most at 10 Hz while playing).
 
 Presets: `assets/presets/moving_frame.json` (every parameter of `simulation.PARAM_SPECS`, the frame's initial

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from app.kit.common import format_deg, format_vector
+from app.kit.core.common import format_deg, format_vector
 from app.scenes.moving_frame.simulation import PARTICLES, ForceReport, MovingFrameSimulation
 from physics._types import Array, Vec3
 

@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.kit.common import SliderSpec, canonical_angles_deg, wrap_deg
-from app.kit.history import Snapshot
-from app.kit.trace import Trace
+from app.kit.core.common import SliderSpec, canonical_angles_deg, wrap_deg
+from app.kit.core.history import Snapshot
+from app.kit.core.trace import Trace
 from physics._types import Array, Vec3
 from physics.moving_frames import (
     FrameMotion,
@@ -232,7 +232,7 @@ class MovingFrameSimulation:
         self.x, self.v, self.t = x, v, self.t + dt
         self._frame = self._motion.at(self.t)
 
-    # ------------------------------------------------------------------ replay (app.kit.history)
+    # ------------------------------------------------------------------ replay (app.kit.core.history)
     def snapshot(self) -> Snapshot:
         """The moment now: t, x (9) and v (9) [m, m/s], each path's (count, first) (C′ is a
         function of t)."""

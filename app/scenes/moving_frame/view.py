@@ -7,14 +7,14 @@ moves with C′ hangs under C′'s node in C′ coordinates: the particles, the 
 the paths in C′ and the forces, so C′'s turn is one message (~45 B: four float64s) and a
 particle at rest in C′ sends none.  The forces hang under one group at the chosen particle,
 which also holds that particle's ball (its own node hidden): one position message moves both;
-the five forces are one `add_arrows` node and the sum another, thinner (`app.kit.lean.Arrows`:
+the five forces are one `add_arrows` node and the sum another, thinner (`app.kit.draw.lean.Arrows`:
 one `points` message each, raw float32, 24 B an arrow: ~72 B of the frame, the largest part);
 their labels move in steps of LABEL_TOLERANCE (~4 px).  The spring's group sits at its anchor:
 the spring particle hangs in it at d = x′ − anchor and the spring is a unit segment (0 → (1, 1,
 1)) scaled by d, so the two messages carry the same three numbers (the second compresses to a
 few bytes) and no points are sent.  The paths: a new chunk or head every few frames (~45 B a
 frame); a path that is one point (the particle at rest in C′, seen in C′) is not drawn.  While
-playing every pose, point and label is snapped (`app.kit.lean.Pose`; C′ to ~1 px, particles
+playing every pose, point and label is snapped (`app.kit.draw.lean.Pose`; C′ to ~1 px, particles
 and the spring to GRID = 1/256 m, a power of two, so their float64s end in zero bytes that
 compress) and sent only when what is drawn changed; paused, all is exact.  Node names are
 short (each message carries its node's name); each message type a frame holds costs its name
@@ -41,16 +41,15 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.kit.common import CameraView, Throttle
-from app.kit.fastprops import set_scale
-from app.kit.gui import PresetsRow, Readout, Transport, Wrap, add_slider
-from app.kit.labels import KEY
-from app.kit.lean import TOLERANCE, Arrows, Pose, f32, snap, turn_z_onto
-from app.kit.presets import Preset
-from app.kit.room import Room
-from app.kit.trace import Trace
+from app.kit.core.common import CameraView, Throttle, Wrap
+from app.kit.core.presets import Preset
+from app.kit.core.room import Room
+from app.kit.core.trace import Trace
+from app.kit.draw.labels import KEY
+from app.kit.draw.lean import TOLERANCE, Arrows, Pose, f32, snap, turn_z_onto
+from app.kit.draw.widgets import Body, Stage, TraceLines
+from app.kit.panel.gui import PresetsRow, Readout, Transport, add_slider
 from app.kit.view import SceneView, nth
-from app.kit.widgets import Body, Stage, TraceLines
 from app.scenes.moving_frame.readouts import readout_text, status_text
 from app.scenes.moving_frame.simulation import (
     ANGLE_SPECS,
@@ -64,6 +63,7 @@ from app.scenes.moving_frame.simulation import (
     MovingFrameSetup,
     MovingFrameSimulation,
 )
+from app.viser_internals import set_scale
 from physics._types import Array
 from physics.quaternion import wxyz_from_matrix
 
@@ -373,7 +373,7 @@ class MovingFrameView(SceneView):
 
     def _draw(self, dt: float) -> None:
         """Draw the simulation now: exactly when paused, at display resolution while playing
-        (`app.kit.lean.Pose`: ~1 px, sent only when what is drawn changed)."""
+        (`app.kit.draw.lean.Pose`: ~1 px, sent only when what is drawn changed)."""
         sim = self.sim
         self._drawn_version = sim.version
         exact = not self.room.playing

@@ -1,6 +1,6 @@
 """Poinsot's construction of the free body ("Poinsot" scene).
 
-The torque-free body of `app.kit.torque_free` (the Free body scene's simulation, sliders,
+The torque-free body of `app.kit.rigid.torque_free` (the Free body scene's simulation, sliders,
 presets format, ghost), with the geometry of `physics.poinsot` drawn around it, in ω units
 (1 rad/s = `scale` scene units):
 

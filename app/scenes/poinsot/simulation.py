@@ -1,6 +1,6 @@
 """The "Poinsot" scene's numbers of a run (no viser): the Energy setting of a motion and the state
 at another setting, the herpolhode's point, the next flip (`app.scenes.poinsot`).  The simulation
-itself is the kit's `RigidBodySimulation` (`app.kit.torque_free`).
+itself is the kit's `RigidBodySimulation` (`app.kit.rigid.torque_free`).
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.rigid import RigidBodySimulation
+from app.kit.rigid.simulation import RigidBodySimulation
 from physics.dynamics import State
 from physics.poinsot import polhode_L
 from physics.so3 import exp_so3

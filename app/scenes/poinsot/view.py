@@ -10,14 +10,13 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from app.kit.binding import BOX_DIGITS
-from app.kit.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
-from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.gui import Readout, add_slider
-from app.kit.labels import AXES, DETAIL
-from app.kit.rigid import RigidBodySimulation
-from app.kit.torque_free import TorqueFreeView
-from app.kit.widgets import TraceLines, quantized, z_onto
+from app.kit.core.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
+from app.kit.draw.labels import AXES, DETAIL
+from app.kit.draw.widgets import TraceLines, quantized, z_onto
+from app.kit.panel.binding import BOX_DIGITS
+from app.kit.panel.gui import Readout, add_slider
+from app.kit.rigid.simulation import RigidBodySimulation
+from app.kit.rigid.torque_free import TorqueFreeView
 from app.scenes.poinsot.readouts import poinsot_text
 from app.scenes.poinsot.simulation import (
     CURVE_POINTS,
@@ -29,6 +28,7 @@ from app.scenes.poinsot.simulation import (
     state_at_energy,
     track_herpolhode,
 )
+from app.viser_internals import set_points, set_position, set_wxyz
 from physics.poinsot import (
     PolhodeMotion,
     herpolhode_radii,

@@ -2,7 +2,7 @@
 the readout, the Lagrange tab, the accuracy panel, the ghost's note and the arrows' legend.
 
 Each takes a `RigidBodySimulation` (and what the view chose: the angles shown, the tab's extras)
-and returns Markdown; `app.kit.rigid_view.RigidBodyView` puts them into the panel at the rates
+and returns Markdown; `app.kit.rigid.view.RigidBodyView` puts them into the panel at the rates
 it chooses.  Tested without a browser in tests/test_rigid_text.py.  Angles in degrees, wrapped
 to (−180°, 180°] (`format_deg`); SI units otherwise.
 """
@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from app.kit.common import format_deg, format_matrix, gimbal_note
-from app.kit.rigid import RigidBodySimulation
+from app.kit.core.common import format_deg, format_matrix, gimbal_note
+from app.kit.rigid.simulation import RigidBodySimulation
 from physics.dynamics import Model, kinetic_energy
 from physics.lagrange import LagrangeTerms, generalized_forces
 from physics.methods import applicable, methods
@@ -45,7 +45,7 @@ def integrator_hint(model: Model) -> str:
 
 def accuracy_text(sim: RigidBodySimulation, momentum_label: str) -> str:
     """The accuracy panel: energy and momentum drift and the attitude error, now and at most."""
-    error = sim.attitude_error()  # now (the samples' are checked in batches: app.kit.rigid.ERROR_BATCH)
+    error = sim.attitude_error()  # now (the samples' are checked in batches: app.kit.rigid.simulation.ERROR_BATCH)
     if sim.method.reference:
         error_line = "attitude error       —  (the integrator IS the exact solution)"
     elif error is None:

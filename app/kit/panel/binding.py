@@ -41,7 +41,7 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from app.kit.common import SliderSpec
+from app.kit.core.common import SliderSpec
 
 __all__ = [
     "BOX_DIGITS",

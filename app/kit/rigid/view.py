@@ -4,18 +4,18 @@
 nodes, ω and L) and the kit's panel (transport, presets, Setup / Readout / Plots tabs), and
 turns the browser's edits into calls on its room.  A scene subclasses it and fills in the
 class attributes and hooks (the model of its parameters, the initial ω from its rate sliders,
-its body's shape, its extras); see `app.kit.torque_free` and `app.scenes.heavy_top`.
+its body's shape, its extras); see `app.kit.rigid.torque_free` and `app.scenes.heavy_top`.
 
 Per frame (`frame`) the view sends only what changed: the body's pose, the line of nodes, the
 ω arrow (L only when it moved), the scene's extras, at display resolution
-(`app.kit.widgets.POSE_QUANTUM`: what did not change at it is not sent); nothing at all while
+(`app.kit.draw.widgets.POSE_QUANTUM`: what did not change at it is not sent); nothing at all while
 paused.  Only for what is on screen: the sliders follow the motion (Setup tab) and the status
 line at 2 Hz, the readout (Readout tab) at 10 Hz, the plots and the accuracy panel at 4 Hz
 (Plots tab, live plots on).
 
-The exact ghost (Display: "Exact ghost") is `app.kit.ghost.ExactGhost`; the texts (status,
+The exact ghost (Display: "Exact ghost") is `app.kit.rigid.ghost.ExactGhost`; the texts (status,
 readout, Lagrange tab, accuracy, legend) are pure functions of the simulation in
-`app.kit.rigid_text`.  On the ω plot the exact solution's flips (ω along the intermediate axis
+`app.kit.rigid.text`.  On the ω plot the exact solution's flips (ω along the intermediate axis
 changing sign, a free body with three different moments) are vertical grey segments, at the
 times `physics.poinsot.flip_times` gives.
 
@@ -35,25 +35,27 @@ import numpy as np
 import viser
 import viser.uplot
 
-from app.kit.binding import BOX_DIGITS
-from app.kit.common import (
+from app.kit.core.common import (
     GIMBAL_LOCK_DEG,
     L_COLOR,
     OMEGA_COLOR,
     SliderSpec,
     Throttle,
+    Wrap,
     gimbal_note,
     wrap_deg,
 )
-from app.kit.fastprops import set_wxyz
-from app.kit.ghost import ExactGhost
-from app.kit.gui import PresetsRow, Readout, Tabs, Transport, Wrap, add_slider
-from app.kit.hand import HandControls
-from app.kit.lagrange_arrows import GeneralizedForceArrows
-from app.kit.plots import LivePlots, PlotSpec
-from app.kit.presets import Preset
-from app.kit.rigid import RigidBodySimulation
-from app.kit.rigid_text import (
+from app.kit.core.presets import Preset
+from app.kit.core.room import Room
+from app.kit.draw.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector, quantized
+from app.kit.panel.binding import BOX_DIGITS
+from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
+from app.kit.panel.plots import LivePlots, PlotSpec
+from app.kit.rigid.ghost import ExactGhost
+from app.kit.rigid.hand import HandControls
+from app.kit.rigid.lagrange_arrows import GeneralizedForceArrows
+from app.kit.rigid.simulation import RigidBodySimulation
+from app.kit.rigid.text import (
     accuracy_text,
     integrator_hint,
     lagrange_text,
@@ -61,9 +63,8 @@ from app.kit.rigid_text import (
     readout_text,
     status_text,
 )
-from app.kit.room import Room
 from app.kit.view import SceneView, nth
-from app.kit.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector, quantized
+from app.viser_internals import set_wxyz
 from physics._types import Vec3
 from physics.dynamics import Model, State
 from physics.euler import GimbalLockError, matrix_from_euler_zxz
@@ -161,7 +162,7 @@ class RigidBodyView(SceneView):
     the nutation changes them (in steady precession: never).  False: the body, nodes, ω and L
     are children of the root, posed in space."""
     quantum: float | None = None
-    """While a playing frame draws: POSE_QUANTUM (poses at display resolution, `app.kit.widgets`);
+    """While a playing frame draws: POSE_QUANTUM (poses at display resolution, `app.kit.draw.widgets`);
     None while a refresh draws (exact)."""
 
     def fixed_omega_scale(self) -> float | None:
@@ -202,7 +203,7 @@ class RigidBodyView(SceneView):
 
     hand_gizmos: ClassVar[tuple[str, ...]] = ()
     """"omega" and/or "L": the scene sets ω by hand (gizmos at those arrows' tips, and Kick:
-    `app.kit.hand`); () for neither."""
+    `app.kit.rigid.hand`); () for neither."""
     hand: HandControls | None = None
 
     extra_tabs: ClassVar[tuple[str, ...]] = ()

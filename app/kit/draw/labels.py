@@ -7,7 +7,7 @@ and the widgets do not fight.  After the view draws (`update(dt)`, at most every
 wall time, and at once on `refresh()` through `settle()`), the layer projects the wanted
 labels through the camera of the browser that controls the view (`target.camera`; the scene's
 `CameraView` at 1280x800 when there is none, e.g. a recording), estimates their text boxes
-(`app.kit.screen`), and places them greedily, highest priority first (ties: the order of
+(`app.kit.draw.screen`), and places them greedily, highest priority first (ties: the order of
 registration): a label goes at its own anchor, else at the first of NUDGE_ANCHORS that is free,
 else it is hidden until there is room.  Only the label goes: an arrow keeps its colour.
 
@@ -36,8 +36,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.kit.common import CameraView, staggered
-from app.kit.screen import ANCHOR_SHIFT, REFERENCE_HEIGHT_PX, SCREEN_EM_PX, Projector, text_size
+from app.kit.core.common import CameraView, staggered
+from app.kit.draw.screen import ANCHOR_SHIFT, REFERENCE_HEIGHT_PX, SCREEN_EM_PX, Projector, text_size
 from app.viser_internals import SCENE_NODES, label_props, node_removed, world_point
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "LabelLayer"]

@@ -22,10 +22,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from app.kit.common import fork_sharing
-from app.kit.history import Snapshot
-from app.kit.samples import SampleBuffer
-from app.kit.trace import Trace
+from app.kit.core.common import fork_sharing
+from app.kit.core.history import Snapshot
+from app.kit.core.samples import SampleBuffer
+from app.kit.core.trace import Trace
 from physics._types import Vec3
 from physics.dynamics import Model, State, angular_momentum_space, energy, kinetic_energy
 from physics.euler import GimbalLockError, euler_zxz_from_matrix, euler_zxz_from_matrix_near
@@ -42,8 +42,8 @@ R_COLUMNS = tuple(f"R{k}" for k in range(9))
 ERROR_BATCH = 5
 """The attitude error (integrated against the closed form) is worked out for this many samples at
 once, when the last of them is taken (sample numbers 5, 10, ... since the run's start): one call
-of the closed form for five times instead of five (a call costs ~0.13 ms whatever the number of
-times), so the newest ERROR_BATCH - 1 samples may not have theirs yet (NaN; the plot's line ends
+of the closed form for five times instead of five (a call costs about the same whatever the
+number of times), so the newest ERROR_BATCH - 1 samples may not have theirs yet (NaN; the plot's line ends
 at most 0.4 s of samples earlier)."""
 PLOT_CAPACITY = 300  # samples in the sliding window (30 s of wall time at 10 Hz)
 PLOT_SPARE = 620  # samples stored beyond it for the replay (62 s at 1×; less at slow motion)
@@ -126,7 +126,7 @@ class RigidBodySimulation:
         shared read-only).  Advancing both by the same steps gives the same states bit for bit."""
         return fork_sharing(self, self.mesh or ())
 
-    # ------------------------------------------------------------------ replay (app.kit.history)
+    # ------------------------------------------------------------------ replay (app.kit.core.history)
     @property
     def run(self) -> int:
         """Changes at every restart (a new run: the replay's history starts afresh)."""

@@ -1,11 +1,11 @@
 """Setting a rigid body's motion by hand: gizmos at the tips of ω (and L) and the Kick buttons.
 
-`HandControls` belongs to one `app.kit.rigid_view.RigidBodyView` (Free body, Heavy top, and
+`HandControls` belongs to one `app.kit.rigid.view.RigidBodyView` (Free body, Heavy top, and
 Poinsot through Free body) and adds, in the Setup tab, the folder "Set ω by hand":
 
 * **Gizmos** (translation only) at the tip of the ω arrow, and of the L arrow where the scene
   asks for it (`RigidBodyView.hand_gizmos`).  They go into `view.controls` only: the scene of
-  the browser that controls the room, never a shared scene (app.kit.target); with no controls
+  the browser that controls the room, never a shared scene (app.kit.core.target); with no controls
   (a recording) there are none.  They show while the room is paused (dragging one also
   pauses it) and the "Drag ω" checkbox is on.  Dragging the ω gizmo to p [scene units] sets
   ω_s = p / omega_scale, ω_b = Rᵀ ω_s; the L gizmo sets L_s = p / L_scale, ω_b = I⁻¹ Rᵀ L_s.
@@ -28,8 +28,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from app.kit.common import SliderSpec
-from app.kit.gui import add_slider
+from app.kit.core.common import SliderSpec
+from app.kit.panel.gui import add_slider
 from physics._types import Vec3
 from physics.dynamics import State
 from physics.euler import GimbalLockError
@@ -54,14 +54,14 @@ def omega_after_kick(inertia: tuple[float, float, float], omega_body: Vec3, axis
 
 
 class HandView(Protocol):
-    """What `HandControls` needs of its view (`app.kit.rigid_view.RigidBodyView` is one; a
+    """What `HandControls` needs of its view (`app.kit.rigid.view.RigidBodyView` is one; a
     protocol, so the kit's modules import each other in one direction only)."""
 
-    sim: Any  # app.kit.rigid.RigidBodySimulation
-    room: Any  # app.kit.room.Room
+    sim: Any  # app.kit.rigid.simulation.RigidBodySimulation
+    room: Any  # app.kit.core.room.Room
     root: str
     controls: Any  # the controlling browser's scene, or None
-    message: Any  # app.kit.gui.MessageLine
+    message: Any  # app.kit.panel.gui.MessageLine
     omega_scale: float
     L_scale: float
     @property

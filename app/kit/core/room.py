@@ -15,7 +15,7 @@
   once, whatever the number of views, then every view draws.  Today each browser has its own
   room; a presenter's room has many views.
 
-**Replay** (`app.kit.history`): a room whose simulation is replayable records its last minute
+**Replay** (`app.kit.core.history`): a room whose simulation is replayable records its last minute
 of motion in `history` while it plays.  `mode` is LIVE, SCRUBBING or REPLAYING.  `scrub(t)`
 sets the live moment aside (a snapshot: nothing is written into the simulation while the room
 shows the past, so it comes back exactly) and restores the recorded moment t into `sim` itself
@@ -40,10 +40,9 @@ import threading
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
-from app.kit.common import CameraView, keep_phase
-from app.kit.gui import Wrap
-from app.kit.history import History, is_replayable
-from app.kit.presets import Preset
+from app.kit.core.common import CameraView, Wrap, keep_phase
+from app.kit.core.history import History, is_replayable
+from app.kit.core.presets import Preset
 
 __all__ = ["LIVE", "REPLAYING", "SCRUBBING", "Room", "Scene", "Simulation", "View"]
 
@@ -85,7 +84,7 @@ class View(Protocol):
     """What a room needs from a view (one browser's drawing of the room's simulation)."""
 
     timeline: Any
-    """The view's replay `Timeline` (`app.kit.timeline`), redrawn after the view; None if none."""
+    """The view's replay `Timeline` (`app.kit.panel.timeline`), redrawn after the view; None if none."""
 
     def frame(self, dt: float) -> None:
         """The per-frame update after the simulation advanced; dt [s] of wall time."""
@@ -138,7 +137,7 @@ class Room:
         replaying).  views: the views drawing it.
         scene: the scene (view class) that made it; lock: see the module docstring.
         ticks: frames in which the simulation advanced (tests check: once per frame).
-        history: the recorded last minute (`app.kit.history.History`), None for a simulation
+        history: the recorded last minute (`app.kit.core.history.History`), None for a simulation
         without motion to replay.
     """
 

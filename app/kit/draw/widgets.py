@@ -7,7 +7,7 @@ Per frame a widget changes only small properties of nodes built once (a pose, an
 points, a label's position), and only when they changed: a node is never rebuilt while a scene
 plays.  Everything is drawn through the `scene` it is given (`client.scene`: one browser).
 
-Their labels are registered with the view's `LabelLayer` (`labels=`, app.kit.labels) at a
+Their labels are registered with the view's `LabelLayer` (`labels=`, app.kit.draw.labels) at a
 priority: space axes and vectors KEY, body axes and the line of nodes AXES.  The layer decides
 which are shown; a widget only says whether it wants its label (`LabelLayer.want`).
 """
@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.common import (
+from app.kit.core.common import (
     BODY_AXIS_COLORS,
     GIMBAL_FADE_DEG,
     GIMBAL_LOCK_DEG,
@@ -34,9 +34,9 @@ from app.kit.common import (
     fade_color,
     polyline_segments,
 )
-from app.kit.fastprops import set_points, set_position, set_scale, set_wxyz
-from app.kit.labels import AXES, KEY, LabelLayer
-from app.kit.trace import Trace
+from app.kit.core.trace import Trace
+from app.kit.draw.labels import AXES, KEY, LabelLayer
+from app.viser_internals import set_points, set_position, set_scale, set_wxyz
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
 
@@ -345,11 +345,12 @@ def _rotate(wxyz: tuple[float, ...], length: float) -> np.ndarray:
 
 
 class TraceLines:
-    """Draws a simulation's `app.kit.trace.Trace` (a point's recent path) as line segments.
+    """Draws a simulation's `app.kit.core.trace.Trace` (a point's recent path) as line segments.
 
     One line-segment node per chunk of the trace, a ring of `trace.max_chunks` nodes built once
-    (~0.5 ms a node): chunk c is drawn by node c mod size.  `sync` sends only the chunks whose
-    drawn span changed since the last call and hides the chunks the trace dropped: a complete
+    (building a node costs far more than moving one): chunk c is drawn by node c mod size.
+    `sync` sends only the chunks whose drawn span changed since the last call and hides the
+    chunks the trace dropped: a complete
     chunk is sent once, when it completes; the growing head chunk, on a playing frame
     (`lazy=True`), at most every `head_every` frames (HEAD_EVERY by default; so a scene whose chunks complete every few
     frames sends each point once, and its trace ends at most a chunk behind the moving point),

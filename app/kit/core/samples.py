@@ -1,8 +1,8 @@
 """A bounded sliding window of a simulation's samples (no viser: simulations keep one).
 
 `SampleBuffer` is a ring buffer (fixed capacity, so memory is bounded however long a lecture
-runs) of the simulated time and named columns; `app.kit.plots.LivePlots` draws it.  For the
-replay (`app.kit.history`) it stores `spare` rows more than it shows and can be rewound: `mark()`
+runs) of the simulated time and named columns; `app.kit.panel.plots.LivePlots` draws it.  For the
+replay (`app.kit.core.history`) it stores `spare` rows more than it shows and can be rewound: `mark()`
 is where it stands, `rewind(mark)` shows the window as it was then (rows are never overwritten
 by a rewind, so rewinding forward again gives back the newer rows), `truncate()` forgets what
 came after (a branch).

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.labels import DETAIL, LabelLayer
-from app.kit.widgets import Vector
+from app.kit.draw.labels import DETAIL, LabelLayer
+from app.kit.draw.widgets import Vector
 from physics.euler import body_z_axis, line_of_nodes
 from physics.lagrange import LagrangeTerms
 

@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from app.data import presets_dir
-from app.kit.common import SliderSpec
+from app.kit.core.common import SliderSpec
 
 __all__ = ["PRESETS_DIR", "Preset", "PresetError", "load_presets", "preset_entries"]
 

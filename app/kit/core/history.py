@@ -1,7 +1,7 @@
 """The replay's memory: a room's last minute of motion as compact snapshots (no viser).
 
 A simulation that moves can be replayed if it is `Replayable`: besides the `Simulation`
-protocol (`app.kit.room`) it has
+protocol (`app.kit.core.room`) it has
 
 - `run`: a number that changes when a new run starts (a reset, a restart, a preset, an edit
   that starts the motion afresh); the history of the old run is then dropped;
@@ -9,7 +9,7 @@ protocol (`app.kit.room`) it has
   `refs`: objects the simulation never mutates, shared, e.g. its integrator's name), holding
   everything needed to show this moment again and to continue from it exactly: the state, the
   integrator's internal state, the maxima it keeps, and *marks* of its histories (plot samples
-  `app.kit.samples.SampleBuffer.mark`, traces `app.kit.trace.Trace.mark`), not the histories;
+  `app.kit.core.samples.SampleBuffer.mark`, traces `app.kit.core.trace.Trace.mark`), not the histories;
 - `restore(snapshot, later=0.0)`: the moment back, bit for bit (histories rewound to their
   marks, so plots and traces end at t; nothing is re-integrated), then, if `later` > 0, the
   state `later` [s] further on *for display only* (the histories stay at the mark): a slow
@@ -20,7 +20,7 @@ protocol (`app.kit.room`) it has
 Rewinding works because nothing is written into a simulation while its room shows the past:
 the histories' rings still hold the newer rows, so rewinding forward (Resume) gives back the
 live state exactly.  The rings hold the last HISTORY_SECONDS beyond their windows
-(`app.kit.trace.REWIND_SECONDS`, `app.kit.rigid.PLOT_SPARE` samples).
+(`app.kit.core.trace.REWIND_SECONDS`, `app.kit.rigid.simulation.PLOT_SPARE` samples).
 
 `History` keeps snapshots at least RECORD_SPACING [s] of simulated time apart, at most
 HISTORY_SECONDS of simulated time and HISTORY_BYTES of memory (`nbytes`), in one float array

@@ -20,9 +20,9 @@ from typing import Any
 
 import viser
 
-from app.kit.binding import Clock, Refused, bind
-from app.kit.common import SliderSpec, checked_value
-from app.kit.presets import Preset
+from app.kit.core.common import SliderSpec, Wrap, checked_value
+from app.kit.core.presets import Preset
+from app.kit.panel.binding import Clock, Refused, bind
 
 __all__ = [
     "PAUSE_LABEL",
@@ -44,7 +44,6 @@ PLAY_LABEL, PAUSE_LABEL = "Play", "Pause"
 STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (⏭ ⏸ are missing)
 
 Callback = Callable[[Any], None]
-Wrap = Callable[[str, Callable[..., Any]], Callable[..., Any]]
 """The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
 
 
@@ -54,7 +53,7 @@ class Quiet:
     viser runs a handle's `on_update` synchronously when the server assigns its value (with
     `event.client` None); a callback that starts with `if quiet.active: return` then ignores
     what the server itself shows (a slider following the motion), so there is no feedback loop.
-    A bound control (`app.kit.binding`) registers a guard: while it says its user is editing,
+    A bound control (`app.kit.panel.binding`) registers a guard: while it says its user is editing,
     quiet writes skip that field (unless forced: a refusal putting the value in force back).
     """
 

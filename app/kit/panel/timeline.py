@@ -1,6 +1,6 @@
 """The replay's panel piece, under the transport: `Timeline [s]`, Replay · Resume · Branch here.
 
-`Timeline` only reports to its room (`app.kit.room.Room.scrub`, `replay`, `resume`, `branch`)
+`Timeline` only reports to its room (`app.kit.core.room.Room.scrub`, `replay`, `resume`, `branch`)
 and shows the room's replay state, so every view of a room shows the same.  `SceneView.build`
 adds one under the transport of every scene whose simulation can be replayed (the room has a
 `history`); the room draws it after its view (`frame`, `refresh`).
@@ -22,11 +22,11 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from app.kit.binding import Binding, Clock, Refused, bind
-from app.kit.common import Throttle
-from app.kit.gui import MessageLine, Quiet, Wrap
-from app.kit.history import HISTORY_SECONDS
-from app.kit.room import LIVE, REPLAYING, Room
+from app.kit.core.common import Throttle, Wrap
+from app.kit.core.history import HISTORY_SECONDS
+from app.kit.core.room import LIVE, REPLAYING, Room
+from app.kit.panel.binding import Binding, Clock, Refused, bind
+from app.kit.panel.gui import MessageLine, Quiet
 
 __all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "TIMELINE_LABEL", "TIMELINE_STEP", "Timeline",
            "timeline_text"]

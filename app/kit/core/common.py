@@ -11,7 +11,7 @@ from __future__ import annotations
 import copy
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -20,6 +20,7 @@ import numpy as np
 from physics._types import Mat3, Vec3
 
 __all__ = [
+    "Wrap",
     "BODY_AXIS_COLORS",
     "GIMBAL_FADE_DEG",
     "format_deg",
@@ -50,6 +51,9 @@ __all__ = [
     "striped_parts",
     "wrap_deg",
 ]
+
+Wrap = Callable[[str, Callable[..., Any]], Callable[..., Any]]
+"""The session's guard: `wrap(where, fn)` is `fn` run under the room's lock, an error shown, never raised."""
 
 
 # Colours (RGB 0-255), the same in every scene.
@@ -187,7 +191,7 @@ def keep_phase(elapsed: float, period: float) -> float:
     ran late, modulo the period.  Not 0: after a long frame every view (every room) of the app
     would run its periodic work in the same later frames (their phases snapped together); 60
     rooms laying out their labels and sampling their plots in one frame out of six made that
-    frame ~40 ms."""
+    frame several times longer than the others."""
     late = max(0.0, elapsed - period)
     return 0.0 if math.isinf(late) else late % period
 

@@ -3,9 +3,9 @@
 Display: "Exact ghost" (off by default) builds, the first time, a second `Body` of the same
 shape drawn translucent (`Translucent`), posed at the exact solution's attitude while the
 chosen integrator turns the solid one; "Exaggerate error ×k" draws it at
-R_ghost = R_exact exp(k log(R_exactᵀ R)) (`app.kit.rigid.magnified_attitude`): k = 0 is the exact
+R_ghost = R_exact exp(k log(R_exactᵀ R)) (`app.kit.rigid.simulation.magnified_attitude`): k = 0 is the exact
 solution, k = 1 lies on the solid body, k = 10⁶ turns a 1e-7 rad drift into 0.1 rad.  Off, it
-costs nothing: neither evaluated nor sent.  Its note (`app.kit.rigid_text.ghost_note`) reads the
+costs nothing: neither evaluated nor sent.  Its note (`app.kit.rigid.text.ghost_note`) reads the
 attitude error out.
 """
 
@@ -14,11 +14,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from app.kit.gui import MessageLine, Quiet, Wrap
-from app.kit.labels import LabelLayer
-from app.kit.rigid import RigidBodySimulation, magnified_attitude
-from app.kit.rigid_text import ghost_note
-from app.kit.widgets import Body
+from app.kit.core.common import Wrap
+from app.kit.draw.labels import LabelLayer
+from app.kit.draw.widgets import Body
+from app.kit.panel.gui import MessageLine, Quiet
+from app.kit.rigid.simulation import RigidBodySimulation, magnified_attitude
+from app.kit.rigid.text import ghost_note
 from physics.dynamics import Model
 
 __all__ = ["GHOST_K_OPTIONS", "GHOST_OPACITY", "ExactGhost", "Translucent"]
@@ -142,7 +143,7 @@ class ExactGhost:
 
     def draw(self, quantum: float | None = None) -> None:
         """Pose the ghost at the exact attitude, turned by k times the error (hidden without a
-        closed form), at the resolution `quantum` (`app.kit.widgets.POSE_QUANTUM`; None:
+        closed form), at the resolution `quantum` (`app.kit.draw.widgets.POSE_QUANTUM`; None:
         exact); nothing while it is off."""
         if not self.shown or self.body is None:
             return

@@ -2,7 +2,7 @@
 
 A trace belongs to the simulation, not to a view, so a view built later (an explorer's fork,
 a late joiner, an export) draws the path so far, and a fork carries it on.  A view draws it
-with `app.kit.widgets.TraceLines`, which sends only the chunks that changed.
+with `app.kit.draw.widgets.TraceLines`, which sends only the chunks that changed.
 
 Points are stored at least `spacing` [s] of simulated time apart, in chunks of
 `chunk_points` points; consecutive chunks share their end point (chunk c holds the points
@@ -11,7 +11,7 @@ dropped when its newest point is older than `seconds` before the newest point, s
 kept is a pure function of the points added: two views of one trace draw the same chunks, and
 memory is bounded (`max_chunks` chunks at most, however long a lecture runs).
 
-For the replay (`app.kit.history`) the ring stores `rewind_seconds` of points more than the
+For the replay (`app.kit.core.history`) the ring stores `rewind_seconds` of points more than the
 window: `mark()` is where the trace stands, `rewind(mark)` shows it as it was then (points are
 never overwritten by a rewind, so rewinding forward gives the newer ones back), `truncate()`
 forgets what came after (a branch; `generation` is bumped so views redraw).

@@ -1,4 +1,4 @@
-"""Live uPlot charts of a simulation's samples (`app.kit.samples.SampleBuffer`).
+"""Live uPlot charts of a simulation's samples (`app.kit.core.samples.SampleBuffer`).
 
 `LivePlots` draws some of those columns in
 uPlot charts (x axis = simulated time [s], `time=False` so uPlot does not print dates) and
@@ -15,7 +15,7 @@ import numpy as np
 import viser
 import viser.uplot
 
-from app.kit.samples import SampleBuffer
+from app.kit.core.samples import SampleBuffer
 
 __all__ = ["LOG_FLOOR", "LivePlots", "PlotSpec"]
 

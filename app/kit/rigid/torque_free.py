@@ -19,9 +19,9 @@ from typing import Any, ClassVar
 import numpy as np
 import trimesh
 
-from app.kit.common import SliderSpec, striped_parts
-from app.kit.rigid import RigidBodySimulation
-from app.kit.rigid_view import RigidBodyView
+from app.kit.core.common import SliderSpec, striped_parts
+from app.kit.rigid.simulation import RigidBodySimulation
+from app.kit.rigid.view import RigidBodyView
 from physics._types import Vec3
 from physics.dynamics import Model, State, kinetic_energy
 from physics.inertia import box_extents_from_moments, cylinder_dimensions_from_moments
@@ -69,7 +69,7 @@ class TorqueFreeView(RigidBodyView):
         for k in range(3)
     )
     rate_folder = "Angular velocity ω_b, body axes [rad/s]"
-    hand_gizmos = ("omega", "L")  # ω and L set by dragging their tips (app.kit.hand)
+    hand_gizmos = ("omega", "L")  # ω and L set by dragging their tips (app.kit.rigid.hand)
     body_axis_length: ClassVar[float] = 1.15
     arrow_lengths = (1.45, 2.0)  # ω and L start nearly parallel (L = I ω): different lengths keep their labels apart
 

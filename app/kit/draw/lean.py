@@ -26,9 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.fastprops import set_points, set_position, set_wxyz
-from app.kit.widgets import quantized, z_onto
-from app.viser_internals import world_pose
+from app.kit.draw.widgets import quantized, z_onto
+from app.viser_internals import set_points, set_position, set_wxyz, world_pose
 
 __all__ = ["TOLERANCE", "ArcPieces", "Arrows", "FrameArrow", "Pose", "f32", "quaternion_turn", "snap",
            "turn_z_onto", "world_pose"]
@@ -260,7 +259,7 @@ class ArcPieces:
 
 def turn_z_onto(vector: Sequence[float] | np.ndarray) -> tuple[float, float, float, float]:
     """The unit quaternion (w, x, y, z) of the shortest turn taking +z onto the direction of
-    `vector` (3,) (nonzero): `app.kit.widgets.z_onto` of its unit vector."""
+    `vector` (3,) (nonzero): `app.kit.draw.widgets.z_onto` of its unit vector."""
     x, y, z = (float(c) for c in vector)
     n = math.sqrt(x * x + y * y + z * z)
     return z_onto((x / n, y / n, z / n))

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from app.kit.common import CameraView
+from app.kit.core.common import CameraView
 from app.viser_internals import node_world, scene_nodes
 
 __all__ = ["ANCHOR_SHIFT", "LabelBox", "Projector", "box_at", "label_boxes", "overlapping", "project", "project_one",
@@ -62,7 +62,7 @@ def project(view: CameraView, points: Any, width: int, height: int) -> tuple[np.
 
 
 def project_one(view: CameraView, point: Any, width: int, height: int) -> tuple[tuple[float, float], float]:
-    """`project` for one point (3,) on Python floats (a few µs, for per-frame layout): its pixel
+    """`project` for one point (3,) on Python floats (cheap enough for per-frame layout): its pixel
     (x, y) and depth [scene units]; NaN pixels if depth <= NEAR.  Many points through one view:
     `Projector`."""
     return Projector(view, width, height)(float(point[0]), float(point[1]), float(point[2]))
@@ -71,7 +71,7 @@ def project_one(view: CameraView, point: Any, width: int, height: int) -> tuple[
 class Projector:
     """`project` on Python floats for many points seen by one view: the camera basis and the
     focal length are worked out once (a layout projects every label through the same camera);
-    `(x, y, z)` gives that world point's pixel and depth (a few µs; tests/test_screen.py checks
+    `(x, y, z)` gives that world point's pixel and depth (tests/test_screen.py checks
     it against the vectorised `project`)."""
 
     __slots__ = ("_eye", "_forward", "_right", "_up", "_focal", "_cx", "_cy")
