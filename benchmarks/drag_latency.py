@@ -39,9 +39,10 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+from benchmarks.frame_cost import _worktree  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
-__all__ = ["Drag", "main", "measure"]
+__all__ = ["Drag", "busy_cores", "main", "measure"]
 
 CLIP = {"x": 440, "y": 200, "width": 400, "height": 400}  # [CSS px] around the body (the view's centre)
 CHANGED = 0.002  # fraction of the region's pixels that must change for "the body moved"
@@ -102,7 +103,8 @@ def _app(tree: Path) -> Iterator[int]:
 
 
 @contextlib.contextmanager
-def _busy(cores: int) -> Iterator[None]:
+def busy_cores(cores: int = 2) -> Iterator[None]:
+    """`cores` processes that keep a core each busy (`yes > /dev/null`) while the block runs."""
     hogs = [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL) for _ in range(cores)]
     try:
         yield
@@ -209,7 +211,7 @@ def measure(tree: Path, name: str, steps: int, loads: tuple[str, ...]) -> list[D
                         closers = page.locator(".mantine-Notification-closeButton")
                         for i in range(closers.count()):
                             closers.nth(i).click(force=True)
-                        with _busy(2) if load == "busy" else contextlib.nullcontext():
+                        with busy_cores() if load == "busy" else contextlib.nullcontext():
                             time.sleep(0.5)
                             latencies, fps = _drag(page, steps, gap, px=5.0)
                         context.close()
@@ -218,17 +220,6 @@ def measure(tree: Path, name: str, steps: int, loads: tuple[str, ...]) -> list[D
         finally:
             browser.close()
     return results
-
-
-@contextlib.contextmanager
-def _worktree(ref: str) -> Iterator[Path]:
-    with tempfile.TemporaryDirectory() as tmp:
-        tree = Path(tmp) / "tree"
-        subprocess.run(["git", "worktree", "add", "--detach", "--quiet", str(tree), ref], cwd=ROOT, check=True)
-        try:
-            yield tree
-        finally:
-            subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, check=False)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -12,16 +12,14 @@ whom a follower watches too.
 
 from __future__ import annotations
 
-import subprocess
 import time
-from collections.abc import Iterator
-from contextlib import contextmanager
 from typing import Any
 
 import pytest
 
 from app.kit.panel.binding import TYPED_PAUSE_MS
 from app.main import App, create_server
+from benchmarks.drag_latency import busy_cores
 from tests.conftest import RawClient
 from tests.test_browser import open_app
 
@@ -113,18 +111,6 @@ def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_un
     type_into(page, weight, "1e-3", delay=60, end="Enter")  # the box's step (0.001) allows it
     wait_until(lambda: view.mesh_panel.gui_amount.value == 0.001, timeout=10.0)
     assert weight.input_value() == "0.001" and session.last_error is None
-
-
-@contextmanager
-def busy_cores(count: int = 2) -> Iterator[None]:
-    """`count` processes that keep a core each busy (`yes > /dev/null`) while the block runs."""
-    hogs = [subprocess.Popen(["yes"], stdout=subprocess.DEVNULL) for _ in range(count)]
-    try:
-        yield
-    finally:
-        for hog in hogs:
-            hog.kill()
-            hog.wait()
 
 
 def drag(page, handle, steps: int, px: float, gap_s: float, value: Any) -> list[float]:  # type: ignore[no-untyped-def]

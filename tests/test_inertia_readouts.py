@@ -15,24 +15,12 @@ import trimesh
 
 from app.scenes.inertia.readouts import key_numbers_text, readout_text, spin_text
 from app.scenes.inertia.simulation import InertiaSystem
+from tests.test_inertia_scene import readout_matrices as matrices
+from tests.test_inertia_scene import tensor
 
 READOUT_ATOL = 0.6e-4  # [kg m²] I_O of a ~1 kg m² body is printed to 4 decimals
 MASSES = [1.0, 2.0, 0.5]
 POSITIONS = [[0.5, 0.0, 0.0], [-0.2, 0.4, 0.1], [0.0, -0.3, 0.6]]
-
-
-def tensor(masses, positions, about) -> np.ndarray:  # type: ignore[no-untyped-def]
-    """Σ m (|x|² 𝟙 − x xᵀ), x from `about` (3.5), written out."""
-    out = np.zeros((3, 3))
-    for m, x in zip(masses, np.asarray(positions, dtype=float) - about):
-        out += m * (float(x @ x) * np.eye(3) - np.outer(x, x))
-    return out
-
-
-def matrices(text: str) -> list[np.ndarray]:
-    """The 3×3 matrices printed in the text (rows '[ a  b  c ]'), in order."""
-    rows = [[float(v) for v in row.split()] for row in re.findall(r"^\[\s*(.*?)\s*\]$", text, re.M)]
-    return [np.array(rows[k:k + 3]) for k in range(0, len(rows), 3)]
 
 
 def point(text: str, name: str) -> np.ndarray:

@@ -69,7 +69,9 @@ def test_only_the_presenter_points_and_the_marker_fades(hall) -> None:  # type: 
     _click(presenter_client, "shift")
     poll_until(lambda: len(_markers(app)) == 1)
     (marker,) = _markers(app)
-    assert app.server.scene._handle_from_node_name[f"{marker}/label"].text == "the flip"
+    nodes = app.server.scene._handle_from_node_name  # the click's callback makes the marker, then its label
+    label = poll_until(lambda: nodes.get(f"{marker}/label"))
+    assert label.text == "the flip"
     with pytest.raises(PermissionError):
         app.lectern.point(follower, (0.0, 0.0, 5.0), (0.0, 0.0, -1.0))
     presenter.gui_pointer.value = True  # ticked: a plain click points

@@ -11,9 +11,10 @@
   `refresh()` redraws everything after an edit, `remove()` takes the view's nodes and panel
   away.
 - A **room** is one simulation, its transport state (playing, time scale) and the views
-  watching it.  The app loop calls `room.tick(dt)` once per frame: the simulation advances
-  once, whatever the number of views, then every view draws.  Today each browser has its own
-  room; a presenter's room has many views.
+  watching it.  Each frame the app loop (`app.main.App.frame`) calls `room.advance(dt)` on every
+  room (the simulation advances once, whatever the number of views), then `room.draw` for each
+  view whose browser is ready; `room.tick(dt)` does both for one room.  A browser that explores
+  has a room of its own; a presenter's room has a view per follower.
 
 **Replay** (`app.kit.core.history`): a room whose simulation is replayable records its last minute
 of motion in `history` while it plays.  `mode` is LIVE, SCRUBBING or REPLAYING.  `scrub(t)`
