@@ -36,11 +36,13 @@ def status_text(sim: RigidBodySimulation, playing: bool, time_scale: float) -> s
 
 
 def integrator_hint(model: Model) -> str:
-    """The integrator menu's hint: each method that applies to `model` (`physics.methods`, the
-    CLI's names), whether it keeps up with real time, and its one line."""
+    """The integrator menu's hint, a line or two: the menu's names are `physics.methods`' (the
+    CLI's, whose `methods` command says what each does), and which of those that apply to
+    `model` keep up with real time."""
     registry = methods()
-    return "\n".join(f"{name}{' (real time)' if registry[name].realtime else ''}: {registry[name].summary}"
-                     for name in applicable(model))
+    realtime = [name for name in applicable(model) if registry[name].realtime]
+    return ("how the motion is computed (python -m physics methods describes each); "
+            f"{' and '.join(realtime)} keep up with real time, the others are for comparison")
 
 
 def accuracy_text(sim: RigidBodySimulation, momentum_label: str) -> str:
