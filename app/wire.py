@@ -320,13 +320,7 @@ class Wire:
 
     def _apply(self, messages: list[Any], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]) -> None:
         latest = self._latest
-        for op in ops:
-            if op[0] == "set":  # viser itself brings the newer value to every browser: forget ours
-                latest.pop(op[1].redundancy_key(), None)
-                continue
-            _, prefix, under = op
-            for key in [k for k in latest if k.startswith(prefix) or (under and k.startswith(under))]:
-                del latest[key]
+        self._forget(ops)
         if not messages:
             return
         self._count += 1
@@ -360,15 +354,21 @@ class Wire:
         any went."""
         with self._lock:
             pending = list(self._ops)
-        if not pending:
-            return False
-        newer = {op[1].redundancy_key() for op in pending if op[0] == "set"}
-        gone = [(op[1], op[2]) for op in pending if op[0] == "purge"]
-        stale = [key for key in self._latest if key in newer
-                 or any(key.startswith(prefix) or (under and key.startswith(under)) for prefix, under in gone)]
-        for key in stale:
-            del self._latest[key]
-        return bool(stale)
+        return self._forget(pending)
+
+    def _forget(self, ops: list[tuple[Any, ...]]) -> bool:
+        """Drop from `latest` what `ops` name: a value viser itself brings to every browser
+        ("set"), a node made or removed and, for a removal, what hangs under it ("purge");
+        whether anything went."""
+        latest, before = self._latest, len(self._latest)
+        for op in ops:
+            if op[0] == "set":
+                latest.pop(op[1].redundancy_key(), None)
+                continue
+            _, prefix, under = op
+            for key in [k for k in latest if k.startswith(prefix) or (under and k.startswith(under))]:
+                del latest[key]
+        return len(latest) < before
 
     def _send(self, frame: int, recipients: Iterable[int]) -> tuple[int, ...]:
         """Write frame `frame` to the recipients that are caught up (the shared payload to those
