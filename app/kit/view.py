@@ -213,8 +213,7 @@ class SceneView:
         preset = cls.preset(name)
         cls.start_preset(room.sim, preset)
         room.sim.preset = name
-        room.playing = False
-        room.refresh()
+        room.pause()  # every view redraws
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""
