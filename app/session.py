@@ -46,6 +46,7 @@ __all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Mode", "Session"
 logger = logging.getLogger(__name__)
 
 R = TypeVar("R")
+LAST = 1e9  # a GUI order after anything a panel adds (viser orders by creation count)
 
 
 class Session:
@@ -81,7 +82,9 @@ class Session:
         self.gui_error = gui.add_markdown("", visible=False)
         self.gui_error_dismiss = gui.add_button("Dismiss message", color="red", visible=False)
         self.gui_error_dismiss.on_click(self.guard("dismiss", lambda _event: self.clear_error()))
-        self.gui_load = gui.add_markdown("", visible=False)  # "Server busy: N frames a second" (app.main)
+        # "Server busy: N frames a second" (app.main) comes and goes with the load: last in the
+        # panel, so that it never moves a slider under the hand.
+        self.gui_load = gui.add_markdown("", visible=False, order=LAST)
         self.gui_scene = gui.add_dropdown("Scene", tuple(SCENES), initial_value=scene,
                                           hint="each scene models only what it needs")
         self.gui_scene.on_update(self.guard("scene dropdown", lambda _event: self._scene_chosen()))

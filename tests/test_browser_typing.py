@@ -113,12 +113,27 @@ def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_un
     assert weight.input_value() == "0.001" and session.last_error is None
 
 
+def still_thumb(page, handle, timeout: float = 20.0) -> tuple[float, float]:  # type: ignore[no-untyped-def]
+    """The centre of the slider's thumb once it has stood still for 0.3 s and is what the page has
+    at that point (a panel that is still being rebuilt moves it: pressing where it was misses)."""
+    thumb = page.locator(f'[id="{handle._impl.uuid}"] [role="slider"]')
+    deadline = time.monotonic() + timeout
+    while True:
+        before = thumb.bounding_box()
+        time.sleep(0.3)
+        box = thumb.bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        on_top = thumb.evaluate("(el, [x, y]) => document.elementFromPoint(x, y)?.closest('[role=slider]') === el",
+                                [x, y])
+        if box == before and on_top:
+            return x, y
+        assert time.monotonic() < deadline, f"the thumb did not settle: {before} then {box}, on top: {on_top}"
+
+
 def drag(page, handle, steps: int, px: float, gap_s: float, value: Any) -> list[float]:  # type: ignore[no-untyped-def]
     """Press the slider's thumb, move the mouse `px` to the right `steps` times, `gap_s` apart,
     and read `value()` just before each next move (and before the release); release."""
-    thumb = page.locator(f'[id="{handle._impl.uuid}"] [role="slider"]')
-    box = thumb.bounding_box()
-    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    x, y = still_thumb(page, handle)
     page.mouse.move(x, y)
     page.mouse.down()
     seen = []
@@ -164,3 +179,18 @@ def test_a_dragged_thumb_moves_the_presenters_body_while_the_hand_moves_with_bot
         if follower is not None:
             follower.close()
         running.stop()
+
+
+def test_the_server_busy_note_comes_and_goes_without_moving_a_slider(wait_until, app: App, page) -> None:
+    """The note a loaded server shows in every panel is last in the panel: a thumb under the hand
+    stays where it is when the note comes and when it goes."""
+    session = open_app(page, app)
+    thumb = page.locator(f'[id="{session.scene.gui_angles[0]._impl.uuid}"] [role="slider"]')
+    before = still_thumb(page, session.scene.gui_angles[0])
+    app._show_load("**Server busy: 30 frames a second** (of 60)")  # what the loop says when it falls behind
+    page.get_by_text("Server busy: 30 frames a second").wait_for(timeout=10_000)
+    box = thumb.bounding_box()
+    assert (box["x"] + box["width"] / 2, box["y"] + box["height"] / 2) == before
+    app._show_load("")
+    page.get_by_text("Server busy").wait_for(state="hidden", timeout=10_000)
+    assert still_thumb(page, session.scene.gui_angles[0]) == before
