@@ -31,7 +31,8 @@ The rest:
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
   panel (`app.hall.follower.Follower`, built and written here): who presents what (scene,
   preset, lesson step, time, the scene's key numbers), or plainly that the presenter stopped or
-  left; `Follow camera` (the presenter's viewing direction, framed for the follower's own
+  left; the lesson step's caption over the 3D view and the presenter's open plot tab, read only
+  (`caption`, `room_plot`); `Follow camera` (the presenter's viewing direction, framed for the follower's own
   screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
   (`Room.fork`: state, time, traces, plots, playing).  `Follow presenter` comes back to the
   live scene.  On a narrow screen (a phone) the panel shrinks to one status line and a
@@ -128,6 +129,10 @@ class Seat(Protocol):
 
     def lesson_text(self) -> str:
         """The presenter's current lesson step, or ""."""
+        ...
+
+    def caption_words(self) -> tuple[str, str]:
+        """(head, words) of the presenter's lesson caption; ("", "") for none (`app.hall.caption`)."""
         ...
 
 
@@ -378,6 +383,8 @@ class Lectern:
         follower = Follower(seat.client, seat.guard, explore=seat.explore, follow_camera_changed=self.send_camera,
                             own_folders=seat.own_folders)
         follower.show_status(self.status(), self.status_line())
+        follower.show_caption(*self.caption())
+        follower.show_plot(*self.room_plot())
         self._followers[seat.client_id] = (seat, follower)
         self._watch_camera(seat)
         self.send_camera(follower)
@@ -416,14 +423,37 @@ class Lectern:
         """The followers' status in one line, for a narrow screen (`app.hall.follower.status_line`)."""
         return status_line(self.live_room, self.hall)
 
+    def caption(self) -> tuple[str, str]:
+        """(head, words) of the lesson caption over every follower's 3D view: the presenter's
+        (`Seat.caption_words`) while one presents; ("", "") otherwise."""
+        presenter = self.presenter
+        if presenter is None or self.hall is not Hall.LIVE:
+            return "", ""
+        return presenter.caption_words()
+
+    def room_plot(self) -> tuple[str, list[Any]]:
+        """(tab, elements): the plot tab the presenter has open and its panel elements, which
+        every follower sees copied (`app.kit.view.SceneView.room_plot`); ("", []) for none."""
+        view = self.live_view
+        if self.presenter is None or view is None:
+            return "", []
+        try:
+            return view.room_plot()
+        except Exception:  # noqa: BLE001 - the followers' refresh must not break
+            logger.debug("room plot failed", exc_info=True)
+            return "", []
+
     def refresh_followers(self) -> None:
-        """Write the status into every follower's panel."""
+        """Write the status, the caption and the presenter's plot into every follower's panel."""
         status, line = self.status(), self.status_line()
+        caption, plot = self.caption(), self.room_plot()
         for seat, follower in list(self._followers.values()):
             if seat.closed:
                 continue
             try:
                 follower.show_status(status, line)
+                follower.show_caption(*caption)
+                follower.show_plot(*plot)
             except Exception:  # noqa: BLE001 - a follower that just left
                 logger.debug("follower refresh failed", exc_info=True)
 

@@ -361,6 +361,10 @@ class Session:
         """The current step's text (shown to the followers of a presenter running a lesson)."""
         return self.lesson_runner.text()
 
+    def caption_words(self) -> tuple[str, str]:
+        """(head, words) of the lesson caption (`app.hall.lesson_runner.LessonRunner.caption_words`)."""
+        return self.lesson_runner.caption_words()
+
     def _lesson_stepped(self) -> None:
         if self.lectern is not None and self.lectern.presenter is self:
             self.lectern.refresh_followers()

@@ -8,7 +8,9 @@ This module owns:
   left) and `status_line` (the same in one line, for a narrow screen).
 - `is_narrow`: a phone-like view, whose panel collapses to one line and a `Details` button so
   the body stays in view.
-- `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`.
+- `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`, the presenter's
+  lesson caption over the 3D view (`app.hall.caption`; its `Caption` checkbox hides it on this
+  screen) and the presenter's open plot, read only (`app.hall.room_plot`).
 
 The panel knows nothing of the lectern or the session: whoever builds it (`Lectern.add_follower`)
 hands it the browser's client, its guard, the actions of its buttons and the browser's own
@@ -23,6 +25,8 @@ from typing import Any
 
 import viser
 
+from app.hall.caption import Caption
+from app.hall.room_plot import PlotMirror
 from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 
@@ -145,9 +149,14 @@ class Follower:
                                                       hint="see what the presenter's camera sees")
             self.gui_explore = gui.add_button("Explore on my own", icon=viser.Icon.USER,
                                               hint="an exact copy of what the presenter shows now, yours to change")
+            self.gui_caption = gui.add_checkbox("Caption", True, hint="the lesson's words over the 3D view")
+            self.caption = Caption(gui)
+            self.plot = PlotMirror(gui)
         self.gui_explore.on_click(guard("explore", lambda _event: explore()))
         self.gui_details.on_click(guard("details", lambda _event: self.set_expanded(not self.expanded)))
         self.gui_follow_camera.on_update(guard("follow camera", lambda _event: follow_camera_changed(self)))
+        self.gui_caption.on_update(guard("caption", lambda _event: self.show_caption(*self._caption_words)))
+        self._caption_words = ("", "")
         self._layout()
 
     @property
@@ -178,8 +187,9 @@ class Follower:
         self.gui_line.visible = not full
         self.gui_details.visible = self.narrow
         self.gui_details.label = "Hide details" if full else "Details"
-        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore):
+        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore, self.gui_caption):
             handle.visible = full
+        self.plot.set_shown(full)
         self._show_own_folders(full)
 
     def _show_own_folders(self, shown: bool) -> None:
@@ -193,6 +203,17 @@ class Follower:
             self.gui_status.content = status
         if self.gui_line.content != line:
             self.gui_line.content = line
+
+    def show_caption(self, head: str, words: str) -> None:
+        """The presenter's caption (`app.hall.lesson_runner.LessonRunner.caption_words`; "" words:
+        none), over this screen's 3D view unless its `Caption` checkbox is off."""
+        self._caption_words = (head, words)
+        shown = self.gui_caption.value is True  # a client can send anything
+        self.caption.show(head if shown else "", words if shown else "")
+
+    def show_plot(self, tab: str, elements: Sequence[Any]) -> None:
+        """The presenter's open plot tab and its elements (`app.kit.view.SceneView.room_plot`)."""
+        self.plot.show(tab, elements)
 
     def remove(self) -> None:
         """The panel goes; the browser's own folders are shown again."""

@@ -39,7 +39,11 @@ from app.kit.panel.gui import MessageLine, Quiet, Tabs, Transport
 from app.kit.panel.timeline import Timeline
 from app.viser_internals import panel_checkboxes, remove_under
 
-__all__ = ["SceneView", "nth"]
+__all__ = ["PLOT_TABS", "SceneView", "nth"]
+
+PLOT_TABS = ("Plots", "Energy", "Lagrange")
+"""The panel tabs whose contents a presenter's followers see too, read only, while the presenter
+has one open (`SceneView.room_plot`, `app.hall.room_plot`)."""
 
 _PRESETS: dict[type, tuple[Preset, ...]] = {}
 
@@ -289,6 +293,21 @@ class SceneView:
         if self.tabs is None or name not in self.tabs.names:
             raise ValueError(f"{self.title} has no panel tab {name!r}")
         self.tabs.show(name)
+
+    def room_plot(self) -> tuple[str, list[Any]]:
+        """(tab, elements): the plot tab this view's browser has open (one of PLOT_TABS) and the
+        panel elements it shows (uPlot charts and Markdown, in order), which a presenter's
+        followers see copied (`app.hall.room_plot.PlotMirror`); ("", []) when no plot tab is open."""
+        tabs = self.tabs
+        if tabs is None or tabs.shown not in PLOT_TABS:
+            return "", []
+        elements = self.plot_elements(tabs.shown)
+        return (tabs.shown, elements) if elements else ("", [])
+
+    def plot_elements(self, tab: str) -> list[Any]:
+        """The panel elements of the plot tab `tab` (one of PLOT_TABS) that followers see copied;
+        scenes with plot tabs override it (none by default)."""
+        return []
 
     def set_integrator(self, name: str) -> None:
         """Choose the integrator `name` (a lesson step); scenes with an integrator menu override it."""

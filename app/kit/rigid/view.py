@@ -360,6 +360,14 @@ class RigidBodyView(SceneView):
         self.gui_live_plots.on_update(wrap("live plots", lambda _event: self.refresh()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
 
+    def plot_elements(self, tab: str) -> list[Any]:
+        """Plots: the accuracy line and the charts (while `Live plots` is on); Lagrange: its table."""
+        if tab == "Plots":
+            return [self.accuracy.handle, *(self.plots.handles if self.gui_live_plots.value else ())]
+        if tab == "Lagrange":
+            return [self.lagrange_readout.handle]
+        return []
+
     def plot_specs(self) -> list[PlotSpec]:
         return [
             PlotSpec("Energy [J]", ("E", "T", "V"), ("E = T + V", "T", "V"), ("black", "#e65a00", "#2a7ab9")),
