@@ -1,9 +1,12 @@
-"""The lesson's caption: the running step's words in a band across the top of a browser's 3D view.
+"""The lesson's caption: the running step's words in a band along the edge of a browser's 3D view.
 
 A lecture hall reads the lesson from the wall, not from a panel: the caption is one HTML element
-of the browser's panel (`gui.add_html`) that CSS fixes to the top of the window, left of the
-panel, above the 3D canvas (`position: fixed`), so it stays put while the camera moves and
-takes no room in the panel.  It ignores the mouse (`pointer-events: none`): a drag on it turns
+of the browser's panel (`gui.add_html`) that CSS fixes to the window over the 3D canvas
+(`position: fixed`), so it stays put while the camera moves and takes no room in the panel.
+On a wide screen it runs along the bottom, left of the panel: the scenes are z-up, their bodies
+and arrows rise from the middle of the view and the floor grid fills its bottom.  On a phone
+held upright it runs along the top, where the view is free (the phone's panel sits at the
+bottom).  It ignores the mouse (`pointer-events: none`): a drag on it turns
 the camera as a drag on the scene does.
 
 Sizes, in CSS px (the projector's back row decides them):
@@ -14,7 +17,7 @@ Sizes, in CSS px (the projector's back row decides them):
   720 pt-high slide, 1/30 of the screen's height; 1/30 of a 1024x768 projector's 768 px is
   25.6 px, so 28 px;
 - PHONE_CAPTION_PX on a view at most PHONE_MAX_PX wide (a phone held upright), where the band
-  spans the whole width (a phone's panel sits at the bottom).
+  spans the whole width.
 
 On a wider screen the band ends PANEL_GAP_PX short of the right edge, where viser's floating
 panel sits (PROJECTOR_PANEL_GAP_PX: the docked projector panel).
@@ -41,14 +44,15 @@ PANEL_GAP_PX = 420  # [CSS px] the band ends this far from the right edge (viser
 PROJECTOR_PANEL_GAP_PX = 290  # [CSS px] ... in the projector layout (the docked panel)
 
 _STYLE = f"""<style>
-.{CAPTION_CLASS} {{ position: fixed; top: 0; left: 0; right: {PANEL_GAP_PX}px; z-index: 100;
+.{CAPTION_CLASS} {{ position: fixed; bottom: 0; left: 0; right: {PANEL_GAP_PX}px; z-index: 100;
   padding: 6px 16px 8px 16px; font-size: {CAPTION_PX}px; line-height: 1.25; color: #111;
-  background: rgba(255, 255, 255, 0.86); border-bottom: 2px solid rgba(200, 110, 0, 0.7);
-  border-bottom-right-radius: 8px; pointer-events: none; overflow-wrap: break-word; }}
+  background: rgba(255, 255, 255, 0.86); border-top: 2px solid rgba(200, 110, 0, 0.7);
+  border-top-right-radius: 8px; pointer-events: none; overflow-wrap: break-word; }}
 .{CAPTION_CLASS} .rbl-caption-head {{ display: block; font-size: 0.62em; color: #7a4300;
   font-weight: 600; margin-bottom: 2px; }}
-@media (max-width: {PHONE_MAX_PX}px) {{ .{CAPTION_CLASS} {{ right: 0; font-size: {PHONE_CAPTION_PX}px;
-  padding: 4px 10px 6px 10px; border-bottom-right-radius: 0; }} }}
+@media (max-width: {PHONE_MAX_PX}px) {{ .{CAPTION_CLASS} {{ top: 0; bottom: auto; right: 0;
+  font-size: {PHONE_CAPTION_PX}px; padding: 4px 10px 6px 10px; border-top: none;
+  border-bottom: 2px solid rgba(200, 110, 0, 0.7); border-radius: 0; }} }}
 </style>"""
 
 CAPTION_PROJECTOR_RULES = (

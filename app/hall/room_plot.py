@@ -48,8 +48,7 @@ class PlotMirror:
     def __init__(self, gui: Any) -> None:
         self._gui = gui
         self.tab = ""
-        self.gui_title = gui.add_markdown("", visible=False)
-        self.folder = gui.add_folder("Presenter's plot", visible=False)
+        self.folder = gui.add_folder("The presenter's plot", visible=False)
         self.copies: list[Any] = []
         self._shapes: list[tuple[Any, ...]] = []
         self._seen: list[Any] = []  # the source value each copy was last sent
@@ -62,7 +61,6 @@ class PlotMirror:
         visible = self.shown and bool(self.tab)
         if self.folder.visible != visible:
             self.folder.visible = visible
-            self.gui_title.visible = visible
 
     def show(self, tab: str, sources: Sequence[Any]) -> None:
         """Copy `sources` (the presenter's open plot tab `tab`'s elements; "" and () for none)."""
@@ -74,7 +72,7 @@ class PlotMirror:
             return
         if tab != self.tab:
             self.tab = tab
-            self.gui_title.content = f"**The presenter's {tab} tab** (read only)"
+            self.folder.label = f"The presenter's {tab} tab (read only)"
         if not self.shown:
             self.set_shown(False)
             return

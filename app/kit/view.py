@@ -37,7 +37,7 @@ from app.kit.draw.labels import LabelLayer
 from app.kit.panel.binding import Binding, Clock, bind, install_typing_guard
 from app.kit.panel.gui import MessageLine, Quiet, Tabs, Transport
 from app.kit.panel.timeline import Timeline
-from app.viser_internals import panel_checkboxes, remove_under
+from app.viser_internals import panel_checkboxes, panel_inputs, remove_under
 
 __all__ = ["PLOT_TABS", "SceneView", "nth"]
 
@@ -287,6 +287,12 @@ class SceneView:
         if found is None:
             found = _held_checkboxes(self)
         return {str(handle.label): handle for handle in found}
+
+    def panel_controls(self) -> list[Any]:
+        """The inputs of the view's panel (buttons, rows of buttons, sliders, checkboxes, menus):
+        what only the browser controlling the room has, so a lesson's words must not ask a
+        follower for them (tests/test_lesson_words.py); [] without viser's panel registry."""
+        return panel_inputs(self.client.gui, self._gui_roots) or []
 
     def show_tab(self, name: str) -> None:
         """Open the panel tab `name` (a lesson step); ValueError if the scene has no such tab."""
