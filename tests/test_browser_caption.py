@@ -20,7 +20,9 @@ import time
 
 import numpy as np
 import pytest
-from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, open_page, project
+from conftest import poll_until
+from test_browser import app_url
+from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, project
 
 from app.hall.caption import CAPTION_CLASS, PROJECTOR_CAPTION_PX
 from app.main import App
@@ -39,6 +41,19 @@ CAPTION_JS = f"""() => {{ const c = document.querySelector('{BAND}');
 
 def _words(text: str) -> str:
     return re.sub(r"\s+", " ", text).strip()
+
+
+def open_page(browser, app: App, **context):  # type: ignore[no-untyped-def]
+    """`test_browser_lecture.open_page`, with room for a busy machine: (page, session)."""
+    before = set(app.sessions)
+    opened = browser.new_context(**context)
+    _CONTEXTS.append(opened)
+    page = opened.new_page()
+    page.goto(app_url(page, app.port))
+    session = poll_until(lambda: next((s for cid, s in dict(app.sessions).items() if cid not in before), None),
+                         timeout=120.0, interval=0.2)
+    page.locator("canvas").first.wait_for(timeout=120_000)
+    return page, session
 
 
 def _caption(page):  # type: ignore[no-untyped-def]
