@@ -46,7 +46,7 @@ PROJECTOR_PANEL_GAP_PX = 290  # [CSS px] ... in the projector layout (the docked
 _STYLE = f"""<style>
 .{CAPTION_CLASS} {{ position: fixed; bottom: 0; left: 0; right: {PANEL_GAP_PX}px; z-index: 100;
   padding: 6px 16px 8px 16px; font-size: {CAPTION_PX}px; line-height: 1.25; color: #111;
-  background: rgba(255, 255, 255, 0.86); border-top: 2px solid rgba(200, 110, 0, 0.7);
+  background: rgba(255, 255, 255, 0.92); border-top: 2px solid rgba(200, 110, 0, 0.7);
   border-top-right-radius: 8px; pointer-events: none; overflow-wrap: break-word; }}
 .{CAPTION_CLASS} .rbl-caption-head {{ display: block; font-size: 0.62em; color: #7a4300;
   font-weight: 600; margin-bottom: 2px; }}
