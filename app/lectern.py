@@ -31,9 +31,9 @@ The rest:
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
   panel (`app.hall.follower.Follower`, built and written here): who presents what (scene,
   preset, lesson step, time, the scene's key numbers), or plainly that the presenter stopped or
-  left; the lesson step's caption over the 3D view and the presenter's open plot tab, read only
-  (`caption`, `room_plot`); `Follow camera` (the presenter's viewing direction, framed for the follower's own
-  screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
+  left; the lesson step's caption over the 3D view and the presenter's open plot tab, read
+  only (`caption`, `room_plot`); `Follow camera` (the presenter's viewing direction, framed for
+  the follower's own screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
   (`Room.fork`: state, time, traces, plots, playing).  `Follow presenter` comes back to the
   live scene.  On a narrow screen (a phone) the panel shrinks to one status line and a
   `Details` button, so the body stays in view.
