@@ -94,7 +94,7 @@ class Session:
             self.client, self.guard, lambda: None if self.mode is Mode.FOLLOWING else self.scene)
         self.lecture = LecturePanel(self, self.guard, lectern) if lectern is not None else None
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
-        self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room)
+        self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
         # Their widgets, by the names tools and tests use.
         self.gui_projector = self.projector_layout.gui_checkbox
         self.lesson_folder = self.lesson_runner.folder

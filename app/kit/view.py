@@ -238,6 +238,23 @@ class SceneView:
     def show_message(self, text: str) -> None:
         self.message.show(text)
 
+    gizmos_hidden = False
+    """True while the browser renders a screenshot: the drag gizmos stay hidden (`hide_gizmos`)."""
+
+    def gizmo_handles(self) -> list[Any]:
+        """The view's drag gizmos (transform controls in `self.controls`); none by default."""
+        return []
+
+    def hide_gizmos(self, hidden: bool) -> None:
+        """Hide the drag gizmos (a screenshot is taken), or show them again as the view's state
+        says (`refresh`)."""
+        self.gizmos_hidden = bool(hidden)
+        if hidden:
+            for gizmo in self.gizmo_handles():
+                gizmo.visible = False
+        else:
+            self.refresh()
+
     def report_error(self, where: str, error: BaseException) -> None:
         if self._report_error is None:
             raise error

@@ -1,0 +1,80 @@
+"""Messages that stay true and notes that download, in Debian's Chromium, through the page only.
+
+1. For the notes: `Screenshot` and `Record` are saved by the browser at once under their whole
+   names (Playwright's download event, no toast to click), and the screenshot shows the scene
+   without the ω drag gizmo: it equals, pixel for pixel (within a small share), the screenshot
+   taken after `Drag ω` is switched off.
+Needs Debian's Chromium: `apt-get install chromium`.
+"""
+
+from __future__ import annotations
+
+import io
+import time
+
+import numpy as np
+import pytest
+from PIL import Image
+from test_browser import open_app
+
+from app.main import App
+
+pytestmark = pytest.mark.browser
+
+GIZMO_FREE_SHARE = 0.002  # at most this share of pixels differs between two gizmo-free screenshots
+
+
+def choose_scene(page, session, title: str, wait_until) -> None:  # type: ignore[no-untyped-def]
+    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
+    page.get_by_role("option", name=title).click()
+    wait_until(lambda: session.scene.title == title, timeout=10.0)
+
+
+def download(page, click) -> tuple[str, bytes]:  # type: ignore[no-untyped-def]
+    """(suggested name, bytes) of the download that `click()` starts."""
+    with page.expect_download(timeout=30_000) as info:
+        click()
+    done = info.value
+    with open(done.path(), "rb") as f:
+        return done.suggested_filename, f.read()
+
+
+def test_screenshot_and_record_download_with_whole_names_and_no_gizmo(wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    choose_scene(page, session, "Heavy top", wait_until)
+    view = session.scene
+    gizmo = view.hand.gizmos["omega"]
+    wait_until(lambda: gizmo.visible, timeout=10.0)
+    time.sleep(1.5)  # nodes fade in
+    page.get_by_text("For the notes", exact=True).first.click()
+    shot = page.get_by_role("button", name="Screenshot")
+    name, with_gizmo_on = download(page, shot.click)
+    assert name.startswith("heavy_top_t0.0s") and name.endswith(".png")
+    wait_until(lambda: gizmo.visible, timeout=10.0)  # back after the render
+
+    page.get_by_text("Set ω by hand", exact=True).first.click()
+    page.get_by_text("Drag ω", exact=True).first.click()  # the checkbox: the gizmo goes
+    wait_until(lambda: not gizmo.visible, timeout=10.0)
+    time.sleep(0.5)
+    _, without_gizmo = download(page, shot.click)
+    a = np.asarray(Image.open(io.BytesIO(with_gizmo_on)).convert("RGBA"), dtype=int)
+    b = np.asarray(Image.open(io.BytesIO(without_gizmo)).convert("RGBA"), dtype=int)
+    assert a.shape == b.shape and a[..., 3].max() > 0  # something was drawn
+    differs = float(np.mean(np.any(np.abs(a - b) > 24, axis=-1)))
+    assert differs < GIZMO_FREE_SHARE, f"{differs:.4f} of the pixels differ: the gizmo is in the screenshot"
+
+    seconds = page.locator("label", has_text="Record [s]").first.locator(
+        "xpath=ancestor::div[contains(@class, 'Flex-root')][1]").locator("input").first
+    seconds.fill("")
+    seconds.type("1")
+    seconds.press("Enter")
+    wait_until(lambda: session.notes.gui_record_seconds.value == 1.0, timeout=10.0)
+    record = page.get_by_role("button", name="Record", exact=True)
+    downloads: list = []
+    page.on("download", lambda d: downloads.append(d))
+    record.click()
+    deadline = time.monotonic() + 60.0
+    while len(downloads) < 2 and time.monotonic() < deadline:
+        page.wait_for_timeout(200)  # the page's events are delivered while it waits
+    assert {d.suggested_filename for d in downloads} == {"heavy_top_1s.html", "heavy_top_1s.viser"}
+    assert session.error_count == 0
