@@ -138,7 +138,8 @@ class SceneView:
             return
         order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
-                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock,
+                                 hide_while_past=transport.gui_status)
         self._bindings.append(self.timeline.binding)
         self._gui_roots.extend(self.timeline.handles)
 

@@ -69,7 +69,13 @@ which would cut a typed -0.8 to -0)."""
 
 
 class Refused(ValueError):
-    """A value that is not applied; the message says why (shown in the message line)."""
+    """A value that is not applied; the message says why (shown in the message line).
+
+    stale: optional; true once the message no longer holds (`MessageLine.show`)."""
+
+    def __init__(self, message: str, stale: Callable[[], bool] | None = None) -> None:
+        super().__init__(message)
+        self.stale = stale
 
 
 class Clock(Protocol):
@@ -161,21 +167,27 @@ class Binding:
 
     def decide(self, value: Any) -> None:
         """Check and apply `value`; a refusal is said and the field goes back to the value in force."""
+        stale = None
         try:
             parsed = self._check(value)
             self._message.clear()
+            if _same(parsed, self._current()):
+                return  # the value in force, sent again (a typed edit that ended without a number)
             refusal = self._apply(parsed)
         except Refused as error:
-            refusal = str(error)
+            refusal, stale = str(error), error.stale
         if refusal is not None:
-            self.refuse(refusal)
+            self.refuse(refusal, stale)
             return
         self.applied += 1
 
-    def refuse(self, text: str) -> None:
-        """Say `text` and put the field back to the value in force."""
+    def refuse(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` (until `stale()`, if given) and put the field back to the value in force."""
         self.refused += 1
-        self._message.show(text)
+        if stale is None:
+            self._message.show(text)
+        else:
+            self._message.show(text, stale)
         self.revert()
 
     def revert(self) -> None:

@@ -82,22 +82,35 @@ class Quiet:
 
 
 class MessageLine:
-    """A Markdown line, hidden unless there is something to say (a refusal, a stopped run)."""
+    """A Markdown line, hidden unless there is something to say (a refusal, a stopped run).
+
+    A message says what is true now: shown with `stale` (a function, true once the message no
+    longer holds: the recorded stretch it quotes has grown), it goes at the next `recheck()`
+    after that (the Timeline rechecks whenever it shows the room's state).  The same message
+    shown again is one message (nothing is sent)."""
 
     def __init__(self, gui: Any) -> None:
         self.handle = gui.add_markdown("", visible=False)
+        self._stale: Callable[[], bool] | None = None
 
     @property
     def text(self) -> str:
         return str(self.handle.content) if self.handle.visible else ""
 
-    def show(self, text: str) -> None:
+    def show(self, text: str, stale: Callable[[], bool] | None = None) -> None:
         content = text if text.startswith("**") else f"**⚠ {text}**"
+        self._stale = stale
         if self.handle.content != content or not self.handle.visible:
             self.handle.content = content
             self.handle.visible = True
 
+    def recheck(self) -> None:
+        """Clear the message if it was shown with a `stale` test that now says it no longer holds."""
+        if self._stale is not None and self.handle.visible and self._stale():
+            self.clear()
+
     def clear(self) -> None:
+        self._stale = None
         if self.handle.visible:
             self.handle.visible = False
             self.handle.content = ""
