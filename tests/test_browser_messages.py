@@ -4,6 +4,9 @@
    names (Playwright's download event, no toast to click), and the screenshot shows the scene
    without the ω drag gizmo: it equals, pixel for pixel (within a small share), the screenshot
    taken after `Drag ω` is switched off.
+2. A refusal goes when it no longer holds: `999` typed into `Timeline [s]` while the motion
+   plays is refused with the recorded stretch, and the refusal goes once the stretch has grown.
+   While replaying, the panel shows one time (the Timeline's).
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
@@ -16,6 +19,7 @@ import numpy as np
 import pytest
 from PIL import Image
 from test_browser import open_app
+from test_browser_typing import number_box, type_into
 
 from app.main import App
 
@@ -78,3 +82,25 @@ def test_screenshot_and_record_download_with_whole_names_and_no_gizmo(wait_until
         page.wait_for_timeout(200)  # the page's events are delivered while it waits
     assert {d.suggested_filename for d in downloads} == {"heavy_top_1s.html", "heavy_top_1s.viser"}
     assert session.error_count == 0
+
+
+def visible_text(page, text: str) -> bool:  # type: ignore[no-untyped-def]
+    return page.get_by_text(text).filter(visible=True).count() > 0
+
+
+def test_refusals_go_when_they_no_longer_hold_and_replay_shows_one_time(wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    view = session.scene  # Euler angles
+    page.get_by_role("button", name="Play", exact=True).click()
+    wait_until(lambda: view.sim.t > 1.0, timeout=20.0)
+    timeline = view.timeline
+    assert timeline is not None
+    type_into(page, number_box(page, timeline.gui_slider), "999", delay=20, end="Enter")
+    page.get_by_text("is recorded").first.wait_for(state="visible", timeout=10_000)
+    page.get_by_text("is recorded").first.wait_for(state="hidden", timeout=10_000)  # the stretch grew
+    assert session.room.playing
+
+    page.get_by_role("button", name="Replay", exact=True).click()
+    page.get_by_text("Replaying t = ").first.wait_for(state="visible", timeout=10_000)
+    wait_until(lambda: not visible_text(page, "▶ playing"), timeout=10.0)  # the transport's own time line
+    assert not view.transport.gui_status.visible

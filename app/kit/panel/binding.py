@@ -23,10 +23,12 @@ The two sides split the work where each thing is known:
 * **On the server**, `bind(...)` gives a handle one callback (instead of a hand-written one per
   control): every update is applied when it arrives, so the next frame draws it.  A value is
   parsed and checked (`check`: a `SliderSpec`'s range, or a function that raises `Refused`),
-  then `apply(value)`; a refusal (not a number, NaN, out of range, or `apply` returning/raising
-  one) is said in the message line and the field goes back to `current()`, the value in force.
-  For HANDS_OFF_S after a browser's last update, the server's quiet writes (a slider following
-  the motion) skip the field, so a thumb under the hand is not pulled back.
+  then `apply(value)` (a value equal to the one in force is not applied again, but it clears the
+  message line: the edit ended on a valid value); a refusal (not a number, NaN, out of range, or
+  `apply` returning/raising one) is said in the message line and the field goes back to
+  `current()`, the value in force.  For HANDS_OFF_S after a browser's last update, the server's
+  quiet writes (a slider following the motion) skip the field, so a thumb under the hand is not
+  pulled back.
 
 A page without the guard (a raw websocket client) gets each value it sends checked and applied
 in its own room like any other: nothing it sends skips the check.  The time is a `Clock`
