@@ -236,8 +236,9 @@ class SceneView:
     def refresh(self) -> None:
         raise NotImplementedError
 
-    def show_message(self, text: str) -> None:
-        self.message.show(text)
+    def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` in the message line, until `stale()` says it no longer holds."""
+        self.message.show(text, stale)
 
     gizmos_hidden = False
     """True while the browser renders a screenshot: the drag gizmos stay hidden (`hide_gizmos`)."""
