@@ -7,6 +7,8 @@
 2. A refusal goes when it no longer holds: `999` typed into `Timeline [s]` while the motion
    plays is refused with the recorded stretch, and the refusal goes once the stretch has grown.
    While replaying, the panel shows one time (the Timeline's).
+3. Smaller: Single rotation's two animated outlines carry their legend (on each outline and in
+   the folder) while they move; a binary file named .obj is refused in plain words.
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
@@ -104,3 +106,23 @@ def test_refusals_go_when_they_no_longer_hold_and_replay_shows_one_time(wait_unt
     page.get_by_text("Replaying t = ").first.wait_for(state="visible", timeout=10_000)
     wait_until(lambda: not visible_text(page, "▶ playing"), timeout=10.0)  # the transport's own time line
     assert not view.transport.gui_status.visible
+
+
+def test_single_rotation_outlines_have_a_legend_and_a_binary_obj_is_refused_in_plain_words(
+        wait_until, app: App, page, tmp_path) -> None:
+    session = open_app(page, app)
+    part = session.scene.single_rotation  # Euler angles
+    page.get_by_text("Single rotation", exact=True).first.click()  # the checkbox: the animation starts
+    wait_until(lambda: part.animation_time is not None, timeout=10.0)
+    page.get_by_text("The two outlines:").first.wait_for(state="visible", timeout=10_000)
+    assert session.scene.labels.wanted(part.ghost_turn_label) and session.scene.labels.wanted(part.ghost_zxz_label)
+    assert part.ghost_zxz_label.text.startswith("coloured: z-x-z, now")
+    page.get_by_text("The two outlines:").first.wait_for(state="hidden", timeout=20_000)  # gone with them
+
+    choose_scene(page, session, "Inertia", wait_until)
+    page.get_by_text("Solid mesh").first.click()  # open the folder
+    binary = tmp_path / "cube.obj"
+    binary.write_bytes(bytes(range(256)) * 8)
+    page.locator("input[type=file]").first.set_input_files(str(binary))
+    page.get_by_text("holds binary bytes").first.wait_for(state="visible", timeout=20_000)
+    assert "UnicodeDecodeError" not in session.scene.message.text
