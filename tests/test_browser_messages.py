@@ -7,7 +7,10 @@
 2. A refusal goes when it no longer holds: `999` typed into `Timeline [s]` while the motion
    plays is refused with the recorded stretch, and the refusal goes once the stretch has grown.
    While replaying, the panel shows one time (the Timeline's).
-3. Smaller: Single rotation's two animated outlines carry their legend (on each outline and in
+3. The lecture hall: a follower who presses space, R and S sees one toast; its "Someone else is
+   presenting" goes when the presenter stops; four wrong codes say "1 try left", a fifth "wait
+   N s", and N counts down.
+4. Smaller: Single rotation's two animated outlines carry their legend (on each outline and in
    the folder) while they move; a binary file named .obj is refused in plain words.
 Needs Debian's Chromium: `apt-get install chromium`.
 """
@@ -15,12 +18,14 @@ Needs Debian's Chromium: `apt-get install chromium`.
 from __future__ import annotations
 
 import io
+import re
 import time
 
 import numpy as np
 import pytest
 from PIL import Image
 from test_browser import open_app
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input  # noqa: F401
 from test_browser_typing import number_box, type_into
 
 from app.main import App
@@ -126,3 +131,47 @@ def test_single_rotation_outlines_have_a_legend_and_a_binary_obj_is_refused_in_p
     page.locator("input[type=file]").first.set_input_files(str(binary))
     page.get_by_text("holds binary bytes").first.wait_for(state="visible", timeout=20_000)
     assert "UnicodeDecodeError" not in session.scene.message.text
+
+
+def test_lecture_notes_stay_true_and_a_followers_keys_bring_one_toast(browser, hall_app: App,  # noqa: F811
+                                                                     wait_until) -> None:
+    presenter_page, presenter = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
+    close_toasts(presenter_page)
+    open_folder(presenter_page, "Lecture", "Presenter code")
+    text_input(presenter_page, "Presenter code").fill(CODE)
+    presenter_page.get_by_role("button", name="Present").click()
+    wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
+    page, follower = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
+    wait_until(lambda: follower.mode == "following", timeout=15.0)
+    page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
+    close_toasts(page)
+
+    toasts = page.locator(".mantine-Notification-root", has_text="Press 'Explore on my own'")
+    page.mouse.click(300, 400)  # the 3D view has the focus
+    for key in ("Space", "r", "s"):
+        page.keyboard.press(key)
+        page.wait_for_timeout(300)
+    toasts.first.wait_for(state="visible", timeout=10_000)
+    page.wait_for_timeout(800)  # the last key's toast has come (3 s before they close)
+    assert toasts.count() == 1
+
+    open_folder(page, "Lecture", "Presenter code")
+    text_input(page, "Presenter code").fill(CODE)
+    present = page.get_by_role("button", name="Present", exact=True)
+    present.click()
+    busy = page.get_by_text("Someone else is presenting")
+    busy.first.wait_for(state="visible", timeout=10_000)
+    presenter_page.get_by_role("button", name="Stop presenting").click()
+    busy.first.wait_for(state="hidden", timeout=10_000)  # true no more
+
+    text_input(page, "Presenter code").fill("111111")
+    for _ in range(4):
+        present.click()
+        page.wait_for_timeout(200)
+    page.get_by_text("1 try left").first.wait_for(state="visible", timeout=10_000)
+    present.click()
+    wait = page.get_by_text(re.compile(r"wait \d+ s"))
+    wait.first.wait_for(state="visible", timeout=10_000)
+    first = int(re.search(r"wait (\d+) s", wait.first.inner_text()).group(1))
+    wait_until(lambda: int(re.search(r"wait (\d+) s", wait.first.inner_text()).group(1)) <= first - 2,
+               timeout=15.0)  # the wait counts down
