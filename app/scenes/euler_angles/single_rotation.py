@@ -31,7 +31,7 @@ import viser
 
 from app.kit.core.common import BODY_AXIS_COLORS, SPACE_AXIS_COLORS, Wrap, axis_segments, polyline_segments
 from app.kit.core.target import DrawTarget
-from app.kit.draw.labels import AXES, DETAIL, LabelLayer
+from app.kit.draw.labels import AXES, LabelLayer
 from app.kit.panel.gui import Readout
 from app.scenes.euler_angles.readouts import single_angle_text, single_rotation_text
 from app.scenes.euler_angles.simulation import EulerAnglesSimulation, box_edges
@@ -128,14 +128,15 @@ class SingleRotationPart:
                                                        _outline_colors(self._step_colors[0]), thickness=3.0,
                                                        thickness_units="screen")
         self._outline_moments = sim.moments
-        # The legend on the outlines themselves (children of their frames: they turn with them).
-        tip = 1.15 * outline_axis_length
+        # The legend on the outlines themselves: a label at the tip of each one's x′ (single turn)
+        # or y′ (z-x-z) axis, moved with it (`draw_animation`).
+        self._legend_tip = 1.15 * outline_axis_length
         self.ghost_turn_label = labels.add(scene.add_label(
-            f"{single}/g1/t", TURN_LEGEND, position=(tip, 0.0, 0.0), font_screen_scale=1.3, anchor="bottom-left",
-            visible=False), DETAIL, wanted=False)
+            f"{single}/t1", TURN_LEGEND, font_screen_scale=1.3, anchor="bottom-left", visible=False),
+            AXES, wanted=False)
         self.ghost_zxz_label = labels.add(scene.add_label(
-            f"{single}/g3/t", ZXZ_LEGENDS[0], position=(0.0, tip, 0.0), font_screen_scale=1.3, anchor="bottom-left",
-            visible=False), DETAIL, wanted=False)
+            f"{single}/t3", ZXZ_LEGENDS[0], font_screen_scale=1.3, anchor="bottom-left", visible=False),
+            AXES, wanted=False)
 
     def build_gui(self) -> Any:
         """The folder "Single rotation D = exp(Φ hat d)": the toggle, Animate and the readout
@@ -291,8 +292,12 @@ class SingleRotationPart:
             self.ghost_zxz_lines.colors = _outline_colors(self._step_colors[step])
             self.ghost_zxz_label.text = ZXZ_LEGENDS[step]
             self._show_legend(True)
-        set_wxyz(self.ghost_turn, wxyz_from_matrix(exp_so3(s * rotation.rotvec)))
+        R_turn = exp_so3(s * rotation.rotvec)
+        set_wxyz(self.ghost_turn, wxyz_from_matrix(R_turn))
         set_wxyz(self.ghost_zxz, wxyz_from_matrix(R_zxz))
+        for label, tip in ((self.ghost_turn_label, R_turn[:, 0]), (self.ghost_zxz_label, R_zxz[:, 1])):
+            point = self._legend_tip * tip
+            set_position(label, (float(point[0]), float(point[1]), float(point[2])))
         for node in (self.ghost_turn, self.ghost_zxz):
             if not node.visible:
                 node.visible = True
