@@ -31,7 +31,7 @@ import viser
 
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
-from app.kit.core.room import Room
+from app.kit.core.room import LIVE, Room
 from app.kit.core.target import DrawTarget, as_target
 from app.kit.draw.labels import LabelLayer
 from app.kit.panel.binding import Binding, Clock, bind, install_typing_guard
@@ -138,8 +138,9 @@ class SceneView:
             return
         order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
-                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock,
-                                 hide_while_past=transport.gui_status)
+                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+        room = self.room
+        transport.looking_back = lambda: room.mode != LIVE  # the Timeline's status says the time then
         self._bindings.append(self.timeline.binding)
         self._gui_roots.extend(self.timeline.handles)
 

@@ -25,6 +25,7 @@ from app.kit.core.presets import Preset
 from app.kit.panel.binding import Clock, Refused, bind
 
 __all__ = [
+    "LOOKING_BACK_STATUS",
     "PAUSE_LABEL",
     "PLAY_LABEL",
     "RESET_LABEL",
@@ -42,6 +43,7 @@ __all__ = [
 TIME_SCALE_RANGE = (0.1, 4.0)
 PLAY_LABEL, PAUSE_LABEL = "Play", "Pause"
 STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (⏭ ⏸ are missing)
+LOOKING_BACK_STATUS = "⟲ Looking back: the time shown is under the Timeline."  # one line, as the scenes' status
 
 Callback = Callable[[Any], None]
 """The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
@@ -154,6 +156,9 @@ class Transport:
             self.gui_integrator = gui.add_dropdown("Integrator", tuple(integrators), initial_value=first,
                                                    hint=integrator_hint)
         self.gui_status = gui.add_markdown("")
+        self.looking_back: Callable[[], bool] = lambda: False
+        """True while the room shows a recorded moment: the Timeline's status line says the time
+        then, and this one LOOKING_BACK_STATUS instead of the scene's (one time in the panel)."""
         self._time_scale = 1.0
         self._integrator = first
         self.quiet = Quiet()
@@ -216,6 +221,8 @@ class Transport:
             self.quiet.write(self.gui_integrator, integrator)
 
     def set_status(self, text: str) -> None:
+        if self.looking_back():
+            text = LOOKING_BACK_STATUS
         if self.gui_status.content != text:
             self.gui_status.content = text
 

@@ -15,8 +15,8 @@ adds one under the transport of every scene whose simulation can be replayed (th
 - Resume: back to the live moment, exactly as it was; plays on if it was playing.
 - Branch here: the moment shown becomes the live one and the motion plays on from it.
 - The status line: "Replaying t = 12.3 s of 40.1 s (0.1×)".  While the room shows a recorded
-  moment it is the panel's one time: the transport's own status line (`hide_while_past`, the
-  live time) is hidden meanwhile.
+  moment it is the panel's one time: the transport's own status line says no time meanwhile
+  (`Transport.looking_back`; it keeps its place, so nothing moves under the hand).
 - A refusal quotes the stretch ("only 0.00 s to 6.20 s is recorded"); it goes as soon as the
   stretch has moved on by STALE_S (`MessageLine.show(..., stale)`), since it no longer holds.
 """
@@ -70,10 +70,9 @@ class Timeline:
     """The slider, the three buttons and the status line (see the module docstring)."""
 
     def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, room: Room, *, order: float | None = None,
-                 clock: Clock | None = None, hide_while_past: Any = None) -> None:
+                 clock: Clock | None = None) -> None:
         self.room = room
         self._message = message
-        self._hide_while_past = hide_while_past
 
         def stale_now() -> Any:
             """A test of the message just shown: the stretch it quotes has moved on."""
@@ -173,7 +172,4 @@ class Timeline:
         text = timeline_text(room)
         if self.gui_status.content != text:
             self.gui_status.content = text
-        hidden = self._hide_while_past
-        if hidden is not None and hidden.visible != (room.mode == LIVE):
-            hidden.visible = room.mode == LIVE
         self._message.recheck()
