@@ -24,8 +24,9 @@ The rest:
 - **The lock.**  `Lectern` holds the presenter code (`python -m app --presenter-code CODE`, or a
   random one printed at start) and the presenting seat.  A browser presents by typing the code
   into `Presenter code` and pressing `Present`: a wrong code is refused with a message, at most
-  MAX_TRIES per minute per browser; one presenter at a time; `Stop presenting` or a disconnect
-  releases the lock.
+  MAX_TRIES per minute per browser; the message stays true (`refusal_now`: the wait counts down
+  and goes, "someone else is presenting" goes when they stop); one presenter at a time;
+  `Stop presenting` or a disconnect releases the lock.
 - **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
   (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
@@ -55,6 +56,7 @@ import collections
 import contextlib
 import enum
 import logging
+import math
 import secrets
 import threading
 import time
@@ -274,6 +276,9 @@ class Lectern:
         self._live_room: Room | None = None
         self._followers: dict[int, tuple[Seat, Follower]] = {}  # by client id
         self._tries: dict[int, collections.deque[float]] = collections.defaultdict(collections.deque)
+        self._refused: dict[int, str] = {}  # client id -> "wrong", "wait" or "busy": its last refusal
+        self._refusal_watchers: dict[int, tuple[Seat, Callable[[], None]]] = {}  # `watch_refusal`
+        self._since_refusals = 0.0
         self._clock = clock
         self._lock = threading.RLock()
         self._since_status = 0.0
@@ -286,22 +291,64 @@ class Lectern:
         """Set by the app: its open sessions."""
 
     # ------------------------------------------------------------------ the lock
+    def _recent_tries(self, seat: Any) -> collections.deque[float]:
+        """`seat`'s wrong codes within the last TRIES_WINDOW (older ones dropped)."""
+        now = self._clock()
+        tries = self._tries[seat.client_id]
+        while tries and tries[0] < now - TRIES_WINDOW:
+            tries.popleft()
+        return tries
+
+    def _wait_words(self, tries: collections.deque[float], head: str = "Too many wrong codes") -> str:
+        wait = max(1, math.ceil(TRIES_WINDOW - (self._clock() - tries[0])))
+        return f"{head}: wait {wait} s before trying again."
+
     def try_code(self, seat: Any, code: str) -> str | None:
-        """None if `seat` may present with `code`, else the refusal (rate limit included)."""
+        """None if `seat` may present with `code`, else the refusal (rate limit included); the
+        refusal's words as they are now come from `refusal_now`."""
         with self._lock:
-            now = self._clock()
-            tries = self._tries[seat.client_id]
-            while tries and tries[0] < now - TRIES_WINDOW:
-                tries.popleft()
+            tries = self._recent_tries(seat)
             if len(tries) >= MAX_TRIES:
-                wait = TRIES_WINDOW - (now - tries[0])
-                return f"Too many wrong codes: wait {wait:.0f} s before trying again."
+                self._refused[seat.client_id] = "wait"
+                return self._wait_words(tries)
             if not secrets.compare_digest(str(code).strip(), self.code):
-                tries.append(now)
-                return f"Wrong presenter code ({MAX_TRIES - len(tries)} tries left this minute)."
+                tries.append(self._clock())
+                self._refused[seat.client_id] = "wrong"
+                return self.refusal_now(seat)
             if self.presenter is not None and self.presenter is not seat:
-                return "Someone else is presenting; they must stop first."
+                self._refused[seat.client_id] = "busy"
+                return self.refusal_now(seat)
+            self._refused.pop(seat.client_id, None)
             return None
+
+    def refusal_now(self, seat: Any) -> str | None:
+        """`seat`'s last refusal (`try_code`) in the words true now, or None once it no longer
+        holds: the wait counts down and ends, the tries left grow back as the minute passes,
+        "someone else is presenting" ends when they stop or leave."""
+        with self._lock:
+            kind = self._refused.get(seat.client_id)
+            tries = self._recent_tries(seat)
+            words: str | None = None
+            if kind in ("wait", "wrong") and len(tries) >= MAX_TRIES:
+                words = self._wait_words(tries, "Too many wrong codes" if kind == "wait" else
+                                         "Wrong presenter code, no tries left")
+            elif kind == "wrong" and tries:
+                left = MAX_TRIES - len(tries)
+                words = f"Wrong presenter code ({left} {'try' if left == 1 else 'tries'} left this minute)."
+            elif kind == "busy" and self.presenter is not None and self.presenter is not seat:
+                words = "Someone else is presenting; they must stop first."
+            if words is None:
+                self._refused.pop(seat.client_id, None)
+            return words
+
+    def watch_refusal(self, seat: Any, show: Callable[[], None] | None) -> None:
+        """Call `show()` (in `seat`'s guard) every FOLLOW_PERIOD while `seat` has a refusal on
+        screen, so its words stay true (`refusal_now`); None: stop."""
+        with self._lock:
+            if show is None:
+                self._refusal_watchers.pop(seat.client_id, None)
+            else:
+                self._refusal_watchers[seat.client_id] = (seat, show)
 
     def start(self, seat: Seat) -> None:
         """`seat` presents: its room goes live; everyone else follows (or keeps exploring)."""
@@ -473,6 +520,16 @@ class Lectern:
         if self._since_status >= FOLLOW_PERIOD and self._followers:
             self._since_status = 0.0
             self.refresh_followers()
+        self._since_refusals += dt
+        if self._since_refusals >= FOLLOW_PERIOD and self._refusal_watchers:
+            self._since_refusals = 0.0
+            with self._lock:
+                watchers = list(self._refusal_watchers.items())
+            for client_id, (seat, show) in watchers:
+                if seat.closed:
+                    self._refusal_watchers.pop(client_id, None)
+                else:
+                    seat.guard("presenter code note", show)()
         self._since_camera += dt
         if self._camera_due and self._since_camera >= CAMERA_PERIOD:
             self._camera_due = False

@@ -78,8 +78,8 @@ def transport_words(room: Room) -> str:
 
 def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Sequence[str] = ()) -> str:
     """The followers' panel text (Markdown): who presents what in `room` (the room on the shared
-    screen, None if there is none), the lesson step `lesson` (or ""), the time, the scene's
-    `key_numbers` (lines)."""
+    screen, None if there is none), the lesson step `lesson` (or ""), the time (once: while the
+    presenter looks back, the head's), the scene's `key_numbers` (lines)."""
     if room is None:
         return "Nobody is presenting."
     head = {
@@ -90,8 +90,9 @@ def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Se
                    "A new presenter can take over with the code.",
     }.get(hall, "")
     preset = getattr(room.sim, "preset", None)
-    lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else ""),
-             f"t = {room.sim.t:.1f} s · {room.time_scale:g}×"]
+    lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else "")]
+    if room.mode == LIVE or hall is not Hall.LIVE:  # looking back, the head says the one time shown
+        lines.append(f"t = {room.sim.t:.1f} s · {room.time_scale:g}×")
     if lesson:
         lines.append(lesson)
     lines.extend(key_numbers)

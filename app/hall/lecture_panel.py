@@ -1,7 +1,8 @@
 """The `Lecture` folder of one browser's panel: present, stop, follow, and the pointer.
 
 This module owns `LecturePanel`: the folder (`Presenter code`, `Present`, `Stop presenting`,
-`Pointer`, `Pointer label`, `Follow presenter`, a note for a refused code), which of them the
+`Pointer`, `Pointer label`, `Follow presenter`, a note for a refused code that stays true: the
+wait counts down and the note goes when the refusal no longer holds), which of them the
 browser's mode shows (`show_for`), and the pointer's click handlers on the browser's own scene
 (registered only while it presents).  What the buttons do (becoming the presenter, stopping,
 following) is the session's: the panel calls it through `Lecturer`.
@@ -67,8 +68,24 @@ class LecturePanel:
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
-        self.gui_note.content = text
-        self.gui_note.visible = bool(text)
+        if self.gui_note.content != text:
+            self.gui_note.content = text
+        if self.gui_note.visible != bool(text):
+            self.gui_note.visible = bool(text)
+        if not text:
+            self.lectern.watch_refusal(self.seat, None)
+
+    def refused(self) -> None:
+        """Say the lectern's refusal of this browser's code, kept true while it is shown: the wait
+        counts down, and the note goes when the refusal no longer holds (`Lectern.refusal_now`)."""
+        self.show_refusal()
+        if self.gui_note.visible:
+            self.lectern.watch_refusal(self.seat, self.show_refusal)
+
+    def show_refusal(self) -> None:
+        """The refusal's words as they are now (or no note)."""
+        words = self.lectern.refusal_now(self.seat)
+        self.note(f"**⚠ {words}**" if words else "")
 
     def show_for(self, mode: Mode) -> None:
         """The buttons for the browser's `mode`: `Present` and the code unless it presents,

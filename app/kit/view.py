@@ -31,7 +31,7 @@ import viser
 
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
-from app.kit.core.room import Room
+from app.kit.core.room import LIVE, Room
 from app.kit.core.target import DrawTarget, as_target
 from app.kit.draw.labels import LabelLayer
 from app.kit.panel.binding import Binding, Clock, bind, install_typing_guard
@@ -143,6 +143,8 @@ class SceneView:
         order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
                                  order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+        room = self.room
+        transport.looking_back = lambda: room.mode != LIVE  # the Timeline's status says the time then
         self._bindings.append(self.timeline.binding)
         self._gui_roots.extend(self.timeline.handles)
 
@@ -239,8 +241,26 @@ class SceneView:
     def refresh(self) -> None:
         raise NotImplementedError
 
-    def show_message(self, text: str) -> None:
-        self.message.show(text)
+    def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` in the message line, until `stale()` says it no longer holds."""
+        self.message.show(text, stale)
+
+    gizmos_hidden = False
+    """True while the browser renders a screenshot: the drag gizmos stay hidden (`hide_gizmos`)."""
+
+    def gizmo_handles(self) -> list[Any]:
+        """The view's drag gizmos (transform controls in `self.controls`); none by default."""
+        return []
+
+    def hide_gizmos(self, hidden: bool) -> None:
+        """Hide the drag gizmos (a screenshot is taken), or show them again as the view's state
+        says (`refresh`)."""
+        self.gizmos_hidden = bool(hidden)
+        if hidden:
+            for gizmo in self.gizmo_handles():
+                gizmo.visible = False
+        else:
+            self.refresh()
 
     def report_error(self, where: str, error: BaseException) -> None:
         if self._report_error is None:

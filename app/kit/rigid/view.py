@@ -206,6 +206,10 @@ class RigidBodyView(SceneView):
     `app.kit.rigid.hand`); () for neither."""
     hand: HandControls | None = None
 
+    def gizmo_handles(self) -> list[Any]:
+        """The ω (and L) drag gizmos (`app.kit.rigid.hand`)."""
+        return [] if self.hand is None else list(self.hand.gizmos.values())
+
     extra_tabs: ClassVar[tuple[str, ...]] = ()
     """The scene's own panel tabs after Setup / Readout / Plots / Lagrange (filled by `build_tab_extras`)."""
 
