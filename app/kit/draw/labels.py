@@ -24,7 +24,9 @@ A moving label's box is swept from where it is to where it will be at the next l
 screen motion since the last layout, Δ, once more), grown on every side by TURN_MARGIN times
 how much that motion changed since the layout before (a label going round a circle turns away
 from the straight line by exactly that much per layout) plus SLIP_MARGIN times |Δ| (speeding up,
-uneven layouts).  So labels do not run into each other between two layouts.  After a
+uneven layouts).  So labels do not run into each other between two layouts.  A label's motion
+is followed while it is off the window or under a hidden node; one that appears while the
+picture moves, its motion not known yet, waits hidden for the next layout.  After a
 refresh (an edit, a reset: labels jump) and when a camera moved (a browser orbits, the
 view is reset, a follower comes or goes), the labels' motion starts afresh.  (A body axis label
 that whizzes round with a fast spin gets a large box and is mostly hidden: it could not be read.)
@@ -151,15 +153,18 @@ def _clear(box: Box, placed: list[Box], gap: float) -> bool:
     return True
 
 
+Spot = tuple[float, float, float, float, bool]  # a label's anchor x, y and block w, h [px] on a screen; in its window
+
+
 def _xyz(v: Any) -> tuple[float, float, float]:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
-def _swept_box(where: tuple[float, float, float, float], fh: float, fv: float,
+def _swept_box(where: Spot, fh: float, fv: float,
                sweep: tuple[float, float, float]) -> Box:
     """A label's block at (x, y) [px] of size (w, h) [px] (`where`) with its anchor's shift (fh,
     fv), swept by (dx, dy) and grown by `margin` [px] on every side (`sweep`)."""
-    x, y, w, h = where
+    x, y, w, h, _inside = where
     dx, dy, margin = sweep
     x0, y0 = x + fh * w, y + fv * h
     x1, y1 = x0 + w, y0 + h
@@ -205,6 +210,7 @@ class LabelLayer:
         self._throttle = staggered(PERIOD)
         self._last_key: Any = None  # what the last layout saw (camera, boxes, wants)
         self._moving = False  # the last layout grew some box for its label's motion
+        self._settling = False  # a layout after a refresh: every label placed at once
         self.layouts = 0  # layouts computed (tests)
 
     # ------------------------------------------------------------------ registration
@@ -263,7 +269,11 @@ class LabelLayer:
         """Lay the labels out now, after a refresh (an edit, a step, a reset, a new preset): the
         labels may have jumped, so their motion so far says nothing about the next frames."""
         self._forget_motion()
-        self._lay_out()
+        self._settling = True
+        try:
+            self._lay_out()
+        finally:
+            self._settling = False
 
     def _forget_motion(self) -> None:
         for entry in self._entries.values():
@@ -287,24 +297,25 @@ class LabelLayer:
         em_per_scale = [SCREEN_EM_PX * s.height / REFERENCE_HEIGHT_PX for s in screens]
         gaps = [MIN_GAP_FRACTION * s.height for s in screens]
 
-        def spot(point: Any, entry: _Entry, font_scale: float) -> list[tuple[float, float, float, float] | None]:
-            """Per screen, a label's anchor (x, y) and block size (w, h) [px] at the world `point`;
-            None where it is behind the camera or off the window (it takes no room there)."""
-            where: list[tuple[float, float, float, float] | None] = []
+        def spot(point: Any, entry: _Entry, font_scale: float) -> list[Spot | None]:
+            """Per screen, a label's anchor (x, y) and block size (w, h) [px] at the world `point`
+            and whether the anchor is in the window (elsewhere it takes no room, but its motion
+            is followed); None where it is behind the camera."""
+            where: list[Spot | None] = []
             for k in range(n):
                 (x, y), depth = projectors[k](*point)
-                screen = screens[k]
-                if not depth > 0.0 or not (0.0 <= x <= screen.width and 0.0 <= y <= screen.height):
+                if not depth > 0.0 or not (math.isfinite(x) and math.isfinite(y)):
                     where.append(None)
                     continue
+                screen = screens[k]
                 em = em_per_scale[k] * font_scale
-                where.append((x, y, entry.size[0] * em, entry.size[1] * em))
+                where.append((x, y, entry.size[0] * em, entry.size[1] * em,
+                              0.0 <= x <= screen.width and 0.0 <= y <= screen.height))
             return where
 
         # entry, per screen where it is at its own place (`spot`), and for a label that may slide
         # out (`clear_of_bodies`): its parent's origin and its own place in the world, its font scale.
-        candidates: list[tuple[_Entry, list[tuple[float, float, float, float] | None],
-                               tuple[Any, Any, float] | None]] = []
+        candidates: list[tuple[_Entry, list[Spot | None], tuple[Any, Any, float] | None]] = []
         key: list[Any] = [screens]
         poses: dict[str, Any] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
@@ -324,7 +335,7 @@ class LabelLayer:
             text = str(text)
             if entry.size_of != text:  # the text changed: its block's size per em anew
                 entry.size_of, entry.size, entry.blank = text, text_size(text, 1.0), not text.strip()
-            if not shown or entry.blank:
+            if entry.blank:
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
@@ -334,7 +345,9 @@ class LabelLayer:
                 point = tuple(o + (p - o) / entry.slid for p, o in zip(point, origin))
                 slide = (origin, point, float(font_scale))
             where = spot(point, entry, float(font_scale))
-            if all(w is None for w in where):
+            if not shown:  # under a hidden node (an arrow too short to draw): followed, not shown
+                where = [None if w is None else (*w[:4], False) for w in where]
+            if all(w is None for w in where):  # behind every camera
                 self._show(entry, False)
                 entry.last_px = entry.last_step = None
                 continue
@@ -344,7 +357,7 @@ class LabelLayer:
         if key == self._last_key and not self._moving:
             return  # nothing moved since a layout that had nothing moving either
         self._last_key = key
-        self._moving = False
+        was_moving, self._moving = self._moving, False
         self.layouts += 1
         placed: list[list[Box]] = [[] for _ in range(n)]
         bodies = self._body_outlines(screens) if any(c[0].clear_of_bodies for c in candidates) else None
@@ -370,6 +383,15 @@ class LabelLayer:
                                else (sweeps[k][0], sweeps[k][1]) for k in range(n)]
             if any(m > 0.0 for _, _, m in sweeps):
                 self._moving = True
+            if not any(w is not None and w[4] for w in where):  # off every window or hidden: followed
+                self._show(entry, False)
+                continue
+            if (last_px is None or all(p is None for p in last_px)) and was_moving and not self._settling:
+                # It (re)appears in a moving picture: its motion is known at the next layout, and
+                # only then is its box swept; till then (PERIOD) it waits, hidden.
+                self._show(entry, False)
+                self._moving = True
+                continue
             # Its own place, then (a label that may slide) farther out from its parent's origin
             # along the same line (an axis label beyond a body over the axis' tip); at each, its
             # own anchor, then the others in a fixed order: the same picture for the same positions.
@@ -394,17 +416,17 @@ class LabelLayer:
                 entry.handle.anchor = anchor
             self._show(entry, True)
 
-    def _first_free(self, entry: _Entry, where: list[tuple[float, float, float, float] | None],
+    def _first_free(self, entry: _Entry, where: list[Spot | None],
                     sweeps: list[tuple[float, float, float]], screens: Sequence[Screen], placed: list[list[Box]],
                     gaps: list[float], bodies: list[list[np.ndarray]] | None) -> str | None:
         """The first of the label's anchors (`entry.tries`) at which its swept boxes fit on every
         screen where it is (`_room_for`), those boxes then taken (`placed`); None if none does."""
-        if all(w is None for w in where):
+        if not any(w is not None and w[4] for w in where):
             return None
         for anchor, fh, fv in entry.tries:
             boxes: list[Box | None] = []
             for k, at in enumerate(where):
-                box = _swept_box(at, fh, fv, sweeps[k]) if at is not None else None
+                box = _swept_box(at, fh, fv, sweeps[k]) if at is not None and at[4] else None
                 if box is not None and not self._room_for(box, screens[k], placed[k], gaps[k],
                                                           bodies[k] if bodies else ()):
                     break
