@@ -33,6 +33,13 @@ that whizzes round with a fast spin gets a large box and is mostly hidden: it co
 Only changes are sent: a visibility or an anchor message when it changed, nothing when the
 picture stood still.
 
+What a layout cannot move: viser's client places each label from its parent node's world
+matrix as of the frame drawn before (its label manager runs before three.js updates the
+matrices), so a label riding on a moving frame trails its arrow by one drawn frame: 1/60 s on a
+GPU, but at the few frames a second (under load, fewer than one) of headless software WebGL
+it sits well behind its arrow while playing, and catches up when the picture stops.  The
+layout itself runs every PERIOD while the view draws, on the cameras the browsers report.
+
 World positions come from the app's one walker of world poses (`app.viser_internals.world_point`);
 when it is off (SCENE_NODES) every wanted label is shown at its own anchor, with no layout.
 
