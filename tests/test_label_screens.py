@@ -148,6 +148,9 @@ def hall() -> Iterator[LectureHall]:
 def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
     from conftest import poll_until
 
+    from app.hall.follower import view_aspect
+    from app.lectern import fitted_camera
+
     presenter, presenter_client = hall.join_with_client()
     _window(presenter_client, *DESKTOP[:2])
     poll_until(lambda: presenter.client.camera.image_width == DESKTOP[0])
@@ -158,6 +161,13 @@ def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
     poll_until(lambda: phone.client.camera.image_width == PHONE[0])
     hall.frames(1)
     poll_until(lambda: phone.mode == "following" and phone.scene.narrow)  # its panel fitted to its view
+
+    def fitted() -> bool:  # the lectern has put the phone's camera where the presenter's is, fitted
+        source, camera = presenter.client.camera, phone.client.camera
+        position, _ = fitted_camera(source.position, source.look_at, view_aspect(source), view_aspect(camera))
+        return bool(np.allclose(camera.position, position, atol=1e-9))
+
+    poll_until(fitted)
     hall.frames(12)  # the lectern fits the phone's camera; the labels lay out
     scene = hall.app.server.scene
     live = presenter.scene.root + "/"
