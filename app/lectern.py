@@ -70,6 +70,8 @@ import viser
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
 from app.kit.core.common import apply_camera
 from app.kit.core.room import Room
+from app.kit.draw.labels import POINTER, Screen
+from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "POINTER_SECONDS",
@@ -88,6 +90,7 @@ POINTER_MARKERS = 4  # at most this many at once (the oldest goes)
 POINTER_COLOR = (235, 0, 140)
 POINTER_RADIUS = 0.22  # [scene units] of the ring
 POINTER_LABEL_CHARS = 40
+MAX_LABEL_SCREENS = 6  # a presenter's labels are laid out for its screen and at most 5 kinds of follower's
 BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
 
 
@@ -149,7 +152,8 @@ class Broadcast:
 
     root_prefix = LIVE_ROOT
 
-    def __init__(self, server: viser.ViserServer, client: viser.ClientHandle) -> None:
+    def __init__(self, server: viser.ViserServer, client: viser.ClientHandle,
+                 screens: Callable[[], list[Screen]] | None = None) -> None:
         self.server = server
         self.presenter = client
         self.scene = server.scene
@@ -157,6 +161,7 @@ class Broadcast:
         self.controls = client.scene  # gizmos and clickable nodes: the presenter's only
         self.camera = client.camera
         self.client_id = client.client_id
+        self.screens = screens  # the screens the shared labels are laid out for (`Lectern.label_screens`)
 
     def atomic(self) -> contextlib.AbstractContextManager[None]:
         """The shared scene's and the presenter's `atomic()`, except inside the app loop's frame
@@ -207,8 +212,10 @@ class Pointer:
         self.markers: list[tuple[float, list[Any]]] = []  # (age [s], handles)
         self.count = 0
 
-    def add(self, point: np.ndarray, facing: np.ndarray, label: str) -> None:
-        """A marker at `point` [scene units], its ring perpendicular to `facing`."""
+    def add(self, point: np.ndarray, facing: np.ndarray, label: str, labels: Any = None) -> None:
+        """A marker at `point` [scene units], its ring perpendicular to `facing`; its label is
+        registered with `labels` (the live view's `LabelLayer`), if given, above every other
+        (POINTER): the others make room for it."""
         if len(self.markers) >= POINTER_MARKERS:
             self._remove(self.markers.pop(0)[1])
         facing = facing / float(np.linalg.norm(facing))
@@ -227,8 +234,12 @@ class Pointer:
                                                 thickness_units="screen"),
                    self.scene.add_icosphere(f"{name}/dot", radius=0.05, color=POINTER_COLOR, subdivisions=2)]
         if label:
-            handles.append(self.scene.add_label(f"{name}/label", label, position=tuple(1.3 * POINTER_RADIUS * u),
-                                                font_screen_scale=1.6, anchor="bottom-left"))
+            handle = self.scene.add_label(f"{name}/label", label, position=tuple(1.3 * POINTER_RADIUS * u),
+                                          font_screen_scale=1.6, anchor="bottom-left")
+            handles.append(handle)
+            if labels is not None:
+                labels.add(handle, POINTER)
+                labels.settle()
         self.markers.append((0.0, handles))
 
     def tick(self, dt: float) -> None:
@@ -392,7 +403,8 @@ class Lectern:
         """The presenter's view of `room`: 3D into the shared scene, panel and controls in its browser."""
         with self._lock:
             self._forget_live_view()
-            view = room.scene(Broadcast(self.server, seat.client), room, seat.guard, seat.report_error)
+            view = room.scene(Broadcast(self.server, seat.client, self.label_screens), room, seat.guard,
+                              seat.report_error)
             self.live_view = view
             self._live_room = room
         self._watch_camera(seat)
@@ -546,8 +558,39 @@ class Lectern:
         point = pointed_at(ray_origin, ray_direction, seat.client.camera.look_at)
         text = str(label).strip()[:POINTER_LABEL_CHARS]
         with self._lock:
-            self.pointer.add(point, np.asarray(ray_direction, dtype=float), text)
+            view = self.live_view
+            self.pointer.add(point, np.asarray(ray_direction, dtype=float), text,
+                             view.labels if view is not None else None)
         return point
+
+    def label_screens(self) -> list[Screen]:
+        """The screens the shared scene's labels are laid out for (`LabelLayer.screens`): the
+        presenter's, then one of each kind of follower's (its canvas's aspect, its panel docked or
+        not, the camera's place), those that follow the presenter's camera first, the narrowest
+        first (a phone sees the picture from farthest: its labels lie closest); at most
+        MAX_LABEL_SCREENS in all.  Read without the lectern's lock (the layout holds a room's)."""
+        screens: list[Screen] = []
+        presenter = self.presenter
+        if presenter is not None:
+            own = screen_of(presenter.client.camera, docked=bool(getattr(presenter, "projector", False)))
+            if own is not None:
+                screens.append(own)
+        kinds: dict[Any, tuple[tuple[bool, float], Screen]] = {}
+        for seat, follower in tuple(self._followers.values()):
+            screen = screen_of(follower.camera, docked=bool(getattr(seat, "projector", False)))
+            if screen is None:
+                continue
+            aspect = screen.width / screen.height
+            kind = (round(aspect, 2), screen.panel is None,
+                    tuple(round(c, 1) for c in (*screen.view.position, *screen.view.look_at)))
+            if kind not in kinds:
+                kinds[kind] = ((not follower.follow_camera, aspect), screen)
+        for _rank, screen in sorted(kinds.values(), key=lambda item: item[0]):
+            if len(screens) >= MAX_LABEL_SCREENS:
+                break
+            if screen not in screens:
+                screens.append(screen)
+        return screens
 
     def _camera_moved(self, seat: Seat) -> None:
         if seat is self.presenter:

@@ -29,12 +29,11 @@ from app.hall.caption import Caption
 from app.hall.room_plot import PlotMirror
 from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
+from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 
 __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "is_narrow", "status_line",
            "status_text", "transport_words", "view_aspect"]
 
-NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
-NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 
 
@@ -57,14 +56,13 @@ def view_aspect(camera: Any) -> float:
 
 
 def is_narrow(camera: Any) -> bool:
-    """A phone-like view: at most NARROW_PX wide, or portrait (aspect below NARROW_ASPECT).  (viser
-    reports the view's size in device pixels; a phone's CSS width of ~400 px is 800-1200 of
-    them, which the portrait test catches.)"""
+    """A phone-like view (`app.kit.draw.screen.narrow_size`: at most NARROW_PX wide, or portrait,
+    aspect below NARROW_ASPECT; the label layout keeps labels off such a view's bottom sheet)."""
     try:
         width = float(camera.image_width)
     except (AttributeError, TypeError, ValueError):
         return False
-    return (0.0 < width <= NARROW_PX) or view_aspect(camera) < NARROW_ASPECT
+    return narrow_size(width, width / view_aspect(camera))
 
 
 def transport_words(room: Room) -> str:

@@ -94,7 +94,9 @@ class ProjectorLayout:
             self.reset_camera(view.room.scene.view)
 
     def fit_new_view(self, view: Any) -> None:
-        """A new scene view of this browser: its labels take the layout's size."""
+        """A new scene view of this browser: its labels take the layout's size, and its label
+        layout knows whether the panel is docked beside the canvas (nothing covers it then)."""
+        view.labels.docked = lambda: self.on
         if self.on:
             self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
 

@@ -19,7 +19,8 @@ under it, built here; the room draws it after the view.
 
 Its 3D labels are registered with `self.labels` (a `LabelLayer`: "this label, this priority"),
 and its `frame` and `refresh` end by laying them out (`labels.update(dt)`, `labels.settle()`),
-so that no two overlap on the controlling browser's screen.
+so that no two overlap on the screens that show them (the controlling browser's; a presenter's
+and its followers' for a target with `screens`), nor cover the panel there.
 """
 
 from __future__ import annotations
@@ -121,7 +122,8 @@ class SceneView:
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
         # Every 3D label of the view is registered here with a priority; `frame` ends with
         # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.draw.labels).
-        self.labels = LabelLayer(target.camera, type(self).view)
+        # A target drawn for many screens (a presenter's shared scene) names them (`screens`).
+        self.labels = LabelLayer(target.camera, type(self).view, getattr(target, "screens", None))
 
     def build(self) -> None:
         """Build the nodes and the panel (`_build_scene`, `_build_gui`), join the room, draw."""
