@@ -261,11 +261,11 @@ class MovingFrameView(SceneView):
         with self.folder_display:
             self.gui_show_paths = gui.add_checkbox("Paths", True, hint="pale: in C; dark: in C′ (what a rider sees)")
             self.gui_show_forces = gui.add_checkbox("Force arrows", True)
-            display_sliders = [self._slider(gui, key) for key in DISPLAY_KEYS[:2]]
+            display_sliders = [self._slider(gui, key) for key in DISPLAY_KEYS[:1]]
             self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
             self.gui_legend = gui.add_markdown("")
         self.gui_params = [*frame_sliders, *particle_sliders, *display_sliders]
-        self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:2]]
+        self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:1]]
         for handle, key in zip(self.gui_params, self._param_keys):
             index = KEYS.index(key)
             self.bind(handle, f"{key} slider", self._param_edit(key), nth(lambda: self.sim.setup.params, index),
