@@ -5,6 +5,7 @@ integrated in C (`app.scenes.moving_frame` says what it shows and how exactly).
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -203,7 +204,14 @@ class MovingFrameSimulation:
 
     # ------------------------------------------------------------------ the Simulation protocol
     def reset(self) -> None:
-        self._motion = self.setup.motion
+        self._motion = motion = self.setup.motion
+        # The same motion once the speeding up is over (t ≥ T): rates held, no accelerations.
+        T = motion.accel_seconds
+        self._held = (motion if not math.isfinite(T) else dataclasses.replace(
+            motion, accel_seconds=math.inf, accels=(0.0, 0.0, 0.0),
+            angles0=tuple(a - 0.5 * c * T * T for a, c in zip(motion.angles0, motion.accels)),  # type: ignore[arg-type]
+            rates=tuple(r + c * T for r, c in zip(motion.rates, motion.accels))))  # type: ignore[arg-type]
+        self._stepping = motion  # the motion the RK4 steps see (`_move`)
         self._mass, self._k = self.setup.mass, self.setup.k
         self._rider, self._anchor, self._zeros = self.setup.rider_body, self.setup.anchor_body, np.zeros(3)
         self.t = 0.0
@@ -236,15 +244,24 @@ class MovingFrameSimulation:
         self.version += 1
 
     def _move(self, dt: float) -> None:
-        """x, v, t and C′ dt [s] on (no paths)."""
-        n = max(1, math.ceil(dt / H_MAX - 1e-9))
-        h = dt / n
+        """x, v, t and C′ dt [s] on (no paths).  No RK4 step straddles the end of the speeding up
+        (`FrameMotion.accel_seconds`, where the frame's ω̇ jumps): a step ends there."""
         x, v, t = self.x, self.v, self.t
-        for _ in range(n):
-            x, v = rk4_step(self._acceleration, t, x, v, h)
-            t += h
-            if self._on_disc and self.caught_at is None:
-                x, v = self._catch(t, x, v)
+        kink = self._motion.accel_seconds
+        spans = [kink - self.t, self.t + dt - kink] if self.t < kink < self.t + dt else [dt]
+        for span in spans:
+            # the steps before the kink see its left limit (t ≤ T: still speeding up), those after
+            # it the motion at the held speed (its right limit at t = T)
+            self._stepping = self._motion if t < kink else self._held
+            n = max(1, math.ceil(span / H_MAX - 1e-9))
+            h = span / n
+            for _ in range(n):
+                x, v = rk4_step(self._acceleration, t, x, v, h)
+                t += h
+                if self._on_disc and self.caught_at is None:
+                    x, v = self._catch(t, x, v)
+            if len(spans) > 1:
+                t = kink
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
             raise ArithmeticError(f"non-finite particle state at t = {t:.3f} s")
         self.x, self.v, self.t = x, v, self.t + dt
@@ -332,7 +349,7 @@ class MovingFrameSimulation:
         return np.array([rim, hold, spring])
 
     def _acceleration(self, t: float, x: Array, v: Array) -> Array:
-        return self.real_force(t, self._motion.at(t), x) / self.setup.mass
+        return self.real_force(t, self._stepping.at(t), x) / self.setup.mass
 
     @property
     def frame(self) -> FrameState:
