@@ -125,3 +125,99 @@ def test_every_moving_frame_preset_for_60_s_keeps_its_particles_in_the_view_and_
             x, y = pixels.reshape(*points.shape[:2], 2)[i, k]
             pytest.fail(f"{preset.name}, {layout}: {names[k]} at t = {times[i]:.1f} s is drawn at "
                         f"({x:.0f}, {y:.0f}) px: off the view or under the panel {panel}")
+
+
+# ---------------------------------------------------------------------------- through the page
+PANEL_JS = """(uuid) => { let e = document.getElementById(uuid);
+  while (e && !String(e.className).includes('Paper-root')) e = e.parentElement;
+  const r = e.getBoundingClientRect(); return [r.x, r.y, r.x + r.width, r.y + r.height]; }"""
+
+
+def _old_points_held(view) -> list[str]:  # type: ignore[no-untyped-def]
+    """The trace nodes of the view that hold points which are not on its simulation's traces now
+    (a hidden node must hold only its idle segment; a shown one only points of the current run)."""
+    from app.kit.draw.widgets import TraceLines
+
+    found = []
+    for name, value in vars(view).items():
+        lines = [v for v in (value if isinstance(value, list) else [value]) if isinstance(v, TraceLines)]
+        traces = getattr(view.sim, name, None)
+        for k, tl in enumerate(lines):
+            trace = traces[k]
+            kept = trace.points(trace.first, trace.count).astype(np.float32)
+            for j, node in enumerate(tl._nodes):
+                points = np.asarray(node.points).reshape(-1, 3)
+                if not node.visible and np.all(points == 0.0):
+                    continue
+                distance = np.min(np.linalg.norm(points[:, None, :] - kept[None, :, :], axis=-1), axis=1)
+                if not len(kept) or np.max(distance) > 1e-3:
+                    found.append(f"{name}[{k}] node {j} ({'shown' if node.visible else 'hidden'})")
+    return found
+
+
+def _colour_near(pixels: np.ndarray, x: float, y: float, colour: tuple[int, int, int], half: int = 8) -> bool:
+    """A pixel within `half` px of (x, y) [px] has about `colour` (a shaded sphere: within 70)."""
+    patch = pixels[max(0, int(y) - half):int(y) + half + 1, max(0, int(x) - half):int(x) + half + 1]
+    return bool(np.any(np.linalg.norm(patch - np.array(colour), axis=-1) < 70.0))
+
+
+@pytest.mark.browser
+def test_the_browser_frames_the_modelled_picture_and_a_preset_leaves_no_old_trace(app, page, wait_until, tmp_path
+                                                                                   ) -> None:  # type: ignore[no-untyped-def]
+    """Through the page: Moving frame chosen in the dropdown; its camera (as the browser reports
+    it) is the scene's view; `Accelerating line` played 4 s and paused shows its three particles
+    where that camera projects them, left of the panel (whose rectangle is the one modelled).
+    Then, while it plays, `Turntable` is chosen: at once no trace node holds a point of the old
+    run, and once the new one plays, only points of the new run are drawn."""
+    from test_browser import open_app
+
+    from app.scenes.moving_frame.view import PARTICLE_COLORS
+
+    session = open_app(page, app)
+    page.locator(".mantine-Notification-closeButton").first.click(force=True)
+    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
+    page.get_by_role("option", name="Moving frame").click()
+    page.get_by_text("Moving frame C′ (memo").wait_for(timeout=30_000)
+    view = MovingFrameView.view
+    camera, width, height, panel = _layouts(view)["desktop 1280x800"]
+    reported = session.client.camera
+
+    def camera_is_the_view() -> bool:
+        return (np.allclose(reported.position, view.position, atol=1e-6)
+                and np.allclose(reported.look_at, view.look_at, atol=1e-6)
+                and abs(float(reported.fov) - math.radians(view.fov_deg)) < 1e-6)
+
+    wait_until(camera_is_the_view, timeout=15.0)
+    assert (reported.image_width, reported.image_height) == (width, height)
+    x0, y0, x1, y1 = page.evaluate(PANEL_JS, session.gui_scene._impl.uuid)
+    assert panel is not None and x0 >= panel[0] - 1 and y0 >= panel[1] - 1 and x1 <= panel[2] + 1, (x0, y0, x1, y1)
+
+    page.get_by_role("button", name="Accelerating line").click()
+    wait_until(lambda: session.room.sim.preset == "Accelerating line", timeout=10.0)
+    page.get_by_role("button", name="Play", exact=True).click()
+    sim = session.room.sim
+    wait_until(lambda: sim.t > 4.0, timeout=60.0)
+    page.get_by_role("button", name="Pause", exact=True).click()
+    wait_until(lambda: not session.room.playing, timeout=10.0)
+    drawn = np.array([session.scene.particle_drawn(k) for k in range(3)])  # C′ coordinates, as sent
+    points = sim.frame.a + drawn @ sim.frame.R_space_body.T
+    time.sleep(1.0)  # the browser draws the paused frame
+    path = tmp_path / "accelerating_line.png"
+    page.screenshot(path=str(path))
+    pixels = np.asarray(Image.open(path).convert("RGB"), dtype=float)
+    projected, _ = project(camera, points, width, height)
+    assert not _outside(projected, width, height, panel).any(), projected
+    for (x, y), colour in zip(projected, PARTICLE_COLORS):
+        assert _colour_near(pixels, x, y, colour), f"no particle of colour {colour} at ({x:.0f}, {y:.0f}) px"
+
+    page.get_by_role("button", name="Play", exact=True).click()
+    wait_until(lambda: sim.t > 6.0 and _old_points_held(session.scene) == [], timeout=60.0)
+    page.get_by_role("button", name="Turntable").click()  # while playing
+    wait_until(lambda: sim.preset == "Turntable", timeout=10.0)
+    with session.room.lock:
+        assert _old_points_held(session.scene) == []
+    page.get_by_role("button", name="Play", exact=True).click()
+    wait_until(lambda: sim.t > 1.5, timeout=60.0)
+    with session.room.lock:
+        assert _old_points_held(session.scene) == []
+    assert session.error_count == 0, session.last_error

@@ -363,7 +363,7 @@ class ConstrainedView(SceneView):
             if show_paths:
                 lines.sync(trace, lazy=not exact)
             else:
-                lines.hide()
+                lines.hide(trace)
         quantum = None if exact else ARROW_QUANTUM
         scale = sim.setup.force_scale
         show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)

@@ -471,7 +471,7 @@ class MovingFrameView(SceneView):
             if visible and self._spread.wide(trace):
                 lines.sync(trace, lazy=lazy)
             else:  # hidden, or a path that is one point (the particle at rest in C′, seen in C′): nothing to draw
-                lines.hide()
+                lines.hide(trace)
 
     def _refresh_status(self) -> None:
         self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale, self.riding))
