@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from app.kit.core.common import SliderSpec, canonical_angles_deg, wrap_deg
 from app.kit.core.history import Snapshot
@@ -187,8 +188,8 @@ class MovingFrameSimulation:
     The rim: a free particle that starts on the disc (|x′| below `disc_radius`) and slides to
     its edge (|x′| = disc_radius: on a flat frame the rim, on the Earth's patch, whose ground
     curves away under a free particle, where it has risen to) is stopped there and carried
-    along (an inelastic stop, checked after each RK4 step: it is put at that distance, at rest
-    in C′); from then on the rim's real force m ẍ holds it
+    along (an inelastic stop: after the RK4 step in which it got there, it is at rest in C′
+    where its straight line crossed that distance); from then on the rim's real force m ẍ holds it
     as the particle at rest in C′ is held.  So it stays on the picture, and the real force that
     now makes it go round shows.  Before that it is free: a straight line in C.
     """
@@ -256,10 +257,11 @@ class MovingFrameSimulation:
             n = max(1, math.ceil(span / H_MAX - 1e-9))
             h = span / n
             for _ in range(n):
+                x_before, v_before, t_before = x, v, t
                 x, v = rk4_step(self._acceleration, t, x, v, h)
                 t += h
                 if self._on_disc and self.caught_at is None:
-                    x, v = self._catch(t, x, v)
+                    x, v = self._catch(t_before, x_before[0], v_before[0], t, x, v)
             if len(spans) > 1:
                 t = kink
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
@@ -267,15 +269,23 @@ class MovingFrameSimulation:
         self.x, self.v, self.t = x, v, self.t + dt
         self._frame = self._motion.at(self.t)
 
-    def _catch(self, t: float, x: Array, v: Array) -> tuple[Array, Array]:
-        """(x, v) with the free particle stopped on the rim if it has reached it at time t [s]."""
+    def _x_body_free(self, t: float, x0: Vec3, v0: Vec3, t0: float) -> Vec3:
+        """x′ (3,) [m] at time t [s] of the free particle on its straight line x0 + v0 (t − t0)."""
         frame = self._motion.at(t)
-        x_free = (x[0] - frame.a) @ frame.R_space_body  # x′
-        radius = math.sqrt(float(x_free @ x_free))
-        if radius < self._rim:
+        return (x0 + (t - t0) * v0 - frame.a) @ frame.R_space_body
+
+    def _catch(self, t0: float, x0: Vec3, v0: Vec3, t: float, x: Array, v: Array) -> tuple[Array, Array]:
+        """(x, v) at time t [s], with the free particle stopped if it reached the rim since t0,
+        where it was at x0 with velocity v0 (free: a straight line).  Where it stops is where its
+        line crosses |x′| = rim (found to 1e-13 s, so it does not depend on how time was cut into
+        steps); at t it is there at rest in C′."""
+        rim = self._rim
+        if float(np.linalg.norm(self._x_body_free(t, x0, v0, t0))) < rim:
             return x, v
-        self.caught_at = place = x_free * (self._rim / radius)
-        x_at, v_at = space_from_body(frame, place, self._zeros)
+        t_rim = brentq(lambda s: float(np.linalg.norm(self._x_body_free(s, x0, v0, t0))) - rim, t0, t, xtol=1e-13)
+        place = self._x_body_free(t_rim, x0, v0, t0)
+        self.caught_at = place = place * (rim / float(np.linalg.norm(place)))
+        x_at, v_at = space_from_body(self._motion.at(t), place, self._zeros)
         x, v = x.copy(), v.copy()
         x[0], v[0] = x_at, v_at
         return x, v
