@@ -35,6 +35,7 @@ from app.kit.draw.screen import project
 from app.lectern import fitted_camera
 from app.scenes.moving_frame import MovingFrameSetup, MovingFrameSimulation, MovingFrameView
 from physics.moving_frames import space_from_body
+from physics.quaternion import matrix_from_wxyz
 
 SECONDS = 60.0  # [s] of play checked
 SAMPLE = 0.1  # [s] between checked moments
@@ -221,3 +222,73 @@ def test_the_browser_frames_the_modelled_picture_and_a_preset_leaves_no_old_trac
     with session.room.lock:
         assert _old_points_held(session.scene) == []
     assert session.error_count == 0, session.last_error
+
+
+# ---------------------------------------------------------------------------- the other scenes
+def _moving_points(scene: object, root: str) -> np.ndarray:
+    """World points (N, 3) of what a scene draws that moves: the centre of every shown ball
+    (icosphere) and the corners of every shown simple mesh's box, under `root`."""
+    from app.viser_internals import node_world, scene_nodes
+
+    nodes = scene_nodes(scene)
+    cache: dict = {}
+    points = []
+    for name, handle in nodes.items():
+        kind = type(handle).__name__
+        if not name.startswith(root + "/") or kind not in ("IcosphereHandle", "MeshHandle"):
+            continue
+        wxyz, at, shown = node_world(name, nodes, cache)
+        if not shown:
+            continue
+        if kind == "IcosphereHandle":
+            points.append(np.asarray(at, dtype=float)[None, :])
+            continue
+        vertices = np.asarray(handle.vertices, dtype=float) * np.asarray(handle.scale, dtype=float)
+        lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        points.append(np.asarray(at, dtype=float) + corners @ matrix_from_wxyz(wxyz).T)
+    return np.concatenate(points) if points else np.zeros((0, 3))
+
+
+OTHER_SCENES = ("Free body", "Heavy top", "Poinsot", "Constrained particles", "Euler angles")
+# Known and not fixed here: the phone follower's camera (`app.lectern.fitted_camera`) keeps the
+# presenter's look_at, which the desktop framing puts right of the body (the floating panel is on
+# the right), so on a phone the body sits near the left edge: the heavy top's tip touches it,
+# Poinsot's ellipsoid is cut by it.
+KNOWN = {("Heavy top", "phone follower 390x844"), ("Poinsot", "phone follower 390x844")}
+
+
+@pytest.mark.parametrize("title", OTHER_SCENES)
+def test_the_other_scenes_keep_their_bodies_in_the_view_and_off_the_panel(manual, title: str) -> None:
+    """Every preset of the scene, played for up to a minute of simulated time in coarse frames
+    (1 s), its moving balls and meshes (scenery that stays put is left out) projected through
+    each layout's camera at each frame."""
+    from app.scenes import SCENES
+
+    session = manual.session
+    session.select_scene(title)
+    view_class = SCENES[title]
+    failures = []
+    for preset in view_class.presets():
+        session.apply_preset(preset.name)
+        session.play()
+        samples = []
+        for _ in range(int(SECONDS)):
+            session.tick(1.0)
+            if session.simulation.t >= SECONDS or not session.room.playing:
+                break
+            with session.lock:
+                samples.append(_moving_points(session.client.scene, session.scene.root))
+        if len({len(sample) for sample in samples}) != 1:
+            continue  # nodes shown and hidden on the way: no point-to-point comparison
+        track = np.stack(samples)  # (samples, N, 3)
+        moving = np.max(np.linalg.norm(track - track[:1], axis=-1), axis=0) > 1e-6  # scenery stays
+        for layout, (camera, width, height, panel) in _layouts(view_class.view).items():
+            pixels, _ = project(camera, track[:, moving].reshape(-1, 3), width, height)
+            bad = _outside(pixels, width, height, panel)
+            if bad.any():
+                failures.append((layout, f"{preset.name}, {layout}: {int(bad.sum())} of {bad.size} points, "
+                                          f"e.g. {pixels[bad][0].round()} px"))
+    assert not [text for layout, text in failures if (title, layout) not in KNOWN], failures
+    if failures:
+        pytest.xfail(f"known: {failures[0][1]} (the phone's fitted camera keeps the desktop's look_at)")
