@@ -290,7 +290,8 @@ def test_shape_errors() -> None:
 
 def test_accelerations_act_for_accel_seconds_then_the_rates_hold() -> None:
     """A turntable sped up for T = 4 s: before T the same motion as with no limit (bit for bit);
-    after T the rates stay rates + accels T (ω̇_b that of constant rates), and angle, rate and pose are continuous at T."""
+    after T the rates stay rates + accels T (ω̇_b that of constant rates), and angle, rate and pose
+    are continuous at T."""
     kwargs = dict(angles0=(0.1, 0.4, -0.2), rates=(0.3, 0.0, 0.5), accels=(0.2, 0.0, -0.1))
     held = FrameMotion(accel_seconds=4.0, **kwargs)  # type: ignore[arg-type]
     free = FrameMotion(**kwargs)  # type: ignore[arg-type]
