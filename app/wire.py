@@ -20,7 +20,11 @@ in its socket), new, or skipped for any reason is *behind*; when it is ready aga
 catch-up frame with the latest value of everything the wire sent since the last frame it got
 (`latest`, keyed as viser culls: one value per node and property).  A node made or removed
 drops its entries from `latest` (a removed node's descendants too), and so does a value viser
-sent outside a frame (viser brings that newer value to every browser itself).
+sent outside a frame (viser brings that newer value to every browser itself).  Such a newer
+value also beats the frame that captured an older one before it (a callback, on another thread,
+drawing between the loop's capture and the frame's end: a preset erasing the last run's traces):
+what is captured and what viser is handed carry one sequence, and a frame drops what was
+overtaken (`_not_overtaken`) instead of bringing the older value back after viser's.
 
 Counters: `encodes` (payloads built), `frames` (frames ended with something to send), `writes`
 (transport writes) and `bytes_written`; tests count encodes to show one encode per frame.
@@ -34,6 +38,7 @@ either way.
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 import struct
@@ -212,6 +217,31 @@ def _entity(message: Any) -> tuple[str, str] | None:
     return kind, str(getattr(message, field, ""))
 
 
+def _not_overtaken(captured: list[tuple[int, Any]], ops: list[tuple[Any, ...]]) -> list[Any]:
+    """The messages of a frame, (sequence number, message) as captured, that nothing in `ops`
+    (what viser was handed outside frames up to the frame's end) overtook: a value for the same
+    node and property handed to viser later (a callback that drew between the frame's capture
+    and its end, e.g. a preset hiding and erasing the last run's traces), or their node made
+    or removed later.  viser delivers those first; sending the older captured value after them
+    would leave the browser with it (a previous preset's trace shown again)."""
+    newer: dict[str, int] = {}
+    purges = []
+    for op in ops:
+        if op[0] == "set":
+            key = op[1].redundancy_key()
+            newer[key] = max(newer.get(key, -1), op[-1])
+        else:
+            purges.append(op)
+    kept = []
+    for seq, message in captured:
+        key = message.redundancy_key()
+        if newer.get(key, -1) > seq or any(seq < purge[-1] and (key.startswith(purge[1]) or (
+                purge[2] is not None and key.startswith(purge[2]))) for purge in purges):
+            continue
+        kept.append(message)
+    return kept
+
+
 class Wire:
     """The messages one viser interface (the shared scene, or one browser's connection) is given
     inside `capturing()` (the app loop's frame), sent by `end_frames` to recipients.
@@ -224,10 +254,11 @@ class Wire:
         self._interface = interface
         self._buffer = buffer
         self._shared = buffer is message_buffer(interface_of(server))
-        self._frame: list[Any] = []  # updates captured this frame
+        self._frame: list[tuple[int, Any]] = []  # updates captured this frame: (sequence number, message)
         self._held: list[Any] = []  # anything else queued this frame (for viser, at its end)
         self._lock = threading.Lock()
-        self._ops: list[tuple[Any, ...]] = []  # ("set", message) / ("purge", key prefix, descendants' prefix)
+        self._ops: list[tuple[Any, ...]] = []  # ("set", message, seq) / ("purge", key prefix, descendants' prefix, seq)
+        self._sequence = itertools.count()  # orders what is captured and what viser is handed (`_not_overtaken`)
         self._scheduled = 0  # frames ended whose delivery has not run yet
         self._count = 0  # frames delivered so far (delivery thread)
         self._latest: dict[str, tuple[int, Any]] = {}  # redundancy key -> (frame, message)
@@ -260,15 +291,17 @@ class Wire:
         entity = _entity(message)
         phase = getattr(message, "lifecycle_phase", None)
         inside = in_frame_capture()
+        seq = next(self._sequence)
         if entity is not None and phase in CAPTURED_PHASES:
             if inside:
-                self._frame.append(message)
+                self._frame.append((seq, message))
                 return
-            op: tuple[Any, ...] | None = ("set", message)  # viser sends it: a catch-up must not undo it
+            op: tuple[Any, ...] | None = ("set", message, seq)  # viser sends it: a catch-up must not undo it
         elif entity is not None and phase in ("create", "remove"):  # its latest values go
             if phase == "create":
                 (self._inline.add if type(message).__name__ in INLINE_NODES else self._inline.discard)(entity[1])
-            op = ("purge", f"{entity[0]}:{entity[1]}:", f"{entity[0]}:{entity[1]}/" if phase == "remove" else None)
+            op = ("purge", f"{entity[0]}:{entity[1]}:", f"{entity[0]}:{entity[1]}/" if phase == "remove" else None,
+                  seq)
         else:
             op = None
         if inside:
@@ -312,14 +345,17 @@ class Wire:
         return (getattr(connection.protocol.state, "name", "") == "OPEN" and not transport.is_closing()
                 and transport.get_write_buffer_size() <= MAX_UNSENT_BYTES)
 
-    def _deliver(self, messages: list[Any], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]) -> None:
+    def _deliver(self, messages: list[tuple[int, Any]], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]
+                 ) -> None:
         try:
             self._apply(messages, ops, recipients)
         finally:
             self._scheduled -= 1
 
-    def _apply(self, messages: list[Any], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]) -> None:
+    def _apply(self, captured: list[tuple[int, Any]], ops: list[tuple[Any, ...]], recipients: tuple[int, ...]
+               ) -> None:
         latest = self._latest
+        messages = _not_overtaken(captured, ops)
         self._forget(ops)
         if not messages:
             return
@@ -365,7 +401,7 @@ class Wire:
             if op[0] == "set":
                 latest.pop(op[1].redundancy_key(), None)
                 continue
-            _, prefix, under = op
+            _, prefix, under, _seq = op
             for key in [k for k in latest if k.startswith(prefix) or (under and k.startswith(under))]:
                 del latest[key]
         return len(latest) < before

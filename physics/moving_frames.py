@@ -288,7 +288,10 @@ def omega_dot_body_from_euler(angles: ArrayLike, rates: ArrayLike, accels: Array
 class FrameMotion:
     """A prescribed motion of C' in C.
 
-    Attitude: z-x-z angles quadratic in time, ``angles(t) = angles0 + rates t + ½ accels t²``,
+    Attitude: z-x-z angles quadratic in time for the first ``accel_seconds`` T, then linear (a
+    turntable's motor speeds it up for T, then holds the speed): with τ = min(t, T),
+    ``angles(t) = angles0 + rates t + accels (τ t − ½ τ²)`` (= ``½ accels t²`` while t ≤ T),
+    rates ``rates + accels τ``, accelerations ``accels`` before T and 0 after;
     ``R = Rz(φ) Rx(θ) Rz(ψ)``.  Origin: ``a(t) = e s(t) + R(t) b``: a point b fixed in C'
     (``offset_body``; e.g. (0, 0, r) puts C' on the surface of a globe of radius r turning with
     it) carried along a straight line e (``line_direction``, unit) by
@@ -298,6 +301,7 @@ class FrameMotion:
 
     Attributes:
         angles0, rates, accels: (3,) [rad], [rad/s], [rad/s²] for (φ, θ, ψ).
+        accel_seconds: [s] > 0, how long `accels` act (inf: for ever).
         offset_body: (3,) [m] b.  line_direction: (3,) e.  line_accel: [m/s²].  line_omega: [rad/s] ≥ 0.
     """
 
@@ -308,6 +312,7 @@ class FrameMotion:
     line_direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
     line_accel: float = 0.0
     line_omega: float = 0.0
+    accel_seconds: float = math.inf
 
     def __post_init__(self) -> None:
         for name in ("angles0", "rates", "accels", "offset_body", "line_direction"):
@@ -317,6 +322,8 @@ class FrameMotion:
         for name in ("line_accel", "line_omega"):
             if not math.isfinite(float(getattr(self, name))):
                 raise ValueError(f"FrameMotion.{name} must be finite, got {getattr(self, name)!r}")
+        if not float(self.accel_seconds) > 0.0:  # NaN too
+            raise ValueError(f"FrameMotion.accel_seconds must be > 0, got {self.accel_seconds!r}")
         if self.line_omega < 0.0:
             raise ValueError(f"FrameMotion.line_omega must be >= 0, got {self.line_omega!r}")
         if abs(float(np.linalg.norm(self.line_direction)) - 1.0) > 1e-9:
@@ -324,11 +331,12 @@ class FrameMotion:
 
     def angles(self, t: float) -> Vec3:
         """(φ, θ, ψ) (3,) [rad] at time t [s] (not wrapped)."""
-        return np.array(self.angles0) + np.array(self.rates) * t + 0.5 * np.array(self.accels) * t * t
+        tau = min(t, self.accel_seconds)
+        return np.array(self.angles0) + np.array(self.rates) * t + np.array(self.accels) * (tau * t - 0.5 * tau * tau)
 
     def angle_rates(self, t: float) -> Vec3:
         """(φ̇, θ̇, ψ̇) (3,) [rad/s] at time t [s]."""
-        return np.array(self.rates) + np.array(self.accels) * t
+        return np.array(self.rates) + np.array(self.accels) * min(t, self.accel_seconds)
 
     def line(self, t: float) -> tuple[float, float, float]:
         """(s, ṡ, s̈) [m, m/s, m/s²] along the line at time t [s] (stable at Ω t → 0)."""
@@ -347,10 +355,13 @@ class FrameMotion:
         """
         (phi0, theta0, psi0), (dphi0, dtheta0, dpsi0) = self.angles0, self.rates
         ddphi, ddtheta, ddpsi = self.accels
-        half_t2 = 0.5 * t * t
+        tau = t if t <= self.accel_seconds else self.accel_seconds
+        half_t2 = tau * t - 0.5 * tau * tau  # ½ t² while the accelerations act
         phi, theta, psi = (phi0 + dphi0 * t + ddphi * half_t2, theta0 + dtheta0 * t + ddtheta * half_t2,
                            psi0 + dpsi0 * t + ddpsi * half_t2)
-        dphi, dtheta, dpsi = dphi0 + ddphi * t, dtheta0 + ddtheta * t, dpsi0 + ddpsi * t
+        dphi, dtheta, dpsi = dphi0 + ddphi * tau, dtheta0 + ddtheta * tau, dpsi0 + ddpsi * tau
+        if t > self.accel_seconds:  # the speed held: no angle accelerations any more
+            ddphi = ddtheta = ddpsi = 0.0
         cf, sf, ct, st, cp, sp = (math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta),
                                   math.cos(psi), math.sin(psi))
         R = np.array([  # Rz(φ) Rx(θ) Rz(ψ), written out (this runs several times a frame)

@@ -20,7 +20,7 @@ MASS = 2.0
 
 
 def _setup(forces_on: float, **changes: float) -> MovingFrameSetup:
-    values = dict(phi_dot=PHI_DOT, theta_dot=0.0, psi_dot=0.0, phi_ddot=0.0, offset=0.0, line_accel=0.0,
+    values = dict(phi_dot=PHI_DOT, theta_dot=0.0, psi_dot=0.0, phi_ddot=0.0, spin_up=600.0, offset=0.0, line_accel=0.0,
                   line_omega=0.0, mass=MASS, k=0.0, free_x=1.0, free_y=0.0, free_vx=0.5, free_vy=0.2,
                   rider_x=1.5, rider_y=0.5, anchor_x=0.0, anchor_y=0.0, stretch_x=0.5, stretch_y=0.0,
                   force_scale=0.5, disc_radius=2.0, forces_on=forces_on)

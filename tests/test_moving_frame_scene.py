@@ -47,7 +47,8 @@ class Reference:
         p = self.p
         rates = np.radians([p["phi_dot"], p["theta_dot"], p["psi_dot"]])
         accels = np.radians([p["phi_ddot"], 0.0, 0.0])
-        return Rotation.from_euler("ZXZ", self.angles0 + rates * t + 0.5 * accels * t * t).as_matrix()
+        tau = min(t, p["spin_up"])  # the speeding up stops after spin_up seconds
+        return Rotation.from_euler("ZXZ", self.angles0 + rates * t + accels * (tau * t - 0.5 * tau * tau)).as_matrix()
 
     def a(self, t: float) -> np.ndarray:
         A, W = self.p["line_accel"], self.p["line_omega"]
@@ -110,7 +111,8 @@ def test_real_plus_inertial_forces_equal_m_x_ddot_from_differences_of_the_path_i
     name: str, particle: int
 ) -> None:
     """(1.28): Dᵀ F + the four inertial forces = m ẍ′, with ẍ′ the second difference of the
-    reference path x′(t) = Dᵀ(t) (x(t) − a(t)) (free: x(t) a straight line; spring: DOP853)."""
+    reference path x′(t) = Dᵀ(t) (x(t) − a(t)) (free: x(t) a straight line, or at rest in C′
+    where the rim stopped it; spring: DOP853)."""
     preset = PRESETS[name]
     ref = Reference(preset.params, preset.angles_deg)
     sim = simulation(name)
@@ -119,7 +121,9 @@ def test_real_plus_inertial_forces_equal_m_x_ddot_from_differences_of_the_path_i
     for t in (1.0, 2.5):
         play(sim, t - sim.t, dt=t - sim.t)  # one call: sub-stepped at H_MAX inside
         stencil = t + h * np.arange(-2, 3)
-        if particle == FREE:
+        if particle == FREE and sim.caught_at is not None:  # stopped by the rim: at rest in C′ there
+            path = {float(s): ref.to_space(float(s), sim.caught_at) for s in stencil}
+        elif particle == FREE:
             x0, v0 = initial_space_state(ref, np.array([ref.p["free_x"], ref.p["free_y"], 0.0]),
                                          np.array([ref.p["free_vx"], ref.p["free_vy"], 0.0]))
             path = {float(s): x0 + v0 * s for s in stencil}
@@ -139,14 +143,20 @@ def test_real_plus_inertial_forces_equal_m_x_ddot_from_differences_of_the_path_i
 
 @pytest.mark.parametrize("name", list(PRESETS))
 def test_the_free_particle_moves_on_a_straight_line_in_C_at_constant_velocity(name: str) -> None:
+    """Until the disc's rim stops it: a uniform straight line in C (curved in a turning C′); from
+    then on at rest in C′ where it stopped, at the rim's distance."""
     sim = simulation(name)
     x0, v0 = sim.x[FREE].copy(), sim.v[FREE].copy()
-    ts, xs, xs_body = [], [], []
+    ts, xs, xs_body, caught = [], [], [], []
     for _ in range(6 * 60):
         sim.advance(DT)
+        if sim.caught_at is not None:
+            caught.append(sim.body_coordinates()[0][FREE])
+            continue
         ts.append(sim.t)
         xs.append(sim.x[FREE].copy())
         xs_body.append(sim.body_coordinates()[0][FREE])
+    assert len(ts) >= 30, "it slides for half a second at least"
     xs_arr = np.array(xs)
     # RK4 is exact for ẍ = 0: the uniform straight line x0 + v0 t to rounding (|x| < 20 m).
     np.testing.assert_allclose(xs_arr, x0 + np.outer(ts, v0), atol=1e-12)
@@ -155,16 +165,20 @@ def test_the_free_particle_moves_on_a_straight_line_in_C_at_constant_velocity(na
     length = float(np.linalg.norm(xs_arr[-1] - xs_arr[0]))
     if length < 1e-9:
         assert np.max(np.abs(xs_arr - xs_arr[0])) < 1e-12
-        return
-    chord = (xs_arr[-1] - xs_arr[0]) / length
-    offsets = (xs_arr - xs_arr[0]) - np.outer((xs_arr - xs_arr[0]) @ chord, chord)
-    assert np.max(np.linalg.norm(offsets, axis=1)) < 1e-12
+    else:
+        chord = (xs_arr[-1] - xs_arr[0]) / length
+        offsets = (xs_arr - xs_arr[0]) - np.outer((xs_arr - xs_arr[0]) @ chord, chord)
+        assert np.max(np.linalg.norm(offsets, axis=1)) < 1e-12
     # ... while in a turning C′ the rider sees it curve (by decimetres, not rounding).
     if name in ("Turntable", "Speeding up", "Earth, 45° N", "Top frame"):
         body = np.array(xs_body)
         chord_b = (body[-1] - body[0]) / np.linalg.norm(body[-1] - body[0])
         bent = (body - body[0]) - np.outer((body - body[0]) @ chord_b, chord_b)
         assert np.max(np.linalg.norm(bent, axis=1)) > 0.1
+    if caught:  # stopped at the rim's distance, and held at rest in C′ there (as the rider is)
+        assert sim.caught_at is not None
+        assert float(np.linalg.norm(sim.caught_at)) == pytest.approx(sim.setup.value("disc_radius"), rel=1e-12)
+        assert np.max(np.abs(np.array(caught) - sim.caught_at)) < 1e-8
 
 
 def test_the_free_particle_starts_with_the_velocity_given_relative_to_C_prime() -> None:

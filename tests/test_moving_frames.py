@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 
 from physics.inertia import inertia_tensor_of_particles
 from physics.moving_frames import (
+    FrameMotion,
     InertialForce,
     acceleration_body,
     inertial_force_body,
@@ -285,3 +286,26 @@ def test_shape_errors() -> None:
         acceleration_body(np.zeros(3), np.zeros(3), np.eye(2), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3))
     with pytest.raises(ValueError, match="omega_space"):
         kinetic_energy_particle(1.0, np.zeros(3), np.eye(3), np.zeros(2), np.zeros(3))
+
+
+def test_accelerations_act_for_accel_seconds_then_the_rates_hold() -> None:
+    """A turntable sped up for T = 4 s: before T the same motion as with no limit (bit for bit);
+    after T the rates stay rates + accels T (ω̇_b that of constant rates), and angle, rate and pose
+    are continuous at T."""
+    kwargs = dict(angles0=(0.1, 0.4, -0.2), rates=(0.3, 0.0, 0.5), accels=(0.2, 0.0, -0.1))
+    held = FrameMotion(accel_seconds=4.0, **kwargs)  # type: ignore[arg-type]
+    free = FrameMotion(**kwargs)  # type: ignore[arg-type]
+    for t in (0.0, 1.3, 4.0):
+        a, b = held.at(t), free.at(t)
+        assert np.array_equal(a.R_space_body, b.R_space_body) and np.array_equal(a.omega_dot_body, b.omega_dot_body)
+    np.testing.assert_allclose(held.angle_rates(9.0), np.array(kwargs["rates"]) + 4.0 * np.array(kwargs["accels"]),
+                               atol=1e-15)
+    h = 1e-4  # ω̇_b after T is that of constant rates: a central difference of ω_b (error ~h² ω⃛ ≈ 1e-9)
+    difference = (held.at(9.0 + h).omega_body - held.at(9.0 - h).omega_body) / (2.0 * h)
+    np.testing.assert_allclose(held.at(9.0).omega_dot_body, difference, atol=1e-7)
+    eps = 1e-9
+    np.testing.assert_allclose(held.at(4.0 + eps).R_space_body, held.at(4.0).R_space_body, atol=1e-8)
+    np.testing.assert_allclose(held.at(4.0 + eps).omega_body, held.at(4.0).omega_body, atol=1e-8)
+    np.testing.assert_allclose(held.angles(9.0), held.angles(4.0) + 5.0 * held.angle_rates(9.0), atol=1e-12)
+    with pytest.raises(ValueError, match="accel_seconds"):
+        FrameMotion(accel_seconds=0.0)

@@ -361,16 +361,20 @@ class TraceLines:
     (`lazy=True`), at most every `head_every` frames (HEAD_EVERY by default; so a scene whose chunks complete every few
     frames sends each point once, and its trace ends at most a chunk behind the moving point),
     and at once otherwise (a refresh: a step, a pause).  A view built later draws the trace so
-    far on its first `sync`, and draws exactly what every other view of the trace draws.
+    far on its first `sync`, and draws exactly what every other view of the trace draws.  When
+    the trace starts a new run (`Trace.clear`: a preset, a reset), the chunks of the old one are
+    erased, not only hidden (`_erase`: their points put back to one idle segment), so nothing
+    of a previous preset's path can reappear while the new one is drawn.
     """
 
     def __init__(self, scene: Any, parent: str, color: tuple[int, int, int], trace: Trace, *,
                  thickness: float = 3.5, head_every: int = HEAD_EVERY) -> None:
         self._head_every = head_every  # playing frames between two sends of the growing head chunk
-        idle = np.zeros((1, 2, 3), dtype=np.float32)
+        self._idle = idle = np.zeros((1, 2, 3), dtype=np.float32)
         self._nodes = [scene.add_line_segments(f"{parent}/{k}", idle, color, thickness=thickness,
                                                thickness_units="screen", visible=False)
                        for k in range(trace.max_chunks)]
+        self._holding: set[int] = set()  # nodes whose points are a chunk of the trace (else idle)
         self._shown = [False] * len(self._nodes)  # each node's visibility, as last sent
         self._drawn: list[tuple[int, int] | None] = [None] * len(self._nodes)  # (chunk, stop) sent
         self._spans: dict[int, tuple[int, int, int]] = {}  # node -> (chunk, start, stop) shown
@@ -401,14 +405,32 @@ class TraceLines:
         parts = [np.asarray(self._nodes[k].points) for _c, k in keys]
         return np.concatenate(parts) if parts else np.zeros((0, 2, 3), dtype=np.float32)
 
-    def hide(self) -> None:
-        """Hide every chunk (what is drawn on them stays, for the next `sync`)."""
+    def hide(self, trace: Trace | None = None) -> None:
+        """Hide every chunk (what is drawn on them stays, for the next `sync`, unless `trace` is
+        given and has started a new run since: then it is erased, as `sync` would)."""
+        if trace is not None and trace.generation != self._generation:
+            self._erase()
+            self._generation = trace.generation
         self._synced = None
         self._spans = {}
         self._done = 0  # the next sync looks at every chunk again
         for k, node in enumerate(self._nodes):
             if self._shown[k]:
                 node.visible = self._shown[k] = False
+
+    def _erase(self) -> None:
+        """Hide every chunk and put its points back to the idle segment: a browser then holds
+        nothing of the old run that a later message could show again, even for a moment."""
+        for k in sorted(self._holding):
+            node = self._nodes[k]
+            if self._shown[k]:
+                node.visible = self._shown[k] = False
+            set_points(node, self._idle)
+        self._holding.clear()
+        self._drawn = [None] * len(self._nodes)
+        self._spans = {}
+        self._done = 0
+        self._synced = None
 
     def sync(self, trace: Trace, scale: float = 1.0, *, lazy: bool = False) -> None:
         """Show `trace` (points times `scale`, in the parent node's units): send what changed.
@@ -420,6 +442,8 @@ class TraceLines:
             return  # nothing new (paused, or no point stored since)
         size = len(self._nodes)
         chunks = trace.chunks()[-size:]
+        if trace.generation != self._generation:  # a new run (a preset, a reset): the old one goes at once
+            self._erase()
         if trace.generation != self._generation or scale != self._scale:
             self._generation, self._scale = trace.generation, scale
             self._drawn = [None] * len(self._nodes)
@@ -446,6 +470,7 @@ class TraceLines:
                 if complete or head_due:
                     points = trace.points(start, stop) * scale
                     set_points(self._nodes[k], polyline_segments(points).astype(np.float32))
+                    self._holding.add(k)
                     self._drawn[k] = (chunk, stop)
                     self._head_wait = 0  # the trace is drawn up to here
                 else:

@@ -81,7 +81,7 @@ F_COLOR = (25, 25, 25)
 C_COLOR = (210, 30, 30)
 DX_COLORS = ((0, 150, 150), (140, 60, 210))
 
-VIEW = CameraView(position=(3.2, -5.2, 1.6), look_at=(0.0, 0.0, -0.6), fov_deg=45.0)
+VIEW = CameraView(position=(3.9, -5.2, 1.6), look_at=(0.7, 0.0, -0.6), fov_deg=45.0)
 
 
 class ConstrainedView(SceneView):
@@ -367,7 +367,7 @@ class ConstrainedView(SceneView):
             if show_paths:
                 lines.sync(trace, lazy=not exact)
             else:
-                lines.hide()
+                lines.hide(trace)
         quantum = None if exact else ARROW_QUANTUM
         scale = sim.setup.force_scale
         show_dx, show_forces = bool(self.gui_show_dx.value), bool(self.gui_show_forces.value)

@@ -7,7 +7,7 @@ constant rate or speeding up, a cart accelerating along a line, a patch of the t
 a frame fixed to a precessing top.  Three particles of mass m live in it:
 
 - **free**: no force at all (on a table, gravity and the normal force cancel and are not drawn);
-  it is slid across C′ with a velocity given relative to C′;
+  it is slid across C′ with a velocity given relative to C′, until the disc's rim stops it;
 - **at rest in C′**: held at a fixed x′ by a real force F = m ẍ, ẍ the acceleration of that
   point of C′ (`acceleration_space` with ẋ′ = ẍ′ = 0); it is integrated like the others, so
   that it *stays* at rest is a check, not an assumption;
@@ -32,6 +32,17 @@ and one in C′ (drawn in C′, carried by it: the curve a rider sees), the last
 by the simulation (`app.kit.core.trace.Trace`, so a view built later shows them so far) and drawn
 in short chunks (`app.kit.draw.widgets.TraceLines`: a chunk of 3 segments every 0.2 s, its head resent
 at most at 10 Hz while playing).
+
+In the picture for the first minute of every preset (tests/test_in_the_picture.py: desktop,
+projector, phone follower, the panel's rectangle): the camera is the inertial frame's and stays
+where the scene's view puts it.  Chosen over a camera that follows C′ because a moving camera is
+itself a moving frame: the inertial view is the reference the rider's view ("Ride with C′") is
+compared with, and "at rest in C" must look at rest on screen.  So the motion is made to fit the
+stage instead: C′'s origin moves at most 2 m (the accelerating line runs along −x, away from the
+panel), a turntable that speeds up does so for `spin_up` seconds and then holds its speed (no
+unbounded ω, forces or spring runaway), and the free particle, a puck on the disc, is stopped by
+the disc's rim (|x′| = disc radius) and carried by it (`MovingFrameSimulation`): a straight line
+in C until then, and the real force that holds it from then on is drawn.
 
 Presets: `assets/presets/moving_frame.json` (every parameter of `simulation.PARAM_SPECS`, the frame's initial
 angles; Earth's ω is exaggerated and the note says by how much).  Parameter edits restart the

@@ -47,12 +47,13 @@ def readout_text(sim: MovingFrameSimulation, report: ForceReport, x_body: Array)
     residual = float(np.max(np.abs(report.residual[focus])))
     force_scale = max(1.0, float(np.max(np.abs(report.m_x_ddot_body[focus]))))
     phi, theta, psi = sim.angles_deg
+    held = " (stopped by the rim, now carried by it)" if focus == 0 and sim.caught_at is not None else ""
     lines = [
         f"C′ now: φ θ ψ = {format_deg(phi, 1)}°, {theta:.1f}°, {format_deg(psi, 1)}°  \n"
         f"ω_b = {format_vector(frame.omega_body)} rad/s, |ω| = {w:.3f} rad/s "
         f"= {w / EARTH_OMEGA:,.0f} × Earth's  \n"
         f"a = {format_vector(frame.a)} m, ä = {format_vector(frame.a_ddot)} m/s²",
-        f"**{PARTICLES[focus]}**: x′ = {format_vector(x_body[focus])} m, ẋ′ = {format_vector(v_body[focus])} m/s",
+        f"**{PARTICLES[focus]}**{held}: x′ = {format_vector(x_body[focus])} m, ẋ′ = {format_vector(v_body[focus])} m/s",
         "```\nforce in C′ [N]     x′       y′       z′",
         force_row("Dᵀ F (real)", report.real[focus]),
         force_row("−m Dᵀ ä", report.inertial.translational[focus]),

@@ -5,10 +5,12 @@ integrated in C (`app.scenes.moving_frame` says what it shows and how exactly).
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from app.kit.core.common import SliderSpec, canonical_angles_deg, wrap_deg
 from app.kit.core.history import Snapshot
@@ -53,6 +55,8 @@ PARAM_SPECS = (
     SliderSpec("theta_dot", "dθ/dt [deg/s]", -180.0, 180.0, 1.0, "nutation rate of C′ (constant)"),
     SliderSpec("psi_dot", "dψ/dt [deg/s]", -720.0, 720.0, 1.0, "spin rate of C′ about its own z′ (constant)"),
     SliderSpec("phi_ddot", "d²φ/dt² [deg/s²]", -30.0, 30.0, 0.5, "angular acceleration of φ (a turntable speeding up)"),
+    SliderSpec("spin_up", "speeds up for [s]", 1.0, 600.0, 1.0,
+               "d²φ/dt² acts this long, then dφ/dt holds (a motor that speeds the turntable up, then keeps the speed)"),
     SliderSpec("offset", "origin offset h [m]", 0.0, 3.0, 0.05,
                "C′'s origin is D (0, 0, h) from the line: on a globe of radius h, or up a top's axis"),
     SliderSpec("line_accel", "line acceleration A [m/s²]", -2.0, 2.0, 0.05,
@@ -74,15 +78,16 @@ PARAM_SPECS = (
                "at rest in C′"),
     SliderSpec("stretch_y", "spring stretch y′ [m]", -2.0, 2.0, 0.05, "the particle starts here from the anchor, "
                "at rest in C′"),
+    SliderSpec("disc_radius", "disc radius [m]", 0.0, 3.0, 0.05,
+               "the disc in C′'s x′y′ plane; its rim stops the free particle and carries it (0: no disc)"),
     # Display (no restart).
     SliderSpec("force_scale", "arrow scale [m/N]", 0.01, 3.0, 0.01, "length of a force arrow per newton"),
-    SliderSpec("disc_radius", "disc radius [m]", 0.0, 3.0, 0.05, "the disc drawn in C′'s x′y′ plane (0: none)"),
     SliderSpec("forces_on", "forces on particle", 1.0, 3.0, 1.0, "1 free, 2 at rest in C′, 3 on a spring"),
 )
 KEYS = tuple(spec.key for spec in PARAM_SPECS)
-DISPLAY_KEYS = ("force_scale", "disc_radius", "forces_on")
-FRAME_KEYS = KEYS[:7]
-PARTICLE_KEYS = KEYS[7:19]
+DISPLAY_KEYS = ("force_scale", "forces_on")
+FRAME_KEYS = (*KEYS[:KEYS.index("mass")], "disc_radius")
+PARTICLE_KEYS = KEYS[KEYS.index("mass"):KEYS.index("disc_radius")]
 ANGLE_SPECS = (
     SliderSpec("phi0", "φ₀ [deg]", -180.0, 180.0, 1.0, "C′'s precession angle at t = 0"),
     SliderSpec("theta0", "θ₀ [deg]", 0.0, 180.0, 1.0, "C′'s nutation at t = 0 (Earth: 90° − latitude)"),
@@ -122,6 +127,7 @@ class MovingFrameSetup:
         angles = (math.radians(self.angles_deg[0]), math.radians(self.angles_deg[1]),
                   math.radians(self.angles_deg[2]))
         return FrameMotion(angles0=angles, rates=rates, accels=(math.radians(v("phi_ddot")), 0.0, 0.0),
+                           accel_seconds=v("spin_up"),
                            offset_body=(0.0, 0.0, v("offset")), line_direction=(1.0, 0.0, 0.0),
                            line_accel=v("line_accel"), line_omega=v("line_omega"))
 
@@ -176,7 +182,16 @@ class MovingFrameSimulation:
         setup: the run's initial conditions.  t: [s] since the run started.  version: bumped on
         every change.  run: bumped on every reset.  x, v: (3, 3) space positions and velocities
         of (free, at rest, spring) [m, m/s].  paths_space, paths_body: per particle, the `Trace`
-        of its position in C (x) and in C′ (x′) [m], cleared at every reset.
+        of its position in C (x) and in C′ (x′) [m], cleared at every reset.  caught_at: where
+        the disc's rim stopped the free particle, x′ (3,) [m], or None while it slides.
+
+    The rim: a free particle that starts on the disc (|x′| below `disc_radius`) and slides to
+    its edge (|x′| = disc_radius: on a flat frame the rim, on the Earth's patch, whose ground
+    curves away under a free particle, where it has risen to) is stopped there and carried
+    along (an inelastic stop: after the RK4 step in which it got there, it is at rest in C′
+    where its straight line crossed that distance); from then on the rim's real force m ẍ holds it
+    as the particle at rest in C′ is held.  So it stays on the picture, and the real force that
+    now makes it go round shows.  Before that it is free: a straight line in C.
     """
 
     def __init__(self, setup: MovingFrameSetup) -> None:
@@ -190,13 +205,23 @@ class MovingFrameSimulation:
 
     # ------------------------------------------------------------------ the Simulation protocol
     def reset(self) -> None:
-        self._motion = self.setup.motion
+        self._motion = motion = self.setup.motion
+        # The same motion once the speeding up is over (t ≥ T): rates held, no accelerations.
+        T = motion.accel_seconds
+        self._held = (motion if not math.isfinite(T) else dataclasses.replace(
+            motion, accel_seconds=math.inf, accels=(0.0, 0.0, 0.0),
+            angles0=tuple(a - 0.5 * c * T * T for a, c in zip(motion.angles0, motion.accels)),  # type: ignore[arg-type]
+            rates=tuple(r + c * T for r, c in zip(motion.rates, motion.accels))))  # type: ignore[arg-type]
+        self._stepping = motion  # the motion the RK4 steps see (`_move`)
         self._mass, self._k = self.setup.mass, self.setup.k
         self._rider, self._anchor, self._zeros = self.setup.rider_body, self.setup.anchor_body, np.zeros(3)
         self.t = 0.0
         self._frame = self._motion.at(0.0)
         x_body, x_body_dot = self.setup.initial_body()
         self.x, self.v = space_from_body(self._frame, x_body, x_body_dot)
+        self._rim = self.setup.value("disc_radius")
+        self._on_disc = float(np.linalg.norm(x_body[0])) < self._rim
+        self.caught_at: Vec3 | None = None
         for path in (*self.paths_space, *self.paths_body):
             path.clear()
         self._record_paths()
@@ -220,24 +245,58 @@ class MovingFrameSimulation:
         self.version += 1
 
     def _move(self, dt: float) -> None:
-        """x, v, t and C′ dt [s] on (no paths)."""
-        n = max(1, math.ceil(dt / H_MAX - 1e-9))
-        h = dt / n
+        """x, v, t and C′ dt [s] on (no paths).  No RK4 step straddles the end of the speeding up
+        (`FrameMotion.accel_seconds`, where the frame's ω̇ jumps): a step ends there."""
         x, v, t = self.x, self.v, self.t
-        for _ in range(n):
-            x, v = rk4_step(self._acceleration, t, x, v, h)
-            t += h
+        kink = self._motion.accel_seconds
+        spans = [kink - self.t, self.t + dt - kink] if self.t < kink < self.t + dt else [dt]
+        for span in spans:
+            # the steps before the kink see its left limit (t ≤ T: still speeding up), those after
+            # it the motion at the held speed (its right limit at t = T)
+            self._stepping = self._motion if t < kink else self._held
+            n = max(1, math.ceil(span / H_MAX - 1e-9))
+            h = span / n
+            for _ in range(n):
+                x_before, v_before, t_before = x, v, t
+                x, v = rk4_step(self._acceleration, t, x, v, h)
+                t += h
+                if self._on_disc and self.caught_at is None:
+                    x, v = self._catch(t_before, x_before[0], v_before[0], t, x, v)
+            if len(spans) > 1:
+                t = kink
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
             raise ArithmeticError(f"non-finite particle state at t = {t:.3f} s")
         self.x, self.v, self.t = x, v, self.t + dt
         self._frame = self._motion.at(self.t)
 
+    def _x_body_free(self, t: float, x0: Vec3, v0: Vec3, t0: float) -> Vec3:
+        """x′ (3,) [m] at time t [s] of the free particle on its straight line x0 + v0 (t − t0)."""
+        frame = self._motion.at(t)
+        return (x0 + (t - t0) * v0 - frame.a) @ frame.R_space_body
+
+    def _catch(self, t0: float, x0: Vec3, v0: Vec3, t: float, x: Array, v: Array) -> tuple[Array, Array]:
+        """(x, v) at time t [s], with the free particle stopped if it reached the rim since t0,
+        where it was at x0 with velocity v0 (free: a straight line).  Where it stops is where its
+        line crosses |x′| = rim (found to 1e-13 s, so it does not depend on how time was cut into
+        steps); at t it is there at rest in C′."""
+        rim = self._rim
+        if float(np.linalg.norm(self._x_body_free(t, x0, v0, t0))) < rim:
+            return x, v
+        t_rim = brentq(lambda s: float(np.linalg.norm(self._x_body_free(s, x0, v0, t0))) - rim, t0, t, xtol=1e-13)
+        place = self._x_body_free(t_rim, x0, v0, t0)
+        self.caught_at = place = place * (rim / float(np.linalg.norm(place)))
+        x_at, v_at = space_from_body(self._motion.at(t), place, self._zeros)
+        x, v = x.copy(), v.copy()
+        x[0], v[0] = x_at, v_at
+        return x, v
+
     # ------------------------------------------------------------------ replay (app.kit.core.history)
     def snapshot(self) -> Snapshot:
-        """The moment now: t, x (9) and v (9) [m, m/s], each path's (count, first) (C′ is a
-        function of t)."""
+        """The moment now: t, x (9) and v (9) [m, m/s], each path's (count, first), then whether
+        the rim holds the free particle and where (4) (C′ is a function of t)."""
         marks = [float(m) for path in (*self.paths_space, *self.paths_body) for m in path.mark()]
-        values = [self.t, *self.x.ravel().tolist(), *self.v.ravel().tolist(), *marks]
+        caught = [0.0, 0.0, 0.0, 0.0] if self.caught_at is None else [1.0, *self.caught_at.tolist()]
+        values = [self.t, *self.x.ravel().tolist(), *self.v.ravel().tolist(), *marks, *caught]
         return Snapshot(np.array(values, dtype=float))
 
     def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
@@ -246,13 +305,14 @@ class MovingFrameSimulation:
         if the snapshot is not one of this run's."""
         v = snapshot.values
         paths = (*self.paths_space, *self.paths_body)
-        if v.shape != (19 + 2 * len(paths),):
+        if v.shape != (23 + 2 * len(paths),):
             raise ValueError("this snapshot is not a moving-frame moment")
         marks = [(int(v[19 + 2 * k]), int(v[20 + 2 * k])) for k in range(len(paths))]
         if not all(path.can_rewind(mark) for path, mark in zip(paths, marks)):
             raise ValueError("this snapshot is not one of this run's moments")
         self.t = float(v[0])
         self.x, self.v = v[1:10].reshape(3, 3).copy(), v[10:19].reshape(3, 3).copy()
+        self.caught_at = v[-3:].copy() if v[-4] == 1.0 else None
         self._frame = self._motion.at(self.t)
         for path, mark in zip(paths, marks):
             path.rewind(mark)
@@ -290,13 +350,16 @@ class MovingFrameSimulation:
 
     # ------------------------------------------------------------------ physics
     def real_force(self, t: float, frame: FrameState, x: Array) -> Array:
-        """F (3, 3) [N], space components, on (free, at rest, spring) at time t."""
+        """F (3, 3) [N], space components, on (free, at rest, spring) at time t (on the free
+        particle: none, or the rim's once it is caught)."""
         hold = self._mass * acceleration_space(frame, self._rider, self._zeros, self._zeros)
         spring = -self._k * (x[2] - frame.a - frame.R_space_body @ self._anchor)
-        return np.array([self._zeros, hold, spring])
+        rim = (self._zeros if self.caught_at is None
+               else self._mass * acceleration_space(frame, self.caught_at, self._zeros, self._zeros))
+        return np.array([rim, hold, spring])
 
     def _acceleration(self, t: float, x: Array, v: Array) -> Array:
-        return self.real_force(t, self._motion.at(t), x) / self.setup.mass
+        return self.real_force(t, self._stepping.at(t), x) / self.setup.mass
 
     @property
     def frame(self) -> FrameState:

@@ -261,11 +261,11 @@ class MovingFrameView(SceneView):
         with self.folder_display:
             self.gui_show_paths = gui.add_checkbox("Paths", True, hint="pale: in C; dark: in C′ (what a rider sees)")
             self.gui_show_forces = gui.add_checkbox("Force arrows", True)
-            display_sliders = [self._slider(gui, key) for key in DISPLAY_KEYS[:2]]
+            display_sliders = [self._slider(gui, key) for key in DISPLAY_KEYS[:1]]
             self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
             self.gui_legend = gui.add_markdown("")
         self.gui_params = [*frame_sliders, *particle_sliders, *display_sliders]
-        self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:2]]
+        self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:1]]
         for handle, key in zip(self.gui_params, self._param_keys):
             index = KEYS.index(key)
             self.bind(handle, f"{key} slider", self._param_edit(key), nth(lambda: self.sim.setup.params, index),
@@ -471,7 +471,7 @@ class MovingFrameView(SceneView):
             if visible and self._spread.wide(trace):
                 lines.sync(trace, lazy=lazy)
             else:  # hidden, or a path that is one point (the particle at rest in C′, seen in C′): nothing to draw
-                lines.hide()
+                lines.hide(trace)
 
     def _refresh_status(self) -> None:
         self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale, self.riding))

@@ -273,7 +273,7 @@ class PoinsotView(TorqueFreeView):
 
     def draw_extras(self, sim: RigidBodySimulation) -> None:
         if not self.contact.visible:
-            self.herpolhode.hide()
+            self.herpolhode.hide(sim.traces["herpolhode"])
             return
         quantum = self.quantum
         alone = not self.omega.visible  # the ω arrow is off: the contact point is drawn on its own
