@@ -302,3 +302,39 @@ def test_followers_read_that_the_presenter_looks_back_or_replays(hall: Hall) -> 
     room.resume()
     hall.frames(40)
     assert "looking back" not in follower.scene.gui_status.content
+
+
+def test_a_hostile_browser_cannot_press_the_presenters_lecture_buttons(hall: Hall) -> None:
+    """The live bar's presenter-only buttons (Stop presenting, Pointer, Call everyone back) answer
+    the presenter only: a hostile explorer on a raw websocket that presses every button of its
+    own panel and sends the presenter's uuids calls nobody back, stops nobody, moves no explorer;
+    its own Stay and Follow presenter move only itself."""
+    presenter = _presenter_for(hall, "Heavy top")
+    bystander, _ = hall.join()
+    hostile_session, hostile = hall.join(lambda port: ViserClient(port, keep_messages=100_000))
+    hall.frames(2)
+    bystander.explore()
+    hostile_session.explore()  # its panel now has the explorer's bar (Follow presenter, Stay) of its own
+    hall.frames(40)
+    hostile.state.wait_for(lambda: hostile.state.replay_done, timeout=10.0)
+    time.sleep(0.3)
+    lectern = hall.app.lectern
+    assert "0 following · 2 exploring" in presenter.gui_badge.content
+    errors_before = hostile_session.error_count
+    attack(hostile, presenter)
+    time.sleep(1.0)
+    for session in (hostile_session, bystander, presenter):
+        with session.lock:
+            pass
+    hall.frames(40)
+    assert lectern.presenter is presenter and presenter.mode == "presenting"
+    assert lectern.call_back_left(bystander) is None and bystander.mode == "own"
+    from viser import _messages  # its own (hidden) Call everyone back, pressed: refused in its own panel
+
+    hostile.send(_messages.GuiUpdateMessage(hostile_session.gui_call_back._impl.uuid, {"value": True}))
+    poll_until(lambda: "only the presenter can call everyone back" in str(hostile_session.last_error), timeout=5.0)
+    assert hostile_session.error_count > errors_before and lectern.call_back_left(bystander) is None
+    # The presenter's button does call back, and counts change with it.
+    presenter.call_back()
+    hall.frames(2)
+    assert lectern.call_back_left(bystander) is not None

@@ -86,7 +86,7 @@ class LecturePanel:
         self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False, order=next(orders))
         self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False, order=next(orders),
                                             hint="click in the 3D view to point for everyone (or hold Shift)")
-        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, icon=viser.Icon.SPEAKERPHONE, visible=False,
+        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False,
                                             order=next(orders),
                                             hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
                                                  f"unless they press {STAY_LABEL}")
