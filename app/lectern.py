@@ -33,9 +33,11 @@ The rest:
   preset, lesson step, time, the scene's key numbers), or plainly that the presenter stopped or
   left; `Follow camera` (the presenter's viewing direction, framed for the follower's own
   screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
-  (`Room.fork`: state, time, traces, plots, playing).  `Follow presenter` comes back to the
-  live scene.  On a narrow screen (a phone) the panel shrinks to one status line and a
-  `Details` button, so the body stays in view.
+  (`Room.fork`: state, time, traces, plots, replay history, playing), seen from where the
+  browser looked.  While a presenter presents, "Lecture on" and `Follow presenter` top an
+  explorer's panel (`app.hall.lecture_panel`).  On a narrow screen (a phone) the panel shrinks
+  to one status line and a `Details` button, so the body stays in view; an explorer there
+  keeps that layout (`app.hall.narrow`).
 - **The pointer.**  The presenter ticks `Pointer` (or holds Shift) and clicks in the 3D view: a
   marker (a ring and a dot, and the short label typed under `Pointer label`) appears there on
   every follower's screen and fades within POINTER_SECONDS.  The click handler is registered on
@@ -73,7 +75,6 @@ import numpy as np
 import viser
 
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
-from app.kit.core.common import apply_camera
 from app.kit.core.room import Room
 from app.viser_internals import atomic_unless_captured
 
@@ -573,7 +574,3 @@ class Lectern:
         except Exception:  # noqa: BLE001 - the presenter's camera is not known yet, or a client left
             logger.debug("camera not sent", exc_info=True)
 
-    def reset_view(self, seat: Seat) -> None:
-        room = self.live_room
-        if room is not None:
-            apply_camera(seat.client, room.scene.view)

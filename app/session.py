@@ -10,8 +10,9 @@ This module owns the guard and the error display, the rooms and views (scene swi
 the presets' commands) and the browser's mode (present, stop presenting, follow, explore,
 close).  The rest of the panel is in `app.hall`, one module per concern: the projector layout
 (`app.hall.projector`), the lesson (`app.hall.lesson_runner`), recordings and screenshots
-(`app.hall.notes`) and the Lecture folder (`app.hall.lecture_panel`); the session's methods of
-the same names delegate to them.
+(`app.hall.notes`), the Lecture folder and the live bar (`app.hall.lecture_panel`) and a narrow
+explorer's folded panel (`app.hall.narrow`); the session's methods of the same names delegate
+to them.
 
 Every callback a session registers is wrapped by `Session.guard`: it runs under the room's
 lock, and an exception is logged and shown in this client's GUI, never reaching viser's threads
@@ -377,15 +378,20 @@ class Session:
 
     def lecture_changed(self) -> None:
         """The lecture's state in this panel (`app.lectern.Seat.lecture_changed`): the live bar, and a
-        narrow explorer's line (its layout ends if the screen became wide)."""
-        if self.closed:
+        narrow explorer's line (its layout ends if the screen became wide).  Skipped while one of
+        this browser's callbacks runs (it may be switching views; the next refresh comes soon),
+        so the app loop never waits for a browser."""
+        if self.closed or not self._busy.acquire(blocking=False):
             return
-        if self.lecture is not None:
-            self.lecture.refresh()
-        narrow = self.narrow
-        if narrow.on and not is_narrow(self.client.camera):
-            narrow.end()
-        narrow.refresh()
+        try:
+            if self.lecture is not None:
+                self.lecture.refresh()
+            narrow = self.narrow
+            if narrow.on and not is_narrow(self.client.camera):
+                narrow.end()
+            narrow.refresh()
+        finally:
+            self._busy.release()
 
     def call_back(self) -> None:
         """Ask every explorer back to the presenter (the `Call everyone back` button; presenter only)."""
