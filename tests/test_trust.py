@@ -338,3 +338,33 @@ def test_a_hostile_browser_cannot_press_the_presenters_lecture_buttons(hall: Hal
     presenter.call_back()
     hall.frames(2)
     assert lectern.call_back_left(bystander) is not None
+
+
+def test_call_back_brings_back_every_explorer_but_the_one_who_stays(hall: Hall, monkeypatch: Any) -> None:
+    from app.lectern import CALL_BACK_SECONDS
+
+    presenter = _presenter_for(hall, "Free body")
+    leaver, _ = hall.join()
+    stayer, _ = hall.join()
+    hall.frames(2)
+    leaver.explore()
+    stayer.explore()
+    hall.frames(31)
+    assert "0 following · 2 exploring" in presenter.gui_badge.content
+    assert "Lecture on" in leaver.lecture.gui_lecture_on.content and leaver.gui_follow.visible
+    now = [100.0]
+    monkeypatch.setattr(hall.app.lectern, "_clock", lambda: now[0])
+    presenter.call_back()
+    hall.frames(2)
+    for explorer in (leaver, stayer):
+        assert "following again in 10 s" in explorer.lecture.gui_lecture_on.content and explorer.gui_stay.visible
+    stayer.lecture.stay()  # what its Stay button does
+    assert not stayer.gui_stay.visible and "Lecture on" in stayer.lecture.gui_lecture_on.content
+    now[0] += CALL_BACK_SECONDS - 0.1
+    hall.frames(2)
+    assert leaver.mode == "own"
+    now[0] += 0.1
+    hall.frames(31)
+    assert leaver.mode == "following" and stayer.mode == "own"
+    assert "1 following · 1 exploring" in presenter.gui_badge.content
+    assert leaver.error_count == stayer.error_count == 0, (leaver.last_error, stayer.last_error)
