@@ -368,3 +368,29 @@ def test_call_back_brings_back_every_explorer_but_the_one_who_stays(hall: Hall, 
     assert leaver.mode == "following" and stayer.mode == "own"
     assert "1 following · 1 exploring" in presenter.gui_badge.content
     assert leaver.error_count == stayer.error_count == 0, (leaver.last_error, stayer.last_error)
+
+
+def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
+    from benchmarks.ws_client import camera_message
+
+    _presenter_for(hall, "Heavy top")
+    explorer, client = hall.join()
+    client.send(camera_message(width=780, height=1688))  # a phone, portrait, device pixels
+    poll_until(lambda: explorer.scene if explorer.scene.narrow else None, timeout=5.0)
+    with explorer.lock:
+        pass
+    camera = explorer.client.camera
+    position = tuple(camera.position)
+    explorer.explore()
+    hall.frames(31)
+    narrow = explorer.narrow
+    assert narrow.on and narrow.gui_line.visible and narrow.gui_details.visible
+    assert "Your copy" in narrow.gui_line.content and explorer.gui_follow.visible
+    folded = [explorer.gui_scene, *explorer.scene.gui_roots]
+    assert not any(handle.visible for handle in folded)
+    assert tuple(explorer.client.camera.position) == position  # the camera it had, fitted to the phone
+    narrow.set_expanded(True)  # Details
+    assert explorer.gui_scene.visible and explorer.scene.transport.gui_play.visible and not narrow.gui_line.visible
+    narrow.set_expanded(False)
+    explorer.follow()  # back: the follower's own narrow panel, nothing left folded or shown twice
+    assert explorer.mode == "following" and not narrow.on and not narrow.gui_details.visible
