@@ -1,19 +1,20 @@
 """The room is live, on the lecturer's screen and on the explorers': one lecture in Debian's
-Chromium, through the pages (clicks, taps, typing), a presenter on a 1024×768 projector, a laptop
-follower and a phone follower (390×844, touch).
+Chromium, through the pages (clicks, taps, typing), a presenter on a 1024×768 projector, a phone
+follower (390×844, touch) and a laptop follower (1280×800).
 
 1. The presenter plays the heavy top, presents and ticks `Projector`: `Stop presenting`,
-   `Pointer` and the badge ("● Live · 1 following · 0 exploring") stay in view in the docked
+   `Pointer` and the badge ("● Live · 0 following · 0 exploring") stay in view in the docked
    panel, and the badge counts the browsers as they join and explore.
 2. The phone follows, opens `Details` and explores: it keeps the phone layout (the camera it
    had, one line, `Details`): the body's projected points are body pixels, no panel over them;
    "Lecture on" and `Follow presenter` sit at the top of its panel.
-3. The laptop explores: "Lecture on" tops its panel, and it types a time 10 s back into the
-   `Timeline [s]`: its copy carries the replay history.
+3. The laptop follows and explores: "Lecture on" tops its panel, and it types a time 10 s back
+   into the `Timeline [s]`: its copy carries the replay history.
 4. `Call everyone back`: the phone presses `Stay` and keeps exploring; the laptop, which does
-   not, follows again when the countdown ends.
+   not, follows again when the countdown ends (the lectern's clock is moved on by the test).
 
-LIVE_SCREENSHOTS=<folder>: save live_badge.png and phone_explorer.png there (for the README).
+A page that does not act is frozen meanwhile (`frozen`), so that two cores render at most two
+pages.  LIVE_SCREENSHOTS=<folder>: save live_badge.png and phone_explorer.png there.
 """
 
 from __future__ import annotations
