@@ -426,8 +426,12 @@ class Room:
 
     def draw(self, view: Any, dt: float) -> None:
         """One view's part of a frame (dt [s] of wall time since it last drew); its errors go
-        to its own session, never to the loop or the other views."""
+        to its own session, never to the loop or the other views.  A view that left the room
+        since the loop listed the views (its browser switched scenes or started presenting
+        meanwhile) draws nothing: its nodes are gone."""
         with self.lock:
+            if view not in self.views:
+                return
             try:
                 view.frame(dt)
                 timeline = view.timeline
