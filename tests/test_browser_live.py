@@ -188,5 +188,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
     assert presenter.error_count == 0, presenter.last_error
 
     if SHOTS:  # the projector with the badge, and the phone explorer
+        close_toasts(presenter_page)
+        time.sleep(1.0)
         presenter_page.screenshot(path=str(Path(SHOTS) / "live_badge.png"))
         Image.open(path).save(Path(SHOTS) / "phone_explorer.png")
