@@ -104,9 +104,9 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
     live = badge(presenter_page, 0, 0)
     stop = presenter_page.get_by_role("button", name="Stop presenting")
     pointer = presenter_page.get_by_text("Pointer", exact=True).first
-    for locator in (live, stop, pointer):
+    for locator in (live, stop, pointer):  # polled: the panel slides to its dock
         locator.wait_for(state="visible", timeout=10_000)
-        assert inside(presenter_page, locator, 1024, 768), "a lecture control is out of the projector's view"
+        wait_until(lambda locator=locator: inside(presenter_page, locator, 1024, 768), timeout=10.0)
 
     # 2. The phone follows, then explores on its own: the phone layout stays.
     phone, phone_session = open_page(browser, hall, **PHONE)
