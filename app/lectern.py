@@ -24,15 +24,17 @@ The rest:
 - **The lock.**  `Lectern` holds the presenter code (`python -m app --presenter-code CODE`, or a
   random one printed at start) and the presenting seat.  A browser presents by typing the code
   into `Presenter code` and pressing `Present`: a wrong code is refused with a message, at most
-  MAX_TRIES per minute per browser; one presenter at a time; `Stop presenting` or a disconnect
-  releases the lock.
+  MAX_TRIES per minute per browser; the message stays true (`refusal_now`: the wait counts down
+  and goes, "someone else is presenting" goes when they stop); one presenter at a time;
+  `Stop presenting` or a disconnect releases the lock.
 - **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
   (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
   panel (`app.hall.follower.Follower`, built and written here): who presents what (scene,
   preset, lesson step, time, the scene's key numbers), or plainly that the presenter stopped or
-  left; `Follow camera` (the presenter's viewing direction, framed for the follower's own
-  screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
+  left; the lesson step's caption over the 3D view and the presenter's open plot tab, read
+  only (`caption`, `room_plot`); `Follow camera` (the presenter's viewing direction, framed for
+  the follower's own screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
   (`Room.fork`: state, time, traces, plots, replay history, playing), seen from where the
   browser looked.  While a presenter presents, "Lecture on" and `Follow presenter` top an
   explorer's panel (`app.hall.lecture_panel`).  On a narrow screen (a phone) the panel shrinks
@@ -64,6 +66,7 @@ import collections
 import contextlib
 import enum
 import logging
+import math
 import secrets
 import threading
 import time
@@ -76,6 +79,8 @@ import viser
 
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
 from app.kit.core.room import Room
+from app.kit.draw.labels import POINTER, Screen
+from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
@@ -96,6 +101,7 @@ POINTER_COLOR = (235, 0, 140)
 POINTER_RADIUS = 0.22  # [scene units] of the ring
 POINTER_LABEL_CHARS = 40
 CALL_BACK_SECONDS = 10.0  # [s] an explorer called back has to press Stay before it follows again
+MAX_LABEL_SCREENS = 6  # a presenter's labels are laid out for its screen and at most 5 kinds of follower's
 BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
 
 
@@ -146,6 +152,10 @@ class Seat(Protocol):
         outside the session's guard (it only writes widgets, and only what changed)."""
         ...
 
+    def caption_words(self) -> tuple[str, str]:
+        """(head, words) of the presenter's lesson caption; ("", "") for none (`app.hall.caption`)."""
+        ...
+
 
 def new_code() -> str:
     """A random presenter code: six digits, easy to read out in a lecture hall."""
@@ -158,7 +168,8 @@ class Broadcast:
 
     root_prefix = LIVE_ROOT
 
-    def __init__(self, server: viser.ViserServer, client: viser.ClientHandle) -> None:
+    def __init__(self, server: viser.ViserServer, client: viser.ClientHandle,
+                 screens: Callable[[], list[Screen]] | None = None) -> None:
         self.server = server
         self.presenter = client
         self.scene = server.scene
@@ -166,6 +177,7 @@ class Broadcast:
         self.controls = client.scene  # gizmos and clickable nodes: the presenter's only
         self.camera = client.camera
         self.client_id = client.client_id
+        self.screens = screens  # the screens the shared labels are laid out for (`Lectern.label_screens`)
 
     def atomic(self) -> contextlib.AbstractContextManager[None]:
         """The shared scene's and the presenter's `atomic()`, except inside the app loop's frame
@@ -216,8 +228,10 @@ class Pointer:
         self.markers: list[tuple[float, list[Any]]] = []  # (age [s], handles)
         self.count = 0
 
-    def add(self, point: np.ndarray, facing: np.ndarray, label: str) -> None:
-        """A marker at `point` [scene units], its ring perpendicular to `facing`."""
+    def add(self, point: np.ndarray, facing: np.ndarray, label: str, labels: Any = None) -> None:
+        """A marker at `point` [scene units], its ring perpendicular to `facing`; its label is
+        registered with `labels` (the live view's `LabelLayer`), if given, above every other
+        (POINTER): the others make room for it."""
         if len(self.markers) >= POINTER_MARKERS:
             self._remove(self.markers.pop(0)[1])
         facing = facing / float(np.linalg.norm(facing))
@@ -236,8 +250,12 @@ class Pointer:
                                                 thickness_units="screen"),
                    self.scene.add_icosphere(f"{name}/dot", radius=0.05, color=POINTER_COLOR, subdivisions=2)]
         if label:
-            handles.append(self.scene.add_label(f"{name}/label", label, position=tuple(1.3 * POINTER_RADIUS * u),
-                                                font_screen_scale=1.6, anchor="bottom-left"))
+            handle = self.scene.add_label(f"{name}/label", label, position=tuple(1.3 * POINTER_RADIUS * u),
+                                          font_screen_scale=1.6, anchor="bottom-left")
+            handles.append(handle)
+            if labels is not None:
+                labels.add(handle, POINTER)
+                labels.settle()
         self.markers.append((0.0, handles))
 
     def tick(self, dt: float) -> None:
@@ -285,6 +303,9 @@ class Lectern:
         self._live_room: Room | None = None
         self._followers: dict[int, tuple[Seat, Follower]] = {}  # by client id
         self._tries: dict[int, collections.deque[float]] = collections.defaultdict(collections.deque)
+        self._refused: dict[int, str] = {}  # client id -> "wrong", "wait" or "busy": its last refusal
+        self._refusal_watchers: dict[int, tuple[Seat, Callable[[], None]]] = {}  # `watch_refusal`
+        self._since_refusals = 0.0
         self._clock = clock
         self._lock = threading.RLock()
         self._since_status = 0.0
@@ -299,22 +320,64 @@ class Lectern:
         """Set by the app: its open sessions."""
 
     # ------------------------------------------------------------------ the lock
+    def _recent_tries(self, seat: Any) -> collections.deque[float]:
+        """`seat`'s wrong codes within the last TRIES_WINDOW (older ones dropped)."""
+        now = self._clock()
+        tries = self._tries[seat.client_id]
+        while tries and tries[0] < now - TRIES_WINDOW:
+            tries.popleft()
+        return tries
+
+    def _wait_words(self, tries: collections.deque[float], head: str = "Too many wrong codes") -> str:
+        wait = max(1, math.ceil(TRIES_WINDOW - (self._clock() - tries[0])))
+        return f"{head}: wait {wait} s before trying again."
+
     def try_code(self, seat: Any, code: str) -> str | None:
-        """None if `seat` may present with `code`, else the refusal (rate limit included)."""
+        """None if `seat` may present with `code`, else the refusal (rate limit included); the
+        refusal's words as they are now come from `refusal_now`."""
         with self._lock:
-            now = self._clock()
-            tries = self._tries[seat.client_id]
-            while tries and tries[0] < now - TRIES_WINDOW:
-                tries.popleft()
+            tries = self._recent_tries(seat)
             if len(tries) >= MAX_TRIES:
-                wait = TRIES_WINDOW - (now - tries[0])
-                return f"Too many wrong codes: wait {wait:.0f} s before trying again."
+                self._refused[seat.client_id] = "wait"
+                return self._wait_words(tries)
             if not secrets.compare_digest(str(code).strip(), self.code):
-                tries.append(now)
-                return f"Wrong presenter code ({MAX_TRIES - len(tries)} tries left this minute)."
+                tries.append(self._clock())
+                self._refused[seat.client_id] = "wrong"
+                return self.refusal_now(seat)
             if self.presenter is not None and self.presenter is not seat:
-                return "Someone else is presenting; they must stop first."
+                self._refused[seat.client_id] = "busy"
+                return self.refusal_now(seat)
+            self._refused.pop(seat.client_id, None)
             return None
+
+    def refusal_now(self, seat: Any) -> str | None:
+        """`seat`'s last refusal (`try_code`) in the words true now, or None once it no longer
+        holds: the wait counts down and ends, the tries left grow back as the minute passes,
+        "someone else is presenting" ends when they stop or leave."""
+        with self._lock:
+            kind = self._refused.get(seat.client_id)
+            tries = self._recent_tries(seat)
+            words: str | None = None
+            if kind in ("wait", "wrong") and len(tries) >= MAX_TRIES:
+                words = self._wait_words(tries, "Too many wrong codes" if kind == "wait" else
+                                         "Wrong presenter code, no tries left")
+            elif kind == "wrong" and tries:
+                left = MAX_TRIES - len(tries)
+                words = f"Wrong presenter code ({left} {'try' if left == 1 else 'tries'} left this minute)."
+            elif kind == "busy" and self.presenter is not None and self.presenter is not seat:
+                words = "Someone else is presenting; they must stop first."
+            if words is None:
+                self._refused.pop(seat.client_id, None)
+            return words
+
+    def watch_refusal(self, seat: Any, show: Callable[[], None] | None) -> None:
+        """Call `show()` (in `seat`'s guard) every FOLLOW_PERIOD while `seat` has a refusal on
+        screen, so its words stay true (`refusal_now`); None: stop."""
+        with self._lock:
+            if show is None:
+                self._refusal_watchers.pop(seat.client_id, None)
+            else:
+                self._refusal_watchers[seat.client_id] = (seat, show)
 
     def start(self, seat: Seat) -> None:
         """`seat` presents: its room goes live; everyone else follows (or keeps exploring)."""
@@ -362,7 +425,8 @@ class Lectern:
         """The presenter's view of `room`: 3D into the shared scene, panel and controls in its browser."""
         with self._lock:
             self._forget_live_view()
-            view = room.scene(Broadcast(self.server, seat.client), room, seat.guard, seat.report_error)
+            view = room.scene(Broadcast(self.server, seat.client, self.label_screens), room, seat.guard,
+                              seat.report_error)
             self.live_view = view
             self._live_room = room
         self._watch_camera(seat)
@@ -400,6 +464,8 @@ class Lectern:
         follower = Follower(seat.client, seat.guard, explore=seat.explore, follow_camera_changed=self.send_camera,
                             own_folders=seat.own_folders)
         follower.show_status(self.status(), self.status_line())
+        follower.show_caption(*self.caption())
+        follower.show_plot(*self.room_plot())
         self._followers[seat.client_id] = (seat, follower)
         with self._lock:
             self._called.pop(seat.client_id, None)
@@ -477,14 +543,37 @@ class Lectern:
         """The followers' status in one line, for a narrow screen (`app.hall.follower.status_line`)."""
         return status_line(self.live_room, self.hall)
 
+    def caption(self) -> tuple[str, str]:
+        """(head, words) of the lesson caption over every follower's 3D view: the presenter's
+        (`Seat.caption_words`) while one presents; ("", "") otherwise."""
+        presenter = self.presenter
+        if presenter is None or self.hall is not Hall.LIVE:
+            return "", ""
+        return presenter.caption_words()
+
+    def room_plot(self) -> tuple[str, list[Any]]:
+        """(tab, elements): the plot tab the presenter has open and its panel elements, which
+        every follower sees copied (`app.kit.view.SceneView.room_plot`); ("", []) for none."""
+        view = self.live_view
+        if self.presenter is None or view is None:
+            return "", []
+        try:
+            return view.room_plot()
+        except Exception:  # noqa: BLE001 - the followers' refresh must not break
+            logger.debug("room plot failed", exc_info=True)
+            return "", []
+
     def refresh_followers(self) -> None:
-        """Write the status into every follower's panel."""
+        """Write the status, the caption and the presenter's plot into every follower's panel."""
         status, line = self.status(), self.status_line()
+        caption, plot = self.caption(), self.room_plot()
         for seat, follower in list(self._followers.values()):
             if seat.closed:
                 continue
             try:
                 follower.show_status(status, line)
+                follower.show_caption(*caption)
+                follower.show_plot(*plot)
             except Exception:  # noqa: BLE001 - a follower that just left
                 logger.debug("follower refresh failed", exc_info=True)
 
@@ -528,6 +617,16 @@ class Lectern:
             if self._followers:
                 self.refresh_followers()
             self.refresh_seats()
+        self._since_refusals += dt
+        if self._since_refusals >= FOLLOW_PERIOD and self._refusal_watchers:
+            self._since_refusals = 0.0
+            with self._lock:
+                watchers = list(self._refusal_watchers.items())
+            for client_id, (seat, show) in watchers:
+                if seat.closed:
+                    self._refusal_watchers.pop(client_id, None)
+                else:
+                    seat.guard("presenter code note", show)()
         self._since_camera += dt
         if self._camera_due and self._since_camera >= CAMERA_PERIOD:
             self._camera_due = False
@@ -544,8 +643,39 @@ class Lectern:
         point = pointed_at(ray_origin, ray_direction, seat.client.camera.look_at)
         text = str(label).strip()[:POINTER_LABEL_CHARS]
         with self._lock:
-            self.pointer.add(point, np.asarray(ray_direction, dtype=float), text)
+            view = self.live_view
+            self.pointer.add(point, np.asarray(ray_direction, dtype=float), text,
+                             view.labels if view is not None else None)
         return point
+
+    def label_screens(self) -> list[Screen]:
+        """The screens the shared scene's labels are laid out for (`LabelLayer.screens`): the
+        presenter's, then one of each kind of follower's (its canvas's aspect, its panel docked or
+        not, the camera's place), those that follow the presenter's camera first, the narrowest
+        first (a phone sees the picture from farthest: its labels lie closest); at most
+        MAX_LABEL_SCREENS in all.  Read without the lectern's lock (the layout holds a room's)."""
+        screens: list[Screen] = []
+        presenter = self.presenter
+        if presenter is not None:
+            own = screen_of(presenter.client.camera, docked=bool(getattr(presenter, "projector", False)))
+            if own is not None:
+                screens.append(own)
+        kinds: dict[Any, tuple[tuple[bool, float], Screen]] = {}
+        for seat, follower in tuple(self._followers.values()):
+            screen = screen_of(follower.camera, docked=bool(getattr(seat, "projector", False)))
+            if screen is None:
+                continue
+            aspect = screen.width / screen.height
+            kind = (round(aspect, 2), screen.panel is None,
+                    tuple(round(c, 1) for c in (*screen.view.position, *screen.view.look_at)))
+            if kind not in kinds:
+                kinds[kind] = ((not follower.follow_camera, aspect), screen)
+        for _rank, screen in sorted(kinds.values(), key=lambda item: item[0]):
+            if len(screens) >= MAX_LABEL_SCREENS:
+                break
+            if screen not in screens:
+                screens.append(screen)
+        return screens
 
     def _camera_moved(self, seat: Seat) -> None:
         if seat is self.presenter:

@@ -25,6 +25,7 @@ of a refusal from `error_count` and `last_error`:
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import logging
 import threading
@@ -100,7 +101,7 @@ class Session:
         self.lecture = LecturePanel(self, self.guard, lectern, order=top) if lectern is not None else None
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
-        self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room)
+        self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
         # Their widgets, by the names tools and tests use.
         self.gui_projector = self.projector_layout.gui_checkbox
         self.lesson_folder = self.lesson_runner.folder
@@ -116,6 +117,7 @@ class Session:
                                              *(() if self.lecture is None else (self.lecture.folder,)))
         """The folders a collapsed follower's panel hides (`app.lectern.Seat`)."""
         self._preset_commands: list[Any] = []
+        self._key_toast: Any = None  # the "Following the presenter" toast a key brought up
         self._build_commands(gui)
         self._shadow: Any = None
         self._room = Room(SCENES[scene], SCENES[scene].new_simulation())
@@ -317,8 +319,13 @@ class Session:
 
     def _key(self, action: Callable[[Room], None]) -> None:
         if self.mode is Mode.FOLLOWING:
-            self.client.add_notification("Following the presenter", "Press 'Explore on my own' to drive "
-                                         "your own copy.", auto_close_seconds=3.0)
+            # One toast however many keys are pressed: the one on screen goes before the next.
+            if self._key_toast is not None:
+                with contextlib.suppress(Exception):  # closed already
+                    self._key_toast.remove()
+            self._key_toast = self.client.add_notification(
+                "Following the presenter", "Press 'Explore on my own' to drive your own copy.",
+                auto_close_seconds=3.0)
             return
         action(self.room)
 
@@ -399,6 +406,10 @@ class Session:
             raise RuntimeError("this app has no lecture hall")
         self.guard("call everyone back", self.lecture.call_back)()
 
+    def caption_words(self) -> tuple[str, str]:
+        """(head, words) of the lesson caption (`app.hall.lesson_runner.LessonRunner.caption_words`)."""
+        return self.lesson_runner.caption_words()
+
     def _lesson_stepped(self) -> None:
         if self.lectern is not None and self.lectern.presenter is self:
             self.lectern.refresh_followers()
@@ -449,9 +460,8 @@ class Session:
         panel = self.lecture
         if lectern is None or panel is None:
             raise RuntimeError("this app has no lecture hall")
-        refusal = lectern.try_code(self, code)
-        if refusal is not None:
-            panel.note(f"**⚠ {refusal}**")
+        if lectern.try_code(self, code) is not None:
+            panel.refused()  # the lectern's words, kept true while shown
             return
         panel.note("")
         if self.mode is Mode.FOLLOWING:

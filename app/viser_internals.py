@@ -18,8 +18,8 @@ Features and what the app does without them:
   (`world_pose`, `world_point`, `node_world`), a node's removed flag and a label's props; off:
   no walker (`app.kit.draw.labels` shows every wanted label, with no layout), `remove_under` removes
   a subtree by replacing its root, `node_removed` is False.
-- `PANEL_INPUTS`: a panel's checkboxes below given top-level handles (`panel_checkboxes`); off:
-  None (`app.kit.view` looks through the view's attributes).
+- `PANEL_INPUTS`: a panel's inputs (and checkboxes) below given top-level handles (`panel_inputs`,
+  `panel_checkboxes`); off: None (`app.kit.view` looks through the view's attributes).
 - `FRAME_CAPTURE`: `app.wire` (a frame encoded once, in viser's wire format, written to the
   sockets): `divert_queue`, the interfaces, buffers, connections and event loop, the window
   envelope (`pack_window`); needs viser `SUPPORTED` (the wire builds viser's frames itself); off:
@@ -53,7 +53,8 @@ __all__ = ["FAST_SETTERS", "FEATURES", "FRAME_CAPTURE", "NEEDS", "PANEL_INPUTS",
            "SUPPORTED", "VERSION", "Feature", "Need", "atomic_unless_captured", "check", "client_buffer",
            "configure", "connection_closed", "divert_queue", "event_loop", "flush_all", "frame_capture",
            "in_frame_capture", "interface_of", "label_props", "live_connections", "message_buffer", "node_removed",
-           "node_world", "pack_window", "panel_checkboxes", "pending_messages", "remove_under", "report",
+           "node_world", "pack_window", "panel_checkboxes", "panel_inputs", "pending_messages", "remove_under",
+           "report",
            "scene_nodes", "set_points", "set_position", "set_scale", "set_wxyz", "unsent_bytes", "world_point",
            "world_pose"]
 
@@ -419,9 +420,10 @@ def world_pose(handle: Any) -> tuple[np.ndarray, np.ndarray]:
 
 
 # ---------------------------------------------------------------------- panel inputs
-def panel_checkboxes(gui: Any, roots: Iterable[Any]) -> list[Any] | None:
-    """The checkboxes of the panel `gui` (a `client.gui`) that are top-level handles `roots` or
-    sit in a folder or tab below one of them, not removed; None when PANEL_INPUTS is off."""
+def panel_inputs(gui: Any, roots: Iterable[Any]) -> list[Any] | None:
+    """The inputs (buttons, sliders, checkboxes, menus, fields) of the panel `gui` (a
+    `client.gui`) that are top-level handles `roots` or sit in a folder or tab below one of
+    them, not removed; None when PANEL_INPUTS is off."""
     if not PANEL_INPUTS.on:
         return None
     top = {handle._impl.uuid for handle in roots}
@@ -433,8 +435,13 @@ def panel_checkboxes(gui: Any, roots: Iterable[Any]) -> list[Any] | None:
         return container in top
 
     return [handle for handle in list(gui._gui_input_handle_from_uuid.values())
-            if isinstance(handle, viser.GuiCheckboxHandle) and not handle._impl.removed
-            and (handle._impl.uuid in top or ours(handle._impl.parent_container_id))]
+            if not handle._impl.removed and (handle._impl.uuid in top or ours(handle._impl.parent_container_id))]
+
+
+def panel_checkboxes(gui: Any, roots: Iterable[Any]) -> list[Any] | None:
+    """The checkboxes among `panel_inputs(gui, roots)`; None when PANEL_INPUTS is off."""
+    inputs = panel_inputs(gui, roots)
+    return None if inputs is None else [handle for handle in inputs if isinstance(handle, viser.GuiCheckboxHandle)]
 
 
 # ---------------------------------------------------------------------- frame capture

@@ -229,7 +229,11 @@ def read_mesh_bytes(name: str, data: bytes) -> Mesh:
         raise MeshError(f"{name}: a mesh ({', '.join(MESH_SUFFIXES)}) wanted")
     try:
         vertices, faces = reader(data)
-    except (ValueError, IndexError, KeyError, TypeError, UnicodeDecodeError, struct.error) as error:
+    except UnicodeDecodeError:  # said in plain words: a text format holding binary bytes
+        kind = Path(name).suffix.lstrip(".").upper()
+        raise MeshError(f"{name}: not a readable mesh (this {kind} file holds binary bytes where {kind} has "
+                        f"text: export it as a text {kind}, or as STL, PLY or GLB)") from None
+    except (ValueError, IndexError, KeyError, TypeError, struct.error) as error:
         raise MeshError(f"{name}: not a readable mesh ({type(error).__name__}: {error})") from None
     if faces.size == 0 or len(vertices) == 0:
         raise MeshError(f"{name}: not a readable mesh (no triangles)")

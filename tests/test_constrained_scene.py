@@ -121,3 +121,21 @@ def test_arrows_in_the_turned_frame_are_the_vectors(manual, preset) -> None:  # 
                 assert arrow.back.scale[2] == piece and piece <= shaft + 1e-9 <= 2 * piece + 2e-9
                 assert arrow.back.position[2] == pytest.approx(-arrow._head_scale * arrow.head_length)
     assert session.error_count == 0, session.last_error
+
+
+def test_turning_rod_played_for_a_minute_ends_when_the_bead_flies_off_without_a_warning(manual) -> None:  # type: ignore[no-untyped-def]
+    """r = r₀ cosh Ωt reaches ℓ = 2 m at t = arccosh(2 / 0.15) / 1.2 = 2.73 s: the run ends there,
+    said in plain words (no "⚠ The simulation stopped"); Reset clears the note."""
+    session = manual.session
+    session.select_scene("Constrained particles")
+    session.apply_preset("Turning rod")
+    view = session.scene
+    session.play()
+    manual.tick(60.0, dt=1.0 / 30.0)
+    t_off = math.acosh(2.0 / 0.15) / 1.2
+    assert not session.room.playing and view.sim.t == pytest.approx(t_off, abs=0.05)
+    text = view.message.text
+    assert "flew off" in text and "⚠" not in text and "stopped" not in text, text
+    assert session.error_count == 0, session.last_error
+    session.reset()
+    assert view.message.text == "" and view.sim.t == 0.0

@@ -25,7 +25,7 @@ import viser
 
 from app.kit.core.common import CameraView
 from app.kit.draw.labels import DETAIL, KEY, LabelLayer
-from app.kit.draw.screen import LabelBox, label_boxes, overlapping, project, project_one
+from app.kit.draw.screen import LabelBox, boxes_meet, label_boxes, overlapping, panel_box, project, project_one
 from app.scenes import SCENES
 
 WIDTH, HEIGHT = 1280, 800
@@ -190,6 +190,19 @@ def test_every_label_of_every_scene_is_registered(manual) -> None:
 
 
 # ---------------------------------------------------------------------- every preset
+PANEL = panel_box(WIDTH, HEIGHT)  # the floating panel's rectangle on a 1280x800 window
+
+
+def _report_window(manual: Any, width: int, height: int) -> None:
+    """The raw client reports a width x height canvas (what a browser of that size sends)."""
+    from viser import _messages
+
+    manual.client.send(_messages.ViewerCameraMessage(
+        wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, 3.0, 3.0), fov=math.radians(50.0), near=0.01, far=100.0,
+        image_height=height, image_width=width, look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
+    manual.wait(lambda: manual.session.client.camera.image_width == width)
+
+
 def _cases() -> list[Any]:
     """(title, preset) of every preset of every scene."""
     return [pytest.param(title, preset.name) for title, scene in SCENES.items() for preset in scene.presets()]
@@ -203,6 +216,7 @@ def _describe(pairs: list[tuple[LabelBox, LabelBox, float]]) -> str:
 @pytest.mark.parametrize(("title", "preset"), _cases())
 def test_labels_do_not_overlap_in_the_first_10_s(manual, title: str, preset: str) -> None:
     session = manual.session
+    _report_window(manual, WIDTH, HEIGHT)  # the layout's window is the one checked here
     session.select_scene(title)
     session.reset_camera()  # the browser's camera at the scene's view (the raw client starts elsewhere)
     session.apply_preset(preset)
@@ -217,7 +231,9 @@ def test_labels_do_not_overlap_in_the_first_10_s(manual, title: str, preset: str
         if t >= t_next - 1e-9:
             t_next += SAMPLE_EVERY
             with session.lock:
-                pairs = overlapping(label_boxes(session.client.scene, view.view, WIDTH, HEIGHT), MIN_GAP_PX)
+                boxes = label_boxes(session.client.scene, view.view, WIDTH, HEIGHT)
+                pairs = overlapping(boxes, MIN_GAP_PX)
+                under = [b.text for b in boxes if boxes_meet(b.box, PANEL)]
                 for entry in view.labels._entries.values():
                     text = str(entry.handle.text)
                     if entry.priority >= KEY and entry.wanted:
@@ -225,6 +241,8 @@ def test_labels_do_not_overlap_in_the_first_10_s(manual, title: str, preset: str
                         shown[text] = shown.get(text, 0) + bool(entry.handle.visible)
             if pairs:
                 problems.append(f"t = {t:.2f} s: {_describe(pairs)}")
+            if under:
+                problems.append(f"t = {t:.2f} s: {under} under the panel")
         session.tick(DT)
     assert session.error_count == 0, session.last_error
     assert not problems, f"{title} {preset!r}: labels overlap at 1280x800:\n" + "\n".join(problems[:8])

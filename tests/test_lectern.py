@@ -255,3 +255,39 @@ def test_projector_layout_styles_the_panel_and_enlarges_the_3d_labels(hall: Hall
     session.set_projector(False)
     assert session.projector_layout.style is None
     assert float(session.scene.nodes.label.font_screen_scale) == pytest.approx(before)
+
+
+def test_a_refusal_stays_true_the_wait_counts_down_and_tries_agree_in_number() -> None:
+    clock = [0.0]
+    lectern = Lectern(server=None, code=CODE, clock=lambda: clock[0])  # type: ignore[arg-type]
+    browser = type("S", (), {"client_id": 7})()
+    for _ in range(MAX_TRIES - 1):
+        lectern.try_code(browser, "000000")  # type: ignore[arg-type]
+    assert lectern.refusal_now(browser) == "Wrong presenter code (1 try left this minute)."
+    lectern.try_code(browser, "000000")  # type: ignore[arg-type]
+    assert "wait 60 s" in str(lectern.refusal_now(browser))
+    clock[0] = 15.5
+    assert "wait 45 s" in str(lectern.refusal_now(browser))  # counts down
+    clock[0] = 60.5
+    assert lectern.refusal_now(browser) is None  # the wait is over: nothing to say
+    presenter = type("S", (), {"client_id": 9})()
+    lectern.presenter = presenter  # type: ignore[assignment]
+    assert "Someone else" in str(lectern.try_code(browser, CODE))  # type: ignore[arg-type]
+    assert "Someone else" in str(lectern.refusal_now(browser))
+    lectern.presenter = None
+    assert lectern.refusal_now(browser) is None  # they stopped
+
+
+def test_a_followers_status_says_one_time_while_the_presenter_replays() -> None:
+    from types import SimpleNamespace
+
+    from app.hall.follower import Hall, status_text
+    from app.kit.core.room import LIVE, REPLAYING
+
+    sim = SimpleNamespace(t=5.86, preset=None)
+    room = SimpleNamespace(mode=REPLAYING, shown_t=6.01, live_t=9.5, time_scale=1.0, playing=True, sim=sim,
+                           scene=SimpleNamespace(title="Free body"))
+    text = status_text(room, Hall.LIVE)  # type: ignore[arg-type]
+    assert text.count("t = ") == 1 and "replaying t = 6.0 s" in text
+    room.mode = LIVE
+    assert status_text(room, Hall.LIVE).count("t = ") == 1  # type: ignore[arg-type]

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+import viser
 
 from app import viser_internals as seam
 
@@ -187,6 +188,17 @@ def test_without_visers_panel_registry_a_view_finds_the_same_checkboxes(manual, 
             seam.PANEL_INPUTS.on = False
             by_attributes = session.scene.checkboxes()
         assert by_attributes == by_registry, title
+
+
+def test_panel_inputs_holds_the_checkboxes_and_is_none_without_the_registry(manual, restore) -> None:
+    view = manual.session.scene
+    with manual.session.lock:
+        inputs = seam.panel_inputs(view.client.gui, view._gui_roots)
+        assert inputs is not None and set(map(id, seam.panel_checkboxes(view.client.gui, view._gui_roots) or [])) \
+            <= set(map(id, inputs))
+        assert any(isinstance(h, viser.GuiButtonHandle) for h in inputs)
+        seam.PANEL_INPUTS.on = False
+        assert seam.panel_inputs(view.client.gui, view._gui_roots) is None and view.panel_controls() == []
 
 
 def test_without_visers_scene_registry_controls_are_removed_and_labels_shown(manual, restore) -> None:

@@ -8,7 +8,9 @@ This module owns:
   left) and `status_line` (the same in one line, for a narrow screen).
 - `is_narrow`: a phone-like view, whose panel collapses to one line and a `Details` button so
   the body stays in view.
-- `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`.
+- `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`, the presenter's
+  lesson caption over the 3D view (`app.hall.caption`; its `Caption` checkbox hides it on this
+  screen) and the presenter's open plot, read only (`app.hall.room_plot`).
 
 The panel knows nothing of the lectern or the session: whoever builds it (`Lectern.add_follower`)
 hands it the browser's client, its guard, the actions of its buttons and the browser's own
@@ -23,14 +25,15 @@ from typing import Any
 
 import viser
 
+from app.hall.caption import Caption
+from app.hall.room_plot import PlotMirror
 from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
+from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 
 __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "is_narrow", "status_line",
            "status_text", "transport_words", "view_aspect"]
 
-NARROW_PX = 500  # a follower's view at most this wide [px] is narrow (a phone) ...
-NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 
 
@@ -53,14 +56,13 @@ def view_aspect(camera: Any) -> float:
 
 
 def is_narrow(camera: Any) -> bool:
-    """A phone-like view: at most NARROW_PX wide, or portrait (aspect below NARROW_ASPECT).  (viser
-    reports the view's size in device pixels; a phone's CSS width of ~400 px is 800-1200 of
-    them, which the portrait test catches.)"""
+    """A phone-like view (`app.kit.draw.screen.narrow_size`: at most NARROW_PX wide, or portrait,
+    aspect below NARROW_ASPECT; the label layout keeps labels off such a view's bottom sheet)."""
     try:
         width = float(camera.image_width)
     except (AttributeError, TypeError, ValueError):
         return False
-    return (0.0 < width <= NARROW_PX) or view_aspect(camera) < NARROW_ASPECT
+    return narrow_size(width, width / view_aspect(camera))
 
 
 def transport_words(room: Room) -> str:
@@ -74,8 +76,8 @@ def transport_words(room: Room) -> str:
 
 def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Sequence[str] = ()) -> str:
     """The followers' panel text (Markdown): who presents what in `room` (the room on the shared
-    screen, None if there is none), the lesson step `lesson` (or ""), the time, the scene's
-    `key_numbers` (lines)."""
+    screen, None if there is none), the lesson step `lesson` (or ""), the time (once: while the
+    presenter looks back, the head's), the scene's `key_numbers` (lines)."""
     if room is None:
         return "Nobody is presenting."
     head = {
@@ -86,8 +88,9 @@ def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Se
                    "A new presenter can take over with the code.",
     }.get(hall, "")
     preset = getattr(room.sim, "preset", None)
-    lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else ""),
-             f"t = {room.sim.t:.1f} s · {room.time_scale:g}×"]
+    lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else "")]
+    if room.mode == LIVE or hall is not Hall.LIVE:  # looking back, the head says the one time shown
+        lines.append(f"t = {room.sim.t:.1f} s · {room.time_scale:g}×")
     if lesson:
         lines.append(lesson)
     lines.extend(key_numbers)
@@ -145,9 +148,14 @@ class Follower:
                                                       hint="see what the presenter's camera sees")
             self.gui_explore = gui.add_button("Explore on my own", icon=viser.Icon.USER,
                                               hint="an exact copy of what the presenter shows now, yours to change")
+            self.gui_caption = gui.add_checkbox("Caption", True, hint="the lesson's words over the 3D view")
+            self.caption = Caption(gui)
+            self.plot = PlotMirror(gui)
         self.gui_explore.on_click(guard("explore", lambda _event: explore()))
         self.gui_details.on_click(guard("details", lambda _event: self.set_expanded(not self.expanded)))
         self.gui_follow_camera.on_update(guard("follow camera", lambda _event: follow_camera_changed(self)))
+        self.gui_caption.on_update(guard("caption", lambda _event: self.show_caption(*self._caption_words)))
+        self._caption_words = ("", "")
         self._layout()
 
     @property
@@ -178,8 +186,9 @@ class Follower:
         self.gui_line.visible = not full
         self.gui_details.visible = self.narrow
         self.gui_details.label = "Hide details" if full else "Details"
-        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore):
+        for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore, self.gui_caption):
             handle.visible = full
+        self.plot.set_shown(full)
         self._show_own_folders(full)
 
     def _show_own_folders(self, shown: bool) -> None:
@@ -193,6 +202,17 @@ class Follower:
             self.gui_status.content = status
         if self.gui_line.content != line:
             self.gui_line.content = line
+
+    def show_caption(self, head: str, words: str) -> None:
+        """The presenter's caption (`app.hall.lesson_runner.LessonRunner.caption_words`; "" words:
+        none), over this screen's 3D view unless its `Caption` checkbox is off."""
+        self._caption_words = (head, words)
+        shown = self.gui_caption.value is True  # a client can send anything
+        self.caption.show(head if shown else "", words if shown else "")
+
+    def show_plot(self, tab: str, elements: Sequence[Any]) -> None:
+        """The presenter's open plot tab and its elements (`app.kit.view.SceneView.room_plot`)."""
+        self.plot.show(tab, elements)
 
     def remove(self) -> None:
         """The panel goes; the browser's own folders are shown again."""

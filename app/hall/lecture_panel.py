@@ -8,7 +8,8 @@ This module owns `LecturePanel`:
     `Stop presenting`, `Pointer` and `Call everyone back`;
   - while it explores and somebody else presents: "Lecture on" with `Follow presenter`; when
     the presenter calls everyone back, the countdown ("following again in 7 s") and `Stay`.
-- **The Lecture folder**: `Presenter code`, `Present`, `Pointer label`, a note for a refused code.
+- **The Lecture folder**: `Presenter code`, `Present`, `Pointer label`, a note for a refused code
+  that stays true (the wait counts down, the note goes when the refusal no longer holds).
 
 `refresh` (called by the lectern every FOLLOW_PERIOD through `Seat.lecture_changed`, and when
 the browser's mode changes) shows what the browser's mode and the lectern's state call for,
@@ -114,8 +115,24 @@ class LecturePanel:
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
-        self.gui_note.content = text
-        self.gui_note.visible = bool(text)
+        if self.gui_note.content != text:
+            self.gui_note.content = text
+        if self.gui_note.visible != bool(text):
+            self.gui_note.visible = bool(text)
+        if not text:
+            self.lectern.watch_refusal(self.seat, None)
+
+    def refused(self) -> None:
+        """Say the lectern's refusal of this browser's code, kept true while it is shown: the wait
+        counts down, and the note goes when the refusal no longer holds (`Lectern.refusal_now`)."""
+        self.show_refusal()
+        if self.gui_note.visible:
+            self.lectern.watch_refusal(self.seat, self.show_refusal)
+
+    def show_refusal(self) -> None:
+        """The refusal's words as they are now (or no note)."""
+        words = self.lectern.refusal_now(self.seat)
+        self.note(f"**⚠ {words}**" if words else "")
 
     def show_for(self, mode: Mode) -> None:
         """The panel for the browser's `mode` (`refresh`)."""

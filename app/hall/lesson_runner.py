@@ -1,7 +1,9 @@
 """The `Lesson` folder of one browser's panel and the lesson it runs (`app.lessons`: the data).
 
 This module owns `LessonRunner`: the folder (the lesson dropdown, Back / Next, the step's
-text), the → / ← keys, the running lesson and its step, and applying a step to the browser's
+text, the `Caption` checkbox), the step's caption over the browser's 3D view
+(`app.hall.caption`; while the browser presents, the checkbox decides for every follower too),
+the → / ← keys, the running lesson and its step, and applying a step to the browser's
 stage (`Stage`: the scene, the preset, the toggles, the tab, the integrator, the camera, play
 or pause).  A scene chosen by hand ends the lesson (`scene_changed`).
 """
@@ -13,6 +15,7 @@ from typing import Any, Protocol
 
 import viser
 
+from app.hall.caption import Caption
 from app.kit.core.common import Wrap, apply_camera
 from app.kit.core.room import Room
 from app.lessons import Lesson, lessons
@@ -70,6 +73,11 @@ class LessonRunner:
                                                hint="a walk through one section of the memo")
             self.gui_steps = gui.add_button_group("Step", ("◀ Back", "Next ▶"))
             self.gui_text = gui.add_markdown("")
+            self.gui_caption = gui.add_checkbox("Caption", True,
+                                                hint="the step's words over the 3D view, large; "
+                                                     "while presenting, on every follower's screen too")
+        self.caption = Caption(gui)
+        self.gui_caption.on_update(guard("caption", lambda _event: self._caption_changed()))
         self.gui_lesson.on_update(guard("lesson", lambda _event: self.start(str(self.gui_lesson.value))))
         self.gui_steps.on_click(guard("lesson step", lambda event: self.next_step(
             -1 if str(event.target.value).startswith("◀") else 1)))
@@ -84,10 +92,23 @@ class LessonRunner:
         return f"**{self.lesson.title}**, step {self.step + 1}/{len(self.lesson.steps)}: " + \
             self.lesson.steps[self.step].text
 
+    def caption_words(self) -> tuple[str, str]:
+        """(head, words) of the caption over the 3D view: the lesson and step, and the step's
+        text; ("", "") with no lesson running or the `Caption` checkbox off."""
+        if self.lesson is None or self.step < 0 or self.gui_caption.value is not True:
+            return "", ""
+        return (f"{self.lesson.title} · step {self.step + 1} of {len(self.lesson.steps)}",
+                self.lesson.steps[self.step].text)
+
+    def _caption_changed(self) -> None:
+        self.caption.show(*self.caption_words())
+        self._on_step()  # a presenter's followers follow its choice
+
     def end(self) -> None:
         """No lesson runs: its text goes (here and, for a presenter, on the followers' panels)."""
         self.lesson, self.step = None, -1
         self.gui_text.content = ""
+        self.caption.show("", "")
         if self.gui_lesson.value != NO_LESSON:
             self.gui_lesson.value = NO_LESSON  # runs start(NO_LESSON): nothing more
 
@@ -101,6 +122,7 @@ class LessonRunner:
         if title not in self.lessons:  # NO_LESSON, or anything a client sends
             self.lesson, self.step = None, -1
             self.gui_text.content = ""
+            self.caption.show("", "")
             return
         self.stage.controlled_room()  # PermissionError while following
         self.lesson = self.lessons[title]
@@ -144,4 +166,5 @@ class LessonRunner:
         elif step.play is False:
             room.pause()
         self.gui_text.content = self.text()
+        self.caption.show(*self.caption_words())
         self._on_step()

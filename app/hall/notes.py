@@ -2,8 +2,10 @@
 
 This module owns `Notes`: the folder, `Record` (the next seconds of the scene shown, computed
 from a copy of its room faster than real time, offered as .html and .viser downloads) and
-`Screenshot` (a PNG of the browser's view).  Both work in a thread and report their errors in
-the browser's panel.
+`Screenshot` (a PNG of the browser's 3D view: the scene without the panel and without the drag
+gizmos, which are hidden while the browser renders it).  The browser saves both at once under
+their whole names (viser's `send_file_download(..., save_immediately=True)`: no toast with a link
+to click).  Both work in a thread and report their errors in the browser's panel.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ class Notes:
         guard: its session's guard: the buttons' callbacks run in it.
         report_error: shows an error in the browser's panel (the threads' errors go there).
         room: the room the browser shows now.
+        view: the view drawing it in this browser (its `hide_gizmos(hidden)` takes the drag
+            gizmos out of a screenshot), or something without that method (a follower's panel).
 
     Attributes:
         folder: the folder.  last_recording: (.html, .viser) last offered, or None;
@@ -37,8 +41,11 @@ class Notes:
     """
 
     def __init__(self, client: viser.ClientHandle, guard: Wrap,
-                 report_error: Callable[[str, BaseException], None], room: Callable[[], Room]) -> None:
+                 report_error: Callable[[str, BaseException], None], room: Callable[[], Room],
+                 view: Callable[[], Any] = lambda: None) -> None:
         self.client = client
+        self._guard = guard
+        self._view = view
         self._report_error = report_error
         self._room = room
         self.last_recording: tuple[bytes, bytes] | None = None
@@ -73,8 +80,8 @@ class Notes:
                 bar.visible = True
                 html = record(copy, value, fmt="html", progress=lambda f: setattr(bar, "value", 50.0 * f))
                 data = record(copy, value, fmt="viser", progress=lambda f: setattr(bar, "value", 50.0 + 50.0 * f))
-                self.client.send_file_download(f"{title}_{value:g}s.html", html)
-                self.client.send_file_download(f"{title}_{value:g}s.viser", data)
+                self.client.send_file_download(f"{title}_{value:g}s.html", html, save_immediately=True)
+                self.client.send_file_download(f"{title}_{value:g}s.viser", data, save_immediately=True)
                 self.last_recording = (html, data)
             except Exception as error:  # noqa: BLE001 - shown, never raised into a thread
                 self._report_error("record", error)
@@ -88,14 +95,24 @@ class Notes:
         return thread
 
     def screenshot(self, *, wait: bool = False) -> threading.Thread:
-        """Ask this browser for a render of its view and offer it as a PNG download (in a
-        thread: the browser answers in a second or so)."""
+        """Ask this browser for a render of its 3D view, the drag gizmos hidden meanwhile, and
+        save it as `<scene>_t<time>s.png` (in a thread: the browser answers in a second or so)."""
+        room = self._room()
+        name = f"{room.scene.title.lower().replace(' ', '_')}_t{room.shown_t:.1f}s.png"
+        view = self._view()
+        hide = getattr(view, "hide_gizmos", None)
 
         def work() -> None:
             try:
-                image = self.client.get_render(height=720, width=1280, transport_format="png")
+                if hide is not None:
+                    self._guard("screenshot", hide)(True)
+                try:
+                    image = self.client.get_render(height=720, width=1280, transport_format="png")
+                finally:
+                    if hide is not None:
+                        self._guard("screenshot", hide)(False)
                 png = iio.imwrite("<bytes>", image, extension=".png")
-                self.client.send_file_download("scene.png", png)
+                self.client.send_file_download(name, png, save_immediately=True)
                 self.last_screenshot = png
             except Exception as error:  # noqa: BLE001
                 self._report_error("screenshot", error)

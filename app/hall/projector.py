@@ -1,9 +1,10 @@
 """The projector layout of one browser: the `Projector` checkbox and what it changes.
 
-This module owns the layout (`ProjectorLayout`): panel text >= 18 px (PROJECTOR_CSS), a narrow
-panel docked on the right, 3D labels PROJECTOR_LABEL_SCALE times larger, and the scene's camera
-view moved for the narrow panel (`projector_view`).  A follower's browser takes the panel part
-only: the shared scene's labels and camera are not its own.
+This module owns the layout (`ProjectorLayout`): panel text >= 18 px (PROJECTOR_CSS), the
+lesson's caption at PROJECTOR_CAPTION_PX (`app.hall.caption`), a narrow panel docked on the
+right, 3D labels PROJECTOR_LABEL_SCALE times larger, and the scene's camera view moved for the
+narrow panel (`projector_view`).  A follower's browser takes the panel part only: the shared
+scene's labels and camera are not its own.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from typing import Any
 
 import viser
 
+from app.hall.caption import CAPTION_PROJECTOR_RULES
 from app.kit.core.common import CameraView, Wrap, apply_camera
 from app.viser_internals import scene_nodes
 
@@ -20,15 +22,16 @@ __all__ = ["BRAND_COLOR", "PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "ProjectorLa
 
 BRAND_COLOR = (200, 110, 0)
 PROJECTOR_LABEL_SCALE = 1.4
-PROJECTOR_CSS = """<style>
-html { font-size: 20px; }
+PROJECTOR_CSS = f"""<style>
+html {{ font-size: 20px; }}
 label, button, input, .mantine-Text-root, .mantine-Button-label, .mantine-InputWrapper-label,
-.mantine-NumberInput-input, .mantine-Select-input, .mantine-TextInput-input, p, li, td { font-size: 19px !important; }
-code, pre { font-size: 15px !important; }
-.mantine-Slider-markLabel { display: none; }
-.mantine-Flex-root:has(> div > p > label) { flex-wrap: wrap; }
-.mantine-Flex-root > div:has(> p > label) { width: 100% !important; }
-h3 { font-size: 22px !important; }
+.mantine-NumberInput-input, .mantine-Select-input, .mantine-TextInput-input, p, li, td {{ font-size: 19px !important; }}
+code, pre {{ font-size: 15px !important; }}
+.mantine-Slider-markLabel {{ display: none; }}
+.mantine-Flex-root:has(> div > p > label) {{ flex-wrap: wrap; }}
+.mantine-Flex-root > div:has(> p > label) {{ width: 100% !important; }}
+h3 {{ font-size: 22px !important; }}
+{CAPTION_PROJECTOR_RULES}
 </style>"""
 
 
@@ -91,7 +94,9 @@ class ProjectorLayout:
             self.reset_camera(view.room.scene.view)
 
     def fit_new_view(self, view: Any) -> None:
-        """A new scene view of this browser: its labels take the layout's size."""
+        """A new scene view of this browser: its labels take the layout's size, and its label
+        layout knows whether the panel is docked beside the canvas (nothing covers it then)."""
+        view.labels.docked = lambda: self.on
         if self.on:
             self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
 

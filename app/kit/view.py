@@ -19,7 +19,8 @@ under it, built here; the room draws it after the view.
 
 Its 3D labels are registered with `self.labels` (a `LabelLayer`: "this label, this priority"),
 and its `frame` and `refresh` end by laying them out (`labels.update(dt)`, `labels.settle()`),
-so that no two overlap on the controlling browser's screen.
+so that no two overlap on the screens that show them (the controlling browser's; a presenter's
+and its followers' for a target with `screens`), nor cover the panel there.
 """
 
 from __future__ import annotations
@@ -31,15 +32,19 @@ import viser
 
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
-from app.kit.core.room import Room
+from app.kit.core.room import LIVE, Room
 from app.kit.core.target import DrawTarget, as_target
 from app.kit.draw.labels import LabelLayer
 from app.kit.panel.binding import Binding, Clock, bind, install_typing_guard
 from app.kit.panel.gui import MessageLine, Quiet, Tabs, Transport
 from app.kit.panel.timeline import Timeline
-from app.viser_internals import panel_checkboxes, remove_under
+from app.viser_internals import panel_checkboxes, panel_inputs, remove_under
 
-__all__ = ["SceneView", "nth"]
+__all__ = ["PLOT_TABS", "SceneView", "nth"]
+
+PLOT_TABS = ("Plots", "Energy", "Lagrange")
+"""The panel tabs whose contents a presenter's followers see too, read only, while the presenter
+has one open (`SceneView.room_plot`, `app.hall.room_plot`)."""
 
 _PRESETS: dict[type, tuple[Preset, ...]] = {}
 
@@ -117,7 +122,8 @@ class SceneView:
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
         # Every 3D label of the view is registered here with a priority; `frame` ends with
         # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.draw.labels).
-        self.labels = LabelLayer(target.camera, type(self).view)
+        # A target drawn for many screens (a presenter's shared scene) names them (`screens`).
+        self.labels = LabelLayer(target.camera, type(self).view, getattr(target, "screens", None))
 
     def build(self) -> None:
         """Build the nodes and the panel (`_build_scene`, `_build_gui`), join the room, draw."""
@@ -139,6 +145,8 @@ class SceneView:
         order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
                                  order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+        room = self.room
+        transport.looking_back = lambda: room.mode != LIVE  # the Timeline's status says the time then
         self._bindings.append(self.timeline.binding)
         self._gui_roots.extend(self.timeline.handles)
 
@@ -235,8 +243,26 @@ class SceneView:
     def refresh(self) -> None:
         raise NotImplementedError
 
-    def show_message(self, text: str) -> None:
-        self.message.show(text)
+    def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` in the message line, until `stale()` says it no longer holds."""
+        self.message.show(text, stale)
+
+    gizmos_hidden = False
+    """True while the browser renders a screenshot: the drag gizmos stay hidden (`hide_gizmos`)."""
+
+    def gizmo_handles(self) -> list[Any]:
+        """The view's drag gizmos (transform controls in `self.controls`); none by default."""
+        return []
+
+    def hide_gizmos(self, hidden: bool) -> None:
+        """Hide the drag gizmos (a screenshot is taken), or show them again as the view's state
+        says (`refresh`)."""
+        self.gizmos_hidden = bool(hidden)
+        if hidden:
+            for gizmo in self.gizmo_handles():
+                gizmo.visible = False
+        else:
+            self.refresh()
 
     def report_error(self, where: str, error: BaseException) -> None:
         if self._report_error is None:
@@ -289,11 +315,32 @@ class SceneView:
             found = _held_checkboxes(self)
         return {str(handle.label): handle for handle in found}
 
+    def panel_controls(self) -> list[Any]:
+        """The inputs of the view's panel (buttons, rows of buttons, sliders, checkboxes, menus):
+        what only the browser controlling the room has, so a lesson's words must not ask a
+        follower for them (tests/test_lesson_words.py); [] without viser's panel registry."""
+        return panel_inputs(self.client.gui, self._gui_roots) or []
+
     def show_tab(self, name: str) -> None:
         """Open the panel tab `name` (a lesson step); ValueError if the scene has no such tab."""
         if self.tabs is None or name not in self.tabs.names:
             raise ValueError(f"{self.title} has no panel tab {name!r}")
         self.tabs.show(name)
+
+    def room_plot(self) -> tuple[str, list[Any]]:
+        """(tab, elements): the plot tab this view's browser has open (one of PLOT_TABS) and the
+        panel elements it shows (uPlot charts and Markdown, in order), which a presenter's
+        followers see copied (`app.hall.room_plot.PlotMirror`); ("", []) when no plot tab is open."""
+        tabs = self.tabs
+        if tabs is None or tabs.shown not in PLOT_TABS:
+            return "", []
+        elements = self.plot_elements(tabs.shown)
+        return (tabs.shown, elements) if elements else ("", [])
+
+    def plot_elements(self, tab: str) -> list[Any]:
+        """The panel elements of the plot tab `tab` (one of PLOT_TABS) that followers see copied;
+        scenes with plot tabs override it (none by default)."""
+        return []
 
     def set_integrator(self, name: str) -> None:
         """Choose the integrator `name` (a lesson step); scenes with an integrator menu override it."""

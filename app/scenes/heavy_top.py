@@ -187,6 +187,13 @@ class HeavyTopView(RigidBodyView):
             self.energy_plot = EnergyPlot(gui)
         self._energy_run = -1  # the run (sim.restarts) whose picture is drawn
 
+    def plot_elements(self, tab: str) -> list[Any]:
+        """Energy: the class of motion, the U_eff(θ) chart and its readout; else the rigid body's."""
+        if tab == "Energy":
+            plot = self.energy_plot
+            return [plot.gui_motion, plot.handle, plot.gui_readout]
+        return super().plot_elements(tab)
+
     @staticmethod
     def energy_picture_of(sim: RigidBodySimulation) -> TopEnergyPicture:
         """The energy picture of the simulation's run (its constants of motion: the run's start);

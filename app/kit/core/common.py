@@ -20,6 +20,7 @@ import numpy as np
 from physics._types import Mat3, Vec3
 
 __all__ = [
+    "RunEnded",
     "Wrap",
     "BODY_AXIS_COLORS",
     "GIMBAL_FADE_DEG",
@@ -278,3 +279,9 @@ def fork_sharing(obj: Any, shared: Any = ()) -> Any:
         array.flags.writeable = False
         memo[id(array)] = array
     return copy.deepcopy(obj, memo)
+
+
+class RunEnded(Exception):  # noqa: N818 - not an error: the motion's natural end
+    """Raised by a simulation's `advance` when its motion reaches its natural end (a bead that
+    flies off the end of its rod): not an error.  The state stays at the last moment of the run;
+    the room pauses and says `str(self)`, plain words for a student, without a warning sign."""

@@ -41,7 +41,7 @@ import threading
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
-from app.kit.core.common import CameraView, Wrap, keep_phase
+from app.kit.core.common import CameraView, RunEnded, Wrap, keep_phase
 from app.kit.core.history import History, Snapshot, fork_with_refs, is_replayable
 from app.kit.core.presets import Preset
 
@@ -93,8 +93,8 @@ class View(Protocol):
     def refresh(self) -> None:
         """Redraw everything (after a step, a reset, an edit; never per frame)."""
 
-    def show_message(self, text: str) -> None:
-        """Say something in the view's message line (a refusal, a stopped run)."""
+    def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say something in the view's message line (a refusal, a stopped run), until `stale()`."""
 
     def remove(self) -> None:
         """Remove the view's nodes and panel from its client."""
@@ -198,10 +198,17 @@ class Room:
             timeline = view.timeline
             if timeline is not None:
                 timeline.refresh()
+            recheck = getattr(getattr(view, "message", None), "recheck", None)
+            if recheck is not None:
+                recheck()  # a message that no longer holds goes (`MessageLine.show`'s `stale`)
 
-    def notify(self, text: str) -> None:
+    def notify(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` in every view's message line (until `stale()` says it no longer holds)."""
         for view in list(self.views):
-            view.show_message(text)
+            if stale is None:
+                view.show_message(text)
+            else:
+                view.show_message(text, stale)
 
     # ------------------------------------------------------------------ replay
     @property
@@ -390,6 +397,12 @@ class Room:
         """Advance the simulation; on failure pause and say so in every view (False)."""
         try:
             self.sim.advance(dt_sim)
+        except RunEnded as end:  # the motion is over, as the physics says: no warning
+            self.playing = False
+            sim, t_end = self.sim, self.sim.t
+            self.notify(f"**■ {end}**", stale=lambda: sim is not self.sim or sim.t != t_end)  # a new run
+            self.refresh()
+            return False
         except (ArithmeticError, ValueError, RuntimeError) as error:  # IntegrationError is a RuntimeError
             self.playing = False
             logger.warning("simulation stopped: %s", error)

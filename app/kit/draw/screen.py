@@ -6,6 +6,13 @@ its `CameraView` (position, look_at, up, vertical fov); the canvas is the whole 
 above it (viser names are paths: "/a/b" is a child of "/a"), through the app's one walker of
 world poses (`app.viser_internals.node_world`, over the nodes of the client's scene).
 
+A browser's `Screen` is what a label layout needs of it: its camera view, its canvas [px, as the
+browser reports them: device pixels] and the rectangle its panel covers there (`panel_box`):
+a wide view's floating panel on the right (PANEL_WIDTH_SHARE of the width), a narrow view's
+(a phone's: `narrow_size`) bottom sheet (PHONE_PANEL_SHARE of the height), nothing when the panel
+is docked beside the canvas (the projector layout: the canvas the browser reports ends where the
+panel starts).  `screen_of(camera)` reads one from a viser camera.
+
 Text boxes follow viser 1.1's label renderer (client/src/label/LabelRenderer.tsx and
 labelLayout.ts): a "screen" label's em is 12 CSS px times `font_screen_scale` in an 800 px tall
 viewport (proportional to the height), its block is padded by 0.2 em, and `anchor` says which
@@ -24,8 +31,10 @@ import numpy as np
 from app.kit.core.common import CameraView
 from app.viser_internals import node_world, scene_nodes
 
-__all__ = ["ANCHOR_SHIFT", "LabelBox", "Projector", "box_at", "label_boxes", "overlapping", "project", "project_one",
-           "text_box", "text_size"]
+__all__ = ["ANCHOR_SHIFT", "NARROW_ASPECT", "NARROW_PX", "PANEL_WIDTH_SHARE", "PHONE_PANEL_SHARE", "Box",
+           "LabelBox", "Projector", "Screen", "box_at", "boxes_meet", "convex_hull", "label_boxes", "narrow_size",
+           "overlapping", "panel_box", "polygon_meets_box", "project", "project_one", "screen_of", "text_box",
+           "text_size"]
 
 REFERENCE_HEIGHT_PX = 800.0  # viser sizes screen labels relative to an 800 px tall viewport
 SCREEN_EM_PX = 12.0  # [px] a screen label's em at font_screen_scale 1, at REFERENCE_HEIGHT_PX
@@ -33,6 +42,105 @@ CHAR_WIDTH_EM = 0.6  # mean advance of a character of viser's sans font (DejaVu-
 LINE_HEIGHT_EM = 1.2  # ascent + descent [em]
 PADDING_EM = 0.2  # viser's BACKGROUND_PADDING_FRACTION
 NEAR = 1e-3  # [scene units] a point this close to the camera plane, or behind it, is not drawn
+NARROW_PX = 500  # a view at most this wide [px] is narrow (a phone) ...
+NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
+PANEL_WIDTH_SHARE = 0.31  # a wide view's floating panel: the right 31 % (viser's ~400 px panel of 1280)
+PHONE_PANEL_SHARE = 0.28  # a narrow view's bottom sheet (one status line, `Details`): the lowest 28 %
+
+Box = tuple[float, float, float, float]  # (x0, y0, x1, y1) [px], y down
+
+
+def narrow_size(width: float, height: float) -> bool:
+    """A phone-like view of width x height [px]: at most NARROW_PX wide, or portrait (aspect below
+    NARROW_ASPECT).  (viser reports a view's size in device pixels; a phone's CSS width of ~400
+    px is 800-1200 of them, which the portrait test catches.)"""
+    return (0.0 < width <= NARROW_PX) or (width > 0.0 and height > 0.0 and width / height < NARROW_ASPECT)
+
+
+def panel_box(width: int, height: int, docked: bool = False) -> Box | None:
+    """The rectangle [px] the panel covers on a width x height canvas: none when it is docked
+    beside the canvas (the projector layout), a narrow view's bottom sheet, or a wide view's
+    floating panel on the right (see the module docstring)."""
+    if docked:
+        return None
+    if narrow_size(width, height):
+        return (0.0, (1.0 - PHONE_PANEL_SHARE) * height, float(width), float(height))
+    return ((1.0 - PANEL_WIDTH_SHARE) * width, 0.0, float(width), float(height))
+
+
+@dataclass(frozen=True)
+class Screen:
+    """One browser's 3D view as a label layout sees it: the camera `view`, the canvas width x
+    height [px] and the `panel`'s rectangle over it [px] (None: nothing covers the canvas)."""
+
+    view: CameraView
+    width: int
+    height: int
+    panel: Box | None = None
+
+
+def screen_of(camera: Any, docked: bool = False) -> Screen | None:
+    """The `Screen` of a browser whose viser camera is `camera` (its panel docked or not); None
+    before the browser has reported its camera, or for a degenerate one."""
+    try:
+        width, height = int(camera.image_width), int(camera.image_height)
+        view = CameraView(tuple(float(c) for c in camera.position),  # type: ignore[arg-type]
+                          tuple(float(c) for c in camera.look_at),  # type: ignore[arg-type]
+                          tuple(float(c) for c in camera.up_direction),  # type: ignore[arg-type]
+                          math.degrees(float(camera.fov)))
+    except (AssertionError, AttributeError, TypeError, ValueError):  # viser: not reported yet
+        return None
+    if width <= 0 or height <= 0 or not 0.0 < view.fov_deg < 180.0 or view.position == view.look_at:
+        return None
+    return Screen(view, width, height, panel_box(width, height, docked))
+
+
+def boxes_meet(a: Box, b: Box) -> bool:
+    """Whether two boxes overlap (touching edges do not)."""
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def convex_hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull (M, 2) of points (N, 2) [px], counter-clockwise in (x, y) (Andrew's
+    monotone chain); NaN points are dropped."""
+    p = np.asarray(points, dtype=float)
+    p = p[np.all(np.isfinite(p), axis=1)]
+    if len(p) < 3:
+        return p
+    order = np.lexsort((p[:, 1], p[:, 0]))
+    pts = [tuple(v) for v in p[order]]
+
+    def half(sequence: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        chain: list[tuple[float, float]] = []
+        for q in sequence:
+            while len(chain) >= 2 and ((chain[-1][0] - chain[-2][0]) * (q[1] - chain[-2][1])
+                                       - (chain[-1][1] - chain[-2][1]) * (q[0] - chain[-2][0])) <= 0.0:
+                chain.pop()
+            chain.append(q)
+        return chain
+
+    lower, upper = half(pts), half(pts[::-1])
+    return np.array(lower[:-1] + upper[:-1], dtype=float)
+
+
+def polygon_meets_box(polygon: np.ndarray, box: Box) -> bool:
+    """Whether a convex polygon (M, 2) [px] and a box overlap (separating axes: the box's two
+    axes and the polygon's edge normals)."""
+    if len(polygon) == 0:
+        return False
+    x0, y0, x1, y1 = box
+    xs, ys = polygon[:, 0], polygon[:, 1]
+    if xs.max() <= x0 or xs.min() >= x1 or ys.max() <= y0 or ys.min() >= y1:
+        return False
+    if len(polygon) < 3:
+        return True
+    corners = np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
+    edges = np.roll(polygon, -1, axis=0) - polygon
+    normals = np.stack([edges[:, 1], -edges[:, 0]], axis=1)  # one per edge
+    on_poly = polygon @ normals.T  # (M, E)
+    on_box = corners @ normals.T  # (4, E)
+    separated = (on_box.max(axis=0) <= on_poly.min(axis=0)) | (on_box.min(axis=0) >= on_poly.max(axis=0))
+    return not bool(np.any(separated))
 
 
 def project(view: CameraView, points: Any, width: int, height: int) -> tuple[np.ndarray, np.ndarray]:

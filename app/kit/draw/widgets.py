@@ -77,7 +77,8 @@ def _want(labels: LabelLayer | None, handle: Any, visible: bool) -> None:
 
 
 class Stage:
-    """The grid (at height `grid_z`) and the space axes x y z with their labels, under `root`."""
+    """The grid (at height `grid_z`) and the space axes x y z with their labels, under `root`
+    (the labels kept off the bodies' outlines: `LabelLayer.add(clear_of_bodies=True)`)."""
 
     def __init__(self, scene: Any, root: str, *, grid_z: float = 0.0, size: float = 5.0,
                  axis_length: float = SPACE_AXIS_LENGTH, labels: LabelLayer | None = None) -> None:
@@ -91,15 +92,18 @@ class Stage:
             shaft_radius=0.014, head_radius=0.045, head_length=0.11,
         )
         for k, name in enumerate("xyz"):
-            _register(labels, scene.add_label(f"{root}/space_labels/{name}", name,
-                                              position=tuple((axis_length + 0.14) * np.eye(3)[k]),
-                                              font_screen_scale=LABEL_SCALE, anchor="center-center"), KEY)
+            handle = scene.add_label(f"{root}/space_labels/{name}", name,
+                                     position=tuple((axis_length + 0.14) * np.eye(3)[k]),
+                                     font_screen_scale=LABEL_SCALE, anchor="center-center")
+            if labels is not None:  # an axis label never sits on a body
+                labels.add(handle, KEY, clear_of_bodies=True)
 
 
 class Body:
     """A body: a frame at `name` turned by R_space_body, its shape and its axes x′ y′ z′.
 
     build_shape(scene, parent) adds the shape's nodes under `parent`; `reshape` swaps them.
+    Its shape's meshes are a body for the view's labels (`LabelLayer.avoid`).
     Two instances with different names draw two bodies (the second, say, translucent).
     """
 
@@ -110,6 +114,8 @@ class Body:
         self._shape_name = f"{name}/shape"
         self._shape = scene.add_frame(self._shape_name, show_axes=False)
         build_shape(scene, self._shape_name)
+        if labels is not None:  # the space axes' labels keep off its outline
+            labels.avoid(scene, self._shape_name)
         self.axes = scene.add_frame(f"{name}/axes", show_axes=False, visible=show_axes)
         scene.add_arrows(
             f"{name}/axes/arrows", axis_segments(np.eye(3), axis_length), np.array(BODY_AXIS_COLORS),

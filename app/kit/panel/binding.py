@@ -23,10 +23,12 @@ The two sides split the work where each thing is known:
 * **On the server**, `bind(...)` gives a handle one callback (instead of a hand-written one per
   control): every update is applied when it arrives, so the next frame draws it.  A value is
   parsed and checked (`check`: a `SliderSpec`'s range, or a function that raises `Refused`),
-  then `apply(value)`; a refusal (not a number, NaN, out of range, or `apply` returning/raising
-  one) is said in the message line and the field goes back to `current()`, the value in force.
-  For HANDS_OFF_S after a browser's last update, the server's quiet writes (a slider following
-  the motion) skip the field, so a thumb under the hand is not pulled back.
+  then `apply(value)` (a value equal to the one in force is not applied again, but it clears the
+  message line: the edit ended on a valid value); a refusal (not a number, NaN, out of range, or
+  `apply` returning/raising one) is said in the message line and the field goes back to
+  `current()`, the value in force.  For HANDS_OFF_S after a browser's last update, the server's
+  quiet writes (a slider following the motion) skip the field, so a thumb under the hand is not
+  pulled back.
 
 A page without the guard (a raw websocket client) gets each value it sends checked and applied
 in its own room like any other: nothing it sends skips the check.  The time is a `Clock`
@@ -69,7 +71,13 @@ which would cut a typed -0.8 to -0)."""
 
 
 class Refused(ValueError):
-    """A value that is not applied; the message says why (shown in the message line)."""
+    """A value that is not applied; the message says why (shown in the message line).
+
+    stale: optional; true once the message no longer holds (`MessageLine.show`)."""
+
+    def __init__(self, message: str, stale: Callable[[], bool] | None = None) -> None:
+        super().__init__(message)
+        self.stale = stale
 
 
 class Clock(Protocol):
@@ -161,21 +169,27 @@ class Binding:
 
     def decide(self, value: Any) -> None:
         """Check and apply `value`; a refusal is said and the field goes back to the value in force."""
+        stale = None
         try:
             parsed = self._check(value)
             self._message.clear()
+            if _same(parsed, self._current()):
+                return  # the value in force, sent again (a typed edit that ended without a number)
             refusal = self._apply(parsed)
         except Refused as error:
-            refusal = str(error)
+            refusal, stale = str(error), error.stale
         if refusal is not None:
-            self.refuse(refusal)
+            self.refuse(refusal, stale)
             return
         self.applied += 1
 
-    def refuse(self, text: str) -> None:
-        """Say `text` and put the field back to the value in force."""
+    def refuse(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` (until `stale()`, if given) and put the field back to the value in force."""
         self.refused += 1
-        self._message.show(text)
+        if stale is None:
+            self._message.show(text)
+        else:
+            self._message.show(text, stale)
         self.revert()
 
     def revert(self) -> None:

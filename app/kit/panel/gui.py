@@ -25,6 +25,7 @@ from app.kit.core.presets import Preset
 from app.kit.panel.binding import Clock, Refused, bind
 
 __all__ = [
+    "LOOKING_BACK_STATUS",
     "PAUSE_LABEL",
     "PLAY_LABEL",
     "RESET_LABEL",
@@ -42,6 +43,7 @@ __all__ = [
 TIME_SCALE_RANGE = (0.1, 4.0)
 PLAY_LABEL, PAUSE_LABEL = "Play", "Pause"
 STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (⏭ ⏸ are missing)
+LOOKING_BACK_STATUS = "⟲ Looking back: the time shown is under the Timeline."  # one line, as the scenes' status
 
 Callback = Callable[[Any], None]
 """The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
@@ -82,22 +84,35 @@ class Quiet:
 
 
 class MessageLine:
-    """A Markdown line, hidden unless there is something to say (a refusal, a stopped run)."""
+    """A Markdown line, hidden unless there is something to say (a refusal, a stopped run).
+
+    A message says what is true now: shown with `stale` (a function, true once the message no
+    longer holds: the recorded stretch it quotes has grown), it goes at the next `recheck()`
+    after that (the Timeline rechecks whenever it shows the room's state).  The same message
+    shown again is one message (nothing is sent)."""
 
     def __init__(self, gui: Any) -> None:
         self.handle = gui.add_markdown("", visible=False)
+        self._stale: Callable[[], bool] | None = None
 
     @property
     def text(self) -> str:
         return str(self.handle.content) if self.handle.visible else ""
 
-    def show(self, text: str) -> None:
+    def show(self, text: str, stale: Callable[[], bool] | None = None) -> None:
         content = text if text.startswith("**") else f"**⚠ {text}**"
+        self._stale = stale
         if self.handle.content != content or not self.handle.visible:
             self.handle.content = content
             self.handle.visible = True
 
+    def recheck(self) -> None:
+        """Clear the message if it was shown with a `stale` test that now says it no longer holds."""
+        if self._stale is not None and self.handle.visible and self._stale():
+            self.clear()
+
     def clear(self) -> None:
+        self._stale = None
         if self.handle.visible:
             self.handle.visible = False
             self.handle.content = ""
@@ -141,6 +156,9 @@ class Transport:
             self.gui_integrator = gui.add_dropdown("Integrator", tuple(integrators), initial_value=first,
                                                    hint=integrator_hint)
         self.gui_status = gui.add_markdown("")
+        self.looking_back: Callable[[], bool] = lambda: False
+        """True while the room shows a recorded moment: the Timeline's status line says the time
+        then, and this one LOOKING_BACK_STATUS instead of the scene's (one time in the panel)."""
         self._time_scale = 1.0
         self._integrator = first
         self.quiet = Quiet()
@@ -203,6 +221,8 @@ class Transport:
             self.quiet.write(self.gui_integrator, integrator)
 
     def set_status(self, text: str) -> None:
+        if self.looking_back():
+            text = LOOKING_BACK_STATUS
         if self.gui_status.content != text:
             self.gui_status.content = text
 

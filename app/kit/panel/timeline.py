@@ -14,7 +14,11 @@ adds one under the transport of every scene whose simulation can be replayed (th
   shown) at the transport's time scale; Play / Pause pause and go on; it ends at the live moment.
 - Resume: back to the live moment, exactly as it was; plays on if it was playing.
 - Branch here: the moment shown becomes the live one and the motion plays on from it.
-- The status line: "Replaying t = 12.3 s of 40.1 s (0.1×)".
+- The status line: "Replaying t = 12.3 s of 40.1 s (0.1×)".  While the room shows a recorded
+  moment it is the panel's one time: the transport's own status line says no time meanwhile
+  (`Transport.looking_back`; it keeps its place, so nothing moves under the hand).
+- A refusal quotes the stretch ("only 0.00 s to 6.20 s is recorded"); it goes as soon as the
+  stretch has moved on by STALE_S (`MessageLine.show(..., stale)`), since it no longer holds.
 """
 
 from __future__ import annotations
@@ -28,8 +32,8 @@ from app.kit.core.room import LIVE, REPLAYING, Room
 from app.kit.panel.binding import Binding, Clock, Refused, bind
 from app.kit.panel.gui import MessageLine, Quiet
 
-__all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "TIMELINE_LABEL", "TIMELINE_STEP", "Timeline",
-           "timeline_text"]
+__all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "STALE_S", "TIMELINE_LABEL", "TIMELINE_STEP", "Timeline",
+           "stretch_moved", "timeline_text"]
 
 TIMELINE_LABEL = "Timeline [s]"
 REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = "Replay", "Resume", "Branch here"
@@ -38,6 +42,14 @@ name contains "play", which the browser tests' locators rely on.)"""
 TIMELINE_STEP = 0.01  # [s] the slider's step
 FOLLOW_PERIOD = 0.2  # [s] of wall time between the slider's updates while replaying (5 Hz)
 LIVE_FOLLOW_PERIOD = 1.0  # [s] ... while live (1 Hz): the recorded stretch only grows, nobody reads it closely
+STALE_S = 0.5  # [s] a refusal quoting the stretch goes once either end has moved this far
+
+
+def stretch_moved(then: tuple[float, float] | None, now: tuple[float, float] | None) -> bool:
+    """The recorded stretch `now` is no longer the one `then` (an end moved by STALE_S or more)."""
+    if then is None or now is None:
+        return then is not now
+    return max(abs(now[0] - then[0]), abs(now[1] - then[1])) >= STALE_S
 
 
 def timeline_text(room: Room) -> str:
@@ -61,6 +73,11 @@ class Timeline:
                  clock: Clock | None = None) -> None:
         self.room = room
         self._message = message
+
+        def stale_now() -> Any:
+            """A test of the message just shown: the stretch it quotes has moved on."""
+            then = room.stretch()
+            return lambda: stretch_moved(then, room.stretch())
         orders = [None] * 3 if order is None else [order + 0.1 * k for k in (1, 2, 3)]
         self.gui_slider = gui.add_slider(TIMELINE_LABEL, 0.0, TIMELINE_STEP, TIMELINE_STEP, 0.0, disabled=True,
                                          order=orders[0],
@@ -81,7 +98,7 @@ class Timeline:
             try:
                 room.scrub(value)
             except ValueError as error:
-                raise Refused(str(error)) from None
+                raise Refused(str(error), stale_now()) from None
             message.clear()
 
         def check(value: Any) -> float:
@@ -108,7 +125,7 @@ class Timeline:
                 else:  # a client can send any string
                     return
             except ValueError as error:
-                message.show(str(error))
+                message.show(str(error), stale_now())
                 return
             message.clear()
 
@@ -155,3 +172,4 @@ class Timeline:
         text = timeline_text(room)
         if self.gui_status.content != text:
             self.gui_status.content = text
+        self._message.recheck()

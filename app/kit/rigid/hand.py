@@ -64,6 +64,7 @@ class HandView(Protocol):
     message: Any  # app.kit.panel.gui.MessageLine
     omega_scale: float
     L_scale: float
+    gizmos_hidden: bool
     @property
     def hand_gizmos(self) -> tuple[str, ...]: ...
 
@@ -123,7 +124,7 @@ class HandControls:
 
     def refresh(self) -> None:
         """Show the gizmos at the tips while paused (the one being dragged stays under the mouse)."""
-        shown = bool(self.gui_show.value) and not self.view.room.playing
+        shown = bool(self.gui_show.value) and not self.view.room.playing and not self.view.gizmos_hidden
         for kind, gizmo in self.gizmos.items():
             if gizmo.visible != shown:
                 gizmo.visible = shown

@@ -206,6 +206,10 @@ class RigidBodyView(SceneView):
     `app.kit.rigid.hand`); () for neither."""
     hand: HandControls | None = None
 
+    def gizmo_handles(self) -> list[Any]:
+        """The ω (and L) drag gizmos (`app.kit.rigid.hand`)."""
+        return [] if self.hand is None else list(self.hand.gizmos.values())
+
     extra_tabs: ClassVar[tuple[str, ...]] = ()
     """The scene's own panel tabs after Setup / Readout / Plots / Lagrange (filled by `build_tab_extras`)."""
 
@@ -359,6 +363,14 @@ class RigidBodyView(SceneView):
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
         self.gui_live_plots.on_update(wrap("live plots", lambda _event: self.refresh()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
+
+    def plot_elements(self, tab: str) -> list[Any]:
+        """Plots: the accuracy line and the charts (while `Live plots` is on); Lagrange: its table."""
+        if tab == "Plots":
+            return [self.accuracy.handle, *(self.plots.handles if self.gui_live_plots.value else ())]
+        if tab == "Lagrange":
+            return [self.lagrange_readout.handle]
+        return []
 
     def plot_specs(self) -> list[PlotSpec]:
         return [

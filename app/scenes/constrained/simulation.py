@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.kit.core.common import SliderSpec
+from app.kit.core.common import RunEnded, SliderSpec
 from app.kit.core.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.core.samples import SampleBuffer
 from app.kit.core.trace import Trace
@@ -20,6 +20,7 @@ from physics._types import Array
 from physics.constrained import (
     Evaluation,
     GridIntegrator,
+    LeftTheConstraint,
     System,
     bead_on_turning_hoop,
     bead_on_turning_rod,
@@ -196,10 +197,18 @@ class ConstrainedSimulation:
 
     def advance(self, dt: float) -> None:
         """dt [s] of simulated time in grid steps (physics.constrained.GridIntegrator); on an
-        error (a bead off its rod, singular coordinates) the state stays and the error is raised."""
+        error (singular coordinates) the state stays and the error is raised.  A bead that
+        reaches the end of its rod flies off it: the run is over (`RunEnded`, said in plain
+        words; the state stays at its last moment on the rod)."""
         if dt == 0.0:
             return
-        self.integrator.advance(dt)
+        try:
+            self.integrator.advance(dt)
+        except LeftTheConstraint:
+            limit = self.system.limit
+            raise RunEnded(f"The bead reached the end of the rod (|r| = ℓ = {limit:g} m) just after "
+                           f"t = {self.t:.2f} s and flew off it: on a turning rod r grows like cosh Ωt, so "
+                           "the motion on the rod ends there. ⟲ Reset to watch it again.") from None
         self._evaluation = None
         self._record()
         self.version += 1

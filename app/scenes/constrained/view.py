@@ -232,6 +232,10 @@ class ConstrainedView(SceneView):
             self.plots = LivePlots(gui, sim.samples, specs, height=170)
         self._system_handles = [*self.gui_q, *self.gui_rates, *self.gui_params, *self.plots.handles]
 
+    def plot_elements(self, tab: str) -> list[Any]:
+        """Plots: the system's charts."""
+        return list(self.plots.handles) if tab == "Plots" else []
+
     def _bind(self, handle: Any, where: str, apply: Callable[[float], str | None], current: Callable[[], Any],
               spec: SliderSpec) -> None:
         binding = self.bind(handle, where, apply, current, spec=spec)

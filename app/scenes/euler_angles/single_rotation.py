@@ -15,7 +15,9 @@ The animation: switching the toggle on, or the `Animate` button, turns two outli
 from the space axes to D over ANIMATION_SECONDS: a dark one by exp(s Φ hat(d)), s = 0 → 1 (the
 single turn), and beside it a coloured one through the three Euler steps z-x-z (in the colours
 of the φ, θ, ψ arcs: purple while φ turns about z, pink for θ about the line of nodes, teal for
-ψ about z′); both end on the body, stay ANIMATION_HOLD seconds and go.  The animation is this
+ψ about z′); both end on the body, stay ANIMATION_HOLD seconds and go.  Their legend rides on
+them (a label on each outline, the coloured one naming its step) and is written in the folder
+while they are drawn.  The animation is this
 view's (a presenter's is seen by the followers); it follows D if the angles move meanwhile.
 """
 
@@ -47,6 +49,11 @@ ARC_SEGMENTS = 48  # segments of the Φ arc
 ARC_HYSTERESIS = 0.25  # the Φ arc keeps its space axis e_k until another is this much more perpendicular to d
 ANIMATION_SECONDS = 4.0  # [s] of wall time: the outlines turn from 1 to D
 ANIMATION_HOLD = 1.5  # [s] they then stay on the body, and go
+TURN_LEGEND = "dark: one turn sΦ about d"  # the label on the single-turn outline
+ZXZ_LEGENDS = ("coloured: z-x-z, now φ about z", "coloured: z-x-z, now θ about the line of nodes",
+               "coloured: z-x-z, now ψ about z′")  # the label on the z-x-z outline, step by step
+PANEL_LEGEND = ("**The two outlines:** dark, one turn by sΦ about d (s = 0 → 1); coloured, the z-x-z "
+                "steps: φ about z (purple), θ about the line of nodes (pink), ψ about z′ (teal).")
 
 
 def arc_reference_axis(axis: np.ndarray, previous: int | None = None) -> int:
@@ -121,6 +128,15 @@ class SingleRotationPart:
                                                        _outline_colors(self._step_colors[0]), thickness=3.0,
                                                        thickness_units="screen")
         self._outline_moments = sim.moments
+        # The legend on the outlines themselves: a label at the tip of each one's x′ (single turn)
+        # or y′ (z-x-z) axis, moved with it (`draw_animation`).
+        self._legend_tip = 1.15 * outline_axis_length
+        self.ghost_turn_label = labels.add(scene.add_label(
+            f"{single}/t1", TURN_LEGEND, font_screen_scale=1.3, anchor="bottom-left", visible=False),
+            AXES, wanted=False)
+        self.ghost_zxz_label = labels.add(scene.add_label(
+            f"{single}/t3", ZXZ_LEGENDS[0], font_screen_scale=1.3, anchor="bottom-left", visible=False),
+            AXES, wanted=False)
 
     def build_gui(self) -> Any:
         """The folder "Single rotation D = exp(Φ hat d)": the toggle, Animate and the readout
@@ -135,6 +151,7 @@ class SingleRotationPart:
                 "Animate", icon=viser.Icon.PLAYER_PLAY,
                 hint="two outlines turn from the space axes to D: dark, by sΦ about d (s = 0 → 1); "
                      "coloured, z-x-z in three steps (φ purple, θ pink, ψ teal)")
+            self.gui_legend = gui.add_markdown(PANEL_LEGEND, visible=False)
             self.readout = Readout(gui)
             self.readout.handle.visible = False
         return self.folder
@@ -245,6 +262,15 @@ class SingleRotationPart:
         for node in (self.ghost_turn, self.ghost_zxz):
             if node.visible:
                 node.visible = False
+        self._show_legend(False)
+
+    def _show_legend(self, shown: bool) -> None:
+        """The outlines' legend: their labels (through the view's LabelLayer) and the panel's line."""
+        for label in (self.ghost_turn_label, self.ghost_zxz_label):
+            self._labels.want(label, shown)
+        legend = getattr(self, "gui_legend", None)
+        if legend is not None and legend.visible != shown:
+            legend.visible = shown
 
     def draw_animation(self) -> None:
         """The two outlines at the animation's time: exp(s Φ hat(d)) and the z-x-z turn, where
@@ -264,8 +290,14 @@ class SingleRotationPart:
         if step != self._zxz_step:
             self._zxz_step = step
             self.ghost_zxz_lines.colors = _outline_colors(self._step_colors[step])
-        set_wxyz(self.ghost_turn, wxyz_from_matrix(exp_so3(s * rotation.rotvec)))
+            self.ghost_zxz_label.text = ZXZ_LEGENDS[step]
+            self._show_legend(True)
+        R_turn = exp_so3(s * rotation.rotvec)
+        set_wxyz(self.ghost_turn, wxyz_from_matrix(R_turn))
         set_wxyz(self.ghost_zxz, wxyz_from_matrix(R_zxz))
+        for label, tip in ((self.ghost_turn_label, R_turn[:, 0]), (self.ghost_zxz_label, R_zxz[:, 1])):
+            point = self._legend_tip * tip
+            set_position(label, (float(point[0]), float(point[1]), float(point[2])))
         for node in (self.ghost_turn, self.ghost_zxz):
             if not node.visible:
                 node.visible = True

@@ -359,6 +359,10 @@ class InertiaView(SceneView):
             return readouts.key_numbers_text(sim.properties(), mesh_name=sim.mesh_name)
         return readouts.key_numbers_text(sim.properties(), masses=sim.masses)
 
+    def gizmo_handles(self) -> list[Any]:
+        """The mass's and O's drag gizmos (only in the controlling browser)."""
+        return [g for g in (self.gizmo, self.O_gizmo) if g is not None]
+
     # ------------------------------------------------------------------ drawing
     def frame(self, dt: float) -> None:
         """Nothing moves: a frame draws only after an edit another view made in this room."""
@@ -386,7 +390,9 @@ class InertiaView(SceneView):
             self._draw_ellipsoid(k * O, axes, moments, props["zero"])
             self.folder_masses.visible = particles
             if self.gizmo is not None:
-                self.gizmo.visible = particles
+                self.gizmo.visible = particles and not self.gizmos_hidden
+            if self.O_gizmo is not None and self.O_gizmo.visible == self.gizmos_hidden:
+                self.O_gizmo.visible = not self.gizmos_hidden
             if particles:
                 self.gui_selected.options = tuple(str(j + 1) for j in range(len(sim.masses)))
                 self.quiet.write(self.gui_selected, str(self.selected + 1))
