@@ -35,13 +35,23 @@ The rest:
   left; the lesson step's caption over the 3D view and the presenter's open plot tab, read
   only (`caption`, `room_plot`); `Follow camera` (the presenter's viewing direction, framed for
   the follower's own screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
-  (`Room.fork`: state, time, traces, plots, playing).  `Follow presenter` comes back to the
-  live scene.  On a narrow screen (a phone) the panel shrinks to one status line and a
-  `Details` button, so the body stays in view.
+  (`Room.fork`: state, time, traces, plots, replay history, playing), seen from where the
+  browser looked.  While a presenter presents, "Lecture on" and `Follow presenter` top an
+  explorer's panel (`app.hall.lecture_panel`).  On a narrow screen (a phone) the panel shrinks
+  to one status line and a `Details` button, so the body stays in view; an explorer there
+  keeps that layout (`app.hall.narrow`).
 - **The pointer.**  The presenter ticks `Pointer` (or holds Shift) and clicks in the 3D view: a
   marker (a ring and a dot, and the short label typed under `Pointer label`) appears there on
   every follower's screen and fades within POINTER_SECONDS.  The click handler is registered on
   the presenter's own scene (`client.scene.on_click`), so only the presenter can point.
+- **The room is live, on the presenter's panel.**  A badge counts the browsers following and
+  exploring (`audience`); `Call everyone back` (`call_back`) offers every explorer the way back:
+  each sees a countdown of CALL_BACK_SECONDS and follows again when it ends, unless it presses
+  `Stay` (`stay`).  A class expects "eyes to the front" to bring everyone back, also the
+  students who are not watching their panel; the one in the middle of an experiment keeps it
+  with one press.  The lectern moves the called browsers from the app loop (`tick`), each in
+  its own guard, and refreshes the lecture's part of every panel that is not following
+  (`Seat.lecture_changed`) every FOLLOW_PERIOD.
 - **A presenter who stops or leaves** leaves the last state on the followers' screens (a paused
   copy, which `Explore` copies), with a note; a new presenter takes over with the code.
 
@@ -68,14 +78,14 @@ import numpy as np
 import viser
 
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
-from app.kit.core.common import apply_camera
 from app.kit.core.room import Room
 from app.kit.draw.labels import POINTER, Screen
 from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
-__all__ = ["BODY_WIDTH_SHARE", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES", "POINTER_SECONDS",
-           "Broadcast", "Lectern", "Mode", "Pointer", "Seat", "fitted_camera", "new_code", "pointed_at"]
+__all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
+           "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "Seat", "fitted_camera",
+           "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
 
@@ -90,6 +100,7 @@ POINTER_MARKERS = 4  # at most this many at once (the oldest goes)
 POINTER_COLOR = (235, 0, 140)
 POINTER_RADIUS = 0.22  # [scene units] of the ring
 POINTER_LABEL_CHARS = 40
+CALL_BACK_SECONDS = 10.0  # [s] an explorer called back has to press Stay before it follows again
 MAX_LABEL_SCREENS = 6  # a presenter's labels are laid out for its screen and at most 5 kinds of follower's
 BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
 
@@ -134,6 +145,11 @@ class Seat(Protocol):
 
     def lesson_text(self) -> str:
         """The presenter's current lesson step, or ""."""
+        ...
+
+    def lecture_changed(self) -> None:
+        """Show the lecture's state in the panel (who follows, a call back): called by the lectern,
+        outside the session's guard (it only writes widgets, and only what changed)."""
         ...
 
     def caption_words(self) -> tuple[str, str]:
@@ -296,6 +312,8 @@ class Lectern:
         self._camera_due = False
         self._since_camera = 0.0
         self._to_follow: list[Seat] = []
+        self._to_refresh: list[Seat] = []  # seats whose panel the next tick refreshes
+        self._called: dict[int, tuple[Seat, float]] = {}  # explorers called back: (seat, deadline [clock s])
         self._watched: set[int] = set()  # client ids whose camera the lectern hears
         self.pointer = Pointer(server.scene) if server is not None else None
         self.seats: Callable[[], list[Seat]] = lambda: []
@@ -366,6 +384,8 @@ class Lectern:
         with self._lock:
             self.presenter = seat
             self.hall = Hall.LIVE
+            self._called.clear()
+            self._to_refresh.extend(self.seats())  # explorers: "Lecture on"
             # The app loop moves them (each in its own guard): not from the presenter's callback,
             # which holds the presenter's locks.
             self._to_follow = [other for other in self.seats()
@@ -381,6 +401,8 @@ class Lectern:
                 return
             self.presenter = None
             self.hall = Hall.LEFT if disconnected else Hall.STOPPED
+            self._called.clear()
+            self._to_refresh.extend(self.seats())
             if self.pointer is not None:
                 self.pointer.clear()
             view, room = self.live_view, self._live_room
@@ -445,6 +467,8 @@ class Lectern:
         follower.show_caption(*self.caption())
         follower.show_plot(*self.room_plot())
         self._followers[seat.client_id] = (seat, follower)
+        with self._lock:
+            self._called.pop(seat.client_id, None)
         self._watch_camera(seat)
         self.send_camera(follower)
         return follower
@@ -455,6 +479,43 @@ class Lectern:
         entry = self._followers.pop(seat.client_id, None)
         if entry is not None and not disconnected:
             entry[1].remove()
+
+    def audience(self) -> tuple[int, int]:
+        """(following, exploring): the browsers following the shared screen, and the others
+        (not the presenter) that show a room of their own (the presenter's badge)."""
+        following = sum(1 for seat, _ in list(self._followers.values()) if not seat.closed)
+        presenter = self.presenter
+        exploring = sum(1 for seat in self.seats()
+                        if seat is not presenter and not seat.closed and seat.mode is Mode.OWN)
+        return following, exploring
+
+    def call_back(self, seat: Seat) -> int:
+        """The presenter asks every explorer back: each follows again in CALL_BACK_SECONDS unless
+        it presses Stay (`stay`); the number asked.  PermissionError for anyone but the presenter."""
+        with self._lock:
+            if seat is not self.presenter:
+                raise PermissionError("only the presenter can call everyone back")
+            deadline = self._clock() + CALL_BACK_SECONDS
+            explorers = [other for other in self.seats()
+                         if other is not seat and not other.closed and other.mode is Mode.OWN]
+            for other in explorers:
+                self._called[other.client_id] = (other, deadline)
+            self._to_refresh.extend([seat, *explorers])  # shown by the loop, not from the presenter's callback
+        return len(explorers)
+
+    def call_back_left(self, seat: Seat) -> float | None:
+        """Seconds [s] before `seat`, called back, follows again; None if it is not called."""
+        entry = self._called.get(seat.client_id)
+        if entry is None or entry[0] is not seat:
+            return None
+        return max(0.0, entry[1] - self._clock())
+
+    def stay(self, seat: Seat) -> None:
+        """`seat`, called back, keeps exploring."""
+        with self._lock:
+            entry = self._called.get(seat.client_id)
+            if entry is not None and entry[0] is seat:
+                del self._called[seat.client_id]
 
     def _follower_resized(self, seat: Seat, follower: Follower) -> None:
         """A follower's view changed size (or its camera moved): collapse its panel on a narrow
@@ -516,22 +577,46 @@ class Lectern:
             except Exception:  # noqa: BLE001 - a follower that just left
                 logger.debug("follower refresh failed", exc_info=True)
 
+    def refresh_seats(self, seats: list[Seat] | None = None) -> None:
+        """Write the lecture's state into the panel of every seat that does not follow (or of
+        `seats`): the presenter's badge, the explorers' "Lecture on" and countdowns."""
+        for seat in self.seats() if seats is None else seats:
+            if seat.closed or seat.mode is Mode.FOLLOWING:
+                continue
+            try:
+                seat.lecture_changed()
+            except Exception:  # noqa: BLE001 - a browser that just left
+                logger.debug("lecture refresh failed", exc_info=True)
+
     def tick(self, dt: float) -> None:
-        """Called by the app loop every frame: move the browsers that follow a new presenter,
-        refresh the followers at FOLLOW_PERIOD, send the presenter's camera at CAMERA_PERIOD when
+        """Called by the app loop every frame: move the browsers that follow a new presenter and
+        the explorers whose call back ran out, refresh the followers and the lecture's part of
+        the other panels at FOLLOW_PERIOD, send the presenter's camera at CAMERA_PERIOD when
         it moved."""
         with self._lock:
             to_follow, self._to_follow = self._to_follow, []
+            to_refresh, self._to_refresh = self._to_refresh, []
+            now = self._clock()
+            called_back = [seat for seat, deadline in self._called.values() if deadline <= now]
+            for seat in called_back:
+                del self._called[seat.client_id]
         for seat in to_follow:
             if not seat.closed and seat.following_by_default():
                 seat.guard("follow the presenter", seat.follow)()
+        for seat in called_back:
+            if not seat.closed and seat.mode is Mode.OWN and self.presenter is not None:
+                seat.guard("called back", seat.follow)()
+        if to_refresh:
+            self.refresh_seats(list({id(seat): seat for seat in to_refresh}.values()))
         if self.pointer is not None and self.pointer.markers:
             with self._lock:
                 self.pointer.tick(dt)
         self._since_status += dt
-        if self._since_status >= FOLLOW_PERIOD and self._followers:
+        if self._since_status >= FOLLOW_PERIOD:
             self._since_status = 0.0
-            self.refresh_followers()
+            if self._followers:
+                self.refresh_followers()
+            self.refresh_seats()
         self._since_refusals += dt
         if self._since_refusals >= FOLLOW_PERIOD and self._refusal_watchers:
             self._since_refusals = 0.0
@@ -619,7 +704,3 @@ class Lectern:
         except Exception:  # noqa: BLE001 - the presenter's camera is not known yet, or a client left
             logger.debug("camera not sent", exc_info=True)
 
-    def reset_view(self, seat: Seat) -> None:
-        room = self.live_room
-        if room is not None:
-            apply_camera(seat.client, room.scene.view)

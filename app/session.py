@@ -10,8 +10,9 @@ This module owns the guard and the error display, the rooms and views (scene swi
 the presets' commands) and the browser's mode (present, stop presenting, follow, explore,
 close).  The rest of the panel is in `app.hall`, one module per concern: the projector layout
 (`app.hall.projector`), the lesson (`app.hall.lesson_runner`), recordings and screenshots
-(`app.hall.notes`) and the Lecture folder (`app.hall.lecture_panel`); the session's methods of
-the same names delegate to them.
+(`app.hall.notes`), the Lecture folder and the live bar (`app.hall.lecture_panel`) and a narrow
+explorer's folded panel (`app.hall.narrow`); the session's methods of the same names delegate
+to them.
 
 Every callback a session registers is wrapped by `Session.guard`: it runs under the room's
 lock, and an exception is logged and shown in this client's GUI, never reaching viser's threads
@@ -33,8 +34,10 @@ from typing import Any, TypeVar
 
 import viser
 
+from app.hall.follower import is_narrow
 from app.hall.lecture_panel import LecturePanel
 from app.hall.lesson_runner import LessonRunner
+from app.hall.narrow import NarrowPanel
 from app.hall.notes import Notes
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.kit.core.room import Room, Scene
@@ -93,7 +96,10 @@ class Session:
         # The panel's parts, in the panel's order.
         self.projector_layout = ProjectorLayout(
             self.client, self.guard, lambda: None if self.mode is Mode.FOLLOWING else self.scene)
-        self.lecture = LecturePanel(self, self.guard, lectern) if lectern is not None else None
+        # The live bar (app.hall.lecture_panel) and a narrow explorer's line sit right under the error line.
+        top = float(self.gui_error_dismiss.order)
+        self.lecture = LecturePanel(self, self.guard, lectern, order=top) if lectern is not None else None
+        self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
         # Their widgets, by the names tools and tests use.
@@ -106,6 +112,7 @@ class Session:
             self.lecture_folder, self.gui_lecture_note = panel.folder, panel.gui_note
             self.gui_present, self.gui_stop, self.gui_follow = panel.gui_present, panel.gui_stop, panel.gui_follow
             self.gui_pointer, self.gui_pointer_label = panel.gui_pointer, panel.gui_pointer_label
+            self.gui_badge, self.gui_call_back, self.gui_stay = panel.gui_badge, panel.gui_call_back, panel.gui_stay
         self.own_folders: tuple[Any, ...] = (self.gui_projector, self.notes_folder,
                                              *(() if self.lecture is None else (self.lecture.folder,)))
         """The folders a collapsed follower's panel hides (`app.lectern.Seat`)."""
@@ -147,6 +154,13 @@ class Session:
         view.open_scene = self.open_scene
         self.projector_layout.fit_new_view(view)
         return view
+
+    def _foldable(self) -> list[Any]:
+        """What a narrow explorer's panel folds away (`app.hall.narrow.NarrowPanel`): the scene
+        dropdown, the lesson, the session's own folders and the view's panel."""
+        view = self.scene
+        roots = list(view.gui_roots) if self.mode is not Mode.FOLLOWING and hasattr(view, "gui_roots") else []
+        return [self.gui_scene, self.lesson_runner.folder, *self.own_folders, *roots]
 
     def open_scene(self, title: str, prepare: Callable[[Room], None]) -> Room:
         """Show a new room of the scene `title` (SCENES), set up by `prepare(room)` first (a view
@@ -245,6 +259,7 @@ class Session:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
                 self.gui_scene.value = room.scene.title  # the titles match now
+        self.narrow.refresh()  # a narrow explorer's new scene panel folds too
         self._refresh_preset_commands()
 
     def watch(self, room: Room) -> None:
@@ -368,6 +383,29 @@ class Session:
         """The current step's text (shown to the followers of a presenter running a lesson)."""
         return self.lesson_runner.text()
 
+    def lecture_changed(self) -> None:
+        """The lecture's state in this panel (`app.lectern.Seat.lecture_changed`): the live bar, and a
+        narrow explorer's line (its layout ends if the screen became wide).  Skipped while one of
+        this browser's callbacks runs (it may be switching views; the next refresh comes soon),
+        so the app loop never waits for a browser."""
+        if self.closed or not self._busy.acquire(blocking=False):
+            return
+        try:
+            if self.lecture is not None:
+                self.lecture.refresh()
+            narrow = self.narrow
+            if narrow.on and not is_narrow(self.client.camera):
+                narrow.end()
+            narrow.refresh()
+        finally:
+            self._busy.release()
+
+    def call_back(self) -> None:
+        """Ask every explorer back to the presenter (the `Call everyone back` button; presenter only)."""
+        if self.lecture is None:
+            raise RuntimeError("this app has no lecture hall")
+        self.guard("call everyone back", self.lecture.call_back)()
+
     def caption_words(self) -> tuple[str, str]:
         """(head, words) of the lesson caption (`app.hall.lesson_runner.LessonRunner.caption_words`)."""
         return self.lesson_runner.caption_words()
@@ -405,6 +443,7 @@ class Session:
         self.lecture.show_for(self.mode)
         self.gui_scene.visible = not following
         self.lesson_runner.folder.visible = not following
+        self.narrow.refresh()
 
     def _hide_live(self, hide: bool) -> None:
         """Hide the shared (presenter's) scene in this browser: an invisible node of the same
@@ -427,6 +466,7 @@ class Session:
         panel.note("")
         if self.mode is Mode.FOLLOWING:
             self.explore()  # an exact copy of what is on screen, then it goes live
+        self.narrow.end()  # a presenter has the whole panel
         with self._switch_lock:
             panel.gui_code.value = ""
             room = self.room
@@ -468,6 +508,7 @@ class Session:
         if lectern is None or not lectern.live or self.mode is not Mode.OWN:
             return
         with self._switch_lock:
+            self.narrow.end()  # a follower's panel has its own narrow layout
             if self.scene is not None:
                 with self._room.lock:
                     self.scene.remove()
@@ -483,7 +524,9 @@ class Session:
 
     def explore(self) -> None:
         """Leave the presenter with an exact copy of what the shared screen shows now (the same
-        scene, state, time, traces and plots, playing if it plays: `Room.fork`)."""
+        scene, state, time, traces, plots and replay history, playing if it plays: `Room.fork`),
+        seen from where this browser looked (its camera stays); a narrow screen keeps the phone
+        layout (`app.hall.narrow.NarrowPanel`: one line and `Details`)."""
         lectern = self.lectern
         if lectern is None or self.mode is not Mode.FOLLOWING:
             return
@@ -491,6 +534,7 @@ class Session:
         if live is None:
             raise RuntimeError("there is nothing on the shared screen to explore")
         copy = live.fork()
+        narrow = is_narrow(self.client.camera)
         with self._switch_lock:
             lectern.remove_follower(self)
             self.mode = Mode.OWN
@@ -502,9 +546,9 @@ class Session:
             if self.gui_scene.value != copy.scene.title:
                 self.gui_scene.value = copy.scene.title  # titles match: no switch
         self._show_mode()
+        if narrow:
+            self.narrow.start()
         self._refresh_preset_commands()
-        if lectern.presenter is not None:  # the same view as the presenter's
-            lectern.reset_view(self)
 
     def close(self) -> None:
         """Leave the room (its client is gone; viser drops the client's nodes); a presenter who

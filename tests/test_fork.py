@@ -281,6 +281,32 @@ def test_a_fork_is_exact_independent_and_goes_on_identically(server: viser.Viser
         v.remove()
 
 
+REPLAYABLE = [title for title, scene in SCENES.items() if Room(scene, scene.new_simulation()).history is not None]
+
+
+@pytest.mark.parametrize("title", REPLAYABLE)
+def test_a_fork_carries_the_replay_history_and_scrubs_as_the_original(server: viser.ViserServer, title: str) -> None:
+    """An explorer's copy can look back: the same recorded stretch, a scrub to the same moment
+    shows the same state in both (nothing shared: the fork's stepper is its own), and a copy
+    made while the past is shown shows it and resumes to the same live moment."""
+    room, view = _played_room(server, title, 0, SCENES[title].presets()[0].name)
+    fork = room.fork()
+    assert fork.stretch() == room.stretch() and fork.stretch() is not None
+    first, live = fork.stretch()  # type: ignore[misc]
+    assert live - first > 5.0, (first, live)
+    fork.scrub(live - 5.0)
+    room.scrub(live - 5.0)
+    assert fork.mode == room.mode == "scrubbing"
+    assert_same(room.sim, fork.sim)
+    copy_in_the_past = room.fork()
+    assert copy_in_the_past.mode == "scrubbing" and copy_in_the_past.live_t == room.live_t
+    for r in (room, fork, copy_in_the_past):
+        r.resume()
+    assert_same(room.sim, fork.sim)
+    assert_same(room.sim, copy_in_the_past.sim)
+    view.remove()
+
+
 @pytest.mark.parametrize("title", list(SCENES))
 def test_reset_in_the_fork_goes_where_the_original_goes(server: viser.ViserServer, title: str) -> None:
     room, view = _played_room(server, title, 0, SCENES[title].presets()[0].name)

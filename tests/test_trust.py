@@ -302,3 +302,95 @@ def test_followers_read_that_the_presenter_looks_back_or_replays(hall: Hall) -> 
     room.resume()
     hall.frames(40)
     assert "looking back" not in follower.scene.gui_status.content
+
+
+def test_a_hostile_browser_cannot_press_the_presenters_lecture_buttons(hall: Hall) -> None:
+    """The live bar's presenter-only buttons (Stop presenting, Pointer, Call everyone back) answer
+    the presenter only: a hostile explorer on a raw websocket that presses every button of its
+    own panel and sends the presenter's uuids calls nobody back, stops nobody, moves no explorer;
+    its own Stay and Follow presenter move only itself."""
+    presenter = _presenter_for(hall, "Heavy top")
+    bystander, _ = hall.join()
+    hostile_session, hostile = hall.join(lambda port: ViserClient(port, keep_messages=100_000))
+    hall.frames(2)
+    bystander.explore()
+    hostile_session.explore()  # its panel now has the explorer's bar (Follow presenter, Stay) of its own
+    hall.frames(40)
+    hostile.state.wait_for(lambda: hostile.state.replay_done, timeout=10.0)
+    time.sleep(0.3)
+    lectern = hall.app.lectern
+    assert "0 following · 2 exploring" in presenter.gui_badge.content
+    errors_before = hostile_session.error_count
+    attack(hostile, presenter)
+    time.sleep(1.0)
+    for session in (hostile_session, bystander, presenter):
+        with session.lock:
+            pass
+    hall.frames(40)
+    assert lectern.presenter is presenter and presenter.mode == "presenting"
+    assert lectern.call_back_left(bystander) is None and bystander.mode == "own"
+    from viser import _messages  # its own (hidden) Call everyone back, pressed: refused in its own panel
+
+    hostile.send(_messages.GuiUpdateMessage(hostile_session.gui_call_back._impl.uuid, {"value": True}))
+    poll_until(lambda: "only the presenter can call everyone back" in str(hostile_session.last_error), timeout=5.0)
+    assert hostile_session.error_count > errors_before and lectern.call_back_left(bystander) is None
+    # The presenter's button does call back, and counts change with it.
+    presenter.call_back()
+    hall.frames(2)
+    assert lectern.call_back_left(bystander) is not None
+
+
+def test_call_back_brings_back_every_explorer_but_the_one_who_stays(hall: Hall, monkeypatch: Any) -> None:
+    from app.lectern import CALL_BACK_SECONDS
+
+    presenter = _presenter_for(hall, "Free body")
+    leaver, _ = hall.join()
+    stayer, _ = hall.join()
+    hall.frames(2)
+    leaver.explore()
+    stayer.explore()
+    hall.frames(31)
+    assert "0 following · 2 exploring" in presenter.gui_badge.content
+    assert "Lecture on" in leaver.lecture.gui_lecture_on.content and leaver.gui_follow.visible
+    now = [100.0]
+    monkeypatch.setattr(hall.app.lectern, "_clock", lambda: now[0])
+    presenter.call_back()
+    hall.frames(2)
+    for explorer in (leaver, stayer):
+        assert "following again in 10 s" in explorer.lecture.gui_lecture_on.content and explorer.gui_stay.visible
+    stayer.lecture.stay()  # what its Stay button does
+    assert not stayer.gui_stay.visible and "Lecture on" in stayer.lecture.gui_lecture_on.content
+    now[0] += CALL_BACK_SECONDS - 0.1
+    hall.frames(2)
+    assert leaver.mode == "own"
+    now[0] += 0.1
+    hall.frames(31)
+    assert leaver.mode == "following" and stayer.mode == "own"
+    assert "1 following · 1 exploring" in presenter.gui_badge.content
+    assert leaver.error_count == stayer.error_count == 0, (leaver.last_error, stayer.last_error)
+
+
+def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
+    from benchmarks.ws_client import camera_message
+
+    _presenter_for(hall, "Heavy top")
+    explorer, client = hall.join()
+    client.send(camera_message(width=780, height=1688))  # a phone, portrait, device pixels
+    poll_until(lambda: explorer.scene if explorer.scene.narrow else None, timeout=5.0)
+    with explorer.lock:
+        pass
+    camera = explorer.client.camera
+    position = tuple(camera.position)
+    explorer.explore()
+    hall.frames(31)
+    narrow = explorer.narrow
+    assert narrow.on and narrow.gui_line.visible and narrow.gui_details.visible
+    assert "Your copy" in narrow.gui_line.content and explorer.gui_follow.visible
+    folded = [explorer.gui_scene, *explorer.scene.gui_roots]
+    assert not any(handle.visible for handle in folded)
+    assert tuple(explorer.client.camera.position) == position  # the camera it had, fitted to the phone
+    narrow.set_expanded(True)  # Details
+    assert explorer.gui_scene.visible and explorer.scene.transport.gui_play.visible and not narrow.gui_line.visible
+    narrow.set_expanded(False)
+    explorer.follow()  # back: the follower's own narrow panel, nothing left folded or shown twice
+    assert explorer.mode == "following" and not narrow.on and not narrow.gui_details.visible

@@ -5,8 +5,10 @@
 - `app.hall.projector`: the projector layout (large text, a docked panel, large 3D labels).
 - `app.hall.lesson_runner`: the Lesson folder and the running lesson's steps.
 - `app.hall.notes`: the For the notes folder (Record, Screenshot).
-- `app.hall.lecture_panel`: the Lecture folder (Present, Stop presenting, Follow presenter, the
-  pointer).
+- `app.hall.lecture_panel`: the live bar at the top of the panel (the presenter's badge, Stop
+  presenting, Pointer, Call everyone back; an explorer's "Lecture on", Follow presenter, Stay)
+  and the Lecture folder (Present, the presenter code, the pointer's label).
+- `app.hall.narrow`: a narrow explorer's panel folded to one status line and `Details`.
 
 Each part builds its own widgets and wires its own callbacks through the session's guard; it is
 handed what it acts on (callables, or the session through a small protocol), and never imports

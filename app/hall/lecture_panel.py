@@ -1,27 +1,59 @@
-"""The `Lecture` folder of one browser's panel: present, stop, follow, and the pointer.
+"""The lecture's parts of one browser's panel: the live bar at the top, and the `Lecture` folder.
 
-This module owns `LecturePanel`: the folder (`Presenter code`, `Present`, `Stop presenting`,
-`Pointer`, `Pointer label`, `Follow presenter`, a note for a refused code that stays true: the
-wait counts down and the note goes when the refusal no longer holds), which of them the
-browser's mode shows (`show_for`), and the pointer's click handlers on the browser's own scene
-(registered only while it presents).  What the buttons do (becoming the presenter, stopping,
-following) is the session's: the panel calls it through `Lecturer`.
+This module owns `LecturePanel`:
+
+- **The live bar**, at the top of the panel (right under the error line), outside every folder,
+  so that every layout shows it (the projector's docked panel included):
+  - while the browser presents: the badge ("● Live · 3 following · 1 exploring", `live_badge`),
+    `Stop presenting`, `Pointer` and `Call everyone back`;
+  - while it explores and somebody else presents: "Lecture on" with `Follow presenter`; when
+    the presenter calls everyone back, the countdown ("following again in 7 s") and `Stay`.
+- **The Lecture folder**: `Presenter code`, `Present`, `Pointer label`, a note for a refused code
+  that stays true (the wait counts down, the note goes when the refusal no longer holds).
+
+`refresh` (called by the lectern every FOLLOW_PERIOD through `Seat.lecture_changed`, and when
+the browser's mode changes) shows what the browser's mode and the lectern's state call for,
+writing only what changed.  The pointer's click handlers sit on the browser's own scene,
+registered only while it presents.  What the buttons do (becoming the presenter, stopping,
+following, calling back) is the session's and the lectern's: the panel calls them through
+`Lecturer`, and the lectern refuses a call back from anyone but the presenter.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any, Protocol
 
 import viser
 
 from app.kit.core.common import Wrap
-from app.lectern import Lectern, Mode, Seat
+from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
-__all__ = ["Lecturer", "LecturePanel"]
+__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "STAY_LABEL", "LecturePanel", "Lecturer", "call_text", "live_badge"]
+
+CALL_BACK_LABEL = "Call everyone back"
+FOLLOW_LABEL = "Follow presenter"
+STAY_LABEL = "Stay"
+
+
+def live_badge(following: int, exploring: int) -> str:
+    """The presenter's badge (Markdown): the room is live, who follows and who explores."""
+    return f"**● Live** · {following} following · {exploring} exploring"
+
+
+def call_text(seconds_left: float) -> str:
+    """An explorer's offer to come back (Markdown), `seconds_left` [s] before it follows."""
+    return (f"**The presenter calls everyone back**: following again in {max(1, math.ceil(seconds_left))} s. "
+            f"Press {STAY_LABEL} to keep exploring.")
+
+
+def lecture_on_text(scene: str) -> str:
+    """An explorer's reminder (Markdown) that a lecture runs, showing `scene`."""
+    return f"**● Lecture on** · the presenter shows {scene}"
 
 
 class Lecturer(Seat, Protocol):
-    """What the Lecture folder drives: a browser's session (`app.session.Session` is one)."""
+    """What the lecture's panel drives: a browser's session (`app.session.Session` is one)."""
 
     def present(self, code: str) -> None:
         """Become the presenter with `code`."""
@@ -33,38 +65,53 @@ class Lecturer(Seat, Protocol):
 
 
 class LecturePanel:
-    """The Lecture folder of `seat`'s panel (built where the panel has it).
+    """The live bar and the Lecture folder of `seat`'s panel (built where the panel has them).
 
     Args:
         seat: the browser's session.
-        guard: its guard: the folder's callbacks run in it.
+        guard: its guard: the callbacks run in it.
         lectern: the app's lecture hall.
+        order: the live bar's place in the panel (viser's `order`: it goes right after this).
 
     Attributes:
-        folder: the folder; gui_*: its widgets.
+        folder: the Lecture folder; gui_*: the widgets.
     """
 
-    def __init__(self, seat: Lecturer, guard: Wrap, lectern: Lectern) -> None:
+    def __init__(self, seat: Lecturer, guard: Wrap, lectern: Lectern, *, order: float = -5.0) -> None:
         self.seat = seat
         self.lectern = lectern
         gui: Any = seat.client.gui  # viser's handles type `value` read-only; it is not
+        orders = iter(order + 0.01 * k for k in range(1, 20))
+        # The live bar (top of the panel, in no folder).
+        self.gui_badge = gui.add_markdown("", visible=False, order=next(orders))
+        self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False, order=next(orders))
+        self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False, order=next(orders),
+                                            hint="click in the 3D view to point for everyone (or hold Shift)")
+        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False,
+                                            order=next(orders),
+                                            hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
+                                                 f"unless they press {STAY_LABEL}")
+        self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
+        self.gui_stay = gui.add_button(STAY_LABEL, visible=False, order=next(orders),
+                                       hint="keep exploring your own copy")
+        self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
+                                         hint="back to the presenter's live scene")
+        # The Lecture folder.
         self.folder = gui.add_folder("Lecture", expand_by_default=False)
         with self.folder:
             self.gui_code = gui.add_text("Presenter code", "", hint="the code the app printed at start")
             self.gui_present = gui.add_button("Present", icon=viser.Icon.PRESENTATION,
                                               hint="show this browser's scene to everyone who follows")
-            self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False)
-            self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False,
-                                                hint="click in the 3D view to point for everyone (or hold Shift)")
             self.gui_pointer_label = gui.add_text("Pointer label", "", visible=False,
                                                   hint="a few words shown beside the marker")
-            self.gui_follow = gui.add_button("Follow presenter", icon=viser.Icon.USERS, visible=False)
             self.gui_note = gui.add_markdown("", visible=False)
         self._guarded_point = guard("pointer", self._pointed)
         self.gui_present.on_click(guard("present", lambda _event: seat.present(str(self.gui_code.value))))
         self.gui_stop.on_click(guard("stop presenting", lambda _event: seat.stop_presenting()))
         self.gui_follow.on_click(guard("follow", lambda _event: seat.follow()))
         self.gui_pointer.on_update(guard("pointer", lambda _event: self.set_pointer(self.gui_pointer.value)))
+        self.gui_call_back.on_click(guard("call everyone back", lambda _event: self.call_back()))
+        self.gui_stay.on_click(guard("stay", lambda _event: self.stay()))
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
@@ -88,14 +135,47 @@ class LecturePanel:
         self.note(f"**⚠ {words}**" if words else "")
 
     def show_for(self, mode: Mode) -> None:
-        """The buttons for the browser's `mode`: `Present` and the code unless it presents,
-        `Stop presenting` and the pointer while it does, `Follow presenter` while it explores
-        and somebody else presents."""
-        presenter = self.lectern.presenter
-        self.gui_present.visible = self.gui_code.visible = mode is not Mode.PRESENTING
-        self.gui_stop.visible = self.gui_pointer.visible = self.gui_pointer_label.visible = \
-            mode is Mode.PRESENTING
-        self.gui_follow.visible = mode is Mode.OWN and presenter is not None and presenter is not self.seat
+        """The panel for the browser's `mode` (`refresh`)."""
+        self.refresh()
+
+    def refresh(self) -> None:
+        """Show what the browser's mode and the lecture call for: `Present` and the code unless
+        it presents; the badge, `Stop presenting`, the pointer and `Call everyone back` while it
+        does; "Lecture on" and `Follow presenter` while it explores and somebody else presents
+        (with the countdown and `Stay` while it is called back).  Only what changed is sent."""
+        mode, lectern = self.seat.mode, self.lectern
+        presenter = lectern.presenter
+        presenting = mode is Mode.PRESENTING
+        exploring = mode is Mode.OWN and presenter is not None and presenter is not self.seat
+        _show(self.gui_code, not presenting)
+        _show(self.gui_present, not presenting)
+        for handle in (self.gui_badge, self.gui_stop, self.gui_pointer, self.gui_pointer_label, self.gui_call_back):
+            _show(handle, presenting)
+        if presenting:
+            following, explorers = lectern.audience()
+            _write(self.gui_badge, live_badge(following, explorers))
+            if self.gui_call_back.disabled != (explorers == 0):
+                self.gui_call_back.disabled = explorers == 0
+        left = lectern.call_back_left(self.seat) if exploring else None
+        _show(self.gui_lecture_on, exploring)
+        _show(self.gui_follow, exploring)
+        _show(self.gui_stay, left is not None)
+        if exploring:
+            room = lectern.live_room
+            _write(self.gui_lecture_on, call_text(left) if left is not None
+                   else lecture_on_text(room.scene.title if room is not None else "a scene"))
+
+    def call_back(self) -> None:
+        """The presenter asks every explorer back (`Lectern.call_back`); said in the badge's place."""
+        called = self.lectern.call_back(self.seat)
+        self.seat.client.add_notification(
+            "Called everyone back", f"{called} explorer{'' if called == 1 else 's'} will follow again in "
+            f"{CALL_BACK_SECONDS:g} s unless they press {STAY_LABEL}.", auto_close_seconds=4.0)
+
+    def stay(self) -> None:
+        """This explorer keeps exploring (`Lectern.stay`)."""
+        self.lectern.stay(self.seat)
+        self.refresh()
 
     def set_pointer(self, on: Any) -> None:
         """Pointer on: a plain click points; off: only Shift + click does (while presenting)."""
@@ -114,3 +194,13 @@ class LecturePanel:
         """A click on the browser's own scene (only it hears them): a marker for everyone."""
         if self.seat.mode is Mode.PRESENTING:
             self.lectern.point(self.seat, event.ray_origin, event.ray_direction, str(self.gui_pointer_label.value))
+
+
+def _show(handle: Any, visible: bool) -> None:
+    if handle.visible != visible:
+        handle.visible = visible
+
+
+def _write(handle: Any, content: str) -> None:
+    if handle.content != content:
+        handle.content = content

@@ -274,6 +274,11 @@ class SceneView:
         if self.client.camera is not None:
             apply_camera(self.client, self.view)
 
+    @property
+    def gui_roots(self) -> tuple[Any, ...]:
+        """The top-level handles of the view's panel (what a narrow explorer's panel folds)."""
+        return tuple(self._gui_roots)
+
     def remove(self) -> None:
         """Leave the room and remove this view's panel and nodes from its client."""
         self.remove_panel()

@@ -15,7 +15,10 @@ protocol (`app.kit.core.room`) it has
   state `later` [s] further on *for display only* (the histories stay at the mark): a slow
   replay shows every frame, not only the recorded ones.  `version` is bumped (views redraw),
   never restored.  ValueError, and nothing changed, if the snapshot does not fit;
-- `truncate()`: forget the histories after now (a branch: the recorded future is dropped).
+- `truncate()`: forget the histories after now (a branch: the recorded future is dropped);
+- `fork_with(refs)` if its snapshots' refs hold objects it mutates (a stepper): `(fork(), a
+  copy of refs)` made in one pass, so the copy's refs are the fork's own objects (`fork_with_refs`).
+  A room's fork carries its history this way: an explorer's copy can scrub the last minute.
 
 Rewinding works because nothing is written into a simulation while its room shows the past:
 the histories' rings still hold the newer rows, so rewinding forward (Resume) gives back the
@@ -37,7 +40,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 __all__ = ["HISTORY_BYTES", "HISTORY_SECONDS", "RECORD_SPACING", "History", "Replayable", "Snapshot",
-           "is_replayable"]
+           "fork_with_refs", "is_replayable"]
 
 HISTORY_SECONDS = 60.0  # [s] of simulated time kept
 HISTORY_BYTES = 5_000_000  # [bytes] at most per room (the snapshots; the rings' spare rows are the simulation's)
@@ -85,6 +88,27 @@ def is_replayable(sim: Any) -> bool:
         and hasattr(sim, "run")
 
 
+_PLAIN = (str, int, float, bool, type(None))
+
+
+def _plain(value: Any) -> bool:
+    """Immutable all the way down (strings, numbers, tuples of them): safe to share with a fork."""
+    return isinstance(value, _PLAIN) or (isinstance(value, tuple) and all(_plain(v) for v in value))
+
+
+def fork_with_refs(sim: Any, refs: list[tuple[Any, ...]]) -> tuple[Any, dict[int, tuple[Any, ...]]] | None:
+    """`sim.fork()` and, for each refs tuple of `refs` (from its snapshots), the fork's own copy
+    by `id` of the original (`History.fork`); plain refs (names, numbers) are shared as they are.
+    None if the refs hold objects and `sim` has no `fork_with` (its history cannot follow)."""
+    if all(_plain(r) for r in refs):
+        return sim.fork(), {}
+    fork_with = getattr(sim, "fork_with", None)
+    if fork_with is None:
+        return None
+    fork, copies = fork_with(tuple(refs))
+    return fork, {id(old): new for old, new in zip(refs, copies)}
+
+
 class History:
     """The last HISTORY_SECONDS of a run as snapshots, oldest first.
 
@@ -106,6 +130,22 @@ class History:
 
     def __len__(self) -> int:
         return self._len
+
+    def distinct_refs(self) -> list[tuple[Any, ...]]:
+        """The distinct `refs` tuples of the snapshots kept (by identity; consecutive equal
+        refs share one tuple, so these are few)."""
+        return list({id(refs): refs for refs in self._refs}.values())
+
+    def fork(self, refs: dict[int, tuple[Any, ...]]) -> History:
+        """An independent copy (its own arrays) whose snapshots' refs are `refs[id(old refs)]`:
+        the copies a simulation's fork made of the objects its snapshots refer to
+        (`app.kit.core.room.Room.fork`), so restoring in the copy never touches the original."""
+        copy = History(self.seconds, self.max_bytes, self.spacing)
+        copy.run = self.run
+        copy._values = self._values.copy()
+        copy._refs = [refs.get(id(r), r) for r in self._refs]
+        copy._start, copy._len = self._start, self._len
+        return copy
 
     def clear(self) -> None:
         """Forget everything (the arrays are released)."""

@@ -42,7 +42,7 @@ from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
 from app.kit.core.common import CameraView, RunEnded, Wrap, keep_phase
-from app.kit.core.history import History, is_replayable
+from app.kit.core.history import History, Snapshot, fork_with_refs, is_replayable
 from app.kit.core.presets import Preset
 
 __all__ = ["LIVE", "REPLAYING", "SCRUBBING", "Room", "Scene", "Simulation", "View"]
@@ -158,12 +158,26 @@ class Room:
 
     def fork(self) -> Room:
         """A new room (no views) with a fork of the simulation (`Simulation.fork`), the same
-        scene, transport (playing, time scale) and sampling phase, so it goes on as this one does."""
+        scene, transport (playing, time scale) and sampling phase, so it goes on as this one does,
+        and the same replay history and moment shown (an explorer's copy scrubs the last minute
+        too; a copy made while the past is shown shows it, its live moment set aside alike)."""
         with self.lock:
-            room = Room(self.scene, self.sim.fork())
+            history, live = self.history, self._live
+            carried = history is not None and len(history) > 0 and history.run == self.sim.run
+            refs = history.distinct_refs() if carried and history is not None else []
+            if live is not None:
+                refs.append(live.refs)
+            forked = fork_with_refs(self.sim, refs) if carried else None
+            room = Room(self.scene, forked[0] if forked is not None else self.sim.fork())
             room.playing = self.playing
             room.time_scale = self.time_scale
             room._since_sample = self._since_sample
+            if forked is not None and history is not None and room.history is not None:
+                copies = forked[1]
+                room.history = history.fork(copies)
+                if live is not None:
+                    room._live = Snapshot(live.values.copy(), copies.get(id(live.refs), live.refs))
+                    room._live_phase, room._live_playing = self._live_phase, self._live_playing
         return room
 
     # ------------------------------------------------------------------ views
@@ -425,8 +439,12 @@ class Room:
 
     def draw(self, view: Any, dt: float) -> None:
         """One view's part of a frame (dt [s] of wall time since it last drew); its errors go
-        to its own session, never to the loop or the other views."""
+        to its own session, never to the loop or the other views.  A view that left the room
+        since the loop listed the views (its browser switched scenes or started presenting
+        meanwhile) draws nothing: its nodes are gone."""
         with self.lock:
+            if view not in self.views:
+                return
             try:
                 view.frame(dt)
                 timeline = view.timeline

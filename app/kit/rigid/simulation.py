@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -125,6 +126,12 @@ class RigidBodySimulation:
         samples, traces, preset, mesh and version; nothing mutable is shared (a handed-on mesh is
         shared read-only).  Advancing both by the same steps gives the same states bit for bit."""
         return fork_sharing(self, self.mesh or ())
+
+    def fork_with(self, refs: tuple[tuple[Any, ...], ...]) -> tuple[RigidBodySimulation, tuple[tuple[Any, ...], ...]]:
+        """`fork()` and a copy of snapshots' `refs` made in the same pass: a stepper they share
+        with this simulation is the fork's own stepper in the copy (`app.kit.core.history.fork_with_refs`)."""
+        fork, copies = fork_sharing((self, refs), self.mesh or ())
+        return fork, copies
 
     # ------------------------------------------------------------------ replay (app.kit.core.history)
     @property
