@@ -103,6 +103,7 @@ POINTER_LABEL_CHARS = 40
 CALL_BACK_SECONDS = 10.0  # [s] an explorer called back has to press Stay before it follows again
 MAX_LABEL_SCREENS = 6  # a presenter's labels are laid out for its screen and at most 5 kinds of follower's
 BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
+NARROW_MARGIN = 1.25  # a narrow view is that much farther back than the share's width needs (`fitted_camera`)
 
 
 class Mode(enum.StrEnum):
@@ -188,18 +189,29 @@ class Broadcast:
         return self.presenter.add_notification(title, body, **kwargs)
 
 
-def fitted_camera(position: Any, look_at: Any, aspect_from: float,
-                  aspect_to: float) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
-    """The presenter's camera (position, look_at [scene units], aspect) made for a narrower view
-    of aspect `aspect_to`, with the same vertical fov: the same viewing direction and look_at,
-    the distance grown by aspect_from / aspect_to (= tan(h_from/2) / tan(h_to/2), the horizontal
-    half-angles, tan(h/2) = aspect tan(fov/2)), so the horizontal extent is kept.  The scenes
-    frame their body in the left BODY_WIDTH_SHARE of a wide view (the panel floats on the
-    right), so only that share of the presenter's width is kept: the body fills a phone's width
-    instead of a third of it.  A view at least that wide keeps the distance."""
+def fitted_camera(position: Any, look_at: Any, aspect_from: float, aspect_to: float, fov: float | None = None,
+                  up: Any = (0.0, 0.0, 1.0)) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """The presenter's camera (position, look_at [scene units], aspect, vertical `fov` [rad])
+    made for a narrower view of aspect `aspect_to`, with the same fov and viewing direction.
+
+    The scenes frame their body in the left BODY_WIDTH_SHARE of a wide view (the panel floats on
+    the right), so only that share of the presenter's width is kept, with a margin: the distance
+    grows by NARROW_MARGIN BODY_WIDTH_SHARE aspect_from / aspect_to (tan(h/2) = aspect tan(fov/2),
+    h the horizontal angle), and with `fov` given both points move sideways (along the view's right, from `up`)
+    by (BODY_WIDTH_SHARE - 1) d aspect_from tan(fov/2), d = |position - look_at|, so that share's
+    middle is the narrow view's middle.  A view at least that wide keeps the presenter's camera."""
     eye, target = np.asarray(position, dtype=float), np.asarray(look_at, dtype=float)
-    factor = max(1.0, BODY_WIDTH_SHARE * aspect_from / aspect_to) if aspect_to > 0.0 else 1.0
-    eye = target + factor * (eye - target)
+    factor = BODY_WIDTH_SHARE * aspect_from / aspect_to if aspect_to > 0.0 else 1.0
+    if factor > 1.0:
+        factor *= NARROW_MARGIN
+        offset = eye - target
+        if fov is not None:
+            forward = -offset / np.linalg.norm(offset)
+            right = np.cross(forward, np.asarray(up, dtype=float))
+            if np.linalg.norm(right) > 1e-9:  # looking along `up` has no sideways
+                shift = (BODY_WIDTH_SHARE - 1.0) * np.linalg.norm(offset) * aspect_from * math.tan(fov / 2.0)
+                target = target + shift * right / np.linalg.norm(right)
+        eye = target + factor * offset
     return (float(eye[0]), float(eye[1]), float(eye[2])), (float(target[0]), float(target[1]), float(target[2]))
 
 
@@ -696,7 +708,7 @@ class Lectern:
         try:
             camera = follower.camera
             position, look_at = fitted_camera(source.position, source.look_at, view_aspect(source),
-                                              view_aspect(camera))
+                                              view_aspect(camera), float(source.fov), source.up_direction)
             camera.up_direction = tuple(source.up_direction)
             camera.position = position
             camera.look_at = look_at

@@ -119,13 +119,14 @@ def still_thumb(page, handle, timeout: float = 20.0) -> tuple[float, float]:  # 
     thumb = page.locator(f'[id="{handle._impl.uuid}"] [role="slider"]')
     deadline = time.monotonic() + timeout
     while True:
+        thumb.evaluate("el => el.scrollIntoView({block: 'center'})")  # as a person scrolls the panel to it
         before = thumb.bounding_box()
         time.sleep(0.3)
         box = thumb.bounding_box()
         x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-        on_top = thumb.evaluate("(el, [x, y]) => document.elementFromPoint(x, y)?.closest('[role=slider]') === el",
-                                [x, y])
-        if box == before and on_top:
+        on_top = thumb.evaluate("(el, [x, y]) => document.elementFromPoint(x, y)?.closest('[role=slider]') === el"
+                                " || document.elementFromPoint(x, y)?.outerHTML.slice(0, 300)", [x, y])
+        if box == before and on_top is True:
             return x, y
         assert time.monotonic() < deadline, f"the thumb did not settle: {before} then {box}, on top: {on_top}"
 

@@ -46,7 +46,8 @@ PRESETS = MovingFrameView.presets()
 def _layouts(view: CameraView) -> dict[str, tuple[CameraView, int, int, tuple[float, float, float, float] | None]]:
     """name -> (camera, width, height [px] of the 3D view, the panel's rectangle over it (x0, y0,
     x1, y1) [px] or None)."""
-    position, look_at = fitted_camera(view.position, view.look_at, 1280 / 800, 390 / 844)
+    position, look_at = fitted_camera(view.position, view.look_at, 1280 / 800, 390 / 844,
+                                      math.radians(view.fov_deg), view.up)
     return {
         "desktop 1280x800": (view, 1280, 800, (881.0, 15.0, 1265.0, 768.0)),
         "projector 1024x768": (projector_view(view), 764, 768, None),
@@ -251,12 +252,6 @@ def _moving_points(scene: object, root: str) -> np.ndarray:
 
 
 OTHER_SCENES = ("Free body", "Heavy top", "Poinsot", "Constrained particles", "Euler angles")
-# Known and not fixed here: the phone follower's camera (`app.lectern.fitted_camera`) keeps the
-# presenter's look_at, which the desktop framing puts right of the body (the floating panel is on
-# the right), so on a phone the body sits near the left edge: the heavy top's tip touches it,
-# Poinsot's ellipsoid is cut by it.
-KNOWN = {("Heavy top", "phone follower 390x844"), ("Poinsot", "phone follower 390x844")}
-
 
 @pytest.mark.parametrize("title", OTHER_SCENES)
 def test_the_other_scenes_keep_their_bodies_in_the_view_and_off_the_panel(manual, title: str) -> None:
@@ -289,6 +284,4 @@ def test_the_other_scenes_keep_their_bodies_in_the_view_and_off_the_panel(manual
             if bad.any():
                 failures.append((layout, f"{preset.name}, {layout}: {int(bad.sum())} of {bad.size} points, "
                                           f"e.g. {pixels[bad][0].round()} px"))
-    assert not [text for layout, text in failures if (title, layout) not in KNOWN], failures
-    if failures:
-        pytest.xfail(f"known: {failures[0][1]} (the phone's fitted camera keeps the desktop's look_at)")
+    assert not failures, failures

@@ -164,7 +164,8 @@ def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
 
     def fitted() -> bool:  # the lectern has put the phone's camera where the presenter's is, fitted
         source, camera = presenter.client.camera, phone.client.camera
-        position, _ = fitted_camera(source.position, source.look_at, view_aspect(source), view_aspect(camera))
+        position, _ = fitted_camera(source.position, source.look_at, view_aspect(source), view_aspect(camera),
+                                    float(source.fov), source.up_direction)
         return bool(np.allclose(camera.position, position, atol=1e-9))
 
     poll_until(fitted)

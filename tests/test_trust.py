@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 from conftest import LectureHall, RawClient, poll_until
 
-from app.lectern import BODY_WIDTH_SHARE, fitted_camera
+from app.lectern import BODY_WIDTH_SHARE, NARROW_MARGIN, fitted_camera
 from app.scenes import SCENES
 from benchmarks.ws_client import ViserClient
 
@@ -271,12 +271,41 @@ def test_fitted_camera_keeps_the_horizontal_extent() -> None:
     assert look_at == (0.0, 0.0, 0.0)
     distance = float(np.linalg.norm(position))
     # Horizontal half-width at the target: d tan(h/2), tan(h/2) = aspect tan(fov/2); the phone
-    # keeps BODY_WIDTH_SHARE of the presenter's.
+    # keeps BODY_WIDTH_SHARE of the presenter's, and a margin.
     np.testing.assert_allclose(distance * 0.4 * math.tan(fov / 2),
-                               BODY_WIDTH_SHARE * math.sqrt(29.0) * 1.6 * math.tan(fov / 2), rtol=1e-12)
+                               NARROW_MARGIN * BODY_WIDTH_SHARE * math.sqrt(29.0) * 1.6 * math.tan(fov / 2), rtol=1e-12)
     np.testing.assert_allclose(np.asarray(position) / distance, np.array([4.0, -3.0, 2.0]) / math.sqrt(29.0),
                                rtol=1e-12)
     assert fitted_camera((4.0, -3.0, 2.0), (0.0, 0.0, 0.0), 1.6, 1.2)[0] == (4.0, -3.0, 2.0)
+
+
+def _ndc_x(eye: np.ndarray, target: np.ndarray, up: np.ndarray, fov: float, aspect: float, point: np.ndarray) -> float:
+    """A pinhole camera's horizontal normalised device coordinate of `point` (-1 left edge, +1 right)."""
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    rel = point - eye
+    return float((rel @ right) / (rel @ forward) / (aspect * math.tan(fov / 2)))
+
+
+def test_fitted_camera_puts_the_presenters_body_share_across_a_phone() -> None:
+    """With the fov, the left BODY_WIDTH_SHARE of the presenter's width (where the scenes frame the
+    body) spans the phone's width less its margin: its left edge, middle and right edge at the
+    phone's -1, 0, +1 over NARROW_MARGIN."""
+    eye, target, up = np.array([4.0, -3.0, 2.0]), np.array([0.2, 0.1, -0.3]), np.array([0.0, 0.0, 1.0])
+    fov, wide, narrow = math.radians(50.0), 1280 / 800, 390 / 844
+    position, look_at = fitted_camera(eye, target, wide, narrow, fov, up)
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    np.testing.assert_allclose((np.asarray(look_at) - np.asarray(position)) / np.linalg.norm(
+        np.asarray(look_at) - np.asarray(position)), forward, rtol=1e-12)  # the same viewing direction
+    right = np.cross(forward, up) / np.linalg.norm(np.cross(forward, up))
+    half_width = np.linalg.norm(target - eye) * wide * math.tan(fov / 2)  # at the target's depth
+    edge = 1.0 / NARROW_MARGIN
+    for x_wide, x_phone in ((-1.0, -edge), (BODY_WIDTH_SHARE - 1.0, 0.0), (2 * BODY_WIDTH_SHARE - 1.0, edge)):
+        point = target + x_wide * half_width * right
+        assert _ndc_x(eye, target, up, fov, wide, point) == pytest.approx(x_wide, abs=1e-12)
+        assert _ndc_x(np.asarray(position), np.asarray(look_at), up, fov, narrow, point) == pytest.approx(
+            x_phone, abs=1e-9)
 
 
 def test_dataclass_messages_used_here_exist() -> None:
