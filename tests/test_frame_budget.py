@@ -66,7 +66,7 @@ BUDGETS: dict[str, Budget] = {
     "Inertia": Budget(None, None),  # edited, never played: no Play button
     "Free body": Budget(4.0, 4.0),
     "Heavy top": Budget(3.0, 3.0),
-    "Poinsot": Budget(4.0, 4.0),
+    "Poinsot": Budget(4.5, 4.5),  # 3.8 -> 4.0 when its labels began to keep off the book (bytes unchanged)
     "Moving frame": Budget(9.0, 9.0, bytes_per_second=25_000.0),  # it keeps its picture
     "Constrained particles": Budget(4.5, 4.5),
 }
