@@ -176,7 +176,6 @@ def test_the_browser_frames_the_modelled_picture_and_a_preset_leaves_no_old_trac
     from app.scenes.moving_frame.view import PARTICLE_COLORS
 
     session = open_app(page, app)
-    page.locator(".mantine-Notification-closeButton").first.click(force=True)
     page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
     page.get_by_role("option", name="Moving frame").click()
     page.get_by_text("Moving frame C′ (memo").wait_for(timeout=30_000)
