@@ -20,9 +20,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import poll_until
-from test_browser import app_url
-from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, project
+from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, open_page, project
 
 from app.hall.caption import CAPTION_CLASS, PROJECTOR_CAPTION_PX
 from app.main import App
@@ -41,19 +39,6 @@ CAPTION_JS = f"""() => {{ const c = document.querySelector('{BAND}');
 
 def _words(text: str) -> str:
     return re.sub(r"\s+", " ", text).strip()
-
-
-def open_page(browser, app: App, **context):  # type: ignore[no-untyped-def]
-    """`test_browser_lecture.open_page`, with room for a busy machine: (page, session)."""
-    before = set(app.sessions)
-    opened = browser.new_context(**context)
-    _CONTEXTS.append(opened)
-    page = opened.new_page()
-    page.goto(app_url(page, app.port))
-    session = poll_until(lambda: next((s for cid, s in dict(app.sessions).items() if cid not in before), None),
-                         timeout=120.0, interval=0.2)
-    page.locator("canvas").first.wait_for(timeout=120_000)
-    return page, session
 
 
 def _caption(page):  # type: ignore[no-untyped-def]
@@ -83,7 +68,7 @@ def _assert_clear_of_body(page, camera, sim, where: str) -> None:  # type: ignor
 
 def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: App, wait_until, tmp_path) -> None:
     app = hall_app
-    presenter_page, presenter = open_page(browser, app, viewport={"width": 1024, "height": 768})
+    presenter_page, presenter = open_page(browser, app, 120.0, viewport={"width": 1024, "height": 768})
     close_toasts(presenter_page)
     presenter_page.locator(f'[id="{presenter.gui_projector._impl.uuid}"]').click()
     wait_until(lambda: presenter.projector, timeout=10.0)
@@ -110,7 +95,7 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     _assert_clear_of_body(presenter_page, presenter.client.camera, presenter.room.sim, "projector")
 
     # A laptop follower: the caption, clear of the body; the presenter's Plots tab, moving with it.
-    laptop, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    laptop, follower = open_page(browser, app, 120.0, viewport={"width": 1280, "height": 800})
     wait_until(lambda: follower.mode == "following", timeout=15.0)
     reads_the_step(laptop, "laptop")
     time.sleep(1.0)  # the presenter's camera has reached it
@@ -129,8 +114,8 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     wait_until(lambda: follower.closed and len(app.sessions) == 1, timeout=15.0)
 
     # A phone follower: the caption along the top, clear of the body.
-    phone, pocket = open_page(browser, app, viewport={"width": 390, "height": 844}, is_mobile=True, has_touch=True,
-                              device_scale_factor=2)
+    phone, pocket = open_page(browser, app, 120.0, viewport={"width": 390, "height": 844}, is_mobile=True,
+                              has_touch=True, device_scale_factor=2)
     wait_until(lambda: pocket.mode == "following" and pocket.scene.narrow, timeout=15.0)
     reads_the_step(phone, "phone")
     time.sleep(1.0)

@@ -17,11 +17,12 @@ import time
 from typing import Any
 
 import pytest
-from test_browser_lecture import _CONTEXTS, CODE, close_toasts, open_folder, open_page, text_input
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input
 
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import LabelBox, boxes_meet, label_boxes, overlapping
-from app.main import create_server
+
+__all__ = ["hall_app"]  # the fixture, imported for pytest
 
 pytestmark = pytest.mark.browser
 
@@ -42,17 +43,6 @@ PANEL_JS = """(text) => {
   const r = panel.getBoundingClientRect();
   return [r.left, r.top, r.right, r.bottom, window.devicePixelRatio];
 }"""
-
-
-@pytest.fixture
-def hall_app():  # type: ignore[no-untyped-def]
-    running = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE)
-    try:
-        yield running
-    finally:
-        while _CONTEXTS:
-            _CONTEXTS.pop().close()
-        running.stop()
 
 
 def _view(camera: Any) -> tuple[CameraView, int, int]:

@@ -18,6 +18,7 @@ import time
 
 import numpy as np
 import pytest
+from conftest import poll_until
 from PIL import Image
 from test_browser import app_url
 
@@ -56,16 +57,16 @@ def project(camera, point, width: float, height: float) -> tuple[float, float]: 
     return 0.5 * width + f * float(d @ right) / z, 0.5 * height - f * float(d @ up) / z
 
 
-def open_page(browser, app: App, **context):  # type: ignore[no-untyped-def]
-    """A new context and page on the app; (page, session)."""
+def open_page(browser, app: App, timeout: float = 30.0, **context):  # type: ignore[no-untyped-def]
+    """A new context and page on the app, its session and canvas awaited up to `timeout` [s]; (page, session)."""
     before = set(app.sessions)
     opened = browser.new_context(**context)
     _CONTEXTS.append(opened)
     page = opened.new_page()
     page.goto(app_url(page, app.port))
-    sessions = app.wait_for_sessions(len(before) + 1, timeout=30.0)
-    (session,) = (s for cid, s in sessions.items() if cid not in before)
-    page.locator("canvas").first.wait_for(timeout=30_000)
+    session = poll_until(lambda: next((s for cid, s in dict(app.sessions).items() if cid not in before), None),
+                         timeout=timeout, interval=0.2)
+    page.locator("canvas").first.wait_for(timeout=timeout * 1000)
     return page, session
 
 
