@@ -1,0 +1,82 @@
+"""The real parts the app starts for `--workers` and its tests: redis-server and nginx as child
+processes on free local ports (no systemd, no files outside a temporary folder)."""
+
+from __future__ import annotations
+
+import contextlib
+import shutil
+import socket
+import subprocess
+import tempfile
+import time
+
+__all__ = ["INSTALL", "MissingProgram", "free_port", "require", "start_redis", "stop_process", "wait_for_port"]
+
+INSTALL = {"redis-server": "sudo apt-get install redis-server", "nginx": "sudo apt-get install nginx"}
+
+
+class MissingProgram(RuntimeError):
+    """A program the app needs is not installed (the message says how to install it)."""
+
+
+def require(program: str) -> str:
+    """The path of `program` on PATH (or in /usr/sbin), else MissingProgram with the install command."""
+    path = shutil.which(program) or shutil.which(program, path="/usr/sbin:/usr/bin:/usr/local/sbin")
+    if path is None:
+        raise MissingProgram(f"{program} is not installed; `--workers` needs it. Install it with: "
+                             f"{INSTALL.get(program, program)}")
+    return path
+
+
+def free_port(host: str = "127.0.0.1") -> int:
+    """A TCP port free on `host` now (the OS's choice)."""
+    with socket.socket() as sock:
+        sock.bind((host, 0))
+        return int(sock.getsockname()[1])
+
+
+def wait_for_port(port: int, host: str = "127.0.0.1", timeout: float = 10.0,
+                  process: subprocess.Popen[bytes] | None = None) -> None:
+    """Return once `host:port` accepts connections; RuntimeError after `timeout` [s] or if
+    `process` ends first."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if process is not None and process.poll() is not None:
+            raise RuntimeError(f"{process.args!r} ended (exit {process.returncode}) before listening on {port}")
+        with contextlib.suppress(OSError), socket.create_connection((host, port), timeout=0.2):
+            return
+        time.sleep(0.05)
+    raise RuntimeError(f"nothing listens on {host}:{port} after {timeout} s")
+
+
+def start_redis(port: int | None = None, password: str | None = None, bind: str = "127.0.0.1"
+                ) -> tuple[str, subprocess.Popen[bytes]]:
+    """Start redis-server on `bind:port` (a free port if None), in memory only (no dump file), and
+    return (its URL, the process).  MissingProgram if redis-server is not installed."""
+    program = require("redis-server")
+    port = port or free_port(bind)
+    folder = tempfile.mkdtemp(prefix="rigid-body-lab-redis-")
+    args = [program, "--port", str(port), "--bind", bind, "--save", "", "--appendonly", "no",
+            "--dir", folder, "--loglevel", "warning"]
+    if password:
+        args += ["--requirepass", password]
+    process = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    wait_for_port(port, bind, process=process)
+    auth = f":{password}@" if password else ""
+    return f"redis://{auth}{bind}:{port}/0", process
+
+
+def stop_process(process: subprocess.Popen[bytes] | None, timeout: float = 5.0) -> None:
+    """Terminate `process` and wait for it (kill after `timeout` [s]); None or ended: nothing."""
+    if process is None or process.poll() is not None:
+        return
+    process.terminate()
+    try:
+        process.wait(timeout)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(timeout)
+    with contextlib.suppress(Exception):
+        if process.stderr is not None:
+            process.stderr.close()
+
