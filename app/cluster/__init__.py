@@ -14,3 +14,19 @@ without Redis.  With it:
 - `app.cluster.bus`: one lecture across processes (what followers on another process see, and
   `Explore on my own` there).
 """
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["KEY_PREFIX", "connect"]
+
+KEY_PREFIX = "rbl:"  # every key and channel the app uses in Redis starts with this
+
+
+def connect(url: str) -> Any:
+    """A Redis client for `url` (redis://[:password@]host:port/db), answers decoded as bytes;
+    imported here so that a one-process app never imports redis."""
+    import redis  # noqa: PLC0415 - only the app on several processes needs it
+
+    return redis.Redis.from_url(url, socket_timeout=5.0, socket_connect_timeout=5.0, health_check_interval=30)
