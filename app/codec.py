@@ -47,7 +47,9 @@ Sizes (encoded with the history of a 15 s run at 3x; `tests/test_codec.py` print
 from __future__ import annotations
 
 import abc
+import importlib
 import math
+import pkgutil
 import sys
 import types
 from collections.abc import Callable, Iterable
@@ -61,31 +63,10 @@ import app.kit.core.presets as _presets
 import app.kit.core.samples as _samples
 import app.kit.core.trace as _trace
 import app.kit.rigid.simulation as _rigid_simulation
-import app.scenes.constrained.simulation as _constrained_simulation
-import app.scenes.euler_angles.simulation as _euler_simulation
-import app.scenes.inertia.simulation as _inertia_simulation
-import app.scenes.moving_frame.simulation as _moving_simulation
-import app.scenes.poinsot.simulation as _poinsot_simulation
-import physics.constrained
-import physics.dop853
-import physics.dynamics
-import physics.euler
-import physics.exact_free
-import physics.exact_top
-import physics.guards
-import physics.inertia
-import physics.integrators
-import physics.lagrange
-import physics.methods
-import physics.moving_frames
-import physics.poinsot
-import physics.quaternion
-import physics.quaternion_ode
+import physics
+import physics.dynamics as _dynamics
 import physics.realtime
-import physics.scipy_peer
-import physics.so3
 import physics.splitting
-import physics.top_energy
 from app.kit.core.history import History, Snapshot
 from app.kit.core.room import Room
 from app.scenes import SCENES
@@ -104,14 +85,16 @@ DTYPES = ("float64", "float32", "int64", "int32", "int16", "int8", "uint64", "ui
 """The array and scalar dtypes a room may hold (little-endian)."""
 
 ALLOWED_MODULES: tuple[types.ModuleType, ...] = (
-    _history, _presets, _samples, _trace, _rigid_simulation, _constrained_simulation, _euler_simulation,
-    _inertia_simulation, _moving_simulation, _poinsot_simulation,
-    physics.constrained, physics.dop853, physics.dynamics, physics.euler, physics.exact_free, physics.exact_top,
-    physics.guards, physics.inertia, physics.integrators, physics.lagrange, physics.methods, physics.moving_frames,
-    physics.poinsot, physics.quaternion, physics.quaternion_ode, physics.realtime, physics.scipy_peer, physics.so3,
-    physics.splitting, physics.top_energy,
+    _history, _presets, _samples, _trace, _rigid_simulation,
+    *dict.fromkeys(sys.modules[f"{scene.__module__.rpartition('.')[0]}.simulation"] for scene in SCENES.values()
+                   if f"{scene.__module__.rpartition('.')[0]}.simulation" in sys.modules),
+    *(importlib.import_module(f"physics.{info.name}") for info in pkgutil.iter_modules(physics.__path__)
+      if info.name != "__main__"),
 )
-"""The modules whose classes and functions a room may hold (what a scene's simulation is made of)."""
+"""The modules whose classes and functions a room may hold (what a scene's simulation is made of):
+the kit's core, the simulation module of each scene's package (`app.scenes.<scene>.simulation`)
+and every module of `physics` (listed from the package
+when the codec is imported, never from the data)."""
 
 SCENE_MODULES: tuple[types.ModuleType, ...] = tuple(
     dict.fromkeys(sys.modules[scene.__module__] for scene in SCENES.values()))
@@ -120,10 +103,22 @@ SCENE_MODULES: tuple[types.ModuleType, ...] = tuple(
 
 
 def _rebuild_state_maker(stepper: Any) -> Any:
-    return physics.splitting.state_builder(stepper._sp)
+    splitting = getattr(stepper, "_sp", None)
+    if type(splitting) is not physics.splitting.Splitting:  # built by its constructor (CONSTRUCTED)
+        raise CodecError("a real-time stepper without its splitting")
+    return physics.splitting.state_builder(splitting)
 
+
+CONSTRUCTED: dict[type, tuple[tuple[str, ...], Callable[..., Any]]] = {
+    _dynamics.Model: (("inertia", "mgl", "torque_space", "extra_torque"), _dynamics.Model),
+    physics.splitting.Splitting: (("model",), physics.splitting.Splitting),
+}
+"""class -> (the fields carried, the constructor they are given to as keywords): objects rebuilt
+through their own checks (a `Model` validates its numbers; a `Splitting` derives from its model
+everything its generated kernels are made from, so nothing from the data reaches generated code)."""
 
 CACHE_FIELDS: dict[type, dict[str, Callable[[Any], Any]]] = {
+    physics.splitting.Splitting: {"tables": lambda _obj: {}, "_plans": lambda _obj: {}},  # made by __init__
     physics.realtime.RealtimeStepper: {
         "_frames": lambda _obj: {},  # kernels per display step, made again on first use
         "_peek": lambda _obj: None,  # the peek's kernel, likewise
@@ -259,6 +254,9 @@ class _Encoder:
                              "(app.codec.ALLOWED_MODULES)")
         if issubclass(kind, tuple):  # a NamedTuple
             return ["n", name, [self.node(x, f"{where}[{k}]", deeper) for k, x in enumerate(obj)]]
+        constructed = CONSTRUCTED.get(kind)
+        if constructed is not None:
+            return ["o", name, {key: self.node(getattr(obj, key), f"{where}.{key}", deeper) for key in constructed[0]}]
         caches = CACHE_FIELDS.get(kind, {})
         fields = {key: self.node(value, f"{where}.{key}", deeper)
                   for key, value in _fields(obj).items() if key not in caches}
@@ -465,6 +463,18 @@ class _Decoder:
         has_dict = all(hasattr(c, "__dict__") for c in (cls,)) and "__dict__" in dir(cls)
         if issubclass(cls, tuple):
             raise CodecError(f"{where}: {name} is a named tuple, not an object")
+        constructed = CONSTRUCTED.get(cls)
+        if constructed is not None:
+            if set(fields) != set(constructed[0]):
+                raise CodecError(f"{where}: {name} takes the fields {', '.join(constructed[0])}")
+            index = self._slot()
+            arguments = {key: self.node(fields[key], f"{where}.{key}", depth) for key in constructed[0]}
+            try:
+                built = constructed[1](**arguments)
+            except Exception as exc:  # noqa: BLE001 - its own checks refused the values
+                raise CodecError(f"{where}: {name} refused: {type(exc).__name__}: {exc}") from None
+            self.built[index] = built
+            return built
         obj = object.__new__(cls)
         self.built.append(obj)
         caches = CACHE_FIELDS.get(cls, {})
