@@ -17,6 +17,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import viser
@@ -30,7 +31,9 @@ from app.lessons import LessonError, lessons
 from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
+from app.sharestore import SHARES_FILE, ShareStore, SqliteShareStore
 from app.theme import configure_scene
+from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals
 from app.wire import Wire, capturing, end_frames
 
@@ -83,6 +86,7 @@ class App:
         session_factory: Callable[[viser.ClientHandle], Session] | None = None,
         presenter_code: str | None = None,
         projector: bool = False,
+        share_store: ShareStore | None = None,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -94,6 +98,8 @@ class App:
         self.lectern = Lectern(server, presenter_code)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
+        self.share_store = share_store
+        """Where `Share` keeps its codes (`app.sharestore`); None: no Share folder."""
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
@@ -107,7 +113,7 @@ class App:
 
     # ------------------------------------------------------------------ sessions
     def _new_session(self, client: viser.ClientHandle) -> Session:
-        session = Session(client, lectern=self.lectern)
+        session = Session(client, lectern=self.lectern, share_store=self.share_store)
         if self.projector:
             session.guard("projector", session.set_projector)(True)
         return session
@@ -264,11 +270,13 @@ class App:
 
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
-    presenter_code: str | None = None, projector: bool = False,
+    presenter_code: str | None = None, projector: bool = False, data_dir: str | Path | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
+    data_dir: the app's data folder (`app.userdata`; None: the platform's default), where `Share`
+    keeps its codes (`shares.sqlite3`, opened at the first share).
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
@@ -277,7 +285,9 @@ def create_server(
     lessons()  # a broken lesson file: LessonError naming the file and the step
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
-    app = App(server, presenter_code=presenter_code, projector=projector)
+    folder = Path(data_dir).expanduser() if data_dir else default_data_dir()
+    app = App(server, presenter_code=presenter_code, projector=projector,
+              share_store=SqliteShareStore(folder / SHARES_FILE))
     if start_loop:
         app.start()
     return app

@@ -40,10 +40,12 @@ from app.hall.lesson_runner import LessonRunner
 from app.hall.narrow import NarrowPanel
 from app.hall.notes import Notes
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
+from app.hall.share import Camera, SharePanel
 from app.kit.core.room import Room, Scene
 from app.lectern import LIVE_ROOT, Lectern, Mode
 from app.lessons import Lesson
 from app.scenes import DEFAULT_SCENE, SCENES
+from app.sharestore import ShareStore
 
 __all__ = ["PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "SCENES", "Mode", "Session", "projector_view"]
 
@@ -66,9 +68,10 @@ class Session:
     """
 
     def __init__(self, client: viser.ClientHandle, scene: str = DEFAULT_SCENE, *,
-                 lectern: Lectern | None = None) -> None:
+                 lectern: Lectern | None = None, share_store: ShareStore | None = None) -> None:
         self.client = client
         self.lectern = lectern
+        self.share_store = share_store
         self.mode = Mode.OWN
         self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
         self.client_id: int = client.client_id
@@ -102,6 +105,8 @@ class Session:
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
+        self.share = None if self.share_store is None else SharePanel(
+            self.client, self.guard, self.share_store, lambda: self.room, self.open_moment)
         # Their widgets, by the names tools and tests use.
         self.gui_projector = self.projector_layout.gui_checkbox
         self.lesson_folder = self.lesson_runner.folder
@@ -114,6 +119,7 @@ class Session:
             self.gui_pointer, self.gui_pointer_label = panel.gui_pointer, panel.gui_pointer_label
             self.gui_badge, self.gui_call_back, self.gui_stay = panel.gui_badge, panel.gui_call_back, panel.gui_stay
         self.own_folders: tuple[Any, ...] = (self.gui_projector, self.notes_folder,
+                                             *(() if self.share is None else (self.share.folder,)),
                                              *(() if self.lecture is None else (self.lecture.folder,)))
         """The folders a collapsed follower's panel hides (`app.lectern.Seat`)."""
         self._preset_commands: list[Any] = []
@@ -533,7 +539,12 @@ class Session:
         live = lectern.live_room
         if live is None:
             raise RuntimeError("there is nothing on the shared screen to explore")
-        copy = live.fork()
+        self._leave_presenter_for(live.fork())
+
+    def _leave_presenter_for(self, copy: Room) -> None:
+        """A follower leaves the presenter and explores `copy` (its camera stays)."""
+        lectern = self.lectern
+        assert lectern is not None
         narrow = is_narrow(self.client.camera)
         with self._switch_lock:
             lectern.remove_follower(self)
@@ -549,6 +560,17 @@ class Session:
         if narrow:
             self.narrow.start()
         self._refresh_preset_commands()
+
+    def open_moment(self, room: Room, camera: Camera | None = None) -> None:
+        """Show a shared moment (`app.hall.share`): in this browser's own room, on the presenter's
+        screen while presenting, and, while following, by leaving the presenter to explore it
+        (the shared screen never changes); then look from the camera it was shared with."""
+        if self.mode is Mode.FOLLOWING:
+            self._leave_presenter_for(room)
+        else:
+            self.show(room)
+        if self.share is not None:
+            self.share.set_camera(camera)
 
     def close(self) -> None:
         """Leave the room (its client is gone; viser drops the client's nodes); a presenter who
