@@ -38,6 +38,19 @@ def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: flo
         time.sleep(interval)
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _data_folder(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """The app's default data folder (`app.userdata`, XDG_DATA_HOME on Linux) is a temporary one:
+    no test writes into the user's (a Share pressed by test_trust's hostile follower, say)."""
+    old = os.environ.get("XDG_DATA_HOME")
+    os.environ["XDG_DATA_HOME"] = str(tmp_path_factory.mktemp("xdg_data"))
+    yield
+    if old is None:
+        os.environ.pop("XDG_DATA_HOME", None)
+    else:
+        os.environ["XDG_DATA_HOME"] = old
+
+
 @pytest.fixture
 def wait_until() -> Callable[..., Any]:
     """`poll_until(predicate, timeout=5.0)`: wait for something the server does asynchronously."""
