@@ -31,7 +31,7 @@ from app.lessons import LessonError, lessons
 from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
-from app.sharestore import SHARES_FILE, ShareStore, SqliteShareStore
+from app.sharestore import ShareStore, open_share_store
 from app.theme import configure_scene
 from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals
@@ -287,7 +287,7 @@ def create_server(
     configure_scene(server, EULER_VIEW)
     folder = Path(data_dir).expanduser() if data_dir else default_data_dir()
     app = App(server, presenter_code=presenter_code, projector=projector,
-              share_store=SqliteShareStore(folder / SHARES_FILE))
+              share_store=open_share_store(folder))  # on several processes: open_share_store(folder, redis_url)
     if start_loop:
         app.start()
     return app

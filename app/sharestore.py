@@ -28,7 +28,8 @@ from pathlib import Path
 from typing import Any, Protocol
 
 __all__ = ["ALPHABET", "CODE_LENGTH", "DEFAULT_TTL_S", "MAX_PAYLOAD", "SHARES_FILE", "RedisShareStore",
-           "ShareCodeError", "ShareStore", "SqliteShareStore", "format_code", "normalize_code"]
+           "ShareCodeError", "ShareStore", "SqliteShareStore", "format_code", "normalize_code",
+           "open_share_store"]
 
 ALPHABET = "0123456789ABCDEFGHJKMNPQRSTVWXYZ"  # Crockford's base 32
 CODE_LENGTH = 8  # characters: 40 bits
@@ -76,6 +77,14 @@ def _check_payload(payload: bytes) -> None:
     if len(payload) > MAX_PAYLOAD:
         raise ValueError(f"this moment takes {len(payload) / 1e6:.1f} MB, more than the "
                          f"{MAX_PAYLOAD / 1e6:.0f} MB a share may keep")
+
+
+def open_share_store(data_dir: str | Path, redis_url: str | None = None, ttl_s: float = DEFAULT_TTL_S) -> ShareStore:
+    """The app's store: Redis at `redis_url` when the app runs on several processes (every process
+    opens every code), else SQLite in `data_dir` (`SHARES_FILE`, opened at first use)."""
+    if redis_url:
+        return RedisShareStore(redis_url, ttl_s=ttl_s)
+    return SqliteShareStore(Path(data_dir) / SHARES_FILE, ttl_s=ttl_s)
 
 
 class ShareStore(Protocol):

@@ -32,6 +32,7 @@ from app.sharestore import (
     ShareCodeError,
     SqliteShareStore,
     format_code,
+    open_share_store,
 )
 from tests.test_codec import drop_caches
 from tests.test_fork import assert_same
@@ -100,7 +101,8 @@ def test_the_redis_store_keeps_and_expires_codes() -> None:
     except Exception as error:  # noqa: BLE001 - redis-server missing: .ci/run installs it
         pytest.skip(f"redis-server: {error}")
     try:
-        store = RedisShareStore(url)
+        store = open_share_store(Path("unused"), url)  # the app on several processes
+        assert isinstance(store, RedisShareStore)
         code = _check_store(store)
         assert 0 < store._redis.pttl(store.PREFIX + code) <= DEFAULT_TTL_S * 1000
         short = RedisShareStore(url, ttl_s=0.3)
