@@ -248,6 +248,8 @@ HOSTILE = {
     "very deep nesting": b"\x91" * 100_000 + b"\xc0",
     "wrong simulation class": _mutated(lambda t: t[3].__setitem__("sim", ["l", []])),
     "NaN time scale": _mutated(lambda t: t[3].__setitem__("time_scale", math.nan)),
+    "a field of the wrong type": _mutated(lambda t: t[3]["sim"][2].__setitem__("state", "not a state")),
+    "a missing field": _mutated(lambda t: t[3]["sim"][2].pop("samples")),
     "too long": b"\x00" * (MAX_BYTES + 1),
 }
 
