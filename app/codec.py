@@ -73,7 +73,6 @@ import msgspec
 import numpy as np
 
 import app.kit.core.history as _history
-import app.kit.core.presets as _presets
 import app.kit.core.samples as _samples
 import app.kit.core.trace as _trace
 import app.kit.rigid.simulation as _rigid_simulation
@@ -98,12 +97,14 @@ DTYPES = ("float64", "float32", "int64", "int32", "int16", "int8", "uint64", "ui
           "complex128")
 """The array and scalar dtypes a room may hold (little-endian)."""
 
+_NOT_ALLOWED = ("__main__", "casefile", "meshfile")  # physics' command line and file readers: no room holds them
+
 ALLOWED_MODULES: tuple[types.ModuleType, ...] = (
-    _history, _presets, _samples, _trace, _rigid_simulation,
+    _history, _samples, _trace, _rigid_simulation,
     *dict.fromkeys(sys.modules[f"{scene.__module__.rpartition('.')[0]}.simulation"] for scene in SCENES.values()
                    if f"{scene.__module__.rpartition('.')[0]}.simulation" in sys.modules),
     *(importlib.import_module(f"physics.{info.name}") for info in pkgutil.iter_modules(physics.__path__)
-      if info.name != "__main__"),
+      if info.name not in _NOT_ALLOWED),
 )
 """The modules whose classes and functions a room may hold (what a scene's simulation is made of):
 the kit's core, the simulation module of each scene's package (`app.scenes.<scene>.simulation`)
@@ -112,8 +113,9 @@ when the codec is imported, never from the data)."""
 
 SCENE_MODULES: tuple[types.ModuleType, ...] = tuple(
     dict.fromkeys(sys.modules[scene.__module__] for scene in SCENES.values()))
-"""The scenes' own modules (`app.scenes.SCENES`): their functions only (a traced point's function,
-`RigidBodySimulation.track`), never their classes (views)."""
+"""The scenes' own modules (`app.scenes.SCENES`): only their functions of one parameter `state: State`
+(a traced point, `app.kit.rigid.simulation.PointOf`, as `RigidBodySimulation.track` keeps it), never
+their classes (views) or other functions."""
 
 
 def _rebuild_state_maker(stepper: Any) -> Any:
@@ -150,6 +152,13 @@ class CodecError(ValueError):
 
 
 # ---------------------------------------------------------------------------- the allowlist
+def _is_point_of(fn: types.FunctionType) -> bool:
+    """A scene's function of one parameter annotated `State` (a point a simulation follows)."""
+    code = fn.__code__
+    return (code.co_argcount == 1 and not code.co_kwonlyargcount and fn.__closure__ is None
+            and fn.__annotations__.get(code.co_varnames[0]) in ("State", _dynamics.State))
+
+
 def _collect() -> tuple[dict[str, type], dict[type, str], dict[str, types.CodeType], dict[str, types.ModuleType],
                         dict[str, Any]]:
     classes: dict[str, type] = {}
@@ -174,7 +183,7 @@ def _collect() -> tuple[dict[str, type], dict[type, str], dict[str, types.CodeTy
                 members += [m.__func__ for m in vars(value).values() if isinstance(m, classmethod | staticmethod)
                             and isinstance(m.__func__, types.FunctionType)]
                 functions = members
-            elif isinstance(value, types.FunctionType):
+            elif isinstance(value, types.FunctionType) and (module in ALLOWED_MODULES or _is_point_of(value)):
                 top[f"{module.__name__}:{value.__qualname__}"] = value
                 functions = [value]
             else:
