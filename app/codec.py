@@ -190,7 +190,7 @@ def _collect() -> tuple[dict[str, type], dict[type, str], dict[str, types.CodeTy
                 continue
             for fn in functions:
                 for c in nested(fn.__code__, module):
-                    if c.co_filename != module.__file__:
+                    if module.__spec__ is None or c.co_filename != module.__spec__.origin:
                         continue  # generated (a dataclass's methods): never a room's
                     key = f"{module.__name__}:{c.co_qualname}"
                     code.setdefault(key, c)
