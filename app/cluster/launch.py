@@ -244,8 +244,8 @@ def launch_main(args: argparse.Namespace) -> int:
     SIGTERM, stop everything; the exit status."""
     code = args.presenter_code or new_code()
     launch = Launch()
-    signal.signal(signal.SIGTERM, _interrupt)
-    signal.signal(signal.SIGINT, _interrupt)  # also when started with SIGINT ignored (a background job)
+    handlers = {sig: signal.signal(sig, _interrupt)  # SIGINT also when started with it ignored (in the background)
+                for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
         try:
             launch.start(args.workers, args.host, args.port, code, redis_url=args.redis, projector=args.projector)
@@ -266,7 +266,10 @@ def launch_main(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         return 0
     finally:
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C does not cut the stopping short
-        with contextlib.suppress(KeyboardInterrupt):
+        try:
             launch.stop()
+        finally:
+            for sig, handler in handlers.items():
+                signal.signal(sig, handler)
