@@ -93,8 +93,8 @@ def redis_url() -> Iterator[str]:
 
 def test_redis_gate_one_presenter_over_workers_and_a_lease_that_lapses(redis_url: str) -> None:
     clock = [5000.0]
-    one = RedisGate(redis_url, "w1", CODE, clock=lambda: clock[0], lease_s=0.3)
-    two = RedisGate(redis_url, "w2", CODE, clock=lambda: clock[0], lease_s=0.3)
+    one = RedisGate(redis_url, "w1", CODE, clock=lambda: clock[0], lease_s=0.3, presenter_cache_s=0.0)
+    two = RedisGate(redis_url, "w2", CODE, clock=lambda: clock[0], lease_s=0.3, presenter_cache_s=0.0)
     try:
         one._redis.delete("rbl:presenter", "rbl:gate:wrong")
         assert one.claim("w1:1", "0000 0000").verdict is Verdict.WRONG

@@ -53,6 +53,8 @@ MAX_WRONG = 60  # wrong codes evaluated in any sliding WINDOW_S, over all browse
 WINDOW_S = 60.0  # [s]
 LEASE_S = 3.0  # [s] the presenter lock lapses this long after its last renewal
 RENEW_PERIOD = 1.0  # [s] the presenting worker renews the lease this often
+PRESENTER_CACHE_S = 0.2  # [s] `RedisGate.presenter` answers from its last read this long (refusals shown
+# to many browsers read it every FOLLOW_PERIOD); this worker's own claims and releases refresh it
 PRESENTER_KEY = KEY_PREFIX + "presenter"
 WRONG_KEY = KEY_PREFIX + "gate:wrong"
 SEPARATORS = " \t-\u2010\u2011\u2012\u2013\u2014\u2212_."  # what a person may type between the groups
@@ -261,7 +263,7 @@ class RedisGate:
 
     def __init__(self, url: str, worker_id: str, code: str, *, clock: Callable[[], float] | None = None,
                  max_wrong: int = MAX_WRONG, window_s: float = WINDOW_S, lease_s: float = LEASE_S,
-                 client: Any = None) -> None:
+                 presenter_cache_s: float = PRESENTER_CACHE_S, client: Any = None) -> None:
         if not normalize_code(code):
             raise ValueError("the presenter code is empty")
         if not worker_id or ":" in worker_id:
@@ -276,11 +278,14 @@ class RedisGate:
         self._scripts = {name: self._redis.register_script(text) for name, text in
                          (("count", _COUNT), ("right", _RIGHT), ("renew", _RENEW), ("release", _RELEASE))}
         self._held: set[str] = set()  # holders of this worker that may hold the lock (`close` frees them)
+        self.presenter_cache_s = presenter_cache_s
+        self._read: tuple[float, str | None] = (-math.inf, None)  # (monotonic time [s], holder) of the last read
 
     def holder(self, client_id: int) -> str:
         return f"{self.worker_id}:{client_id}"
 
     def _run(self, name: str, keys: list[str], args: list[Any]) -> Any:
+        self._read = (-math.inf, None)  # what this worker does changes the holder: read it again
         try:
             return self._scripts[name](keys=keys, args=args)
         except Exception as error:  # noqa: BLE001 - any client error: the lock is unreachable
@@ -317,6 +322,15 @@ class RedisGate:
         self._run("release", [PRESENTER_KEY], [holder])
 
     def presenter(self) -> str | None:
+        read_at, holder = self._read
+        now = time.monotonic()
+        if now - read_at < self.presenter_cache_s:
+            return holder
+        holder = self._get_presenter()
+        self._read = (now, holder)
+        return holder
+
+    def _get_presenter(self) -> str | None:
         try:
             value = self._redis.get(PRESENTER_KEY)
         except Exception as error:  # noqa: BLE001
