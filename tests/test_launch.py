@@ -150,3 +150,19 @@ def test_a_missing_program_is_named_with_its_install_command(missing: str, monke
     assert stop.value.code == 2
     assert f"sudo apt-get install {missing}" in capsys.readouterr().err
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # launch_main gave back pytest's
+
+
+@needs_parts
+def test_a_port_in_use_is_said_before_anything_starts(capsys: pytest.CaptureFixture[str]) -> None:
+    import socket
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        args = argparse.Namespace(workers=2, host="127.0.0.1", port=port, presenter_code=None, redis=None,
+                                  projector=False)
+        started = time.monotonic()
+        assert launch_main(args) == 1
+        assert time.monotonic() - started < 5.0
+    assert f"port {port} on 127.0.0.1 is in use" in capsys.readouterr().err

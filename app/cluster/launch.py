@@ -32,6 +32,7 @@ import re
 import secrets
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
@@ -43,7 +44,8 @@ from typing import Any
 from app.cluster.gate import new_code
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process, wait_for_port
 
-__all__ = ["WORKER_START_S", "Launch", "launch_main", "nginx_config", "remove_redis_folder", "start_nginx",
+__all__ = ["WORKER_START_S", "Launch", "check_port_free", "launch_main", "nginx_config", "remove_redis_folder",
+           "start_nginx",
            "start_worker"]
 
 WORKER_START_S = 90.0  # [s] a worker has this long to listen (imports and presets on a busy machine)
@@ -95,6 +97,17 @@ http {{
     }}
 }}
 """
+
+
+def check_port_free(host: str, port: int) -> None:
+    """RuntimeError naming `host:port` if something listens there already (said before anything starts)."""
+    with socket.socket() as sock:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as nginx binds
+        try:
+            sock.bind((host, port))
+        except OSError as error:
+            raise RuntimeError(f"port {port} on {host or '*'} is in use ({error.strerror}); choose another with "
+                               "--port") from None
 
 
 def _die_with_parent() -> None:
@@ -177,6 +190,7 @@ class Launch:
     def start(self, workers: int, host: str, port: int, code: str, redis_url: str | None = None,
               projector: bool = False) -> None:
         require("nginx")
+        check_port_free(host, port)
         if redis_url is None:
             require("redis-server")
             self.redis_url, self.redis = start_redis(password=secrets.token_urlsafe(24))
@@ -255,8 +269,9 @@ def launch_main(args: argparse.Namespace) -> int:
         except RuntimeError as error:
             print(f"rigid-body-lab: could not start: {error}", file=sys.stderr, flush=True)
             return 1
+        workers = f"{args.workers} worker{'s' if args.workers != 1 else ''}"
         print(f"open http://{args.host}:{args.port} in a browser; presenter code: {code}  "
-              f"({args.workers} workers behind nginx, pid {os.getpid()})", flush=True)
+              f"({workers} behind nginx, pid {os.getpid()})", flush=True)
         while True:
             reason = launch.check()
             if reason is not None:
