@@ -2,7 +2,7 @@
 
     python benchmarks/guess_code.py [--workers 2] [--connections 24] [--seconds 60] [--port P]
 
-It starts the app with `--workers N` on a free port and a random code it keeps (or, with
+It starts the app with `--workers N` (0: the one-process app) on a free port and a random code it keeps (or, with
 `--port`, attacks what listens there: then it cannot say when the lecturer gets in), and then
 runs `--connections` websocket clients (`benchmarks.ws_client.AsyncViserClient`: what a browser
 sends) that type a code into `Presenter code` and press `Present` as fast as the answers come,
@@ -129,7 +129,7 @@ async def _run(args: argparse.Namespace, port: int, code: str | None) -> None:
     await asyncio.gather(*(_attacker(port, stop_at, tally, rng) for _ in range(args.connections)))
     seconds = time.monotonic() - started
     per_minute = tally.evaluated / seconds * 60.0
-    print(f"{args.connections} connections, {seconds:.0f} s: {tally.evaluated} wrong codes evaluated "
+    print(f"{args.workers or 'one process, no'} workers; {args.connections} connections, {seconds:.0f} s: {tally.evaluated} wrong codes evaluated "
           f"({per_minute:.1f} a minute), {tally.hall} refused by the hall's limit, {tally.busy} while someone "
           f"presented, {tally.reconnects} reconnections; other answers: {tally.other or 'none'}")
     print(f"chance to present in a 90-minute lecture at {per_minute:.1f} a minute against a random 8-digit code: "
@@ -142,7 +142,7 @@ async def _run(args: argparse.Namespace, port: int, code: str | None) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--workers", type=int, default=2, help="app processes behind nginx (0: one process)")
     parser.add_argument("--connections", type=int, default=24)
     parser.add_argument("--seconds", type=float, default=60.0)
     parser.add_argument("--port", type=int, help="attack the app on this port (started elsewhere)")
@@ -154,9 +154,9 @@ def main(argv: list[str] | None = None) -> None:
     code, port = new_code(), free_port()
     log = Path(tempfile.mkdtemp(prefix="guess-code-")) / "app.log"
     with open(log, "wb") as out:
-        app = subprocess.Popen([sys.executable, "-m", "app", "--workers", str(args.workers), "--port", str(port),
-                                "--presenter-code", code], stdout=out, stderr=subprocess.STDOUT,
-                               cwd=Path(__file__).resolve().parents[1])
+        workers = ["--workers", str(args.workers)] if args.workers > 0 else []
+        app = subprocess.Popen([sys.executable, "-m", "app", *workers, "--port", str(port), "--presenter-code", code],
+                               stdout=out, stderr=subprocess.STDOUT, cwd=Path(__file__).resolve().parents[1])
     try:
         deadline = time.monotonic() + 180.0
         while "open http" not in log.read_text(errors="replace"):
