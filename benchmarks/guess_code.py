@@ -129,7 +129,8 @@ async def _run(args: argparse.Namespace, port: int, code: str | None) -> None:
     await asyncio.gather(*(_attacker(port, stop_at, tally, rng) for _ in range(args.connections)))
     seconds = time.monotonic() - started
     per_minute = tally.evaluated / seconds * 60.0
-    print(f"{args.workers or 'one process, no'} workers; {args.connections} connections, {seconds:.0f} s: {tally.evaluated} wrong codes evaluated "
+    where = f"--workers {args.workers}" if args.workers else "one process"
+    print(f"{where}; {args.connections} connections, {seconds:.0f} s: {tally.evaluated} wrong codes evaluated "
           f"({per_minute:.1f} a minute), {tally.hall} refused by the hall's limit, {tally.busy} while someone "
           f"presented, {tally.reconnects} reconnections; other answers: {tally.other or 'none'}")
     print(f"chance to present in a 90-minute lecture at {per_minute:.1f} a minute against a random 8-digit code: "
