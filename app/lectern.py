@@ -101,6 +101,7 @@ LIVE_ROOT = "/l"  # the presenter's 3D in the shared scene hangs under this node
 # carries its node's name: short)
 MAX_TRIES = 5  # wrong codes a browser may try ...
 TRIES_WINDOW = 60.0  # ... per this many seconds
+DOWN_NOTE_SECONDS = 10.0  # [s] "the presenter lock does not answer" stays this long (then try again)
 FOLLOW_PERIOD = 0.5  # [s] the followers' panels refresh this often (they are many)
 CAMERA_PERIOD = 0.1  # [s] the presenter's camera reaches the followers at most this often
 POINTER_SECONDS = 4.0  # [s] a pointer marker stays this long, fading
@@ -392,6 +393,7 @@ class Lectern:
                 answer = self.gate.claim(self._holder(seat), str(code))
             except GateUnavailable as error:
                 logger.warning("presenter code not checked: %s", error)
+                self._hall_wait[cid] = self._clock() + DOWN_NOTE_SECONDS
                 self._refused[cid] = "down"
                 return self.refusal_now(seat)
             if answer.verdict is Verdict.OK:
@@ -428,7 +430,7 @@ class Lectern:
                          "before trying again.")
             elif kind == "busy" and self._someone_else(seat):
                 words = "Someone else is presenting; they must stop first."
-            elif kind == "down":
+            elif kind == "down" and self._hall_wait.get(cid, 0.0) > self._clock():
                 words = "The presenter lock does not answer (the lecture's Redis); try again in a moment."
             if words is None:
                 self._refused.pop(cid, None)

@@ -162,3 +162,17 @@ def test_the_one_process_app_imports_no_redis() -> None:
               "start_loop=False); app.stop(); print('redis' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, check=True)
     assert out.stdout.strip().splitlines()[-1] == "False"
+
+
+def test_a_lock_that_does_not_answer_is_said_and_changes_nothing() -> None:
+    from app.cluster.services import free_port
+
+    clock = [0.0]
+    gate = RedisGate(f"redis://127.0.0.1:{free_port()}/0", "w1", CODE, clock=lambda: clock[0])  # nothing there
+    lectern = Lectern(server=None, clock=lambda: clock[0], gate=gate)  # type: ignore[arg-type]
+    browser = _browser(3)
+    words = lectern.try_code(browser, CODE)
+    assert words is not None and "does not answer" in words and lectern.presenter is None
+    clock[0] = 11.0
+    assert lectern.refusal_now(browser) is None  # said for a while; then the browser may try again
+    lectern.close()
