@@ -45,7 +45,7 @@ def _try(client: Any, session: Any, code: str, expect: str, timeout: float = 10.
     client.click("Present")
     poll_until(lambda: session.tries_answered > answered, timeout)
     if expect == "":
-        assert session.mode == "presenting", _note(session)
+        assert session.mode == "presenting", (_note(session), session.last_error)
         return ""
     assert expect in _note(session) and session.mode != "presenting"
     return _note(session)
