@@ -2,11 +2,14 @@
 
     python -m app [--host 127.0.0.1] [--port 8080]
     rigid-body-lab [--host ...] [--port ...]
+    rigid-body-lab --workers N [--redis URL] ...   # N processes behind nginx (`app.cluster.launch`)
 
 The server binds to loopback by default (viser's own default is 0.0.0.0, with no
 authentication); pass `--host 0.0.0.0` deliberately to show it on a lecture-room network.
 `create_server` builds the same app for tests: the loop runs in a thread, `App.stop()`
-ends both the loop and the server.
+ends both the loop and the server.  Given a Redis URL (`--redis`, or REDIS_ENV as the launcher
+passes it) the process is one worker of a lecture on several processes (`app.cluster`); SIGTERM
+then stops it as Ctrl-C does.
 """
 
 from __future__ import annotations
