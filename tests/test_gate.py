@@ -161,14 +161,15 @@ def test_the_one_process_app_imports_no_redis() -> None:
 
     root = Path(__file__).resolve().parents[1] / "app"
     for path in root.rglob("*.py"):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        functions = [node for node in ast.walk(tree) if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)]
-        inside = {id(inner) for function in functions for inner in ast.walk(function)}
-        for node in ast.walk(tree):
+        todo = [(node, False) for node in ast.parse(path.read_text(encoding="utf-8")).body]
+        while todo:  # (node, inside a function)
+            node, inside = todo.pop()
             names = ([alias.name for alias in node.names] if isinstance(node, ast.Import) else
                      [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
             if any(name.split(".")[0] == "redis" for name in names):
-                assert id(node) in inside, f"{path}: redis imported at module level"
+                assert inside, f"{path}: redis imported at module level"
+            nested = inside or isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+            todo.extend((child, nested) for child in ast.iter_child_nodes(node))
 
 
 def test_a_lock_that_does_not_answer_is_said_and_changes_nothing() -> None:
