@@ -22,6 +22,7 @@ import argparse
 import asyncio
 import contextlib
 import random
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -168,6 +169,7 @@ def main(argv: list[str] | None = None) -> None:
     finally:
         app.terminate()
         app.wait(60)
+        shutil.rmtree(log.parent, ignore_errors=True)
 
 
 if __name__ == "__main__":

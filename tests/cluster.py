@@ -25,7 +25,7 @@ from typing import Any
 import pytest
 
 from app.cluster import KEY_PREFIX, connect
-from app.cluster.launch import remove_redis_folder, start_nginx
+from app.cluster.launch import start_nginx
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process
 
 __all__ = ["CODE", "Cluster", "cluster_fixture", "missing_parts"]
@@ -140,7 +140,6 @@ class Cluster:
         if redis is not None:
             redis.close()
         stop_process(self.redis_process)
-        remove_redis_folder(self.redis_process)
         shutil.rmtree(self.folder, ignore_errors=True)
 
 

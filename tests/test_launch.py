@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -75,6 +77,9 @@ class Launched:
         if self.process.poll() is None:
             self.process.kill()
             self.process.wait(10)
+        kept = re.search(r"the workers' logs stay in (\S+)", self.stderr())  # after a worker died
+        if kept and Path(kept.group(1)).name.startswith("rigid-body-lab-"):
+            shutil.rmtree(kept.group(1), ignore_errors=True)
         for name in ("out", "err"):
             getattr(self, name).close()
             (self.folder / f"rbl-launch-{self.port}.{name}").unlink(missing_ok=True)

@@ -44,8 +44,7 @@ from typing import Any
 from app.cluster.gate import new_code
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process, wait_for_port
 
-__all__ = ["WORKER_START_S", "Launch", "check_port_free", "launch_main", "nginx_config", "remove_redis_folder",
-           "start_nginx",
+__all__ = ["WORKER_START_S", "Launch", "check_port_free", "launch_main", "nginx_config", "start_nginx",
            "start_worker"]
 
 WORKER_START_S = 90.0  # [s] a worker has this long to listen (imports and presets on a busy machine)
@@ -235,18 +234,10 @@ class Launch:
         for process in self.workers.values():
             stop_process(process)
         stop_process(self.redis)
-        remove_redis_folder(self.redis)
         if self.reported:
             print(f"rigid-body-lab: the workers' logs stay in {self.folder}", file=sys.stderr)
         else:
             shutil.rmtree(self.folder, ignore_errors=True)
-
-
-def remove_redis_folder(process: subprocess.Popen[bytes] | None) -> None:
-    """Remove the (empty) working folder of a redis-server started by `start_redis`, once it ended."""
-    args = [str(a) for a in process.args] if process is not None and isinstance(process.args, list) else []
-    if "--dir" in args and process is not None and process.poll() is not None:
-        shutil.rmtree(args[args.index("--dir") + 1], ignore_errors=True)
 
 
 def _interrupt(_signum: int, _frame: Any) -> None:
