@@ -17,6 +17,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import viser
@@ -27,7 +28,8 @@ from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
 from app.lectern import Broadcast, Lectern
 from app.lessons import LessonError, lessons
-from app.scenes import check_presets
+from app.own import OwnLibrary
+from app.scenes import SCENES, check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
@@ -83,6 +85,7 @@ class App:
         session_factory: Callable[[viser.ClientHandle], Session] | None = None,
         presenter_code: str | None = None,
         projector: bool = False,
+        own: OwnLibrary | None = None,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -94,6 +97,7 @@ class App:
         self.lectern = Lectern(server, presenter_code)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
+        self.own = own  # the lecturer's own presets and lessons (app.own), or None
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
@@ -107,7 +111,7 @@ class App:
 
     # ------------------------------------------------------------------ sessions
     def _new_session(self, client: viser.ClientHandle) -> Session:
-        session = Session(client, lectern=self.lectern)
+        session = Session(client, lectern=self.lectern, own=self.own)
         if self.projector:
             session.guard("projector", session.set_projector)(True)
         return session
@@ -264,11 +268,13 @@ class App:
 
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
-    presenter_code: str | None = None, projector: bool = False,
+    presenter_code: str | None = None, projector: bool = False, data_dir: str | Path | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
+    data_dir: the folder of what users keep (own presets and lessons, `app.own`; None: the
+    platform's default, `app.userdata.default_data_dir()`), made when something is first saved.
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
@@ -277,7 +283,10 @@ def create_server(
     lessons()  # a broken lesson file: LessonError naming the file and the step
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
-    app = App(server, presenter_code=presenter_code, projector=projector)
+    own = OwnLibrary(data_dir, SCENES)
+    for problem in own.problems:
+        logger.warning("data folder: %s (left out)", problem)
+    app = App(server, presenter_code=presenter_code, projector=projector, own=own)
     if start_loop:
         app.start()
     return app
@@ -295,6 +304,9 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="the code a browser types to present (default: a random one, printed at start)")
     parser.add_argument("--projector", action="store_true",
                         help="start every browser in the projector layout (large text, narrow panel)")
+    parser.add_argument("--data-dir", metavar="PATH",
+                        help="where own presets and lessons are kept (default: the platform's data folder, "
+                             "e.g. ~/.local/share/rigid-body-lab)")
     return parser.parse_args(argv)
 
 
@@ -307,7 +319,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = _parse_args(arguments)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
     try:
-        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector)
+        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector,
+                            data_dir=args.data_dir)
     except (PresetError, LessonError) as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None

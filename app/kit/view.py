@@ -223,6 +223,13 @@ class SceneView:
         room.sim.preset = name
         room.pause()  # every view redraws
 
+    @classmethod
+    def moment_preset(cls, room: Room, name: str) -> Preset:
+        """The moment `room` shows as a preset named `name` (its parameters, attitude and rates now,
+        to start at t = 0): what `Save as preset` keeps (`app.own`).  ValueError where the scene
+        cannot say its moment in its preset's terms (by default: every scene that does not say how)."""
+        raise ValueError(f"{cls.title}: its moments cannot be kept as presets yet")
+
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""
         if name not in {p.name for p in self.presets()}:
