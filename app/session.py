@@ -159,8 +159,16 @@ class Session:
         scene: Scene = room.scene
         view: Any = scene(self.client, room, self.guard, self.report_error)
         view.open_scene = self.open_scene
+        self._offer_own(view)
         self.projector_layout.fit_new_view(view)
         return view
+
+    def _offer_own(self, view: Any) -> None:
+        """The lecturer's own presets of the view's scene in its presets row (★ Mine), started here."""
+        if self.own is None:
+            return
+        view.start_own_preset = lambda name: self.start_preset(self.controlled_room(), name)
+        view.show_own_presets([p.name for p in self.own.presets(view.room.scene.title)])
 
     def _foldable(self) -> list[Any]:
         """What a narrow explorer's panel folds away (`app.hall.narrow.NarrowPanel`): the scene
@@ -262,6 +270,7 @@ class Session:
                     self.lectern.live_view = None  # removed above; the new one goes live
                     self.scene = self.lectern.make_live_view(self, room)
                     self.scene.open_scene = self.open_scene
+                    self._offer_own(self.scene)
                 else:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
@@ -327,6 +336,8 @@ class Session:
             self.own_panel.refresh()
         if self.own is not None:
             self.lesson_runner.add_lessons(self.own.lessons())
+        if self.scene is not None and self.mode is not Mode.FOLLOWING:
+            self._offer_own(self.scene)
         self._refresh_preset_commands()
 
     def play(self) -> None:
@@ -519,6 +530,7 @@ class Session:
                 self.scene.remove()
                 self.scene = lectern.make_live_view(self, room)
                 self.scene.open_scene = self.open_scene
+                self._offer_own(self.scene)
             self.mode = Mode.PRESENTING
         lectern.start(self)
         self._show_mode()

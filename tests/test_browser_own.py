@@ -99,11 +99,10 @@ def test_a_saved_preset_survives_a_restart_and_plays(browser, apps, tmp_path: Pa
     try:
         session = open_app(page, again)
         choose_scene(page, session, "Heavy top", wait_until)
-        open_mine(page)
-        pick(page, session.own_panel.gui_mine, "★ Loop at its top")
-        wait_until(lambda: session.own_panel.gui_mine.value == "★ Loop at its top", timeout=10.0)
-        page.get_by_role("button", name="Rename").locator("xpath=..").get_by_role(  # the Mine folder's Play
-            "button", name="Play", exact=True).click()
+        page.get_by_text("★ Mine", exact=True).first.wait_for(timeout=10_000)  # a row beside the scene's presets
+        page.get_by_role("button", name="Loop at its top").click()
+        wait_until(lambda: session.room.sim.preset == "Loop at its top", timeout=10.0)
+        page.get_by_role("button", name="Play", exact=True).click()
         room = session.room
         wait_until(lambda: room.sim.preset == "Loop at its top" and room.playing, timeout=10.0)
         start = room.sim.initial_state

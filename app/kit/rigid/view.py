@@ -328,7 +328,7 @@ class RigidBodyView(SceneView):
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange", *self.extra_tabs),
                          on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
             with gui.add_folder("Euler angles z-x-z [deg]"):
                 self.gui_angles = [add_slider(gui, spec) for spec in ANGLE_SPECS]
                 self.gui_gimbal_note = gui.add_markdown("", visible=False)

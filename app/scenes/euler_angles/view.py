@@ -286,7 +286,7 @@ class EulerAnglesView(SceneView):
         with self.folder_angles:
             self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(ANGLE_SPECS, self.sim.angles_deg)]
             self.gui_gimbal_note = gui.add_markdown("", visible=False)
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
         self.folder_rates = gui.add_folder("Euler rates [deg/s]")
         with self.folder_rates:
             self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(RATE_SPECS, self.sim.rates_deg)]
