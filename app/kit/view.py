@@ -230,7 +230,7 @@ class SceneView:
         """The moment `room` shows as a preset named `name` (its parameters, attitude and rates now,
         to start at t = 0): what `Save as preset` keeps (`app.own`).  ValueError where the scene
         cannot say its moment in its preset's terms (by default: every scene that does not say how)."""
-        raise ValueError(f"{cls.title}: its moments cannot be kept as presets yet")
+        raise ValueError(f"{cls.title} cannot keep what it shows as a preset yet")
 
     def show_own_presets(self, names: Sequence[str]) -> None:
         """List the lecturer's own presets of the scene beside its own (the presets row's ★ Mine row)."""
