@@ -243,7 +243,10 @@ class SceneView:
         if self.start_own_preset is None:
             self.message.show(f"No preset named {name!r}.")
             return
-        self.start_own_preset(name)
+        try:
+            self.start_own_preset(name)
+        except ValueError:  # a name a client made up, or one deleted meanwhile
+            self.message.show(f"No preset named {name!r}.")
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""
