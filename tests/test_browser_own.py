@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import poll_until
 from test_browser import open_app
 from test_browser_messages import choose_scene, download
 
@@ -49,12 +50,14 @@ def field(page, label: str):  # type: ignore[no-untyped-def]
     return row.locator("input").first
 
 
-def type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
+def type_into(page, label: str, text: str, handle) -> None:  # type: ignore[no-untyped-def]
+    """Type `text` into the field `label` and wait until the server has it (`handle.value`)."""
     box = field(page, label)
     box.click()
     box.press("Control+A")
     page.keyboard.type(text, delay=10)
     box.press("Enter")
+    poll_until(lambda: handle.value == text, timeout=10.0)
 
 
 def open_mine(page) -> None:  # type: ignore[no-untyped-def]
@@ -79,6 +82,7 @@ def test_a_saved_preset_survives_a_restart_and_plays(browser, apps, tmp_path: Pa
         session = open_app(page, app)
         choose_scene(page, session, "Heavy top", wait_until)
         page.get_by_role("button", name="Loop").click()
+        wait_until(lambda: session.room.sim.preset == "Loop", timeout=10.0)
         page.get_by_role("button", name="Play", exact=True).click()
         wait_until(lambda: session.room.playing and session.room.sim.t > 1.0, timeout=20.0)
         page.get_by_role("button", name="Pause", exact=True).click()
@@ -86,7 +90,7 @@ def test_a_saved_preset_survives_a_restart_and_plays(browser, apps, tmp_path: Pa
         sim = session.room.sim
         R_saved, omega_saved = sim.state.R_space_body.copy(), sim.state.omega_body.copy()
         open_mine(page)
-        type_into(page, "Name", "Loop at its top")
+        type_into(page, "Name", "Loop at its top", session.own_panel.gui_name)
         page.get_by_role("button", name="Save as preset").click()
         wait_until(lambda: (data / "presets" / "heavy_top.json").is_file(), timeout=10.0)
         page.get_by_text("Saved Loop at its top").first.wait_for(timeout=10_000)
@@ -124,14 +128,16 @@ def test_a_two_step_lesson_exports_imports_into_a_fresh_folder_and_steps(browser
         session = open_app(page, maker)
         choose_scene(page, session, "Free body", wait_until)
         page.get_by_role("button", name="Dzhanibekov").click()
+        wait_until(lambda: session.room.sim.preset == "Dzhanibekov", timeout=10.0)
         open_mine(page)
-        type_into(page, "My lesson", "Two motions")
-        type_into(page, "Step text", "The book flips every 3.9 s.")
+        type_into(page, "My lesson", "Two motions", session.own_panel.gui_lesson_title)
+        type_into(page, "Step text", "The book flips every 3.9 s.", session.own_panel.gui_step_text)
         page.get_by_role("button", name="Add to lesson").click()
         page.get_by_text("Two motions: 1 step").first.wait_for(timeout=10_000)
         choose_scene(page, session, "Heavy top", wait_until)
         page.get_by_role("button", name="Loop").click()
-        type_into(page, "Step text", "The tip draws loops.")
+        wait_until(lambda: session.room.sim.preset == "Loop", timeout=10.0)
+        type_into(page, "Step text", "The tip draws loops.", session.own_panel.gui_step_text)
         page.get_by_role("button", name="Add to lesson").click()
         page.get_by_text("Two motions: 2 steps").first.wait_for(timeout=10_000)
         name, exported = download(page, lambda: page.get_by_role("button", name="Export lesson").click())
@@ -163,12 +169,12 @@ def test_a_two_step_lesson_exports_imports_into_a_fresh_folder_and_steps(browser
         page.get_by_text("Imported Two motions (2 steps").first.wait_for(timeout=10_000)
         page.get_by_text("Lesson", exact=True).first.click()
         pick(page, session.lesson_runner.gui_lesson, "★ Two motions")
-        wait_until(lambda: session.lesson_runner.step == 0 and session.scene.title == "Free body", timeout=10.0)
-        assert session.room.sim.preset == "Dzhanibekov"
+        wait_until(lambda: session.lesson_runner.step == 0 and session.room.sim.preset == "Dzhanibekov"
+                   and session.scene.title == "Free body", timeout=10.0)
         page.get_by_role("button", name="Next ▶").click()
-        wait_until(lambda: session.lesson_runner.step == 1 and session.scene.title == "Heavy top", timeout=10.0)
-        assert session.room.sim.preset == "Loop"
-        page.get_by_text("The tip draws loops.").first.wait_for(timeout=10_000)
+        wait_until(lambda: session.lesson_runner.step == 1 and session.room.sim.preset == "Loop"
+                   and session.scene.title == "Heavy top", timeout=10.0)
+        page.get_by_text("The tip draws loops.").locator("visible=true").first.wait_for(timeout=10_000)
     finally:
         page.close()
 
