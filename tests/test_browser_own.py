@@ -84,7 +84,7 @@ def test_a_saved_preset_survives_a_restart_and_plays(browser, apps, tmp_path: Pa
         page.get_by_role("button", name="Loop").click()
         wait_until(lambda: session.room.sim.preset == "Loop", timeout=10.0)
         page.get_by_role("button", name="Play", exact=True).click()
-        wait_until(lambda: session.room.playing and session.room.sim.t > 1.0, timeout=20.0)
+        wait_until(lambda: session.room.playing and session.room.sim.t > 0.3, timeout=20.0)
         page.get_by_role("button", name="Pause", exact=True).click()
         wait_until(lambda: not session.room.playing, timeout=10.0)
         sim = session.room.sim
