@@ -22,6 +22,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import viser
@@ -33,7 +34,8 @@ from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
 from app.lectern import Broadcast, Lectern, new_code
 from app.lessons import LessonError, lessons
-from app.scenes import check_presets
+from app.own import OwnLibrary
+from app.scenes import SCENES, check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.theme import configure_scene
@@ -92,6 +94,7 @@ class App:
         presenter_code: str | None = None,
         projector: bool = False,
         gate: Gate | None = None,
+        own: OwnLibrary | None = None,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -103,6 +106,7 @@ class App:
         self.lectern = Lectern(server, presenter_code, gate=gate)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
+        self.own = own  # the lecturer's own presets and lessons (app.own), or None
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
@@ -116,7 +120,7 @@ class App:
 
     # ------------------------------------------------------------------ sessions
     def _new_session(self, client: viser.ClientHandle) -> Session:
-        session = Session(client, lectern=self.lectern)
+        session = Session(client, lectern=self.lectern, own=self.own)
         if self.projector:
             session.guard("projector", session.set_projector)(True)
         return session
@@ -275,7 +279,7 @@ class App:
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
     presenter_code: str | None = None, projector: bool = False,
-    redis_url: str | None = None, worker_id: str | None = None,
+    redis_url: str | None = None, worker_id: str | None = None, data_dir: str | Path | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
@@ -283,6 +287,8 @@ def create_server(
     redis_url, worker_id: this app is the worker `worker_id` of a lecture on several processes
     (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.cluster.gate.RedisGate`).
     None (both): one process, as always, importing no redis.
+    data_dir: the folder of what users keep (own presets and lessons, `app.own`; None: the
+    platform's default, `app.userdata.default_data_dir()`), made when something is first saved.
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
@@ -296,7 +302,10 @@ def create_server(
         gate = RedisGate(redis_url, worker_id or "w1", presenter_code or new_code())
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
-    app = App(server, presenter_code=presenter_code, projector=projector, gate=gate)
+    own = OwnLibrary(data_dir, SCENES)
+    for problem in own.problems:
+        logger.warning("data folder: %s (left out)", problem)
+    app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own)
     if start_loop:
         app.start()
     return app
@@ -314,6 +323,9 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="the code a browser types to present (default: a random one, printed at start)")
     parser.add_argument("--projector", action="store_true",
                         help="start every browser in the projector layout (large text, narrow panel)")
+    parser.add_argument("--data-dir", metavar="PATH",
+                        help="where own presets and lessons are kept (default: the platform's data folder, "
+                             "e.g. ~/.local/share/rigid-body-lab)")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="serve with N app processes behind nginx on --port, one lecture through Redis "
                              "(needs nginx and redis-server)")
@@ -361,7 +373,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     try:
         app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector,
                             redis_url=args.redis, worker_id=args.worker_id if worker else None,
-                            verbose=not worker)
+                            verbose=not worker, data_dir=args.data_dir)
     except (PresetError, LessonError) as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None
