@@ -50,8 +50,15 @@ DEFAULT_TOL = 1e-12
 SEPARATRIX_M1 = 1e-6
 """Below this 1 - m the drift is `FreeBodyExact` (near the separatrix)."""
 
-_GAUSS_X = (0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363)
-_GAUSS_W = (0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763)
+_GAUSS = (  # Gauss-Legendre (node, weight) on [-1, 1], the positive half: 4, 6 and 8 points
+    ((0.8611363115940526, 0.34785484513745357), (0.33998104358485626, 0.6521451548625464)),
+    ((0.9324695142031519, 0.17132449237917027), (0.6612093864662645, 0.3607615730481387),
+     (0.2386191860831969, 0.46791393457269104)),
+    ((0.9602898564975362, 0.10122853629037706), (0.7966664774136267, 0.22238103445337443),
+     (0.525532409916329, 0.3137066458778869), (0.18343464249564978, 0.36268378337836166)),
+)
+_NODE_LIMITS = (0.015, 0.045)  # [u]: 4 Gauss points below the first, 6 below the second, else 8
+_MAX_HALF = 0.09  # [u]: a longer drift is cut in two (worst body measured: 4e-14 rad at 0.5)
 _LANDEN_STOP = 1e-9
 
 
@@ -154,8 +161,8 @@ def _add(s0: float, c0: float, d0: float, s1: float, c1: float, d1: float, m: fl
             (d0 * d1 - m * s0 * s1 * c0 * c1) * den)
 
 
-def _perm_sign(i: int, j: int, k: int) -> float:
-    return 1.0 if (i, j, k) in ((0, 1, 2), (1, 2, 0), (2, 0, 1)) else -1.0
+_PERM_SIGN = {perm: (1.0 if perm in ((0, 1, 2), (1, 2, 0), (2, 0, 1)) else -1.0)
+              for perm in ((0, 1, 2), (1, 2, 0), (2, 0, 1), (0, 2, 1), (2, 1, 0), (1, 0, 2))}
 
 
 R9 = tuple[float, float, float, float, float, float, float, float, float]
@@ -178,6 +185,20 @@ def _rotation(axis: tuple[float, float, float], angle: float) -> list[float]:
             -s * y + c1 * x * z, s * x + c1 * y * z, 1.0 - c1 * (x * x + y * y)]
 
 
+def _euler(lx: float, ly: float, lz: float) -> tuple[tuple[float, float], tuple[float, float, float],
+                                                     tuple[float, float, float]]:
+    """The rows of Rx(θ) Rz(ψ) with (sin θ sin ψ, sin θ cos ψ, cos θ) ∝ (lx, ly, lz) (the first
+    row's third entry, 0, left out)."""
+    st = hypot(lx, ly)
+    n = 1.0 / hypot(st, lz)
+    if st == 0.0:
+        sp, cp = 0.0, 1.0
+    else:
+        sp, cp = lx / st, ly / st
+    ct, st = lz * n, st * n
+    return (cp, -sp), (ct * sp, ct * cp, -st), (st * sp, st * cp, ct)
+
+
 class FreeDrift:
     """The exact torque-free flow of a body with principal moments `inertia` (3,) [kg m²]:
     `flow(R, L, tau)` -> (R, L) tau [s] later; R row-major (9 floats), L_b (3 floats)
@@ -189,105 +210,112 @@ class FreeDrift:
         self.slow_drifts = 0
 
     def flow(self, R: list[float], L: list[float], tau: float) -> tuple[list[float], list[float]]:
-        I = self.I
-        w = [L[0] / I[0], L[1] / I[1], L[2] / I[2]]
-        scale = max(abs(w[0]), abs(w[1]), abs(w[2]))
+        I0, I1, I2 = I = self.I
+        w0, w1, w2 = L[0] / I0, L[1] / I1, L[2] / I2
+        scale = max(abs(w0), abs(w1), abs(w2))
         if scale == 0.0 or tau == 0.0:
             return R, L
-        ws = (w[0] / scale, w[1] / scale, w[2] / scale)
+        inv = 1.0 / scale
+        ws = (w0 * inv, w1 * inv, w2 * inv)
         a, b, c = self.order
-        Ib = I[b]
-        D = I[a] * (I[a] - Ib) * ws[a] ** 2 + I[c] * (I[c] - Ib) * ws[c] ** 2
+        Ia, Ib, Ic = I[a], I[b], I[c]
+        D = Ia * (Ia - Ib) * ws[a] ** 2 + Ic * (Ic - Ib) * ws[c] ** 2
         if D >= 0.0:
             r, p, q, sigma = c, a, b, 1.0
         else:
             r, p, q, sigma = a, c, b, -1.0
         Ip, Iq, Ir = I[p], I[q], I[r]
-
-        def g(Ik: float) -> float:
-            return I[0] * (I[0] - Ik) * ws[0] ** 2 + I[1] * (I[1] - Ik) * ws[1] ** 2 + I[2] * (I[2] - Ik) * ws[2] ** 2
-
-        g_r, g_p = g(Ir), g(Ip)
-        if Ip == Ir or g_p == 0.0 or g_r == 0.0 or (Ir - Iq) * g_p == 0.0:
-            return self._steady(R, L, w, tau)
+        s0, s1, s2 = ws[0] * ws[0], ws[1] * ws[1], ws[2] * ws[2]
+        g_r = I0 * (I0 - Ir) * s0 + I1 * (I1 - Ir) * s1 + I2 * (I2 - Ir) * s2
+        g_p = I0 * (I0 - Ip) * s0 + I1 * (I1 - Ip) * s1 + I2 * (I2 - Ip) * s2
+        if Ip == Ir or g_p == 0.0 or g_r == 0.0 or Iq == Ir:
+            return self._steady(R, L, [w0, w1, w2], tau)
         A_p = sqrt(g_r / (Ip * (Ip - Ir)))
-        A_q = sqrt(g_r / (Iq * (Iq - Ir))) if Iq != Ir else 0.0
+        A_q = sqrt(g_r / (Iq * (Iq - Ir)))
         A_r = sqrt(g_p / (Ir * (Ir - Ip)))
         lam = sqrt((Ir - Iq) * g_p / (Ip * Iq * Ir)) * scale
-        m = min(1.0, max(0.0, (Iq - Ip) * g_r / ((Iq - Ir) * g_p))) if Iq != Ir else 0.0
-        m1 = min(1.0, max(0.0, D * (Ir - Ip) / ((Ir - Iq) * g_p)))
+        m = min(1.0, max(0.0, (Iq - Ip) * g_r / ((Iq - Ir) * g_p)))
         if m > 0.5:
+            m1 = min(1.0, max(0.0, D * (Ir - Ip) / ((Ir - Iq) * g_p)))
             m = 1.0 - m1
         else:
             m1 = 1.0 - m
         if m1 < SEPARATRIX_M1 or lam == 0.0:
             return self._exact(R, L, tau)
-        s_r = 1.0 if w[r] > 0.0 else -1.0
-        y_sign = s_r * _perm_sign(r, p, q)  # b2 = b3 × b1 = s_r (e_r × e_p) = y_sign e_q
-        x0, y0 = ws[p], y_sign * ws[q]
+        s_r = 1.0 if ws[r] > 0.0 else -1.0
+        y_sign = s_r * _PERM_SIGN[r, p, q]  # b2 = b3 × b1 = s_r (e_r × e_p) = y_sign e_q
         # the phase now: (sn, cn) ∝ (σ y / A_q, x / A_p)
-        ys, xs = sigma * y0 * A_p, x0 * A_q
+        ys, xs = sigma * y_sign * ws[q] * A_p, ws[p] * A_q
         hh = hypot(ys, xs)
         if hh == 0.0:
-            return self._steady(R, L, w, tau)
+            return self._steady(R, L, [w0, w1, w2], tau)
         sn0, cn0 = ys / hh, xs / hh
         dn0 = sqrt(m1 + m * cn0 * cn0)
         levels, lscale, m_last = _landen(m, m1)
         K = 0.5 * math.pi * lscale * (1.0 + 0.25 * m_last)
         half = 0.5 * lam * tau
-        if abs(half) > K:  # a step beyond half a period of ω: the closed form
-            return self._exact(R, L, tau)
+        if abs(half) > _MAX_HALF:  # a long drift: two shorter ones (the quadrature's reach)
+            R, L = self.flow(R, L, 0.5 * tau)
+            return self.flow(R, L, 0.5 * tau)
         sh, ch, dh = _sn_cn_dn(half, levels, lscale, m_last, K)
-        sm, cm, dm = _add(sn0, cn0, dn0, sh, ch, dh, m)
-        s1, c1, d1 = _add(sm, cm, dm, sh, ch, dh, m)
-        # Δφ = ∫ φ̇ dt by Gauss-Legendre about the middle of the step
-        Lnorm = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2])
+        # the middle and the end of the step by the addition theorem
+        den = 1.0 / (1.0 - m * sn0 * sn0 * sh * sh)
+        sm, cm, dm = ((sn0 * ch * dh + sh * cn0 * dn0) * den, (cn0 * ch - sn0 * sh * dn0 * dh) * den,
+                      (dn0 * dh - m * sn0 * sh * cn0 * ch) * den)
+        den = 1.0 / (1.0 - m * sm * sm * sh * sh)
+        sn1, cn1, dn1 = ((sm * ch * dh + sh * cm * dm) * den, (cm * ch - sm * sh * dm * dh) * den,
+                         (dm * dh - m * sm * sh * cm * ch) * den)
+        # Δφ = ∫ φ̇ dt, φ̇ = |L| (P2 cn² + Q2 sn²)/(P3 cn² + Q3 sn²), Gauss-Legendre about the middle
         P2, Q2 = Ip * A_p * A_p, Iq * A_q * A_q
         P3, Q3 = Ip * P2, Iq * Q2
-
-        def rate(sn: float, cn: float) -> float:
-            c2, s2 = cn * cn, sn * sn
-            return (P2 * c2 + Q2 * s2) / (P3 * c2 + Q3 * s2)
-
+        ah = abs(half)
+        nodes = _GAUSS[0] if ah < _NODE_LIMITS[0] else _GAUSS[1] if ah < _NODE_LIMITS[1] else _GAUSS[2]
         total = 0.0
-        for xg, wg in zip(_GAUSS_X, _GAUSS_W):
+        msm2, cmd, smd = m * sm * sm, cm * dm, sm * dm
+        for xg, wg in nodes:  # sn, cn at mid ± x from their values at mid and x
             sg, cg, dg = _sn_cn_dn(half * xg, levels, lscale, m_last, K)
-            sp, cp, _ = _add(sm, cm, dm, sg, cg, dg, m)
-            sq, cq, _ = _add(sm, cm, dm, -sg, cg, dg, m)
-            total += wg * (rate(sp, cp) + rate(sq, cq))
+            den = 1.0 / (1.0 - msm2 * sg * sg)
+            a1, a2 = sm * cg * dg, sg * cmd
+            b1, b2 = cm * cg, sg * smd * dg
+            sp, cp = (a1 + a2) * den, (b1 - b2) * den
+            sq, cq = (a1 - a2) * den, (b1 + b2) * den
+            c2, q2 = cp * cp, sp * sp
+            c3, q3 = cq * cq, sq * sq
+            total += wg * ((P2 * c2 + Q2 * q2) / (P3 * c2 + Q3 * q2) + (P2 * c3 + Q2 * q3) / (P3 * c3 + Q3 * q3))
+        Lnorm = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2])
         dphi = Lnorm * 0.5 * tau * total
         # E = Rx(θ) Rz(ψ) from L's direction in B at both ends: l_B ∝ (I_p A_p cn, σ I_q A_q sn, I_r A_r dn)
-        E0 = self._euler(Ip * A_p * cn0, sigma * Iq * A_q * sn0, Ir * A_r * dn0)
-        E1 = self._euler(Ip * A_p * c1, sigma * Iq * A_q * s1, Ir * A_r * d1)
+        u0, v0, z0 = _euler(Ip * A_p * cn0, sigma * Iq * A_q * sn0, Ir * A_r * dn0)
+        u1, v1, z1 = _euler(Ip * A_p * cn1, sigma * Iq * A_q * sn1, Ir * A_r * dn1)
+        # M = E0ᵀ Rz(Δφ) E1 with E = [[cψ, -sψ, 0], [cθ sψ, cθ cψ, -sθ], [sθ sψ, sθ cψ, cθ]]
         cf, sf = cos(dphi), sin(dphi)
-        Rz = [cf, -sf, 0.0, sf, cf, 0.0, 0.0, 0.0, 1.0]
-        E0T = [E0[0], E0[3], E0[6], E0[1], E0[4], E0[7], E0[2], E0[5], E0[8]]
-        M = _matmul(_matmul(E0T, Rz), E1)  # in B: R_B(τ) = R_B(0) M
-        # back to body axes: body = B · (B coordinates); B columns: e_p, y_sign e_q, s_r e_r
-        col = (p, q, r)
-        sgn = (1.0, y_sign, s_r)
-        Mb = [0.0] * 9
-        for i in range(3):
+        # F = Rz(Δφ) E1
+        e10, e11 = u1
+        e20, e21, e22 = v1
+        e30, e31, e32 = z1
+        f00, f01, f02 = cf * e10 - sf * e20, cf * e11 - sf * e21, -sf * e22
+        f10, f11, f12 = sf * e10 + cf * e20, sf * e11 + cf * e21, cf * e22
+        f20, f21, f22 = e30, e31, e32
+        # M = E0ᵀ F: M[i][j] = Σ_k E0[k][i] F[k][j]
+        (g00, g01), (g10, g11, g12), (g20, g21, g22) = u0, v0, z0
+        M = (g00 * f00 + g10 * f10 + g20 * f20, g00 * f01 + g10 * f11 + g20 * f21, g00 * f02 + g10 * f12 + g20 * f22,
+             g01 * f00 + g11 * f10 + g21 * f20, g01 * f01 + g11 * f11 + g21 * f21, g01 * f02 + g11 * f12 + g21 * f22,
+             g12 * f10 + g22 * f20, g12 * f11 + g22 * f21, g12 * f12 + g22 * f22)
+        # R_new = R B M Bᵀ; B's columns: e_p, y_sign e_q, s_r e_r
+        cols, sgn = (p, q, r), (1.0, y_sign, s_r)
+        RB = [0.0] * 9
+        for row in (0, 3, 6):
+            RB[row], RB[row + 1], RB[row + 2] = R[row + p], y_sign * R[row + q], s_r * R[row + r]
+        R_new = [0.0] * 9
+        for row in (0, 3, 6):
+            x0, x1, x2 = RB[row], RB[row + 1], RB[row + 2]
             for j in range(3):
-                Mb[3 * col[i] + col[j]] = sgn[i] * sgn[j] * M[3 * i + j]
-        R_new = _matmul(R, Mb)
+                R_new[row + cols[j]] = sgn[j] * (x0 * M[j] + x1 * M[3 + j] + x2 * M[6 + j])
         L_new = [0.0, 0.0, 0.0]
-        L_new[p] = Ip * A_p * c1 * scale
-        L_new[q] = y_sign * sigma * Iq * A_q * s1 * scale
-        L_new[r] = s_r * Ir * A_r * d1 * scale
+        L_new[p] = Ip * A_p * cn1 * scale
+        L_new[q] = y_sign * sigma * Iq * A_q * sn1 * scale
+        L_new[r] = s_r * Ir * A_r * dn1 * scale
         return R_new, L_new
-
-    @staticmethod
-    def _euler(lx: float, ly: float, lz: float) -> list[float]:
-        """Rx(θ) Rz(ψ) row-major with (sin θ sin ψ, sin θ cos ψ, cos θ) ∝ (lx, ly, lz)."""
-        st = hypot(lx, ly)
-        n = hypot(st, lz)
-        if st == 0.0:
-            sp, cp = 0.0, 1.0
-        else:
-            sp, cp = lx / st, ly / st
-        ct, st = lz / n, st / n
-        return [cp, -sp, 0.0, ct * sp, ct * cp, -st, st * sp, st * cp, ct]
 
     def _steady(self, R: list[float], L: list[float], w: list[float], tau: float) -> tuple[list[float], list[float]]:
         speed = sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
