@@ -652,7 +652,7 @@ class GridIntegrator:
         return (float(self.t), float(self.steps), *self._q_grid.tolist(), *self._q_dot_grid.tolist(),
                 *self.q.tolist(), *self.q_dot.tolist())
 
-    def restore(self, values: Sequence[float]) -> None:
+    def restore(self, values: Numbers) -> None:
         """A `snapshot` back bit for bit (ValueError, nothing changed, if it is not one of this
         integrator's: 2 + 4m finite values with a whole step count ≥ 0)."""
         m = len(self._q_grid)
