@@ -73,6 +73,14 @@ def _bm_srkn11b() -> tuple[tuple[float, ...], tuple[float, ...]]:
     return b_full, (*a, a_mid, *reversed(a))
 
 
+def _bm_srkn6b() -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Blanes & Moan (2002), SRKN_6^b: order 4, 6 drifts and 7 kicks a step."""
+    b = (0.0829844064174052, 0.396309801498368, -0.0390563049223486)
+    a = (0.245298957184271, 0.604872665711080)
+    a_full = (*a, 0.5 - sum(a), 0.5 - sum(a), *reversed(a))
+    return (*b, 1.0 - 2.0 * sum(b), *reversed(b)), a_full
+
+
 def _strang_composition(gammas: tuple[float, ...]) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """Π Strang(γ_i h) with Strang = K(h/2) D(h) K(h/2), adjacent kicks merged."""
     b = [0.5 * gammas[0]]
@@ -96,11 +104,12 @@ SCHEMES: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = {
     "strang": _strang_composition((1.0,)),
     "suzuki4": _strang_composition(_suzuki4()),
     "yoshida6": _strang_composition(_yoshida6()),
+    "bm4": _bm_srkn6b(),
     "bm6": _bm_srkn11b(),
 }
 """name -> (kick coefficients b (s + 1), drift coefficients a (s)), symmetric, Σa = Σb = 1."""
 
-ORDERS = {"strang": 2, "suzuki4": 4, "yoshida6": 6, "bm6": 6}
+ORDERS = {"strang": 2, "suzuki4": 4, "yoshida6": 6, "bm4": 4, "bm6": 6}
 """name -> order of `SCHEMES[name]`."""
 
 
@@ -264,8 +273,10 @@ class FreeDrift:
         sm, cm, dm = ((sn0 * ch * dh + sh * cn0 * dn0) * den, (cn0 * ch - sn0 * sh * dn0 * dh) * den,
                       (dn0 * dh - m * sn0 * sh * cn0 * ch) * den)
         den = 1.0 / (1.0 - m * sm * sm * sh * sh)
-        sn1, cn1, dn1 = ((sm * ch * dh + sh * cm * dm) * den, (cm * ch - sm * sh * dm * dh) * den,
-                         (dm * dh - m * sm * sh * cm * ch) * den)
+        sn1, cn1 = (sm * ch * dh + sh * cm * dm) * den, (cm * ch - sm * sh * dm * dh) * den
+        norm = 1.0 / hypot(sn1, cn1)  # back on sn² + cn² = 1, dn² + m sn² = 1: |L| and T kept to rounding
+        sn1, cn1 = sn1 * norm, cn1 * norm
+        dn1 = sqrt(m1 + m * cn1 * cn1)
         # Δφ = ∫ φ̇ dt, φ̇ = |L| (P2 cn² + Q2 sn²)/(P3 cn² + Q3 sn²), Gauss-Legendre about the middle
         P2, Q2 = Ip * A_p * A_p, Iq * A_q * A_q
         P3, Q3 = Ip * P2, Iq * Q2
