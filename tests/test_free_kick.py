@@ -91,6 +91,22 @@ def test_the_asymmetric_heavy_top_meets_a_tight_reference_and_converges_at_order
     assert step_for(TORQUED, state, 1e-12) > 0.01
 
 
+@pytest.mark.parametrize(("mgl", "spin", "t_end", "steps"), [
+    (2.0, 60.0, 0.5, (0.01, 0.005, 0.0025)),  # a fast asymmetric top
+    (0.02, 1.0, 40.0, (3.2, 1.6, 0.8)),  # a small torque, slowly turning
+])
+def test_the_order_is_six_on_the_fast_top_and_under_a_small_torque(mgl: float, spin: float, t_end: float,
+                                                                    steps: tuple[float, ...]) -> None:
+    model = Model(inertia=(1.0, 1.4, 0.6), mgl=mgl)
+    omega0 = np.array([0.0, 0.3 * math.sin(0.9), 0.3 * math.cos(0.9) + spin])
+    state = State(matrix_from_euler_zxz(0.2, 0.9, 0.0), omega0)
+    t = np.linspace(0.0, t_end, 3)
+    reference = integrators.integrate_dop853(model, state, t, rtol=3e-14, atol=1e-16).R_space_body
+    errors = [_angle(reference, integrate_free_kick(model, state, t, h=h).R_space_body) for h in steps]
+    slope = np.polyfit(np.log(steps), np.log(errors), 1)[0]
+    assert 5.3 < slope < 7.0, (errors, slope)
+
+
 def test_energy_stays_bounded_and_l_z_exact() -> None:
     state = _torqued_state()
     t = np.linspace(0.0, 60.0, 121)
