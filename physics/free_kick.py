@@ -323,10 +323,12 @@ class FreeDrift:
             x0, x1, x2 = RB[row], RB[row + 1], RB[row + 2]
             for j in range(3):
                 R_new[row + cols[j]] = sgn[j] * (x0 * M[j] + x1 * M[3 + j] + x2 * M[6 + j])
+        # L_B = (I_p A_p cn, σ I_q A_q sn, I_r A_r dn) scale, scaled to |L| now (the amplitudes'
+        # roundings would otherwise shrink |L| by ~2e-17 a drift, a drift of the phase)
+        lp, lq, lr = Ip * A_p * cn1, y_sign * sigma * Iq * A_q * sn1, s_r * Ir * A_r * dn1
+        f = Lnorm / sqrt(lp * lp + lq * lq + lr * lr)
         L_new = [0.0, 0.0, 0.0]
-        L_new[p] = Ip * A_p * cn1 * scale
-        L_new[q] = y_sign * sigma * Iq * A_q * sn1 * scale
-        L_new[r] = s_r * Ir * A_r * dn1 * scale
+        L_new[p], L_new[q], L_new[r] = lp * f, lq * f, lr * f
         return R_new, L_new
 
     def _steady(self, R: list[float], L: list[float], w: list[float], tau: float) -> tuple[list[float], list[float]]:
