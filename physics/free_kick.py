@@ -18,16 +18,28 @@ The drift over τ from (R, L_b), in plain floats and `math` (no NumPy on 3-vecto
 * sn, cn, dn at u0 + λτ by the addition theorem from their values now (read off ω: no
   elliptic integral for u0) and at λτ/2 (the descending Landen transformation, a few levels);
 * the attitude R(τ) = R B E0ᵀ Rz(Δφ) E1 Bᵀ, with E = Rx(θ) Rz(ψ) the z-x-z angles of L's
-  direction in B and Δφ = ∫ φ̇ dt, φ̇ = |L| (I_p ω_x² + I_q ω_y²)/(L_x² + L_y²), by an 8-point
-  Gauss-Legendre rule on the step (analytic integrand; its error ~(λτ/2 / d)^16 with d the
-  distance of the nearest complex singularity, below rounding for λτ ≲ 0.5);
+  direction in B and Δφ = ∫ φ̇ dt, φ̇ = |L| (I_p ω_x² + I_q ω_y²)/(L_x² + L_y²), by a 4-, 6- or
+  8-point Gauss-Legendre rule about the middle of the drift (the integrand is analytic; the
+  number of points grows with λτ, `_NODE_LIMITS`, and a drift with λτ/2 > `_MAX_HALF` is cut in
+  two: the limits keep the drift within ~1e-14 rad of `FreeBodyExact` on random bodies);
+* the end phase is put back on sn² + cn² = 1 and L_b scaled to |L| now: the roundings of the
+  amplitudes would otherwise shrink |L| by ~2e-17 a drift, which over 1e4 drifts is a phase
+  error of ~1e-12 rad;
 * near the separatrix (1 - m < `SEPARATRIX_M1`), where the Landen descent needs many levels and
   the addition theorem cancels, the drift is `physics.exact_free.FreeBodyExact` (exact, slower).
 
-`integrate_free_kick(model, state0, t_eval, tol=..., h=None, scheme=None)`: fixed steps of h
-[s] (default: from `tol` by the scheme's error constant, `step_for`), cut so every output time
-is a step end.  Applies to a body with no torque hook (`applies`): free, heavy top, constant
-torque, gravity with a constant torque.
+What bounds its speed: the torque in body axes (gravity's Rᵀ e_z) turns with the body, so the
+kicks must resolve the body's rotation, h Ω ≲ 1 (Ω = `rate_scale`), as any integrator's steps
+must; the exact drift only makes the error constant small (it carries the torque's strength,
+not the free motion's).  A drift costs several right-hand-side evaluations of straight-line
+float code and the 6th-order composition 11 drifts a step, so per unit of accuracy it is not
+cheaper than `physics.dop853.integrate_adaptive` on the bodies measured
+(benchmarks/work_precision.py: the README's speed-against-error section).
+
+`integrate_free_kick(model, state0, t_eval, tol=..., h=None, scheme="bm6")`: fixed steps of h
+[s] (default: from `tol`, `step_for`), cut so every output time is a step end.  Applies to a
+body with no torque hook (`applies`): free, heavy top, constant torque, gravity with a
+constant torque.
 """
 
 from __future__ import annotations
@@ -162,13 +174,6 @@ def _sn_cn_dn(x: float, levels: tuple[tuple[float, float], ...], scale: float, m
         inv = 1.0 / hypot(1.0, y)
         sn, cn = inv, y * inv
     return (sn if x >= 0.0 else -sn), cn, d
-
-
-def _add(s0: float, c0: float, d0: float, s1: float, c1: float, d1: float, m: float) -> tuple[float, float, float]:
-    """sn, cn, dn (u + v) from their values at u and v (the addition theorem)."""
-    den = 1.0 / (1.0 - m * s0 * s0 * s1 * s1)
-    return ((s0 * c1 * d1 + s1 * c0 * d0) * den, (c0 * c1 - s0 * s1 * d0 * d1) * den,
-            (d0 * d1 - m * s0 * s1 * c0 * c1) * den)
 
 
 _PERM_SIGN = {perm: (1.0 if perm in ((0, 1, 2), (1, 2, 0), (2, 0, 1)) else -1.0)
