@@ -244,6 +244,7 @@ def plot(points: list[Point], path: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     names = sorted({p.case for p in points}, key=[p.case for p in points].index)
     cols = 3
@@ -256,6 +257,7 @@ def plot(points: list[Point], path: Path) -> None:
             pts = sorted((p.wall_s, max(p.attitude_error, 1e-17)) for p in points if p.case == name and p.method == method)  # noqa: E501
             if pts:
                 ax.loglog(*zip(*pts), marker=marker, color=color, label=method, ms=8 if marker == "*" else 5)
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # minor labels overlap on a short decade
         ax.set_title(name.replace("_", " "))
         ax.set_xlabel("wall time [s]")
         ax.set_ylabel("max attitude error [rad]")
