@@ -287,8 +287,9 @@ def realtime_method() -> str:
 
 def default_method(model: Model) -> str:
     """'exact' where a closed form exists, else the accurate adaptive method: on torqued bodies
-    it is also the fastest at equal error (`free_kick`, the exact free drift with torque kicks,
-    needs ~90 evaluations' worth of work a step against DOP853's 12: benchmarks/free_kick_ratio.py)."""
+    it is also the fastest at equal error: `free_kick` (the exact free drift with torque kicks)
+    takes 11 drifts a step, each several evaluations' worth of work, where DOP853 takes 12
+    evaluations (benchmarks/free_kick_ratio.py measures both)."""
     return "exact" if _has_closed_form(model) else "adaptive"
 
 
