@@ -240,7 +240,6 @@ class ConstrainedSimulation:
                 path.can_rewind(mark) for path, mark in zip(self.paths, marks)):
             raise ValueError("this snapshot is not one of this run's moments")
         self.integrator.restore(v[:at])
-        self._evaluation = None
         self.samples.rewind(int(v[at]))
         for path, mark in zip(self.paths, marks):
             path.rewind(mark)
@@ -249,6 +248,8 @@ class ConstrainedSimulation:
                 self.integrator.advance(later)
             except ArithmeticError:  # shown as recorded
                 pass
+        self._evaluation = None
+        self.evaluation()  # evaluated now, as every view asks: a restored copy equals one that is drawn
         self.version += 1
 
     def truncate(self) -> None:
