@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib.resources.abc import Traversable
 from pathlib import Path
@@ -63,7 +64,7 @@ def _vector(value: Any, where: str) -> tuple[float, float, float]:
     return float(value[0]), float(value[1]), float(value[2])
 
 
-def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
+def _step(entry: Any, where: str, scenes: dict[str, Any], own: Mapping[str, Sequence[str]]) -> Step:
     if not isinstance(entry, dict):
         raise LessonError(f"{where}: not an object")
     unknown = sorted(set(entry) - {"scene", "preset", "camera", "display", "play", "text", "tab", "integrator"})
@@ -74,7 +75,7 @@ def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
         raise LessonError(f"{where}.scene: {scene!r} is not a scene ({', '.join(scenes)})")
     preset = entry.get("preset")
     if preset is not None:
-        names = [p.name for p in scenes[scene].presets()]
+        names = [p.name for p in scenes[scene].presets()] + list(own.get(scene, ()))
         if preset not in names:
             raise LessonError(f"{where}.preset: {scene} has no preset {preset!r} ({', '.join(names)})")
     camera = None
@@ -105,8 +106,10 @@ def _step(entry: Any, where: str, scenes: dict[str, Any]) -> Step:
                 tab=entry.get("tab"), integrator=entry.get("integrator"))
 
 
-def load_lesson(path: Path | Traversable, scenes: dict[str, Any]) -> Lesson:
-    """One lesson file, checked against the scenes and their presets (LessonError if broken)."""
+def load_lesson(path: Path | Traversable, scenes: dict[str, Any],
+                own_presets: Mapping[str, Sequence[str]] | None = None) -> Lesson:
+    """One lesson file, checked against the scenes and their presets (LessonError if broken).
+    own_presets: {scene title: names} of the lecturer's own presets a step may name too (`app.own`)."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
@@ -117,7 +120,8 @@ def load_lesson(path: Path | Traversable, scenes: dict[str, Any]) -> Lesson:
         steps = data.get("steps")
         if not isinstance(steps, list) or not steps:
             raise LessonError("steps: missing or empty")
-        return Lesson(data["title"], tuple(_step(s, f"steps[{k}]", scenes) for k, s in enumerate(steps)), path)
+        own = own_presets or {}
+        return Lesson(data["title"], tuple(_step(s, f"steps[{k}]", scenes, own) for k, s in enumerate(steps)), path)
     except LessonError as error:
         raise LessonError(f"{path}: {error}") from None
 

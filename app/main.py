@@ -2,17 +2,22 @@
 
     python -m app [--host 127.0.0.1] [--port 8080]
     rigid-body-lab [--host ...] [--port ...]
+    rigid-body-lab --workers N [--redis URL] ...   # N processes behind nginx (`app.cluster.launch`)
 
 The server binds to loopback by default (viser's own default is 0.0.0.0, with no
 authentication); pass `--host 0.0.0.0` deliberately to show it on a lecture-room network.
 `create_server` builds the same app for tests: the loop runs in a thread, `App.stop()`
-ends both the loop and the server.
+ends both the loop and the server.  Given a Redis URL (`--redis`, or REDIS_ENV as the launcher
+passes it) the process is one worker of a lecture on several processes (`app.cluster`); SIGTERM
+then stops it as Ctrl-C does.
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import os
+import signal
 import sys
 import threading
 import time
@@ -23,12 +28,14 @@ from typing import Any
 import viser
 
 from app.backpressure import FramePacer, PacerStats
+from app.cluster.gate import Gate, guess_chance, normalize_code
 from app.export import export_main
 from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
-from app.lectern import Broadcast, Lectern
+from app.lectern import Broadcast, Lectern, new_code
 from app.lessons import LessonError, lessons
-from app.scenes import check_presets
+from app.own import OwnLibrary
+from app.scenes import SCENES, check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.sharestore import ShareStore, open_share_store
@@ -46,6 +53,8 @@ DEFAULT_PORT = 8080
 TICK_HZ = 60.0
 MAX_TICK_DT = 0.1  # [s] a tick never advances more than this (after a stall, or a laptop sleep)
 LOAD_PERIOD = 2.0  # [s] of wall time over which the frame rate browsers get is measured
+REDIS_ENV = "RBL_REDIS_URL"  # a worker's Redis URL (with its password) when not given as --redis
+CODE_ENV = "RBL_PRESENTER_CODE"  # the presenter code when not given as --presenter-code (out of `ps`)
 BUSY_SHARE = 0.85  # below this share of tick_hz the panels say the server is busy
 
 
@@ -87,6 +96,8 @@ class App:
         presenter_code: str | None = None,
         projector: bool = False,
         share_store: ShareStore | None = None,
+        gate: Gate | None = None,
+        own: OwnLibrary | None = None,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -95,9 +106,10 @@ class App:
         self.tick_count = 0
         self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
         self.load = ""  # what the panels say about the load ("" when the server keeps up)
-        self.lectern = Lectern(server, presenter_code)
+        self.lectern = Lectern(server, presenter_code, gate=gate)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
+        self.own = own  # the lecturer's own presets and lessons (app.own), or None
         self.share_store = share_store
         """Where `Share` keeps its codes (`app.sharestore`); None: no Share folder."""
         self._session_factory = session_factory or self._new_session
@@ -113,7 +125,7 @@ class App:
 
     # ------------------------------------------------------------------ sessions
     def _new_session(self, client: viser.ClientHandle) -> Session:
-        session = Session(client, lectern=self.lectern, share_store=self.share_store)
+        session = Session(client, lectern=self.lectern, own=self.own, share_store=self.share_store)
         if self.projector:
             session.guard("projector", session.set_projector)(True)
         return session
@@ -260,6 +272,7 @@ class App:
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout=2.0)
+        self.lectern.close()  # the presenter lock, if this process holds it
         self.server.stop()
 
     @property
@@ -270,24 +283,38 @@ class App:
 
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
-    presenter_code: str | None = None, projector: bool = False, data_dir: str | Path | None = None,
+    presenter_code: str | None = None, projector: bool = False,
+    redis_url: str | None = None, worker_id: str | None = None, data_dir: str | Path | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
-    data_dir: the app's data folder (`app.userdata`; None: the platform's default), where `Share`
-    keeps its codes (`shares.sqlite3`, opened at the first share).
+    redis_url, worker_id: this app is the worker `worker_id` of a lecture on several processes
+    (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.cluster.gate.RedisGate`).
+    None (both): one process, as always, importing no redis.
+    data_dir: the folder of what users keep (own presets and lessons, `app.own`; None: the
+    platform's default, `app.userdata.default_data_dir()`), made when something is first saved.
+    Share keeps its codes there too (`shares.sqlite3`, opened at the first share), or in Redis
+    at `redis_url` on several processes (`app.sharestore.open_share_store`).
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
     """
     check_presets()
     lessons()  # a broken lesson file: LessonError naming the file and the step
+    gate: Gate | None = None
+    if redis_url is not None:
+        from app.cluster.gate import RedisGate  # noqa: PLC0415 - imports redis: only for several processes
+
+        gate = RedisGate(redis_url, worker_id or "w1", presenter_code or new_code())
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
+    own = OwnLibrary(data_dir, SCENES)
+    for problem in own.problems:
+        logger.warning("data folder: %s (left out)", problem)
     folder = Path(data_dir).expanduser() if data_dir else default_data_dir()
-    app = App(server, presenter_code=presenter_code, projector=projector,
-              share_store=open_share_store(folder))  # on several processes: open_share_store(folder, redis_url)
+    app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own,
+              share_store=open_share_store(folder, redis_url))
     if start_loop:
         app.start()
     return app
@@ -305,7 +332,33 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="the code a browser types to present (default: a random one, printed at start)")
     parser.add_argument("--projector", action="store_true",
                         help="start every browser in the projector layout (large text, narrow panel)")
-    return parser.parse_args(argv)
+    parser.add_argument("--data-dir", metavar="PATH",
+                        help="where own presets and lessons are kept (default: the platform's data folder, "
+                             "e.g. ~/.local/share/rigid-body-lab)")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="serve with N app processes behind nginx on --port, one lecture through Redis "
+                             "(needs nginx and redis-server)")
+    parser.add_argument("--redis", metavar="URL", default=os.environ.get(REDIS_ENV) or None,
+                        help="with --workers: the Redis to use (redis://[:password@]host:port/0; default: "
+                             f"one started on a free local port).  Alone: this process is one worker of a "
+                             f"lecture (also read from ${REDIS_ENV})")
+    parser.add_argument("--worker-id", metavar="ID", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.presenter_code is None:
+        args.presenter_code = os.environ.get(CODE_ENV) or None
+    if args.workers is not None and args.workers < 1:
+        parser.error("--workers needs at least 1")
+    return args
+
+
+def _code_warning(code: str) -> str:
+    """A line for a presenter code that a guesser limited to the hall's rate could find in a
+    90-minute lecture with more than 1e-4 chance; "" for a code long enough."""
+    chance = guess_chance(90.0, code)
+    if chance <= 1e-4:
+        return ""
+    return (f"warning: a guesser could find the presenter code {code!r} with a chance of {chance:.1%} in 90 "
+            "minutes; leave out --presenter-code for a random one of eight digits")
 
 
 def main(argv: Sequence[str] | None = None) -> None:
@@ -316,12 +369,29 @@ def main(argv: Sequence[str] | None = None) -> None:
         raise SystemExit(export_main(arguments[1:]))
     args = _parse_args(arguments)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    if args.presenter_code is not None and not normalize_code(args.presenter_code):
+        print("rigid-body-lab: the presenter code is empty", file=sys.stderr)
+        raise SystemExit(2)
+    if args.workers is not None:
+        from app.cluster.launch import launch_main  # noqa: PLC0415 - the launcher: only for --workers
+
+        raise SystemExit(launch_main(args))
+    worker = args.redis is not None
+    if worker:
+        signal.signal(signal.SIGTERM, _interrupt)  # a worker stops as on Ctrl-C: its lock released
     try:
-        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector)
+        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector,
+                            redis_url=args.redis, worker_id=args.worker_id if worker else None,
+                            verbose=not worker, data_dir=args.data_dir)
     except (PresetError, LessonError) as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None
-    print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)
+    if worker:
+        print(f"worker {app.lectern.gate.worker_id} on http://{args.host}:{app.port}", flush=True)
+    else:
+        print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)
+    if args.presenter_code is not None and not worker and (warning := _code_warning(args.presenter_code)):
+        print(warning, flush=True)
     try:
         while True:
             time.sleep(1.0)
@@ -329,6 +399,10 @@ def main(argv: Sequence[str] | None = None) -> None:
         pass
     finally:
         app.stop()
+
+
+def _interrupt(_signum: int, _frame: Any) -> None:
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":

@@ -39,11 +39,13 @@ from app.hall.lecture_panel import LecturePanel
 from app.hall.lesson_runner import LessonRunner
 from app.hall.narrow import NarrowPanel
 from app.hall.notes import Notes
+from app.hall.own_panel import OwnPanel
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.hall.share import Camera, SharePanel
 from app.kit.core.room import Room, Scene
 from app.lectern import LIVE_ROOT, Lectern, Mode
 from app.lessons import Lesson
+from app.own import OwnLibrary
 from app.scenes import DEFAULT_SCENE, SCENES
 from app.sharestore import ShareStore
 
@@ -68,9 +70,11 @@ class Session:
     """
 
     def __init__(self, client: viser.ClientHandle, scene: str = DEFAULT_SCENE, *,
-                 lectern: Lectern | None = None, share_store: ShareStore | None = None) -> None:
+                 lectern: Lectern | None = None, own: OwnLibrary | None = None,
+                 share_store: ShareStore | None = None) -> None:
         self.client = client
         self.lectern = lectern
+        self.own = own  # the lecturer's own presets and lessons (app.own), or None: no Mine folder
         self.share_store = share_store
         self.mode = Mode.OWN
         self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
@@ -107,6 +111,10 @@ class Session:
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
         self.share = None if self.share_store is None else SharePanel(
             self.client, self.guard, self.share_store, lambda: self.room, self.open_moment)
+        self._room = Room(SCENES[scene], SCENES[scene].new_simulation())  # the Mine folder lists its presets
+        self.own_panel = OwnPanel(gui, self.guard, self, self.own) if self.own is not None else None
+        if self.own is not None:
+            self.lesson_runner.add_lessons(self.own.lessons())
         # Their widgets, by the names tools and tests use.
         self.gui_projector = self.projector_layout.gui_checkbox
         self.lesson_folder = self.lesson_runner.folder
@@ -120,13 +128,13 @@ class Session:
             self.gui_badge, self.gui_call_back, self.gui_stay = panel.gui_badge, panel.gui_call_back, panel.gui_stay
         self.own_folders: tuple[Any, ...] = (self.gui_projector, self.notes_folder,
                                              *(() if self.share is None else (self.share.folder,)),
-                                             *(() if self.lecture is None else (self.lecture.folder,)))
+                                             *(() if self.lecture is None else (self.lecture.folder,)),
+                                             *(() if self.own_panel is None else (self.own_panel.folder,)))
         """The folders a collapsed follower's panel hides (`app.lectern.Seat`)."""
         self._preset_commands: list[Any] = []
         self._key_toast: Any = None  # the "Following the presenter" toast a key brought up
         self._build_commands(gui)
         self._shadow: Any = None
-        self._room = Room(SCENES[scene], SCENES[scene].new_simulation())
         self.scene: Any = None
         if lectern is not None and lectern.live:
             self.follow()
@@ -158,8 +166,16 @@ class Session:
         scene: Scene = room.scene
         view: Any = scene(self.client, room, self.guard, self.report_error)
         view.open_scene = self.open_scene
+        self._offer_own(view)
         self.projector_layout.fit_new_view(view)
         return view
+
+    def _offer_own(self, view: Any) -> None:
+        """The lecturer's own presets of the view's scene in its presets row (★ Mine), started here."""
+        if self.own is None:
+            return
+        view.start_own_preset = lambda name: self.start_preset(self.controlled_room(), name)
+        view.show_own_presets([p.name for p in self.own.presets(view.room.scene.title)])
 
     def _foldable(self) -> list[Any]:
         """What a narrow explorer's panel folds away (`app.hall.narrow.NarrowPanel`): the scene
@@ -261,12 +277,15 @@ class Session:
                     self.lectern.live_view = None  # removed above; the new one goes live
                     self.scene = self.lectern.make_live_view(self, room)
                     self.scene.open_scene = self.open_scene
+                    self._offer_own(self.scene)
                 else:
                     self.scene = self._new_view(room)
             if self.gui_scene.value != room.scene.title:
                 self.gui_scene.value = room.scene.title  # the titles match now
         self.narrow.refresh()  # a narrow explorer's new scene panel folds too
         self._refresh_preset_commands()
+        if self.own_panel is not None:
+            self.own_panel.refresh()
 
     def watch(self, room: Room) -> None:
         """Show another session's room: this client becomes one more view of its simulation."""
@@ -289,8 +308,44 @@ class Session:
         return self.room
 
     def apply_preset(self, name: str) -> None:
-        """Load a preset of the active scene; a name it does not have is an error (through the guard)."""
-        self.guard("preset", lambda: self.room.scene.apply_preset(self.controlled_room(), name))()
+        """Load a preset of the active scene, its own or one of the lecturer's (`app.own`); a name
+        it has neither of is an error (through the guard)."""
+        self.guard("preset", lambda: self.start_preset(self.controlled_room(), name))()
+
+    def start_preset(self, room: Room, name: str) -> None:
+        """The preset `name` of room's scene, shipped or own, started in `room` (paused at its t = 0)."""
+        scene = room.scene
+        own = None if self.own is None else self.own.preset(scene.title, name)
+        if own is None:
+            scene.apply_preset(room, name)
+            return
+        scene.start_preset(room.sim, own)
+        room.sim.preset = own.name
+        room.pause()  # every view redraws
+
+    def may_save(self) -> str:
+        """"" if this browser may write the lecturer's data folder (app.own), else why not: the
+        presenter may, and while nobody presents, a browser on its own; followers and students
+        exploring during a lecture may not."""
+        if self.own is None:
+            return "this app keeps no presets or lessons of its own"
+        if self.mode is Mode.PRESENTING:
+            return ""
+        if self.mode is Mode.FOLLOWING:
+            return "a follower cannot save: only the presenter can, during a lecture"
+        if self.lectern is not None and self.lectern.presenter is not None:
+            return "while a lecture is on, only the presenter can save presets and lessons"
+        return ""
+
+    def own_changed(self) -> None:
+        """The own presets or lessons changed: the Mine folder, the Lesson dropdown, the commands."""
+        if self.own_panel is not None:
+            self.own_panel.refresh()
+        if self.own is not None:
+            self.lesson_runner.add_lessons(self.own.lessons())
+        if self.scene is not None and self.mode is not Mode.FOLLOWING:
+            self._offer_own(self.scene)
+        self._refresh_preset_commands()
 
     def play(self) -> None:
         """Start the motion of the room shown."""
@@ -342,7 +397,8 @@ class Session:
         if self.mode is Mode.FOLLOWING:
             return
         scene = self.room.scene
-        for preset in scene.presets():
+        own = () if self.own is None else self.own.presets(scene.title)
+        for preset in (*scene.presets(), *own):
             command = self.client.gui.add_command(f"Preset: {preset.name}", description=scene.title)
             command.on_trigger(self.guard("preset command",
                                           lambda _event, name=preset.name: self.apply_preset(name)))
@@ -481,6 +537,7 @@ class Session:
                 self.scene.remove()
                 self.scene = lectern.make_live_view(self, room)
                 self.scene.open_scene = self.open_scene
+                self._offer_own(self.scene)
             self.mode = Mode.PRESENTING
         lectern.start(self)
         self._show_mode()

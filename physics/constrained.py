@@ -646,6 +646,24 @@ class GridIntegrator:
     def t_grid(self) -> float:
         return self.t0 + self.steps * self.H
 
+    def snapshot(self) -> tuple[float, ...]:
+        """Everything that changes as it advances, as floats: t (shown), steps, the grid state
+        q, q̇ (m each) and the state shown q, q̇ (m each): 2 + 4m values."""
+        return (float(self.t), float(self.steps), *self._q_grid.tolist(), *self._q_dot_grid.tolist(),
+                *self.q.tolist(), *self.q_dot.tolist())
+
+    def restore(self, values: Numbers) -> None:
+        """A `snapshot` back bit for bit (ValueError, nothing changed, if it is not one of this
+        integrator's: 2 + 4m finite values with a whole step count ≥ 0)."""
+        m = len(self._q_grid)
+        v = np.asarray(values, dtype=float)
+        if v.shape != (2 + 4 * m,) or not np.all(np.isfinite(v)) or v[1] < 0 or v[1] != math.floor(v[1]):
+            raise ValueError(f"not a snapshot of this integrator ({v.shape[0] if v.ndim == 1 else v.shape} "
+                             f"values, {2 + 4 * m} wanted)")
+        self.steps = int(v[1])
+        self._q_grid, self._q_dot_grid = v[2:2 + m].copy(), v[2 + m:2 + 2 * m].copy()
+        self.q, self.q_dot, self.t = v[2 + 2 * m:2 + 3 * m].copy(), v[2 + 3 * m:2 + 4 * m].copy(), float(v[0])
+
     def _check(self, q: Array, q_dot: Array, t: float) -> None:
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(q_dot))):
             raise ArithmeticError(f"the state is not finite at t = {t:.3f} s")

@@ -63,7 +63,7 @@ def open_page(browser, app: App, timeout: float = 30.0, **context):  # type: ign
     opened = browser.new_context(**context)
     _CONTEXTS.append(opened)
     page = opened.new_page()
-    page.goto(app_url(page, app.port))
+    page.goto(app_url(page, app.port), timeout=timeout * 1000)
     session = poll_until(lambda: next((s for cid, s in dict(app.sessions).items() if cid not in before), None),
                          timeout=timeout, interval=0.2)
     page.locator("canvas").first.wait_for(timeout=timeout * 1000)

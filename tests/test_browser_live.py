@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_browser import app_url
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, project, text_input  # noqa: F401
+from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
 import app.lectern
@@ -41,19 +41,9 @@ PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touc
 
 
 def open_page(browser, hall: App, **context):  # type: ignore[no-untyped-def]
-    """A new context and page on the app; (page, session).  Generous timeouts: a third page
-    loads while two others render their WebGL on the same two cores."""
-    from test_browser_lecture import _CONTEXTS
-
-    before = set(hall.sessions)
-    opened = browser.new_context(**context)
-    _CONTEXTS.append(opened)
-    page = opened.new_page()
-    page.goto(app_url(page, hall.port), timeout=90_000)
-    sessions = hall.wait_for_sessions(len(before) + 1, timeout=90.0)
-    (session,) = (s for cid, s in sessions.items() if cid not in before)
-    page.locator("canvas").first.wait_for(timeout=60_000)
-    return page, session
+    """test_browser_lecture's `open_page` with generous timeouts (90 s): a third page loads while
+    two others render their WebGL on the same two cores; (page, session)."""
+    return lecture_open_page(browser, hall, 90.0, **context)
 
 
 @contextlib.contextmanager

@@ -94,3 +94,55 @@ def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, a
     wait_until(lambda: room.mode == LIVE and room.playing and room.sim.t > branch_t, timeout=10.0)
     assert room.sim.t < t_live and history.t_last <= room.sim.t
     assert session.last_error is None
+
+
+def test_constrained_particles_scrub_back_resume_and_branch(wait_until, app: App, page) -> None:
+    """The double pendulum: play, pause, drag the Timeline back (the recorded moment, its plot
+    and paths rewound), Resume (the live moment bit for bit), back again and Branch here."""
+    session = open_app(page, app, wait=False)
+    wait_for_gui(page)
+    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
+    page.get_by_role("option", name="Constrained particles").click()
+    wait_until(lambda: session.scene.title == "Constrained particles", timeout=30.0)
+    page.get_by_role("button", name="Double pendulum, chaotic").click()
+    scene = session.scene
+    room = scene.room
+    wait_until(lambda: room.sim.setup.kind == "double", timeout=30.0)
+    page.get_by_role("button", name="Play", exact=True).click()
+    wait_until(lambda: room.playing and room.sim.t > 3.0, timeout=30.0)
+    page.get_by_role("button", name="Pause", exact=True).click()
+    wait_until(lambda: not room.playing, timeout=30.0)
+    t_live = room.sim.t
+    live = room.sim.snapshot().values
+    timeline = scene.timeline
+    assert timeline is not None
+    width = page.locator(f'[id="{timeline.gui_slider._impl.uuid}"]').bounding_box()["width"]
+    thumb = slider_thumb(page, timeline.gui_slider)
+    wait_until(lambda: abs(float(thumb.get_attribute("aria-valuenow")) - t_live) < 0.02, timeout=30.0)
+    drag_thumb(page, timeline.gui_slider, -0.4 * width)
+    wait_until(lambda: room.mode == SCRUBBING and room.shown_t < t_live - 0.5, timeout=30.0)
+    history = room.history
+    assert history is not None
+    wait_until(lambda: abs(float(thumb.get_attribute("aria-valuenow")) - room.shown_t) < 0.011, timeout=30.0)
+    index = history.index_at(room.shown_t)
+    if history.time(index) == room.sim.t:
+        np.testing.assert_array_equal(room.sim.snapshot().values, history.snapshot(index).values)
+    assert room.sim.samples.mark() <= history.snapshot(history.index_at(t_live)).values[-1 - 2 * len(room.sim.paths)]
+    page.get_by_text("Showing t = ").first.wait_for(timeout=5_000)
+    if SHOT:
+        page.screenshot(path=SHOT.replace(".png", "_constrained.png"))
+
+    page.get_by_role("button", name="Resume").click()
+    wait_until(lambda: room.mode == LIVE, timeout=30.0)
+    assert not room.playing and room.sim.t == t_live
+    np.testing.assert_array_equal(room.sim.snapshot().values, live)
+
+    wait_until(lambda: abs(float(thumb.get_attribute("aria-valuenow")) - t_live) < 0.02, timeout=30.0)  # back live
+    drag_thumb(page, timeline.gui_slider, -0.5 * width)
+    wait_until(lambda: room.mode == SCRUBBING and room.shown_t < t_live - 0.5, timeout=30.0)
+    wait_until(lambda: abs(float(thumb.get_attribute("aria-valuenow")) - room.shown_t) < 0.011, timeout=30.0)
+    branch_t = room.shown_t
+    page.get_by_role("button", name="Branch here").click()
+    wait_until(lambda: room.mode == LIVE and room.playing and room.sim.t > branch_t, timeout=30.0)
+    assert room.sim.t < t_live + 1.0 and history.t_last <= room.sim.t
+    assert session.last_error is None and session.error_count == 0

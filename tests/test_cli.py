@@ -28,7 +28,7 @@ def test_methods_lists_each_method_with_one_line():
     result = subprocess.run([sys.executable, "-m", "physics", "methods"], capture_output=True, text=True, timeout=60)
     assert result.returncode == 0
     names = [line.split()[0] for line in result.stdout.splitlines()]
-    assert {"exact", "splitting4", "adaptive", "dop853", "euler_lagrange", "realtime"} <= set(names)
+    assert {"exact", "splitting4", "free_kick", "adaptive", "dop853", "euler_lagrange", "realtime"} <= set(names)
 
 
 def test_example_case_writes_every_key(tmp_path):
@@ -51,7 +51,7 @@ def test_example_case_writes_every_key(tmp_path):
     np.testing.assert_allclose(R_from_angles, traj["R"], atol=1e-12)
 
 
-@pytest.mark.parametrize("method", ["splitting4", "adaptive", "dop853", "euler_lagrange"])
+@pytest.mark.parametrize("method", ["splitting4", "free_kick", "adaptive", "dop853", "euler_lagrange"])
 def test_each_method_agrees_with_the_exact_solution(tmp_path, method):
     exact, out_exact = run_cli(tmp_path, EXAMPLE)
     reference = np.load(out_exact)["R"].copy()

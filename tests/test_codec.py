@@ -126,7 +126,7 @@ def test_a_decoded_room_draws_what_the_original_draws(server: viser.ViserServer,
         v.remove()
 
 
-@pytest.mark.parametrize("method", ["adaptive", "dop853", "splitting4", "exact", "euler_lagrange"])
+@pytest.mark.parametrize("method", ["adaptive", "dop853", "splitting4", "free_kick", "exact", "euler_lagrange"])
 def test_every_integrator_of_a_top_is_carried(method: str) -> None:
     scene = SCENES["Heavy top"]
     room = Room(scene, scene.new_simulation())

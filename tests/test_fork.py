@@ -304,20 +304,28 @@ def test_a_fork_carries_the_replay_history_and_scrubs_as_the_original(server: vi
         r.resume()
     assert_same(room.sim, fork.sim)
     assert_same(room.sim, copy_in_the_past.sim)
+    assert_reset_agrees(server, room, view, title)  # the played room, live again: as the test below
     view.remove()
 
 
-@pytest.mark.parametrize("title", list(SCENES))
-def test_reset_in_the_fork_goes_where_the_original_goes(server: viser.ViserServer, title: str) -> None:
-    room, view = _played_room(server, title, 0, SCENES[title].presets()[0].name)
+def assert_reset_agrees(server: viser.ViserServer, room: Room, view: Any, title: str) -> None:
+    """A fork of `room` (drawn by `view`) and the room, both Reset: the same simulation and picture."""
     fork = room.fork()
     forked_view = build_view(server, fork)  # views read derived values (Inertia keeps its axes): both drawn
     room.reset()
     fork.reset()
     assert_same(room.sim, fork.sim)
     assert_equal_values(picture(view), picture(forked_view), f"{title} after Reset")
-    for v in (view, forked_view):
-        v.remove()
+    forked_view.remove()
+
+
+@pytest.mark.parametrize("title", [title for title in SCENES if title not in REPLAYABLE])
+def test_reset_in_the_fork_goes_where_the_original_goes(server: viser.ViserServer, title: str) -> None:
+    """(The scenes with a replay history check this at the end of the test above, on the same
+    played room: playing it once for both.)"""
+    room, view = _played_room(server, title, 0, SCENES[title].presets()[0].name)
+    assert_reset_agrees(server, room, view, title)
+    view.remove()
 
 
 @pytest.mark.parametrize("title", list(SCENES))

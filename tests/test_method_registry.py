@@ -26,6 +26,7 @@ from app.lessons import LESSONS_DIR, LessonError, load_lesson
 from app.scenes import SCENES
 from physics.dop853 import integrate_adaptive
 from physics.dynamics import Model, State
+from physics.free_kick import integrate_free_kick
 from physics.lagrange import integrate_euler_lagrange
 from physics.methods import Method, RunStepper, Stepper, applicable, exact_solution, methods, realtime_method
 from physics.realtime import GridStepper
@@ -62,7 +63,7 @@ def _direct(name: str, model: Model, state0: State, frames: int) -> State:
         R, omega = exact_solution(model, state0)(np.array([t - state0.t]))
         return State(R[0], omega[0], t)
     integrate = {"adaptive": integrate_adaptive, "dop853": integrate_dop853,
-                 "euler_lagrange": integrate_euler_lagrange}[name]
+                 "euler_lagrange": integrate_euler_lagrange, "free_kick": integrate_free_kick}[name]
     state = state0
     for _ in range(frames):
         trajectory = integrate(model, state, np.array([state.t + DT]))

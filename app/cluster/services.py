@@ -4,6 +4,7 @@ processes on free local ports (no systemd, no files outside a temporary folder).
 from __future__ import annotations
 
 import contextlib
+import os
 import shutil
 import socket
 import subprocess
@@ -12,6 +13,7 @@ import time
 
 __all__ = ["INSTALL", "MissingProgram", "free_port", "require", "start_redis", "stop_process", "wait_for_port"]
 
+REDIS_FOLDER_PREFIX = "rigid-body-lab-redis-"  # `start_redis`'s working folder (removed by `stop_process`)
 INSTALL = {"redis-server": "sudo apt-get install redis-server", "nginx": "sudo apt-get install nginx"}
 
 
@@ -55,7 +57,7 @@ def start_redis(port: int | None = None, password: str | None = None, bind: str 
     return (its URL, the process).  MissingProgram if redis-server is not installed."""
     program = require("redis-server")
     port = port or free_port(bind)
-    folder = tempfile.mkdtemp(prefix="rigid-body-lab-redis-")
+    folder = tempfile.mkdtemp(prefix=REDIS_FOLDER_PREFIX)
     args = [program, "--port", str(port), "--bind", bind, "--save", "", "--appendonly", "no",
             "--dir", folder, "--loglevel", "warning"]
     if password:
@@ -67,8 +69,12 @@ def start_redis(port: int | None = None, password: str | None = None, bind: str 
 
 
 def stop_process(process: subprocess.Popen[bytes] | None, timeout: float = 5.0) -> None:
-    """Terminate `process` and wait for it (kill after `timeout` [s]); None or ended: nothing."""
-    if process is None or process.poll() is not None:
+    """Terminate `process` and wait for it (kill after `timeout` [s]); None or ended: nothing.  A
+    redis-server from `start_redis` leaves no folder behind."""
+    if process is None:
+        return
+    if process.poll() is not None:
+        _remove_redis_folder(process)
         return
     process.terminate()
     try:
@@ -79,4 +85,14 @@ def stop_process(process: subprocess.Popen[bytes] | None, timeout: float = 5.0) 
     with contextlib.suppress(Exception):
         if process.stderr is not None:
             process.stderr.close()
+    _remove_redis_folder(process)
+
+
+def _remove_redis_folder(process: subprocess.Popen[bytes]) -> None:
+    """The (empty) working folder `start_redis` made for `process`, once it ended."""
+    args = [str(a) for a in process.args] if isinstance(process.args, list) else []
+    if "--dir" in args and process.poll() is not None:
+        folder = args[args.index("--dir") + 1]
+        if os.path.basename(folder).startswith(REDIS_FOLDER_PREFIX):
+            shutil.rmtree(folder, ignore_errors=True)
 

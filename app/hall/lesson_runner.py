@@ -23,6 +23,7 @@ from app.lessons import Lesson, lessons
 __all__ = ["NO_LESSON", "LessonRunner", "Stage"]
 
 NO_LESSON = "—"  # the dropdown's entry for no lesson
+OWN_MARK = "★ "  # before an own lesson's title in the dropdown
 
 
 class Stage(Protocol):
@@ -43,6 +44,10 @@ class Stage(Protocol):
 
     def switch_scene(self, title: str) -> None:
         """Show a new room of the scene `title`, as the scene dropdown does."""
+        ...
+
+    def start_preset(self, room: Room, name: str) -> None:
+        """Start the preset `name` (the scene's, or the lecturer's own) in `room`."""
         ...
 
 
@@ -84,6 +89,14 @@ class LessonRunner:
         for label, key, delta in (("Lesson: next step", "arrowright", 1), ("Lesson: back", "arrowleft", -1)):
             command = gui.add_command(label, hotkey=key, description=f"key: {key}")
             command.on_trigger(guard(label, lambda _event, delta=delta: self.next_step(delta)))
+
+    def add_lessons(self, own: dict[str, Lesson]) -> None:
+        """The lecturer's own lessons (`app.own`) in the dropdown after the shipped ones, marked ★."""
+        shipped = {lesson.title: lesson for lesson in lessons()}
+        self.lessons = {**shipped, **{OWN_MARK + title: lesson for title, lesson in own.items()}}
+        options = (NO_LESSON, *self.lessons)
+        if tuple(self.gui_lesson.options) != options:
+            self.gui_lesson.options = options
 
     def text(self) -> str:
         """The current step's text (Markdown; shown to the followers of a presenter running a lesson)."""
@@ -146,7 +159,7 @@ class LessonRunner:
                 self._stepping = False
         room = stage.room
         if step.preset is not None:
-            room.scene.apply_preset(room, step.preset)
+            stage.start_preset(room, step.preset)
         view = stage.scene
         toggles = view.checkboxes()
         for label, value in step.display.items():

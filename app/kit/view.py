@@ -96,6 +96,8 @@ class SceneView:
     """Set by the session: open the scene `title` in this browser with a new room, after
     `prepare(room)` has set its simulation up; returns that room.  A scene hands a body to
     another by title, never by importing it ("Spin it": `self.open_scene("Free body", prepare)`)."""
+    start_own_preset: Callable[[str], None] | None = None
+    """Set by the session: start the lecturer's own preset `name` (`app.own`) in this view's room."""
     clock: Clock | None = None  # the bindings' time (None: time.monotonic); tests set a ManualClock
     timeline: Timeline | None = None
     transport: Transport | None = None
@@ -222,6 +224,29 @@ class SceneView:
         cls.start_preset(room.sim, preset)
         room.sim.preset = name
         room.pause()  # every view redraws
+
+    @classmethod
+    def moment_preset(cls, room: Room, name: str) -> Preset:
+        """The moment `room` shows as a preset named `name` (its parameters, attitude and rates now,
+        to start at t = 0): what `Save as preset` keeps (`app.own`).  ValueError where the scene
+        cannot say its moment in its preset's terms (by default: every scene that does not say how)."""
+        raise ValueError(f"{cls.title} cannot keep what it shows as a preset yet")
+
+    def show_own_presets(self, names: Sequence[str]) -> None:
+        """List the lecturer's own presets of the scene beside its own (the presets row's ★ Mine row)."""
+        row = getattr(self, "presets_row", None)
+        if row is not None:
+            row.show_own(names)
+
+    def choose_own_preset(self, name: str) -> None:
+        """A button of the ★ Mine row."""
+        if self.start_own_preset is None:
+            self.message.show(f"No preset named {name!r}.")
+            return
+        try:
+            self.start_own_preset(name)
+        except ValueError:  # a name a client made up, or one deleted meanwhile
+            self.message.show(f"No preset named {name!r}.")
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""

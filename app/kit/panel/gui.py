@@ -228,9 +228,13 @@ class Transport:
 
 
 class PresetsRow:
-    """One button row per preset group, and the chosen preset's note below them."""
+    """One button row per preset group, the lecturer's own presets in a row of their own
+    (`OWN_ROW`, hidden while there are none: `show_own`), and the chosen preset's note below them."""
 
-    def __init__(self, gui: Any, wrap: Wrap, presets: Sequence[Preset], on_preset: Callable[[str], None]) -> None:
+    OWN_ROW = "★ Mine"
+
+    def __init__(self, gui: Any, wrap: Wrap, presets: Sequence[Preset], on_preset: Callable[[str], None],
+                 on_own: Callable[[str], None] | None = None) -> None:
         groups: dict[str, list[str]] = {}
         for preset in presets:
             groups.setdefault(preset.group, []).append(preset.name)
@@ -239,7 +243,22 @@ class PresetsRow:
             group = gui.add_button_group(label, tuple(names))
             group.on_click(wrap(f"{label} presets", lambda event: on_preset(str(event.target.value))))
             self.groups.append(group)
+        self.gui_own = gui.add_button_group(self.OWN_ROW, ("—",), visible=False,
+                                            hint="your own presets of this scene (the Mine folder keeps them)")
+        self._own: tuple[str, ...] = ()
+        own_chosen = on_own or on_preset
+        self.gui_own.on_click(wrap("own presets", lambda event: own_chosen(str(event.target.value))))
         self.gui_note = gui.add_markdown("")
+
+    def show_own(self, names: Sequence[str]) -> None:
+        """The lecturer's own presets of the scene (none: the row hides)."""
+        names = tuple(names)
+        if names == self._own:
+            return
+        self._own = names
+        if names:
+            self.gui_own.options = names
+        self.gui_own.visible = bool(names)
 
     def show_note(self, preset: Preset | None) -> None:
         content = f"**{preset.name}.** {preset.note}" if preset is not None else ""

@@ -250,6 +250,22 @@ class RigidBodyView(SceneView):
         return model, state, angles
 
     @classmethod
+    def moment_preset(cls, room: Room, name: str) -> Preset:
+        """The room's moment as a preset: the model's parameters, the angles shown and the rate
+        sliders' values of the state now (ValueError at gimbal lock, where the rates are undefined)."""
+        sim: RigidBodySimulation = room.sim
+        angles = np.array(sim.angles, dtype=float)
+        try:
+            rates = cls.rates_from_state(angles, sim.state)
+        except GimbalLockError as error:
+            raise ValueError(f"at gimbal lock the rates are undefined ({error}): step on a little") from None
+        phi, theta, psi = (float(a) for a in np.degrees(angles))
+        angles_deg = (wrap_deg(phi), min(max(theta, 0.0), 180.0), wrap_deg(psi))
+        note = f"Saved at t = {sim.t:.2f} s" + (f" of {sim.preset}" if sim.preset else "") + "."
+        return Preset(name, "Mine", note, tuple(float(v) for v in cls.params_from_model(sim.model)),
+                      angles_deg, tuple(float(r) for r in rates))
+
+    @classmethod
     def simulation_from_preset(cls, preset: Preset) -> RigidBodySimulation:
         model, state, angles = cls.initial_conditions(preset)
         sim = RigidBodySimulation(model, state, angles=angles, momentum_kind=cls.momentum_kind)
@@ -312,7 +328,7 @@ class RigidBodyView(SceneView):
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange", *self.extra_tabs),
                          on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
             with gui.add_folder("Euler angles z-x-z [deg]"):
                 self.gui_angles = [add_slider(gui, spec) for spec in ANGLE_SPECS]
                 self.gui_gimbal_note = gui.add_markdown("", visible=False)

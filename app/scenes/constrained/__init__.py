@@ -26,7 +26,8 @@ placed off its rod) are refused with a message and the state kept.
 The simulation (`ConstrainedSimulation`, no viser) integrates with
 `physics.constrained.GridIntegrator` (8th order, fixed grid of 1/120 s), keeps the plot samples
 (q, h, T + V, the drift of h) and each particle's path (`app.kit.core.trace.Trace`), so a view built
-later shows them; `fork()` is a deep copy.  Nothing in the 3D is interactive.
+later shows them; `fork()` is a deep copy; `snapshot` / `restore` / `truncate` give the replay
+(`Timeline`, Replay, Resume, Branch here: `app.kit.core.history`).  Nothing in the 3D is interactive.
 
 The package: `simulation` (the systems, the setup, the run and the presets, no viser), `readouts`
 (the status line and the Readout tab as pure functions of the simulation), `view`

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from app.kit.core.common import RunEnded, SliderSpec
+from app.kit.core.history import Snapshot
 from app.kit.core.presets import PRESETS_DIR, Preset, PresetError, preset_entries
 from app.kit.core.samples import SampleBuffer
 from app.kit.core.trace import Trace
@@ -39,6 +40,7 @@ __all__ = [
 ]
 
 PLOT_CAPACITY = 600  # samples (60 s at 10 Hz)
+PLOT_SPARE = 620  # samples stored beyond it for the replay (62 s at 1×; less at slow motion)
 PATH_SECONDS = 8.0  # [s] of simulated time kept in each particle's path
 PATH_SPACING = 1.0 / 15.0  # [s] between stored path points
 PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
@@ -168,12 +170,14 @@ class ConstrainedSimulation:
         integrator: the GridIntegrator (its q, q̇ are the state).  samples: plot samples
         (q1, q2 in display units, h, E = T + V, drift = |h − h₀| / scale).  paths: per particle,
         the `Trace` of its position [m].  h0: h at t = 0.  preset: the preset the run started from.
+        run: bumped at every reset (the replay's history starts afresh).
     """
 
     def __init__(self, setup: ConstrainedSetup) -> None:
         self.preset: str | None = None
         self.version = 0
-        self.samples = SampleBuffer(("q1", "q2", "h", "E", "drift"), PLOT_CAPACITY)
+        self.run = 0
+        self.samples = SampleBuffer(("q1", "q2", "h", "E", "drift"), PLOT_CAPACITY, PLOT_SPARE)
         self.set_setup(setup)
 
     # ------------------------------------------------------------------ the Simulation protocol
@@ -193,6 +197,7 @@ class ConstrainedSimulation:
         self.samples.clear()
         self._record()
         self.take_sample()
+        self.run += 1
         self.version += 1
 
     def advance(self, dt: float) -> None:
@@ -212,6 +217,46 @@ class ConstrainedSimulation:
         self._evaluation = None
         self._record()
         self.version += 1
+
+    # ------------------------------------------------------------------ replay (app.kit.core.history)
+    def snapshot(self) -> Snapshot:
+        """The moment now: t (the state shown), the grid's step count, the grid state q, q̇ (n
+        each), the state shown q, q̇ (n each), the samples' mark, each path's (count, first)."""
+        marks = [float(m) for path in self.paths for m in path.mark()]
+        values = [*self.integrator.snapshot(), float(self.samples.mark()), *marks]
+        return Snapshot(np.array(values, dtype=float))
+
+    def restore(self, snapshot: Snapshot, later: float = 0.0) -> None:
+        """The recorded moment back bit for bit, samples and paths rewound to it; then `later` [s]
+        on for display (grid steps from the recorded grid state, so the state the run showed or
+        would have shown then; the histories stay).  ValueError, nothing changed, if the
+        snapshot is not one of this run's."""
+        v = snapshot.values
+        at = 2 + 4 * len(self.system.coordinates)  # the integrator's: t, steps, q, q̇ on the grid and shown
+        if v.shape != (at + 1 + 2 * len(self.paths),):
+            raise ValueError("this snapshot is not a constrained-particles moment")
+        marks = [(int(v[at + 1 + 2 * k]), int(v[at + 2 + 2 * k])) for k in range(len(self.paths))]
+        if not (0 <= int(v[at]) <= self.samples.written) or not all(
+                path.can_rewind(mark) for path, mark in zip(self.paths, marks)):
+            raise ValueError("this snapshot is not one of this run's moments")
+        self.integrator.restore(v[:at])
+        self.samples.rewind(int(v[at]))
+        for path, mark in zip(self.paths, marks):
+            path.rewind(mark)
+        if later > 0.0:
+            try:
+                self.integrator.advance(later)
+            except ArithmeticError:  # shown as recorded
+                pass
+        self._evaluation = None
+        self.evaluation()  # evaluated now, as every view asks: a restored copy equals one that is drawn
+        self.version += 1
+
+    def truncate(self) -> None:
+        """Forget the samples and paths after now (a branch)."""
+        self.samples.truncate()
+        for path in self.paths:
+            path.truncate()
 
     def fork(self) -> ConstrainedSimulation:
         """An exact, independent copy: setup, state, integrator grid, samples, paths, preset,

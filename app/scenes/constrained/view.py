@@ -182,7 +182,7 @@ class ConstrainedView(SceneView):
             "force F; red: constraint force **C = m ẍ − F**, with **C · ∂x/∂q_j = 0** (5.7).")
         self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots"), on_change=lambda _name: self.refresh())
         with self.tabs.tab("Setup"):
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
             self.folder_state = gui.add_folder("State q, q̇ (restarts at t = 0)")
             self.folder_params = gui.add_folder("Parameters (restart at t = 0)")
             with gui.add_folder("Display", expand_by_default=False):

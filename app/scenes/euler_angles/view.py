@@ -187,6 +187,14 @@ class EulerAnglesView(SceneView):
         sim.set_rates(preset.rates)
         sim.set_angles(preset.angles_deg)
 
+    @classmethod
+    def moment_preset(cls, room: Room, name: str) -> Preset:
+        """The angles shown and the rates [deg/s] as a preset (the sliders' values now)."""
+        sim: EulerAnglesSimulation = room.sim
+        phi, theta, psi = (float(a) for a in sim.angles_deg)
+        note = f"Saved at t = {sim.t:.2f} s" + (f" of {sim.preset}" if getattr(sim, "preset", None) else "") + "."
+        return Preset(name, "Mine", note, (), (phi, theta, psi), tuple(float(r) for r in sim.rates_deg))
+
     def __init__(self, client: viser.ClientHandle, room: Room, wrap: Wrap,
                  report_error: Callable[[str, BaseException], None] | None = None) -> None:
         super().__init__(client, room, wrap, report_error)
@@ -286,7 +294,7 @@ class EulerAnglesView(SceneView):
         with self.folder_angles:
             self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(ANGLE_SPECS, self.sim.angles_deg)]
             self.gui_gimbal_note = gui.add_markdown("", visible=False)
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
         self.folder_rates = gui.add_folder("Euler rates [deg/s]")
         with self.folder_rates:
             self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(RATE_SPECS, self.sim.rates_deg)]

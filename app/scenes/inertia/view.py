@@ -186,7 +186,7 @@ class InertiaView(SceneView):
             "**I_O = Σ mᵢ (|xᵢ|² 𝟙 − xᵢ xᵢᵀ)** (3.5), xᵢ from O; principal axes e1 e2 e3 "
             "(moments ascending) at O; the momental ellipsoid has semi-axes ∝ 1/√I_k.")
         self.message = MessageLine(gui)
-        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
         self.folder_masses = gui.add_folder("Point masses")
         with self.folder_masses:
             self.gui_selected = gui.add_dropdown("Mass", ("1",), initial_value="1",

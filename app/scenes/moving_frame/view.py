@@ -245,7 +245,7 @@ class MovingFrameView(SceneView):
                                          hint="on: the rider's view (C′ stands still); off: the inertial view (C)")
         self.gui_forces_on = gui.add_dropdown("Forces on", PARTICLES, initial_value=PARTICLES[self.sim.setup.focus],
                                               hint="the particle whose real and inertial forces are drawn")
-        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset)
+        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
         self.folder_readout = gui.add_folder("Readout")
         with self.folder_readout:
             self.readout = Readout(gui)
