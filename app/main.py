@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import secrets
 import sys
 import threading
 import time
@@ -83,6 +84,7 @@ class App:
         session_factory: Callable[[viser.ClientHandle], Session] | None = None,
         presenter_code: str | None = None,
         projector: bool = False,
+        bus_factory: Callable[[viser.ViserServer, Lectern], Any] | None = None,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -100,6 +102,8 @@ class App:
         self._owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
         # app.wire: the shared scene's (key None) and each browser's
         self._wires: dict[int | None, Wire | None] = {None: Wire.attach(server)}
+        # One lecture across processes (`app.cluster.bus`), after the shared scene's wire: None on one process
+        self.bus: Any = bus_factory(server, self.lectern) if bus_factory is not None else None
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
@@ -198,7 +202,10 @@ class App:
         drawn = []
         owed, wires = self._owed, self._wires
         shared = wires.get(None)
+        bus = self.bus
         with capturing():
+            if bus is not None:
+                bus.take_in()
             for room in rooms:
                 try:
                     room.advance(dt)
@@ -214,6 +221,8 @@ class App:
                     drawn.append(browser)
             self.lectern.tick(dt)
         self._end_frames()
+        if bus is not None:
+            bus.send_out(dt)
         if len(owed) > 2 * len(views) + 16:  # views that left
             live = {id(view) for _, view, _ in views}
             self._owed = {key: value for key, value in owed.items() if key in live}
@@ -254,6 +263,9 @@ class App:
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout=2.0)
+        if self.bus is not None:
+            self.bus.close()
+            self.bus = None
         self.server.stop()
 
     @property
@@ -264,11 +276,15 @@ class App:
 
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
-    presenter_code: str | None = None, projector: bool = False,
+    presenter_code: str | None = None, projector: bool = False, redis_url: str | None = None,
+    worker_id: str | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
+    redis_url, worker_id: this app is one worker of a lecture on several processes, joined through
+    the Redis at `redis_url` (`app.cluster.bus`; worker_id names it, random if None); None: one
+    process, no Redis.
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
@@ -277,7 +293,16 @@ def create_server(
     lessons()  # a broken lesson file: LessonError naming the file and the step
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
-    app = App(server, presenter_code=presenter_code, projector=projector)
+    bus_factory = None
+    if redis_url is not None:
+        from app.cluster.bus import Bus  # noqa: PLC0415 - a one-process app imports no redis
+
+        worker = worker_id or f"w{secrets.token_hex(4)}"
+
+        def bus_factory(server: viser.ViserServer, lectern: Lectern) -> Any:
+            return Bus(server, lectern, redis_url, worker)
+
+    app = App(server, presenter_code=presenter_code, projector=projector, bus_factory=bus_factory)
     if start_loop:
         app.start()
     return app

@@ -530,10 +530,7 @@ class Session:
         lectern = self.lectern
         if lectern is None or self.mode is not Mode.FOLLOWING:
             return
-        live = lectern.live_room
-        if live is None:
-            raise RuntimeError("there is nothing on the shared screen to explore")
-        copy = live.fork()
+        copy = lectern.live_copy()
         narrow = is_narrow(self.client.camera)
         with self._switch_lock:
             lectern.remove_follower(self)
