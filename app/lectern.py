@@ -21,12 +21,19 @@
 
 The rest:
 
-- **The lock.**  `Lectern` holds the presenter code (`python -m app --presenter-code CODE`, or a
-  random one printed at start) and the presenting seat.  A browser presents by typing the code
-  into `Presenter code` and pressing `Present`: a wrong code is refused with a message, at most
-  MAX_TRIES per minute per browser; the message stays true (`refusal_now`: the wait counts down
-  and goes, "someone else is presenting" goes when they stop); one presenter at a time;
-  `Stop presenting` or a disconnect releases the lock.
+- **The lock.**  `Lectern` asks its gate (`app.cluster.gate`: `LocalGate` in one process,
+  `RedisGate` across `--workers`; one set of rules) who presents and whether a code is right.
+  The code (`python -m app --presenter-code CODE`, or a random one of eight digits in two
+  groups, printed at start) is typed into `Presenter code` with or without its spaces or dashes;
+  `Present` makes the browser the presenter.  While someone presents, every code gets the same
+  answer, "Someone else is presenting", and is not evaluated; wrong codes are limited per
+  browser (MAX_TRIES a minute) and over all browsers and processes together
+  (`app.cluster.gate.MAX_WRONG` a sliding minute; the others wait, not evaluated): a script has
+  <= 1e-4 chance in a 90-minute lecture, and when it stops the lecturer gets in within a
+  minute.  Every refusal stays true while shown (`refusal_now`: a wait counts down and goes,
+  "someone else is presenting" goes when they stop); `Stop presenting` or a disconnect releases
+  the lock; the presenting process renews it from its loop (`tick`), so a process that dies
+  frees it within `app.cluster.gate.LEASE_S`.
 - **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
   (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
@@ -68,7 +75,6 @@ import dataclasses
 import enum
 import logging
 import math
-import secrets
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -78,6 +84,8 @@ from typing import Any, Protocol
 import numpy as np
 import viser
 
+from app.cluster.gate import RENEW_PERIOD, Gate, GateUnavailable, LocalGate, Verdict
+from app.cluster.gate import new_code as new_gate_code
 from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
 from app.kit.core.room import Room
 from app.kit.draw.labels import POINTER, Screen
@@ -149,6 +157,10 @@ class Seat(Protocol):
         """The presenter's current lesson step, or ""."""
         ...
 
+    def stop_presenting(self) -> None:
+        """Stop presenting (the lectern calls it when this browser's lock was lost)."""
+        ...
+
     def lecture_changed(self) -> None:
         """Show the lecture's state in the panel (who follows, a call back): called by the lectern,
         outside the session's guard (it only writes widgets, and only what changed)."""
@@ -182,8 +194,9 @@ class RemoteShow:
 
 
 def new_code() -> str:
-    """A random presenter code: six digits, easy to read out in a lecture hall."""
-    return f"{secrets.randbelow(10**6):06d}"
+    """A random presenter code: eight digits in two groups ("4821 0937"), easy to read out in a
+    lecture hall and long enough not to be guessed (`app.cluster.gate.new_code`)."""
+    return new_gate_code()
 
 
 class Broadcast:
@@ -329,16 +342,20 @@ class Lectern:
     """
 
     def __init__(self, server: viser.ViserServer, code: str | None = None,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, gate: Gate | None = None) -> None:
         self.server = server
-        self.code = code if code else new_code()
+        self.gate: Gate = gate if gate is not None else LocalGate(code if code else new_code(), clock)
+        """The presenter lock and the code (`app.cluster.gate`)."""
+        self.code = self.gate.code
         self.presenter: Seat | None = None
         self.hall = Hall.EMPTY
         self.live_view: Any = None
         self._live_room: Room | None = None
         self._followers: dict[int, tuple[Seat, Follower]] = {}  # by client id
         self._tries: dict[int, collections.deque[float]] = collections.defaultdict(collections.deque)
-        self._refused: dict[int, str] = {}  # client id -> "wrong", "wait" or "busy": its last refusal
+        self._refused: dict[int, str] = {}  # client id -> "wrong", "wait", "hall", "busy" or "down": its last refusal
+        self._hall_wait: dict[int, float] = {}  # client id -> when [clock s] the hall's limit lets it try
+        self._since_renew = 0.0
         self._refusal_watchers: dict[int, tuple[Seat, Callable[[], None]]] = {}  # `watch_refusal`
         self._since_refusals = 0.0
         self._clock = clock
@@ -379,30 +396,59 @@ class Lectern:
         wait = max(1, math.ceil(TRIES_WINDOW - (self._clock() - tries[0])))
         return f"{head}: wait {wait} s before trying again."
 
+    def _holder(self, seat: Any) -> str:
+        return self.gate.holder(seat.client_id)
+
+    def _someone_else(self, seat: Any) -> bool:
+        """Someone other than `seat` presents (here or, through the gate, on another process)."""
+        if self.presenter is not None and self.presenter is not seat:
+            return True
+        try:
+            holder = self.gate.presenter()
+        except GateUnavailable:
+            return False
+        return holder is not None and holder != self._holder(seat)
+
     def try_code(self, seat: Any, code: str) -> str | None:
-        """None if `seat` may present with `code`, else the refusal (rate limit included); the
-        refusal's words as they are now come from `refusal_now`."""
+        """None if `seat` may present with `code` (the gate's lock is then `seat`'s, for `start`),
+        else the refusal: someone else presents (every code, not evaluated), the browser's or
+        the hall's limit of wrong codes (not evaluated), a wrong code, or the lock unreachable.
+        The refusal's words as they are now come from `refusal_now`."""
         with self._lock:
+            cid = seat.client_id
+            if self.presenter is not None and self.presenter is not seat:
+                self._refused[cid] = "busy"
+                return self.refusal_now(seat)
             tries = self._recent_tries(seat)
             if len(tries) >= MAX_TRIES:
-                self._refused[seat.client_id] = "wait"
+                self._refused[cid] = "wait"
                 return self._wait_words(tries)
-            if not secrets.compare_digest(str(code).strip(), self.code):
+            try:
+                answer = self.gate.claim(self._holder(seat), str(code))
+            except GateUnavailable as error:
+                logger.warning("presenter code not checked: %s", error)
+                self._refused[cid] = "down"
+                return self.refusal_now(seat)
+            if answer.verdict is Verdict.OK:
+                self._refused.pop(cid, None)
+                return None
+            if answer.verdict is Verdict.WRONG:
                 tries.append(self._clock())
-                self._refused[seat.client_id] = "wrong"
-                return self.refusal_now(seat)
-            if self.presenter is not None and self.presenter is not seat:
-                self._refused[seat.client_id] = "busy"
-                return self.refusal_now(seat)
-            self._refused.pop(seat.client_id, None)
-            return None
+                self._refused[cid] = "wrong"
+            elif answer.verdict is Verdict.WAIT:
+                self._hall_wait[cid] = self._clock() + answer.wait_s
+                self._refused[cid] = "hall"
+            else:
+                self._refused[cid] = "busy"
+            return self.refusal_now(seat)
 
     def refusal_now(self, seat: Any) -> str | None:
         """`seat`'s last refusal (`try_code`) in the words true now, or None once it no longer
         holds: the wait counts down and ends, the tries left grow back as the minute passes,
         "someone else is presenting" ends when they stop or leave."""
         with self._lock:
-            kind = self._refused.get(seat.client_id)
+            cid = seat.client_id
+            kind = self._refused.get(cid)
             tries = self._recent_tries(seat)
             words: str | None = None
             if kind in ("wait", "wrong") and len(tries) >= MAX_TRIES:
@@ -411,10 +457,17 @@ class Lectern:
             elif kind == "wrong" and tries:
                 left = MAX_TRIES - len(tries)
                 words = f"Wrong presenter code ({left} {'try' if left == 1 else 'tries'} left this minute)."
-            elif kind == "busy" and self.presenter is not None and self.presenter is not seat:
+            elif kind == "hall" and self._hall_wait.get(cid, 0.0) > self._clock():
+                wait = max(1, math.ceil(self._hall_wait[cid] - self._clock()))
+                words = (f"Too many wrong codes in this lecture hall (someone may be guessing): wait {wait} s "
+                         "before trying again.")
+            elif kind == "busy" and self._someone_else(seat):
                 words = "Someone else is presenting; they must stop first."
+            elif kind == "down":
+                words = "The presenter lock does not answer (the lecture's Redis); try again in a moment."
             if words is None:
-                self._refused.pop(seat.client_id, None)
+                self._refused.pop(cid, None)
+                self._hall_wait.pop(cid, None)
             return words
 
     def watch_refusal(self, seat: Any, show: Callable[[], None] | None) -> None:
@@ -429,6 +482,11 @@ class Lectern:
     def start(self, seat: Seat) -> None:
         """`seat` presents: its room goes live; everyone else follows (or keeps exploring)."""
         with self._lock:
+            try:
+                self.gate.start(self._holder(seat))  # a lock lost meanwhile: `tick` stops the presenter
+            except GateUnavailable as error:
+                logger.warning("presenter lock not confirmed: %s", error)
+            self._since_renew = 0.0
             self.presenter = seat
             self.hall = Hall.LIVE
             self._called.clear()
@@ -445,6 +503,10 @@ class Lectern:
         followers keep the last state on screen (a paused copy of the room, which is what
         Explore then copies), with a note, until a new presenter starts."""
         with self._lock:
+            try:
+                self.gate.release(self._holder(seat))
+            except GateUnavailable as error:  # the lease lapses by itself
+                logger.warning("presenter lock not released: %s", error)
             if self.presenter is not seat:
                 return
             self.presenter = None
@@ -754,6 +816,10 @@ class Lectern:
             if self._followers:
                 self.refresh_followers()
             self.refresh_seats()
+        self._since_renew += dt
+        if self._since_renew >= RENEW_PERIOD and self.presenter is not None:
+            self._since_renew = 0.0
+            self._renew_lock()
         self._since_refusals += dt
         if self._since_refusals >= FOLLOW_PERIOD and self._refusal_watchers:
             self._since_refusals = 0.0
@@ -770,6 +836,28 @@ class Lectern:
             self._since_camera = 0.0
             for _, follower in list(self._followers.values()):
                 self.send_camera(follower)
+
+    def _renew_lock(self) -> None:
+        """Renew the presenter's lease in the gate (from the loop: a process that stalls or dies
+        lets it lapse); a presenter whose lock someone else took meanwhile stops presenting."""
+        seat = self.presenter
+        if seat is None:
+            return
+        try:
+            held = self.gate.renew(self._holder(seat))
+        except GateUnavailable as error:
+            logger.warning("presenter lock not renewed: %s", error)
+            return
+        if not held and not seat.closed:
+            logger.warning("client %d: the presenter lock went to someone else", seat.client_id)
+            seat.guard("presenter lock", seat.stop_presenting)()
+            seat.report_error("presenter lock", RuntimeError("the presenter lock lapsed and someone else "
+                                                             "took it; you no longer present"))
+
+    def close(self) -> None:
+        """Free what this process holds in the gate (the app stops)."""
+        with contextlib.suppress(Exception):
+            self.gate.close()
 
     def point(self, seat: Seat, ray_origin: Any, ray_direction: Any, label: str = "") -> np.ndarray:
         """The presenter points: a marker where its click's ray passes nearest its camera's

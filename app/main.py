@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import argparse
 import logging
-import secrets
+import os
+import signal
 import sys
 import threading
 import time
@@ -23,10 +24,11 @@ from typing import Any
 import viser
 
 from app.backpressure import FramePacer, PacerStats
+from app.cluster.gate import Gate, guess_chance, normalize_code
 from app.export import export_main
 from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
-from app.lectern import Broadcast, Lectern
+from app.lectern import Broadcast, Lectern, new_code
 from app.lessons import LessonError, lessons
 from app.scenes import check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
@@ -44,6 +46,8 @@ DEFAULT_PORT = 8080
 TICK_HZ = 60.0
 MAX_TICK_DT = 0.1  # [s] a tick never advances more than this (after a stall, or a laptop sleep)
 LOAD_PERIOD = 2.0  # [s] of wall time over which the frame rate browsers get is measured
+REDIS_ENV = "RBL_REDIS_URL"  # a worker's Redis URL (with its password) when not given as --redis
+CODE_ENV = "RBL_PRESENTER_CODE"  # the presenter code when not given as --presenter-code (out of `ps`)
 BUSY_SHARE = 0.85  # below this share of tick_hz the panels say the server is busy
 
 
@@ -85,6 +89,7 @@ class App:
         presenter_code: str | None = None,
         projector: bool = False,
         bus_factory: Callable[[viser.ViserServer, Lectern], Any] | None = None,
+        gate: Gate | None = None,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -93,7 +98,7 @@ class App:
         self.tick_count = 0
         self.pacer_stats = PacerStats()  # frames drawn and skipped, time worked and slept
         self.load = ""  # what the panels say about the load ("" when the server keeps up)
-        self.lectern = Lectern(server, presenter_code)
+        self.lectern = Lectern(server, presenter_code, gate=gate)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
         self._session_factory = session_factory or self._new_session
@@ -266,6 +271,7 @@ class App:
         if self.bus is not None:
             self.bus.close()
             self.bus = None
+        self.lectern.close()  # the presenter lock, if this process holds it
         self.server.stop()
 
     @property
@@ -276,33 +282,39 @@ class App:
 
 def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
-    presenter_code: str | None = None, projector: bool = False, redis_url: str | None = None,
-    worker_id: str | None = None,
+    presenter_code: str | None = None, projector: bool = False,
+    redis_url: str | None = None, worker_id: str | None = None,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
-    redis_url, worker_id: this app is one worker of a lecture on several processes, joined through
-    the Redis at `redis_url` (`app.cluster.bus`; worker_id names it, random if None); None: one
-    process, no Redis.
+    redis_url, worker_id: this app is the worker `worker_id` of a lecture on several processes
+    (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.cluster.gate.RedisGate`), and
+    what followers on other processes see through it (`app.cluster.bus.Bus`).
+    None (both): one process, as always, importing no redis.
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
     """
     check_presets()
     lessons()  # a broken lesson file: LessonError naming the file and the step
+    gate: Gate | None = None
+    if redis_url is not None:
+        from app.cluster.gate import RedisGate  # noqa: PLC0415 - imports redis: only for several processes
+
+        gate = RedisGate(redis_url, worker_id or "w1", presenter_code or new_code())
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
     configure_scene(server, EULER_VIEW)
     bus_factory = None
     if redis_url is not None:
         from app.cluster.bus import Bus  # noqa: PLC0415 - a one-process app imports no redis
 
-        worker = worker_id or f"w{secrets.token_hex(4)}"
+        url, worker = redis_url, worker_id or "w1"
 
         def bus_factory(server: viser.ViserServer, lectern: Lectern) -> Any:
-            return Bus(server, lectern, redis_url, worker)
+            return Bus(server, lectern, url, worker)
 
-    app = App(server, presenter_code=presenter_code, projector=projector, bus_factory=bus_factory)
+    app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, bus_factory=bus_factory)
     if start_loop:
         app.start()
     return app
@@ -320,7 +332,30 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="the code a browser types to present (default: a random one, printed at start)")
     parser.add_argument("--projector", action="store_true",
                         help="start every browser in the projector layout (large text, narrow panel)")
-    return parser.parse_args(argv)
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="serve with N app processes behind nginx on --port, one lecture through Redis "
+                             "(needs nginx and redis-server)")
+    parser.add_argument("--redis", metavar="URL", default=os.environ.get(REDIS_ENV) or None,
+                        help="with --workers: the Redis to use (redis://[:password@]host:port/0; default: "
+                             f"one started on a free local port).  Alone: this process is one worker of a "
+                             f"lecture (also read from ${REDIS_ENV})")
+    parser.add_argument("--worker-id", metavar="ID", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.presenter_code is None:
+        args.presenter_code = os.environ.get(CODE_ENV) or None
+    if args.workers is not None and args.workers < 1:
+        parser.error("--workers needs at least 1")
+    return args
+
+
+def _code_warning(code: str) -> str:
+    """A line for a presenter code that a guesser limited to the hall's rate could find in a
+    90-minute lecture with more than 1e-4 chance; "" for a code long enough."""
+    chance = guess_chance(90.0, code)
+    if chance <= 1e-4:
+        return ""
+    return (f"warning: a guesser could find the presenter code {code!r} with a chance of {chance:.1%} in 90 "
+            "minutes; leave out --presenter-code for a random one of eight digits")
 
 
 def main(argv: Sequence[str] | None = None) -> None:
@@ -331,12 +366,29 @@ def main(argv: Sequence[str] | None = None) -> None:
         raise SystemExit(export_main(arguments[1:]))
     args = _parse_args(arguments)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    if args.presenter_code is not None and not normalize_code(args.presenter_code):
+        print("rigid-body-lab: the presenter code is empty", file=sys.stderr)
+        raise SystemExit(2)
+    if args.workers is not None:
+        from app.cluster.launch import launch_main  # noqa: PLC0415 - the launcher: only for --workers
+
+        raise SystemExit(launch_main(args))
+    worker = args.redis is not None
+    if worker:
+        signal.signal(signal.SIGTERM, _interrupt)  # a worker stops as on Ctrl-C: its lock released
     try:
-        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector)
+        app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector,
+                            redis_url=args.redis, worker_id=args.worker_id if worker else None,
+                            verbose=not worker)
     except (PresetError, LessonError) as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None
-    print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)
+    if worker:
+        print(f"worker {app.lectern.gate.worker_id} on http://{args.host}:{app.port}", flush=True)
+    else:
+        print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)
+    if args.presenter_code is not None and not worker and (warning := _code_warning(args.presenter_code)):
+        print(warning, flush=True)
     try:
         while True:
             time.sleep(1.0)
@@ -344,6 +396,10 @@ def main(argv: Sequence[str] | None = None) -> None:
         pass
     finally:
         app.stop()
+
+
+def _interrupt(_signum: int, _frame: Any) -> None:
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":

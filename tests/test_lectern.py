@@ -50,6 +50,10 @@ def test_a_wrong_code_is_refused_and_tries_are_limited_per_minute() -> None:
     clock[0] = 61.0
     assert lectern.try_code(browser, CODE) is None  # type: ignore[arg-type]
     other = type("S", (), {"client_id": 8})()
+    # The right code took the lock for browser 7: every code of another browser gets one answer.
+    assert lectern.try_code(other, "000000") == lectern.try_code(other, CODE) == (  # type: ignore[arg-type]
+        "Someone else is presenting; they must stop first.")
+    lectern.release(browser, disconnected=True)  # type: ignore[arg-type]
     assert lectern.try_code(other, "000000") is not None and lectern.try_code(other, CODE) is None  # type: ignore[arg-type]
 
 
@@ -206,7 +210,8 @@ def test_the_app_prints_the_presenter_code_and_takes_it_from_the_command_line(
 
 def test_random_codes_differ() -> None:
     codes = {Lectern(server=None).code for _ in range(20)}  # type: ignore[arg-type]
-    assert len(codes) > 15 and all(len(c) == 6 and c.isdigit() for c in codes)
+    # eight digits in two groups of four: 1e8 codes (app.cluster.gate.guess_chance)
+    assert len(codes) > 15 and all(len(c) == 9 and c[4] == " " and (c[:4] + c[5:]).isdigit() for c in codes)
 
 
 def test_app_api_is_unchanged() -> None:

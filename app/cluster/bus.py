@@ -332,8 +332,8 @@ class Bus:
                 return
             self._heard_at = time.monotonic()
             seq = int(body["s"])
-            if mine or (full is not None and seq != self._expected):
-                self._apply_full(decode_batch(body["m"], body["b"], body["sh"]))  # also another's resync, if out of step
+            if mine or (full is not None and seq != self._expected):  # also another's resync, if out of step
+                self._apply_full(decode_batch(body["m"], body["b"], body["sh"]))
                 self._expected = seq + 1
             elif full is not None or seq == self._expected:
                 if full is None:
