@@ -86,7 +86,7 @@ import viser
 
 from app.cluster.gate import RENEW_PERIOD, Gate, GateUnavailable, LocalGate, Verdict
 from app.cluster.gate import new_code as new_gate_code
-from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
+from app.hall.follower import Follower, Hall, ended_head, ended_line, status_line, status_text, view_aspect
 from app.kit.core.room import Room
 from app.kit.draw.labels import POINTER, Screen
 from app.kit.draw.screen import screen_of
@@ -621,6 +621,9 @@ class Lectern:
             if remote is None or remote.hall is not Hall.LIVE:
                 return
             remote.hall = self.hall = Hall.LEFT if left else Hall.STOPPED
+            lines = remote.status.split("  \n")
+            remote.status = "  \n".join([ended_head(remote.hall), *lines[1:]])
+            remote.line = ended_line(remote.hall, remote.title)
             self._called.clear()
             self._to_refresh.extend(self.seats())
         self.refresh_followers()
@@ -813,6 +816,11 @@ class Lectern:
         self._since_status += dt
         if self._since_status >= FOLLOW_PERIOD:
             self._since_status = 0.0
+            remote = self.remote
+            if remote is not None and remote.hall is Hall.LIVE:  # a browser that joined while the bus said so
+                with self._lock:
+                    self._to_follow.extend(seat for seat in self.seats()
+                                           if not seat.closed and seat.following_by_default())
             if self._followers:
                 self.refresh_followers()
             self.refresh_seats()

@@ -208,9 +208,11 @@ class App:
         owed, wires = self._owed, self._wires
         shared = wires.get(None)
         bus = self.bus
+        if bus is not None:
+            bus.take_in()
         with capturing():
             if bus is not None:
-                bus.take_in()
+                bus.apply_frame()
             for room in rooms:
                 try:
                     room.advance(dt)

@@ -214,6 +214,7 @@ class Bus:
         self._pubsub.subscribe(CHANNEL, ASK)
         self._inbox: collections.deque[tuple[str, dict[str, Any]]] = collections.deque()
         self._tapped: list[Any] = []
+        self._pending: list[Any] = []  # scene messages taken in, for this frame (`apply_frame`)
         self._tap_lock = threading.Lock()
         self._replica = Replica()  # this process's own shared scene (what it publishes as a source)
         self._applied = Replica()  # what it applied of another's (nodes to drop on a resync)
@@ -288,8 +289,10 @@ class Bus:
                 waiting[0].set()
 
     def take_in(self) -> None:
-        """Apply what came from the other processes (the app loop, inside its frame): scene
-        batches into the shared scene, the hall's state into the lectern, requests noted."""
+        """Take what came from the other processes (the app loop, before its frame): the hall's
+        state into the lectern, requests noted, a whole state (resync) into the shared scene at
+        once through viser (its persistent buffer then serves late browsers exactly), scene
+        batches kept for `apply_frame`."""
         lectern = self.lectern
         while self._inbox:
             channel, body = self._inbox.popleft()
@@ -324,7 +327,7 @@ class Bus:
         if kind == "scene":
             full = body.get("full")
             mine = full == "*" or (isinstance(full, list) and self.worker_id in full)
-            if mine and (self._remote_worker != worker or lectern.remote is None):
+            if full == "*" or (mine and (self._remote_worker != worker or lectern.remote is None)):
                 self.source = False  # a presenter elsewhere: this process's scene is no longer the lecture's
                 self._remote_worker = worker
                 lectern.show_remote(RemoteShow(worker=worker, title=str(body.get("title", ""))[:200]))
@@ -378,13 +381,22 @@ class Bus:
         self._asked_at = now
         self._publish(ASK, {"k": "resync", "w": self.worker_id, "to": worker or self._remote_worker})
 
+    def apply_frame(self) -> None:
+        """Queue the scene batches taken in into the shared scene (the app loop, inside its frame:
+        the wire encodes them once for every follower)."""
+        pending, self._pending = self._pending, []
+        for message in pending:
+            self._queue(message)
+
     def _apply(self, messages: list[Any]) -> None:
         for message in messages:
             self._applied.add(message)
-            self._queue(message)
+        self._pending.extend(messages)
 
     def _apply_full(self, messages: list[Any]) -> None:
-        """The source's whole state: the nodes it no longer has go, then everything is applied."""
+        """The source's whole state: the nodes it no longer has go, then everything is applied
+        (what was kept for this frame is older: dropped)."""
+        self._pending = []
         state = Replica()
         for message in messages:
             state.add(message)
