@@ -235,10 +235,37 @@ def _start_euler_lagrange(model: Model, state: State, origin: State) -> Stepper:
     return RunStepper(integrate_euler_lagrange, model, state)
 
 
-def _registry() -> dict[str, Method]:
-    from physics import integrators, lagrange
+# The runs by name (not lambdas): a stepper that holds one can be encoded by reference (app.codec).
+def _always(model: Model) -> bool:
+    return True
 
-    always = lambda model: True  # noqa: E731
+
+def _run_splitting(m: Model, s: State, t: np.ndarray) -> Trajectory:
+    from physics import integrators
+
+    return integrators.integrate_splitting(m, s, t)
+
+
+def _run_adaptive(m: Model, s: State, t: np.ndarray) -> Trajectory:
+    from physics import integrators
+
+    return integrators.integrate_adaptive(m, s, t)
+
+
+def _run_dop853(m: Model, s: State, t: np.ndarray) -> Trajectory:
+    from physics import integrators
+
+    return integrators.integrate_dop853(m, s, t)
+
+
+def _run_euler_lagrange(m: Model, s: State, t: np.ndarray) -> Trajectory:
+    from physics import lagrange
+
+    return lagrange.integrate_euler_lagrange(m, s, t)
+
+
+def _registry() -> dict[str, Method]:
+    always = _always
     return {
         method.name: method
         for method in (
@@ -248,17 +275,17 @@ def _registry() -> dict[str, Method]:
                    start=_start_exact),
             Method("splitting4", "4th-order symplectic splitting, fixed step with sub-steps: "
                    "exact |L| (free) and L·e_z (top), no energy drift; the real-time method",
-                   always, lambda m, s, t: integrators.integrate_splitting(m, s, t),
+                   always, _run_splitting,
                    realtime=True, start=_start_grid),
             Method("adaptive", "adaptive high-order Runge-Kutta on the singularity-free state "
                    "(rtol 1e-12): accurate to the tolerance, conserves nothing exactly",
-                   always, lambda m, s, t: integrators.integrate_adaptive(m, s, t)),
+                   always, _run_adaptive),
             Method("dop853", "scipy solve_ivp DOP853 (8th order, adaptive) on the quaternion ODE "
                    "(rtol 1e-12): the usual choice, for comparison", always,
-                   lambda m, s, t: integrators.integrate_dop853(m, s, t)),
+                   _run_dop853),
             Method("euler_lagrange", "Lagrange's equations in z-x-z angles (memo 5.13, 6.4, 6.10), "
                    "adaptive scipy solver: literal and for teaching; fails at sin θ = 0",
-                   always, lambda m, s, t: lagrange.integrate_euler_lagrange(m, s, t),
+                   always, _run_euler_lagrange,
                    start=_start_euler_lagrange),
         )
     }

@@ -28,6 +28,7 @@ LAYERS = {
     "app.kit": 1.0, "app.kit.core": 1.0, "app.kit.panel": 1.2, "app.kit.draw": 1.2, "app.kit.view": 1.4,
     "app.kit.rigid": 1.6,
     "app.scenes": 2, "app.theme": 2,
+    "app.codec": 2.5,  # a room as bytes: imports the scenes registry
     "app.lessons": 3, "app.export": 3, "app.hall.caption": 2.8, "app.hall.room_plot": 2.8, "app.hall.follower": 3,
     "app.lectern": 4, "app.cluster.bus": 4.5,  # the bus: what followers on another process see
     "app.hall": 5, "app.session": 6, "app.main": 7, "app.__main__": 8, "app": 8,
