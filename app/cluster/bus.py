@@ -597,7 +597,7 @@ def _camera(body: dict[str, Any]) -> dict[str, Any] | None:
 def _codec() -> tuple[Any, Any]:
     """(encode_room, decode_room) of the kit's codec; RuntimeError naming what is missing."""
     try:
-        from app.kit.core.codec import decode_room, encode_room  # noqa: PLC0415 - only Explore across processes
+        from app.codec import decode_room, encode_room  # noqa: PLC0415 - only Explore across processes
     except ImportError as error:
-        raise RuntimeError(f"Explore on another process needs the room codec (app.kit.core.codec): {error}") from None
+        raise RuntimeError(f"Explore on another process needs the room codec (app.codec): {error}") from None
     return encode_room, decode_room
