@@ -56,7 +56,14 @@ class SharedMirror(SceneMirror):
     own nodes of the same name (a hidden shadow of LIVE_ROOT) are another layer."""
 
     def _keep(self, message: dict[str, Any]) -> None:
-        if message.get("owner") in ("", None):
+        if message.get("owner") not in ("", None):
+            return
+        if message["type"] == "SetSceneNodeVisibilityMessage":
+            self.nodes.setdefault(message["name"], {})["visible"] = message["visible"]
+        elif message["type"] == "LabelMessage":
+            super()._keep(message)
+            self.nodes[message["name"]]["text"] = message["props"]["text"]
+        else:
             super()._keep(message)
 
 
@@ -158,6 +165,8 @@ def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -
     except AssertionError:
         raise AssertionError(_scene_differences(mirror_a, mirror_c)[:8]) from None
     assert len(_live_nodes(mirror_b)) > 20  # the body, its axes, ω, L, the labels ...
+    shown = [node.get("text") for node in _live_nodes(mirror_b).values() if node.get("visible") and "text" in node]
+    assert "ω" in shown and "L" in shown, shown
     # Their panels say the same; the presenter's badge counts every worker's followers.
     poll_until(lambda: b.lectern.status() == a.lectern.status() == c.lectern.status(), timeout=10.0)
     assert "Free body" in b.lectern.status() and b.lectern.hall is Hall.LIVE
