@@ -67,7 +67,7 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
     close_toasts(follower_page)
     presenter_page.get_by_text("1 following").first.wait_for(timeout=30_000)  # the badge counts worker B's follower
     assert b.lectern.remote is not None and b.lectern.remote.worker == "a"
-    follower_page.wait_for_timeout(1500)  # the shared nodes fade in
+    follower_page.wait_for_timeout(3000)  # for the screenshot: the shared nodes fade in, the labels are laid out
     SHOT.parent.mkdir(parents=True, exist_ok=True)
     follower_page.screenshot(path=str(SHOT))
 
