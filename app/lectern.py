@@ -71,6 +71,7 @@ from __future__ import annotations
 
 import collections
 import contextlib
+import dataclasses
 import enum
 import logging
 import math
@@ -85,14 +86,14 @@ import viser
 
 from app.cluster.gate import RENEW_PERIOD, Gate, GateUnavailable, LocalGate, Verdict
 from app.cluster.gate import new_code as new_gate_code
-from app.hall.follower import Follower, Hall, status_line, status_text, view_aspect
+from app.hall.follower import Follower, Hall, ended_head, ended_line, status_line, status_text, view_aspect
 from app.kit.core.room import Room
 from app.kit.draw.labels import POINTER, Screen
 from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
-           "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "Seat", "fitted_camera",
+           "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat", "fitted_camera",
            "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
@@ -169,6 +170,28 @@ class Seat(Protocol):
     def caption_words(self) -> tuple[str, str]:
         """(head, words) of the presenter's lesson caption; ("", "") for none (`app.hall.caption`)."""
         ...
+
+
+@dataclasses.dataclass
+class RemoteShow:
+    """What a presenter on another process shows, as this process's followers see it
+    (`app.cluster.bus` writes it; the shared scene's nodes come through the bus too).
+
+    Attributes:
+        worker: the presenting process's worker id.  hall: LIVE, STOPPED or LEFT.
+        title: the scene's title.  status, line: the followers' panel text and its one line.
+        caption: (head, words) of the lesson caption.
+        camera: the presenter's camera (position, look_at, up [scene units], fov [rad], aspect
+            [width / height]) or None before it is known.
+    """
+
+    worker: str
+    hall: Hall = Hall.LIVE
+    title: str = ""
+    status: str = ""
+    line: str = ""
+    caption: tuple[str, str] = ("", "")
+    camera: dict[str, Any] | None = None
 
 
 def new_code() -> str:
@@ -348,6 +371,18 @@ class Lectern:
         self.pointer = Pointer(server.scene) if server is not None else None
         self.seats: Callable[[], list[Seat]] = lambda: []
         """Set by the app: its open sessions."""
+        # One lecture across processes (`app.cluster.bus`; unused on one process):
+        self.remote: RemoteShow | None = None
+        """A presenter on another process, shown here (None: the shared screen is this process's)."""
+        self.events: list[Callable[[str], None]] = []
+        """Told "start", "stopped" or "left" when this process's presenter starts, stops or leaves,
+        "call_back" when it calls everyone back."""
+        self.remote_audience: Callable[[], tuple[int, int]] = lambda: (0, 0)
+        """(following, exploring) on the other processes, added to the presenter's badge."""
+        self.fetch_remote: Callable[[], Room] | None = None
+        """An exact copy of the remote presenter's room (Explore on this process)."""
+        self.clear_shared: Callable[[], None] = lambda: None
+        """Remove another process's nodes from the shared scene (before this one draws there)."""
 
     # ------------------------------------------------------------------ the lock
     def _recent_tries(self, seat: Any) -> collections.deque[float]:
@@ -463,6 +498,7 @@ class Lectern:
             self._to_follow = [other for other in self.seats()
                                if other is not seat and other.following_by_default()]
         self.refresh_followers()
+        self._tell("start")
 
     def release(self, seat: Seat, *, disconnected: bool) -> None:
         """The presenter stops (Stop presenting) or leaves (disconnect): the lock is free.  The
@@ -489,9 +525,21 @@ class Lectern:
                 last.playing = False
                 self._live_room = last
         self.refresh_followers()
+        self._tell("left" if disconnected else "stopped")
+
+    def _tell(self, event: str) -> None:
+        for listener in list(self.events):
+            try:
+                listener(event)
+            except Exception:  # noqa: BLE001 - the bus must not break the lock
+                logger.exception("lecture event %s", event)
 
     def _forget_live_view(self) -> None:
-        """Remove the previous presenter's shared nodes (a new presenter draws afresh)."""
+        """Remove the previous presenter's shared nodes (a new presenter draws afresh), also
+        those of a presenter on another process."""
+        if self.remote is not None:
+            self.remote = None
+            self.clear_shared()
         view, self.live_view = self.live_view, None
         if view is not None:
             with contextlib.suppress(Exception):  # its nodes may be gone already
@@ -524,8 +572,73 @@ class Lectern:
 
     @property
     def live(self) -> bool:
-        """Something is on the shared screen (a presenter, or the last state one left)."""
-        return self.live_view is not None
+        """Something is on the shared screen (a presenter, or the last state one left; here or
+        on another process)."""
+        return self.live_view is not None or self.remote is not None
+
+    @property
+    def someone_presents(self) -> bool:
+        """A presenter presents, on this process or another."""
+        remote = self.remote
+        return self.presenter is not None or (remote is not None and remote.hall is Hall.LIVE)
+
+    def live_title(self) -> str:
+        """The title of the scene on the shared screen ("" for none)."""
+        room, remote = self.live_room, self.remote
+        if room is not None:
+            return str(room.scene.title)
+        return remote.title if remote is not None else ""
+
+    def live_copy(self) -> Room:
+        """An exact copy of the room on the shared screen (`Room.fork`; through the bus when it is
+        another process's).  RuntimeError when nothing is shown."""
+        live = self.live_room
+        if live is not None:
+            return live.fork()
+        if self.remote is not None and self.fetch_remote is not None:
+            return self.fetch_remote()
+        raise RuntimeError("there is nothing on the shared screen to explore")
+
+    # ------------------------------------------------------------------ a presenter on another process
+    def show_remote(self, show: RemoteShow) -> None:
+        """A presenter on another process starts: this process's last live view goes, `show`
+        is on the shared screen and the browsers that follow by default follow it."""
+        with self._lock:
+            if self.live_view is not None:
+                self._forget_live_view()
+                self._live_room = None
+            self.remote = show
+            self.hall = show.hall
+            self._called.clear()
+            self._to_refresh.extend(self.seats())
+            self._to_follow = [seat for seat in self.seats()
+                               if seat is not self.presenter and seat.following_by_default()]
+        self.refresh_followers()
+
+    def remote_ended(self, left: bool) -> None:
+        """The remote presenter stopped (or left: its process ended or said so): the last state
+        stays on screen with a note."""
+        with self._lock:
+            remote = self.remote
+            if remote is None or remote.hall is not Hall.LIVE:
+                return
+            remote.hall = self.hall = Hall.LEFT if left else Hall.STOPPED
+            lines = remote.status.split("  \n")
+            remote.status = "  \n".join([ended_head(remote.hall), *lines[1:]])
+            remote.line = ended_line(remote.hall, remote.title)
+            self._called.clear()
+            self._to_refresh.extend(self.seats())
+        self.refresh_followers()
+
+    def remote_call_back(self) -> int:
+        """The remote presenter calls everyone back: this process's explorers (`call_back`)."""
+        with self._lock:
+            deadline = self._clock() + CALL_BACK_SECONDS
+            explorers = [other for other in self.seats() if not other.closed and other.mode is Mode.OWN]
+            for other in explorers:
+                self._called[other.client_id] = (other, deadline)
+            self._to_refresh.extend(explorers)
+        return len(explorers)
 
     @property
     def followers(self) -> Mapping[int, Follower]:
@@ -565,6 +678,14 @@ class Lectern:
                         if seat is not presenter and not seat.closed and seat.mode is Mode.OWN)
         return following, exploring
 
+    def total_audience(self) -> tuple[int, int]:
+        """`audience` summed over every process (the presenter's badge)."""
+        following, exploring = self.audience()
+        if self.presenter is None:
+            return following, exploring
+        more_following, more_exploring = self.remote_audience()
+        return following + more_following, exploring + more_exploring
+
     def call_back(self, seat: Seat) -> int:
         """The presenter asks every explorer back: each follows again in CALL_BACK_SECONDS unless
         it presses Stay (`stay`); the number asked.  PermissionError for anyone but the presenter."""
@@ -577,6 +698,7 @@ class Lectern:
             for other in explorers:
                 self._called[other.client_id] = (other, deadline)
             self._to_refresh.extend([seat, *explorers])  # shown by the loop, not from the presenter's callback
+        self._tell("call_back")
         return len(explorers)
 
     def call_back_left(self, seat: Seat) -> float | None:
@@ -611,18 +733,24 @@ class Lectern:
 
     def status(self) -> str:
         """The followers' panel text (`app.hall.follower.status_text`)."""
-        presenter = self.presenter
+        presenter, remote = self.presenter, self.remote
+        if remote is not None and presenter is None:
+            return remote.status
         lesson = presenter.lesson_text() if presenter is not None and self.hall is Hall.LIVE else ""
         return status_text(self.live_room, self.hall, lesson, self._key_numbers())
 
     def status_line(self) -> str:
         """The followers' status in one line, for a narrow screen (`app.hall.follower.status_line`)."""
+        if self.remote is not None and self.presenter is None:
+            return self.remote.line
         return status_line(self.live_room, self.hall)
 
     def caption(self) -> tuple[str, str]:
         """(head, words) of the lesson caption over every follower's 3D view: the presenter's
         (`Seat.caption_words`) while one presents; ("", "") otherwise."""
-        presenter = self.presenter
+        presenter, remote = self.presenter, self.remote
+        if presenter is None and remote is not None:
+            return remote.caption if remote.hall is Hall.LIVE else ("", "")
         if presenter is None or self.hall is not Hall.LIVE:
             return "", ""
         return presenter.caption_words()
@@ -680,7 +808,7 @@ class Lectern:
             if not seat.closed and seat.following_by_default():
                 seat.guard("follow the presenter", seat.follow)()
         for seat in called_back:
-            if not seat.closed and seat.mode is Mode.OWN and self.presenter is not None:
+            if not seat.closed and seat.mode is Mode.OWN and self.someone_presents:
                 seat.guard("called back", seat.follow)()
         if to_refresh:
             self.refresh_seats(list({id(seat): seat for seat in to_refresh}.values()))
@@ -690,6 +818,11 @@ class Lectern:
         self._since_status += dt
         if self._since_status >= FOLLOW_PERIOD:
             self._since_status = 0.0
+            remote = self.remote
+            if remote is not None and remote.hall is Hall.LIVE:  # a browser that joined while the bus said so
+                with self._lock:
+                    self._to_follow.extend(seat for seat in self.seats()
+                                           if not seat.closed and seat.following_by_default())
             if self._followers:
                 self.refresh_followers()
             self.refresh_seats()
@@ -791,18 +924,25 @@ class Lectern:
         """Put a follower's camera where the presenter's is (if it follows the camera): the
         presenter's viewing direction and look_at, the distance fitted to the follower's aspect
         (`fitted_camera`) so a phone shows what the presenter's wide view shows."""
-        presenter = self.presenter
-        if presenter is None or not follower.follow_camera:
+        presenter, remote = self.presenter, self.remote
+        if not follower.follow_camera:
             return
-        source = presenter.client.camera
+        if presenter is not None:
+            source = presenter.client.camera
+            shot: dict[str, Any] = {"position": source.position, "look_at": source.look_at,
+                                    "up": source.up_direction, "fov": float(source.fov), "aspect": view_aspect(source)}
+        elif remote is not None and remote.camera is not None:
+            shot = remote.camera
+        else:
+            return
         try:
             camera = follower.camera
-            position, look_at = fitted_camera(source.position, source.look_at, view_aspect(source),
-                                              view_aspect(camera), float(source.fov), source.up_direction)
-            camera.up_direction = tuple(source.up_direction)
+            position, look_at = fitted_camera(shot["position"], shot["look_at"], shot["aspect"],
+                                              view_aspect(camera), shot["fov"], shot["up"])
+            camera.up_direction = tuple(shot["up"])
             camera.position = position
             camera.look_at = look_at
-            camera.fov = float(source.fov)
+            camera.fov = shot["fov"]
         except Exception:  # noqa: BLE001 - the presenter's camera is not known yet, or a client left
             logger.debug("camera not sent", exc_info=True)
 

@@ -96,6 +96,7 @@ class App:
         presenter_code: str | None = None,
         projector: bool = False,
         share_store: ShareStore | None = None,
+        bus_factory: Callable[[viser.ViserServer, Lectern], Any] | None = None,
         gate: Gate | None = None,
         own: OwnLibrary | None = None,
     ) -> None:
@@ -118,6 +119,8 @@ class App:
         self._owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
         # app.wire: the shared scene's (key None) and each browser's
         self._wires: dict[int | None, Wire | None] = {None: Wire.attach(server)}
+        # One lecture across processes (`app.cluster.bus`), after the shared scene's wire: None on one process
+        self.bus: Any = bus_factory(server, self.lectern) if bus_factory is not None else None
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
@@ -216,7 +219,12 @@ class App:
         drawn = []
         owed, wires = self._owed, self._wires
         shared = wires.get(None)
+        bus = self.bus
+        if bus is not None:
+            bus.take_in()
         with capturing():
+            if bus is not None:
+                bus.apply_frame()
             for room in rooms:
                 try:
                     room.advance(dt)
@@ -232,6 +240,8 @@ class App:
                     drawn.append(browser)
             self.lectern.tick(dt)
         self._end_frames()
+        if bus is not None:
+            bus.send_out(dt)
         if len(owed) > 2 * len(views) + 16:  # views that left
             live = {id(view) for _, view, _ in views}
             self._owed = {key: value for key, value in owed.items() if key in live}
@@ -272,6 +282,9 @@ class App:
         self._stop.set()
         if self._thread.is_alive():
             self._thread.join(timeout=2.0)
+        if self.bus is not None:
+            self.bus.close()
+            self.bus = None
         self.lectern.close()  # the presenter lock, if this process holds it
         self.server.stop()
 
@@ -290,7 +303,8 @@ def create_server(
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
     redis_url, worker_id: this app is the worker `worker_id` of a lecture on several processes
-    (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.cluster.gate.RedisGate`).
+    (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.cluster.gate.RedisGate`), and
+    what followers on other processes see through it (`app.cluster.bus.Bus`).
     None (both): one process, as always, importing no redis.
     data_dir: the folder of what users keep (own presets and lessons, `app.own`; None: the
     platform's default, `app.userdata.default_data_dir()`), made when something is first saved.
@@ -313,8 +327,17 @@ def create_server(
     for problem in own.problems:
         logger.warning("data folder: %s (left out)", problem)
     folder = Path(data_dir).expanduser() if data_dir else default_data_dir()
+    bus_factory = None
+    if redis_url is not None:
+        from app.cluster.bus import Bus  # noqa: PLC0415 - a one-process app imports no redis
+
+        url, worker = redis_url, worker_id or "w1"
+
+        def bus_factory(server: viser.ViserServer, lectern: Lectern) -> Any:
+            return Bus(server, lectern, url, worker)
+
     app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own,
-              share_store=open_share_store(folder, redis_url))
+              share_store=open_share_store(folder, redis_url), bus_factory=bus_factory)
     if start_loop:
         app.start()
     return app

@@ -593,10 +593,7 @@ class Session:
         lectern = self.lectern
         if lectern is None or self.mode is not Mode.FOLLOWING:
             return
-        live = lectern.live_room
-        if live is None:
-            raise RuntimeError("there is nothing on the shared screen to explore")
-        self._leave_presenter_for(live.fork())
+        self._leave_presenter_for(lectern.live_copy())
 
     def _leave_presenter_for(self, copy: Room) -> None:
         """A follower leaves the presenter and explores `copy` (its camera stays)."""

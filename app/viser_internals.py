@@ -41,6 +41,7 @@ import dis
 import importlib
 import logging
 import threading
+import typing
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
@@ -52,7 +53,8 @@ from physics.quaternion import matrix_from_wxyz
 __all__ = ["FAST_SETTERS", "FEATURES", "FRAME_CAPTURE", "NEEDS", "PANEL_INPUTS", "SCENE_NODES", "SEND_QUEUE",
            "SUPPORTED", "VERSION", "Feature", "Need", "atomic_unless_captured", "check", "client_buffer",
            "configure", "connection_closed", "divert_queue", "event_loop", "flush_all", "frame_capture",
-           "in_frame_capture", "interface_of", "label_props", "live_connections", "message_buffer", "node_removed",
+           "in_frame_capture", "interface_of", "label_props", "live_connections", "message_buffer", "message_from_dict",
+           "node_removed",
            "node_world", "pack_window", "panel_checkboxes", "panel_inputs", "pending_messages", "remove_under",
            "report",
            "scene_nodes", "set_points", "set_position", "set_scale", "set_wxyz", "unsent_bytes", "world_point",
@@ -152,6 +154,8 @@ NEEDS: tuple[Need, ...] = (
     Need(FRAME_CAPTURE, _MESSAGE, "entity_type", "the node or element a message is about"),
     Need(FRAME_CAPTURE, _MESSAGE, "entity_id_field", "the node or element a message is about"),
     Need(FRAME_CAPTURE, _MESSAGE, "lifecycle_phase", "an update, a creation or a removal"),
+    Need(FRAME_CAPTURE, _MESSAGE, "_subclass_from_type_string", "a message class by its type name (the bus)"),
+    Need(FRAME_CAPTURE, _MESSAGE, "_from_serializable_dict", "a message's fields from its dict (the bus)"),
     Need(FRAME_CAPTURE, "viser.infra._infra", "_append_aligned_buffers", "a window's raw buffers, as viser "
                                                                           "lays them out"),
     Need(SEND_QUEUE, "viser._viser.ClientHandle", "_websock_connection", "a browser's interface"),
@@ -538,6 +542,39 @@ def pack_window(inner: bytes, compressed: bytes, buffers: list[memoryview]) -> b
     return b"".join(parts)
 
 
+def message_from_dict(mapping: dict[str, Any], allowed: Iterable[str]) -> Any:
+    """A viser message rebuilt from `mapping`, a dict as `Message.as_serializable_dict` makes it
+    (numpy arrays already put back in place of its buffer placeholders), its "type" one of the
+    `allowed` message class names; the class comes from viser's own registry of message types,
+    nothing is imported or executed by name.  A props dataclass comes back from its dict.
+    ValueError for an unknown or disallowed type or fields that do not fit it."""
+    kind = mapping.get("type")
+    if not isinstance(kind, str) or kind not in set(allowed):
+        raise ValueError(f"message type {kind!r} is not allowed")
+    cls: Any = _INFRA_MESSAGES.Message._subclass_from_type_string().get(kind)
+    try:
+        fields = {f.name: f for f in dataclasses.fields(cls)}
+    except TypeError:
+        raise ValueError(f"viser has no message type {kind!r}") from None
+    values = {key: value for key, value in mapping.items() if key != "type"}
+    if not set(values) <= set(fields):
+        raise ValueError(f"{kind}: unknown fields {sorted(set(values) - set(fields))}")
+    try:
+        hints = typing.get_type_hints(cls)
+        for key, value in list(values.items()):
+            hint = hints.get(key)
+            if isinstance(value, dict) and isinstance(hint, type) and dataclasses.is_dataclass(hint):
+                values[key] = hint(**value)
+        values = cls._from_serializable_dict(values)
+        late = {key: values.pop(key) for key in [k for k in values if not fields[k].init]}
+        message = cls(**values)
+    except (TypeError, ValueError, KeyError, AttributeError, AssertionError) as error:
+        raise ValueError(f"{kind}: {error!r}") from None
+    for key, value in late.items():
+        setattr(message, key, value)
+    return message
+
+
 # ---------------------------------------------------------------------- send queue
 def _client_buffer_of(client: Any) -> Any | None:
     try:
@@ -610,3 +647,4 @@ def flush_all(clients: Iterable[Any]) -> None:
 configure()
 _MESSAGES: Any = _resolve("viser._messages")
 _INFRA: Any = _resolve("viser.infra._infra")
+_INFRA_MESSAGES: Any = _resolve("viser.infra._messages")

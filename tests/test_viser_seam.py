@@ -241,3 +241,16 @@ def test_the_fast_setters_fall_back_to_the_public_ones(manual, monkeypatch, rest
     queued.clear()
     seam.set_wxyz(frame, q)  # the public setter skips an unchanged value
     assert queued == []
+
+
+def test_message_from_dict_rebuilds_only_allowed_messages_with_their_props() -> None:
+    from viser import _messages
+
+    made = _messages.LabelMessage("/l/x", _messages.LabelProps("hi", "screen", 1.0, 0.1, False, "top-left"))
+    again = seam.message_from_dict(made.as_serializable_dict(), {"LabelMessage"})
+    assert again == made and isinstance(again.props, _messages.LabelProps)
+    for mapping, allowed in (({"type": "LabelMessage", "name": "/l/x"}, set()),  # not allowed
+                             ({"type": "NoSuchMessage"}, {"NoSuchMessage"}),
+                             ({**made.as_serializable_dict(), "extra": 1}, {"LabelMessage"})):
+        with pytest.raises(ValueError):
+            seam.message_from_dict(mapping, allowed)

@@ -144,12 +144,16 @@ def start_nginx(listen_host: str, listen_port: int, upstreams: Sequence[str], fo
 
 
 def start_worker(worker_id: str, port: int, folder: str | Path, redis_url: str, code: str, *,
-                 host: str = "127.0.0.1", projector: bool = False) -> subprocess.Popen[bytes]:
-    """One app worker (`python -m app ... --worker-id`), its output in folder/<worker_id>.log."""
+                 host: str = "127.0.0.1", projector: bool = False,
+                 data_dir: str | Path | None = None) -> subprocess.Popen[bytes]:
+    """One app worker (`python -m app ... --worker-id`), its output in folder/<worker_id>.log;
+    `data_dir` the lecturer's data folder (every worker the same one)."""
     env = dict(os.environ, **{REDIS_ENV: redis_url, CODE_ENV: code, "PYTHONUNBUFFERED": "1"})
     args = [sys.executable, "-m", "app", "--host", host, "--port", str(port), "--worker-id", worker_id]
     if projector:
         args.append("--projector")
+    if data_dir:
+        args += ["--data-dir", str(data_dir)]
     with open(Path(folder) / f"{worker_id}.log", "wb") as log:
         return _popen(args, env=env, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)
 
@@ -187,7 +191,7 @@ class Launch:
         self.reported: set[str] = set()  # workers whose end was said
 
     def start(self, workers: int, host: str, port: int, code: str, redis_url: str | None = None,
-              projector: bool = False) -> None:
+              projector: bool = False, data_dir: str | Path | None = None) -> None:
         require("nginx")
         check_port_free(host, port)
         if redis_url is None:
@@ -198,7 +202,7 @@ class Launch:
         for k in range(1, workers + 1):
             worker_id = f"w{k}"
             self.workers[worker_id] = start_worker(worker_id, free_port(), self.folder, self.redis_url, code,
-                                                   projector=projector)
+                                                   projector=projector, data_dir=data_dir)
         for worker_id, process in self.workers.items():
             self.ports[worker_id] = _worker_port(self.folder / f"{worker_id}.log", process, WORKER_START_S)
             wait_for_port(self.ports[worker_id], process=process, timeout=WORKER_START_S)
@@ -253,7 +257,8 @@ def launch_main(args: argparse.Namespace) -> int:
                 for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
         try:
-            launch.start(args.workers, args.host, args.port, code, redis_url=args.redis, projector=args.projector)
+            launch.start(args.workers, args.host, args.port, code, redis_url=args.redis, projector=args.projector,
+                         data_dir=getattr(args, "data_dir", None))
         except MissingProgram as error:
             print(f"rigid-body-lab: {error}", file=sys.stderr, flush=True)
             return 2

@@ -31,8 +31,8 @@ from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 
-__all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "is_narrow", "status_line",
-           "status_text", "transport_words", "view_aspect"]
+__all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "ended_head", "ended_line", "is_narrow",
+           "status_line", "status_text", "transport_words", "view_aspect"]
 
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 
@@ -80,13 +80,7 @@ def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Se
     presenter looks back, the head's), the scene's `key_numbers` (lines)."""
     if room is None:
         return "Nobody is presenting."
-    head = {
-        Hall.LIVE: "**Presenter:** " + transport_words(room),
-        Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
-                      "Explore it on your own, or wait for the next presenter.",
-        Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
-                   "A new presenter can take over with the code.",
-    }.get(hall, "")
+    head = "**Presenter:** " + transport_words(room) if hall is Hall.LIVE else ended_head(hall)
     preset = getattr(room.sim, "preset", None)
     lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else "")]
     if room.mode == LIVE or hall is not Hall.LIVE:  # looking back, the head says the one time shown
@@ -95,6 +89,22 @@ def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Se
         lines.append(lesson)
     lines.extend(key_numbers)
     return "  \n".join(lines)
+
+
+def ended_head(hall: Hall) -> str:
+    """The first line of the followers' status once the presenter stopped or left ("" otherwise)."""
+    return {
+        Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
+                      "Explore it on your own, or wait for the next presenter.",
+        Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
+                   "A new presenter can take over with the code.",
+    }.get(hall, "")
+
+
+def ended_line(hall: Hall, title: str) -> str:
+    """The followers' one line once the presenter stopped or left."""
+    word = "stopped" if hall is Hall.STOPPED else "left"
+    return f"**Presenter {word}** · last state: {title}"
 
 
 def status_line(room: Room | None, hall: Hall) -> str:
@@ -106,8 +116,7 @@ def status_line(room: Room | None, hall: Hall) -> str:
             return f"**⟲ {room.scene.title}** · t = {room.shown_t:.1f} of {room.live_t:.1f} s"
         state = "▶" if room.playing else "⏸"
         return f"**{state} {room.scene.title}** · t = {room.sim.t:.1f} s"
-    word = "stopped" if hall is Hall.STOPPED else "left"
-    return f"**Presenter {word}** · last state: {room.scene.title}"
+    return ended_line(hall, room.scene.title)
 
 
 class Follower:

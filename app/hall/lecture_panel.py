@@ -146,13 +146,13 @@ class LecturePanel:
         mode, lectern = self.seat.mode, self.lectern
         presenter = lectern.presenter
         presenting = mode is Mode.PRESENTING
-        exploring = mode is Mode.OWN and presenter is not None and presenter is not self.seat
+        exploring = mode is Mode.OWN and lectern.someone_presents and presenter is not self.seat
         _show(self.gui_code, not presenting)
         _show(self.gui_present, not presenting)
         for handle in (self.gui_badge, self.gui_stop, self.gui_pointer, self.gui_pointer_label, self.gui_call_back):
             _show(handle, presenting)
         if presenting:
-            following, explorers = lectern.audience()
+            following, explorers = lectern.total_audience()
             _write(self.gui_badge, live_badge(following, explorers))
             if self.gui_call_back.disabled != (explorers == 0):
                 self.gui_call_back.disabled = explorers == 0
@@ -161,9 +161,9 @@ class LecturePanel:
         _show(self.gui_follow, exploring)
         _show(self.gui_stay, left is not None)
         if exploring:
-            room = lectern.live_room
+            title = lectern.live_title()
             _write(self.gui_lecture_on, call_text(left) if left is not None
-                   else lecture_on_text(room.scene.title if room is not None else "a scene"))
+                   else lecture_on_text(title or "a scene"))
 
     def call_back(self) -> None:
         """The presenter asks every explorer back (`Lectern.call_back`); said in the badge's place."""

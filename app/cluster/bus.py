@@ -1,0 +1,603 @@
+"""One lecture across processes: what followers on another process see, through Redis.
+
+**The design, and why.**  The presenting process (the *source*) already draws its presenter's
+room once per frame into viser's shared scene (`server.scene`, under LIVE_ROOT, the pointer
+too).  The bus taps the messages queued to that shared interface (`divert_queue`, in front of
+the app's `Wire`) and publishes them once per frame, as msgpack of viser's own message dicts
+(`Message.as_serializable_dict`, numpy arrays as raw buffers), culled as viser culls (one value
+per node and property).  Every other process decodes them into viser message objects of an
+allowlisted set of scene types (`ALLOWED`; names under LIVE_ROOT only;
+`app.viser_internals.message_from_dict` takes the class from viser's own registry: nothing is
+imported, executed or unpickled) and queues them into *its* shared scene inside its app loop's
+frame, so its `Wire` encodes each frame once for all its followers and viser's persistent buffer
+serves its late joiners exactly as on one process.  Sending the scene's messages, not simulation
+snapshots, keeps one simulation and one drawing per lecture (the other processes do no physics
+for the lecture) and makes a remote follower's scene the same messages a local follower gets.
+
+- Order and gaps: the scene batches carry a sequence number; a process that joins late or sees
+  a gap asks (`ASK`, "resync") and the source publishes its shared scene's whole state (`Replica`:
+  the last create and the last value of every node under LIVE_ROOT, kept from the same tap);
+  the one that asked removes the nodes the state no longer has and applies it.
+- The hall's state (the followers' status and its one line, the caption, the scene's title) goes
+  as a small dict every FOLLOW_PERIOD, the presenter's camera (with its aspect, so each
+  follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
+  moved; a "call_back" when the presenter calls everyone back.  Another process shows it as a
+  `app.lectern.RemoteShow` (its `Lectern` then has a live show without a local room).
+- Stopped and left: the source says "stopped" or "left" when its presenter stops or leaves (or
+  its process stops); a process that hears nothing from a live source for LEASE_S takes it that
+  the presenter has left (its process ended).  The last state stays on the followers' screens.
+- Explore on another process: it asks the source ("explore", with a request id); the source
+  encodes its live room ONCE for all the requests of a frame (`encode_room`, the kit's codec),
+  stores the bytes under ROOM_KEY + n for ROOM_TTL_MS and answers with n; the asker decodes it
+  (`decode_room`: checked, bit for bit the presenter's state).
+- Audience: each process writes its (following, exploring) into the hash AUDIENCE_KEY every
+  FOLLOW_PERIOD with the time; the presenter's badge adds the others' fresh entries.
+
+Channels and keys start with `app.cluster.KEY_PREFIX`.  Everything read from Redis is msgpack of
+plain values, checked (types, sizes, names) before use; a bad message is logged and dropped.
+The bus is made only with `create_server(redis_url=...)`: a one-process app has none.
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import logging
+import secrets
+import threading
+import time
+from collections.abc import Iterable
+from typing import Any
+
+import msgspec.msgpack
+import numpy as np
+
+from app.cluster import KEY_PREFIX, connect
+from app.hall.follower import Hall, view_aspect
+from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, Lectern, RemoteShow
+from app.viser_internals import divert_queue, interface_of, message_from_dict
+
+__all__ = ["ALLOWED", "ASK", "AUDIENCE_KEY", "CHANNEL", "LEASE_S", "Bus", "BusError", "Replica", "cull",
+           "decode_batch", "encode_batch"]
+
+logger = logging.getLogger(__name__)
+
+CHANNEL = KEY_PREFIX + "live"  # the source to every process: scene batches, the hall, camera, call back, rooms
+ASK = KEY_PREFIX + "ask"  # any process to the source: "resync", "explore"
+AUDIENCE_KEY = KEY_PREFIX + "audience"  # hash: worker id -> msgpack [following, exploring, time [s]]
+ROOM_KEY = KEY_PREFIX + "room:"  # + number: an encoded room (Explore on another process)
+ROOM_TTL_MS = 20_000
+LEASE_S = 3.0  # [s] a live source heard nothing from this long: its presenter has left
+EXPLORE_TIMEOUT_S = 10.0  # [s] an Explore on another process waits this long for the source's room
+RESYNC_PERIOD_S = 1.0  # [s] a process out of step asks again after this long
+MAX_MESSAGE_BYTES = 64 << 20  # a bus message larger than this is refused
+MAX_DEPTH = 8  # nesting of a message dict
+ALLOWED = frozenset({
+    "FrameMessage", "BatchedAxesMessage", "GridMessage", "LabelMessage", "PointCloudMessage", "MeshMessage",
+    "BoxMessage", "IcosphereMessage", "CylinderMessage", "GlbMessage", "BatchedMeshesMessage", "BatchedGlbMessage",
+    "LineSegmentsMessage", "ArrowMessage", "CatmullRomSplineMessage", "CubicBezierSplineMessage", "ImageMessage",
+    "RemoveSceneNodeMessage", "SetOrientationMessage", "SetPositionMessage", "SetSceneNodeVisibilityMessage",
+    "SceneNodeUpdateMessage"})
+"""The viser message types the bus carries: drawings of the shared scene (no gizmo, no panel)."""
+DTYPES = frozenset({"<f4", "<f8", "|u1", "<u2", "<u4", "<i4", "|i1", "<i2", "<i8", "<u8", "|b1"})
+
+
+class BusError(ValueError):
+    """A bus message that is not what the bus sends (dropped, logged)."""
+
+
+def _live_name(name: Any) -> bool:
+    return isinstance(name, str) and (name == LIVE_ROOT or name.startswith(LIVE_ROOT + "/"))
+
+
+def _tappable(message: Any) -> bool:
+    return type(message).__name__ in ALLOWED and _live_name(getattr(message, "name", None))
+
+
+# ---------------------------------------------------------------------- messages as bytes
+def encode_batch(messages: Iterable[Any]) -> tuple[list[Any], list[bytes], list[list[int]]]:
+    """viser messages as (dicts, buffers, shapes): each `as_serializable_dict` with its numpy
+    arrays as placeholders {"__binary_index": i, "dtype": ...} into `buffers` (raw bytes), each
+    array's shape in `shapes`."""
+    views: list[memoryview] = []
+    dicts = [message.as_serializable_dict(views) for message in messages]
+    return dicts, [bytes(view) for view in views], [list(view.shape or ()) for view in views]
+
+
+def _restore(value: Any, buffers: list[bytes], shapes: list[Any], depth: int = 0) -> Any:
+    """`value` with every buffer placeholder replaced by a flat numpy array (checked dtype)."""
+    if depth > MAX_DEPTH:
+        raise BusError("too deeply nested")
+    if isinstance(value, dict):
+        if "__binary_index" in value:
+            index, dtype = value.get("__binary_index"), value.get("dtype")
+            if not isinstance(index, int) or not 0 <= index < len(buffers) or dtype not in DTYPES:
+                raise BusError(f"bad buffer placeholder {value!r}"[:200])
+            data, shape = buffers[index], shapes[index]
+            if not (isinstance(shape, list) and len(shape) <= 4 and all(isinstance(n, int) and n >= 0 for n in shape)
+                    and int(np.prod(shape)) * np.dtype(dtype).itemsize == len(data)):
+                raise BusError("a buffer's size does not fit its dtype and shape")
+            return np.frombuffer(data, dtype=dtype).reshape(shape)
+        return {key: _restore(item, buffers, shapes, depth + 1) for key, item in value.items()
+                if isinstance(key, str)}
+    if isinstance(value, list):
+        return [_restore(item, buffers, shapes, depth + 1) for item in value]
+    if isinstance(value, (str, int, float, bool, bytes)) or value is None:
+        return value
+    raise BusError(f"unexpected value of type {type(value).__name__}")
+
+
+def decode_batch(dicts: Any, buffers: Any, shapes: Any) -> list[Any]:
+    """viser message objects from `encode_batch`'s output, read from Redis: only ALLOWED types,
+    only nodes under LIVE_ROOT; BusError (nothing built) for anything else."""
+    if not isinstance(dicts, list) or not isinstance(buffers, list) or not all(isinstance(b, bytes) for b in buffers) \
+            or not isinstance(shapes, list) or len(shapes) != len(buffers):
+        raise BusError("a scene batch is a list of messages, one of buffers and one of their shapes")
+    out = []
+    for mapping in dicts:
+        if not isinstance(mapping, dict) or not _live_name(mapping.get("name")):
+            raise BusError(f"not a message under {LIVE_ROOT}: {str(mapping)[:120]}")
+        try:
+            out.append(message_from_dict(_restore(mapping, buffers, shapes), ALLOWED))
+        except ValueError as error:
+            raise BusError(str(error)) from None
+    return out
+
+
+def cull(messages: list[Any]) -> list[Any]:
+    """`messages` without the updates a later update of the same node and property supersedes
+    (as viser's buffer culls; safe across a node's removal or re-creation in between: the
+    earlier value belonged to the node that went)."""
+    seen: set[str] = set()
+    kept = []
+    for message in reversed(messages):
+        if getattr(message, "lifecycle_phase", None) in ("update_simple", "update_dict"):
+            key = message.redundancy_key()
+            if key in seen:
+                continue
+            seen.add(key)
+        kept.append(message)
+    kept.reverse()
+    return kept
+
+
+class Replica:
+    """The shared scene's state under LIVE_ROOT, kept from its messages: each node's last create
+    and the last value of each of its properties, in order (a late process's resync)."""
+
+    def __init__(self) -> None:
+        self.entries: dict[tuple[str, str], Any] = {}
+
+    def _drop(self, name: str, subtree: bool) -> None:
+        under = name + "/"
+        for key in [k for k, m in self.entries.items()
+                    if m.name == name or (subtree and m.name.startswith(under))]:
+            del self.entries[key]
+
+    def add(self, message: Any) -> None:
+        phase, name = getattr(message, "lifecycle_phase", None), message.name
+        if phase == "remove":
+            self._drop(name, subtree=True)
+        elif phase == "create":
+            self._drop(name, subtree=False)
+            self.entries[("c", name)] = message
+        else:
+            key = ("u", message.redundancy_key())
+            if ("c", name) in self.entries or name == LIVE_ROOT:
+                self.entries[key] = message
+
+    def nodes(self) -> set[str]:
+        return {name for kind, name in self.entries if kind == "c"}
+
+    def messages(self) -> list[Any]:
+        return list(self.entries.values())
+
+
+# ---------------------------------------------------------------------- the bus
+class Bus:
+    """One process's end of the lecture bus (see the module docstring).
+
+    The app loop calls `take_in()` at the start of each frame (inside `app.wire.capturing()`)
+    and `send_out(dt)` after the frame's end; a reader thread receives from Redis.
+
+    Counters: `published_bytes` / `published_batches` (scene batches sent), `delays` (recent bus
+    delays [s], source's publish to this process's frame, scene batches), `resyncs` (full states
+    applied).
+    """
+
+    def __init__(self, server: Any, lectern: Lectern, url: str, worker_id: str) -> None:
+        self.server = server
+        self.lectern = lectern
+        self.worker_id = str(worker_id)
+        self.redis = connect(url)
+        self._pubsub = self.redis.pubsub(ignore_subscribe_messages=True)
+        self._pubsub.subscribe(CHANNEL, ASK)
+        self._inbox: collections.deque[tuple[str, dict[str, Any]]] = collections.deque()
+        self._tapped: list[Any] = []
+        self._pending: list[Any] = []  # scene messages taken in, for this frame (`apply_frame`)
+        self._tap_lock = threading.Lock()
+        self._replica = Replica()  # this process's own shared scene (what it publishes as a source)
+        self._applied = Replica()  # what it applied of another's (nodes to drop on a resync)
+        self.source = False  # this process's presenter's scene is the lecture's
+        self._seq = 0
+        self._remote_worker: str | None = None
+        self._expected: int | None = None
+        self._asked_at = -float("inf")
+        self._heard_at = time.monotonic()
+        self._resync_for: set[str] = set()  # workers that asked for the whole state ("*": everyone)
+        self._hall_due = False
+        self._since_hall = self._since_camera = self._since_audience = 0.0
+        self._camera_sent: Any = None
+        self._room_requests: list[str] = []
+        self._room_count = 0
+        self._waiting: dict[str, list[Any]] = {}  # explore request id -> [Event, room key or error]
+        self._events: collections.deque[str] = collections.deque()
+        self._remote_audience = (0, 0)
+        self.published_bytes = self.published_batches = self.resyncs = 0
+        self.delays: collections.deque[float] = collections.deque(maxlen=2000)
+        self._queue = divert_queue(interface_of(server), self._tap)  # the app's wire (or viser's) behind the tap
+        lectern.events.append(self._events.append)
+        lectern.remote_audience = lambda: self._remote_audience
+        lectern.fetch_remote = self.fetch_room
+        lectern.clear_shared = self._clear_shared
+        self._stop = threading.Event()
+        self._reader = threading.Thread(target=self._read, name=f"bus-{self.worker_id}", daemon=True)
+        self._reader.start()
+
+    # ------------------------------------------------------------------ in
+    def _tap(self, message: Any) -> None:
+        if _tappable(message):
+            with self._tap_lock:
+                self._tapped.append(message)
+        self._queue(message)
+
+    def _read(self) -> None:
+        while not self._stop.is_set():
+            try:
+                item = self._pubsub.get_message(timeout=0.2)
+            except Exception:  # noqa: BLE001 - Redis gone for a moment: try again
+                if self._stop.is_set():
+                    return
+                logger.warning("bus: Redis read failed", exc_info=True)
+                time.sleep(0.5)
+                continue
+            if item is None or item.get("type") != "message":
+                continue
+            channel = item["channel"].decode() if isinstance(item["channel"], bytes) else str(item["channel"])
+            data = item["data"]
+            if not isinstance(data, bytes) or len(data) > MAX_MESSAGE_BYTES:
+                continue
+            try:
+                body = msgspec.msgpack.decode(data)
+            except msgspec.DecodeError:
+                logger.warning("bus: undecodable message on %s dropped", channel)
+                continue
+            if not isinstance(body, dict) or body.get("w") == self.worker_id:
+                continue
+            if body.get("k") == "room":  # an answer to an Explore: the asking thread waits for it
+                self._answered(body)
+                continue
+            self._inbox.append((channel, body))
+
+    def _answered(self, body: dict[str, Any]) -> None:
+        number, error = body.get("n"), body.get("error")
+        for request in body.get("for", []) if isinstance(body.get("for"), list) else []:
+            waiting = self._waiting.get(request) if isinstance(request, str) else None
+            if waiting is not None:
+                waiting[1] = ("error", str(error)) if error or not isinstance(number, int) \
+                    else ("key", f"{ROOM_KEY}{number}")
+                waiting[0].set()
+
+    def take_in(self) -> None:
+        """Take what came from the other processes (the app loop, before its frame): the hall's
+        state into the lectern, requests noted, a whole state (resync) into the shared scene at
+        once through viser (its persistent buffer then serves late browsers exactly), scene
+        batches kept for `apply_frame`."""
+        lectern = self.lectern
+        while self._inbox:
+            channel, body = self._inbox.popleft()
+            try:
+                if channel == ASK:
+                    self._asked(body)
+                else:
+                    self._heard(body)
+            except (BusError, KeyError, TypeError, ValueError) as error:
+                logger.warning("bus: a message from %s dropped: %s", body.get("w"), error)
+                self._expected = None  # the next batch asks for the whole state
+            except Exception:  # noqa: BLE001 - the app loop must not die from a message
+                logger.exception("bus: a message from %s failed", body.get("w"))
+                self._expected = None
+        remote = lectern.remote
+        if (remote is not None and remote.hall is Hall.LIVE and self._remote_worker is not None
+                and time.monotonic() - self._heard_at > LEASE_S):
+            lectern.remote_ended(left=True)
+
+    def _asked(self, body: dict[str, Any]) -> None:
+        if not self.source:
+            return
+        kind, worker = body.get("k"), str(body.get("w"))
+        if kind == "resync":
+            self._resync_for.add(worker)
+        elif kind == "explore" and isinstance(body.get("r"), str):
+            self._room_requests.append(body["r"][:64])
+
+    def _heard(self, body: dict[str, Any]) -> None:
+        worker, kind = str(body.get("w")), body.get("k")
+        lectern = self.lectern
+        if kind == "scene":
+            full = body.get("full")
+            mine = full == "*" or (isinstance(full, list) and self.worker_id in full)
+            if full == "*" or (mine and (self._remote_worker != worker or lectern.remote is None)):
+                self.source = False  # a presenter elsewhere: this process's scene is no longer the lecture's
+                self._remote_worker = worker
+                lectern.show_remote(RemoteShow(worker=worker, title=str(body.get("title", ""))[:200]))
+            if worker != self._remote_worker:
+                return
+            self._heard_at = time.monotonic()
+            seq = int(body["s"])
+            if mine or (full is not None and seq != self._expected):  # also another's resync, if out of step
+                self._apply_full(decode_batch(body["m"], body["b"], body["sh"]))
+                self._expected = seq + 1
+            elif full is not None or seq == self._expected:
+                if full is None:
+                    self._apply(decode_batch(body["m"], body["b"], body["sh"]))
+                self._expected = seq + 1
+            else:
+                self._expected = None
+                self._ask_resync()
+            sent = body.get("t")
+            if isinstance(sent, float):
+                self.delays.append(time.time() - sent)
+            return
+        if worker != self._remote_worker:
+            if kind == "hall" and body.get("hall") == Hall.LIVE.value and self._remote_worker is None:
+                self._ask_resync(worker)  # a lecture already on: this process came late
+            return
+        self._heard_at = time.monotonic()
+        remote = lectern.remote
+        if remote is None:
+            return
+        if kind == "hall":
+            hall = body.get("hall")
+            remote.title = str(body.get("title", ""))[:200]
+            remote.status = str(body.get("status", ""))[:4000]
+            remote.line = str(body.get("line", ""))[:400]
+            caption = body.get("caption")
+            remote.caption = ((str(caption[0])[:400], str(caption[1])[:4000])
+                              if isinstance(caption, list) and len(caption) == 2 else ("", ""))
+            if hall in (Hall.STOPPED.value, Hall.LEFT.value):
+                lectern.remote_ended(left=hall == Hall.LEFT.value)
+        elif kind == "camera":
+            remote.camera = _camera(body)
+            for follower in list(lectern.followers.values()):
+                lectern.send_camera(follower)
+        elif kind == "call_back" and remote.hall is Hall.LIVE:
+            lectern.remote_call_back()
+
+    def _ask_resync(self, worker: str | None = None) -> None:
+        now = time.monotonic()
+        if now - self._asked_at < RESYNC_PERIOD_S:
+            return
+        self._asked_at = now
+        self._publish(ASK, {"k": "resync", "w": self.worker_id, "to": worker or self._remote_worker})
+
+    def apply_frame(self) -> None:
+        """Queue the scene batches taken in into the shared scene (the app loop, inside its frame:
+        the wire encodes them once for every follower)."""
+        pending, self._pending = self._pending, []
+        for message in pending:
+            self._queue(message)
+
+    def _apply(self, messages: list[Any]) -> None:
+        for message in messages:
+            self._applied.add(message)
+        self._pending.extend(messages)
+
+    def _apply_full(self, messages: list[Any]) -> None:
+        """The source's whole state: the nodes it no longer has go, then everything is applied
+        (what was kept for this frame is older: dropped)."""
+        self._pending = []
+        state = Replica()
+        for message in messages:
+            state.add(message)
+        gone = self._applied.nodes() - state.nodes()
+        for name in sorted(gone, key=len):
+            if not any(name.startswith(other + "/") for other in gone):
+                self._queue(message_from_dict({"type": "RemoveSceneNodeMessage", "name": name}, ALLOWED))
+        self._applied = state
+        for message in messages:
+            self._queue(message)
+        self.resyncs += 1
+
+    def _clear_shared(self) -> None:
+        """Remove another process's nodes from the shared scene (this process presents now)."""
+        self._remote_worker = None
+        self._expected = None
+        if self._applied.nodes():
+            self._queue(message_from_dict({"type": "RemoveSceneNodeMessage", "name": LIVE_ROOT}, ALLOWED))
+        self._applied = Replica()
+
+    # ------------------------------------------------------------------ out
+    def send_out(self, dt: float) -> None:
+        """After the app loop's frame: publish this frame's scene batch (a source), the hall's
+        state and camera at their periods, answer Explore requests (one encode for all), write
+        this process's audience."""
+        lectern = self.lectern
+        with self._tap_lock:
+            batch, self._tapped = self._tapped, []
+        for message in batch:
+            self._replica.add(message)
+        while self._events:
+            event = self._events.popleft()
+            if event == "start":
+                self.source = True
+                self._remote_worker = None
+                self._resync_for = {"*"}
+                self._hall_due = True
+            elif event in ("stopped", "left"):
+                self._hall_due = True
+            elif event == "call_back" and self.source:
+                self._publish(CHANNEL, {"k": "call_back", "w": self.worker_id})
+        if self.source:
+            self._send_scene(batch)
+            self._since_hall += dt
+            if self._hall_due or (lectern.presenter is not None and self._since_hall >= FOLLOW_PERIOD):
+                self._hall_due = False
+                self._since_hall = 0.0
+                self._send_hall()
+            self._since_camera += dt
+            if lectern.presenter is not None and self._since_camera >= CAMERA_PERIOD:
+                self._since_camera = 0.0
+                self._send_camera()
+            if self._room_requests:
+                self._send_room()
+        self._since_audience += dt
+        if self._since_audience >= FOLLOW_PERIOD:
+            self._since_audience = 0.0
+            self._audience()
+
+    def _publish(self, channel: str, body: dict[str, Any]) -> int:
+        data = msgspec.msgpack.encode(body)
+        try:
+            self.redis.publish(channel, data)
+        except Exception:  # noqa: BLE001 - Redis gone for a moment: the followers resync later
+            logger.warning("bus: publish failed", exc_info=True)
+        return len(data)
+
+    def _send_scene(self, batch: list[Any]) -> None:
+        full: Any = None
+        if self._resync_for:
+            full = "*" if "*" in self._resync_for else sorted(self._resync_for)
+            self._resync_for = set()
+            messages = self._replica.messages()
+        else:
+            messages = cull(batch)
+            if not messages:
+                return
+        dicts, buffers, shapes = encode_batch(messages)
+        self._seq += 1
+        body = {"k": "scene", "w": self.worker_id, "s": self._seq, "full": full, "m": dicts, "b": buffers, "sh": shapes,
+                "t": time.time(), "title": self.lectern.live_title()}
+        self.published_bytes += self._publish(CHANNEL, body)
+        self.published_batches += 1
+
+    def _send_hall(self) -> None:
+        lectern = self.lectern
+        hall = lectern.hall
+        self._publish(CHANNEL, {"k": "hall", "w": self.worker_id, "hall": hall.value, "title": lectern.live_title(),
+                                "status": lectern.status(), "line": lectern.status_line(),
+                                "caption": list(lectern.caption())})
+
+    def _send_camera(self) -> None:
+        presenter = self.lectern.presenter
+        if presenter is None:
+            return
+        try:
+            source = presenter.client.camera
+            shot = {"position": [float(x) for x in source.position], "look_at": [float(x) for x in source.look_at],
+                    "up": [float(x) for x in source.up_direction], "fov": float(source.fov),
+                    "aspect": float(view_aspect(source))}
+        except Exception:  # noqa: BLE001 - the presenter's camera is not known yet
+            return
+        if shot == self._camera_sent:
+            return
+        self._camera_sent = shot
+        self._publish(CHANNEL, {"k": "camera", "w": self.worker_id, **shot})
+
+    def _send_room(self) -> None:
+        """Answer this frame's Explore requests with one encoded copy of the live room."""
+        requests, self._room_requests = self._room_requests, []
+        answer: dict[str, Any] = {"k": "room", "w": self.worker_id, "for": requests}
+        room = self.lectern.live_room
+        try:
+            if room is None:
+                raise RuntimeError("the presenter's process has nothing on the shared screen")
+            encode_room, _ = _codec()
+            with room.lock:
+                data = encode_room(room)
+            self._room_count += 1
+            self.redis.set(f"{ROOM_KEY}{self._room_count}", data, px=ROOM_TTL_MS)
+            answer["n"] = self._room_count
+        except Exception as error:  # noqa: BLE001 - the asker shows the reason
+            logger.warning("bus: the live room could not be sent", exc_info=True)
+            answer["error"] = f"{type(error).__name__}: {error}"
+        self._publish(CHANNEL, answer)
+
+    def _audience(self) -> None:
+        lectern = self.lectern
+        following, exploring = lectern.audience()
+        now = time.time()
+        try:
+            self.redis.hset(AUDIENCE_KEY, self.worker_id, msgspec.msgpack.encode([following, exploring, now]))
+            if lectern.presenter is not None:
+                total = [0, 0]
+                for worker, value in self.redis.hgetall(AUDIENCE_KEY).items():
+                    entry = msgspec.msgpack.decode(value)
+                    if worker.decode() == self.worker_id or not isinstance(entry, list) or len(entry) != 3:
+                        continue
+                    if now - float(entry[2]) <= LEASE_S:
+                        total[0] += int(entry[0])
+                        total[1] += int(entry[1])
+                self._remote_audience = (total[0], total[1])
+        except Exception:  # noqa: BLE001 - the badge keeps its last figures
+            logger.debug("bus: audience not written", exc_info=True)
+
+    # ------------------------------------------------------------------ Explore on this process
+    def fetch_room(self) -> Any:
+        """An exact copy of the remote presenter's room: asked of its process, decoded here.
+        RuntimeError when it does not answer in EXPLORE_TIMEOUT_S or cannot send it."""
+        _, decode_room = _codec()
+        request = secrets.token_hex(8)
+        waiting: list[Any] = [threading.Event(), None]
+        self._waiting[request] = waiting
+        try:
+            self._publish(ASK, {"k": "explore", "w": self.worker_id, "r": request})
+            if not waiting[0].wait(EXPLORE_TIMEOUT_S):
+                raise RuntimeError("the presenter's process did not answer (it may have ended)")
+            kind, value = waiting[1]
+            if kind == "error":
+                raise RuntimeError(f"the presenter's process could not send its room: {value}")
+            data = self.redis.get(value)
+            if data is None:
+                raise RuntimeError("the presenter's room expired before it was read")
+            return decode_room(data)
+        finally:
+            self._waiting.pop(request, None)
+
+    def close(self) -> None:
+        """Say "left" if this process's presenter is still on, and stop reading."""
+        if self.source and self.lectern.presenter is not None:
+            with contextlib.suppress(Exception):
+                self._publish(CHANNEL, {"k": "hall", "w": self.worker_id, "hall": Hall.LEFT.value,
+                                        "title": self.lectern.live_title(), "status": "", "line": "",
+                                        "caption": ["", ""]})
+        with contextlib.suppress(Exception):
+            self.redis.hdel(AUDIENCE_KEY, self.worker_id)
+        self._stop.set()
+        self._reader.join(timeout=2.0)
+        with contextlib.suppress(Exception):
+            self._pubsub.close()
+        with contextlib.suppress(Exception):
+            self.redis.close()
+
+
+def _camera(body: dict[str, Any]) -> dict[str, Any] | None:
+    """A camera message's shot, checked: three finite 3-vectors, fov and aspect positive."""
+    try:
+        shot = {key: [float(x) for x in body[key]] for key in ("position", "look_at", "up")}
+        fov, aspect = float(body["fov"]), float(body["aspect"])
+    except (KeyError, TypeError, ValueError):
+        return None
+    if any(len(v) != 3 or not np.all(np.isfinite(v)) for v in shot.values()) \
+            or not (0 < fov < 3.2 and 0 < aspect < 100):
+        return None
+    return {**shot, "fov": fov, "aspect": aspect}
+
+
+def _codec() -> tuple[Any, Any]:
+    """(encode_room, decode_room) of the kit's codec; RuntimeError naming what is missing."""
+    try:
+        from app.codec import decode_room, encode_room  # noqa: PLC0415 - only Explore across processes
+    except ImportError as error:
+        raise RuntimeError(f"Explore on another process needs the room codec (app.codec): {error}") from None
+    return encode_room, decode_room

@@ -1,0 +1,83 @@
+"""One lecture on two workers (app.cluster.bus), in Debian's Chromium, through the pages only:
+a presenter's page on worker A, a laptop follower's page on worker B (one real redis-server,
+both workers in this process, their loops running).
+
+The presenter types the code and presents Free body; the follower's page on B shows the
+follower panel with the presenter's scene, and the presenter's badge counts it.  The follower
+presses `Explore on my own`: its room on B is the presenter's, bit for bit (`app.codec`); it
+presses `Follow presenter` and follows again.
+Needs Debian's Chromium and redis-server.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from test_browser_lecture import _CONTEXTS, close_toasts, open_folder, open_page, text_input
+from test_codec import assert_rooms_equal
+
+from app.cluster import services
+from app.main import App, create_server
+
+pytestmark = pytest.mark.browser
+
+CODE = "86420135"
+SHOT = Path(__file__).resolve().parents[1] / "docs" / "img" / "follower_other_worker.png"
+
+
+@pytest.fixture
+def two_workers() -> Iterator[tuple[App, App]]:
+    try:
+        url, redis = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    apps: list[App] = []
+    try:
+        apps = [create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=url, worker_id=worker)
+                for worker in ("a", "b")]
+        yield apps[0], apps[1]
+    finally:
+        while _CONTEXTS:
+            _CONTEXTS.pop().close()
+        for app in apps:
+            app.stop()
+        services.stop_process(redis)
+
+
+def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: ignore[no-untyped-def]
+        browser, two_workers, wait_until) -> None:
+    a, b = two_workers
+    presenter_page, presenter = open_page(browser, a, viewport={"width": 1280, "height": 800})
+    close_toasts(presenter_page)
+    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
+    presenter_page.get_by_role("option", name="Free body").click()
+    wait_until(lambda: presenter.room.scene.title == "Free body", timeout=30.0)
+    open_folder(presenter_page, "Lecture", "Presenter code")
+    text_input(presenter_page, "Presenter code").click()
+    presenter_page.keyboard.type(CODE, delay=30)
+    presenter_page.get_by_role("button", name="Present").click()
+    wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
+
+    follower_page, follower = open_page(browser, b, viewport={"width": 1280, "height": 800})
+    wait_until(lambda: follower.mode == "following", timeout=30.0)
+    follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
+    follower_page.get_by_text("Free body").first.wait_for(timeout=30_000)  # the presenter's scene, in its panel
+    close_toasts(follower_page)
+    presenter_page.get_by_text("1 following").first.wait_for(timeout=30_000)  # the badge counts worker B's follower
+    assert b.lectern.remote is not None and b.lectern.remote.worker == "a"
+    follower_page.wait_for_timeout(3000)  # for the screenshot: the shared nodes fade in, the labels are laid out
+    SHOT.parent.mkdir(parents=True, exist_ok=True)
+    follower_page.screenshot(path=str(SHOT))
+
+    follower_page.get_by_role("button", name="Explore on my own").click()
+    wait_until(lambda: follower.mode == "own", timeout=30.0)
+    assert follower.room.scene.title == "Free body" and follower.error_count == 0, follower.last_error
+    with presenter.room.lock:
+        original = presenter.room.fork()
+    with follower.room.lock:
+        copy = follower.room.fork()
+    assert_rooms_equal(copy, original, "explored on worker B")  # the preset's t = 0, paused, bit for bit
+    follower_page.get_by_role("button", name="Follow presenter").click()
+    wait_until(lambda: follower.mode == "following", timeout=30.0)

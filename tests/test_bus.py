@@ -1,0 +1,315 @@
+"""One lecture across processes (app.cluster.bus), with a real redis-server and two (or three)
+in-process workers, each a whole app (`create_server(redis_url=..., worker_id=...)`, its loop
+running): a presenter on worker A, followers on A and on B.
+
+- The followers on B receive the same scene as those on A: their decoded scene trees (browser
+  stand-ins that keep every node's pose and props) are equal at a paused moment, also on a
+  worker that joined after the lecture began (a resync); their panels say the same.
+- The hostile follower of tests/test_trust.py, on B, leaves the presenter's room on A
+  bit-identical.
+- Stop presenting on A is "stopped" on B; A ending is "the presenter has left" on B (said, or,
+  when A dies without a word, after the lease); B ending leaves A's presenter and followers
+  working.
+- The bus's messages: what is not an allowlisted scene message under LIVE_ROOT is refused;
+  a culled batch keeps the last value of each property.
+- Explore on B equals the presenter's room bit for bit (needs the room codec,
+  `app.codec`; skipped without it).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import msgspec
+import numpy as np
+import pytest
+from conftest import poll_until
+from test_trust import attack, fingerprint
+from test_wire import SceneMirror, _array, _settled
+
+from app.cluster import services
+from app.cluster.bus import BusError, cull, decode_batch, encode_batch
+from app.hall.follower import Hall
+from app.lectern import LIVE_ROOT
+from app.main import App, create_server
+from benchmarks.ws_client import ViserClient
+
+CODE = "97531864"
+
+
+@pytest.fixture(scope="module")
+def redis_url() -> Iterator[str]:
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    try:
+        yield url
+    finally:
+        services.stop_process(process)
+
+
+class SharedMirror(SceneMirror):
+    """A browser stand-in that keeps the shared scene only (the nodes of owner ""): a browser's
+    own nodes of the same name (a hidden shadow of LIVE_ROOT) are another layer."""
+
+    def _keep(self, message: dict[str, Any]) -> None:
+        if message.get("owner") not in ("", None):
+            return
+        if message["type"] == "SetSceneNodeVisibilityMessage":
+            self.nodes.setdefault(message["name"], {})["visible"] = message["visible"]
+        elif message["type"] == "LabelMessage":
+            super()._keep(message)
+            self.nodes[message["name"]]["text"] = message["props"]["text"]
+        else:
+            super()._keep(message)
+
+
+class Workers:
+    """Apps on one Redis, each a worker; browser stand-ins connected to them; all closed at the end."""
+
+    def __init__(self, url: str) -> None:
+        self.url = url
+        self.apps: dict[str, App] = {}
+        self.clients: list[Any] = []
+        import redis
+
+        redis.Redis.from_url(url).flushall()  # a fresh lecture (the lock, the audience)
+
+    def start(self, worker: str) -> App:
+        app = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=self.url, worker_id=worker)
+        self.apps[worker] = app
+        return app
+
+    def connect(self, worker: str, factory: Any = SharedMirror) -> tuple[Any, Any]:
+        """A browser stand-in on `worker`: (its session, the client)."""
+        app = self.apps[worker]
+        before = set(app.sessions)
+        client = factory(app.port)
+        self.clients.append(client)
+        sessions = app.wait_for_sessions(len(before) + 1)
+        (session,) = (s for cid, s in sessions.items() if cid not in before)
+        return session, client
+
+    def close(self) -> None:
+        for client in self.clients:
+            client.close()
+        for app in self.apps.values():
+            app.stop()
+
+
+@pytest.fixture
+def workers(redis_url: str) -> Iterator[Workers]:
+    running = Workers(redis_url)
+    try:
+        yield running
+    finally:
+        running.close()
+
+
+def _present(workers: Workers, worker: str, title: str = "Free body") -> Any:
+    presenter, _ = workers.connect(worker)
+    presenter.guard("test", presenter.select_scene)(title)
+    presenter.guard("test", presenter.present)(CODE)
+    assert presenter.mode == "presenting", presenter.last_error
+    return presenter
+
+
+def _live_nodes(mirror: SceneMirror) -> dict[str, dict[str, Any]]:
+    with mirror.lock:
+        return {name: dict(node) for name, node in mirror.nodes.items() if name.startswith(LIVE_ROOT)}
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal as a browser reads them: numbers by value (0 and 0.0 alike), arrays element by element."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        if a.keys() != b.keys():
+            return False
+        return all(np.array_equal(_array(a[k]).astype(float).ravel(), _array(b[k]).astype(float).ravel())
+                   if k == "points" else _same(a[k], b[k]) for k in a)  # points inline or as a buffer alike
+    if isinstance(a, (bytes, memoryview)) or isinstance(b, (bytes, memoryview)):
+        return bytes(a) == bytes(b)
+    if isinstance(a, (list, tuple, np.ndarray)) and isinstance(b, (list, tuple, np.ndarray)):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    return bool(a == b)
+
+
+def _scene_differences(a: SceneMirror, b: SceneMirror) -> list[str]:
+    _settled(a)
+    _settled(b)
+    nodes_a, nodes_b = _live_nodes(a), _live_nodes(b)
+    found = [f"only one side has {name}" for name in sorted(set(nodes_a) ^ set(nodes_b))]
+    found += [f"{name}: {str(nodes_a[name])[:160]} != {str(nodes_b[name])[:160]}"
+              for name in sorted(set(nodes_a) & set(nodes_b)) if not _same(nodes_a[name], nodes_b[name])]
+    return found
+
+
+def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -> None:
+    a, b = workers.start("a"), workers.start("b")
+    presenter = _present(workers, "a")
+    follower_a, mirror_a = workers.connect("a")
+    follower_b, mirror_b = workers.connect("b")
+    poll_until(lambda: follower_a.mode == "following" and follower_b.mode == "following", timeout=10.0)
+    presenter.guard("test", presenter.play)()
+    poll_until(lambda: presenter.room.sim.t > 0.5, timeout=10.0)
+    poll_until(lambda: b.lectern.status() == a.lectern.status() and "playing" in b.lectern.status(), timeout=10.0)
+    presenter.guard("test", presenter.pause)()
+    c = workers.start("c")  # a worker that joins late: it asks for the whole scene
+    follower_c, mirror_c = workers.connect("c")
+    poll_until(lambda: follower_c.mode == "following", timeout=10.0)
+    poll_until(lambda: not _scene_differences(mirror_a, mirror_b), timeout=10.0, interval=0.1)
+    try:
+        poll_until(lambda: not _scene_differences(mirror_a, mirror_c), timeout=10.0, interval=0.1)
+    except AssertionError:
+        raise AssertionError(_scene_differences(mirror_a, mirror_c)[:8]) from None
+    assert len(_live_nodes(mirror_b)) > 20  # the body, its axes, ω, L, the labels ...
+    shown = [node.get("text") for node in _live_nodes(mirror_b).values() if node.get("visible") and "text" in node]
+    assert "ω" in shown and "L" in shown, shown
+    # Their panels say the same; the presenter's badge counts every worker's followers.
+    poll_until(lambda: b.lectern.status() == a.lectern.status() == c.lectern.status(), timeout=10.0)
+    assert "Free body" in b.lectern.status() and b.lectern.hall is Hall.LIVE
+    poll_until(lambda: a.lectern.total_audience() == (3, 0), timeout=10.0)
+    # The camera: the presenter's viewing direction reaches B's follower.
+    look_at = np.asarray(presenter.client.camera.look_at, float)
+    poll_until(lambda: np.allclose(follower_b.client.camera.look_at, look_at, atol=1e-6), timeout=10.0)
+    # The bus: a scene batch once a frame, small, and fast enough.
+    assert a.bus.published_batches > 10 and a.bus.published_bytes / a.bus.published_batches < 20_000
+    assert b.bus.delays and float(np.median(b.bus.delays)) < 0.25
+
+
+def test_a_hostile_follower_on_another_worker_changes_nothing(workers: Workers) -> None:
+    workers.start("a")
+    b = workers.start("b")
+    presenter = _present(workers, "a", "Heavy top")
+    presenter.guard("test", presenter.play)()
+    poll_until(lambda: presenter.room.sim.t > 0.3, timeout=10.0)
+    presenter.guard("test", presenter.pause)()
+    hostile_session, hostile = workers.connect("b", ViserClient)
+    poll_until(lambda: hostile_session.mode == "following", timeout=10.0)
+    poll_until(lambda: len([m for m in hostile.state.messages if str(m[2].get("name", "")).startswith(LIVE_ROOT)])
+               > 10, timeout=10.0)
+    before = fingerprint(presenter.room.sim)
+    sent = attack(hostile, presenter)
+    assert sent > 50
+    time.sleep(0.5)  # what it sent arrives (B's loop keeps running)
+    assert fingerprint(presenter.room.sim) == before
+    assert presenter.mode == "presenting" and b.lectern.hall is Hall.LIVE
+
+
+def test_stopped_left_and_a_worker_ending(workers: Workers) -> None:
+    a, b = workers.start("a"), workers.start("b")
+    presenter = _present(workers, "a")
+    follower_a, mirror_a = workers.connect("a")
+    follower_b, _ = workers.connect("b")
+    try:
+        poll_until(lambda: follower_b.mode == "following" and b.lectern.hall is Hall.LIVE, timeout=10.0)
+    except AssertionError:
+        raise AssertionError((follower_b.mode, b.lectern.hall, b.lectern.remote, b.bus._remote_worker,
+                              b.bus._expected, a.bus.source, a.bus.published_batches, presenter.mode)) from None
+    presenter.guard("test", presenter.stop_presenting)()
+    poll_until(lambda: b.lectern.hall is Hall.STOPPED, timeout=10.0)
+    assert "stopped" in b.lectern.status().lower()
+    presenter.guard("test", presenter.present)(CODE)
+    poll_until(lambda: b.lectern.hall is Hall.LIVE, timeout=10.0)
+    # B ends: A's presenter and followers go on.
+    b.stop()
+    del workers.apps["b"]
+    presenter.guard("test", presenter.play)()
+    with mirror_a.lock:
+        frames = mirror_a.frames
+    t = presenter.room.sim.t
+    poll_until(lambda: presenter.room.sim.t > t + 0.5 and mirror_a.frames > frames + 10, timeout=10.0)
+    # A worker that dies without a word: the others take it that the presenter left, after the lease.
+    c = workers.start("c")
+    follower_c, _ = workers.connect("c")
+    try:
+        poll_until(lambda: follower_c.mode == "following" and c.lectern.hall is Hall.LIVE, timeout=10.0)
+    except AssertionError:
+        raise AssertionError((follower_c.mode, c.lectern.hall, c.lectern.remote, c.bus._remote_worker,
+                              c.bus._expected, a.bus.source, a.bus.published_batches, presenter.mode,
+                              a.bus._resync_for, c.bus._asked_at, c.bus.resyncs)) from None
+    a.bus.source = False  # as if killed: no "left" said
+    a.stop()
+    del workers.apps["a"]
+    poll_until(lambda: c.lectern.hall is Hall.LEFT, timeout=10.0)
+    assert "left" in c.lectern.status().lower()
+
+
+def test_a_presenter_on_b_takes_over_from_a_stopped_presenter_on_a(workers: Workers) -> None:
+    pytest.importorskip("app.codec")  # a follower that presents explores first: a copy of the room
+    a, b = workers.start("a"), workers.start("b")
+    first = _present(workers, "a", "Heavy top")
+    follower_a, mirror_a = workers.connect("a")
+    follower_b, mirror_b = workers.connect("b")
+    poll_until(lambda: follower_b.mode == "following", timeout=10.0)
+    first.guard("test", first.stop_presenting)()
+    poll_until(lambda: b.lectern.hall is Hall.STOPPED, timeout=10.0)
+    second, _ = workers.connect("b")  # it follows the last state: Present explores it, then it picks a scene
+    second.guard("test", second.present)(CODE)
+    second.guard("test", second.select_scene)("Poinsot")
+    poll_until(lambda: a.lectern.hall is Hall.LIVE and a.lectern.remote is not None, timeout=10.0)
+    poll_until(lambda: "Poinsot" in a.lectern.status(), timeout=10.0)
+    assert second.mode == "presenting"
+    try:
+        poll_until(lambda: not _scene_differences(mirror_a, mirror_b), timeout=10.0, interval=0.1)
+    except AssertionError:
+        raise AssertionError(_scene_differences(mirror_a, mirror_b)[:6]) from None
+    assert any("/poinsot" in name or "/p" in name for name in _live_nodes(mirror_a))
+
+
+def _through_redis(batch: tuple[list[Any], list[bytes], list[list[int]]]) -> tuple[Any, ...]:
+    """A batch as another process reads it (msgpack there and back)."""
+    return tuple(msgspec.msgpack.decode(msgspec.msgpack.encode(part)) for part in batch)
+
+
+def test_bus_messages_are_checked() -> None:
+    from viser import _messages
+
+    good = [_messages.SetPositionMessage(f"{LIVE_ROOT}/x", (1.0, 2.0, 3.0)),
+            _messages.SetPositionMessage(f"{LIVE_ROOT}/x", (4.0, 5.0, 6.0))]
+    dicts, buffers, shapes = _through_redis(encode_batch(cull(good)))
+    (message,) = decode_batch(dicts, buffers, shapes)
+    assert message.position == (4.0, 5.0, 6.0)
+    for bad in ([{"type": "GuiUpdateMessage", "name": f"{LIVE_ROOT}/x", "uuid": "u", "updates": {}}],
+                [{"type": "SetPositionMessage", "name": "/elsewhere", "position": [0, 0, 0]}],
+                [{"type": "TransformControlsMessage", "name": f"{LIVE_ROOT}/g", "props": {}}],
+                [{"type": "SetPositionMessage", "name": f"{LIVE_ROOT}/x", "position": [0, 0, 0], "evil": 1}],
+                [{"type": "SceneNodeUpdateMessage", "name": f"{LIVE_ROOT}/x",
+                  "updates": {"points": {"__binary_index": 0, "dtype": "O"}}}]):
+        with pytest.raises(BusError):
+            decode_batch(bad, [b"\0" * 8], [[8]])
+    arrows = [_messages.ArrowMessage(f"{LIVE_ROOT}/a", _messages.ArrowProps(
+        points=np.ones((2, 2, 3), np.float32), colors=np.zeros((2, 3), np.uint8), shaft_radius=0.1,
+        head_radius=0.2, head_length=0.3, scale=1.0))]
+    dicts, buffers, shapes = _through_redis(encode_batch(arrows))
+    (message,) = decode_batch(dicts, buffers, shapes)
+    assert message.props.points.shape == (2, 2, 3) and np.array_equal(message.props.points, arrows[0].props.points)
+    with pytest.raises(BusError):
+        decode_batch(dicts, [buffers[0][:-4], buffers[1]], shapes)  # a buffer that does not fit its shape
+
+
+def test_explore_on_another_worker_is_the_presenters_room_bit_for_bit(workers: Workers) -> None:
+    pytest.importorskip("app.codec")
+    workers.start("a")
+    b = workers.start("b")
+    presenter = _present(workers, "a", "Free body")
+    presenter.guard("test", presenter.play)()
+    follower_b, _ = workers.connect("b")
+    poll_until(lambda: follower_b.mode == "following" and b.lectern.hall is Hall.LIVE, timeout=10.0)
+    presenter.guard("test", presenter.pause)()
+    follower_b.guard("test", follower_b.explore)()
+    assert follower_b.mode == "own", follower_b.last_error
+    from test_codec import advance, assert_rooms_equal
+
+    with presenter.room.lock:
+        original = presenter.room.fork()
+    with follower_b.room.lock:
+        copy = follower_b.room.fork()
+    assert_rooms_equal(copy, original, "explored on B")  # state, time, traces, samples, history: bit for bit
+    advance(copy, 30)
+    advance(original, 30)
+    assert_rooms_equal(copy, original, "30 frames on")
+    presenter.guard("test", presenter.call_back)()
+    poll_until(lambda: follower_b.mode == "following", timeout=20.0)
