@@ -67,6 +67,8 @@ ASK = KEY_PREFIX + "ask"  # any process to the source: "resync", "explore"
 AUDIENCE_KEY = KEY_PREFIX + "audience"  # hash: worker id -> msgpack [following, exploring, time [s]]
 ROOM_KEY = KEY_PREFIX + "room:"  # + number: an encoded room (Explore on another process)
 ROOM_TTL_MS = 20_000
+LAST_KEY = KEY_PREFIX + "last"  # the room a presenter left on the shared screen, encoded (Explore after it ended)
+LAST_TTL_S = 6 * 3600  # [s] kept this long (a lecture's length and more)
 LEASE_S = 3.0  # [s] a live source heard nothing from this long: its presenter has left
 EXPLORE_TIMEOUT_S = 10.0  # [s] an Explore on another process waits this long for the source's room
 RESYNC_PERIOD_S = 1.0  # [s] a process out of step asks again after this long
@@ -436,6 +438,8 @@ class Bus:
                 self._hall_due = True
             elif event in ("stopped", "left"):
                 self._hall_due = True
+                if self.source:
+                    self._store_last()
             elif event == "call_back" and self.source:
                 self._publish(CHANNEL, {"k": "call_back", "w": self.worker_id})
         if self.source:
@@ -523,6 +527,20 @@ class Bus:
             answer["error"] = f"{type(error).__name__}: {error}"
         self._publish(CHANNEL, answer)
 
+    def _store_last(self) -> None:
+        """Keep the room on this process's shared screen in Redis (LAST_KEY): what another
+        process's Explore copies once this process's presenter has stopped, left or ended."""
+        room = self.lectern.live_room
+        if room is None:
+            return
+        try:
+            encode_room, _ = _codec()
+            with room.lock:
+                data = encode_room(room)
+            self.redis.set(LAST_KEY, data, ex=LAST_TTL_S)
+        except Exception:  # noqa: BLE001 - then Explore elsewhere says the presenter's process is gone
+            logger.warning("bus: the last room could not be kept", exc_info=True)
+
     def _audience(self) -> None:
         lectern = self.lectern
         following, exploring = lectern.audience()
@@ -544,15 +562,25 @@ class Bus:
 
     # ------------------------------------------------------------------ Explore on this process
     def fetch_room(self) -> Any:
-        """An exact copy of the remote presenter's room: asked of its process, decoded here.
-        RuntimeError when it does not answer in EXPLORE_TIMEOUT_S or cannot send it."""
+        """An exact copy of the remote presenter's room: asked of its process, decoded here;
+        once that presenter has stopped or left, or its process does not answer, the room it left
+        (LAST_KEY).  RuntimeError when neither is to be had (no answer in EXPLORE_TIMEOUT_S and
+        no room kept: a process killed outright keeps none)."""
         _, decode_room = _codec()
+        remote = self.lectern.remote
+        if remote is not None and remote.hall is not Hall.LIVE:
+            data = self.redis.get(LAST_KEY)  # the room the presenter left, if its process kept it
+            if data is not None:
+                return decode_room(data)
         request = secrets.token_hex(8)
         waiting: list[Any] = [threading.Event(), None]
         self._waiting[request] = waiting
         try:
             self._publish(ASK, {"k": "explore", "w": self.worker_id, "r": request})
             if not waiting[0].wait(EXPLORE_TIMEOUT_S):
+                data = self.redis.get(LAST_KEY)
+                if data is not None:
+                    return decode_room(data)
                 raise RuntimeError("the presenter's process did not answer (it may have ended)")
             kind, value = waiting[1]
             if kind == "error":
@@ -565,7 +593,10 @@ class Bus:
             self._waiting.pop(request, None)
 
     def close(self) -> None:
-        """Say "left" if this process's presenter is still on, and stop reading."""
+        """Say "left" if this process's presenter is still on (its room kept for Explore
+        elsewhere), and stop reading."""
+        if self.source:
+            self._store_last()
         if self.source and self.lectern.presenter is not None:
             with contextlib.suppress(Exception):
                 self._publish(CHANNEL, {"k": "hall", "w": self.worker_id, "hall": Hall.LEFT.value,
