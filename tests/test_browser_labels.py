@@ -13,6 +13,7 @@ Needs Debian's Chromium: `apt-get install chromium`.
 
 from __future__ import annotations
 
+import re
 import time
 from typing import Any
 
@@ -103,7 +104,7 @@ def test_labels_do_not_overlap_on_a_projector_and_a_phone_as_a_lesson_step_plays
     close_toasts(phone)
     # The lesson, through the presenter's page: §1, then Next twice (the third step plays).
     open_folder(projector, "Lesson", "Step")
-    uid = projector.locator("label", has_text="Lesson").last.get_attribute("for")
+    uid = projector.locator("label", has_text=re.compile(r"^Lesson$")).last.get_attribute("for")  # not "My lesson"
     projector.locator(f'[id="{uid}"]').click()
     projector.get_by_role("option", name="§1 Euler angles and ω").click()
     wait_until(lambda: presenter.lesson_runner.step == 0, timeout=10.0)

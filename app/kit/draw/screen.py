@@ -108,7 +108,7 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
     if len(p) < 3:
         return p
     order = np.lexsort((p[:, 1], p[:, 0]))
-    pts = [tuple(v) for v in p[order]]
+    pts = [tuple(v) for v in p[order].tolist()]  # Python floats: the chain's arithmetic is scalar
 
     def half(sequence: list[tuple[float, float]]) -> list[tuple[float, float]]:
         chain: list[tuple[float, float]] = []
@@ -152,18 +152,14 @@ def project(view: CameraView, points: Any, width: int, height: int) -> tuple[np.
     <= NEAR get NaN pixels.
     """
     p = np.atleast_2d(np.asarray(points, dtype=float))
-    eye = np.asarray(view.position, dtype=float)
-    forward = np.asarray(view.look_at, dtype=float) - eye
-    forward /= np.linalg.norm(forward)
-    right = np.cross(forward, np.asarray(view.up, dtype=float))
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    d = p - eye
-    depth = d @ forward
-    focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
+    camera = Projector(view, width, height)  # the basis on floats: cheaper than NumPy on 3-vectors
+    d = p - camera._eye
+    basis = np.array((camera._right, camera._up, camera._forward)).T  # (3, 3): columns right, up, forward
+    along = d @ basis
+    depth = along[:, 2]
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = 0.5 * width + focal * (d @ right) / depth
-        y = 0.5 * height - focal * (d @ up) / depth
+        x = camera._cx + camera._focal * along[:, 0] / depth
+        y = camera._cy - camera._focal * along[:, 1] / depth
     pixels = np.stack([x, y], axis=-1)
     pixels[depth <= NEAR] = np.nan
     return pixels, depth
