@@ -72,7 +72,9 @@ def test_the_body_shows_inside_the_momental_ellipsoid(app, page, tmp_path) -> No
     results["book"] = _shot_pair(page, view)
     box = tmp_path / "box_0.6m.stl"
     trimesh.creation.box(extents=(0.6, 0.6, 0.6)).export(box)
-    page.locator("input[type=file]").first.set_input_files(str(box))
+    with page.expect_file_chooser() as chooser:  # the mesh's upload button (the Mine folder has one too)
+        page.get_by_role("button", name="Upload STL / OBJ / PLY / OFF / GLB").click()
+    chooser.value.set_files(str(box))
     page.get_by_text("box_0.6m.stl").first.wait_for(timeout=10_000)
     results["0.6 m box"] = _shot_pair(page, view)
     report = "; ".join(f"{k}: {s:.0%} orange with the ellipsoid, {h:.0%} without" for k, (s, h) in results.items())

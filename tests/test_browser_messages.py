@@ -125,7 +125,9 @@ def test_single_rotation_outlines_have_a_legend_and_a_binary_obj_is_refused_in_p
     page.get_by_text("Solid mesh").first.click()  # open the folder
     binary = tmp_path / "cube.obj"
     binary.write_bytes(bytes(range(256)) * 8)
-    page.locator("input[type=file]").first.set_input_files(str(binary))
+    with page.expect_file_chooser() as chooser:  # the mesh's upload button (the Mine folder has one too)
+        page.get_by_role("button", name="Upload STL / OBJ / PLY / OFF / GLB").click()
+    chooser.value.set_files(str(binary))
     page.get_by_text("holds binary bytes").first.wait_for(state="visible", timeout=20_000)
     assert "UnicodeDecodeError" not in session.scene.message.text
 

@@ -129,10 +129,13 @@ def test_parallel_axis_matches_tensor_about_other_point(cloud, point) -> None:
     I_cm = inertia_tensor_of_particles(masses, positions, cm)
     I_point = inertia_tensor_of_particles(masses, positions, point)
     # Rounding scale: the cm and the coordinates are O(|x|), so errors are eps·M·|x|².
+    # Plus the smallest normal float: a cloud whose tensor is subnormal (Hypothesis found one at
+    # 4e-317) rounds to absolute steps of ~5e-324, not relative ones.
     scale = total * (float(np.abs(positions).max()) ** 2 + float(point @ point))
-    np.testing.assert_allclose(parallel_axis(I_cm, total, cm - point), I_point, atol=1e-12 * scale)
+    atol = 1e-12 * scale + np.finfo(float).tiny
+    np.testing.assert_allclose(parallel_axis(I_cm, total, cm - point), I_point, atol=atol)
     # The formula is even in the offset: the direction convention cannot change the result.
-    np.testing.assert_allclose(parallel_axis(I_cm, total, point - cm), I_point, atol=1e-12 * scale)
+    np.testing.assert_allclose(parallel_axis(I_cm, total, point - cm), I_point, atol=atol)
 
 
 # ---------------------------------------------------------------------------------------

@@ -408,6 +408,7 @@ def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
     poll_until(lambda: explorer.scene if explorer.scene.narrow else None, timeout=5.0)
     with explorer.lock:
         pass
+    hall.frames(31)  # the lectern fits the follower's camera to the phone (every CAMERA_PERIOD): then look
     camera = explorer.client.camera
     position = tuple(camera.position)
     explorer.explore()
