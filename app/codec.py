@@ -419,18 +419,12 @@ class _Decoder:
             out = _array(data, where)
             self.built.append(out)
             return out
-        if tag == "F":
+        if tag in ("F", "B"):  # a module-level function of the kit, or a built-in
             _expect(data, 2, where)
-            fn = _TOP.get(data[1]) if type(data[1]) is str else None
+            allowed, what = (_TOP, "function") if tag == "F" else (_BUILTINS, "built-in")
+            fn = allowed.get(data[1]) if type(data[1]) is str else None
             if fn is None:
-                raise CodecError(f"{where}: function {data[1]!r} is not in the allowlist")
-            self.built.append(fn)
-            return fn
-        if tag == "B":
-            _expect(data, 2, where)
-            fn = _BUILTINS.get(data[1]) if type(data[1]) is str else None
-            if fn is None:
-                raise CodecError(f"{where}: built-in {data[1]!r} is not in the allowlist")
+                raise CodecError(f"{where}: {what} {data[1]!r} is not in the allowlist")
             self.built.append(fn)
             return fn
         if tag == "f":
