@@ -71,7 +71,7 @@ class OwnPanel:
         self.last_export: bytes | None = None
         self.folder = gui.add_folder("Mine", expand_by_default=False)
         with self.folder:
-            self.gui_status = gui.add_markdown(f"Kept in `{library.data_dir}`")
+            self.gui_status = gui.add_markdown(f"Saved on the server running this app, in `{library.data_dir}`")
             self.gui_name = gui.add_text("Name", "", hint="the name of a preset to save, or a new name for one")
             self.gui_save = gui.add_button("Save as preset", icon=viser.Icon.DEVICE_FLOPPY,
                                            hint="keep the moment shown as a preset of this scene")
