@@ -89,7 +89,7 @@ class Workers:
         before = set(app.sessions)
         client = factory(app.port)
         self.clients.append(client)
-        sessions = app.wait_for_sessions(len(before) + 1)
+        sessions = app.wait_for_sessions(len(before) + 1, timeout=60.0)  # a websocket handshake on a busy machine
         (session,) = (s for cid, s in sessions.items() if cid not in before)
         return session, client
 
