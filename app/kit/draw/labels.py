@@ -64,23 +64,22 @@ from app.kit.draw.screen import (
     REFERENCE_HEIGHT_PX,
     SCREEN_EM_PX,
     Box,
+    Outline,
     Projector,
     Screen,
     boxes_meet,
-    convex_hull,
-    polygon_meets_box,
-    project,
+    hull_chain,
     screen_of,
     text_size,
 )
 from app.viser_internals import (
     SCENE_NODES,
     label_props,
+    node_pose,
     node_removed,
     scene_nodes,
     set_position,
     world_point,
-    world_pose,
 )
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "POINTER", "LabelLayer", "Screen"]
@@ -186,6 +185,33 @@ def _swept_box(where: Spot, fh: float, fv: float,
     return (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
 
 
+_MESH_TYPES: dict[type, bool] = {}  # node handle type -> whether it has vertices (a mesh)
+
+
+def _is_mesh(handle: Any) -> bool:
+    kind = type(handle)
+    known = _MESH_TYPES.get(kind)
+    if known is None:
+        known = _MESH_TYPES[kind] = hasattr(handle, "vertices")
+    return known
+
+
+def _matrix(wxyz: tuple[float, float, float, float]) -> np.ndarray:
+    """The rotation matrix (3, 3) of the quaternion (w, x, y, z) (normalised here)."""
+    w, x, y, z = wxyz
+    n = 2.0 / (w * w + x * x + y * y + z * z)
+    return np.array(((1.0 - n * (y * y + z * z), n * (x * y - w * z), n * (x * z + w * y)),
+                     (n * (x * y + w * z), 1.0 - n * (x * x + z * z), n * (y * z - w * x)),
+                     (n * (x * z - w * y), n * (y * z + w * x), 1.0 - n * (x * x + y * y))))
+
+
+def _key(screens: list[Screen], seen: list[tuple[int, str, list[Spot | None]]]) -> list[Any]:
+    """What a layout saw, to tell whether anything changed since the last: the screens and per
+    label its order, text and per screen its anchor's pixel rounded to 0.1 px."""
+    return [screens, *((order, text, tuple(None if w is None else (round(w[0], 1), round(w[1], 1)) for w in where))
+                       for order, text, where in seen)]
+
+
 def _rank(candidate: tuple[Any, ...]) -> tuple[float, int]:
     """The placing order: priority, highest first, then the order of registration."""
     return candidate[0].rank
@@ -211,7 +237,8 @@ class LabelLayer:
         """Whether the controlling browser's panel is docked beside its canvas (the projector
         layout sets it): nothing then covers the canvas."""
         self._bodies: list[tuple[Any, str]] = []  # (scene, root): meshes under root are bodies
-        self._hulls: dict[int, tuple[Any, np.ndarray]] = {}  # by id(mesh handle): (vertices, hull points)
+        # by the ids of meshes at one pose: (their vertex arrays, hull points in their frame)
+        self._hulls: dict[tuple[int, ...], tuple[tuple[Any, ...], np.ndarray | None]] = {}
         self._last_screens: list[Screen] | None = None
         self._entries: dict[int, _Entry] = {}  # by id(handle)
         self._throttle = staggered(PERIOD)
@@ -323,7 +350,7 @@ class LabelLayer:
         # entry, per screen where it is at its own place (`spot`), and for a label that may slide
         # out (`clear_of_bodies`): its parent's origin and its own place in the world, its font scale.
         candidates: list[tuple[_Entry, list[Spot | None], tuple[Any, Any, float] | None]] = []
-        key: list[Any] = [screens]
+        seen: list[tuple[int, str, list[Spot | None]]] = []  # what this layout sees: the key below
         poses: dict[str, Any] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
             handle = entry.handle
@@ -359,15 +386,16 @@ class LabelLayer:
                 entry.last_px = entry.last_step = None
                 continue
             candidates.append((entry, where, slide))
-            key.append((entry.order, text, tuple(None if w is None else (round(w[0], 1), round(w[1], 1))
-                                                 for w in where)))
-        if key == self._last_key and not self._moving:
-            return  # nothing moved since a layout that had nothing moving either
-        self._last_key = key
+            seen.append((entry.order, text, where))
+        key = None
+        if not self._moving:  # (a moving picture is laid out anyway: no key needed)
+            key = _key(screens, seen)
+            if key == self._last_key:
+                return  # nothing moved since a layout that had nothing moving either
         was_moving, self._moving = self._moving, False
         self.layouts += 1
         placed: list[list[Box]] = [[] for _ in range(n)]
-        bodies = self._body_outlines(screens) if any(c[0].clear_of_bodies for c in candidates) else None
+        bodies = self._body_outlines(projectors, poses) if any(c[0].clear_of_bodies for c in candidates) else None
         candidates.sort(key=_rank)
         for entry, where, slide in candidates:
             # Where it will be at the next layout, and how far it may stray from the straight way there.
@@ -423,9 +451,12 @@ class LabelLayer:
                 entry.handle.anchor = anchor
             self._show(entry, True)
 
+        # The next layout compares what it sees with this one's only if nothing moved here.
+        self._last_key = None if self._moving else (key if key is not None else _key(screens, seen))
+
     def _first_free(self, entry: _Entry, where: list[Spot | None],
                     sweeps: list[tuple[float, float, float]], screens: Sequence[Screen], placed: list[list[Box]],
-                    gaps: list[float], bodies: list[list[np.ndarray]] | None) -> str | None:
+                    gaps: list[float], bodies: list[list[Outline]] | None) -> str | None:
         """The first of the label's anchors (`entry.tries`) at which its swept boxes fit on every
         screen where it is (`_room_for`), those boxes then taken (`placed`); None if none does."""
         if not any(w is not None and w[4] for w in where):
@@ -446,7 +477,7 @@ class LabelLayer:
         return None
 
     @staticmethod
-    def _room_for(box: Box, screen: Screen, placed: list[Box], gap: float, bodies: Sequence[np.ndarray]) -> bool:
+    def _room_for(box: Box, screen: Screen, placed: list[Box], gap: float, bodies: Sequence[Outline]) -> bool:
         """Whether a label's box fits on `screen`: inside its window, off its panel, clear of the
         labels placed there and of the bodies' outlines `bodies` (convex polygons [px])."""
         if box[0] < 0.0 or box[1] < 0.0 or box[2] > screen.width or box[3] > screen.height:
@@ -454,43 +485,59 @@ class LabelLayer:
         panel = screen.panel
         if panel is not None and boxes_meet(box, (panel[0] - gap, panel[1] - gap, panel[2] + gap, panel[3] + gap)):
             return False  # on the panel, or closer to it than to another label
-        if any(polygon_meets_box(outline, box) for outline in bodies):
+        if any(outline.meets(box) for outline in bodies):
             return False
         return _clear(box, placed, gap)
 
-    def _body_outlines(self, screens: Sequence[Screen]) -> list[list[np.ndarray]]:
-        """Per screen, the outlines (convex polygons [px]) of the bodies' meshes (`avoid`)."""
-        outlines: list[list[np.ndarray]] = [[] for _ in screens]
+    def _body_outlines(self, projectors: Sequence[Projector], poses: dict[str, Any]) -> list[list[Outline]]:
+        """Per screen (its `Projector`), the outlines (convex polygons [px]) of the bodies
+        (`avoid`): a body's is the convex hull of its shown meshes' hull points (`_body_points`)
+        projected onto that screen.  poses: the world poses of this layout (`node_pose`), shared
+        with the labels'."""
+        outlines: list[list[Outline]] = [[] for _ in projectors]
         for scene, root in list(self._bodies):
-            for handle in [h for name, h in scene_nodes(scene).items()
-                           if name.startswith(root + "/") and hasattr(h, "vertices") and not node_removed(h)]:
-                points = self._hull_points(handle)
-                if points is None:
-                    continue
-                try:
-                    R, p = world_pose(handle)
-                except RuntimeError:
-                    return outlines
-                world = points @ R.T + p
-                for k, screen in enumerate(screens):
-                    pixels, _depth = project(screen.view, world, screen.width, screen.height)
-                    hull = convex_hull(pixels)
-                    if len(hull):
-                        outlines[k].append(hull)
+            for points, rotation, offset in self._body_points(scene, root, poses):
+                for k, projector in enumerate(projectors):
+                    hull = hull_chain(projector.pixels(points, rotation, offset))
+                    if hull:
+                        outlines[k].append(Outline(hull))
         return outlines
 
-    def _hull_points(self, handle: Any) -> np.ndarray | None:
-        """At most HULL_POINTS of a mesh node's vertices (N, 3) in its frame, on its convex hull
-        (worked out once per vertex array); None for an empty or hidden mesh."""
-        if not bool(handle.visible):
-            return None
-        vertices = handle.vertices
-        cached = self._hulls.get(id(handle))
-        if cached is not None and cached[0] is vertices:
+    def _body_points(self, scene: Any, root: str, poses: dict[str, Any]) -> list[tuple[np.ndarray, np.ndarray, Any]]:
+        """The points whose projected hull is the outline of the body under `root`: per pose of
+        its shown meshes, their hull points (N, 3) in that frame (`_hull_points`: the meshes at
+        one pose taken together, a box's three face meshes are its 8 corners once), and that
+        frame's rotation (3, 3) and position (3,) [scene units] in the world."""
+        groups: dict[tuple[Any, Any], list[Any]] = {}
+        prefix = root + "/"
+        for name, handle in scene_nodes(scene).items():
+            if not name.startswith(prefix) or not _is_mesh(handle):
+                continue
+            pose = node_pose(handle, poses)
+            if pose is None or not pose[2]:  # removed, or it or a node above it hidden
+                continue
+            groups.setdefault((pose[0], pose[1]), []).append(handle)
+        parts = []
+        for (wxyz, at), handles in groups.items():
+            points = self._hull_points(handles)
+            if points is not None:
+                parts.append((points, _matrix(wxyz), at))
+        return parts
+
+    def _hull_points(self, handles: list[Any]) -> np.ndarray | None:
+        """At most HULL_POINTS of the mesh nodes' vertices (N, 3) in their (common) frame, on the
+        convex hull of them all (worked out once per set of vertex arrays); None if they are empty."""
+        key = tuple(id(h) for h in handles)
+        arrays = tuple(h.vertices for h in handles)
+        cached = self._hulls.get(key)
+        if cached is not None and len(cached[0]) == len(arrays) and all(
+                a is b for a, b in zip(cached[0], arrays)):
             return cached[1]
-        points = np.asarray(vertices, dtype=float).reshape(-1, 3)
+        points = np.concatenate([np.asarray(v, dtype=float).reshape(-1, 3) for v in arrays])
         if len(points) == 0:
+            self._hulls[key] = (arrays, None)
             return None
+        points = np.unique(points, axis=0)
         if len(points) > 4:
             try:
                 points = points[ConvexHull(points).vertices]
@@ -498,7 +545,7 @@ class LabelLayer:
                 pass
         if len(points) > HULL_POINTS:
             points = points[np.linspace(0, len(points) - 1, HULL_POINTS).astype(int)]
-        self._hulls[id(handle)] = (vertices, points)
+        self._hulls[key] = (arrays, points)
         return points
 
     def screens_now(self) -> list[Screen]:
@@ -517,5 +564,5 @@ class LabelLayer:
 
     @staticmethod
     def _show(entry: _Entry, visible: bool) -> None:
-        if bool(entry.handle.visible) != visible:
+        if bool(label_props(entry.handle)[3]) != visible:
             entry.handle.visible = visible
