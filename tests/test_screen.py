@@ -66,7 +66,8 @@ def test_an_outline_meets_the_boxes_the_numpy_polygon_test_says() -> None:
         points = rng.uniform(100.0, 400.0, size=(int(rng.integers(1, 30)), 2))
         chain = hull_chain(points.tolist())
         np.testing.assert_array_equal(np.array(chain).reshape(-1, 2), convex_hull(points))
-        outline = Outline(chain)
+        outline = Outline(points.tolist())
+        assert outline.vertices == chain
         polygon = convex_hull(points)
         for _ in range(50):
             x0, y0 = rng.uniform(0.0, 450.0, size=2)

@@ -68,7 +68,6 @@ from app.kit.draw.screen import (
     Projector,
     Screen,
     boxes_meet,
-    hull_chain,
     screen_of,
     text_size,
 )
@@ -159,6 +158,8 @@ def _clear(box: Box, placed: list[Box], gap: float) -> bool:
     return True
 
 
+_STILL = (0.0, 0.0, 0.0)  # a sweep (dx, dy, margin) [px] of a label whose motion is not known
+
 Spot = tuple[float, float, float, float, bool]  # a label's anchor x, y and block w, h [px] on a screen; in its window
 
 
@@ -240,6 +241,7 @@ class LabelLayer:
         # by the ids of meshes at one pose: (their vertex arrays, hull points in their frame)
         self._hulls: dict[tuple[int, ...], tuple[tuple[Any, ...], np.ndarray | None]] = {}
         self._last_screens: list[Screen] | None = None
+        self._projectors: list[Projector] = []  # one per screen of `_last_screens`
         self._entries: dict[int, _Entry] = {}  # by id(handle)
         self._throttle = staggered(PERIOD)
         self._last_key: Any = None  # what the last layout saw (camera, boxes, wants)
@@ -326,8 +328,9 @@ class LabelLayer:
                     for a, b in zip(screens, self._last_screens)):
                 self._forget_motion()  # a camera moved (an orbit, a reset, a follower): the labels jumped
             self._last_screens = screens
+            self._projectors = [Projector(s.view, s.width, s.height) for s in screens]
         n = len(screens)
-        projectors = [Projector(s.view, s.width, s.height) for s in screens]
+        projectors = self._projectors
         em_per_scale = [SCREEN_EM_PX * s.height / REFERENCE_HEIGHT_PX for s in screens]
         gaps = [MIN_GAP_FRACTION * s.height for s in screens]
 
@@ -399,29 +402,46 @@ class LabelLayer:
         candidates.sort(key=_rank)
         for entry, where, slide in candidates:
             # Where it will be at the next layout, and how far it may stray from the straight way there.
-            last_px = entry.last_px if entry.last_px is not None and len(entry.last_px) == n else None
-            last_step = entry.last_step if entry.last_step is not None and len(entry.last_step) == n else None
+            last_px, last_step = entry.last_px, entry.last_step
+            if last_px is not None and len(last_px) != n:
+                last_px = None
+            if last_step is not None and len(last_step) != n:
+                last_step = None
             sweeps: list[tuple[float, float, float]] = []  # per screen: dx, dy, margin [px]
+            now_px: list[tuple[float, float] | None] = []
+            now_step: list[tuple[float, float] | None] = []
+            known = inside = False  # it was somewhere at the last layout; its anchor is in a window now
             for k in range(n):
                 now, before = where[k], (last_px[k] if last_px is not None else None)
-                if now is None or before is None:
-                    sweeps.append((0.0, 0.0, 0.0))
+                if before is not None:
+                    known = True
+                if now is None:
+                    sweeps.append(_STILL)
+                    now_px.append(None)
+                    now_step.append(None)
+                    continue
+                if now[4]:
+                    inside = True
+                now_px.append((now[0], now[1]))
+                if before is None:
+                    sweeps.append(_STILL)
+                    now_step.append(None)
                     continue
                 dx, dy = now[0] - before[0], now[1] - before[1]
                 step = last_step[k] if last_step is not None else None
                 bend = math.hypot(dx - step[0], dy - step[1]) if step is not None else 0.0
-                sweeps.append((dx, dy, TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)))
+                margin = TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)
+                if margin > 0.0:
+                    self._moving = True
+                sweeps.append((dx, dy, margin))
+                now_step.append((dx, dy))
             # Its step is known only from its second layout on: a label that just appeared (or
             # just started moving) is not taken to have turned from standing still.
-            entry.last_px = [None if w is None else (w[0], w[1]) for w in where]
-            entry.last_step = [None if (last_px is None or where[k] is None or last_px[k] is None)
-                               else (sweeps[k][0], sweeps[k][1]) for k in range(n)]
-            if any(m > 0.0 for _, _, m in sweeps):
-                self._moving = True
-            if not any(w is not None and w[4] for w in where):  # off every window or hidden: followed
+            entry.last_px, entry.last_step = now_px, now_step
+            if not inside:  # off every window or hidden: followed
                 self._show(entry, False)
                 continue
-            if (last_px is None or all(p is None for p in last_px)) and was_moving and not self._settling:
+            if not known and was_moving and not self._settling:
                 # It (re)appears in a moving picture: its motion is known at the next layout, and
                 # only then is its box swept; till then (PERIOD) it waits, hidden.
                 self._show(entry, False)
@@ -498,9 +518,9 @@ class LabelLayer:
         for scene, root in list(self._bodies):
             for points, rotation, offset in self._body_points(scene, root, poses):
                 for k, projector in enumerate(projectors):
-                    hull = hull_chain(projector.pixels(points, rotation, offset))
-                    if hull:
-                        outlines[k].append(Outline(hull))
+                    outline = Outline(projector.pixels(points, rotation, offset))
+                    if outline:
+                        outlines[k].append(outline)
         return outlines
 
     def _body_points(self, scene: Any, root: str, poses: dict[str, Any]) -> list[tuple[np.ndarray, np.ndarray, Any]]:

@@ -129,35 +129,53 @@ def hull_chain(points: list[list[float]] | list[tuple[float, float]]) -> list[tu
 
 
 class Outline:
-    """A convex polygon [px] (a body's outline on a screen) ready for many box tests (`meets`):
-    its bounding box and, per edge, the edge's normal and the polygon's extent along it."""
+    """The convex hull of points (x, y) [px] (a body's outline on a screen), ready for many box
+    tests (`meets`): their bounding box at once; the hull (`hull_chain`) and, per hull edge, its
+    normal and the hull's extent along it only when a box first meets the bounding box (most
+    labels are far from a body).  Non-finite points are left out."""
 
-    __slots__ = ("bounds", "axes", "vertices")
+    __slots__ = ("_points", "_axes", "bounds")
 
-    def __init__(self, vertices: list[tuple[float, float]]) -> None:
-        self.vertices = vertices
-        """the polygon's vertices (x, y) [px], counter-clockwise in (x, y) (`hull_chain`)"""
-        xs = [v[0] for v in vertices]
-        ys = [v[1] for v in vertices]
-        self.bounds: Box = (min(xs), min(ys), max(xs), max(ys)) if vertices else (0.0, 0.0, 0.0, 0.0)
-        axes = []
-        if len(vertices) >= 3:
-            for (ax, ay), (bx, by) in zip(vertices, vertices[1:] + vertices[:1]):
-                nx, ny = by - ay, ax - bx
-                along = [nx * x + ny * y for x, y in vertices]
-                axes.append((nx, ny, min(along), max(along)))
-        self.axes: list[tuple[float, float, float, float]] = axes
+    def __init__(self, points: list[tuple[float, float]]) -> None:
+        finite = [(x, y) for x, y in points if math.isfinite(x) and math.isfinite(y)]
+        self._points = finite
+        self._axes: list[tuple[float, float, float, float]] | None = None
+        xs = [p[0] for p in finite]
+        ys = [p[1] for p in finite]
+        self.bounds: Box | None = (min(xs), min(ys), max(xs), max(ys)) if finite else None
+        """the points' bounding box (x0, y0, x1, y1) [px]; None when there is none"""
+
+    def __bool__(self) -> bool:
+        return self.bounds is not None
+
+    @property
+    def vertices(self) -> list[tuple[float, float]]:
+        """The hull's vertices (x, y) [px], counter-clockwise in (x, y)."""
+        return hull_chain(self._points)
+
+    def _edge_axes(self) -> list[tuple[float, float, float, float]]:
+        if self._axes is None:
+            hull = hull_chain(self._points)
+            axes = []
+            if len(hull) >= 3:
+                for (ax, ay), (bx, by) in zip(hull, hull[1:] + hull[:1]):
+                    nx, ny = by - ay, ax - bx
+                    along = [nx * x + ny * y for x, y in hull]
+                    axes.append((nx, ny, min(along), max(along)))
+            self._axes = axes
+        return self._axes
 
     def meets(self, box: Box) -> bool:
-        """Whether the polygon and the box overlap (separating axes: the box's two, then the
-        polygon's edge normals); `polygon_meets_box` on Python floats."""
-        if not self.vertices:
+        """Whether the hull and the box overlap (separating axes: the box's two, then the hull's
+        edge normals); `polygon_meets_box` on Python floats."""
+        bounds = self.bounds
+        if bounds is None:
             return False
         x0, y0, x1, y1 = box
-        b0, c0, b1, c1 = self.bounds
+        b0, c0, b1, c1 = bounds
         if b1 <= x0 or b0 >= x1 or c1 <= y0 or c0 >= y1:
             return False
-        for nx, ny, low, high in self.axes:
+        for nx, ny, low, high in self._edge_axes():
             lx, hx = (nx * x0, nx * x1) if nx >= 0.0 else (nx * x1, nx * x0)
             ly, hy = (ny * y0, ny * y1) if ny >= 0.0 else (ny * y1, ny * y0)
             if hx + hy <= low or lx + ly >= high:
