@@ -95,7 +95,7 @@ MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height
 TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
 SLIP_MARGIN = 0.25  # times |Δ| [px]: a label speeding up, a layout coming late
 SLIDE_FACTORS = (1.0, 1.3, 1.6, 2.0)  # a label kept off the bodies may slide this far out from its parent's origin
-HULL_POINTS = 64  # a body mesh's outline is the projected hull of at most this many of its vertices
+HULL_POINTS = 64  # a body's outline is the projected hull of at most this many vertices per pose of its meshes
 NUDGE_ANCHORS = ("bottom-left", "top-left", "bottom-right", "top-right", "center-left", "center-right",
                  "bottom-center", "top-center")  # tried in this order when a label's own anchor is taken
 
