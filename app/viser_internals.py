@@ -15,7 +15,7 @@ Features and what the app does without them:
   the handle keeps it and queue the message the public setter would, unconditionally (the
   widgets send only what changed); off: the public setters (`handle.wxyz = ...`).
 - `SCENE_NODES`: a scope's nodes by name (`scene_nodes`), the one walker of world poses
-  (`world_pose`, `world_point`, `node_world`), a node's removed flag and a label's props; off:
+  (`world_pose`, `world_point`, `node_pose`, `node_world`), a node's removed flag and a label's props; off:
   no walker (`app.kit.draw.labels` shows every wanted label, with no layout), `remove_under` removes
   a subtree by replacing its root, `node_removed` is False.
 - `PANEL_INPUTS`: a panel's inputs (and checkboxes) below given top-level handles (`panel_inputs`,
@@ -54,7 +54,7 @@ __all__ = ["FAST_SETTERS", "FEATURES", "FRAME_CAPTURE", "NEEDS", "PANEL_INPUTS",
            "SUPPORTED", "VERSION", "Feature", "Need", "atomic_unless_captured", "check", "client_buffer",
            "configure", "connection_closed", "divert_queue", "event_loop", "flush_all", "frame_capture",
            "in_frame_capture", "interface_of", "label_props", "live_connections", "message_buffer", "message_from_dict",
-           "node_removed",
+           "node_pose", "node_removed",
            "node_world", "pack_window", "panel_checkboxes", "panel_inputs", "pending_messages", "remove_under",
            "report",
            "scene_nodes", "set_points", "set_position", "set_scale", "set_wxyz", "unsent_bytes", "world_point",
@@ -411,6 +411,18 @@ def world_point(handle: Any, cache: dict[str, Pose] | None = None,
     wxyz, at, shown = node_world(parent, impl.api._handle_from_node_name, {} if cache is None else cache)
     rx, ry, rz = _rotate(wxyz, impl.position.tolist())
     return (rx + at[0], ry + at[1], rz + at[2]), shown
+
+
+def node_pose(handle: Any, cache: dict[str, Pose]) -> Pose | None:
+    """The node's world pose (`node_world`: wxyz and position on Python floats, and whether it
+    and every node above it are shown), memoised in `cache` with its parents' (one layout);
+    None if it was removed.  RuntimeError when SCENE_NODES is off."""
+    if not SCENE_NODES.on:
+        raise _walker_off()
+    impl = handle._impl
+    if impl.removed:
+        return None
+    return node_world(impl.name, impl.api._handle_from_node_name, cache)
 
 
 def world_pose(handle: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -16,8 +16,9 @@ Order and late joiners.  A recipient gets a frame only when viser has already ta
 queued for it before (its own buffer is empty, its cursor in the shared buffer has caught up:
 `_caught_up`); the producer writes what it takes at once, so a frame never overtakes the message
 that made its node.  A recipient that is not caught up, slow (more than MAX_UNSENT_BYTES waiting
-in its socket), new, or skipped for any reason is *behind*; when it is ready again it gets one
-catch-up frame with the latest value of everything the wire sent since the last frame it got
+in its socket), new, or skipped for any reason is *behind*: it is tried again (`_retry`, at
+doubling intervals) until it is ready or a newer frame goes out, and then it gets one catch-up
+frame with the latest value of everything the wire sent since the last frame it got
 (`latest`, keyed as viser culls: one value per node and property).  A node made or removed
 drops its entries from `latest` (a removed node's descendants too), and so does a value viser
 sent outside a frame (viser brings that newer value to every browser itself).  Such a newer
@@ -71,7 +72,8 @@ __all__ = ["MAX_UNSENT_BYTES", "ZSTD_LEVEL", "Wire", "capturing", "encode", "end
 logger = logging.getLogger(__name__)
 
 MAX_UNSENT_BYTES = 64 * 1024  # a browser with more than this waiting in its socket skips frames
-RETRY_S = 0.002  # [s] a recipient viser had not caught up is tried once more this much later
+RETRY_S = 0.002  # [s] a recipient viser had not caught up is tried again this much later ...
+RETRY_MAX_S = 0.1  # [s] ... and then at doubling intervals up to this, until it has caught up or left
 # zstd level of a frame's msgpack (viser's own producer uses 1).  A frame is a few hundred bytes
 # and compressed alone, so every name and key is new in each: a higher level finds more of the
 # repeats within a frame; beyond 6 the gain is small for many times the time (docs/VISER.md,
@@ -370,18 +372,28 @@ class Wire:
         # since -> what to send (encoded on first use); from `latest` when viser overtook a value
         self._payloads = {} if overtaken else {frame - 1: messages}
         late = self._send(frame, recipients)
-        if late:  # viser has not yet taken what this frame handed it: once more, a little later
-            self._loop.call_later(RETRY_S, self._retry, frame, late)
+        if late:  # viser has not yet taken what this frame handed it: again, a little later
+            self._loop.call_later(RETRY_S, self._retry, frame, late, RETRY_S)
         connections, delivered = live_connections(self._server), self._delivered
         if len(delivered) > 2 * len(connections) + 16:  # browsers that left
             for client_id in [c for c in delivered if c not in connections]:
                 del delivered[client_id]
 
-    def _retry(self, frame: int, recipients: tuple[int, ...]) -> None:
-        if frame == self._count:  # no newer frame went out meanwhile (else its catch-up serves them)
-            if self._drop_overtaken():
-                self._payloads = {}  # each late browser: what is left of the frames it missed
-            self._send(frame, recipients)
+    def _retry(self, frame: int, recipients: tuple[int, ...], wait: float) -> None:
+        """Frame `frame` to the recipients that were late for it, once they have caught up: tried
+        again after `wait` [s], then after twice as long (up to RETRY_MAX_S) while any is still
+        late and connected.  A frame may be the last for a long time (the picture stands still
+        after a new scene: its labels' last layout), so a browser that was busy taking the new
+        scene's nodes must still get it.  Stops when a newer frame went out (its catch-up serves
+        them, and its own retries follow them)."""
+        if frame != self._count:
+            return
+        if self._drop_overtaken():
+            self._payloads = {}  # each late browser: what is left of the frames it missed
+        late = self._send(frame, recipients)
+        if late:
+            wait = min(2.0 * wait, RETRY_MAX_S)
+            self._loop.call_later(wait, self._retry, frame, late, wait)
 
     def _drop_overtaken(self) -> bool:
         """Forget the values of `latest` that viser was handed a newer value for, or whose node

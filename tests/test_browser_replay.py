@@ -96,9 +96,6 @@ def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, a
     assert session.last_error is None
 
 
-@pytest.mark.xfail(strict=False, reason="known defect, open in issue 28's note: in CI (2026-11-26) the Timeline's "
-                   "thumb did not come back to the live time within 30 s after Resume, though the room was live "
-                   "and bit for bit; passes on a quiet machine")
 def test_constrained_particles_scrub_back_resume_and_branch(wait_until, app: App, page) -> None:
     """The double pendulum: play, pause, drag the Timeline back (the recorded moment, its plot
     and paths rewound), Resume (the live moment bit for bit), back again and Branch here."""

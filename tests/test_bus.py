@@ -237,9 +237,6 @@ def test_stopped_left_and_a_worker_ending(workers: Workers) -> None:
     assert "left" in c.lectern.status().lower()
 
 
-@pytest.mark.xfail(strict=False, reason="known defect, open in issue 25's note: in CI (2026-11-26) after the "
-                   "takeover a follower on the new presenter's own worker lacked label anchor and visibility "
-                   "updates that followers elsewhere got; passes on a quiet machine")
 def test_a_presenter_on_b_takes_over_from_a_stopped_presenter_on_a(workers: Workers) -> None:
     pytest.importorskip("app.codec")  # a follower that presents explores first: a copy of the room
     a, b = workers.start("a"), workers.start("b")

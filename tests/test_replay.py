@@ -318,3 +318,43 @@ def test_the_timeline_buttons_drive_the_room(server: viser.ViserServer) -> None:
     click(BRANCH_LABEL)
     assert room.mode == LIVE and room.playing and room.sim.t == 3.0
     view.remove()
+
+
+def test_resume_right_after_a_drag_brings_the_thumb_back_to_the_live_time(server: viser.ViserServer) -> None:
+    """The Timeline's thumb follows the room once the user's hand has left it: at once when they
+    press Resume within HANDS_OFF_S of their last drag update (the button ends the edit), and
+    after HANDS_OFF_S when the room went live otherwise, though the room stands still."""
+    from app.kit.panel.binding import HANDS_OFF_S, ManualClock
+
+    room, _ = played("Free body", frames=300)
+    view = build_view(server, room)
+    timeline = view.timeline
+    assert timeline is not None
+    clock = timeline.binding.clock = ManualClock()
+    slider = timeline.gui_slider
+    browser = type("Client", (), {})()
+
+    def drag_to(value: float) -> None:  # the server's write applies it; then the browser's update marks the edit
+        slider.value = value
+        for callback in slider._impl.update_cb:
+            callback(type("Event", (), {"target": slider, "client": browser})())
+
+    def click(label: str) -> None:
+        for callback in timeline.gui_buttons._impl.update_cb:
+            callback(type("Event", (), {"target": type("T", (), {"value": label})(), "client": browser})())
+
+    room.pause()
+    t_live = room.sim.t
+    drag_to(2.0)
+    assert room.mode == SCRUBBING and timeline.binding.editing()
+    click(RESUME_LABEL)
+    assert room.mode == LIVE and abs(slider.value - t_live) < 0.011, (slider.value, t_live)
+    drag_to(3.0)
+    room.resume()  # live again, not by the Timeline's button: the hand may still be on the thumb
+    assert slider.value == 3.0
+    timeline.frame(DT)
+    assert slider.value == 3.0  # still within HANDS_OFF_S of the drag
+    clock.advance(HANDS_OFF_S)
+    timeline.frame(DT)  # the room stands still (paused): the thumb comes back all the same
+    assert abs(slider.value - t_live) < 0.011, (slider.value, t_live)
+    view.remove()

@@ -39,3 +39,37 @@ def test_the_projector_hides_what_is_behind_the_camera() -> None:
     view, width, height = VIEWS[0]
     (x, y), depth = Projector(view, width, height)(0.0, -20.0, 0.0)
     assert depth == pytest.approx(-10.0) and math.isnan(x) and math.isnan(y)
+
+
+@pytest.mark.parametrize(("view", "width", "height"), VIEWS)
+def test_the_projector_projects_a_posed_point_set_as_project_does(view: CameraView, width: int, height: int) -> None:
+    """Projector.pixels (a frame's points, the frame's pose and the camera composed first)
+    against `project` of the same points moved to the world by hand."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(7)
+    local = rng.normal(size=(20, 3))
+    rotation = Rotation.from_rotvec(rng.normal(size=3)).as_matrix()
+    offset = (0.4, -0.2, 0.9)
+    expected, _ = project(view, local @ rotation.T + np.array(offset), width, height)
+    got = np.array(Projector(view, width, height).pixels(local, rotation, offset))
+    np.testing.assert_allclose(got, expected, atol=1e-7)
+
+
+def test_an_outline_meets_the_boxes_the_numpy_polygon_test_says() -> None:
+    """Outline (the hull on Python floats, its separating axes worked out once) against
+    `polygon_meets_box` on `convex_hull`: the same polygon and the same answer for many boxes."""
+    from app.kit.draw.screen import Outline, convex_hull, hull_chain, polygon_meets_box
+
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        points = rng.uniform(100.0, 400.0, size=(int(rng.integers(1, 30)), 2))
+        chain = hull_chain(points.tolist())
+        np.testing.assert_array_equal(np.array(chain).reshape(-1, 2), convex_hull(points))
+        outline = Outline(points.tolist())
+        assert outline.vertices == chain
+        polygon = convex_hull(points)
+        for _ in range(50):
+            x0, y0 = rng.uniform(0.0, 450.0, size=2)
+            box = (x0, y0, x0 + rng.uniform(1.0, 120.0), y0 + rng.uniform(1.0, 60.0))
+            assert outline.meets(box) == polygon_meets_box(polygon, box)

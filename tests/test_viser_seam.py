@@ -208,6 +208,8 @@ def test_without_visers_scene_registry_controls_are_removed_and_labels_shown(man
     assert seam.scene_nodes(scene) == {}
     with pytest.raises(RuntimeError, match="scene registry"):
         seam.world_pose(nodes[2])
+    with pytest.raises(RuntimeError, match="scene registry"):
+        seam.node_pose(nodes[2], {})
     seam.remove_under(scene, "/probe")
     seam.SCENE_NODES.on = True
     left = set(seam.scene_nodes(scene))

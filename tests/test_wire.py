@@ -176,6 +176,47 @@ def test_own_room_ends_as_the_server(monkeypatch: pytest.MonkeyPatch, wired: boo
         app.stop()
 
 
+def test_a_browser_busy_past_the_retry_still_gets_the_last_frame(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The last frame before the picture stands still reaches a browser that was not caught up
+    at the frame's send nor at its first retry (viser still taking a new scene's nodes on a busy
+    machine): held back while one frame moves a node (no frame after it), then let through, it
+    ends with the node where the server has it."""
+    from app.main import create_server
+    from app.wire import capturing, end_frames
+
+    held = threading.Event()
+    refused = [0]  # times the held browser was found not caught up
+    caught_up = Wire._caught_up
+
+    def not_while_held(self: Wire, client_id: int, connection: Any) -> bool:
+        if held.is_set():
+            refused[0] += 1
+            return False
+        return caught_up(self, client_id, connection)
+
+    monkeypatch.setattr(Wire, "_caught_up", not_while_held)
+    app = create_server("127.0.0.1", 0, verbose=False, start_loop=False)
+    mirror = SceneMirror(app.port)
+    try:
+        session = next(iter(app.wait_for_sessions(1).values()))
+        node = session.client.scene.add_frame("/probe", show_axes=False)
+        poll_until(lambda: "/probe" in mirror.nodes, timeout=10.0)
+        wire = app._wires.get(session.client.client_id)
+        assert wire is not None
+        held.set()
+        with capturing():
+            node.position = (1.0, 2.0, 3.0)
+        end_frames([(wire, (session.client.client_id,))])
+        poll_until(lambda: refused[0] >= 2, timeout=5.0)  # the frame's send, then its first retry
+        with mirror.lock:
+            assert mirror.nodes["/probe"].get("position", (0.0, 0.0, 0.0)) == (0.0, 0.0, 0.0)  # held back
+        held.clear()
+        poll_until(lambda: mirror.nodes["/probe"].get("position") == (1.0, 2.0, 3.0), timeout=5.0)
+    finally:
+        mirror.close()
+        app.stop()
+
+
 def test_followers_frame_is_encoded_once() -> None:
     """A presenter plays; four followers watch.  The shared wire encodes about once a frame (a
     catch-up for a follower that was skipped costs one more), not once per follower; every

@@ -64,23 +64,21 @@ from app.kit.draw.screen import (
     REFERENCE_HEIGHT_PX,
     SCREEN_EM_PX,
     Box,
+    Outline,
     Projector,
     Screen,
     boxes_meet,
-    convex_hull,
-    polygon_meets_box,
-    project,
     screen_of,
     text_size,
 )
 from app.viser_internals import (
     SCENE_NODES,
     label_props,
+    node_pose,
     node_removed,
     scene_nodes,
     set_position,
     world_point,
-    world_pose,
 )
 
 __all__ = ["AXES", "DETAIL", "KEY", "NUDGE_ANCHORS", "PERIOD", "POINTER", "LabelLayer", "Screen"]
@@ -97,7 +95,7 @@ MIN_GAP_FRACTION = 6.0 / 800.0  # two boxes keep this share of the window height
 TURN_MARGIN = 1.5  # times |Δ now − Δ before| [px]: the bend of the path over the next layout interval
 SLIP_MARGIN = 0.25  # times |Δ| [px]: a label speeding up, a layout coming late
 SLIDE_FACTORS = (1.0, 1.3, 1.6, 2.0)  # a label kept off the bodies may slide this far out from its parent's origin
-HULL_POINTS = 64  # a body mesh's outline is the projected hull of at most this many of its vertices
+HULL_POINTS = 64  # a body's outline is the projected hull of at most this many vertices per pose of its meshes
 NUDGE_ANCHORS = ("bottom-left", "top-left", "bottom-right", "top-right", "center-left", "center-right",
                  "bottom-center", "top-center")  # tried in this order when a label's own anchor is taken
 
@@ -160,6 +158,8 @@ def _clear(box: Box, placed: list[Box], gap: float) -> bool:
     return True
 
 
+_STILL = (0.0, 0.0, 0.0)  # a sweep (dx, dy, margin) [px] of a label whose motion is not known
+
 Spot = tuple[float, float, float, float, bool]  # a label's anchor x, y and block w, h [px] on a screen; in its window
 
 
@@ -184,6 +184,33 @@ def _swept_box(where: Spot, fh: float, fv: float,
     else:
         y1 += dy
     return (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
+
+
+_MESH_TYPES: dict[type, bool] = {}  # node handle type -> whether it has vertices (a mesh)
+
+
+def _is_mesh(handle: Any) -> bool:
+    kind = type(handle)
+    known = _MESH_TYPES.get(kind)
+    if known is None:
+        known = _MESH_TYPES[kind] = hasattr(handle, "vertices")
+    return known
+
+
+def _matrix(wxyz: tuple[float, float, float, float]) -> np.ndarray:
+    """The rotation matrix (3, 3) of the quaternion (w, x, y, z) (normalised here)."""
+    w, x, y, z = wxyz
+    n = 2.0 / (w * w + x * x + y * y + z * z)
+    return np.array(((1.0 - n * (y * y + z * z), n * (x * y - w * z), n * (x * z + w * y)),
+                     (n * (x * y + w * z), 1.0 - n * (x * x + z * z), n * (y * z - w * x)),
+                     (n * (x * z - w * y), n * (y * z + w * x), 1.0 - n * (x * x + y * y))))
+
+
+def _key(screens: list[Screen], seen: list[tuple[int, str, list[Spot | None]]]) -> list[Any]:
+    """What a layout saw, to tell whether anything changed since the last: the screens and per
+    label its order, text and per screen its anchor's pixel rounded to 0.1 px."""
+    return [screens, *((order, text, tuple(None if w is None else (round(w[0], 1), round(w[1], 1)) for w in where))
+                       for order, text, where in seen)]
 
 
 def _rank(candidate: tuple[Any, ...]) -> tuple[float, int]:
@@ -211,8 +238,10 @@ class LabelLayer:
         """Whether the controlling browser's panel is docked beside its canvas (the projector
         layout sets it): nothing then covers the canvas."""
         self._bodies: list[tuple[Any, str]] = []  # (scene, root): meshes under root are bodies
-        self._hulls: dict[int, tuple[Any, np.ndarray]] = {}  # by id(mesh handle): (vertices, hull points)
+        # by the ids of meshes at one pose: (their vertex arrays, hull points in their frame)
+        self._hulls: dict[tuple[int, ...], tuple[tuple[Any, ...], np.ndarray | None]] = {}
         self._last_screens: list[Screen] | None = None
+        self._projectors: list[Projector] = []  # one per screen of `_last_screens`
         self._entries: dict[int, _Entry] = {}  # by id(handle)
         self._throttle = staggered(PERIOD)
         self._last_key: Any = None  # what the last layout saw (camera, boxes, wants)
@@ -299,8 +328,9 @@ class LabelLayer:
                     for a, b in zip(screens, self._last_screens)):
                 self._forget_motion()  # a camera moved (an orbit, a reset, a follower): the labels jumped
             self._last_screens = screens
+            self._projectors = [Projector(s.view, s.width, s.height) for s in screens]
         n = len(screens)
-        projectors = [Projector(s.view, s.width, s.height) for s in screens]
+        projectors = self._projectors
         em_per_scale = [SCREEN_EM_PX * s.height / REFERENCE_HEIGHT_PX for s in screens]
         gaps = [MIN_GAP_FRACTION * s.height for s in screens]
 
@@ -323,7 +353,7 @@ class LabelLayer:
         # entry, per screen where it is at its own place (`spot`), and for a label that may slide
         # out (`clear_of_bodies`): its parent's origin and its own place in the world, its font scale.
         candidates: list[tuple[_Entry, list[Spot | None], tuple[Any, Any, float] | None]] = []
-        key: list[Any] = [screens]
+        seen: list[tuple[int, str, list[Spot | None]]] = []  # what this layout sees: the key below
         poses: dict[str, Any] = {}  # the parents' world poses, shared by the labels of this layout
         for entry in list(self._entries.values()):
             handle = entry.handle
@@ -359,41 +389,59 @@ class LabelLayer:
                 entry.last_px = entry.last_step = None
                 continue
             candidates.append((entry, where, slide))
-            key.append((entry.order, text, tuple(None if w is None else (round(w[0], 1), round(w[1], 1))
-                                                 for w in where)))
-        if key == self._last_key and not self._moving:
-            return  # nothing moved since a layout that had nothing moving either
-        self._last_key = key
+            seen.append((entry.order, text, where))
+        key = None
+        if not self._moving:  # (a moving picture is laid out anyway: no key needed)
+            key = _key(screens, seen)
+            if key == self._last_key:
+                return  # nothing moved since a layout that had nothing moving either
         was_moving, self._moving = self._moving, False
         self.layouts += 1
         placed: list[list[Box]] = [[] for _ in range(n)]
-        bodies = self._body_outlines(screens) if any(c[0].clear_of_bodies for c in candidates) else None
+        bodies = self._body_outlines(projectors, poses) if any(c[0].clear_of_bodies for c in candidates) else None
         candidates.sort(key=_rank)
         for entry, where, slide in candidates:
             # Where it will be at the next layout, and how far it may stray from the straight way there.
-            last_px = entry.last_px if entry.last_px is not None and len(entry.last_px) == n else None
-            last_step = entry.last_step if entry.last_step is not None and len(entry.last_step) == n else None
+            last_px, last_step = entry.last_px, entry.last_step
+            if last_px is not None and len(last_px) != n:
+                last_px = None
+            if last_step is not None and len(last_step) != n:
+                last_step = None
             sweeps: list[tuple[float, float, float]] = []  # per screen: dx, dy, margin [px]
+            now_px: list[tuple[float, float] | None] = []
+            now_step: list[tuple[float, float] | None] = []
+            known = inside = False  # it was somewhere at the last layout; its anchor is in a window now
             for k in range(n):
                 now, before = where[k], (last_px[k] if last_px is not None else None)
-                if now is None or before is None:
-                    sweeps.append((0.0, 0.0, 0.0))
+                if before is not None:
+                    known = True
+                if now is None:
+                    sweeps.append(_STILL)
+                    now_px.append(None)
+                    now_step.append(None)
+                    continue
+                if now[4]:
+                    inside = True
+                now_px.append((now[0], now[1]))
+                if before is None:
+                    sweeps.append(_STILL)
+                    now_step.append(None)
                     continue
                 dx, dy = now[0] - before[0], now[1] - before[1]
                 step = last_step[k] if last_step is not None else None
                 bend = math.hypot(dx - step[0], dy - step[1]) if step is not None else 0.0
-                sweeps.append((dx, dy, TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)))
+                margin = TURN_MARGIN * bend + SLIP_MARGIN * math.hypot(dx, dy)
+                if margin > 0.0:
+                    self._moving = True
+                sweeps.append((dx, dy, margin))
+                now_step.append((dx, dy))
             # Its step is known only from its second layout on: a label that just appeared (or
             # just started moving) is not taken to have turned from standing still.
-            entry.last_px = [None if w is None else (w[0], w[1]) for w in where]
-            entry.last_step = [None if (last_px is None or where[k] is None or last_px[k] is None)
-                               else (sweeps[k][0], sweeps[k][1]) for k in range(n)]
-            if any(m > 0.0 for _, _, m in sweeps):
-                self._moving = True
-            if not any(w is not None and w[4] for w in where):  # off every window or hidden: followed
+            entry.last_px, entry.last_step = now_px, now_step
+            if not inside:  # off every window or hidden: followed
                 self._show(entry, False)
                 continue
-            if (last_px is None or all(p is None for p in last_px)) and was_moving and not self._settling:
+            if not known and was_moving and not self._settling:
                 # It (re)appears in a moving picture: its motion is known at the next layout, and
                 # only then is its box swept; till then (PERIOD) it waits, hidden.
                 self._show(entry, False)
@@ -423,9 +471,12 @@ class LabelLayer:
                 entry.handle.anchor = anchor
             self._show(entry, True)
 
+        # The next layout compares what it sees with this one's only if nothing moved here.
+        self._last_key = None if self._moving else (key if key is not None else _key(screens, seen))
+
     def _first_free(self, entry: _Entry, where: list[Spot | None],
                     sweeps: list[tuple[float, float, float]], screens: Sequence[Screen], placed: list[list[Box]],
-                    gaps: list[float], bodies: list[list[np.ndarray]] | None) -> str | None:
+                    gaps: list[float], bodies: list[list[Outline]] | None) -> str | None:
         """The first of the label's anchors (`entry.tries`) at which its swept boxes fit on every
         screen where it is (`_room_for`), those boxes then taken (`placed`); None if none does."""
         if not any(w is not None and w[4] for w in where):
@@ -446,7 +497,7 @@ class LabelLayer:
         return None
 
     @staticmethod
-    def _room_for(box: Box, screen: Screen, placed: list[Box], gap: float, bodies: Sequence[np.ndarray]) -> bool:
+    def _room_for(box: Box, screen: Screen, placed: list[Box], gap: float, bodies: Sequence[Outline]) -> bool:
         """Whether a label's box fits on `screen`: inside its window, off its panel, clear of the
         labels placed there and of the bodies' outlines `bodies` (convex polygons [px])."""
         if box[0] < 0.0 or box[1] < 0.0 or box[2] > screen.width or box[3] > screen.height:
@@ -454,43 +505,59 @@ class LabelLayer:
         panel = screen.panel
         if panel is not None and boxes_meet(box, (panel[0] - gap, panel[1] - gap, panel[2] + gap, panel[3] + gap)):
             return False  # on the panel, or closer to it than to another label
-        if any(polygon_meets_box(outline, box) for outline in bodies):
+        if any(outline.meets(box) for outline in bodies):
             return False
         return _clear(box, placed, gap)
 
-    def _body_outlines(self, screens: Sequence[Screen]) -> list[list[np.ndarray]]:
-        """Per screen, the outlines (convex polygons [px]) of the bodies' meshes (`avoid`)."""
-        outlines: list[list[np.ndarray]] = [[] for _ in screens]
+    def _body_outlines(self, projectors: Sequence[Projector], poses: dict[str, Any]) -> list[list[Outline]]:
+        """Per screen (its `Projector`), the outlines (convex polygons [px]) of the bodies
+        (`avoid`): a body's is the convex hull of its shown meshes' hull points (`_body_points`)
+        projected onto that screen.  poses: the world poses of this layout (`node_pose`), shared
+        with the labels'."""
+        outlines: list[list[Outline]] = [[] for _ in projectors]
         for scene, root in list(self._bodies):
-            for handle in [h for name, h in scene_nodes(scene).items()
-                           if name.startswith(root + "/") and hasattr(h, "vertices") and not node_removed(h)]:
-                points = self._hull_points(handle)
-                if points is None:
-                    continue
-                try:
-                    R, p = world_pose(handle)
-                except RuntimeError:
-                    return outlines
-                world = points @ R.T + p
-                for k, screen in enumerate(screens):
-                    pixels, _depth = project(screen.view, world, screen.width, screen.height)
-                    hull = convex_hull(pixels)
-                    if len(hull):
-                        outlines[k].append(hull)
+            for points, rotation, offset in self._body_points(scene, root, poses):
+                for k, projector in enumerate(projectors):
+                    outline = Outline(projector.pixels(points, rotation, offset))
+                    if outline:
+                        outlines[k].append(outline)
         return outlines
 
-    def _hull_points(self, handle: Any) -> np.ndarray | None:
-        """At most HULL_POINTS of a mesh node's vertices (N, 3) in its frame, on its convex hull
-        (worked out once per vertex array); None for an empty or hidden mesh."""
-        if not bool(handle.visible):
-            return None
-        vertices = handle.vertices
-        cached = self._hulls.get(id(handle))
-        if cached is not None and cached[0] is vertices:
+    def _body_points(self, scene: Any, root: str, poses: dict[str, Any]) -> list[tuple[np.ndarray, np.ndarray, Any]]:
+        """The points whose projected hull is the outline of the body under `root`: per pose of
+        its shown meshes, their hull points (N, 3) in that frame (`_hull_points`: the meshes at
+        one pose taken together, a box's three face meshes are its 8 corners once), and that
+        frame's rotation (3, 3) and position (3,) [scene units] in the world."""
+        groups: dict[tuple[Any, Any], list[Any]] = {}
+        prefix = root + "/"
+        for name, handle in scene_nodes(scene).items():
+            if not name.startswith(prefix) or not _is_mesh(handle):
+                continue
+            pose = node_pose(handle, poses)
+            if pose is None or not pose[2]:  # removed, or it or a node above it hidden
+                continue
+            groups.setdefault((pose[0], pose[1]), []).append(handle)
+        parts = []
+        for (wxyz, at), handles in groups.items():
+            points = self._hull_points(handles)
+            if points is not None:
+                parts.append((points, _matrix(wxyz), at))
+        return parts
+
+    def _hull_points(self, handles: list[Any]) -> np.ndarray | None:
+        """At most HULL_POINTS of the mesh nodes' vertices (N, 3) in their (common) frame, on the
+        convex hull of them all (worked out once per set of vertex arrays); None if they are empty."""
+        key = tuple(id(h) for h in handles)
+        arrays = tuple(h.vertices for h in handles)
+        cached = self._hulls.get(key)
+        if cached is not None and len(cached[0]) == len(arrays) and all(
+                a is b for a, b in zip(cached[0], arrays)):
             return cached[1]
-        points = np.asarray(vertices, dtype=float).reshape(-1, 3)
+        points = np.concatenate([np.asarray(v, dtype=float).reshape(-1, 3) for v in arrays])
         if len(points) == 0:
+            self._hulls[key] = (arrays, None)
             return None
+        points = np.unique(points, axis=0)
         if len(points) > 4:
             try:
                 points = points[ConvexHull(points).vertices]
@@ -498,7 +565,7 @@ class LabelLayer:
                 pass
         if len(points) > HULL_POINTS:
             points = points[np.linspace(0, len(points) - 1, HULL_POINTS).astype(int)]
-        self._hulls[id(handle)] = (vertices, points)
+        self._hulls[key] = (arrays, points)
         return points
 
     def screens_now(self) -> list[Screen]:
@@ -517,5 +584,5 @@ class LabelLayer:
 
     @staticmethod
     def _show(entry: _Entry, visible: bool) -> None:
-        if bool(entry.handle.visible) != visible:
+        if bool(label_props(entry.handle)[3]) != visible:
             entry.handle.visible = visible

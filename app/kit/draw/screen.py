@@ -32,7 +32,8 @@ from app.kit.core.common import CameraView
 from app.viser_internals import node_world, scene_nodes
 
 __all__ = ["ANCHOR_SHIFT", "NARROW_ASPECT", "NARROW_PX", "PANEL_WIDTH_SHARE", "PHONE_PANEL_SHARE", "Box",
-           "LabelBox", "Projector", "Screen", "box_at", "boxes_meet", "convex_hull", "label_boxes", "narrow_size",
+           "LabelBox", "Outline", "Projector", "Screen", "box_at", "boxes_meet", "convex_hull", "hull_chain",
+           "label_boxes", "narrow_size",
            "overlapping", "panel_box", "polygon_meets_box", "project", "project_one", "screen_of", "text_box",
            "text_size"]
 
@@ -100,15 +101,19 @@ def boxes_meet(a: Box, b: Box) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
-def convex_hull(points: np.ndarray) -> np.ndarray:
+def convex_hull(points: Any) -> np.ndarray:
     """The convex hull (M, 2) of points (N, 2) [px], counter-clockwise in (x, y) (Andrew's
     monotone chain); NaN points are dropped."""
-    p = np.asarray(points, dtype=float)
-    p = p[np.all(np.isfinite(p), axis=1)]
-    if len(p) < 3:
-        return p
-    order = np.lexsort((p[:, 1], p[:, 0]))
-    pts = [tuple(v) for v in p[order].tolist()]  # Python floats: the chain's arithmetic is scalar
+    return np.array(hull_chain(np.asarray(points, dtype=float).reshape(-1, 2).tolist()), dtype=float).reshape(-1, 2)
+
+
+def hull_chain(points: list[list[float]] | list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """`convex_hull` on Python floats: the hull's vertices (x, y) [px], counter-clockwise in (x,
+    y), of the points (x, y) [px]; non-finite points are dropped (the layout's few points: plain
+    arithmetic is cheaper than NumPy's per-call overhead)."""
+    pts = sorted({(x, y) for x, y in points if math.isfinite(x) and math.isfinite(y)})
+    if len(pts) < 3:
+        return pts
 
     def half(sequence: list[tuple[float, float]]) -> list[tuple[float, float]]:
         chain: list[tuple[float, float]] = []
@@ -120,7 +125,62 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
         return chain
 
     lower, upper = half(pts), half(pts[::-1])
-    return np.array(lower[:-1] + upper[:-1], dtype=float)
+    return lower[:-1] + upper[:-1]
+
+
+class Outline:
+    """The convex hull of points (x, y) [px] (a body's outline on a screen), ready for many box
+    tests (`meets`): their bounding box at once; the hull (`hull_chain`) and, per hull edge, its
+    normal and the hull's extent along it only when a box first meets the bounding box (most
+    labels are far from a body).  Non-finite points are left out."""
+
+    __slots__ = ("_points", "_axes", "bounds")
+
+    def __init__(self, points: list[tuple[float, float]]) -> None:
+        finite = [(x, y) for x, y in points if math.isfinite(x) and math.isfinite(y)]
+        self._points = finite
+        self._axes: list[tuple[float, float, float, float]] | None = None
+        xs = [p[0] for p in finite]
+        ys = [p[1] for p in finite]
+        self.bounds: Box | None = (min(xs), min(ys), max(xs), max(ys)) if finite else None
+        """the points' bounding box (x0, y0, x1, y1) [px]; None when there is none"""
+
+    def __bool__(self) -> bool:
+        return self.bounds is not None
+
+    @property
+    def vertices(self) -> list[tuple[float, float]]:
+        """The hull's vertices (x, y) [px], counter-clockwise in (x, y)."""
+        return hull_chain(self._points)
+
+    def _edge_axes(self) -> list[tuple[float, float, float, float]]:
+        if self._axes is None:
+            hull = hull_chain(self._points)
+            axes = []
+            if len(hull) >= 3:
+                for (ax, ay), (bx, by) in zip(hull, hull[1:] + hull[:1]):
+                    nx, ny = by - ay, ax - bx
+                    along = [nx * x + ny * y for x, y in hull]
+                    axes.append((nx, ny, min(along), max(along)))
+            self._axes = axes
+        return self._axes
+
+    def meets(self, box: Box) -> bool:
+        """Whether the hull and the box overlap (separating axes: the box's two, then the hull's
+        edge normals); `polygon_meets_box` on Python floats."""
+        bounds = self.bounds
+        if bounds is None:
+            return False
+        x0, y0, x1, y1 = box
+        b0, c0, b1, c1 = bounds
+        if b1 <= x0 or b0 >= x1 or c1 <= y0 or c0 >= y1:
+            return False
+        for nx, ny, low, high in self._edge_axes():
+            lx, hx = (nx * x0, nx * x1) if nx >= 0.0 else (nx * x1, nx * x0)
+            ly, hy = (ny * y0, ny * y1) if ny >= 0.0 else (ny * y1, ny * y0)
+            if hx + hy <= low or lx + ly >= high:
+                return False
+        return True
 
 
 def polygon_meets_box(polygon: np.ndarray, box: Box) -> bool:
@@ -195,6 +255,20 @@ class Projector:
         self._up = (ry * fz - rz * fy, rz * fx - rx * fz, rx * fy - ry * fx)  # screen up = right x forward
         self._focal = 0.5 * height / math.tan(0.5 * math.radians(view.fov_deg))  # [px]
         self._cx, self._cy = 0.5 * width, 0.5 * height
+
+    def pixels(self, points: np.ndarray, rotation: np.ndarray | None = None,
+               offset: Any = (0.0, 0.0, 0.0)) -> list[tuple[float, float]]:
+        """The pixels (x, y) of many points (N, 3) given in a frame whose pose in the world is
+        `rotation` (3, 3) and `offset` (3,) [scene units] (world = rotation p + offset; default:
+        the world itself), the camera and the pose composed first (one small matmul for all);
+        NaN pixels for points with depth <= NEAR."""
+        basis = np.array((self._right, self._up, self._forward))  # rows: the camera's axes in the world
+        eye = np.asarray(offset, dtype=float) - np.asarray(self._eye)
+        shift = basis @ eye
+        along = points @ (basis if rotation is None else basis @ rotation).T + shift  # (N, 3): right, up, depth
+        focal, cx, cy = self._focal, self._cx, self._cy
+        return [(cx + focal * a / d, cy - focal * b / d) if d > NEAR else (math.nan, math.nan)
+                for a, b, d in along.tolist()]
 
     def __call__(self, x: float, y: float, z: float) -> tuple[tuple[float, float], float]:
         """The pixel (x, y) and depth [scene units] of the world point (x, y, z); NaN pixels if

@@ -156,6 +156,11 @@ class Binding:
         field then."""
         return self.clock.now() - self._last_update < HANDS_OFF_S
 
+    def release(self) -> None:
+        """The user's edit is over (they pressed a button elsewhere): the server's quiet writes
+        reach the field again at once, not HANDS_OFF_S after its last update."""
+        self._last_update = -math.inf
+
     def close(self) -> None:
         """The view goes away: updates are no longer applied."""
         self._active = False

@@ -88,6 +88,7 @@ class Timeline:
         self._range = (0.0, TIMELINE_STEP)
         self._follow = Throttle(FOLLOW_PERIOD)
         self._follow_live = Throttle(LIVE_FOLLOW_PERIOD)
+        self._owed = False  # the slider's last quiet write was skipped (its user was editing): done later
 
         def scrub(value: float) -> None:
             stretch = room.stretch()
@@ -115,6 +116,8 @@ class Timeline:
 
         def clicked(event: Any) -> None:
             choice = str(event.target.value)
+            if choice in (REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL):
+                self.binding.release()  # a button pressed: the hand has left the slider
             try:
                 if choice == REPLAY_LABEL:
                     room.replay()
@@ -142,7 +145,11 @@ class Timeline:
 
     def frame(self, dt: float) -> None:
         """Per frame: follow the room while it moves, at LIVE_FOLLOW_PERIOD live, at FOLLOW_PERIOD
-        replaying."""
+        replaying; a write the user's editing held back (`Binding.editing`) is done once they
+        stopped, even when the room stands still."""
+        if self._owed and not self.quiet.editing(self.gui_slider):
+            self.refresh()
+            return
         if not self.room.playing:
             return
         throttle = self._follow_live if self.room.mode == LIVE else self._follow
@@ -168,7 +175,9 @@ class Timeline:
                 self._range = (lo, hi)
         if slider.disabled != disabled:
             slider.disabled = disabled
-        self.quiet.write(slider, round(self._shown_value(), 6))
+        value = round(self._shown_value(), 6)
+        self.quiet.write(slider, value)
+        self._owed = (lo, hi) != self._range or slider.value != value  # skipped while its user edits
         text = timeline_text(room)
         if self.gui_status.content != text:
             self.gui_status.content = text
