@@ -29,7 +29,7 @@ LAYERS = {
     "app.kit.rigid": 1.6,
     "app.scenes": 2, "app.theme": 2,
     "app.codec": 2.5,  # a room as bytes: imports the scenes registry
-    "app.lessons": 3, "app.own": 3.5, "app.export": 3,
+    "app.lessons": 3, "app.own": 3.5, "app.export": 3, "app.ask": 3,
     "app.hall.caption": 2.8, "app.hall.room_plot": 2.8, "app.hall.follower": 3,
     "app.lectern": 4, "app.cluster.bus": 4.5,  # the bus: what followers on another process see
     "app.hall": 5, "app.session": 6, "app.main": 7, "app.notebook": 7.5,

@@ -1,0 +1,1 @@
+"""Ask the class: questions, rounds of answers, and the judges of state answers (`judges`)."""
