@@ -1,0 +1,288 @@
+"""The gallery of a State question: every submitted body drawn faint at once, or one at a time,
+and the one chosen played in the presenter's room.  Anonymous: answers are numbered 1, 2, ... in
+the order they first arrived, never named.
+
+* `Gallery(scene)` draws into a scene (the lecture hall's shared scene, `server.scene`: the
+  presenter, the followers and the projector see it; drawings only, no handle a browser could
+  move).  All the bodies are ONE batched mesh node (`add_batched_meshes_simple`: one message
+  for N attitudes, one draw call in the browser), superposed where the scene's body stands
+  (the origin: the top's pivot, the free body's centre of mass), so the spread of the answers
+  is what the eye reads.  Its arrays change only when answers change or another is chosen,
+  at most every REDRAW_PERIOD (`tick`): nothing is sent per frame.
+* Modes: ALL (every body faint, ALL_OPACITY) and ONE (the chosen one in CHOSEN_COLOR, the others
+  fainter still, ONE_OTHERS_OPACITY); `next` / `previous` walk the answers (and switch to ONE),
+  `show_all` goes back.  `words()` is the panel's line ("Answer 3 of 12: loops").
+* The glyph is the scene's body in outline: the heavy top a rod and a disc from the pivot
+  (TOP_ROD, TOP_DISC_*), a body with moments of inertia the box of uniform density that has them
+  (`box_extents`), otherwise a 1.2 × 0.8 × 0.4 box.
+* `play_answer(room, answer)` restarts the room's simulation from the answer (its model's moments
+  and mgl, attitude, ω_b) at t = 0 and plays: the projector shows it moving.
+
+`GalleryPanel(gui, gallery, play)` is the presenter's folder: the line, `Previous`, `Next`,
+`All answers`, `Play this answer`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+import trimesh
+from scipy.spatial.transform import Rotation
+
+from app.ask.judges import AnswerState
+from physics.dynamics import Model, State
+from physics.euler import euler_zxz_from_matrix
+
+__all__ = ["ALL", "GALLERY_ROOT", "ONE", "Gallery", "GalleryEntry", "GalleryPanel", "box_extents", "play_answer"]
+
+GALLERY_ROOT = "/ask_gallery"
+ALL, ONE = "all", "one"
+ALL_OPACITY = 0.28  # each body's opacity when all are shown
+ONE_OTHERS_OPACITY = 0.06  # the others' while one is chosen
+CHOSEN_OPACITY = 0.95
+FAINT_COLOR = (70, 120, 230)
+CHOSEN_COLOR = (245, 140, 20)
+REDRAW_PERIOD = 0.25  # [s] of wall time: the gallery's arrays are sent at most this often
+TOP_ROD = (0.03, 1.3)  # the top glyph's rod: radius, length along z′ from the pivot [scene units]
+TOP_DISC_RADIUS, TOP_DISC_CENTER, TOP_DISC_THICKNESS = 0.45, 0.85, 0.1
+DEFAULT_BOX = (1.2, 0.8, 0.4)
+
+
+@dataclasses.dataclass(frozen=True)
+class GalleryEntry:
+    """One anonymous answer: number (1, 2, ... in arrival order), the body, the judged value and
+    the verdict ("" where the question has no judge)."""
+
+    number: int
+    answer: AnswerState
+    value: float | str | None = None
+    verdict: str = ""
+
+
+def box_extents(inertia: Sequence[float], size: float = 1.2) -> tuple[float, float, float]:
+    """Edge lengths (a, b, c) of the uniform box whose principal moments have the ratios of
+    `inertia` (I1 ∝ b² + c², ...), scaled so the longest edge is `size`; a moment set no box has
+    (a flat lamina's limit) gets a thin edge of 2 % of `size`."""
+    I1, I2, I3 = (float(m) for m in inertia)
+    squares = np.array([I2 + I3 - I1, I1 + I3 - I2, I1 + I2 - I3])  # ∝ a², b², c²
+    edges = np.sqrt(np.maximum(squares, 0.0))
+    if not np.all(np.isfinite(edges)) or edges.max() <= 0.0:
+        return DEFAULT_BOX
+    edges = np.maximum(edges / edges.max(), 0.02) * size
+    return float(edges[0]), float(edges[1]), float(edges[2])
+
+
+def _glyph(answer: AnswerState) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices (V, 3) float32, faces (F, 3) uint32) of the answer's body in body coordinates."""
+    if answer.mgl != 0.0:
+        rod = trimesh.creation.cylinder(radius=TOP_ROD[0], height=TOP_ROD[1], sections=8)
+        rod.apply_translation((0.0, 0.0, 0.5 * TOP_ROD[1]))
+        disc = trimesh.creation.cylinder(radius=TOP_DISC_RADIUS, height=TOP_DISC_THICKNESS, sections=24)
+        disc.apply_translation((0.0, 0.0, TOP_DISC_CENTER))
+        mesh = trimesh.util.concatenate([rod, disc])
+    else:
+        extents = box_extents(answer.inertia) if answer.inertia is not None else DEFAULT_BOX
+        mesh = trimesh.creation.box(extents=extents)
+    return np.asarray(mesh.vertices, dtype=np.float32), np.asarray(mesh.faces, dtype=np.uint32)
+
+
+class Gallery:
+    """The submitted bodies in one scene (module docstring).  Not thread-safe on its own: the
+    caller holds the lock of the round it draws."""
+
+    def __init__(self, scene: Any, root: str = GALLERY_ROOT, clock: Callable[[], float] = time.monotonic) -> None:
+        self.scene = scene
+        self.root = root
+        self.clock = clock
+        self.entries: tuple[GalleryEntry, ...] = ()
+        self.mode = ALL
+        self.index = 0
+        self.visible = True
+        self._node: Any = None
+        self._glyph_key: tuple[Any, ...] | None = None
+        self._dirty = False
+        self._drawn_at = -math.inf
+        self.sends = 0  # how many times the node's arrays went out (for tests and measurements)
+
+    # ------------------------------------------------------------------ what is shown
+    def set_entries(self, entries: Sequence[GalleryEntry]) -> None:
+        """The answers now (drawn at the next `tick`); the chosen answer stays chosen by its number."""
+        chosen = self.chosen
+        self.entries = tuple(entries)
+        if chosen is not None:
+            numbers = [entry.number for entry in self.entries]
+            self.index = numbers.index(chosen.number) if chosen.number in numbers else 0
+        self.index = min(self.index, max(len(self.entries) - 1, 0))
+        self._dirty = True
+
+    @property
+    def chosen(self) -> GalleryEntry | None:
+        """The answer shown alone (ONE), or None (ALL, or no answers)."""
+        if self.mode != ONE or not self.entries:
+            return None
+        return self.entries[self.index]
+
+    def show_all(self) -> None:
+        self.mode = ALL
+        self.visible = True
+        self._dirty = True
+        self.draw()
+
+    def show_one(self, index: int) -> None:
+        """Show the answer at `index` (0-based, taken modulo the count) alone."""
+        if not self.entries:
+            self.mode = ALL
+            return
+        self.mode = ONE
+        self.visible = True
+        self.index = index % len(self.entries)
+        self._dirty = True
+        self.draw()
+
+    def next(self) -> None:
+        self.show_one(self.index + 1 if self.mode == ONE else 0)
+
+    def previous(self) -> None:
+        self.show_one(self.index - 1 if self.mode == ONE else -1)
+
+    def hide(self) -> None:
+        self.visible = False
+        self._dirty = True
+        self.draw()
+
+    def words(self) -> str:
+        """The panel's line about what is shown."""
+        count = len(self.entries)
+        if count == 0:
+            return "No answers yet."
+        chosen = self.chosen
+        if chosen is None:
+            return f"{count} answer{'s' if count != 1 else ''} drawn faint at once."
+        said = f": {chosen.value if isinstance(chosen.value, str) else chosen.verdict}" if chosen.verdict else ""
+        return f"Answer {chosen.number} of {count}{said}"
+
+    # ------------------------------------------------------------------ drawing
+    def tick(self) -> None:
+        """Send what changed, at most every REDRAW_PERIOD (call it from the app loop)."""
+        if self._dirty and self.clock() - self._drawn_at >= REDRAW_PERIOD:
+            self.draw()
+
+    def draw(self) -> None:
+        """Send the node's arrays now (one batched mesh: attitudes, colours, opacities)."""
+        self._dirty = False
+        self._drawn_at = self.clock()
+        if not self.entries or not self.visible:
+            self._remove_node()
+            return
+        first = self.entries[0].answer
+        key = (first.scene, first.mgl != 0.0, first.inertia)
+        count = len(self.entries)
+        wxyzs = Rotation.from_matrix(np.stack([e.answer.R_space_body for e in self.entries])).as_quat(scalar_first=True)
+        colors = np.tile(np.array(FAINT_COLOR, dtype=np.uint8), (count, 1))
+        opacities = np.full(count, ALL_OPACITY, dtype=np.float32)
+        if self.chosen is not None:
+            opacities[:] = ONE_OTHERS_OPACITY
+            opacities[self.index] = CHOSEN_OPACITY
+            colors[self.index] = CHOSEN_COLOR
+        positions = np.zeros((count, 3), dtype=np.float32)
+        if self._node is not None and key == self._glyph_key and len(self._node.batched_wxyzs) == count:
+            self._node.batched_wxyzs = wxyzs.astype(np.float32)
+            self._node.batched_colors = colors
+            self._node.batched_opacities = opacities
+        else:
+            self._remove_node()
+            vertices, faces = _glyph(first)
+            self._node = self.scene.add_batched_meshes_simple(
+                f"{self.root}/bodies", vertices, faces, batched_wxyzs=wxyzs.astype(np.float32),
+                batched_positions=positions, batched_colors=colors, batched_opacities=opacities,
+                opacity=1.0, lod="off", cast_shadow=False, receive_shadow=False, flat_shading=True)
+            self._glyph_key = key
+        self.sends += 1
+
+    def _remove_node(self) -> None:
+        if self._node is not None:
+            try:
+                self._node.remove()
+            except Exception:  # noqa: BLE001  # a node its server already dropped
+                pass
+        self._node = None
+        self._glyph_key = None
+
+    def remove(self) -> None:
+        """Take the drawing away (the round is over or the gallery closed)."""
+        self.entries = ()
+        self._remove_node()
+
+
+def play_answer(room: Any, answer: AnswerState) -> None:
+    """Restart `room`'s simulation from `answer` at t = 0 and play (module docstring); ValueError
+    with the message to show for an answer of another scene."""
+    title = str(getattr(room.scene, "title", "?"))
+    if answer.scene != title:
+        raise ValueError(f"this answer is a {answer.scene} body; the room shows {title}")
+    with room.lock:
+        sim = room.sim
+        model = getattr(sim, "model", None)
+        if isinstance(model, Model) and hasattr(sim, "restart"):
+            if answer.inertia is not None:
+                new_model = dataclasses.replace(model, inertia=answer.inertia, mgl=answer.mgl)
+                if new_model != model:
+                    sim.model = new_model
+                    sim.mesh = None  # a body of its own gives way to the answer's moments
+            sim.restart(State(answer.R_space_body.copy(), answer.omega_body.copy(), 0.0))
+            sim.preset = None
+        elif hasattr(sim, "set_angles"):
+            sim.set_angles(np.degrees(euler_zxz_from_matrix(answer.R_space_body)))
+        else:
+            raise ValueError(f"{title} cannot play an answer")
+        room.play()
+
+
+class GalleryPanel:
+    """The presenter's Gallery folder (module docstring): `play(entry)` is called by `Play this
+    answer` with the chosen answer (the caller loads it into its room and says what happened)."""
+
+    def __init__(self, gui: Any, gallery: Gallery, play: Callable[[GalleryEntry], None],
+                 guard: Callable[[str, Callable[..., Any]], Callable[..., Any]] | None = None) -> None:
+        self.gallery = gallery
+        self.play = play
+        wrap = guard or (lambda _where, fn: fn)
+        self.folder = gui.add_folder("Gallery")
+        with self.folder:
+            self.line = gui.add_markdown(gallery.words())
+            self.previous_button = gui.add_button("Previous")
+            self.next_button = gui.add_button("Next")
+            self.all_button = gui.add_button("All answers")
+            self.play_button = gui.add_button("Play this answer", disabled=True)
+        self.previous_button.on_click(wrap("gallery previous", lambda _event: self._then(gallery.previous)))
+        self.next_button.on_click(wrap("gallery next", lambda _event: self._then(gallery.next)))
+        self.all_button.on_click(wrap("gallery all", lambda _event: self._then(gallery.show_all)))
+        self.play_button.on_click(wrap("gallery play", lambda _event: self._play()))
+
+    def _then(self, action: Callable[[], None]) -> None:
+        action()
+        self.refresh()
+
+    def _play(self) -> None:
+        chosen = self.gallery.chosen
+        if chosen is None:
+            self.line.content = "Choose an answer first (Next or Previous)."
+            return
+        self.play(chosen)
+
+    def refresh(self) -> None:
+        """Write the line and the buttons' state from the gallery."""
+        words = self.gallery.words()
+        if self.line.content != words:
+            self.line.content = words
+        self.play_button.disabled = self.gallery.chosen is None
+        empty = not self.gallery.entries
+        self.previous_button.disabled = self.next_button.disabled = empty
+
+    def remove(self) -> None:
+        self.folder.remove()

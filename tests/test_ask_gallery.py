@@ -1,0 +1,94 @@
+"""The gallery of a State question (app.ask.gallery) without a browser: one batched node for
+every body, the chosen one walked with Next/Previous, an answer played in a room bit for bit;
+the box glyph's edges against the closed form of a box's moments, m (b² + c²) / 12."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import viser
+from scipy.spatial.transform import Rotation
+
+from app.ask.gallery import (
+    ALL_OPACITY,
+    CHOSEN_COLOR,
+    CHOSEN_OPACITY,
+    ONE,
+    Gallery,
+    GalleryEntry,
+    box_extents,
+    play_answer,
+)
+from app.ask.judges import JUDGES, AnswerState
+from app.kit.core.room import Room
+from app.scenes.free_body import FreeBodyView
+from app.scenes.heavy_top import HeavyTopView
+
+
+@pytest.fixture(scope="module")
+def server():
+    srv = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    yield srv
+    srv.stop()
+
+
+def _tops(n: int) -> list[GalleryEntry]:
+    R = Rotation.random(n, random_state=5).as_matrix()
+    entries = []
+    for k in range(n):
+        answer = AnswerState("Heavy top", R[k], np.array([0.1 * k, 0.0, 12.0]), (1.0, 1.0, 0.5), 6.0)
+        value, verdict = JUDGES["top_motion"](answer, None)
+        entries.append(GalleryEntry(k + 1, answer, value, verdict))
+    return entries
+
+
+def test_forty_bodies_are_one_node_and_one_is_walked(server) -> None:
+    clock = [0.0]
+    gallery = Gallery(server.scene, root="/test_gallery", clock=lambda: clock[0])
+    entries = _tops(40)
+    gallery.set_entries(entries[:39])
+    gallery.tick()
+    gallery.set_entries(entries)  # within the redraw period: not sent yet
+    gallery.tick()
+    assert gallery.sends == 1 and len(gallery._node.batched_wxyzs) == 39
+    clock[0] = 1.0
+    gallery.tick()
+    node = gallery._node
+    assert gallery.sends == 2 and len(node.batched_wxyzs) == 40
+    assert np.allclose(node.batched_opacities, ALL_OPACITY) and gallery.words() == "40 answers drawn faint at once."
+    wxyz = Rotation.from_matrix(entries[7].answer.R_space_body).as_quat(scalar_first=True)
+    assert np.allclose(np.abs(node.batched_wxyzs[7] @ wxyz), 1.0, atol=1e-6)
+    gallery.previous()  # from all: the last one
+    assert gallery.chosen is entries[39] and gallery.mode == ONE
+    gallery.next()  # wraps to the first
+    assert gallery.chosen is entries[0]
+    assert gallery._node is node  # the same node, new arrays
+    assert node.batched_opacities[0] == pytest.approx(CHOSEN_OPACITY) and tuple(node.batched_colors[0]) == CHOSEN_COLOR
+    assert gallery.words().startswith("Answer 1 of 40: ")
+    gallery.set_entries(entries[1:])  # the chosen one replaced: back to the first
+    gallery.show_all()
+    assert gallery.chosen is None
+    gallery.remove()
+    assert gallery._node is None
+
+
+def test_play_answer_restarts_the_room_from_the_answer_bit_for_bit() -> None:
+    room = Room(HeavyTopView, HeavyTopView.new_simulation())
+    R = Rotation.from_euler("ZXZ", [0.3, 1.0, -0.2]).as_matrix()
+    answer = AnswerState("Heavy top", R, np.array([0.4, -0.3, 15.0]), (1.2, 1.2, 0.6), 5.0)
+    play_answer(room, answer)
+    assert room.playing and room.sim.t == 0.0
+    assert np.array_equal(room.sim.state.R_space_body, answer.R_space_body)
+    assert np.array_equal(room.sim.state.omega_body, answer.omega_body)
+    assert room.sim.model.inertia == (1.2, 1.2, 0.6) and room.sim.model.mgl == 5.0
+    free_room = Room(FreeBodyView, FreeBodyView.new_simulation())
+    with pytest.raises(ValueError, match="Heavy top body; the room shows Free body"):
+        play_answer(free_room, answer)
+
+
+@pytest.mark.parametrize("inertia", [(1.0, 2.0, 2.5), (0.3, 0.75, 1.0), (1.0, 1.0, 1.0)])
+def test_box_glyph_has_the_moments_ratios(inertia: tuple[float, float, float]) -> None:
+    a, b, c = box_extents(inertia)
+    moments = np.array([b * b + c * c, a * a + c * c, a * a + b * b]) / 12.0
+    assert moments / moments[0] == pytest.approx(np.array(inertia) / inertia[0], rel=1e-9)
+    assert max(a, b, c) == pytest.approx(1.2)
