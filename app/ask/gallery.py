@@ -84,11 +84,13 @@ def _glyph(answer: AnswerState) -> tuple[np.ndarray, np.ndarray]:
         rod.apply_translation((0.0, 0.0, 0.5 * TOP_ROD[1]))
         disc = trimesh.creation.cylinder(radius=TOP_DISC_RADIUS, height=TOP_DISC_THICKNESS, sections=24)
         disc.apply_translation((0.0, 0.0, TOP_DISC_CENTER))
-        mesh = trimesh.util.concatenate([rod, disc])
+        vertices = np.concatenate([rod.vertices, disc.vertices])
+        faces = np.concatenate([rod.faces, disc.faces + len(rod.vertices)])
     else:
         extents = box_extents(answer.inertia) if answer.inertia is not None else DEFAULT_BOX
-        mesh = trimesh.creation.box(extents=extents)
-    return np.asarray(mesh.vertices, dtype=np.float32), np.asarray(mesh.faces, dtype=np.uint32)
+        box = trimesh.creation.box(extents=extents)
+        vertices, faces = box.vertices, box.faces
+    return np.asarray(vertices, dtype=np.float32), np.asarray(faces, dtype=np.uint32)
 
 
 class Gallery:
