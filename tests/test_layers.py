@@ -24,6 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
     "app.data": 0, "app.userdata": 0, "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0, "app.cluster": 0,
+    "app.ask": 0.5,  # questions to the class: the model (no viser)
     # the kit's rooms: core <- panel, draw (neither imports the other) <- view <- rigid
     "app.kit": 1.0, "app.kit.core": 1.0, "app.kit.panel": 1.2, "app.kit.draw": 1.2, "app.kit.view": 1.4,
     "app.kit.rigid": 1.6,
@@ -173,7 +174,8 @@ def test_scene_simulations_and_readouts_import_no_viser() -> None:
     packages = ("euler_angles", "inertia", "moving_frame", "constrained", "poinsot")
     assert {f"app.scenes.{p}.{m}" for p in packages for m in ("simulation", "readouts")} <= set(checked), checked
     assert _viser_chain("app.scenes.euler_angles.view") is not None  # the check finds viser where it is
-    checked += ["app.kit.rigid.simulation", "app.kit.rigid.text", *KIT_CORE_WITHOUT_VISER]
+    checked += ["app.kit.rigid.simulation", "app.kit.rigid.text", *KIT_CORE_WITHOUT_VISER,
+                *(name for name in MODULES if name.startswith("app.ask"))]
     wrong = [" -> ".join(chain) for chain in map(_viser_chain, checked) if chain is not None]
     assert not wrong, "\n".join(wrong)
 
