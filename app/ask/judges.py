@@ -37,7 +37,7 @@ class Judged:
 
 
 JUDGES: dict[str, Callable[[Any, Mapping[str, Any]], Judged]] = {}
-"""name -> judge(question: app.ask.questions.State, answer) -> Judged (this module imports no question: they import it)."""
+"""name -> judge(question: app.ask.questions.State, answer) -> Judged (questions import this module)."""
 
 
 def check_state(question: Any, value: Any) -> dict[str, Any]:
