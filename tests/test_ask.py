@@ -151,3 +151,31 @@ def test_state_answers_are_bounded_dicts_of_numbers() -> None:
         with pytest.raises(Refused):
             round_.answer("b", bad)
     assert round_.tally().answered == 1 and round_.tally().judged == (None,)
+
+
+def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> None:
+    from app.ask import Rounds
+
+    here, there = Rounds(), Rounds()
+    round_ = here.ask(CHOICE)
+    here.answer("a", 2)
+    shown = here.shown()
+    assert shown is not None and shown.open and shown.answered == 1 and shown.number == 1
+    sent: list[tuple[str, str, object]] = []
+    there.forward = lambda rid, token, value: sent.append((rid, token, value))
+    there.set_remote(shown)
+    assert there.answer("b", 1) == 1 and there.mine("b") == 1
+    with pytest.raises(Refused, match="not an answer"):
+        there.answer("b", 7)
+    for rid, token, value in sent:
+        assert rid == here.current_id
+        here.current.answer(token, value)  # type: ignore[union-attr]  # what the bus does on the asking process
+    assert here.tally().counts == (0, 1, 1)  # type: ignore[union-attr]
+    second = here.vote_again()
+    assert second is here.current and round_.open is False and here.tally().previous.counts == (0, 1, 1)  # type: ignore[union-attr]
+    here.close_round()
+    there.set_remote(here.shown())
+    with pytest.raises(Refused, match="closed"):
+        there.answer("b", 0)
+    here.end()
+    assert here.shown() is None and here.csv() == ""

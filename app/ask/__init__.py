@@ -10,9 +10,10 @@ The presenter's and the students' panels are `app.hall.ask`; answers from other 
 through `app.cluster.askbus`.
 """
 
+from app.ask.hub import Rounds, Shown
 from app.ask.judges import JUDGES, Judged
 from app.ask.questions import Choice, Direction, Question, State, question_from_dict, question_to_dict
 from app.ask.round import Answer, RateLimit, Refused, Round, Tally, new_token
 
-__all__ = ["JUDGES", "Answer", "Choice", "Direction", "Judged", "Question", "RateLimit", "Refused", "Round", "State",
-           "Tally", "new_token", "question_from_dict", "question_to_dict"]
+__all__ = ["JUDGES", "Answer", "Choice", "Direction", "Judged", "Question", "RateLimit", "Refused", "Round", "Rounds",
+           "Shown", "State", "Tally", "new_token", "question_from_dict", "question_to_dict"]
