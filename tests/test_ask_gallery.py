@@ -19,7 +19,7 @@ from app.ask.gallery import (
     box_extents,
     play_answer,
 )
-from app.ask.judges import JUDGES, AnswerState
+from app.ask.judges import AnswerState, judge_answer
 from app.kit.core.room import Room
 from app.scenes.free_body import FreeBodyView
 from app.scenes.heavy_top import HeavyTopView
@@ -37,8 +37,8 @@ def _tops(n: int) -> list[GalleryEntry]:
     entries = []
     for k in range(n):
         answer = AnswerState("Heavy top", R[k], np.array([0.1 * k, 0.0, 12.0]), (1.0, 1.0, 0.5), 6.0)
-        value, verdict = JUDGES["top_motion"](answer, None)
-        entries.append(GalleryEntry(k + 1, answer, value, verdict))
+        judged = judge_answer("top_motion", answer, None)
+        entries.append(GalleryEntry(k + 1, answer, judged.value, judged.words))
     return entries
 
 

@@ -12,6 +12,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
+from app.ask import Refused, Round
+from app.ask import State as StateQuestion
 from app.ask.judges import JUDGES, AnswerState, judge_answer
 from physics.dynamics import Model, State
 from physics.euler import omega_body_from_euler_rates
@@ -63,11 +65,13 @@ def test_attitude_judge_says_degrees_from_euler_angles_and_matrices() -> None:
     R_target = Rotation.from_euler("ZXZ", np.radians([30.0, 45.0, 10.0]))
     R_answer = R_target * Rotation.from_rotvec([0, 0, math.radians(12.4)])
     answer = AnswerState(scene="Euler angles", R_space_body=R_answer.as_matrix(), omega_body=np.zeros(3))
-    value, verdict = JUDGES["attitude"](answer, target)
-    assert value == pytest.approx(12.4, abs=1e-9)
-    assert verdict == "12.4° from the target"
+    question = StateQuestion("Stand it like this", "Euler angles", "attitude", target)
+    judged = JUDGES["attitude"](question, answer.to_dict())
+    assert judged.value == pytest.approx(12.4, abs=1e-9) and judged.unit == "deg" and judged.good is False
+    assert judged.words == "12.4° from the target"
     exact = AnswerState(scene="Euler angles", R_space_body=R_target.as_matrix(), omega_body=np.zeros(3))
-    assert JUDGES["attitude"](exact, {"R_space_body": exact.R_space_body.tolist()})[0] == pytest.approx(0.0, abs=1e-6)
+    judged = judge_answer("attitude", exact, {"R_space_body": exact.R_space_body.tolist()})
+    assert judged.value == pytest.approx(0.0, abs=1e-6) and judged.good is True
 
 
 @pytest.mark.parametrize(("phi_dot_deg", "expected"), [
@@ -92,11 +96,11 @@ def test_top_judge_names_the_class_in_words_and_the_steady_tolerance_holds() -> 
     assert top_motion(I1, I3, MGL, *near_steady).motion == STEADY
     loop = AnswerState(scene="Heavy top", R_space_body=_top_start(-20.0)[0], omega_body=_top_start(-20.0)[1],
                        inertia=(I1, I1, I3), mgl=MGL)
-    value, verdict = JUDGES["top_motion"](loop, None)
-    assert value == "loops" and verdict.startswith("loops — ")
+    judged = judge_answer("top_motion", loop, {"motion": "loops"})
+    assert judged.value == "loops" and judged.words.startswith("loops — ") and judged.good is True
     sleeping = AnswerState(scene="Heavy top", R_space_body=Rotation.from_euler("ZXZ", [0, 0.02, 0]).as_matrix(),
                            omega_body=np.array([0.0, 0.0, SPIN]), inertia=(I1, I1, I3), mgl=MGL)
-    assert JUDGES["top_motion"](sleeping, None)[0] == "sleeping"
+    assert judge_answer("top_motion", sleeping, None).value == "sleeping"
 
 
 def _euler_reference(inertia: tuple[float, float, float], R0: np.ndarray, omega0: np.ndarray,
@@ -128,9 +132,9 @@ def test_axis_judge_agrees_with_solve_ivp_on_the_intermediate_axis_theorem(axis:
     if not stays:
         assert run.left_at_s == pytest.approx(t[np.argmax(reference > 20.0)], abs=0.05)
     answer = AnswerState(scene="Free body", R_space_body=R0, omega_body=omega, inertia=inertia)
-    value, verdict = judge_answer("axis_stays", answer, {"within_deg": 20, "seconds": 10})
-    assert value == ("stays" if stays else "flips")
-    assert ("stays within 20°" in verdict) is stays, verdict
+    judged = judge_answer("axis_stays", answer, {"within_deg": 20, "seconds": 10, "stays": True})
+    assert judged.value == ("stays" if stays else "flips") and judged.good is stays
+    assert ("stays within 20°" in judged.words) is stays, judged.words
 
 
 def test_judges_refuse_bad_targets_and_answers_with_a_message() -> None:
@@ -141,3 +145,19 @@ def test_judges_refuse_bad_targets_and_answers_with_a_message() -> None:
         judge_answer("nonsense", answer, None)
     with pytest.raises(ValueError, match="heavy top"):
         judge_answer("top_motion", answer, None)
+
+
+def test_a_round_judges_state_answers_and_refuses_another_scenes_body() -> None:
+    question = StateQuestion("Find a start that makes the top loop", "Heavy top", "top_motion", {"motion": "loops"})
+    round_ = Round(question)
+    R, omega = _top_start(-20.0)
+    loop = AnswerState("Heavy top", R, omega, (I1, I1, I3), MGL)
+    kept = round_.answer("browser-a", loop.to_dict())
+    assert kept.judged is not None and kept.judged.value == "loops" and kept.judged.good is True
+    assert np.array_equal(AnswerState.from_dict(kept.value).R_space_body, R)
+    free = AnswerState("Free body", np.eye(3), np.array([0.0, 5.0, 0.0]), (0.3, 0.75, 1.0))
+    with pytest.raises(Refused, match="Heavy top scene"):
+        round_.answer("browser-b", free.to_dict())
+    with pytest.raises(Refused, match="numbers"):
+        round_.answer("browser-b", {"scene": "Heavy top", "R0": 1.0})
+    assert [j.value for j in round_.tally().judged] == ["loops"]

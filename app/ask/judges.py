@@ -1,31 +1,39 @@
-"""The judges of state answers: a name -> a pure function of the answer's physics.
+"""The judges of State questions: a name -> a pure function of the answer's physics.
 
-An answer to a State question is the body a student set in their own copy of the presenter's
-scene (`AnswerState`: the scene's title, R_space_body (3, 3), ω_b (3,) [rad/s], the principal
-moments [kg m²] and mgl [N m] of the model where the scene has one).  A judge is
+`JUDGES` maps a judge's name (a State question's `judge`) to a function
+`judge(question: State, answer: Mapping[str, Any]) -> Judged`: the judged quantity of a student's
+state answer (a number with its unit, or a class such as "loops") and the words the student and
+the tally see.
 
-    judge(answer: AnswerState, target: dict | None) -> (value: float | str, verdict: str)
+`check_state(question, value)` checks a state answer as it arrives (size and shape only): a flat
+mapping of at most MAX_STATE_KEYS names to finite numbers (or short texts), at most
+MAX_STATE_BYTES long; the judging is done by the round (`app.ask.round.Round.answer`).
 
-where `value` is what the tally collects (degrees, or a class name) and `verdict` the sentence
-the student reads.  `JUDGES` is the registry a question names its judge from; `judge_answer`
-runs one and raises ValueError with the message to show for a judge, target or answer it
-cannot use.  The physics is `physics.judging` (no app there).
+A state answer is the body a student set in their own copy of the presenter's scene,
+`AnswerState` (the scene's title, R_space_body (3, 3), ω_b (3,) [rad/s], the principal moments
+[kg m²] and mgl [N m] of the model where the scene has one), sent as the flat mapping of
+`AnswerState.to_dict`: `scene`, `R0` ... `R8` (R row by row), `w1 w2 w3` (ω_b), `I1 I2 I3`, `mgl`.
+`state_of_room(room)` reads it off a room.  The physics is `physics.judging` (no app there):
 
 * `attitude`: the angle [deg] between the answer's attitude and the target's (target
-  `{"angles_deg": [φ, θ, ψ]}` z-x-z, or `{"R_space_body": 3x3}`): "12.4° from the target".
+  `{"angles_deg": [φ, θ, ψ]}` z-x-z, or `{"R_space_body": 3x3}`; `within_deg` (default 10)
+  for `good`): "12.4° from the target".
 * `top_motion`: the heavy top's class of motion from its energy picture (steady precession,
   waves, loops, cusps, sleeping, too slow to sleep, through the vertical): "loops — …".
-  Target (optional): `{"steady_tol_deg": 0.5}`.
+  Target (optional): `{"motion": "loops"}` (the class wanted, for `good`), `{"steady_tol_deg": 0.5}`.
 * `axis_stays`: whether the torque-free body's kicked axis stays (target optional:
-  `{"axis": 0|1|2, "within_deg": 20, "seconds": 10}`; axis: by default the one ω lies
-  closest to): "stays" / "flips".
+  `{"axis": 0|1|2, "within_deg": 20, "seconds": 10, "stays": true|false}`; axis: by default the
+  one ω lies closest to): "stays" / "flips".
+
+A judge raises ValueError with the message to show for an answer it cannot judge (another
+scene's body, a target it cannot use): the round refuses such an answer.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -34,7 +42,58 @@ from scipy.spatial.transform import Rotation
 from physics.judging import attitude_error_rad, axis_stays, top_motion
 from physics.top_energy import CUSP, LOOP, SLEEPING, STEADY, THROUGH_VERTICAL, TOO_SLOW, WAVE
 
-__all__ = ["AXIS_NAMES", "JUDGES", "MOTION_WORDS", "AnswerState", "Judge", "judge_answer", "state_of_room"]
+__all__ = ["AXIS_NAMES", "JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "MOTION_WORDS", "AnswerState", "Judged",
+           "check_state", "judge", "judge_answer", "state_of_room"]
+
+MAX_STATE_KEYS = 64
+MAX_STATE_BYTES = 4096  # the answer's repr
+MAX_TEXT_CHARS = 80
+
+
+@dataclass(frozen=True)
+class Judged:
+    """A judged state answer: `value` the judged quantity (a float in `unit`, or a class name such
+    as "loops"), `words` what the student and the tally read ("attitude error 4.2°"), `good` True
+    when it meets the question's target (None: no right answer)."""
+
+    value: float | str
+    words: str
+    unit: str = ""
+    good: bool | None = None
+
+
+
+
+def check_state(question: Any, value: Any) -> dict[str, Any]:
+    """A state answer as a plain dict (names to finite floats or short texts); ValueError otherwise."""
+    if not isinstance(value, Mapping) or not value:
+        raise ValueError("a state answer is a non-empty object of names and numbers")
+    if len(value) > MAX_STATE_KEYS or len(repr(value)) > MAX_STATE_BYTES:
+        raise ValueError(f"a state answer holds at most {MAX_STATE_KEYS} numbers ({MAX_STATE_BYTES} bytes)")
+    out: dict[str, Any] = {}
+    for key, item in value.items():
+        if not isinstance(key, str) or not 0 < len(key) <= 40:
+            raise ValueError("a state answer's names are short texts")
+        if isinstance(item, bool) or not isinstance(item, int | float | str):
+            raise ValueError(f"{key}: a number wanted")
+        if isinstance(item, str):
+            if len(item) > MAX_TEXT_CHARS:
+                raise ValueError(f"{key}: at most {MAX_TEXT_CHARS} characters")
+            out[key] = item
+        elif not math.isfinite(float(item)):
+            raise ValueError(f"{key}: a finite number wanted")
+        else:
+            out[key] = float(item)
+    return out
+
+
+def judge(question: Any, value: Mapping[str, Any]) -> Judged | None:
+    """`value` judged by the question's judge, or None (no judge, or an unknown one)."""
+    if question.judge is None:
+        return None
+    fn = JUDGES.get(question.judge)
+    return None if fn is None else fn(question, value)
+
 
 AXIS_NAMES = ("x′", "y′", "z′")
 MOTION_WORDS = {STEADY: "steady precession", WAVE: "waves", LOOP: "loops", CUSP: "cusps",
@@ -56,7 +115,6 @@ class AnswerState:
     omega_body: np.ndarray
     inertia: tuple[float, float, float] | None = None
     mgl: float = 0.0
-    extra: dict[str, Any] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         R = np.array(self.R_space_body, dtype=float)
@@ -79,30 +137,37 @@ class AnswerState:
         object.__setattr__(self, "mgl", float(self.mgl))
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain JSON-able values (for the CSV and across processes); `from_dict` reads them back."""
-        return {"scene": self.scene, "R_space_body": self.R_space_body.ravel().tolist(),
-                "omega_body": self.omega_body.tolist(),
-                "inertia": list(self.inertia) if self.inertia is not None else None, "mgl": self.mgl}
+        """The flat mapping a student's browser sends (module docstring): `scene`, `R0`...`R8`,
+        `w1 w2 w3`, and `I1 I2 I3`, `mgl` where the body has a model; `from_dict` reads it back."""
+        out: dict[str, Any] = {"scene": self.scene}
+        out.update({f"R{k}": float(v) for k, v in enumerate(self.R_space_body.ravel())})
+        out.update({f"w{k + 1}": float(v) for k, v in enumerate(self.omega_body)})
+        if self.inertia is not None:
+            out.update({f"I{k + 1}": float(v) for k, v in enumerate(self.inertia)})
+            out["mgl"] = self.mgl
+        return out
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> AnswerState:
-        """The answer of `to_dict`'s values; ValueError naming what is wrong."""
+        """The answer of `to_dict`'s mapping; ValueError naming what is wrong."""
         if not isinstance(data, Mapping):
-            raise ValueError("an answer state is an object")
+            raise ValueError("a state answer is an object")
         scene = data.get("scene")
-        if not isinstance(scene, str) or len(scene) > 80:
-            raise ValueError("an answer state names its scene")
-        try:
-            R = np.array(data.get("R_space_body"), dtype=float).reshape(3, 3)
-            omega = np.array(data.get("omega_body"), dtype=float).reshape(3)
-            inertia_raw = data.get("inertia")
-            inertia = None if inertia_raw is None else tuple(float(m) for m in inertia_raw)
-            mgl = float(data.get("mgl", 0.0))
-        except (TypeError, ValueError):
-            raise ValueError("an answer state needs 9 numbers of attitude and 3 of ω") from None
-        if inertia is not None and len(inertia) != 3:
-            raise ValueError("the answer's moments of inertia must be 3 positive numbers")
-        return cls(scene, R, omega, inertia, mgl)
+        if not isinstance(scene, str) or not 0 < len(scene) <= MAX_TEXT_CHARS:
+            raise ValueError("a state answer names its scene")
+
+        def numbers(keys: list[str]) -> list[float]:
+            values = [data.get(key) for key in keys]
+            if any(isinstance(v, bool) or not isinstance(v, int | float) for v in values):
+                raise ValueError(f"a state answer needs the numbers {' '.join(keys)}")
+            return [float(v) for v in values]  # type: ignore[arg-type]
+
+        R = np.array(numbers([f"R{k}" for k in range(9)])).reshape(3, 3)
+        omega = np.array(numbers(["w1", "w2", "w3"]))
+        has_model = any(key in data for key in ("I1", "I2", "I3", "mgl"))
+        inertia = tuple(numbers(["I1", "I2", "I3"])) if has_model else None
+        mgl = numbers(["mgl"])[0] if has_model else 0.0
+        return cls(scene, R, omega, inertia, mgl)  # type: ignore[arg-type]
 
 
 def state_of_room(room: Any) -> AnswerState:
@@ -145,25 +210,32 @@ def _target_attitude(target: Mapping[str, Any] | None) -> np.ndarray:
     raise ValueError("the attitude judge's target gives angles_deg [φ, θ, ψ] or R_space_body")
 
 
-def judge_attitude(answer: AnswerState, target: Mapping[str, Any] | None) -> tuple[float, str]:
-    """The angle [deg] between the answer's attitude and the target's."""
-    degrees = math.degrees(attitude_error_rad(answer.R_space_body, _target_attitude(target)))
-    return degrees, f"{degrees:.1f}° from the target"
+def judge_attitude(answer: AnswerState, target: Mapping[str, Any] | None) -> Judged:
+    """The angle [deg] between the answer's attitude and the target's; good within `within_deg`."""
+    R_target = _target_attitude(target)
+    within_deg = _number(target or {}, "within_deg", 10.0, 0.0, 180.0)
+    degrees = math.degrees(attitude_error_rad(answer.R_space_body, R_target))
+    return Judged(degrees, f"{degrees:.1f}° from the target", "deg", degrees <= within_deg)
 
 
-def judge_top_motion(answer: AnswerState, target: Mapping[str, Any] | None) -> tuple[str, str]:
-    """The heavy top's class of motion (a word of MOTION_WORDS)."""
+def judge_top_motion(answer: AnswerState, target: Mapping[str, Any] | None) -> Judged:
+    """The heavy top's class of motion (a word of MOTION_WORDS); good when it is the target's
+    `motion` (None without one)."""
     if answer.inertia is None or answer.mgl == 0.0 or answer.inertia[0] != answer.inertia[1]:
         raise ValueError("the class of motion is judged for a heavy top (I1 = I2, m g ℓ > 0)")
     steady_tol_deg = _number(target or {}, "steady_tol_deg", 0.5, 0.0, 10.0)
     judged = top_motion(answer.inertia[0], answer.inertia[2], answer.mgl, answer.R_space_body,
                         answer.omega_body, steady_tol_rad=math.radians(steady_tol_deg))
     word = MOTION_WORDS[judged.motion]
-    return word, f"{word} — {judged.picture.description}"
+    wanted = (target or {}).get("motion")
+    if wanted is not None and wanted not in MOTION_WORDS.values():
+        raise ValueError(f"the target's motion must be one of {', '.join(MOTION_WORDS.values())}")
+    return Judged(word, f"{word} — {judged.picture.description}", "", None if wanted is None else word == wanted)
 
 
-def judge_axis_stays(answer: AnswerState, target: Mapping[str, Any] | None) -> tuple[str, str]:
-    """"stays" or "flips": the torque-free body's axis over the target's span."""
+def judge_axis_stays(answer: AnswerState, target: Mapping[str, Any] | None) -> Judged:
+    """"stays" or "flips": the torque-free body's axis over the target's span; good when it is
+    the target's `stays` (None without one)."""
     if answer.inertia is None or answer.mgl != 0.0:
         raise ValueError("whether an axis stays is judged for a torque-free body")
     target = target or {}
@@ -174,30 +246,51 @@ def judge_axis_stays(answer: AnswerState, target: Mapping[str, Any] | None) -> t
     seconds = _number(target, "seconds", 10.0, 0.1, _MAX_SECONDS)
     run = axis_stays(answer.inertia, answer.R_space_body, answer.omega_body, axis_value,
                      math.radians(within_deg), seconds)
+    wanted = target.get("stays")
+    if wanted is not None and not isinstance(wanted, bool):
+        raise ValueError("the target's stays must be true or false")
     name = AXIS_NAMES[run.axis]
     most = math.degrees(run.max_angle_rad)
+    good = None if wanted is None else run.stays == wanted
     if run.stays:
-        return "stays", f"stays — the {name} axis stays within {within_deg:g}° for {seconds:g} s (at most {most:.1f}°)"
-    return "flips", (f"flips — the {name} axis leaves {within_deg:g}° at t = {run.left_at_s:.1f} s "
-                     f"(it turns up to {most:.0f}°)")
+        words = f"stays — the {name} axis stays within {within_deg:g}° for {seconds:g} s (at most {most:.1f}°)"
+        return Judged("stays", words, "", good)
+    return Judged("flips", f"flips — the {name} axis leaves {within_deg:g}° at t = {run.left_at_s:.1f} s "
+                           f"(it turns up to {most:.0f}°)", "", good)
 
 
-Judge = Callable[[AnswerState, Any], tuple[float | str, str]]
-JUDGES: dict[str, Judge] = {
+StateJudge = Callable[[AnswerState, Any], Judged]
+_STATE_JUDGES: dict[str, StateJudge] = {
     "attitude": judge_attitude,
     "top_motion": judge_top_motion,
     "axis_stays": judge_axis_stays,
 }
-"""Judge name (a question's `judge`) -> judge (module docstring)."""
 
 
-def judge_answer(name: str, answer: AnswerState, target: Any) -> tuple[float | str, str]:
-    """Run the judge `name` on `answer`; ValueError with the message to show (no such judge, a
-    target or an answer it cannot use)."""
-    judge = JUDGES.get(name)
-    if judge is None:
-        raise ValueError(f"there is no judge {name!r}; choose one of {', '.join(JUDGES)}")
+def judge_answer(name: str, answer: AnswerState, target: Any) -> Judged:
+    """Run the judge `name` on `answer` against `target`; ValueError with the message to show
+    (no such judge, a target or an answer it cannot use)."""
+    state_judge = _STATE_JUDGES.get(name)
+    if state_judge is None:
+        raise ValueError(f"there is no judge {name!r}; choose one of {', '.join(_STATE_JUDGES)}")
     try:
-        return judge(answer, target)
+        return state_judge(answer, target)
     except (ArithmeticError, np.linalg.LinAlgError) as error:
         raise ValueError(f"this answer cannot be judged: {error}") from None
+
+
+def _registered(name: str) -> Callable[[Any, Mapping[str, Any]], Judged]:
+    def judge_state(question: Any, value: Mapping[str, Any]) -> Judged:
+        answer = AnswerState.from_dict(value)
+        scene = getattr(question, "scene", None)
+        if scene is not None and answer.scene != scene:
+            raise ValueError(f"this question is about the {scene} scene; the answer is a {answer.scene} body")
+        return judge_answer(name, answer, getattr(question, "target", None))
+
+    judge_state.__name__ = f"judge_{name}"
+    judge_state.__doc__ = _STATE_JUDGES[name].__doc__
+    return judge_state
+
+
+JUDGES: dict[str, Callable[[Any, Mapping[str, Any]], Judged]] = {name: _registered(name) for name in _STATE_JUDGES}
+"""name -> judge(question: app.ask.questions.State, answer mapping) -> Judged (module docstring)."""

@@ -1,0 +1,181 @@
+"""Ask the class (issue 26): the questions as data, a round's rules, its tally and CSV, and the
+round across processes."""
+
+from __future__ import annotations
+
+import csv
+import io
+
+import pytest
+
+from app.ask import Choice, Direction, Refused, Round, State, new_token, question_from_dict, question_to_dict
+from app.ask.round import RATE
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.t = 100.0
+
+    def __call__(self) -> float:
+        return self.t
+
+
+CHOICE = {"kind": "choice", "prompt": "Which axis is stable?", "options": ["1", "2", "3"], "correct": 0}
+DIRECTION = {"kind": "direction", "prompt": "Where does ω point?", "truth": [0, 0, 2]}
+
+
+@pytest.mark.parametrize("bad, words", [
+    ({"kind": "poll", "prompt": "x"}, "kind"),
+    ({"kind": "choice", "prompt": "x", "options": ["a"]}, "options"),
+    ({"kind": "choice", "prompt": "x", "options": ["a"] * 7}, "options"),
+    ({"kind": "choice", "prompt": "x", "options": ["a", "a"]}, "same"),
+    ({"kind": "choice", "prompt": "x", "options": ["a", "b"], "correct": 2}, "correct"),
+    ({"kind": "choice", "prompt": "x", "options": ["a", "b"], "correct": True}, "correct"),
+    ({"kind": "choice", "prompt": " ", "options": ["a", "b"]}, "prompt"),
+    ({"kind": "choice", "prompt": "x" * 301, "options": ["a", "b"]}, "prompt"),
+    ({"kind": "choice", "prompt": "x", "options": ["a", "b"], "colour": 1}, "colour"),
+    ({"kind": "direction", "prompt": "x", "truth": [0, 0, 0]}, "truth"),
+    ({"kind": "direction", "prompt": "x", "truth": [0, float("nan"), 1]}, "truth"),
+    ({"kind": "direction", "prompt": "x", "frame": "body"}, "frame"),
+    ({"kind": "state", "prompt": "x"}, "scene"),
+    ("choice", "kind"),
+])
+def test_a_bad_question_is_refused_naming_its_field(bad: object, words: str) -> None:
+    with pytest.raises(ValueError, match=words):
+        question_from_dict(bad)
+
+
+def test_questions_round_trip_through_their_dicts() -> None:
+    state = {"kind": "state", "prompt": "Make it loop", "scene": "Heavy top", "judge": None, "target": {"a": 1}}
+    for d in (CHOICE, DIRECTION, state):
+        question = question_from_dict(d)
+        assert question_from_dict(question_to_dict(question)) == question
+    assert question_from_dict(DIRECTION).truth == (0.0, 0.0, 1.0)  # type: ignore[union-attr]
+    assert isinstance(question_from_dict(CHOICE), Choice)
+    assert isinstance(question_from_dict(state), State)
+
+
+def test_one_answer_per_browser_the_last_counts_and_a_leaver_still_counts() -> None:
+    clock = Clock()
+    round_ = Round(CHOICE, clock=clock)
+    a, b = new_token(), new_token()
+    round_.answer(a, 1)
+    round_.answer(b, 2)
+    clock.t += 1.0
+    round_.answer(a, 0)  # a changes its mind
+    assert round_.tally().counts == (1, 0, 1) and round_.tally().answered == 2
+    assert round_.answer_of(a).value == 0  # type: ignore[union-attr]
+
+
+def test_bad_answers_are_refused_with_a_message_and_change_nothing() -> None:
+    clock = Clock()
+    round_ = Round(CHOICE, clock=clock)
+    round_.answer("a", 1)
+    for bad in (3, -1, True, "1", None, [1], 1.0, {"x": 1}):
+        clock.t += 1.0
+        with pytest.raises(Refused, match="not an answer"):
+            round_.answer("a", bad)
+    assert round_.tally().counts == (0, 1, 0)
+    directions = Round(DIRECTION, clock=clock)
+    for bad in ([0, 0, 0], [1, 2], ["a", 0, 0], [float("inf"), 0, 0], "up", [True, 0, 0]):
+        clock.t += 1.0
+        with pytest.raises(Refused):
+            directions.answer("a", bad)
+    assert directions.tally().answered == 0
+    directions.answer("a", [0, 3, 4])
+    assert directions.tally().directions == ((0.0, 0.6, 0.8),)
+
+
+def test_a_browser_answers_at_most_RATE_times_a_second() -> None:
+    clock = Clock()
+    round_ = Round(CHOICE, clock=clock)
+    for _ in range(RATE):
+        round_.answer("a", 1)
+    with pytest.raises(Refused, match="too fast"):
+        round_.answer("a", 2)
+    assert round_.tally().counts == (0, 1, 0)
+    round_.answer("b", 2)  # another browser is not slowed by it
+    clock.t += 1.0
+    round_.answer("a", 2)
+    assert round_.tally().counts == (0, 0, 2)
+
+
+def test_a_round_is_bounded_and_a_closed_round_takes_nothing() -> None:
+    round_ = Round(CHOICE, clock=Clock(), max_browsers=3)
+    for token in "abc":
+        round_.answer(token, 0)
+    with pytest.raises(Refused, match="full"):
+        round_.answer("d", 0)
+    round_.answer("a", 1)  # an answer already in may still change
+    round_.close()
+    with pytest.raises(Refused, match="closed"):
+        round_.answer("b", 1)
+    assert round_.tally().counts == (2, 1, 0) and not round_.tally().open
+
+
+def test_vote_again_keeps_the_first_result_beside_the_second_and_the_csv_is_anonymous() -> None:
+    clock = Clock()
+    first = Round(CHOICE, clock=clock)
+    tokens = [new_token() for _ in range(3)]
+    for token, option in zip(tokens, (1, 1, 0), strict=True):
+        first.answer(token, option)
+    second = first.vote_again()
+    assert not first.open and second.open and second.number == 2
+    for token in tokens:
+        second.answer(token, 0)
+    tally = second.tally()
+    assert tally.counts == (3, 0, 0) and tally.previous is not None and tally.previous.counts == (1, 2, 0)
+    text = second.csv()
+    assert not any(token in text for token in tokens)
+    rows = list(csv.DictReader(io.StringIO("\n".join(line for line in text.splitlines()
+                                                        if not line.startswith("#")))))
+    assert [(r["round"], r["option"]) for r in rows] == [("1", "2"), ("1", "2"), ("1", "1"),
+                                                        ("2", "1"), ("2", "1"), ("2", "1")]
+    assert text.startswith("# choice: Which axis is stable?")
+
+
+def test_direction_tally_counts_answers_near_the_truth() -> None:
+    round_ = Round(DIRECTION, clock=Clock())
+    round_.answer("a", [0, 0, 1])
+    round_.answer("b", [0, 0.2, 1])  # 11° off
+    round_.answer("c", [1, 0, 0])
+    tally = round_.tally()
+    assert tally.within(5.0) == 1 and tally.within(15.0) == 2
+    assert isinstance(tally.question, Direction)
+
+
+def test_state_answers_are_bounded_dicts_of_numbers() -> None:
+    round_ = Round({"kind": "state", "prompt": "Make it loop", "scene": "Heavy top"}, clock=Clock())
+    round_.answer("a", {"theta": 0.5, "psi_dot": 20})
+    for bad in ({}, {"x": float("nan")}, {"x": [1]}, {str(k): 1 for k in range(65)}, [1, 2]):
+        with pytest.raises(Refused):
+            round_.answer("b", bad)
+    assert round_.tally().answered == 1 and round_.tally().judged == (None,)
+
+
+def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> None:
+    from app.ask import Rounds
+
+    here, there = Rounds(), Rounds()
+    round_ = here.ask(CHOICE)
+    here.answer("a", 2)
+    shown = here.shown()
+    assert shown is not None and shown.open and shown.answered == 1 and shown.number == 1
+    sent: list[tuple[str, str, object]] = []
+    there.forward = lambda rid, token, value: sent.append((rid, token, value))
+    there.set_remote(shown)
+    assert there.answer("b", 1) == 1 and there.mine("b") == 1
+    with pytest.raises(Refused, match="not an answer"):
+        there.answer("b", 7)
+    for rid, token, value in sent:
+        assert rid == here.current_id
+        here.current.answer(token, value)  # type: ignore[union-attr]  # what the bus does on the asking process
+    assert here.tally().counts == (0, 1, 1)  # type: ignore[union-attr]
+    second = here.vote_again()
+    assert second is here.current and round_.open is False and here.tally().previous.counts == (0, 1, 1)  # type: ignore[union-attr]
+    here.close_round()
+    there.set_remote(here.shown())
+    with pytest.raises(Refused, match="closed"):
+        there.answer("b", 0)
+    here.end()
+    assert here.shown() is None and here.csv() == ""
