@@ -92,3 +92,25 @@ def test_box_glyph_has_the_moments_ratios(inertia: tuple[float, float, float]) -
     moments = np.array([b * b + c * c, a * a + c * c, a * a + b * b]) / 12.0
     assert moments / moments[0] == pytest.approx(np.array(inertia) / inertia[0], rel=1e-9)
     assert max(a, b, c) == pytest.approx(1.2)
+
+
+def test_the_tally_of_a_judged_round_is_a_histogram_and_its_gallery_is_numbered_like_the_csv() -> None:
+    from app.ask import Round
+    from app.ask import State as StateQuestion
+    from app.ask.state_tally import gallery_entries, judged_histogram_text
+
+    round_ = Round(StateQuestion("Stand it like this", "Euler angles", "attitude", {"angles_deg": [0, 40, 0]}),
+                   clock=iter(np.arange(0.0, 100.0, 1.0)).__next__)
+    for k, error_deg in enumerate((3.0, 7.0, 12.0, 14.0, 100.0)):
+        R = Rotation.from_euler("ZXZ", [0.0, 40.0 + error_deg, 0.0], degrees=True).as_matrix()
+        round_.answer(f"browser-{k}", AnswerState("Euler angles", R, np.zeros(3)).to_dict())
+    text = judged_histogram_text(round_.tally())
+    assert "0–5°  \n`" in text and "10–20°  \n`████████████████` **2**" in text and "90–180°" in text
+    assert "✓ **2** of 5 meet the target" in text  # within 10° (the attitude judge's default)
+    entries = gallery_entries(round_)
+    assert [e.number for e in entries] == [row["answer"] for row in round_.rows()] == [1, 2, 3, 4, 5]
+    assert entries[2].value == pytest.approx(12.0) and entries[2].verdict == "12.0° from the target"
+    again = round_.vote_again()
+    again.answer("browser-0", AnswerState("Euler angles", np.eye(3), np.zeros(3)).to_dict())
+    text = judged_histogram_text(again.tally())  # 40° off; round 1 beside each bar
+    assert "20–45°  \n`████████` **1** · round 1: 0" in text and "10–20°  \n`·` **0** · round 1: 2" in text

@@ -177,6 +177,11 @@ class Round:
             self.version += 1
         return kept
 
+    def answers(self) -> list[Answer]:
+        """This round's answers, anonymous, oldest first (numbered 1.. in this order, as `rows`)."""
+        with self._lock:
+            return sorted(self._answers.values(), key=lambda a: a.at)
+
     def answer_of(self, token: str) -> Answer | None:
         """`token`'s answer in this round, or None (a browser sees its own answer)."""
         return self._answers.get(token)
