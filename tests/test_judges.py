@@ -161,3 +161,14 @@ def test_a_round_judges_state_answers_and_refuses_another_scenes_body() -> None:
     with pytest.raises(Refused, match="numbers"):
         round_.answer("browser-b", {"scene": "Heavy top", "R0": 1.0})
     assert [j.value for j in round_.tally().judged] == ["loops"]
+
+
+def test_a_question_with_a_target_its_judge_cannot_use_is_refused_when_made() -> None:
+    with pytest.raises(ValueError, match="motion must be one of"):
+        StateQuestion("Make it loop", "Heavy top", "top_motion", {"motion": "spirals"})
+    with pytest.raises(ValueError, match="'seconds' is not a field of the attitude judge"):
+        StateQuestion("Stand it", "Euler angles", "attitude", {"angles_deg": [0, 0, 0], "seconds": 3})
+    with pytest.raises(ValueError, match="needs a target"):
+        StateQuestion("Stand it", "Euler angles", "attitude", None)
+    with pytest.raises(ValueError, match="seconds must be a number in"):
+        StateQuestion("Keep it", "Free body", "axis_stays", {"seconds": 1e9})

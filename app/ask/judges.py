@@ -43,7 +43,7 @@ from physics.judging import attitude_error_rad, axis_stays, top_motion
 from physics.top_energy import CUSP, LOOP, SLEEPING, STEADY, THROUGH_VERTICAL, TOO_SLOW, WAVE
 
 __all__ = ["AXIS_NAMES", "JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "MOTION_WORDS", "AnswerState", "Judged",
-           "check_state", "judge", "judge_answer", "state_of_room"]
+           "check_state", "check_target", "judge", "judge_answer", "state_of_room"]
 
 MAX_STATE_KEYS = 64
 MAX_STATE_BYTES = 4096  # the answer's repr
@@ -210,45 +210,74 @@ def _target_attitude(target: Mapping[str, Any] | None) -> np.ndarray:
     raise ValueError("the attitude judge's target gives angles_deg [φ, θ, ψ] or R_space_body")
 
 
+def _target_of(name: str, target: Any) -> dict[str, Any]:
+    """`target` checked for the judge `name` and its defaults filled in (ValueError naming the field)."""
+    if target is not None and not isinstance(target, Mapping):
+        raise ValueError("target: an object wanted")
+    target = dict(target or {})
+    unknown = sorted(str(key) for key in set(target) - set(_TARGET_KEYS[name]))
+    if unknown:
+        raise ValueError(f"target: {unknown[0]!r} is not a field of the {name} judge "
+                         f"({', '.join(_TARGET_KEYS[name])})")
+    out: dict[str, Any] = {}
+    if name == "attitude":
+        out["R_space_body"] = _target_attitude(target or None)
+        out["within_deg"] = _number(target, "within_deg", 10.0, 0.0, 180.0)
+    elif name == "top_motion":
+        out["steady_tol_deg"] = _number(target, "steady_tol_deg", 0.5, 0.0, 10.0)
+        wanted = target.get("motion")
+        if wanted is not None and wanted not in MOTION_WORDS.values():
+            raise ValueError(f"target: motion must be one of {', '.join(MOTION_WORDS.values())}, got {wanted!r}")
+        out["motion"] = wanted
+    else:
+        axis_value = target.get("axis")
+        if axis_value is not None and (isinstance(axis_value, bool) or axis_value not in (0, 1, 2)):
+            raise ValueError(f"target: axis must be 0, 1 or 2 (x′, y′, z′), got {axis_value!r}")
+        wanted = target.get("stays")
+        if wanted is not None and not isinstance(wanted, bool):
+            raise ValueError("target: stays must be true or false")
+        out.update(axis=axis_value, stays=wanted, within_deg=_number(target, "within_deg", 20.0, 0.1, 179.0),
+                   seconds=_number(target, "seconds", 10.0, 0.1, _MAX_SECONDS))
+    return out
+
+
+def check_target(name: str, target: Any) -> None:
+    """ValueError naming the field when `target` is not one the judge `name` can use (a
+    question's target, checked when the question is made: a lesson file at start)."""
+    if name not in _TARGET_KEYS:
+        raise ValueError(f"there is no judge {name!r}; choose one of {', '.join(_TARGET_KEYS)}")
+    _target_of(name, target)
+
+
 def judge_attitude(answer: AnswerState, target: Mapping[str, Any] | None) -> Judged:
     """The angle [deg] between the answer's attitude and the target's; good within `within_deg`."""
-    R_target = _target_attitude(target)
-    within_deg = _number(target or {}, "within_deg", 10.0, 0.0, 180.0)
-    degrees = math.degrees(attitude_error_rad(answer.R_space_body, R_target))
-    return Judged(degrees, f"{degrees:.1f}° from the target", "deg", degrees <= within_deg)
+    checked = _target_of("attitude", target)
+    degrees = math.degrees(attitude_error_rad(answer.R_space_body, checked["R_space_body"]))
+    return Judged(degrees, f"{degrees:.1f}° from the target", "deg", degrees <= checked["within_deg"])
 
 
 def judge_top_motion(answer: AnswerState, target: Mapping[str, Any] | None) -> Judged:
     """The heavy top's class of motion (a word of MOTION_WORDS); good when it is the target's
     `motion` (None without one)."""
+    checked = _target_of("top_motion", target)
     if answer.inertia is None or answer.mgl == 0.0 or answer.inertia[0] != answer.inertia[1]:
         raise ValueError("the class of motion is judged for a heavy top (I1 = I2, m g ℓ > 0)")
-    steady_tol_deg = _number(target or {}, "steady_tol_deg", 0.5, 0.0, 10.0)
     judged = top_motion(answer.inertia[0], answer.inertia[2], answer.mgl, answer.R_space_body,
-                        answer.omega_body, steady_tol_rad=math.radians(steady_tol_deg))
+                        answer.omega_body, steady_tol_rad=math.radians(checked["steady_tol_deg"]))
     word = MOTION_WORDS[judged.motion]
-    wanted = (target or {}).get("motion")
-    if wanted is not None and wanted not in MOTION_WORDS.values():
-        raise ValueError(f"the target's motion must be one of {', '.join(MOTION_WORDS.values())}")
+    wanted = checked["motion"]
     return Judged(word, f"{word} — {judged.picture.description}", "", None if wanted is None else word == wanted)
 
 
 def judge_axis_stays(answer: AnswerState, target: Mapping[str, Any] | None) -> Judged:
     """"stays" or "flips": the torque-free body's axis over the target's span; good when it is
     the target's `stays` (None without one)."""
+    checked = _target_of("axis_stays", target)
     if answer.inertia is None or answer.mgl != 0.0:
         raise ValueError("whether an axis stays is judged for a torque-free body")
-    target = target or {}
-    axis_value = target.get("axis")
-    if axis_value is not None and (isinstance(axis_value, bool) or axis_value not in (0, 1, 2)):
-        raise ValueError(f"the target's axis must be 0, 1 or 2 (x′, y′, z′), got {axis_value!r}")
-    within_deg = _number(target, "within_deg", 20.0, 0.1, 179.0)
-    seconds = _number(target, "seconds", 10.0, 0.1, _MAX_SECONDS)
-    run = axis_stays(answer.inertia, answer.R_space_body, answer.omega_body, axis_value,
+    within_deg, seconds, wanted = checked["within_deg"], checked["seconds"], checked["stays"]
+    run = axis_stays(answer.inertia, answer.R_space_body, answer.omega_body, checked["axis"],
                      math.radians(within_deg), seconds)
-    wanted = target.get("stays")
-    if wanted is not None and not isinstance(wanted, bool):
-        raise ValueError("the target's stays must be true or false")
     name = AXIS_NAMES[run.axis]
     most = math.degrees(run.max_angle_rad)
     good = None if wanted is None else run.stays == wanted
@@ -257,6 +286,13 @@ def judge_axis_stays(answer: AnswerState, target: Mapping[str, Any] | None) -> J
         return Judged("stays", words, "", good)
     return Judged("flips", f"flips — the {name} axis leaves {within_deg:g}° at t = {run.left_at_s:.1f} s "
                            f"(it turns up to {most:.0f}°)", "", good)
+
+
+_TARGET_KEYS = {
+    "attitude": ("angles_deg", "R_space_body", "within_deg"),
+    "top_motion": ("motion", "steady_tol_deg"),
+    "axis_stays": ("axis", "within_deg", "seconds", "stays"),
+}
 
 
 StateJudge = Callable[[AnswerState, Any], Judged]

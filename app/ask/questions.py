@@ -145,6 +145,10 @@ class State:
             if not isinstance(self.target, Mapping) or len(repr(self.target)) > MAX_TARGET_BYTES:
                 raise ValueError("target: a small object wanted")
             object.__setattr__(self, "target", dict(self.target))
+        if self.judge is not None:
+            from app.ask.judges import check_target
+
+            check_target(self.judge, self.target)  # the target is one the judge can use
 
     def __hash__(self) -> int:
         return hash((self.prompt, self.scene, self.judge, repr(self.target)))
