@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import io
+from typing import Any
 
 import pytest
 
@@ -179,3 +180,58 @@ def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> No
         there.answer("b", 0)
     here.end()
     assert here.shown() is None and here.csv() == ""
+
+
+# ---------------------------------------------------------------------- the app: presenter, students, panels
+HALL_CODE = "864213"
+
+
+@pytest.fixture
+def hall():  # type: ignore[no-untyped-def]
+    from conftest import LectureHall
+
+    running = LectureHall(HALL_CODE)
+    try:
+        yield running
+    finally:
+        running.close()
+
+
+def _frames(hall: Any, count: int = 2) -> None:
+    for _ in range(count):
+        hall.app.frame(1.0 / 60.0)
+
+
+def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_is_live(hall: Any) -> None:
+    from conftest import poll_until
+    from viser import _messages
+
+    presenter = hall.join()
+    presenter.present(HALL_CODE)
+    (alice, alice_client), (bob, _) = hall.join_with_client(), hall.join_with_client()
+    _frames(hall)
+    assert alice.mode == "following" and not alice.question.folder.visible
+    with pytest.raises(PermissionError):
+        alice.ask(CHOICE)
+    presenter.ask(CHOICE)
+    _frames(hall)
+    assert alice.question.folder.visible and not alice.scene.folder.visible  # the question replaces the follower panel
+    assert "Which axis is stable?" in alice.question.gui_prompt.content
+    # Alice presses option 2 in her page (a raw websocket sends what the page sends).
+    alice_client.send(_messages.GuiUpdateMessage(alice.question.gui_options[1]._impl.uuid, {"value": True}))
+    poll_until(lambda: hall.app.rounds.tally().answered == 1)
+    bob.answer(2)
+    _frames(hall, 16)  # the presenter's count refreshes at ASK_PERIOD
+    assert hall.app.rounds.tally().counts == (0, 1, 1)
+    assert "2 of 2 answered" in presenter.ask_panel.gui_count.content
+    assert "█" in presenter.ask_panel.gui_histogram.content
+    # answered: the follower panel is back, with her answer
+    assert alice.scene.folder.visible and "2. 2" in alice.question.gui_mine.content
+    second = presenter.vote_again()
+    _frames(hall)
+    assert second.number == 2 and alice.question.gui_options[0].visible  # asked again: her controls are back
+    assert "round 1: 1" in presenter.ask_panel.gui_histogram.content
+    presenter.close_round()
+    _frames(hall)
+    assert "closed" in alice.question.gui_prompt.content and not alice.question.gui_options[0].visible
+    assert alice.error_count == 0 and presenter.error_count == 0

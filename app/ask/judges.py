@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "Judged", "check_state", "judge"]
+__all__ = ["JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "READERS", "Judged", "check_state", "judge", "read_state"]
 
 MAX_STATE_KEYS = 64
 MAX_STATE_BYTES = 4096  # the answer's repr
@@ -38,6 +38,19 @@ class Judged:
 
 JUDGES: dict[str, Callable[[Any, Mapping[str, Any]], Judged]] = {}
 """name -> judge(question: app.ask.questions.State, answer) -> Judged (questions import this module)."""
+
+
+READERS: dict[str, Callable[[Any], dict[str, Any]]] = {}
+"""scene title -> reader(simulation) -> the state answer of a room of that scene (names to numbers);
+a scene without one answers its time only (`read_state`)."""
+
+
+def read_state(room: Any) -> dict[str, Any]:
+    """The state answer of a browser's own `room` (`app.kit.core.room.Room`): its scene's reader's, or {"t": t}."""
+    reader = READERS.get(room.scene.title)
+    if reader is not None:
+        return reader(room.sim)
+    return {"t": float(room.sim.t)}
 
 
 def check_state(question: Any, value: Any) -> dict[str, Any]:
