@@ -487,6 +487,10 @@ class Session:
     def _lesson_stepped(self) -> None:
         if self.lectern is not None and self.lectern.presenter is self:
             self.lectern.refresh_followers()
+        lesson, k = self.lesson_runner.lesson, self.lesson_runner.step
+        question = lesson.steps[k].ask if lesson is not None and 0 <= k < len(lesson.steps) else None
+        if question is not None and self.ask_panel is not None:
+            self.ask_panel.fill(question)  # the lecturer asks it with `Ask the class`
 
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
         """Record the next `seconds` of the scene shown, offered as .html and .viser downloads

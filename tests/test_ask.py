@@ -235,3 +235,16 @@ def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_i
     _frames(hall)
     assert "closed" in alice.question.gui_prompt.content and not alice.question.gui_options[0].visible
     assert alice.error_count == 0 and presenter.error_count == 0
+
+
+def test_a_lesson_steps_question_fills_the_presenters_form(hall: Any) -> None:
+    presenter = hall.join()
+    presenter.present(HALL_CODE)
+    presenter.start_lesson("§6 The free body and the heavy top")
+    presenter.next_step(1)  # step 1: where will ω point (a direction, with its truth)
+    panel = presenter.ask_panel
+    assert panel.gui_kind.value == "Direction" and "Where will ω point" in panel.gui_prompt.value
+    assert panel.gui_truth.visible and panel.gui_truth.value.startswith("0.287")
+    panel.ask_from_form()
+    assert hall.app.rounds.current.question.truth[2] == pytest.approx(0.958, abs=1e-3)  # type: ignore[union-attr]
+    assert presenter.error_count == 0, presenter.last_error
