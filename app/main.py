@@ -123,6 +123,7 @@ class App:
         # One lecture across processes (`app.cluster.bus`), after the shared scene's wire: None on one process
         self.bus: Any = bus_factory(server, self.lectern) if bus_factory is not None else None
         self._ask_version, self._since_ask = -1, 0.0
+        self.ask_bus: Any = None  # questions across processes (`app.cluster.askbus`): None on one process
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
@@ -241,6 +242,8 @@ class App:
                     room.draw(view, owed.pop(id(view)))
                     drawn.append(browser)
             self.lectern.tick(dt)
+            if self.ask_bus is not None:
+                self.ask_bus.tick(dt)
             self._ask_tick(dt)
         self._end_frames()
         if bus is not None:
@@ -309,6 +312,9 @@ class App:
         if self.bus is not None:
             self.bus.close()
             self.bus = None
+        if self.ask_bus is not None:
+            self.ask_bus.close()
+            self.ask_bus = None
         self.lectern.close()  # the presenter lock, if this process holds it
         self.server.stop()
 
@@ -362,6 +368,10 @@ def create_server(
 
     app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own,
               share_store=open_share_store(folder, redis_url), bus_factory=bus_factory)
+    if redis_url is not None:
+        from app.cluster.askbus import AskBus  # noqa: PLC0415 - a one-process app imports no redis
+
+        app.ask_bus = AskBus(app.lectern.rounds, redis_url, worker_id or "w1")
     if start_loop:
         app.start()
     return app
