@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import csv
 import io
+import time
+from typing import Any
 
 import pytest
 
@@ -179,3 +181,128 @@ def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> No
         there.answer("b", 0)
     here.end()
     assert here.shown() is None and here.csv() == ""
+
+
+# ---------------------------------------------------------------------- the app: presenter, students, panels
+HALL_CODE = "864213"
+
+
+@pytest.fixture
+def hall():  # type: ignore[no-untyped-def]
+    from conftest import LectureHall
+
+    running = LectureHall(HALL_CODE)
+    try:
+        yield running
+    finally:
+        running.close()
+
+
+def _frames(hall: Any, count: int = 2) -> None:
+    for _ in range(count):
+        hall.app.frame(1.0 / 60.0)
+
+
+def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_is_live(hall: Any) -> None:
+    from conftest import poll_until
+    from viser import _messages
+
+    presenter = hall.join()
+    presenter.present(HALL_CODE)
+    (alice, alice_client), (bob, _) = hall.join_with_client(), hall.join_with_client()
+    _frames(hall)
+    assert alice.mode == "following" and not alice.question.folder.visible
+    with pytest.raises(PermissionError):
+        alice.ask(CHOICE)
+    presenter.ask(CHOICE)
+    _frames(hall)
+    assert alice.question.folder.visible and not alice.scene.folder.visible  # the question replaces the follower panel
+    assert "Which axis is stable?" in alice.question.gui_prompt.content
+    # Alice presses option 2 in her page (a raw websocket sends what the page sends).
+    alice_client.send(_messages.GuiUpdateMessage(alice.question.gui_options[1]._impl.uuid, {"value": True}))
+    poll_until(lambda: hall.app.rounds.tally().answered == 1)
+    bob.answer(2)
+    _frames(hall, 16)  # the presenter's count refreshes at ASK_PERIOD
+    assert hall.app.rounds.tally().counts == (0, 1, 1)
+    assert "2 of 2 answered" in presenter.ask_panel.gui_count.content
+    assert "█" in presenter.ask_panel.gui_histogram.content
+    # answered: the follower panel is back, with her answer
+    assert alice.scene.folder.visible and "2. 2" in alice.question.gui_mine.content
+    second = presenter.vote_again()
+    _frames(hall)
+    assert second.number == 2 and alice.question.gui_options[0].visible  # asked again: her controls are back
+    assert "round 1: 1" in presenter.ask_panel.gui_histogram.content
+    presenter.close_round()
+    _frames(hall)
+    assert "closed" in alice.question.gui_prompt.content and not alice.question.gui_options[0].visible
+    assert alice.error_count == 0 and presenter.error_count == 0
+
+
+def test_a_lesson_steps_question_fills_the_presenters_form(hall: Any) -> None:
+    presenter = hall.join()
+    presenter.present(HALL_CODE)
+    presenter.start_lesson("§6 The free body and the heavy top")
+    presenter.next_step(1)  # step 1: where will ω point (a direction, with its truth)
+    panel = presenter.ask_panel
+    assert panel.gui_kind.value == "Direction" and "Where will ω point" in panel.gui_prompt.value
+    assert panel.gui_truth.visible and panel.gui_truth.value.startswith("0.287")
+    panel.ask_from_form()
+    assert hall.app.rounds.current.question.truth[2] == pytest.approx(0.958, abs=1e-3)  # type: ignore[union-attr]
+    assert presenter.error_count == 0, presenter.last_error
+
+
+# ---------------------------------------------------------------------- across processes (app.cluster.askbus)
+def test_the_tally_is_the_same_whichever_worker_the_students_are_on() -> None:
+    """Two in-process workers on a real redis-server: a presenter and a student on w1, two
+    students on w2 (one answering by pressing its option in its panel); the tally on w1 counts
+    all three, once each; closing the round closes it on w2."""
+    from conftest import RawClient, poll_until
+    from viser import _messages
+
+    from app.cluster import services
+    from app.main import create_server
+
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    apps: list[Any] = []
+    clients: list[Any] = []
+    try:
+        for worker in ("w1", "w2"):
+            apps.append(create_server("127.0.0.1", 0, verbose=False, presenter_code=HALL_CODE, redis_url=url,
+                                      worker_id=worker))
+
+        def join(app: Any) -> tuple[Any, Any]:
+            before = set(app.sessions)
+            client = RawClient(app.port)
+            clients.append(client)
+            sessions = app.wait_for_sessions(len(before) + 1, timeout=20.0)
+            (session,) = (s for cid, s in sessions.items() if cid not in before)
+            return session, client
+
+        presenter, _ = join(apps[0])
+        presenter.present(HALL_CODE)
+        (a, _), (b, b_client), (c, _) = join(apps[0]), join(apps[1]), join(apps[1])
+        presenter.ask(CHOICE)
+        poll_until(lambda: b.question.folder.visible and c.question.folder.visible, timeout=10.0)
+        a.answer(0)
+        b_client.send(_messages.GuiUpdateMessage(b.question.gui_options[2]._impl.uuid, {"value": True}))
+        poll_until(lambda: b.my_answer() == 2, timeout=10.0)
+        c.answer(1)
+        c.answer(2)  # changes its mind: counted once, the last
+        poll_until(lambda: apps[0].rounds.tally().answered == 3, timeout=10.0)
+        time.sleep(3 * 0.1)  # three more polls: nothing more arrives
+        assert apps[0].rounds.tally().counts == (1, 0, 2)
+        poll_until(lambda: "3 of 3 answered" in presenter.ask_panel.gui_count.content, timeout=5.0)
+        presenter.close_round()
+        poll_until(lambda: "closed" in b.question.gui_prompt.content, timeout=10.0)
+        with pytest.raises(Refused, match="closed"):
+            c.answer(0)
+        assert b.error_count == 0 and presenter.error_count == 0, (b.last_error, presenter.last_error)
+    finally:
+        for client in clients:
+            client.close()
+        for app in apps:
+            app.stop()
+        services.stop_process(process)

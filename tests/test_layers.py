@@ -32,6 +32,7 @@ LAYERS = {
     "app.codec": 2.5,  # a room as bytes: imports the scenes registry
     "app.lessons": 3, "app.own": 3.5, "app.export": 3,
     "app.hall.caption": 2.8, "app.hall.room_plot": 2.8, "app.hall.follower": 3,
+    "app.cluster.askbus": 0.6,  # questions across processes: the model and Redis
     "app.lectern": 4, "app.cluster.bus": 4.5,  # the bus: what followers on another process see
     "app.hall": 5, "app.session": 6, "app.main": 7, "app.notebook": 7.5,
     "app.__main__": 8, "app": 8,

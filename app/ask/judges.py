@@ -42,8 +42,8 @@ from scipy.spatial.transform import Rotation
 from physics.judging import attitude_error_rad, axis_stays, top_motion
 from physics.top_energy import CUSP, LOOP, SLEEPING, STEADY, THROUGH_VERTICAL, TOO_SLOW, WAVE
 
-__all__ = ["AXIS_NAMES", "JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "MOTION_WORDS", "AnswerState", "Judged",
-           "check_state", "check_target", "judge", "judge_answer", "state_of_room"]
+__all__ = ["AXIS_NAMES", "JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "MOTION_WORDS", "READERS", "AnswerState",
+           "Judged", "check_state", "check_target", "judge", "judge_answer", "read_state", "state_of_room"]
 
 MAX_STATE_KEYS = 64
 MAX_STATE_BYTES = 4096  # the answer's repr
@@ -62,6 +62,23 @@ class Judged:
     good: bool | None = None
 
 
+
+
+READERS: dict[str, Callable[[Any], dict[str, Any]]] = {}
+"""scene title -> reader(simulation) -> the state answer of a room of that scene (names to numbers);
+a scene without one answers its time only (`read_state`)."""
+
+
+def read_state(room: Any) -> dict[str, Any]:
+    """The state answer of a browser's own `room` (`app.kit.core.room.Room`): its scene's reader's;
+    else its body (`state_of_room(room).to_dict()`: attitude, ω_b, moments, mgl); else {"t": t}."""
+    reader = READERS.get(room.scene.title)
+    if reader is not None:
+        return reader(room.sim)
+    try:
+        return state_of_room(room).to_dict()
+    except ValueError:
+        return {"t": float(room.sim.t)}
 
 
 def check_state(question: Any, value: Any) -> dict[str, Any]:
