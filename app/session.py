@@ -35,7 +35,9 @@ from typing import Any, TypeVar
 import viser
 
 from app.ask import Question, new_token
+from app.ask.gallery import play_answer
 from app.ask.judges import read_state
+from app.ask.state_tally import gallery_entries
 from app.hall.ask import AnswerPanel, AskPanel
 from app.hall.follower import is_narrow
 from app.hall.lecture_panel import LecturePanel
@@ -115,7 +117,8 @@ class Session:
         if lectern is not None:
             self.ask_panel = AskPanel(self.client, self.guard, lectern.rounds, order=top + 0.3,
                                       audience=lambda: sum(lectern.total_audience()),
-                                      scene_title=lambda: self.room.scene.title)
+                                      scene_title=lambda: self.room.scene.title,
+                                      play=lambda answer: play_answer(self.room, answer))
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
             self.question.bind_guard(self.guard)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
@@ -575,6 +578,17 @@ class Session:
         round_ = self._presenter_only("vote again").vote_again()
         self._questions_shown()
         return round_
+
+    def play_answer(self, number: int) -> None:
+        """Play the current State round's anonymous answer `number` (1.. as in its CSV) in the
+        presenter's room (presenter only); LookupError for no such answer, ValueError for another
+        scene's body."""
+        rounds = self._presenter_only("play an answer")
+        round_ = rounds.current
+        entries = {} if round_ is None else {e.number: e for e in gallery_entries(round_)}
+        if number not in entries:
+            raise LookupError(f"no state answer number {number}")
+        play_answer(self.room, entries[number].answer)
 
     def _questions_shown(self) -> None:
         if self.ask_panel is not None:

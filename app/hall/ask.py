@@ -36,7 +36,10 @@ import numpy as np
 import viser
 
 from app.ask import JUDGES, Choice, Direction, Question, Rounds, Shown, State, Tally, question_from_dict
+from app.ask.gallery import Gallery, GalleryEntry, GalleryPanel
+from app.ask.judges import MOTION_WORDS, AnswerState, judge
 from app.ask.questions import MAX_OPTIONS
+from app.ask.state_tally import gallery_entries, judged_histogram_text
 from app.kit.core.common import Wrap
 
 __all__ = ["ASK_LABEL", "CHANGE_LABEL", "CLOSE_LABEL", "CSV_LABEL", "DIRECTION_LABEL", "FROM_COPY_LABEL", "NEW_LABEL",
@@ -98,7 +101,41 @@ def answer_words(question: Question, value: Any) -> str:
         azimuth = math.degrees(math.atan2(y, x))
         elevation = math.degrees(math.asin(max(-1.0, min(1.0, z))))
         return f"**azimuth {azimuth:.0f}°, elevation {elevation:.0f}°**"
+    if isinstance(question, State) and question.judge is not None:
+        try:
+            judged = judge(question, value)
+        except ValueError as error:
+            return f"**your state** (not judged: {error})"
+        if judged is not None:
+            mark = "" if judged.good is None else " ✓ as asked" if judged.good else " ✗ not what was asked"
+            return f"**{judged.words}**{mark}"
     return "**your state**"
+
+
+def target_of(judge_name: str, text: str) -> dict[str, Any] | None:
+    """A State question's target typed in the form (None when empty): the attitude judge takes
+    "φ, θ, ψ" [deg], the top's a class of motion ("loops"), the axis judge "stays" or "flips".
+    ValueError naming what is wrong."""
+    text = text.strip()
+    if not text:
+        return None
+    if judge_name == "attitude":
+        try:
+            angles = [float(part) for part in text.replace("(", "").replace(")", "").replace(";", ",").split(",")]
+        except ValueError:
+            raise ValueError(f"Target: φ, θ, ψ in degrees wanted, got {text!r}") from None
+        if len(angles) != 3:
+            raise ValueError(f"Target: three angles φ, θ, ψ [deg] wanted, got {len(angles)}")
+        return {"angles_deg": angles}
+    if judge_name == "top_motion":
+        if text not in MOTION_WORDS.values():
+            raise ValueError(f"Target: one of {', '.join(MOTION_WORDS.values())}, got {text!r}")
+        return {"motion": text}
+    if judge_name == "axis_stays":
+        if text not in ("stays", "flips"):
+            raise ValueError(f"Target: stays or flips, got {text!r}")
+        return {"stays": text == "stays"}
+    raise ValueError("Target: choose a judge first")
 
 
 def direction_of(azimuth_deg: float, elevation_deg: float) -> tuple[float, float, float]:
@@ -183,8 +220,10 @@ class AskPanel:
     """
 
     def __init__(self, client: viser.ClientHandle, guard: Wrap, rounds: Rounds, *,
-                 audience: Callable[[], int], scene_title: Callable[[], str], order: float) -> None:
+                 audience: Callable[[], int], scene_title: Callable[[], str], order: float,
+                 play: Callable[[AnswerState], None] | None = None) -> None:
         self.client = client
+        self.play = play
         self.rounds = rounds
         self.audience = audience
         self.scene_title = scene_title
@@ -202,6 +241,9 @@ class AskPanel:
                                           hint="x, y, z in the space frame (z up), or empty")
             self.gui_judge = gui.add_dropdown("Judge", ("none", *JUDGES), initial_value="none", visible=False,
                                               hint="how the app judges a state")
+            self.gui_target = gui.add_text("Target", "", visible=False,
+                                           hint="attitude: φ, θ, ψ [deg] · top_motion: loops, waves, ... · "
+                                                "axis_stays: stays or flips")
             self.gui_ask = gui.add_button(ASK_LABEL, icon=viser.Icon.HELP,
                                           hint="every student answers from their own copy")
             self.gui_count = gui.add_markdown("", visible=False)
@@ -213,6 +255,10 @@ class AskPanel:
             self.gui_csv = gui.add_button(CSV_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
                                           hint="every round's anonymous answers")
             self.gui_new = gui.add_button(NEW_LABEL, visible=False, hint="back to the form")
+            self.gallery = Gallery(client.scene, root=f"{ASK_ROOT}/gallery")
+            self.gallery_panel = GalleryPanel(gui, self.gallery, lambda entry: self.play_entry(entry), guard)
+            self.gallery_panel.folder.visible = False
+        self._filled: State | None = None  # a lesson's state question: its target, unless the form changes
         self._sphere: list[Any] = []
         self.gui_kind.on_update(guard("question kind", lambda _e: self._kind_shown()))
         self.gui_ask.on_click(guard("ask the class", lambda _e: self.ask_from_form()))
@@ -230,7 +276,8 @@ class AskPanel:
             self.gui_kind.value = "Choice"
             return
         for handle, shown in ((self.gui_options, kind == "choice"), (self.gui_correct, kind == "choice"),
-                              (self.gui_truth, kind == "direction"), (self.gui_judge, kind == "state")):
+                              (self.gui_truth, kind == "direction"), (self.gui_judge, kind == "state"),
+                              (self.gui_target, kind == "state")):
             _show(handle, shown)
 
     def form_question(self) -> Question:
@@ -252,8 +299,14 @@ class AskPanel:
                 except ValueError:
                     raise ValueError(f"True direction: three numbers x, y, z wanted, got {text!r}") from None
             return question_from_dict({"kind": kind, "prompt": prompt, "truth": truth})
-        judge = None if self.gui_judge.value == "none" else str(self.gui_judge.value)
-        return question_from_dict({"kind": kind, "prompt": prompt, "scene": self.scene_title(), "judge": judge})
+        judge_name = None if self.gui_judge.value == "none" else str(self.gui_judge.value)
+        target = None if judge_name is None else target_of(judge_name, str(self.gui_target.value))
+        filled = self._filled
+        if (filled is not None and judge_name == filled.judge and not str(self.gui_target.value).strip()
+                and filled.scene == self.scene_title()):  # a lesson's question: its whole target
+            target = None if filled.target is None else dict(filled.target)
+        return question_from_dict({"kind": kind, "prompt": prompt, "scene": self.scene_title(), "judge": judge_name,
+                                   "target": target})
 
     def fill(self, question: Question) -> None:
         """Put `question` into the form (a lesson step's question), ready for `Ask the class`."""
@@ -264,8 +317,10 @@ class AskPanel:
             self.gui_correct.value = "none" if question.correct is None else str(question.correct + 1)
         elif isinstance(question, Direction):
             self.gui_truth.value = "" if question.truth is None else ", ".join(f"{c:.3g}" for c in question.truth)
-        elif isinstance(question, State) and question.judge in JUDGES:
-            self.gui_judge.value = question.judge
+        elif isinstance(question, State):
+            self.gui_judge.value = question.judge if question.judge in JUDGES else "none"
+            self.gui_target.value = ""  # empty: the lesson's own target is asked (`form_question`)
+        self._filled = question if isinstance(question, State) else None
         self._kind_shown()
 
     def ask_from_form(self) -> None:
@@ -291,6 +346,7 @@ class AskPanel:
         _show(self.folder, shown)
         if not shown:
             self._draw_sphere(None)
+            self._show_gallery(None)
         else:
             self.drawn = ()
             self.refresh()
@@ -303,6 +359,7 @@ class AskPanel:
         round_ = rounds.current
         expected = self.audience()
         key = (rounds.version, rounds.answers_version, expected)
+        self.gallery.tick()  # answers that came within the gallery's redraw period
         if key == self.drawn:
             return
         self.drawn = key
@@ -312,7 +369,7 @@ class AskPanel:
         if asking:
             self._kind_shown()
         else:
-            for handle in (self.gui_options, self.gui_correct, self.gui_truth, self.gui_judge):
+            for handle in (self.gui_options, self.gui_correct, self.gui_truth, self.gui_judge, self.gui_target):
                 _show(handle, False)
         for handle in (self.gui_count, self.gui_close, self.gui_again, self.gui_csv, self.gui_new):
             _show(handle, not asking)
@@ -320,6 +377,7 @@ class AskPanel:
             _show(self.gui_histogram, False)
             _show(self.gui_reveal, False)
             self._draw_sphere(None)
+            self._show_gallery(None)
             return
         tally = round_.tally()
         question = round_.question
@@ -338,10 +396,31 @@ class AskPanel:
             near = f" · {tally.within(15.0)} within 15° of the true direction" if round_.revealed else ""
             _write(self.gui_histogram, f"{tally.answered} tips on the sphere in the 3D view{near}")
         else:
-            judged = [j for j in tally.judged if j is not None]
-            _write(self.gui_histogram, f"{tally.answered} states sent" + (f", {len(judged)} judged" if judged else ""))
+            histogram = judged_histogram_text(tally)
+            _write(self.gui_histogram, histogram or f"{tally.answered} states sent")
         _show(self.gui_histogram, True)
         self._draw_sphere(tally if isinstance(question, Direction) else None, round_.revealed)
+        self._show_gallery(round_ if isinstance(question, State) else None)
+
+    # ------------------------------------------------------------------ the gallery (State questions)
+    def _show_gallery(self, round_: Any) -> None:
+        """The gallery of the round's states (None: no state round; the gallery goes)."""
+        shown = round_ is not None
+        _show(self.gallery_panel.folder, shown)
+        if not shown:
+            if self.gallery.entries:
+                self.gallery.remove()
+            return
+        self.gallery.set_entries(gallery_entries(round_))
+        self.gallery.tick()
+        self.gallery_panel.refresh()
+
+    def play_entry(self, entry: GalleryEntry) -> None:
+        """`Play this answer`: the chosen anonymous state in the presenter's room, playing."""
+        if self.play is None:
+            raise RuntimeError("this panel cannot play an answer")
+        self.play(entry.answer)
+        self.gallery_panel.line.content = f"Playing answer {entry.number} in the room."
 
     def _draw_sphere(self, tally: Tally | None, revealed: bool = False) -> None:
         """The sphere, the tips of the answers and (revealed) the true direction, in this browser's scene."""
@@ -372,6 +451,7 @@ class AskPanel:
 
     def remove(self) -> None:
         self._draw_sphere(None)
+        self.gallery.remove()
         self.folder.remove()
 
 
