@@ -3,9 +3,10 @@
 The presenter (a 1024×768 projector screen) opens the heavy top's Wave preset, presents, and asks
 "Find a start that makes the top loop" judged by the app (top_motion, loops wanted).  A laptop
 student presses `Answer from my copy`, types dφ/dt = −31.5 deg/s into its own copy's number box
-and sends its state: its panel says "loops — …" and that it is what was asked.  A phone student
+and sends its state: its panel says "loops — …" and that it is what was asked; it leaves.  A phone student
 (390×844, touch) taps `Answer from my copy` and sends its copy as it is: "waves — …".  The
-presenter's panel shows the judged histogram (loops 1, waves 1, 1 of 2 meet the target); in the
+presenter's panel shows the judged histogram (loops 1, waves 1, 1 of 2 meet the target: the
+answer of the student who left counts); in the
 gallery it walks to the first answer with `Next` and presses `Play this answer`: the presenter's
 room restarts from that student's state, bit for bit, and plays.
 Needs Debian's Chromium: `apt-get install chromium`.
@@ -42,6 +43,18 @@ def ask_app():  # type: ignore[no-untyped-def]
 def _number_box(page, handle):  # type: ignore[no-untyped-def]
     """The number box beside a slider (its root's id is the handle's uuid)."""
     return page.locator(f'[id="{handle._impl.uuid}"]').locator("xpath=..").locator("input.mantine-NumberInput-input")
+
+
+def _tap(page, name: str) -> None:  # type: ignore[no-untyped-def]
+    """Tap the button `name` once it holds still (a busy server's message moves the panel's rows)."""
+    button = page.get_by_role("button", name=name)
+    for _ in range(5):
+        try:
+            button.tap(timeout=6_000)
+            return
+        except Exception:  # noqa: BLE001 - moved while the tap was aimed: aim again
+            continue
+    raise AssertionError(f"could not tap {name!r}")
 
 
 def _choose(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
@@ -89,12 +102,13 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
     wait_until(lambda: laptop.scene.gui_rates[1].value == -31.5, timeout=10.0)
     laptop_page.get_by_role("button", name="Send my state").click()
     laptop_page.get_by_text(re.compile(r"loops — .*as asked")).first.wait_for(timeout=15_000)
+    laptop_page.context.close()  # it leaves: its answer still counts (and one page less renders)
 
     # A phone student: taps its way to its copy and sends it as it is (the presenter's waves).
     phone_page, phone = open_page(browser, app, **PHONE)
-    phone_page.get_by_role("button", name="Answer from my copy").tap()
+    _tap(phone_page, "Answer from my copy")
     wait_until(lambda: phone.mode == "own", timeout=15.0)
-    phone_page.get_by_role("button", name="Send my state").tap()
+    _tap(phone_page, "Send my state")
     phone_page.get_by_text(re.compile(r"waves — .*not what was asked")).first.wait_for(timeout=15_000)
 
     # The presenter sees the judged tally and walks the gallery.
@@ -110,4 +124,4 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
     wait_until(lambda: np.array_equal(room.sim.initial_state.R_space_body, first.R_space_body)
                and np.array_equal(room.sim.initial_state.omega_body, first.omega_body), timeout=10.0)
     assert room.playing and room.sim.model.inertia == first.inertia and room.sim.model.mgl == first.mgl
-    assert presenter.error_count == 0 and laptop.error_count == 0 and phone.error_count == 0
+    assert presenter.error_count == 0 and phone.error_count == 0

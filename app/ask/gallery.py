@@ -18,8 +18,8 @@ the order they first arrived, never named.
 * `play_answer(room, answer)` restarts the room's simulation from the answer (its model's moments
   and mgl, attitude, ω_b) at t = 0 and plays: the projector shows it moving.
 
-`GalleryPanel(gui, gallery, play)` is the presenter's folder: the line, `Previous`, `Next`,
-`All answers`, `Play this answer`.
+`GalleryPanel(gui, gallery, play)` is the presenter's folder: the line, one row `Previous`
+`Next` `All`, and `Play this answer`.
 """
 
 from __future__ import annotations
@@ -246,8 +246,11 @@ def play_answer(room: Any, answer: AnswerState) -> None:
 
 
 class GalleryPanel:
-    """The presenter's Gallery folder (module docstring): `play(entry)` is called by `Play this
-    answer` with the chosen answer (the caller loads it into its room and says what happened)."""
+    """The presenter's Gallery folder (module docstring): one row `Previous` `Next` `All` and
+    `Play this answer`; `play(entry)` is called with the chosen answer (the caller loads it into
+    its room and says what happened)."""
+
+    WALK = {"Previous": "previous", "Next": "next", "All": "show_all"}
 
     def __init__(self, gui: Any, gallery: Gallery, play: Callable[[GalleryEntry], None],
                  guard: Callable[[str, Callable[..., Any]], Callable[..., Any]] | None = None) -> None:
@@ -257,17 +260,17 @@ class GalleryPanel:
         self.folder = gui.add_folder("Gallery")
         with self.folder:
             self.line = gui.add_markdown(gallery.words())
-            self.previous_button = gui.add_button("Previous")
-            self.next_button = gui.add_button("Next")
-            self.all_button = gui.add_button("All answers")
-            self.play_button = gui.add_button("Play this answer", disabled=True)
-        self.previous_button.on_click(wrap("gallery previous", lambda _event: self._then(gallery.previous)))
-        self.next_button.on_click(wrap("gallery next", lambda _event: self._then(gallery.next)))
-        self.all_button.on_click(wrap("gallery all", lambda _event: self._then(gallery.show_all)))
+            self.walk = gui.add_button_group("Answers", tuple(self.WALK))
+            self.play_button = gui.add_button("Play this answer", disabled=True,
+                                              hint="the chosen answer in the room, on every screen")
+        self.walk.on_click(wrap("gallery", lambda event: self._walk(event.target.value)))
         self.play_button.on_click(wrap("gallery play", lambda _event: self._play()))
 
-    def _then(self, action: Callable[[], None]) -> None:
-        action()
+    def _walk(self, option: Any) -> None:
+        name = self.WALK.get(option) if isinstance(option, str) else None
+        if name is None:  # a client can send anything
+            return
+        getattr(self.gallery, name)()
         self.refresh()
 
     def _play(self) -> None:
@@ -283,8 +286,9 @@ class GalleryPanel:
         if self.line.content != words:
             self.line.content = words
         self.play_button.disabled = self.gallery.chosen is None
-        empty = not self.gallery.entries
-        self.previous_button.disabled = self.next_button.disabled = empty
+        shown = bool(self.gallery.entries)  # (viser's button groups cannot be disabled)
+        if self.walk.visible != shown:
+            self.walk.visible = shown
 
     def remove(self) -> None:
         self.folder.remove()
