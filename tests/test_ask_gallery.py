@@ -81,6 +81,12 @@ def test_play_answer_restarts_the_room_from_the_answer_bit_for_bit() -> None:
     assert np.array_equal(room.sim.state.R_space_body, answer.R_space_body)
     assert np.array_equal(room.sim.state.omega_body, answer.omega_body)
     assert room.sim.model.inertia == (1.2, 1.2, 0.6) and room.sim.model.mgl == 5.0
+    before = (room.sim.state, room.sim.model)
+    with pytest.raises(ValueError, match="not one the Heavy top scene can show"):  # I1 ≠ I2
+        play_answer(room, AnswerState("Heavy top", R, answer.omega_body, (1.2, 1.3, 0.6), 5.0))
+    with pytest.raises(ValueError, match=r"m g ℓ \[N m\] = 1e\+06 is outside"):
+        play_answer(room, AnswerState("Heavy top", R, answer.omega_body, (1.2, 1.2, 0.6), 1e6))
+    assert (room.sim.state, room.sim.model) == before  # refused: nothing changed
     free_room = Room(FreeBodyView, FreeBodyView.new_simulation())
     with pytest.raises(ValueError, match="Heavy top body; the room shows Free body"):
         play_answer(free_room, answer)

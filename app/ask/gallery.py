@@ -16,7 +16,9 @@ the order they first arrived, never named.
   (TOP_ROD, TOP_DISC_*), a body with moments of inertia the box of uniform density that has them
   (`box_extents`), otherwise a 1.2 × 0.8 × 0.4 box.
 * `play_answer(room, answer)` restarts the room's simulation from the answer (its model's moments
-  and mgl, attitude, ω_b) at t = 0 and plays: the projector shows it moving.
+  and mgl, attitude, ω_b) at t = 0 and plays: the projector shows it moving.  A body the scene's
+  sliders could not set (a parameter outside its range, I1 ≠ I2 for the heavy top) is refused
+  with a message and changes nothing.
 
 `GalleryPanel(gui, gallery, play)` is the presenter's folder: the line, one row `Previous`
 `Next` `All`, and `Play this answer`.
@@ -221,6 +223,23 @@ class Gallery:
         self._remove_node()
 
 
+def _check_showable(scene: Any, model: Model) -> None:
+    """ValueError unless the scene's sliders can show `model` (each parameter in its slider's
+    range, and the scene's own model of those parameters is this one): a student's body is
+    played only if the presenter could have set it."""
+    to_params = getattr(scene, "params_from_model", None)
+    specs = getattr(scene, "param_specs", ())
+    if to_params is None or not specs:
+        return
+    params = tuple(float(p) for p in to_params(model))
+    for spec, value in zip(specs, params, strict=False):
+        if not spec.lo <= value <= spec.hi:
+            raise ValueError(f"this answer's {spec.label} = {value:g} is outside [{spec.lo:g}, {spec.hi:g}]")
+    rebuilt = scene.model_from_params(params)
+    if rebuilt.inertia != model.inertia or rebuilt.mgl != model.mgl:
+        raise ValueError(f"this answer's body is not one the {scene.title} scene can show")
+
+
 def play_answer(room: Any, answer: AnswerState) -> None:
     """Restart `room`'s simulation from `answer` at t = 0 and play (module docstring); ValueError
     with the message to show for an answer of another scene."""
@@ -233,6 +252,7 @@ def play_answer(room: Any, answer: AnswerState) -> None:
         if isinstance(model, Model) and hasattr(sim, "restart"):
             if answer.inertia is not None:
                 new_model = dataclasses.replace(model, inertia=answer.inertia, mgl=answer.mgl)
+                _check_showable(room.scene, new_model)
                 if new_model != model:
                     sim.model = new_model
                     sim.mesh = None  # a body of its own gives way to the answer's moments
