@@ -261,17 +261,17 @@ class App:
         return self.lectern.rounds
 
     def _ask_tick(self, dt: float) -> None:
-        """Every browser's question when the round changed; the presenter's count at ASK_PERIOD."""
+        """Every browser's question as the round is now: at once when the round changed, and every
+        ASK_PERIOD (the presenter's count; a browser that was busy the last time).  A panel
+        writes only what changed, so a call that finds nothing new costs a comparison."""
         rounds = self.lectern.rounds
         self._since_ask += dt
-        changed = rounds.version != self._ask_version
-        if not changed and self._since_ask < ASK_PERIOD:
+        if rounds.version == self._ask_version and self._since_ask < ASK_PERIOD:
             return
         self._since_ask = 0.0
         self._ask_version = rounds.version
-        presenter = self.lectern.presenter
         with self._sessions_lock:
-            sessions: list[Any] = list(self.sessions.values()) if changed else [presenter] if presenter else []
+            sessions = list(self.sessions.values())
         for session in sessions:
             session.questions_changed()
 

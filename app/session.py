@@ -120,7 +120,6 @@ class Session:
                                       scene_title=lambda: self.room.scene.title,
                                       play=lambda answer: play_answer(self.room, answer))
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
-            self.question.bind_guard(self.guard)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)

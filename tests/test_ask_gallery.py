@@ -47,14 +47,15 @@ def test_forty_bodies_are_one_node_and_one_is_walked(server) -> None:
     gallery = Gallery(server.scene, root="/test_gallery", clock=lambda: clock[0])
     entries = _tops(40)
     gallery.set_entries(entries[:39])
+    node = gallery._node  # made with the gallery, hidden
+    assert not node.visible and gallery.sends == 0
     gallery.tick()
     gallery.set_entries(entries)  # within the redraw period: not sent yet
     gallery.tick()
-    assert gallery.sends == 1 and len(gallery._node.batched_wxyzs) == 39
+    assert gallery.sends == 1 and len(node.batched_wxyzs) == 39 and node.visible
     clock[0] = 1.0
     gallery.tick()
-    node = gallery._node
-    assert gallery.sends == 2 and len(node.batched_wxyzs) == 40
+    assert gallery.sends == 2 and len(node.batched_wxyzs) == len(node.batched_positions) == 40
     assert np.allclose(node.batched_opacities, ALL_OPACITY) and gallery.words() == "40 answers drawn faint at once."
     wxyz = Rotation.from_matrix(entries[7].answer.R_space_body).as_quat(scalar_first=True)
     assert np.allclose(np.abs(node.batched_wxyzs[7] @ wxyz), 1.0, atol=1e-6)
@@ -68,6 +69,8 @@ def test_forty_bodies_are_one_node_and_one_is_walked(server) -> None:
     gallery.set_entries(entries[1:])  # the chosen one replaced: back to the first
     gallery.show_all()
     assert gallery.chosen is None
+    gallery.clear()
+    assert not node.visible
     gallery.remove()
     assert gallery._node is None
 

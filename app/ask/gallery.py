@@ -96,8 +96,10 @@ def _glyph(answer: AnswerState) -> tuple[np.ndarray, np.ndarray]:
 
 
 class Gallery:
-    """The submitted bodies in one scene (module docstring).  Not thread-safe on its own: the
-    caller holds the lock of the round it draws."""
+    """The submitted bodies in one scene (module docstring).  Its one node is made when the
+    gallery is (hidden): a node made inside the app loop's frame holds back that frame's panel
+    updates for the browser (`app.wire`), so drawing only sets the node's arrays and shows it.
+    Not thread-safe on its own: the caller holds the lock of the round it draws."""
 
     def __init__(self, scene: Any, root: str = GALLERY_ROOT, clock: Callable[[], float] = time.monotonic) -> None:
         self.scene = scene
@@ -107,8 +109,14 @@ class Gallery:
         self.mode = ALL
         self.index = 0
         self.visible = True
-        self._node: Any = None
-        self._glyph_key: tuple[Any, ...] | None = None
+        self._glyph_key: tuple[Any, ...] = ("top",)
+        vertices, faces = _glyph(AnswerState("", np.eye(3), np.zeros(3), (1.0, 1.0, 0.5), 1.0))
+        self._node: Any = scene.add_batched_meshes_simple(
+            f"{root}/bodies", vertices, faces, batched_wxyzs=np.array([[1.0, 0.0, 0.0, 0.0]], np.float32),
+            batched_positions=np.zeros((1, 3), np.float32), batched_colors=np.array([FAINT_COLOR], np.uint8),
+            batched_opacities=np.array([ALL_OPACITY], np.float32), opacity=1.0, lod="off", cast_shadow=False,
+            receive_shadow=False, flat_shading=True, visible=False)
+        self._shown = False
         self._dirty = False
         self._drawn_at = -math.inf
         self.sends = 0  # how many times the node's arrays went out (for tests and measurements)
@@ -116,8 +124,11 @@ class Gallery:
     # ------------------------------------------------------------------ what is shown
     def set_entries(self, entries: Sequence[GalleryEntry]) -> None:
         """The answers now (drawn at the next `tick`); the chosen answer stays chosen by its number."""
+        entries = tuple(entries)
+        if entries == self.entries:
+            return
         chosen = self.chosen
-        self.entries = tuple(entries)
+        self.entries = entries
         if chosen is not None:
             numbers = [entry.number for entry in self.entries]
             self.index = numbers.index(chosen.number) if chosen.number in numbers else 0
@@ -134,7 +145,6 @@ class Gallery:
     def show_all(self) -> None:
         self.mode = ALL
         self.visible = True
-        self._dirty = True
         self.draw()
 
     def show_one(self, index: int) -> None:
@@ -145,7 +155,6 @@ class Gallery:
         self.mode = ONE
         self.visible = True
         self.index = index % len(self.entries)
-        self._dirty = True
         self.draw()
 
     def next(self) -> None:
@@ -156,7 +165,6 @@ class Gallery:
 
     def hide(self) -> None:
         self.visible = False
-        self._dirty = True
         self.draw()
 
     def words(self) -> str:
@@ -177,14 +185,19 @@ class Gallery:
             self.draw()
 
     def draw(self) -> None:
-        """Send the node's arrays now (one batched mesh: attitudes, colours, opacities)."""
+        """Send the node's arrays now (one batched mesh: attitudes, colours, opacities), or hide it."""
         self._dirty = False
         self._drawn_at = self.clock()
+        node = self._node
+        if node is None:
+            return
         if not self.entries or not self.visible:
-            self._remove_node()
+            if self._shown:
+                node.visible = False
+                self._shown = False
             return
         first = self.entries[0].answer
-        key = (first.scene, first.mgl != 0.0, first.inertia)
+        key = ("top",) if first.mgl != 0.0 else ("box", first.inertia)
         count = len(self.entries)
         wxyzs = Rotation.from_matrix(np.stack([e.answer.R_space_body for e in self.entries])).as_quat(scalar_first=True)
         colors = np.tile(np.array(FAINT_COLOR, dtype=np.uint8), (count, 1))
@@ -193,34 +206,33 @@ class Gallery:
             opacities[:] = ONE_OTHERS_OPACITY
             opacities[self.index] = CHOSEN_OPACITY
             colors[self.index] = CHOSEN_COLOR
-        positions = np.zeros((count, 3), dtype=np.float32)
-        if self._node is not None and key == self._glyph_key and len(self._node.batched_wxyzs) == count:
-            self._node.batched_wxyzs = wxyzs.astype(np.float32)
-            self._node.batched_colors = colors
-            self._node.batched_opacities = opacities
-        else:
-            self._remove_node()
+        if key != self._glyph_key:
             vertices, faces = _glyph(first)
-            self._node = self.scene.add_batched_meshes_simple(
-                f"{self.root}/bodies", vertices, faces, batched_wxyzs=wxyzs.astype(np.float32),
-                batched_positions=positions, batched_colors=colors, batched_opacities=opacities,
-                opacity=1.0, lod="off", cast_shadow=False, receive_shadow=False, flat_shading=True)
+            node.vertices = vertices
+            node.faces = faces
             self._glyph_key = key
+        if len(node.batched_positions) != count:
+            node.batched_positions = np.zeros((count, 3), dtype=np.float32)
+        node.batched_wxyzs = wxyzs.astype(np.float32)
+        node.batched_colors = colors
+        node.batched_opacities = opacities
+        if not self._shown:
+            node.visible = True
+            self._shown = True
         self.sends += 1
 
-    def _remove_node(self) -> None:
-        if self._node is not None:
-            try:
-                self._node.remove()
-            except Exception:  # noqa: BLE001  # a node its server already dropped
-                pass
-        self._node = None
-        self._glyph_key = None
+    def clear(self) -> None:
+        """No answers: the drawing is hidden (the round is over or not a State question)."""
+        self.entries = ()
+        self.mode = ALL
+        self.draw()
 
     def remove(self) -> None:
-        """Take the drawing away (the round is over or the gallery closed)."""
+        """Take the node away (its panel goes)."""
         self.entries = ()
-        self._remove_node()
+        if self._node is not None:
+            self._node.remove()
+            self._node = None
 
 
 def _check_showable(scene: Any, model: Model) -> None:

@@ -160,7 +160,7 @@ def quaternion_to(direction: Sequence[float]) -> tuple[float, float, float, floa
     return w / norm, v[0] / norm, v[1] / norm, 0.0
 
 
-def rotated_z(wxyz: Sequence[float]) -> tuple[float, float, float]:
+def rotated_z(wxyz: Any) -> tuple[float, float, float]:
     """R(q) e_z for a unit quaternion `wxyz`: where a gizmo turned its arrow."""
     w, x, y, z = (float(c) for c in wxyz)
     return 2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)
@@ -255,11 +255,20 @@ class AskPanel:
             self.gui_csv = gui.add_button(CSV_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
                                           hint="every round's anonymous answers")
             self.gui_new = gui.add_button(NEW_LABEL, visible=False, hint="back to the form")
-            self.gallery = Gallery(client.scene, root=f"{ASK_ROOT}/gallery")
+            self.gallery = Gallery(client.scene, root=f"{ASK_ROOT}/gallery")  # its node made now, hidden
             self.gallery_panel = GalleryPanel(gui, self.gallery, lambda entry: self.play_entry(entry), guard)
             self.gallery_panel.folder.visible = False
         self._filled: State | None = None  # a lesson's state question: its target, unless the form changes
-        self._sphere: list[Any] = []
+        # The sphere, the tips and the true direction, made hidden now (see AnswerPanel: no node is made in a frame)
+        scene = client.scene
+        self._sphere: list[Any] = [
+            scene.add_icosphere(f"{ASK_ROOT}/sphere", radius=SPHERE_RADIUS, color=(150, 170, 200), subdivisions=3,
+                                opacity=0.12, cast_shadow=False, receive_shadow=False, visible=False),
+            scene.add_point_cloud(f"{ASK_ROOT}/tips", np.zeros((1, 3), np.float32), colors=TIP_COLOR,
+                                  point_size=0.09, point_shape="circle", visible=False),
+            scene.add_arrows(f"{ASK_ROOT}/truth", np.zeros((1, 2, 3), np.float32), TRUTH_COLOR, shaft_radius=0.03,
+                             head_radius=0.08, head_length=0.16, visible=False),
+        ]
         self.gui_kind.on_update(guard("question kind", lambda _e: self._kind_shown()))
         self.gui_ask.on_click(guard("ask the class", lambda _e: self.ask_from_form()))
         self.gui_close.on_click(guard("close the round", lambda _e: self._changed(rounds.close_round)))
@@ -409,7 +418,7 @@ class AskPanel:
         _show(self.gallery_panel.folder, shown)
         if not shown:
             if self.gallery.entries:
-                self.gallery.remove()
+                self.gallery.clear()
             return
         self.gallery.set_entries(gallery_entries(round_))
         self.gallery.tick()
@@ -423,34 +432,22 @@ class AskPanel:
         self.gallery_panel.line.content = f"Playing answer {entry.number} in the room."
 
     def _draw_sphere(self, tally: Tally | None, revealed: bool = False) -> None:
-        """The sphere, the tips of the answers and (revealed) the true direction, in this browser's scene."""
-        scene = self.client.scene
-        if tally is None:
-            for handle in self._sphere:
-                handle.remove()
-            self._sphere = []
-            return
-        if not self._sphere:
-            self._sphere = [
-                scene.add_icosphere(f"{ASK_ROOT}/sphere", radius=SPHERE_RADIUS, color=(150, 170, 200), subdivisions=3,
-                                    opacity=0.12, cast_shadow=False, receive_shadow=False),
-                scene.add_point_cloud(f"{ASK_ROOT}/tips", np.zeros((1, 3), np.float32), colors=TIP_COLOR,
-                                      point_size=0.09, point_shape="circle", visible=False),
-                scene.add_arrows(f"{ASK_ROOT}/truth", np.zeros((1, 2, 3), np.float32), TRUTH_COLOR, shaft_radius=0.03,
-                                 head_radius=0.08, head_length=0.16, visible=False),
-            ]
-        _sphere, tips, truth_arrow = self._sphere
-        points = sphere_points(tally)
+        """The sphere, the tips of the answers and (revealed) the true direction, in this browser's
+        scene; `tally` None: hidden."""
+        sphere, tips, truth_arrow = self._sphere
+        _show(sphere, tally is not None)
+        points = np.zeros((0, 3), np.float32) if tally is None else sphere_points(tally)
         if len(points):
             tips.points = points
         _show(tips, bool(len(points)))
-        truth = getattr(tally.question, "truth", None)
+        truth = None if tally is None else getattr(tally.question, "truth", None)
         if revealed and truth is not None:
             truth_arrow.points = np.array([[[0.0, 0.0, 0.0], [SPHERE_RADIUS * c for c in truth]]], np.float32)
         _show(truth_arrow, bool(revealed and truth is not None))
 
     def remove(self) -> None:
-        self._draw_sphere(None)
+        for handle in self._sphere:
+            handle.remove()
         self.gallery.remove()
         self.folder.remove()
 
@@ -494,8 +491,16 @@ class AnswerPanel:
         self.gui_from_copy.on_click(guard("answer from my copy", lambda _e: self._from_copy()))
         self.gui_send_state.on_click(guard("send my state", lambda _e: self.send(student.state_answer())))
         self.gui_change.on_click(guard("change my answer", lambda _e: self._edit()))
-        self._gizmo: Any = None
-        self._arrow: Any = None
+        # The arrow and its gizmo, made hidden now: a node made inside the app loop's frame holds
+        # back that frame's panel updates for this browser (app.wire), so the round only shows them.
+        scene = student.client.scene
+        self._gizmo = scene.add_transform_controls(
+            f"{ASK_ROOT}/gizmo", scale=0.9, disable_axes=True, disable_sliders=True, depth_test=False,
+            wxyz=quaternion_to(self.direction()), visible=False)
+        self._arrow = scene.add_arrows(
+            f"{ASK_ROOT}/gizmo/arrow", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, ARROW_LENGTH]]], np.float32),
+            TIP_COLOR, shaft_radius=0.04, head_radius=0.1, head_length=0.2)
+        self._gizmo.on_update(guard("direction arrow", lambda _e: self._gizmo_moved()))
 
     def direction(self) -> tuple[float, float, float]:
         """The direction the sliders (and the arrow) show now, a unit 3-vector in the space frame."""
@@ -519,14 +524,10 @@ class AnswerPanel:
         self.refresh()
 
     def _sliders_moved(self) -> None:
-        if self._writing:
-            return
-        if self._gizmo is not None:
+        if not self._writing:
             self._gizmo.wxyz = quaternion_to(self.direction())
 
     def _gizmo_moved(self) -> None:
-        if self._gizmo is None:
-            return
         direction = rotated_z(self._gizmo.wxyz)
         azimuth, elevation = angles_of(direction)
         self._writing = True
@@ -536,26 +537,9 @@ class AnswerPanel:
         finally:
             self._writing = False
 
-    def _arrow_shown(self, shown: bool, guard: Wrap | None = None) -> None:
-        """The student's arrow and its gizmo (rotation only) in its own scene."""
-        if shown and self._gizmo is None:
-            scene = self.student.client.scene
-            self._gizmo = scene.add_transform_controls(
-                f"{ASK_ROOT}/gizmo", scale=0.9, disable_axes=True, disable_sliders=True, depth_test=False,
-                wxyz=quaternion_to(self.direction()))
-            self._arrow = scene.add_arrows(
-                f"{ASK_ROOT}/gizmo/arrow", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, ARROW_LENGTH]]], np.float32),
-                TIP_COLOR, shaft_radius=0.04, head_radius=0.1, head_length=0.2)
-            self._gizmo.on_update(self._guarded_gizmo)
-        elif not shown and self._gizmo is not None:
-            self._gizmo.remove()
-            self._gizmo = self._arrow = None
-
-    _guarded_gizmo: Callable[..., Any]
-
-    def bind_guard(self, guard: Wrap) -> None:
-        """The gizmo's callback, through the session's guard (set once by the session)."""
-        self._guarded_gizmo = guard("direction arrow", lambda _e: self._gizmo_moved())
+    def _arrow_shown(self, shown: bool) -> None:
+        """The student's arrow and its gizmo (rotation only), in its own scene."""
+        _show(self._gizmo, shown)
 
     def refresh(self) -> None:
         """Show the round the class is asked now (or nothing), the controls or this browser's answer."""
@@ -603,5 +587,5 @@ class AnswerPanel:
         self.student.folded_for_question(shown.open and mine is None)
 
     def remove(self) -> None:
-        self._arrow_shown(False)
+        self._gizmo.remove()
         self.folder.remove()
