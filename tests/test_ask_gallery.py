@@ -4,6 +4,8 @@ the box glyph's edges against the closed form of a box's moments, m (b² + c²) 
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import viser
@@ -50,6 +52,8 @@ def test_forty_bodies_are_one_node_and_one_is_walked(server) -> None:
     node = gallery._node  # made with the gallery, hidden
     assert not node.visible and gallery.sends == 0
     gallery.tick()
+    gallery.set_entries([dataclasses.replace(e) for e in entries[:39]])  # equal copies: nothing to redraw
+    assert not gallery._dirty
     gallery.set_entries(entries)  # within the redraw period: not sent yet
     gallery.tick()
     assert gallery.sends == 1 and len(node.batched_wxyzs) == 39 and node.visible

@@ -147,6 +147,10 @@ def test_judges_refuse_bad_targets_and_answers_with_a_message() -> None:
         judge_answer("top_motion", answer, None)
 
 
+def free_of(answer: AnswerState) -> AnswerState:
+    return AnswerState("Free body", answer.R_space_body, answer.omega_body, answer.inertia, 0.0)
+
+
 def test_a_round_judges_state_answers_and_refuses_another_scenes_body() -> None:
     question = StateQuestion("Find a start that makes the top loop", "Heavy top", "top_motion", {"motion": "loops"})
     round_ = Round(question)
@@ -154,7 +158,7 @@ def test_a_round_judges_state_answers_and_refuses_another_scenes_body() -> None:
     loop = AnswerState("Heavy top", R, omega, (I1, I1, I3), MGL)
     kept = round_.answer("browser-a", loop.to_dict())
     assert kept.judged is not None and kept.judged.value == "loops" and kept.judged.good is True
-    assert np.array_equal(AnswerState.from_dict(kept.value).R_space_body, R)
+    assert AnswerState.from_dict(kept.value) == loop and AnswerState.from_dict(kept.value) != free_of(loop)
     free = AnswerState("Free body", np.eye(3), np.array([0.0, 5.0, 0.0]), (0.3, 0.75, 1.0))
     with pytest.raises(Refused, match="Heavy top scene"):
         round_.answer("browser-b", free.to_dict())

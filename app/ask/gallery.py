@@ -66,6 +66,13 @@ class GalleryEntry:
     verdict: str = ""
 
 
+def _signature(entry: GalleryEntry) -> tuple[Any, ...]:
+    """An entry as plain comparable values (its arrays as bytes)."""
+    answer = entry.answer
+    return (entry.number, entry.value, entry.verdict, answer.scene, answer.R_space_body.tobytes(),
+            answer.omega_body.tobytes(), answer.inertia, answer.mgl)
+
+
 def box_extents(inertia: Sequence[float], size: float = 1.2) -> tuple[float, float, float]:
     """Edge lengths (a, b, c) of the uniform box whose principal moments have the ratios of
     `inertia` (I1 ∝ b² + c², ...), scaled so the longest edge is `size`; a moment set no box has
@@ -106,6 +113,7 @@ class Gallery:
         self.root = root
         self.clock = clock
         self.entries: tuple[GalleryEntry, ...] = ()
+        self._signature: tuple[tuple[Any, ...], ...] = ()  # what `entries` holds, comparable
         self.mode = ALL
         self.index = 0
         self.visible = True
@@ -125,10 +133,12 @@ class Gallery:
     def set_entries(self, entries: Sequence[GalleryEntry]) -> None:
         """The answers now (drawn at the next `tick`); the chosen answer stays chosen by its number."""
         entries = tuple(entries)
-        if entries == self.entries:
+        signature = tuple(_signature(entry) for entry in entries)
+        if signature == self._signature:
             return
         chosen = self.chosen
         self.entries = entries
+        self._signature = signature
         if chosen is not None:
             numbers = [entry.number for entry in self.entries]
             self.index = numbers.index(chosen.number) if chosen.number in numbers else 0
@@ -223,13 +233,13 @@ class Gallery:
 
     def clear(self) -> None:
         """No answers: the drawing is hidden (the round is over or not a State question)."""
-        self.entries = ()
+        self.entries = self._signature = ()
         self.mode = ALL
         self.draw()
 
     def remove(self) -> None:
         """Take the node away (its panel goes)."""
-        self.entries = ()
+        self.entries = self._signature = ()
         if self._node is not None:
             self._node.remove()
             self._node = None

@@ -121,7 +121,7 @@ _MAX_SECONDS = 60.0  # the longest span axis_stays integrates [s]
 _MAX_RATE = 1e3  # |ω| [rad/s] an answer may have
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class AnswerState:
     """A submitted body: scene title, R_space_body (3, 3) (x = R x′), omega_body (3,) ω_b
     [rad/s], inertia (I1, I2, I3) [kg m²] (about the pivot for a heavy top) or None where the
@@ -152,6 +152,15 @@ class AnswerState:
         if not math.isfinite(float(self.mgl)):
             raise ValueError("the answer's m g ℓ must be finite")
         object.__setattr__(self, "mgl", float(self.mgl))
+
+    def __eq__(self, other: object) -> bool:
+        """The same scene, model and state, bit for bit."""
+        if not isinstance(other, AnswerState):
+            return NotImplemented
+        return (self.scene, self.inertia, self.mgl) == (other.scene, other.inertia, other.mgl) and (
+            np.array_equal(self.R_space_body, other.R_space_body) and np.array_equal(self.omega_body, other.omega_body))
+
+    __hash__ = None  # type: ignore[assignment]  # equal answers compare their arrays: not hashable
 
     def to_dict(self) -> dict[str, Any]:
         """The flat mapping a student's browser sends (module docstring): `scene`, `R0`...`R8`,
