@@ -19,7 +19,7 @@ import re
 import numpy as np
 import pytest
 import test_browser_lecture
-from test_browser_lecture import CODE, close_toasts, open_folder, open_page, text_input
+from test_browser_lecture import CODE, open_folder, open_page, text_input
 
 from app.ask.judges import AnswerState
 from app.main import App, create_server
@@ -63,12 +63,11 @@ def _choose(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
 
 
 def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one(  # type: ignore[no-untyped-def]
-        browser, ask_app: App, wait_until, tmp_path) -> None:
+        browser, ask_app: App, wait_until) -> None:
     app = ask_app
     lectern = app.lectern
     presenter_page, presenter = open_page(browser, app, viewport={"width": 1024, "height": 768})
     presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    close_toasts(presenter_page)
     _choose(presenter_page, presenter.gui_scene, "Heavy top")
     wait_until(lambda: presenter.room.scene.title == "Heavy top", timeout=15.0)
     presenter_page.get_by_role("button", name="Wave", exact=True).click()
@@ -117,7 +116,6 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
     presenter_page.get_by_text(re.compile("of 2 meet the target")).first.wait_for(timeout=10_000)
     presenter_page.get_by_role("button", name="Next", exact=True).click()
     presenter_page.get_by_text(re.compile(r"Answer 1 of 2: loops")).first.wait_for(timeout=10_000)
-    presenter_page.screenshot(path=str(tmp_path / "ask_gallery.png"))
     presenter_page.get_by_role("button", name="Play this answer").click()
     first = AnswerState.from_dict(lectern.rounds.current.answers()[0].value)
     room = presenter.room
