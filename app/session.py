@@ -118,7 +118,7 @@ class Session:
             self.ask_panel = AskPanel(self.client, self.guard, lectern.rounds, order=top + 0.3,
                                       audience=lambda: sum(lectern.total_audience()),
                                       scene_title=lambda: self.room.scene.title,
-                                      play=lambda answer: play_answer(self.room, answer))
+                                      play=self._play_state)
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
@@ -578,6 +578,11 @@ class Session:
         self._questions_shown()
         return round_
 
+    def _play_state(self, answer: Any) -> None:
+        """The gallery's `Play this answer`: only the presenter's room plays a student's state."""
+        self._presenter_only("play an answer")
+        play_answer(self.room, answer)
+
     def play_answer(self, number: int) -> None:
         """Play the current State round's anonymous answer `number` (1.. as in its CSV) in the
         presenter's room (presenter only); LookupError for no such answer, ValueError for another
@@ -587,7 +592,7 @@ class Session:
         entries = {} if round_ is None else {e.number: e for e in gallery_entries(round_)}
         if number not in entries:
             raise LookupError(f"no state answer number {number}")
-        play_answer(self.room, entries[number].answer)
+        self._play_state(entries[number].answer)
 
     def _questions_shown(self) -> None:
         if self.ask_panel is not None:

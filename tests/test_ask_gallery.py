@@ -127,3 +127,54 @@ def test_the_tally_of_a_judged_round_is_a_histogram_and_its_gallery_is_numbered_
     again.answer("browser-0", AnswerState("Euler angles", np.eye(3), np.zeros(3)).to_dict())
     text = judged_histogram_text(again.tally())  # 40° off; round 1 beside each bar
     assert "20–45°  \n`████████` **1** · round 1: 0" in text and "10–20°  \n`·` **0** · round 1: 2" in text
+
+
+def test_a_state_round_in_the_app_judged_galleried_played_and_no_follower_can_play() -> None:
+    """The app with its loop not running: the presenter asks §6's judged state question from the
+    lesson (its target kept), a student answers from its copy (the step's Loop preset: as asked),
+    the presenter's panel shows the judged histogram and the gallery; a follower's raw websocket
+    presses its own (hidden) gallery buttons and calls play: the presenter's run does not change
+    (its start, restarts, model); the presenter plays answer 1."""
+    from conftest import LectureHall
+    from viser import _messages
+
+    hall = LectureHall("864213")
+    try:
+        presenter = hall.join()
+        presenter.present("864213")
+        presenter.start_lesson("§6 The free body and the heavy top")
+        step = next(k for k, s in enumerate(presenter.lesson.steps) if getattr(s.ask, "judge", None))
+        presenter.next_step(step - presenter.lesson_step)
+        panel = presenter.ask_panel
+        panel.ask_from_form()
+        question = hall.app.rounds.current.question
+        assert (question.judge, question.target) == ("top_motion", {"motion": "loops"})
+        (alice, _), (bob, bob_client) = hall.join_with_client(), hall.join_with_client()
+        hall.app.frame(1.0 / 60.0)
+        alice.answer_from_copy()
+        kept = alice.answer(alice.state_answer())
+        judged = hall.app.rounds.current.answer_of(alice.answer_token).judged
+        assert AnswerState.from_dict(kept).scene == "Heavy top" and judged is not None and judged.good is True
+        for _ in range(20):
+            hall.app.frame(1.0 / 60.0)
+        histogram = panel.gui_histogram.content
+        assert f"{judged.value}  \n`" in histogram and "1** of 1 meet the target" in histogram
+        assert panel.gallery_panel.folder.visible and panel.gallery.entries[0].number == 1
+        room = presenter.room
+        before = (room.sim.initial_state.R_space_body.tobytes(), room.sim.restarts, room.sim.model)
+        bob_panel = bob.ask_panel.gallery_panel
+        for handle, value in ((bob_panel.walk, "Next"), (bob_panel.play_button, True), (bob_panel.walk, "Nope")):
+            bob_client.send(_messages.GuiUpdateMessage(handle._impl.uuid, {"value": value}))
+        for _ in range(5):
+            hall.app.frame(1.0 / 60.0)
+        with pytest.raises(PermissionError):
+            bob.play_answer(1)
+        with pytest.raises(PermissionError):
+            bob._play_state(AnswerState.from_dict(kept))
+        assert (room.sim.initial_state.R_space_body.tobytes(), room.sim.restarts, room.sim.model) == before
+        presenter.play_answer(1)
+        played = AnswerState.from_dict(kept)
+        assert room.playing and np.array_equal(room.sim.initial_state.R_space_body, played.R_space_body)
+        assert presenter.error_count == 0 and alice.error_count == 0
+    finally:
+        hall.close()
