@@ -115,7 +115,8 @@ class Session:
         if lectern is not None:
             self.ask_panel = AskPanel(self.client, self.guard, lectern.rounds, order=top + 0.3,
                                       audience=lambda: sum(lectern.total_audience()),
-                                      scene_title=lambda: self.room.scene.title)
+                                      scene_title=lambda: self.room.scene.title,
+                                      presenting=lambda: self.mode is Mode.PRESENTING)
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
