@@ -118,6 +118,7 @@ class Session:
             self.ask_panel = AskPanel(self.client, self.guard, lectern.rounds, order=top + 0.3,
                                       audience=lambda: sum(lectern.total_audience()),
                                       scene_title=lambda: self.room.scene.title,
+                                      presenting=lambda: self.mode is Mode.PRESENTING,
                                       play=self._play_state)
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)

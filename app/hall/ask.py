@@ -59,9 +59,11 @@ STATE_LABEL = "Send my state"
 CHANGE_LABEL = "Change my answer"
 KINDS = {"Choice": "choice", "Direction": "direction", "State": "state"}
 SPHERE_RADIUS = 1.6  # [scene units] the sphere of the answers' tips, around the origin
-ARROW_LENGTH = 1.4  # [scene units] a student's arrow
+ARROW_LENGTH = 2.2  # [scene units] a student's arrow (out of the scenes' bodies)
+ARROW_COLOR = (0, 150, 150)  # teal: no axis, vector or pointer of the scenes has it
 TIP_COLOR = (40, 110, 230)
 TRUTH_COLOR = (235, 160, 0)
+TRUTH_REACH = 1.3  # the true direction's arrow ends this far out of the sphere (its tip seen past a vector)
 BAR_CHARS = 16  # the longest bar of the histogram
 ASK_ROOT = "/ask"  # the presenter's sphere and a student's arrow, each in its own browser's scene
 
@@ -216,13 +218,17 @@ class AskPanel:
         client: the browser.  guard: its session's guard.  rounds: the app's `Rounds`.
         audience: () -> browsers that can answer now (following + exploring, every process).
         scene_title: () -> the title of the scene shown (a State question's scene).
+        presenting: () -> the browser presents now: every action of the folder is refused
+            (PermissionError) otherwise; the folder's handles exist in every panel (hidden), and
+            a hostile page can send them anything.
         order: the folder's place in the panel.
     """
 
     def __init__(self, client: viser.ClientHandle, guard: Wrap, rounds: Rounds, *,
-                 audience: Callable[[], int], scene_title: Callable[[], str], order: float,
-                 play: Callable[[AnswerState], None] | None = None) -> None:
+                 audience: Callable[[], int], scene_title: Callable[[], str], presenting: Callable[[], bool],
+                 order: float, play: Callable[[AnswerState], None] | None = None) -> None:
         self.client = client
+        self.presenting = presenting
         self.play = play
         self.rounds = rounds
         self.audience = audience
@@ -265,9 +271,9 @@ class AskPanel:
             scene.add_icosphere(f"{ASK_ROOT}/sphere", radius=SPHERE_RADIUS, color=(150, 170, 200), subdivisions=3,
                                 opacity=0.12, cast_shadow=False, receive_shadow=False, visible=False),
             scene.add_point_cloud(f"{ASK_ROOT}/tips", np.zeros((1, 3), np.float32), colors=TIP_COLOR,
-                                  point_size=0.09, point_shape="circle", visible=False),
-            scene.add_arrows(f"{ASK_ROOT}/truth", np.zeros((1, 2, 3), np.float32), TRUTH_COLOR, shaft_radius=0.03,
-                             head_radius=0.08, head_length=0.16, visible=False),
+                                  point_size=0.12, point_shape="circle", visible=False),
+            scene.add_arrows(f"{ASK_ROOT}/truth", np.zeros((1, 2, 3), np.float32), TRUTH_COLOR, shaft_radius=0.05,
+                             head_radius=0.12, head_length=0.25, visible=False),
         ]
         self.gui_kind.on_update(guard("question kind", lambda _e: self._kind_shown()))
         self.gui_ask.on_click(guard("ask the class", lambda _e: self.ask_from_form()))
@@ -278,8 +284,14 @@ class AskPanel:
         self.gui_csv.on_click(guard("download answers", lambda _e: self.download()))
         self.gui_new.on_click(guard("new question", lambda _e: self._changed(rounds.end)))
 
+    def _check(self) -> None:
+        if not self.presenting():
+            raise PermissionError("only the presenter can ask the class and see its answers")
+
     # ------------------------------------------------------------------ the form
     def _kind_shown(self) -> None:
+        if not self.presenting():
+            return
         kind = KINDS.get(str(self.gui_kind.value))
         if kind is None:  # a client can send anything
             self.gui_kind.value = "Choice"
@@ -334,15 +346,18 @@ class AskPanel:
 
     def ask_from_form(self) -> None:
         """`Ask the class`: the form's question goes to every student (ValueError, said, if it is not one)."""
+        self._check()
         self.rounds.ask(self.form_question())
         self.refresh()
 
     def _changed(self, action: Callable[[], Any]) -> None:
+        self._check()
         action()
         self.refresh()
 
     def download(self) -> None:
         """Offer the round's anonymous answers as a CSV file."""
+        self._check()
         text = self.rounds.csv()
         if not text:
             raise LookupError("no round to download")
@@ -426,6 +441,7 @@ class AskPanel:
 
     def play_entry(self, entry: GalleryEntry) -> None:
         """`Play this answer`: the chosen anonymous state in the presenter's room, playing."""
+        self._check()
         if self.play is None:
             raise RuntimeError("this panel cannot play an answer")
         self.play(entry.answer)
@@ -442,7 +458,8 @@ class AskPanel:
         _show(tips, bool(len(points)))
         truth = None if tally is None else getattr(tally.question, "truth", None)
         if revealed and truth is not None:
-            truth_arrow.points = np.array([[[0.0, 0.0, 0.0], [SPHERE_RADIUS * c for c in truth]]], np.float32)
+            truth_arrow.points = np.array([[[0.0, 0.0, 0.0], [TRUTH_REACH * SPHERE_RADIUS * c for c in truth]]],
+                                          np.float32)
         _show(truth_arrow, bool(revealed and truth is not None))
 
     def remove(self) -> None:
@@ -495,11 +512,11 @@ class AnswerPanel:
         # back that frame's panel updates for this browser (app.wire), so the round only shows them.
         scene = student.client.scene
         self._gizmo = scene.add_transform_controls(
-            f"{ASK_ROOT}/gizmo", scale=0.9, disable_axes=True, disable_sliders=True, depth_test=False,
+            f"{ASK_ROOT}/gizmo", scale=1.2, disable_axes=True, disable_sliders=True, depth_test=False,
             wxyz=quaternion_to(self.direction()), visible=False)
         self._arrow = scene.add_arrows(
             f"{ASK_ROOT}/gizmo/arrow", np.array([[[0.0, 0.0, 0.0], [0.0, 0.0, ARROW_LENGTH]]], np.float32),
-            TIP_COLOR, shaft_radius=0.04, head_radius=0.1, head_length=0.2)
+            ARROW_COLOR, shaft_radius=0.05, head_radius=0.12, head_length=0.25)
         self._gizmo.on_update(guard("direction arrow", lambda _e: self._gizmo_moved()))
 
     def direction(self) -> tuple[float, float, float]:
