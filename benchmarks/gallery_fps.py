@@ -41,7 +41,7 @@ FPS_JS = ("() => new Promise(r => { let n = 0; const t0 = performance.now(); fun
           "else r(n * 1000 / (performance.now() - t0)); } requestAnimationFrame(f); })")
 
 
-def _wait(predicate, timeout: float = 30.0):  # type: ignore[no-untyped-def]
+def _wait(predicate, timeout: float = 30.0):
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         value = predicate()
