@@ -118,7 +118,7 @@ def test_the_tally_of_a_judged_round_is_a_histogram_and_its_gallery_is_numbered_
         R = Rotation.from_euler("ZXZ", [0.0, 40.0 + error_deg, 0.0], degrees=True).as_matrix()
         round_.answer(f"browser-{k}", AnswerState("Euler angles", R, np.zeros(3)).to_dict())
     text = judged_histogram_text(round_.tally())
-    assert "0–5°  \n`" in text and "10–20°  \n`████████████████` **2**" in text and "90–180°" in text
+    assert "0–5° `" in text and "10–20° `████████████████` **2**" in text and "90–180°" in text
     assert "✓ **2** of 5 meet the target" in text  # within 10° (the attitude judge's default)
     entries = gallery_entries(round_)
     assert [e.number for e in entries] == [row["answer"] for row in round_.rows()] == [1, 2, 3, 4, 5]
@@ -126,7 +126,7 @@ def test_the_tally_of_a_judged_round_is_a_histogram_and_its_gallery_is_numbered_
     again = round_.vote_again()
     again.answer("browser-0", AnswerState("Euler angles", np.eye(3), np.zeros(3)).to_dict())
     text = judged_histogram_text(again.tally())  # 40° off; round 1 beside each bar
-    assert "20–45°  \n`████████` **1** · round 1: 0" in text and "10–20°  \n`·` **0** · round 1: 2" in text
+    assert "20–45° `████████` **1** · round 1: 0" in text and "10–20° `·` **0** · round 1: 2" in text
 
 
 def test_a_state_round_in_the_app_judged_galleried_played_and_no_follower_can_play() -> None:
@@ -158,7 +158,7 @@ def test_a_state_round_in_the_app_judged_galleried_played_and_no_follower_can_pl
         for _ in range(20):
             hall.app.frame(1.0 / 60.0)
         histogram = panel.gui_histogram.content
-        assert f"{judged.value}  \n`" in histogram and "1** of 1 meet the target" in histogram
+        assert f"{judged.value} `" in histogram and "1** of 1 meet the target" in histogram
         assert panel.gallery_panel.folder.visible and panel.gallery.entries[0].number == 1
         room = presenter.room
         before = (room.sim.initial_state.R_space_body.tobytes(), room.sim.restarts, room.sim.model)

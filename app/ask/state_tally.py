@@ -65,7 +65,7 @@ def judged_histogram_text(tally: Tally) -> str:
     for label in labels:
         count = counts.get(label, 0)
         bar = "█" * (round(BAR_CHARS * count / top) if top else 0)
-        line = f"{label}  \n`{bar or '·'}` **{count}**"
+        line = f"{label} `{bar or '·'}` **{count}**"  # one line a bin: the gallery stays in view
         if tally.previous is not None:
             line += f" · round {tally.previous.number}: {previous_counts.get(label, 0)}"
         lines.append(line)
