@@ -236,6 +236,15 @@ def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_i
     _frames(hall)
     assert "closed" in alice.question.gui_prompt.content and not alice.question.gui_options[0].visible
     assert alice.error_count == 0 and presenter.error_count == 0
+    presenter.ask_panel.download()  # the CSV offered to the presenter's browser
+    assert presenter.error_count == 0, presenter.last_error
+    with pytest.raises(PermissionError):  # nobody else's panel downloads it
+        alice.ask_panel._check()
+    # An answer counts after its student leaves.
+    counts = hall.app.rounds.tally().counts
+    alice_client.close()
+    poll_until(lambda: alice.closed, timeout=10.0)
+    assert hall.app.rounds.tally().counts == counts and hall.app.rounds.tally().previous.counts == (0, 1, 1)
 
 
 def test_a_lesson_steps_question_fills_the_presenters_form(hall: Any) -> None:
