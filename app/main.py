@@ -123,6 +123,7 @@ class App:
         # One lecture across processes (`app.cluster.bus`), after the shared scene's wire: None on one process
         self.bus: Any = bus_factory(server, self.lectern) if bus_factory is not None else None
         self._ask_version, self._since_ask = -1, 0.0
+        self._ask_pending: set[int] = set()  # client ids whose question was not refreshed (busy then)
         self.ask_bus: Any = None  # questions across processes (`app.cluster.askbus`): None on one process
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
@@ -261,19 +262,27 @@ class App:
         return self.lectern.rounds
 
     def _ask_tick(self, dt: float) -> None:
-        """Every browser's question as the round is now: at once when the round changed, and every
-        ASK_PERIOD (the presenter's count; a browser that was busy the last time).  A panel
-        writes only what changed, so a call that finds nothing new costs a comparison."""
+        """Every browser's question as the round is now, when the round changed; every ASK_PERIOD
+        the presenter's count and the browsers that were busy when it changed (each panel writes
+        only what changed)."""
         rounds = self.lectern.rounds
         self._since_ask += dt
-        if rounds.version == self._ask_version and self._since_ask < ASK_PERIOD:
+        changed = rounds.version != self._ask_version
+        if not changed and self._since_ask < ASK_PERIOD:
             return
         self._since_ask = 0.0
         self._ask_version = rounds.version
+        presenter = self.lectern.presenter
         with self._sessions_lock:
-            sessions = list(self.sessions.values())
+            if changed:
+                sessions: list[Any] = list(self.sessions.values())
+            else:
+                sessions = [s for cid, s in self.sessions.items() if cid in self._ask_pending or s is presenter]
         for session in sessions:
-            session.questions_changed()
+            if session.questions_changed():
+                self._ask_pending.discard(session.client_id)
+            else:
+                self._ask_pending.add(session.client_id)
 
     def frames_sent(self) -> bool:
         """Every frame ended so far has gone out (no wire has a delivery waiting)."""

@@ -536,11 +536,14 @@ class Session:
             self.question.active = not presenting
             self.question.refresh()
 
-    def questions_changed(self) -> None:
+    def questions_changed(self) -> bool:
         """Show the round as it is now (the count, a student's question): called by the app loop,
-        outside the guard; skipped while one of this browser's callbacks runs (the next call comes soon)."""
-        if self.closed or self.question is None or not self._busy.acquire(blocking=False):
-            return
+        outside the guard; skipped (False) while one of this browser's callbacks runs, so the app
+        loop never waits for a browser (it calls again soon)."""
+        if self.closed or self.question is None:
+            return True
+        if not self._busy.acquire(blocking=False):
+            return False
         try:
             if self.mode is Mode.PRESENTING and self.ask_panel is not None:
                 self.ask_panel.refresh()
@@ -549,6 +552,7 @@ class Session:
             self.report_error("question", error)
         finally:
             self._busy.release()
+        return True
 
     def _rounds(self) -> Any:
         if self.lectern is None:

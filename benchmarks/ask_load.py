@@ -161,7 +161,7 @@ async def _run(server: Server, count: int, seconds: float, scene: str) -> dict[s
         await start_playing(presenter, scene, timeout=60.0)
         presenter.state.count_only = True
         for _ in range(count):
-            followers.append(await AsyncViserClient.connect(port, keep_messages=50))
+            followers.append(await AsyncViserClient.connect(port, keep_messages=50, open_timeout=60.0))
         await asyncio.gather(*(c.wait_for(lambda c=c: c.state.replay_done and c.state.find_gui("Explore on my own"),
                                           60.0 + 0.5 * count)
                                for c in followers))  # its panel (and its hidden question) has arrived

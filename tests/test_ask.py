@@ -236,6 +236,15 @@ def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_i
     _frames(hall)
     assert "closed" in alice.question.gui_prompt.content and not alice.question.gui_options[0].visible
     assert alice.error_count == 0 and presenter.error_count == 0
+    presenter.ask_panel.download()  # the CSV offered to the presenter's browser
+    assert presenter.error_count == 0, presenter.last_error
+    with pytest.raises(PermissionError):  # nobody else's panel downloads it
+        alice.ask_panel._check()
+    # An answer counts after its student leaves.
+    counts = hall.app.rounds.tally().counts
+    alice_client.close()
+    poll_until(lambda: alice.closed, timeout=10.0)
+    assert hall.app.rounds.tally().counts == counts and hall.app.rounds.tally().previous.counts == (0, 1, 1)
 
 
 def test_a_lesson_steps_question_fills_the_presenters_form(hall: Any) -> None:
@@ -306,3 +315,28 @@ def test_the_tally_is_the_same_whichever_worker_the_students_are_on() -> None:
         for app in apps:
             app.stop()
         services.stop_process(process)
+
+
+def test_a_state_question_is_answered_from_the_students_own_copy(hall: Any) -> None:
+    from viser import _messages
+
+    presenter = hall.join()
+    presenter.select_scene("Heavy top")
+    presenter.present(HALL_CODE)
+    student, client = hall.join_with_client()
+    _frames(hall)
+    presenter.ask({"kind": "state", "prompt": "Find a start that makes the top loop", "scene": "Heavy top"})
+    _frames(hall)
+    panel = student.question
+    assert panel.gui_from_copy.visible and not panel.gui_send_state.visible
+    with pytest.raises(PermissionError):  # following: there is no copy of its own yet
+        student.state_answer()
+    client.send(_messages.GuiUpdateMessage(panel.gui_from_copy._impl.uuid, {"value": True}))  # Answer from my copy
+    from conftest import poll_until
+
+    poll_until(lambda: student.mode == "own" and panel.gui_send_state.visible, timeout=10.0)
+    assert student.room is not presenter.room and student.room.scene.title == "Heavy top"
+    client.send(_messages.GuiUpdateMessage(panel.gui_send_state._impl.uuid, {"value": True}))  # Send my state
+    poll_until(lambda: hall.app.rounds.tally().answered == 1, timeout=10.0)
+    assert "t" in hall.app.rounds.mine(student.answer_token)
+    assert "your state" in panel.gui_mine.content and student.error_count == 0, student.last_error

@@ -439,6 +439,7 @@ def test_a_hostile_student_is_counted_once_and_changes_nothing_else(hall: Hall) 
     hostile_session, hostile = hall.join(lambda port: ViserClient(port, keep_messages=100_000))
     presenter.ask({"kind": "choice", "prompt": "Which axis is stable?", "options": ["x′", "y′", "z′"]})
     hall.app.frame(DT)  # the round reaches every panel
+    asked = hall.app.rounds.current
     honest.answer(0)
     hostile.state.wait_for(lambda: hostile.state.find_gui("3. z′") is not None, timeout=10.0)
     sim = presenter.room.sim
@@ -468,8 +469,9 @@ def test_a_hostile_student_is_counted_once_and_changes_nothing_else(hall: Hall) 
     time.sleep(1.0)
     with hostile_session.lock, presenter.lock:
         pass
+    assert hall.app.rounds.current is asked  # its hidden Ask the class folder asked nothing, closed nothing
     tally = hall.app.rounds.tally()
-    assert sent_in < 5.0, f"10,000 answers took {sent_in:.1f} s to send"
+    assert tally.open and sent_in < 5.0, f"10,000 answers took {sent_in:.1f} s to send"
     assert tally.answered == 2 and sum(tally.counts) == 2, tally  # the hostile once, the honest once
     assert hall.app.rounds.mine(honest.answer_token) == 0  # the honest answer stands
     assert hall.app.rounds.mine(hostile_session.answer_token) in (0, 1, 2)
