@@ -71,12 +71,13 @@ a scene without one answers its time only (`read_state`)."""
 
 def read_state(room: Any) -> dict[str, Any]:
     """The state answer of a browser's own `room` (`app.kit.core.room.Room`): its scene's reader's;
-    else its body (`state_of_room(room).to_dict()`: attitude, ω_b, moments, mgl); else {"t": t}."""
+    else its body (`state_of_room(room).to_dict()`: attitude, ω_b, moments, mgl) and its time t
+    [s]; else {"t": t}."""
     reader = READERS.get(room.scene.title)
     if reader is not None:
         return reader(room.sim)
     try:
-        return state_of_room(room).to_dict()
+        return {**state_of_room(room).to_dict(), "t": float(room.sim.t)}
     except ValueError:
         return {"t": float(room.sim.t)}
 
