@@ -84,6 +84,7 @@ from typing import Any, Protocol
 import numpy as np
 import viser
 
+from app.ask import Rounds
 from app.cluster.gate import RENEW_PERIOD, Gate, GateUnavailable, LocalGate, Verdict
 from app.cluster.gate import new_code as new_gate_code
 from app.hall.follower import Follower, Hall, ended_head, ended_line, status_line, status_text, view_aspect
@@ -369,6 +370,8 @@ class Lectern:
         self._called: dict[int, tuple[Seat, float]] = {}  # explorers called back: (seat, deadline [clock s])
         self._watched: set[int] = set()  # client ids whose camera the lectern hears
         self.pointer = Pointer(server.scene) if server is not None else None
+        self.rounds = Rounds()
+        """The class's questions (`app.ask.hub`): the current round, asked by the presenter."""
         self.seats: Callable[[], list[Seat]] = lambda: []
         """Set by the app: its open sessions."""
         # One lecture across processes (`app.cluster.bus`; unused on one process):

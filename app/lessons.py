@@ -7,9 +7,14 @@
          "tab": "Lagrange", "integrator": "exact",               # optional: panel tab, integrator
                                                                  # (a name of physics.methods)
          "play": false,                                          # optional: play or pause
-         "text": "θ = 0: only φ + ψ is defined (memo 1.13)."}]}
+         "text": "θ = 0: only φ + ψ is defined (memo 1.13).",
+         "ask": {"kind": "choice", "prompt": "...", "options": ["a", "b"], "correct": 0}}]}
+                                                                 # optional: a question to the class
+                                                                 # (`app.ask.question_from_dict`; a state
+                                                                 # question's scene is the step's)
 
-`Next` / `Back` in the panel (and the → / ← keys) apply a step: the scene, the preset, the
+A step's question fills the presenter's `Ask the class` form (`app.hall.ask`): the lecturer asks
+it when the class is ready.  `Next` / `Back` in the panel (and the → / ← keys) apply a step: the scene, the preset, the
 camera, the toggles, play or pause, and the text in the panel.  When a presenter runs a lesson,
 the followers see its motion and its text.  Files are read and checked at start; a broken one
 stops the app with a `LessonError` naming the file and the step (`steps[2].preset: ...`).
@@ -25,6 +30,7 @@ from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Any
 
+from app.ask import Question, State, question_from_dict
 from app.data import files_in, lessons_dir
 from app.kit.core.common import CameraView
 from physics.methods import methods
@@ -48,6 +54,7 @@ class Step:
     play: bool | None = None
     tab: str | None = None
     integrator: str | None = None
+    ask: Question | None = None  # a question to the class (`app.ask`)
 
 
 @dataclass(frozen=True)
@@ -67,7 +74,8 @@ def _vector(value: Any, where: str) -> tuple[float, float, float]:
 def _step(entry: Any, where: str, scenes: dict[str, Any], own: Mapping[str, Sequence[str]]) -> Step:
     if not isinstance(entry, dict):
         raise LessonError(f"{where}: not an object")
-    unknown = sorted(set(entry) - {"scene", "preset", "camera", "display", "play", "text", "tab", "integrator"})
+    unknown = sorted(set(entry) - {"scene", "preset", "camera", "display", "play", "text", "tab", "integrator",
+                                  "ask"})
     if unknown:
         raise LessonError(f"{where}: unknown field {unknown[0]!r}")
     scene = entry.get("scene")
@@ -103,7 +111,23 @@ def _step(entry: Any, where: str, scenes: dict[str, Any], own: Mapping[str, Sequ
     if not isinstance(text, str) or not text.strip():
         raise LessonError(f"{where}.text: missing (what to look at, which equation)")
     return Step(scene=scene, text=text, preset=preset, camera=camera, display=dict(display), play=play,
-                tab=entry.get("tab"), integrator=entry.get("integrator"))
+                tab=entry.get("tab"), integrator=entry.get("integrator"), ask=_question(entry, where, scene, scenes))
+
+
+def _question(entry: dict[str, Any], where: str, scene: str, scenes: dict[str, Any]) -> Question | None:
+    """A step's "ask", checked (a state question's scene defaults to the step's, and must be one)."""
+    if "ask" not in entry:
+        return None
+    spec = entry["ask"]
+    if isinstance(spec, dict) and spec.get("kind") == "state" and "scene" not in spec:
+        spec = {**spec, "scene": scene}
+    try:
+        question = question_from_dict(spec)
+    except ValueError as error:
+        raise LessonError(f"{where}.ask.{error}") from None
+    if isinstance(question, State) and question.scene not in scenes:
+        raise LessonError(f"{where}.ask.scene: {question.scene!r} is not a scene ({', '.join(scenes)})")
+    return question
 
 
 def load_lesson(path: Path | Traversable, scenes: dict[str, Any],

@@ -55,6 +55,7 @@ MAX_TICK_DT = 0.1  # [s] a tick never advances more than this (after a stall, or
 LOAD_PERIOD = 2.0  # [s] of wall time over which the frame rate browsers get is measured
 REDIS_ENV = "RBL_REDIS_URL"  # a worker's Redis URL (with its password) when not given as --redis
 CODE_ENV = "RBL_PRESENTER_CODE"  # the presenter code when not given as --presenter-code (out of `ps`)
+ASK_PERIOD = 0.25  # [s] the presenter's count of answers refreshes this often
 BUSY_SHARE = 0.85  # below this share of tick_hz the panels say the server is busy
 
 
@@ -121,6 +122,9 @@ class App:
         self._wires: dict[int | None, Wire | None] = {None: Wire.attach(server)}
         # One lecture across processes (`app.cluster.bus`), after the shared scene's wire: None on one process
         self.bus: Any = bus_factory(server, self.lectern) if bus_factory is not None else None
+        self._ask_version, self._since_ask = -1, 0.0
+        self._ask_pending: set[int] = set()  # client ids whose question was not refreshed (busy then)
+        self.ask_bus: Any = None  # questions across processes (`app.cluster.askbus`): None on one process
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
@@ -239,6 +243,9 @@ class App:
                     room.draw(view, owed.pop(id(view)))
                     drawn.append(browser)
             self.lectern.tick(dt)
+            if self.ask_bus is not None:
+                self.ask_bus.tick(dt)
+            self._ask_tick(dt)
         self._end_frames()
         if bus is not None:
             bus.send_out(dt)
@@ -247,6 +254,35 @@ class App:
             self._owed = {key: value for key, value in owed.items() if key in live}
         self.tick_count += 1
         return drawn
+
+    @property
+    def rounds(self) -> Any:
+        """The class's questions (`app.ask.Rounds`): `rounds.current` (the round asked on this
+        process, or None), `rounds.tally()` and `rounds.csv()` (its anonymous answers)."""
+        return self.lectern.rounds
+
+    def _ask_tick(self, dt: float) -> None:
+        """Every browser's question as the round is now, when the round changed; every ASK_PERIOD
+        the presenter's count and the browsers that were busy when it changed (each panel writes
+        only what changed)."""
+        rounds = self.lectern.rounds
+        self._since_ask += dt
+        changed = rounds.version != self._ask_version
+        if not changed and self._since_ask < ASK_PERIOD:
+            return
+        self._since_ask = 0.0
+        self._ask_version = rounds.version
+        presenter = self.lectern.presenter
+        with self._sessions_lock:
+            if changed:
+                sessions: list[Any] = list(self.sessions.values())
+            else:
+                sessions = [s for cid, s in self.sessions.items() if cid in self._ask_pending or s is presenter]
+        for session in sessions:
+            if session.questions_changed():
+                self._ask_pending.discard(session.client_id)
+            else:
+                self._ask_pending.add(session.client_id)
 
     def frames_sent(self) -> bool:
         """Every frame ended so far has gone out (no wire has a delivery waiting)."""
@@ -285,6 +321,9 @@ class App:
         if self.bus is not None:
             self.bus.close()
             self.bus = None
+        if self.ask_bus is not None:
+            self.ask_bus.close()
+            self.ask_bus = None
         self.lectern.close()  # the presenter lock, if this process holds it
         self.server.stop()
 
@@ -338,6 +377,10 @@ def create_server(
 
     app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own,
               share_store=open_share_store(folder, redis_url), bus_factory=bus_factory)
+    if redis_url is not None:
+        from app.cluster.askbus import AskBus  # noqa: PLC0415 - a one-process app imports no redis
+
+        app.ask_bus = AskBus(app.lectern.rounds, redis_url, worker_id or "w1")
     if start_loop:
         app.start()
     return app

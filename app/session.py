@@ -34,6 +34,11 @@ from typing import Any, TypeVar
 
 import viser
 
+from app.ask import Question, new_token
+from app.ask.gallery import play_answer
+from app.ask.judges import read_state
+from app.ask.state_tally import gallery_entries
+from app.hall.ask import AnswerPanel, AskPanel
 from app.hall.follower import is_narrow
 from app.hall.lecture_panel import LecturePanel
 from app.hall.lesson_runner import LessonRunner
@@ -79,6 +84,7 @@ class Session:
         self.mode = Mode.OWN
         self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
         self.client_id: int = client.client_id
+        self.answer_token = new_token()  # this browser's anonymous answers (`app.ask`): never sent, never shown
         self.closed = False
         self.last_error: str | None = None
         self.error_count = 0
@@ -106,6 +112,15 @@ class Session:
         # The live bar (app.hall.lecture_panel) and a narrow explorer's line sit right under the error line.
         top = float(self.gui_error_dismiss.order)
         self.lecture = LecturePanel(self, self.guard, lectern, order=top) if lectern is not None else None
+        # Ask the class (app.hall.ask): the presenter's folder under the live bar, a student's question above all
+        self.ask_panel = self.question = None
+        if lectern is not None:
+            self.ask_panel = AskPanel(self.client, self.guard, lectern.rounds, order=top + 0.3,
+                                      audience=lambda: sum(lectern.total_audience()),
+                                      scene_title=lambda: self.room.scene.title,
+                                      presenting=lambda: self.mode is Mode.PRESENTING,
+                                      play=self._play_state)
+            self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
@@ -475,6 +490,10 @@ class Session:
     def _lesson_stepped(self) -> None:
         if self.lectern is not None and self.lectern.presenter is self:
             self.lectern.refresh_followers()
+        lesson, k = self.lesson_runner.lesson, self.lesson_runner.step
+        question = lesson.steps[k].ask if lesson is not None and 0 <= k < len(lesson.steps) else None
+        if question is not None and self.ask_panel is not None:
+            self.ask_panel.fill(question)  # the lecturer asks it with `Ask the class`
 
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
         """Record the next `seconds` of the scene shown, offered as .html and .viser downloads
@@ -503,9 +522,116 @@ class Session:
             return
         following = self.mode is Mode.FOLLOWING
         self.lecture.show_for(self.mode)
+        self._show_questions()
         self.gui_scene.visible = not following
         self.lesson_runner.folder.visible = not following
         self.narrow.refresh()
+
+    # ------------------------------------------------------------------ ask the class (app.hall.ask, app.ask)
+    def _show_questions(self) -> None:
+        """The presenter's `Ask the class` folder while presenting; a student's question otherwise."""
+        if self.ask_panel is not None and self.question is not None:
+            presenting = self.mode is Mode.PRESENTING
+            self.ask_panel.set_shown(presenting)
+            self.question.active = not presenting
+            self.question.refresh()
+
+    def questions_changed(self) -> bool:
+        """Show the round as it is now (the count, a student's question): called by the app loop,
+        outside the guard; skipped (False) while one of this browser's callbacks runs, so the app
+        loop never waits for a browser (it calls again soon)."""
+        if self.closed or self.question is None:
+            return True
+        if not self._busy.acquire(blocking=False):
+            return False
+        try:
+            if self.mode is Mode.PRESENTING and self.ask_panel is not None:
+                self.ask_panel.refresh()
+            self.question.refresh()
+        except Exception as error:  # noqa: BLE001 - the app loop must not die from a browser
+            self.report_error("question", error)
+        finally:
+            self._busy.release()
+        return True
+
+    def _rounds(self) -> Any:
+        if self.lectern is None:
+            raise RuntimeError("this app has no lecture hall")
+        return self.lectern.rounds
+
+    def _presenter_only(self, what: str) -> Any:
+        if self.mode is not Mode.PRESENTING:
+            raise PermissionError(f"only the presenter can {what}")
+        return self._rounds()
+
+    def ask(self, question: Question | dict[str, Any]) -> Any:
+        """Ask the class `question` (a question or its dict, `app.ask.question_from_dict`): the new
+        round (`app.ask.Round`).  Presenter only: PermissionError otherwise; ValueError for a bad question."""
+        round_ = self._presenter_only("ask the class").ask(question)
+        self._questions_shown()
+        return round_
+
+    def close_round(self) -> Any:
+        """Close the current round (presenter only); the round."""
+        round_ = self._presenter_only("close the round").close_round()
+        self._questions_shown()
+        return round_
+
+    def vote_again(self) -> Any:
+        """The same question again, the closed round beside the new one (presenter only); the new round."""
+        round_ = self._presenter_only("vote again").vote_again()
+        self._questions_shown()
+        return round_
+
+    def _play_state(self, answer: Any) -> None:
+        """The gallery's `Play this answer`: only the presenter's room plays a student's state."""
+        self._presenter_only("play an answer")
+        play_answer(self.room, answer)
+
+    def play_answer(self, number: int) -> None:
+        """Play the current State round's anonymous answer `number` (1.. as in its CSV) in the
+        presenter's room (presenter only); LookupError for no such answer, ValueError for another
+        scene's body."""
+        rounds = self._presenter_only("play an answer")
+        round_ = rounds.current
+        entries = {} if round_ is None else {e.number: e for e in gallery_entries(round_)}
+        if number not in entries:
+            raise LookupError(f"no state answer number {number}")
+        self._play_state(entries[number].answer)
+
+    def _questions_shown(self) -> None:
+        if self.ask_panel is not None:
+            self.guard("ask the class", self.ask_panel.refresh)()
+
+    def answer(self, value: Any) -> Any:
+        """Answer the round the class is asked now with `value` (an option's index, a 3-vector, a
+        state dict), as this browser (its anonymous token); the answer as kept.  `app.ask.Refused`
+        (a ValueError with the reason) for a refused answer; the presenter does not answer."""
+        if self.mode is Mode.PRESENTING:
+            raise PermissionError("the presenter asks; the class answers")
+        return self._rounds().answer(self.answer_token, value)
+
+    def my_answer(self) -> Any:
+        """This browser's answer to the round shown, or None."""
+        return None if self.lectern is None else self.lectern.rounds.mine(self.answer_token)
+
+    def answer_from_copy(self) -> None:
+        """A State question: leave the presenter with an exact copy of the room to answer from."""
+        if self.mode is Mode.FOLLOWING:
+            self.explore()
+
+    def state_answer(self) -> Any:
+        """This browser's own room's state, as a State question takes it (`app.ask.judges.read_state`)."""
+        if self.mode is not Mode.OWN:
+            raise PermissionError("answer from your own copy: press 'Answer from my copy' first")
+        return read_state(self._room)
+
+    def folded_for_question(self, folded: bool) -> None:
+        """While a question waits for this browser's answer, the follower's panel is folded away."""
+        follower = self.scene if self.mode is Mode.FOLLOWING else None
+        folder = getattr(follower, "folder", None)
+        if folder is not None and folder.visible == folded:
+            folder.visible = not folded
 
     def _hide_live(self, hide: bool) -> None:
         """Hide the shared (presenter's) scene in this browser: an invisible node of the same

@@ -24,6 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
     "app.data": 0, "app.userdata": 0, "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0, "app.cluster": 0,
+    "app.ask": 0.5,  # questions to the class: the model (no viser)
     # the kit's rooms: core <- panel, draw (neither imports the other) <- view <- rigid
     "app.kit": 1.0, "app.kit.core": 1.0, "app.kit.panel": 1.2, "app.kit.draw": 1.2, "app.kit.view": 1.4,
     "app.kit.rigid": 1.6,
@@ -31,6 +32,7 @@ LAYERS = {
     "app.codec": 2.5,  # a room as bytes: imports the scenes registry
     "app.lessons": 3, "app.own": 3.5, "app.export": 3,
     "app.hall.caption": 2.8, "app.hall.room_plot": 2.8, "app.hall.follower": 3,
+    "app.cluster.askbus": 0.6,  # questions across processes: the model and Redis
     "app.lectern": 4, "app.cluster.bus": 4.5,  # the bus: what followers on another process see
     "app.hall": 5, "app.session": 6, "app.main": 7, "app.notebook": 7.5,
     "app.__main__": 8, "app": 8,
@@ -173,7 +175,8 @@ def test_scene_simulations_and_readouts_import_no_viser() -> None:
     packages = ("euler_angles", "inertia", "moving_frame", "constrained", "poinsot")
     assert {f"app.scenes.{p}.{m}" for p in packages for m in ("simulation", "readouts")} <= set(checked), checked
     assert _viser_chain("app.scenes.euler_angles.view") is not None  # the check finds viser where it is
-    checked += ["app.kit.rigid.simulation", "app.kit.rigid.text", *KIT_CORE_WITHOUT_VISER]
+    checked += ["app.kit.rigid.simulation", "app.kit.rigid.text", *KIT_CORE_WITHOUT_VISER,
+                *(name for name in MODULES if name.startswith("app.ask"))]
     wrong = [" -> ".join(chain) for chain in map(_viser_chain, checked) if chain is not None]
     assert not wrong, "\n".join(wrong)
 

@@ -48,6 +48,10 @@ def test_the_shipped_lessons_load_and_every_step_applies(manual) -> None:
      r"steps\[3\]\.camera\.position: three finite numbers"),
     (lambda d: d["steps"][0].update(colour="red"), r"steps\[0\]: unknown field 'colour'"),
     (lambda d: d.update(steps=[]), r"steps: missing or empty"),
+    (lambda d: d["steps"][0].update(ask={"kind": "choice", "prompt": "x", "options": ["a"]}),
+     r"steps\[0\]\.ask\.options: 2 to 6 options wanted"),
+    (lambda d: d["steps"][1].update(ask={"kind": "state", "prompt": "x", "scene": "Nope"}),
+     r"steps\[1\]\.ask\.scene: 'Nope' is not a scene"),
 ])
 def test_a_broken_lesson_is_refused_naming_the_file_and_the_step(tmp_path: Path, edit, message: str) -> None:
     data = json.loads((LESSONS_DIR / "1_euler_angles.json").read_text(encoding="utf-8"))

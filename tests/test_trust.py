@@ -424,3 +424,58 @@ def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
     narrow.set_expanded(False)
     explorer.follow()  # back: the follower's own narrow panel, nothing left folded or shown twice
     assert explorer.mode == "following" and not narrow.on and not narrow.gui_details.visible
+
+
+def test_a_hostile_student_is_counted_once_and_changes_nothing_else(hall: Hall) -> None:
+    """Ask the class (issue 26): a hostile follower on a raw websocket sends 10,000 answers in a
+    second (its option buttons, over and over), answers on the buttons of another browser's
+    question (its uuids, known here from the server), malformed values to every control of its
+    question, and the whole attack above: it is counted once, the honest student's answer stays,
+    the presenter's room is bit-identical."""
+    from viser import _messages
+
+    presenter = _presenter_for(hall, "Free body")
+    honest, _ = hall.join()
+    hostile_session, hostile = hall.join(lambda port: ViserClient(port, keep_messages=100_000))
+    presenter.ask({"kind": "choice", "prompt": "Which axis is stable?", "options": ["x′", "y′", "z′"]})
+    hall.app.frame(DT)  # the round reaches every panel
+    asked = hall.app.rounds.current
+    honest.answer(0)
+    hostile.state.wait_for(lambda: hostile.state.find_gui("3. z′") is not None, timeout=10.0)
+    sim = presenter.room.sim
+    before = fingerprint(sim)
+    errors_before = presenter.error_count
+    buttons = [hostile.state.find_gui(f"{k + 1}. {o}") for k, o in enumerate(("x′", "y′", "z′"))]
+    own = hostile_session.question
+    honest_ids = [button._impl.uuid for button in honest.question.gui_options]
+    start = time.monotonic()
+    for k in range(10_000):
+        hostile.send(_messages.GuiUpdateMessage(buttons[k % 3].uuid, {"value": True}))  # type: ignore[union-attr]
+    sent_in = time.monotonic() - start
+    for uid in honest_ids:  # another browser's buttons: viser hands them to nobody
+        hostile.send(_messages.GuiUpdateMessage(uid, {"value": True}))
+    for handle in (*own.gui_options, own.gui_azimuth, own.gui_elevation, own.gui_send_direction, own.gui_send_state,
+                   own.gui_from_copy, own.gui_change):
+        for value in (math.nan, 1e9, "x", [1, 2, 3], None, {"t": 1.0}):
+            hostile.send(_messages.GuiUpdateMessage(handle._impl.uuid, {"value": value}))
+    attack(hostile, presenter)
+
+    def settled() -> bool:
+        time.sleep(0.5)
+        with hostile_session.lock, presenter.lock:  # the pool has run what arrived before
+            return True
+
+    poll_until(lambda: settled() and hall.app.rounds.tally().answered == 2, timeout=30.0)
+    time.sleep(1.0)
+    with hostile_session.lock, presenter.lock:
+        pass
+    assert hall.app.rounds.current is asked  # its hidden Ask the class folder asked nothing, closed nothing
+    tally = hall.app.rounds.tally()
+    assert tally.open and sent_in < 5.0, f"10,000 answers took {sent_in:.1f} s to send"
+    assert tally.answered == 2 and sum(tally.counts) == 2, tally  # the hostile once, the honest once
+    assert hall.app.rounds.mine(honest.answer_token) == 0  # the honest answer stands
+    assert hall.app.rounds.mine(hostile_session.answer_token) in (0, 1, 2)
+    assert hostile_session.error_count > 100  # its refusals were said in its own panel
+    assert presenter.room.sim is sim and fingerprint(sim) == before
+    assert presenter.mode == "presenting" and presenter.error_count == errors_before
+    assert honest.error_count == 0, honest.last_error

@@ -1,0 +1,19 @@
+"""Ask the class (issue 26): questions as data, rounds with their rules, tallies and CSV; no viser.
+
+- `app.ask.questions`: `Choice`, `Direction`, `State` (frozen) and `question_from_dict`;
+- `app.ask.judges`: `JUDGES`, the State questions' judges by name (filled by the physics side),
+  `Judged`;
+- `app.ask.round`: `Round` (answers keyed by an anonymous per-browser token, one per browser,
+  bounded in number and rate), `Tally`, `Round.csv()`, `Round.vote_again()`.
+
+The presenter's and the students' panels are `app.hall.ask`; answers from other processes come
+through `app.cluster.askbus`.
+"""
+
+from app.ask.hub import Rounds, Shown
+from app.ask.judges import JUDGES, Judged
+from app.ask.questions import Choice, Direction, Question, State, question_from_dict, question_to_dict
+from app.ask.round import Answer, RateLimit, Refused, Round, Tally, new_token
+
+__all__ = ["JUDGES", "Answer", "Choice", "Direction", "Judged", "Question", "RateLimit", "Refused", "Round", "Rounds",
+           "Shown", "State", "Tally", "new_token", "question_from_dict", "question_to_dict"]

@@ -1,0 +1,179 @@
+"""Ask the class across processes: the round's question to every worker, the answers back to
+the worker that asked (`app.ask.hub.Rounds` on each side).
+
+- The question: the worker whose presenter asked (the *source*) writes the round as it looks
+  from outside (`app.ask.hub.Shown`: the question's dict, its number, open, revealed, its id, the
+  count) under ROUND_KEY whenever it changes (and every REFRESH_S, with a TTL of ROUND_TTL_S);
+  every worker reads it every POLL_S and shows it to its browsers (`Rounds.set_remote`).  A
+  round asked later on another worker replaces the source's own.
+- The answers: a browser on another worker answers there (checked against the question and
+  limited in rate per browser by its `Rounds`), which pushes [token, value] onto the list
+  ANSWERS_KEY + the round's id; the source pops them every POLL_S into its round, where the
+  round's rules hold again (one per browser, bounded, checked).  So the tally, on the source, is
+  the same whichever worker the students are on, and complete within about POLL_S of the last
+  answer.
+- Tokens are the server's random per-browser tokens; nothing a browser sends chooses one.
+  Everything read from Redis is msgpack of plain values, checked before use (`question_from_dict`,
+  the round's checks); a bad entry is dropped.
+
+The app loop calls `tick(dt)` once a frame; `close()` at the end.  No viser here.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from typing import Any
+
+import msgspec.msgpack
+
+from app.ask.hub import Rounds, Shown
+from app.ask.questions import question_from_dict, question_to_dict
+from app.ask.round import Refused
+from app.cluster import KEY_PREFIX, connect
+
+__all__ = ["ANSWERS_KEY", "POLL_S", "ROUND_KEY", "AskBus"]
+
+logger = logging.getLogger(__name__)
+
+ROUND_KEY = KEY_PREFIX + "ask:round"  # msgpack: the source's round as every browser sees it
+ANSWERS_KEY = KEY_PREFIX + "ask:answers:"  # + round id: a list of msgpack [token, value]
+POLL_S = 0.1  # [s] every worker reads the round, the source pops the answers, this often
+REFRESH_S = 2.0  # [s] the source rewrites the round at least this often
+ROUND_TTL_S = 6 * 3600  # [s] a round's key and answers live this long
+MAX_POP = 5000  # answers the source takes in one poll
+MAX_ENTRY_BYTES = 8192
+
+
+def encode_shown(shown: Shown, worker: str) -> bytes:
+    return msgspec.msgpack.encode({"w": worker, "id": shown.id, "q": question_to_dict(shown.question),
+                                   "n": shown.number, "open": shown.open, "revealed": shown.revealed,
+                                   "answered": shown.answered})
+
+
+def decode_shown(data: Any) -> tuple[str, Shown]:
+    """(worker, Shown) from ROUND_KEY's bytes; ValueError for anything not one."""
+    if not isinstance(data, bytes) or len(data) > 64 * 1024:
+        raise ValueError("not a round")
+    try:
+        body = msgspec.msgpack.decode(data)
+    except msgspec.DecodeError:
+        raise ValueError("undecodable round") from None
+    if not isinstance(body, dict):
+        raise ValueError("not a round")
+    worker, rid, number = body.get("w"), body.get("id"), body.get("n")
+    if not (isinstance(worker, str) and isinstance(rid, str) and 0 < len(rid) <= 64 and isinstance(number, int)
+            and not isinstance(number, bool) and isinstance(body.get("open"), bool)
+            and isinstance(body.get("revealed"), bool) and isinstance(body.get("answered", 0), int)):
+        raise ValueError("a round with missing fields")
+    return worker, Shown(question_from_dict(body.get("q")), number, body["open"], body["revealed"], rid,
+                         int(body.get("answered", 0)))
+
+
+class AskBus:
+    """One worker's end of the questions' bus (module docstring).
+
+    Args:
+        rounds: the worker's `Rounds` (its `forward` is set here).  url: Redis.  worker_id: this worker.
+    """
+
+    def __init__(self, rounds: Rounds, url: str, worker_id: str, clock: Callable[[], float] = time.monotonic) -> None:
+        self.rounds = rounds
+        self.worker_id = str(worker_id)
+        self.redis = connect(url)
+        self.clock = clock
+        self._since = POLL_S  # the first tick polls
+        self._written: tuple[Any, ...] | None = None  # what the source last wrote, and when
+        self._written_at = -float("inf")
+        self.taken = 0  # answers taken from other workers (the source's count)
+        rounds.forward = self._forward
+
+    def _forward(self, round_id: str, token: str, value: Any) -> None:
+        key = ANSWERS_KEY + round_id
+        data = msgspec.msgpack.encode([token, list(value) if isinstance(value, tuple) else value])
+        pipe = self.redis.pipeline(transaction=False)
+        pipe.rpush(key, data)
+        pipe.expire(key, ROUND_TTL_S)
+        pipe.execute()
+
+    def tick(self, dt: float) -> None:
+        """Called by the app loop every frame: every POLL_S, read the round (and, as the source,
+        write it and take in the answers).  Redis trouble is logged, never raised."""
+        self._since += dt
+        if self._since < POLL_S:
+            return
+        self._since = 0.0
+        try:
+            self._poll()
+        except Exception:  # noqa: BLE001 - the app loop must not die from Redis
+            logger.warning("ask bus: poll failed", exc_info=True)
+
+    def _poll(self) -> None:
+        rounds = self.rounds
+        data = self.redis.get(ROUND_KEY)
+        theirs: tuple[str, Shown] | None = None
+        if data is not None:
+            try:
+                theirs = decode_shown(data)
+            except ValueError as error:
+                logger.warning("ask bus: a round dropped: %s", error)
+        if rounds.current is not None:
+            if theirs is not None and theirs[0] != self.worker_id and theirs[1].id != rounds.current_id \
+                    and self._written is not None and self._written[0] == rounds.current_id:
+                rounds.set_remote(theirs[1])  # asked later on another worker: that round is the class's
+                self._written = None
+                return
+            self._take_answers()
+            self._write()
+            return
+        if self._written is not None:  # this worker's round ended
+            if theirs is not None and theirs[0] == self.worker_id:
+                self.redis.delete(ROUND_KEY)
+            self._written = None
+            theirs = None
+        if theirs is None or theirs[0] == self.worker_id:
+            rounds.set_remote(None)
+        else:
+            rounds.set_remote(theirs[1])
+
+    def _write(self) -> None:
+        shown = self.rounds.shown()
+        if shown is None:
+            return
+        now = self.clock()
+        key = (shown.id, shown.number, shown.open, shown.revealed, shown.answered)
+        if key == self._written and now - self._written_at < REFRESH_S:
+            return
+        self.redis.set(ROUND_KEY, encode_shown(shown, self.worker_id), ex=ROUND_TTL_S)
+        self._written, self._written_at = key, now
+
+    def _take_answers(self) -> None:
+        round_, rid = self.rounds.current, self.rounds.current_id
+        if round_ is None:
+            return
+        entries = self.redis.lpop(ANSWERS_KEY + rid, MAX_POP) or []
+        for data in entries:
+            try:
+                if not isinstance(data, bytes) or len(data) > MAX_ENTRY_BYTES:
+                    raise ValueError("too long")
+                body = msgspec.msgpack.decode(data)
+                if not (isinstance(body, list) and len(body) == 2 and isinstance(body[0], str)):
+                    raise ValueError("not [token, value]")
+                round_.answer(body[0], body[1])
+                self.taken += 1
+            except Refused:
+                continue  # the round's rules: too fast, closed, full
+            except (ValueError, msgspec.DecodeError) as error:
+                logger.warning("ask bus: an answer dropped: %s", error)
+
+    def close(self) -> None:
+        """This worker's round leaves Redis (its browsers' questions end)."""
+        try:
+            if self._written is not None:
+                data = self.redis.get(ROUND_KEY)
+                if data is not None and decode_shown(data)[0] == self.worker_id:
+                    self.redis.delete(ROUND_KEY)
+        except Exception:  # noqa: BLE001 - Redis gone already
+            logger.debug("ask bus: close", exc_info=True)
+        self.rounds.forward = None
