@@ -187,8 +187,8 @@ def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> No
 HALL_CODE = "864213"
 
 
-@pytest.fixture
-def hall():  # type: ignore[no-untyped-def]
+@pytest.fixture(scope="module")
+def _one_hall():  # type: ignore[no-untyped-def]
     from conftest import LectureHall
 
     running = LectureHall(HALL_CODE)
@@ -196,6 +196,22 @@ def hall():  # type: ignore[no-untyped-def]
         yield running
     finally:
         running.close()
+
+
+@pytest.fixture
+def hall(_one_hall):  # type: ignore[no-untyped-def]
+    """One app for this file's tests (its start is the slow part); each test's browsers leave
+    after it, its presenter with them, its question ends."""
+    from conftest import poll_until
+
+    before = len(_one_hall.clients)
+    yield _one_hall
+    app = _one_hall.app
+    for client in _one_hall.clients[before:]:
+        client.close()
+    del _one_hall.clients[before:]
+    poll_until(lambda: not app.sessions and app.lectern.presenter is None, timeout=20.0)
+    app.rounds.end()
 
 
 def _frames(hall: Any, count: int = 2) -> None:
@@ -321,8 +337,8 @@ def test_a_state_question_is_answered_from_the_students_own_copy(hall: Any) -> N
     from viser import _messages
 
     presenter = hall.join()
-    presenter.select_scene("Heavy top")
     presenter.present(HALL_CODE)
+    presenter.select_scene("Heavy top")
     student, client = hall.join_with_client()
     _frames(hall)
     presenter.ask({"kind": "state", "prompt": "Find a start that makes the top loop", "scene": "Heavy top"})
