@@ -187,8 +187,8 @@ def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> No
 HALL_CODE = "864213"
 
 
-@pytest.fixture
-def hall():  # type: ignore[no-untyped-def]
+@pytest.fixture(scope="module")
+def _one_hall():  # type: ignore[no-untyped-def]
     from conftest import LectureHall
 
     running = LectureHall(HALL_CODE)
@@ -198,9 +198,32 @@ def hall():  # type: ignore[no-untyped-def]
         running.close()
 
 
+@pytest.fixture
+def hall(_one_hall):  # type: ignore[no-untyped-def]
+    """One app for this file's tests (its start is the slow part); each test's browsers leave
+    after it, its presenter with them, its question ends."""
+    from conftest import poll_until
+
+    before = len(_one_hall.clients)
+    yield _one_hall
+    app = _one_hall.app
+    for client in _one_hall.clients[before:]:
+        client.close()
+    del _one_hall.clients[before:]
+    poll_until(lambda: not app.sessions and app.lectern.presenter is None, timeout=20.0)
+    app.rounds.end()
+
+
 def _frames(hall: Any, count: int = 2) -> None:
     for _ in range(count):
         hall.app.frame(1.0 / 60.0)
+
+
+def _frames_until(hall: Any, predicate: Any, timeout: float = 10.0) -> None:
+    """Frames of the loop until `predicate()` (a browser's callback may hold its panel a moment)."""
+    from conftest import poll_until
+
+    poll_until(lambda: _frames(hall, 4) or predicate(), timeout=timeout)
 
 
 def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_is_live(hall: Any) -> None:
@@ -215,26 +238,24 @@ def test_the_presenter_asks_students_answer_through_their_panels_and_the_count_i
     with pytest.raises(PermissionError):
         alice.ask(CHOICE)
     presenter.ask(CHOICE)
-    _frames(hall)
-    assert alice.question.folder.visible and not alice.scene.folder.visible  # the question replaces the follower panel
+    _frames_until(hall, lambda: alice.question.folder.visible)
+    assert not alice.scene.folder.visible  # the question replaces the follower panel
     assert "Which axis is stable?" in alice.question.gui_prompt.content
     # Alice presses option 2 in her page (a raw websocket sends what the page sends).
     alice_client.send(_messages.GuiUpdateMessage(alice.question.gui_options[1]._impl.uuid, {"value": True}))
     poll_until(lambda: hall.app.rounds.tally().answered == 1)
     bob.answer(2)
-    _frames(hall, 16)  # the presenter's count refreshes at ASK_PERIOD
+    _frames_until(hall, lambda: "2 of 2 answered" in presenter.ask_panel.gui_count.content)  # at ASK_PERIOD
     assert hall.app.rounds.tally().counts == (0, 1, 1)
-    assert "2 of 2 answered" in presenter.ask_panel.gui_count.content
     assert "█" in presenter.ask_panel.gui_histogram.content
     # answered: the follower panel is back, with her answer
     assert alice.scene.folder.visible and "2. 2" in alice.question.gui_mine.content
     second = presenter.vote_again()
-    _frames(hall)
-    assert second.number == 2 and alice.question.gui_options[0].visible  # asked again: her controls are back
-    assert "round 1: 1" in presenter.ask_panel.gui_histogram.content
+    _frames_until(hall, lambda: alice.question.gui_options[0].visible)  # asked again: her controls are back
+    assert second.number == 2 and "round 1: 1" in presenter.ask_panel.gui_histogram.content
     presenter.close_round()
-    _frames(hall)
-    assert "closed" in alice.question.gui_prompt.content and not alice.question.gui_options[0].visible
+    _frames_until(hall, lambda: "closed" in alice.question.gui_prompt.content)
+    assert not alice.question.gui_options[0].visible
     assert alice.error_count == 0 and presenter.error_count == 0
     presenter.ask_panel.download()  # the CSV offered to the presenter's browser
     assert presenter.error_count == 0, presenter.last_error
@@ -321,14 +342,14 @@ def test_a_state_question_is_answered_from_the_students_own_copy(hall: Any) -> N
     from viser import _messages
 
     presenter = hall.join()
-    presenter.select_scene("Heavy top")
     presenter.present(HALL_CODE)
+    presenter.select_scene("Heavy top")
     student, client = hall.join_with_client()
     _frames(hall)
     presenter.ask({"kind": "state", "prompt": "Find a start that makes the top loop", "scene": "Heavy top"})
-    _frames(hall)
     panel = student.question
-    assert panel.gui_from_copy.visible and not panel.gui_send_state.visible
+    _frames_until(hall, lambda: panel.gui_from_copy.visible)
+    assert not panel.gui_send_state.visible
     with pytest.raises(PermissionError):  # following: there is no copy of its own yet
         student.state_answer()
     client.send(_messages.GuiUpdateMessage(panel.gui_from_copy._impl.uuid, {"value": True}))  # Answer from my copy

@@ -13,6 +13,8 @@ without Redis.  With it:
   all browsers and processes together).
 - `app.cluster.bus`: one lecture across processes (what followers on another process see, and
   `Explore on my own` there).
+- `app.cluster.askbus`: a question to the class across processes (the round to every worker,
+  the answers back to the worker that asked).
 """
 
 from __future__ import annotations

@@ -9,6 +9,8 @@
   presenting, Pointer, Call everyone back; an explorer's "Lecture on", Follow presenter, Stay)
   and the Lecture folder (Present, the presenter code, the pointer's label).
 - `app.hall.narrow`: a narrow explorer's panel folded to one status line and `Details`.
+- `app.hall.ask`: Ask the class: the presenter's folder (the question, the live count, the
+  histogram, the sphere of directions) and a student's question over the follower's panel.
 
 Each part builds its own widgets and wires its own callbacks through the session's guard; it is
 handed what it acts on (callables, or the session through a small protocol), and never imports
