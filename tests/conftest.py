@@ -38,6 +38,22 @@ def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: flo
         time.sleep(interval)
 
 
+BROWSER_GROUP = "browser"
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """The groups of `--dist loadgroup` (pyproject's addopts: the suite on 2 processes): every
+    browser test in BROWSER_GROUP, so one process runs them one after the other with one
+    Chromium (two Chromiums drawing at once on 2 cores time each other out); every other test
+    with its module, so a module-scoped fixture (a server, a cluster of workers) starts once.
+    Without xdist the marks change nothing."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is not None:
+            continue
+        group = BROWSER_GROUP if item.get_closest_marker("browser") is not None else item.nodeid.split("::")[0]
+        item.add_marker(pytest.mark.xdist_group(group))
+
+
 @pytest.fixture(autouse=True, scope="session")
 def _data_folder(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     """The app's default data folder (`app.userdata`, XDG_DATA_HOME on Linux) is a temporary one:
