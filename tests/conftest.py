@@ -38,6 +38,58 @@ def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: flo
         time.sleep(interval)
 
 
+BROWSER_GROUP = "browser"
+
+
+def _browser_tests(module: Path) -> bool | set[str]:
+    """The browser tests of a test module, read from its source: True if the whole module is
+    marked (`pytestmark = pytest.mark.browser`), else the names of its test functions that carry
+    `@pytest.mark.browser`."""
+    import ast
+
+    tree = ast.parse(module.read_text(encoding="utf-8"))
+    marked: set[str] = set()
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "pytestmark" for t in node.targets):
+            if "mark.browser" in ast.unparse(node.value):
+                return True
+        if isinstance(node, ast.FunctionDef) and any("mark.browser" in ast.unparse(d) for d in node.decorator_list):
+            marked.add(node.name)
+    return marked
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """The suite on 2 processes (pyproject's addopts: `-n 2 --dist loadgroup`): xdist's scope
+    scheduling with these groups, each run by one process in collection order:
+
+    - every browser test in BROWSER_GROUP: one Chromium, one page drawing at a time (two
+      Chromiums drawing at once on 2 cores time each other's pages out);
+    - every other test with its module: a module-scoped fixture (a server, a cluster of
+      workers, a Redis) starts once.
+
+    The groups are read from the nodeids (the `xdist_group` mark is not used: xdist 3.8 renames
+    nodeids for it, which pytest 9 ignores)."""
+    if config.getvalue("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    config.option.loadscopereorder = False  # collection order: the browser group starts early
+    root = config.rootpath
+    cache: dict[str, bool | set[str]] = {}
+
+    class ModulesAndTheBrowser(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            module, _, rest = nodeid.partition("::")
+            if module not in cache:
+                path = root / module
+                cache[module] = _browser_tests(path) if path.suffix == ".py" and path.exists() else set()
+            browser = cache[module]
+            name = rest.split("[", 1)[0].split("::")[-1]
+            return BROWSER_GROUP if browser is True or name in browser else module  # type: ignore[operator]
+
+    return ModulesAndTheBrowser(config, log)
+
+
 @pytest.fixture(autouse=True, scope="session")
 def _data_folder(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     """The app's default data folder (`app.userdata`, XDG_DATA_HOME on Linux) is a temporary one:

