@@ -40,7 +40,7 @@ from app.ask.gallery import Gallery, GalleryEntry, GalleryPanel
 from app.ask.judges import MOTION_WORDS, AnswerState, judge
 from app.ask.questions import MAX_OPTIONS
 from app.ask.state_tally import gallery_entries, judged_histogram_text
-from app.kit.core.common import Wrap
+from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 
 __all__ = ["ASK_LABEL", "CHANGE_LABEL", "CLOSE_LABEL", "CSV_LABEL", "DIRECTION_LABEL", "FROM_COPY_LABEL", "NEW_LABEL",
            "REVEAL_LABEL", "SPHERE_RADIUS", "STATE_LABEL", "VOTE_AGAIN_LABEL", "AnswerPanel", "AskPanel", "Student",
@@ -201,16 +201,6 @@ class Student(Protocol):
         ...
 
 
-def _show(handle: Any, visible: bool) -> None:
-    if handle.visible != visible:
-        handle.visible = visible
-
-
-def _write(handle: Any, content: str) -> None:
-    if handle.content != content:
-        handle.content = content
-
-
 class AskPanel:
     """The presenter's `Ask the class` folder and the sphere of directions (module docstring).
 
@@ -299,7 +289,7 @@ class AskPanel:
         for handle, shown in ((self.gui_options, kind == "choice"), (self.gui_correct, kind == "choice"),
                               (self.gui_truth, kind == "direction"), (self.gui_judge, kind == "state"),
                               (self.gui_target, kind == "state")):
-            _show(handle, shown)
+            show_if_changed(handle, shown)
 
     def form_question(self) -> Question:
         """The question the form describes; ValueError naming what is wrong."""
@@ -367,7 +357,7 @@ class AskPanel:
     # ------------------------------------------------------------------ the round
     def set_shown(self, shown: bool) -> None:
         """The folder is shown (while the browser presents) or not (the sphere goes too)."""
-        _show(self.folder, shown)
+        show_if_changed(self.folder, shown)
         if not shown:
             self._draw_sphere(None)
             self._show_gallery(None)
@@ -389,40 +379,40 @@ class AskPanel:
         self.drawn = key
         asking = round_ is None
         for handle in (self.gui_kind, self.gui_prompt, self.gui_ask):
-            _show(handle, asking)
+            show_if_changed(handle, asking)
         if asking:
             self._kind_shown()
         else:
             for handle in (self.gui_options, self.gui_correct, self.gui_truth, self.gui_judge, self.gui_target):
-                _show(handle, False)
+                show_if_changed(handle, False)
         for handle in (self.gui_count, self.gui_close, self.gui_again, self.gui_csv, self.gui_new):
-            _show(handle, not asking)
+            show_if_changed(handle, not asking)
         if round_ is None:
-            _show(self.gui_histogram, False)
-            _show(self.gui_reveal, False)
+            show_if_changed(self.gui_histogram, False)
+            show_if_changed(self.gui_reveal, False)
             self._draw_sphere(None)
             self._show_gallery(None)
             return
         tally = round_.tally()
         question = round_.question
-        _write(self.gui_count, count_text(round_.number, tally.answered, expected, tally.open)
+        write_if_changed(self.gui_count, count_text(round_.number, tally.answered, expected, tally.open)
                + f"  \n{question.prompt}")
         if self.gui_close.disabled != (not tally.open):
             self.gui_close.disabled = not tally.open
         has_truth = getattr(question, "correct", None) is not None or getattr(question, "truth", None) is not None
-        _show(self.gui_reveal, has_truth)
+        show_if_changed(self.gui_reveal, has_truth)
         label = HIDE_LABEL if round_.revealed else REVEAL_LABEL
         if self.gui_reveal.label != label:
             self.gui_reveal.label = label
         if isinstance(question, Choice):
-            _write(self.gui_histogram, histogram_text(tally, round_.revealed))
+            write_if_changed(self.gui_histogram, histogram_text(tally, round_.revealed))
         elif isinstance(question, Direction):
             near = f" · {tally.within(15.0)} within 15° of the true direction" if round_.revealed else ""
-            _write(self.gui_histogram, f"{tally.answered} tips on the sphere in the 3D view{near}")
+            write_if_changed(self.gui_histogram, f"{tally.answered} tips on the sphere in the 3D view{near}")
         else:
             histogram = judged_histogram_text(tally)
-            _write(self.gui_histogram, histogram or f"{tally.answered} states sent")
-        _show(self.gui_histogram, True)
+            write_if_changed(self.gui_histogram, histogram or f"{tally.answered} states sent")
+        show_if_changed(self.gui_histogram, True)
         self._draw_sphere(tally if isinstance(question, Direction) else None, round_.revealed)
         self._show_gallery(round_ if isinstance(question, State) else None)
 
@@ -430,7 +420,7 @@ class AskPanel:
     def _show_gallery(self, round_: Any) -> None:
         """The gallery of the round's states (None: no state round; the gallery goes)."""
         shown = round_ is not None
-        _show(self.gallery_panel.folder, shown)
+        show_if_changed(self.gallery_panel.folder, shown)
         if not shown:
             if self.gallery.entries:
                 self.gallery.clear()
@@ -451,16 +441,16 @@ class AskPanel:
         """The sphere, the tips of the answers and (revealed) the true direction, in this browser's
         scene; `tally` None: hidden."""
         sphere, tips, truth_arrow = self._sphere
-        _show(sphere, tally is not None)
+        show_if_changed(sphere, tally is not None)
         points = np.zeros((0, 3), np.float32) if tally is None else sphere_points(tally)
         if len(points):
             tips.points = points
-        _show(tips, bool(len(points)))
+        show_if_changed(tips, bool(len(points)))
         truth = None if tally is None else getattr(tally.question, "truth", None)
         if revealed and truth is not None:
             truth_arrow.points = np.array([[[0.0, 0.0, 0.0], [TRUTH_REACH * SPHERE_RADIUS * c for c in truth]]],
                                           np.float32)
-        _show(truth_arrow, bool(revealed and truth is not None))
+        show_if_changed(truth_arrow, bool(revealed and truth is not None))
 
     def remove(self) -> None:
         for handle in self._sphere:
@@ -556,7 +546,7 @@ class AnswerPanel:
 
     def _arrow_shown(self, shown: bool) -> None:
         """The student's arrow and its gizmo (rotation only), in its own scene."""
-        _show(self._gizmo, shown)
+        show_if_changed(self._gizmo, shown)
 
     def refresh(self) -> None:
         """Show the round the class is asked now (or nothing), the controls or this browser's answer."""
@@ -568,7 +558,7 @@ class AnswerPanel:
             return
         self.drawn = key
         if shown is None:
-            _show(self.folder, False)
+            show_if_changed(self.folder, False)
             self._arrow_shown(False)
             self.student.folded_for_question(False)
             self.editing = True
@@ -580,8 +570,8 @@ class AnswerPanel:
         head = f"**Question {shown.number}** · {question.prompt}"
         if not shown.open:
             head += "  \n*The round is closed.*"
-        _write(self.gui_prompt, head)
-        _show(self.folder, True)
+        write_if_changed(self.gui_prompt, head)
+        show_if_changed(self.folder, True)
         is_choice, is_direction, is_state = (isinstance(question, kind) for kind in (Choice, Direction, State))
         for k, button in enumerate(self.gui_options):
             there = is_choice and controls and k < len(question.options)  # type: ignore[union-attr]
@@ -589,18 +579,18 @@ class AnswerPanel:
                 label = f"{k + 1}. {question.options[k]}"  # type: ignore[union-attr]
                 if button.label != label:
                     button.label = label
-            _show(button, there)
+            show_if_changed(button, there)
         for handle in (self.gui_azimuth, self.gui_elevation, self.gui_send_direction):
-            _show(handle, is_direction and controls)
+            show_if_changed(handle, is_direction and controls)
         self._arrow_shown(is_direction and controls)
         exploring = getattr(self.student, "mode", None) != "following"
-        _show(self.gui_from_copy, is_state and controls and not exploring)
-        _show(self.gui_send_state, is_state and controls and exploring)
-        _show(self.gui_mine, mine is not None)
+        show_if_changed(self.gui_from_copy, is_state and controls and not exploring)
+        show_if_changed(self.gui_send_state, is_state and controls and exploring)
+        show_if_changed(self.gui_mine, mine is not None)
         if mine is not None:
-            _write(self.gui_mine, f"Your answer: {answer_words(question, mine)}"
+            write_if_changed(self.gui_mine, f"Your answer: {answer_words(question, mine)}"
                    + (" · you can change it until the round closes." if shown.open else ""))
-        _show(self.gui_change, mine is not None and shown.open and not self.editing)
+        show_if_changed(self.gui_change, mine is not None and shown.open and not self.editing)
         self.student.folded_for_question(shown.open and mine is None)
 
     def remove(self) -> None:

@@ -26,7 +26,7 @@ from typing import Any, Protocol
 
 import viser
 
-from app.kit.core.common import Wrap
+from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
 __all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "STAY_LABEL", "LecturePanel", "Lecturer", "call_text", "live_badge"]
@@ -147,22 +147,22 @@ class LecturePanel:
         presenter = lectern.presenter
         presenting = mode is Mode.PRESENTING
         exploring = mode is Mode.OWN and lectern.someone_presents and presenter is not self.seat
-        _show(self.gui_code, not presenting)
-        _show(self.gui_present, not presenting)
+        show_if_changed(self.gui_code, not presenting)
+        show_if_changed(self.gui_present, not presenting)
         for handle in (self.gui_badge, self.gui_stop, self.gui_pointer, self.gui_pointer_label, self.gui_call_back):
-            _show(handle, presenting)
+            show_if_changed(handle, presenting)
         if presenting:
             following, explorers = lectern.total_audience()
-            _write(self.gui_badge, live_badge(following, explorers))
+            write_if_changed(self.gui_badge, live_badge(following, explorers))
             if self.gui_call_back.disabled != (explorers == 0):
                 self.gui_call_back.disabled = explorers == 0
         left = lectern.call_back_left(self.seat) if exploring else None
-        _show(self.gui_lecture_on, exploring)
-        _show(self.gui_follow, exploring)
-        _show(self.gui_stay, left is not None)
+        show_if_changed(self.gui_lecture_on, exploring)
+        show_if_changed(self.gui_follow, exploring)
+        show_if_changed(self.gui_stay, left is not None)
         if exploring:
             title = lectern.live_title()
-            _write(self.gui_lecture_on, call_text(left) if left is not None
+            write_if_changed(self.gui_lecture_on, call_text(left) if left is not None
                    else lecture_on_text(title or "a scene"))
 
     def call_back(self) -> None:
@@ -194,13 +194,3 @@ class LecturePanel:
         """A click on the browser's own scene (only it hears them): a marker for everyone."""
         if self.seat.mode is Mode.PRESENTING:
             self.lectern.point(self.seat, event.ray_origin, event.ray_direction, str(self.gui_pointer_label.value))
-
-
-def _show(handle: Any, visible: bool) -> None:
-    if handle.visible != visible:
-        handle.visible = visible
-
-
-def _write(handle: Any, content: str) -> None:
-    if handle.content != content:
-        handle.content = content

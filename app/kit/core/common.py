@@ -22,6 +22,8 @@ from physics._types import Mat3, Vec3
 __all__ = [
     "RunEnded",
     "Wrap",
+    "show_if_changed",
+    "write_if_changed",
     "BODY_AXIS_COLORS",
     "GIMBAL_FADE_DEG",
     "format_deg",
@@ -285,3 +287,15 @@ class RunEnded(Exception):  # noqa: N818 - not an error: the motion's natural en
     """Raised by a simulation's `advance` when its motion reaches its natural end (a bead that
     flies off the end of its rod): not an error.  The state stays at the last moment of the run;
     the room pauses and says `str(self)`, plain words for a student, without a warning sign."""
+
+
+def show_if_changed(handle: Any, visible: bool) -> None:
+    """Set a GUI or scene handle's `visible` only when it differs (a write is a message to the browser)."""
+    if handle.visible != visible:
+        handle.visible = visible
+
+
+def write_if_changed(handle: Any, content: str) -> None:
+    """Set a markdown handle's `content` only when it differs (a write is a message to the browser)."""
+    if handle.content != content:
+        handle.content = content
