@@ -31,14 +31,14 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
     for preset in ConstrainedView.presets():
         for _ in range(3):  # a click that lands while the panel re-lays out is clicked again
             page.get_by_role("button", name=preset.name, exact=True).click()
-            deadline = time.monotonic() + 5.0
+            deadline = time.monotonic() + 20.0  # a preset's first solve on a busy machine
             while session.simulation.preset != preset.name and time.monotonic() < deadline:
                 time.sleep(0.05)
             if session.simulation.preset == preset.name:
                 break
         assert session.simulation.preset == preset.name
         page.get_by_role("button", name="Play", exact=True).click()
-        deadline = time.monotonic() + 10.0
+        deadline = time.monotonic() + 30.0
         while session.simulation.t < 1.2 and time.monotonic() < deadline:
             time.sleep(0.05)
         assert session.simulation.t >= 1.2, (preset.name, session.last_error)
