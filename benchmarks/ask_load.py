@@ -44,7 +44,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from benchmarks.load_clients import PRESENTER_CODE, run_async, start_playing  # noqa: E402
+from benchmarks.load_clients import PRESENTER_CODE, present_and_play, run_async  # noqa: E402
 from benchmarks.ws_client import AsyncViserClient  # noqa: E402
 
 QUESTION = {"kind": "choice", "prompt": "Which axis is stable?", "options": ["x′", "y′", "z′"], "correct": 2}
@@ -153,12 +153,7 @@ async def _run(server: Server, count: int, seconds: float, scene: str) -> dict[s
     presenter = await AsyncViserClient.connect(port, keep_messages=200)
     followers: list[AsyncViserClient] = []
     try:
-        await presenter.wait_for_label("Presenter code", 60.0)
-        await presenter.set_value("Presenter code", PRESENTER_CODE)
-        await asyncio.sleep(0.2)
-        await presenter.click("Present")
-        await asyncio.sleep(0.5)
-        await start_playing(presenter, scene, timeout=60.0)
+        await present_and_play(presenter, scene, timeout=60.0)
         presenter.state.count_only = True
         for _ in range(count):
             followers.append(await AsyncViserClient.connect(port, keep_messages=50, open_timeout=60.0))

@@ -47,6 +47,7 @@ from benchmarks.load_clients import (  # noqa: E402
     PRESENTER_CODE,
     ServerProcess,
     cpu_percent,
+    present_and_play,
     run_async,
     sample_process,
     start_playing,
@@ -258,12 +259,7 @@ async def _followers(port: int, count: int, code: str, pids: dict[str, list[int]
     presenter = await AsyncViserClient.connect(port, keep_messages=200)
     clients: list[AsyncViserClient] = []
     try:
-        await presenter.wait_for_label("Presenter code", 30.0)
-        await presenter.set_value("Presenter code", code)
-        await asyncio.sleep(0.3)
-        await presenter.click("Present")
-        await asyncio.sleep(0.5)
-        await start_playing(presenter, "Free body", timeout=30.0)
+        await present_and_play(presenter, "Free body", timeout=30.0, code=code)
         presenter.state.count_only = True
         for _ in range(count):
             clients.append(await AsyncViserClient.connect(port, keep_messages=20))

@@ -126,6 +126,18 @@ def _gui_send(element: GuiElement, value: Any) -> Any:
     return gui_update_message(element.uuid, value)
 
 
+async def present_and_play(presenter: AsyncViserClient, scene: str, timeout: float = 30.0,
+                           code: str = PRESENTER_CODE) -> str:
+    """Type the presenter `code`, press Present, then `start_playing(scene)`, as a browser would;
+    the body node."""
+    await presenter.wait_for_label("Presenter code", timeout)
+    await presenter.set_value("Presenter code", code)
+    await asyncio.sleep(0.2)
+    await presenter.click("Present")
+    await asyncio.sleep(0.5)
+    return await start_playing(presenter, scene, timeout=timeout)
+
+
 async def start_playing(client: AsyncViserClient, scene: str, timeout: float = 15.0) -> str:
     """Select `scene` and press Play through GUI messages, as a browser would; wait until the
     client sees its body move (>= 5 orientation messages of one node).  Returns the body node.
@@ -405,12 +417,7 @@ async def _run_followers(server: ServerProcess, followers: int, scene: str, warm
     presenter = await AsyncViserClient.connect(port, keep_messages=200)
     connected: list[AsyncViserClient] = []
     try:
-        await presenter.wait_for_label("Presenter code", 30.0)
-        await presenter.set_value("Presenter code", PRESENTER_CODE)
-        await asyncio.sleep(0.2)
-        await presenter.click("Present")
-        await asyncio.sleep(0.5)
-        await start_playing(presenter, scene, timeout=30.0)
+        await present_and_play(presenter, scene, timeout=30.0)
         presenter.state.count_only = True
         for _ in range(followers):
             connected.append(await AsyncViserClient.connect(port, keep_messages=50))
