@@ -177,6 +177,43 @@ def test_the_layer_sends_only_changes(scene, monkeypatch) -> None:
     assert a.visible and b.visible
 
 
+def test_own_rooms_share_a_budget_of_layouts_and_a_presenters_layer_keeps_its_period(monkeypatch) -> None:
+    """60 own rooms drawing at 60 fps would lay out 600 times a second at PERIOD; together they
+    stay within labels.BUDGET a second (+ each one's first, immediate layout).  One own room alone,
+    and a presenter's shared scene (its `screens` set) beside the 60, keep every PERIOD."""
+    from app.kit.draw import labels
+
+    monkeypatch.setattr(labels, "_SHARE", labels._Share())  # no other test's layers in the count
+    counts: dict[int, int] = {}
+
+    def layer(screens: Any = None) -> LabelLayer:
+        made = LabelLayer(None, TOP_VIEW, screens=screens)
+        counts[id(made)] = 0
+
+        def counted(made: LabelLayer = made) -> None:
+            counts[id(made)] += 1
+        made._lay_out = counted  # type: ignore[method-assign]
+        return made
+
+    def run(layers: list[LabelLayer], seconds: float, dt: float = 1.0 / 60.0) -> None:
+        for _ in range(round(seconds / dt)):  # fast in wall time: all of them drew "within a second"
+            for each in layers:
+                each.update(dt)
+
+    alone = layer()
+    run([alone], 2.0)
+    assert counts[id(alone)] == pytest.approx(2.0 / labels.PERIOD, abs=1)  # 10 Hz (its first at once, the next a phase late)
+    rooms = [layer() for _ in range(60)]
+    presenter = layer(screens=lambda: [])
+    run([*rooms, presenter], 1.0)  # the share counts the 60 layers
+    for each in counts:
+        counts[each] = 0
+    run([*rooms, presenter], 4.0)
+    total = sum(counts[id(r)] for r in rooms)
+    assert 0.8 * labels.BUDGET * 4.0 <= total <= labels.BUDGET * 4.0 + len(rooms), total
+    assert counts[id(presenter)] == pytest.approx(4.0 / labels.PERIOD, abs=1)
+
+
 def test_every_label_of_every_scene_is_registered(manual) -> None:
     session = manual.session
     for title in SCENES:
