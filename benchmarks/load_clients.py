@@ -138,6 +138,9 @@ async def present_and_play(presenter: AsyncViserClient, scene: str, timeout: flo
     return await start_playing(presenter, scene, timeout=timeout)
 
 
+PRESS_AGAIN_S = 15.0  # [s] Play is pressed again when neither motion nor Pause came this long after a press
+
+
 async def start_playing(client: AsyncViserClient, scene: str, timeout: float = 15.0) -> str:
     """Select `scene` and press Play through GUI messages, as a browser would; wait until the
     client sees its body move (>= 5 orientation messages of one node).  Returns the body node.
@@ -163,18 +166,24 @@ async def start_playing(client: AsyncViserClient, scene: str, timeout: float = 1
         await asyncio.sleep(0.2)  # let the rest of the scene's GUI arrive
         state.reset_pose_stats()
         await client.send(_gui_send(play, True))
+        # Wait for the motion, or for the control to show Pause (the press was taken: a busy server
+        # is slow to start drawing); press again only when neither came within PRESS_AGAIN_S (a
+        # second press too soon would pause what the first one started).
         try:
-            busiest = await client.wait_for(
-                lambda: (b := state.busiest_node()) is not None and b[1].orientations >= 5 and b, 3.0)
-            return busiest[0]
+            await client.wait_for(lambda: find_play_control(state, old_uuids) is None or (
+                (b := state.busiest_node()) is not None and b[1].orientations >= 5),
+                min(PRESS_AGAIN_S, max(deadline - time.monotonic(), 0.1)))
         except TimeoutError:
             if time.monotonic() > deadline:
                 raise TimeoutError(f"{scene}: no motion after pressing {play.label!r}") from None
-            if find_play_control(state, old_uuids) is None:  # it shows Pause: playing, just slow to start
-                busiest = await client.wait_for(
-                    lambda: (b := state.busiest_node()) is not None and b[1].orientations >= 5 and b,
-                    max(deadline - time.monotonic(), 0.1))
-                return busiest[0]
+            continue
+        try:
+            busiest = await client.wait_for(
+                lambda: (b := state.busiest_node()) is not None and b[1].orientations >= 5 and b,
+                max(deadline - time.monotonic(), 0.1))
+        except TimeoutError:
+            raise TimeoutError(f"{scene}: no motion after pressing {play.label!r}") from None
+        return busiest[0]
 
 
 # ---------------------------------------------------------------------------- server process
