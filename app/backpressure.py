@@ -56,6 +56,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
@@ -157,6 +158,11 @@ class FramePacer:
         flush: wake the sender for all drawn clients at the end of the frame (`flush_all`).
         clock / sleep: injectable (tests); ``sleep=stop_event.wait`` lets a stop request cut
             a wait short (while the sender is still busy the wait then spins until max_wait).
+        wake: set by a source of work the loop should take at once (the cluster bus: a
+            presenter's frame from another process): the wait for the next 1/rate boundary then
+            ends, though not before half a period from the frame's start (so the loop runs in
+            step with that source, never above twice the rate); `begin` clears it.  The wait
+            then sleeps in `wake.wait` (set it also to stop).
     """
 
     def __init__(
@@ -171,6 +177,7 @@ class FramePacer:
         flush: bool = True,
         clock: Callable[[], float] = time.perf_counter,
         sleep: Callable[[float], Any] = time.sleep,
+        wake: threading.Event | None = None,
     ) -> None:
         if rate_hz <= 0:
             raise ValueError(f"rate_hz must be > 0, got {rate_hz}")
@@ -183,6 +190,7 @@ class FramePacer:
         self.flush = flush
         self._clock = clock
         self._sleep = sleep
+        self._wake = wake
         self._frame_start: float | None = None
         self.stats = PacerStats()
 
@@ -193,6 +201,8 @@ class FramePacer:
         dt = 0.0 if self._frame_start is None else now - self._frame_start
         self._frame_start = now
         self.stats.frames += 1
+        if self._wake is not None:
+            self._wake.clear()
         return dt
 
     def ready(self, client: ClientHandle) -> bool:
@@ -235,6 +245,8 @@ class FramePacer:
         if self.flush and drawn:
             flush_all(drawn)
         earliest = max(now + self.idle_ratio * work, start + self.period)
+        early = max(now + self.idle_ratio * work, start + 0.5 * self.period)  # when woken (`wake`)
+        wake = self._wake
         give_up = max(start + self.max_wait, earliest)
         waiting = [c for c in drawn if pending(c) > 0] if self.drain else []
         other = self.drain and busy is not None and busy()
@@ -245,15 +257,18 @@ class FramePacer:
                 waiting = [c for c in waiting if pending(c) > 0 and not is_closed(c)]
             if other:
                 other = busy is not None and busy()
-            if not (waiting or other) and now >= earliest:
+            if not (waiting or other) and (now >= earliest or (
+                    wake is not None and wake.is_set() and now >= early)):
                 break
             if now >= give_up:
                 self.stats.drain_timeouts += 1
                 break
             if waiting or other:  # poll: the sender runs while we sleep (GIL released)
                 self._sleep(max(min(self.poll, give_up - now), 0.0))
+            elif wake is not None and not wake.is_set():
+                wake.wait(earliest - now)  # until the boundary, or woken
             else:
-                self._sleep(earliest - now)
+                self._sleep((early if wake is not None else earliest) - now)
         slept = clock() - slept_from
         self.stats.wait_s += slept
         return slept

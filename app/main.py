@@ -126,6 +126,9 @@ class App:
         self._ask_pending: set[int] = set()  # client ids whose question was not refreshed (busy then)
         self.ask_bus: Any = None  # questions across processes (`app.cluster.askbus`): None on one process
         self._stop = threading.Event()
+        self._wake = threading.Event()  # the next frame now (stop; the bus: a presenter's frame from another process)
+        if self.bus is not None:
+            self.bus.wake = self._wake
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
         server.on_client_disconnect(self._on_client_disconnect)
@@ -201,7 +204,7 @@ class App:
         fed the time it skipped.  Under overload the whole loop slows down, so every client
         drops frames evenly, and the loop sleeps (GIL released) while viser's sender runs.
         """
-        pacer = FramePacer(self.tick_hz, sleep=self._stop.wait)
+        pacer = FramePacer(self.tick_hz, sleep=self._stop.wait, wake=self._wake)
         window = (time.monotonic(), 0, 0, 0)  # start, frames, drawn, skipped at the start
         while not self._stop.is_set():
             drawn = self.frame(min(pacer.begin(), MAX_TICK_DT), pacer)
@@ -316,6 +319,7 @@ class App:
     def stop(self) -> None:
         """Stop the loop and the server (idempotent)."""
         self._stop.set()
+        self._wake.set()
         if self._thread.is_alive():
             self._thread.join(timeout=2.0)
         if self.bus is not None:

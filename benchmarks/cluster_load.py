@@ -6,6 +6,8 @@ followers (a presenter types the code, presents and plays; the followers only co
 Two set-ups, measured one after the other with the same clients:
 
 - "1 process": the app as `python -m app` starts it (load_clients.py --serve);
+- "2 plain processes": two app processes without Redis behind the same nginx (own rooms only:
+  they share no lecture), the reference the issue's targets compare with;
 - "2 workers": redis-server on a free port, two app processes (`create_server(redis_url=...,
   worker_id=...)`, this file with --serve-worker) and nginx in front of them (`least_conn`,
   websockets proxied; `nginx_conf`).  The clients connect to nginx, which spreads them.
@@ -98,8 +100,9 @@ def serve_worker(redis_url: str, worker_id: str, max_lifetime: float) -> None:
     published); exits when stdin closes or after `max_lifetime` [s]."""
     from app.main import create_server
 
-    app = create_server("127.0.0.1", 0, verbose=False, presenter_code=WORKER_CODE, redis_url=redis_url,
-                        worker_id=worker_id)
+    app = (create_server("127.0.0.1", 0, verbose=False, presenter_code=WORKER_CODE, redis_url=redis_url,
+                         worker_id=worker_id) if redis_url else
+           create_server("127.0.0.1", 0, verbose=False, presenter_code=WORKER_CODE))
     print(f"BENCH_PORT {app.port}", flush=True)
     done = threading.Event()
 
@@ -128,10 +131,10 @@ def serve_worker(redis_url: str, worker_id: str, max_lifetime: float) -> None:
 class Worker:
     """A worker process (this file with --serve-worker): `port`, `pid`, `stats()`, `stop()`."""
 
-    def __init__(self, redis_url: str, worker_id: str, max_lifetime: float) -> None:
+    def __init__(self, redis_url: str | None, worker_id: str, max_lifetime: float) -> None:
         self._log = tempfile.TemporaryFile(mode="w+")
         self.process = subprocess.Popen(
-            [sys.executable, str(Path(__file__).resolve()), "--serve-worker", "--redis", redis_url,
+            [sys.executable, str(Path(__file__).resolve()), "--serve-worker", "--redis", redis_url or "",
              "--worker-id", worker_id, "--max-lifetime", str(max_lifetime)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._log, text=True, cwd=ROOT)
         self.pid = self.process.pid
@@ -178,13 +181,14 @@ class Worker:
 
 
 class Cluster:
-    """redis-server, two workers and nginx in front; `port` (nginx's), `pids()` by role, `stop()`."""
+    """redis-server (with `bus`), workers and nginx in front; `port` (nginx's), `pids()` by role,
+    `stop()`.  Without `bus`: plain app processes (no Redis, no shared lecture), the reference."""
 
-    def __init__(self, workers: int, max_lifetime: float) -> None:
+    def __init__(self, workers: int, max_lifetime: float, bus: bool = True) -> None:
         from app.cluster import services
 
         self._folder = Path(tempfile.mkdtemp(prefix="rbl-cluster-bench-"))
-        self.redis_url, self.redis = services.start_redis()
+        self.redis_url, self.redis = services.start_redis() if bus else (None, None)
         self.workers: list[Worker] = []
         self.nginx: subprocess.Popen[bytes] | None = None
         try:
@@ -208,7 +212,7 @@ class Cluster:
                     if int(stat[stat.rindex(")") + 2:].split()[1]) in nginx[:1]:
                         nginx.append(int(entry.name))
         return {**{f"worker {i + 1}": [w.pid] for i, w in enumerate(self.workers)}, "nginx": nginx,
-                "redis": [self.redis.pid]}
+                **({"redis": [self.redis.pid]} if self.redis is not None else {})}
 
     def stop(self) -> None:
         from app.cluster import services
@@ -228,11 +232,15 @@ def _cpu(pids: dict[str, list[int]]) -> dict[str, Any]:
     return samples
 
 
-async def _measure(clients: list[AsyncViserClient], pids: dict[str, list[int]], warmup: float, seconds: float
-                   ) -> tuple[list[float], dict[str, float]]:
+async def _measure(clients: list[AsyncViserClient], pids: dict[str, list[int]], warmup: float, seconds: float,
+                   start: Any = None) -> tuple[list[float], dict[str, float]]:
+    """fps per client and CPU % per role over `seconds` after `warmup`; `start()` is called when
+    the window opens (the workers' bus delays are counted from then)."""
     for client in clients:
         client.state.count_only = True
     await asyncio.sleep(warmup)
+    if start is not None:
+        await asyncio.get_running_loop().run_in_executor(None, start)
     first, t0 = _cpu(pids), time.monotonic()
     frames0 = [c.state.frames for c in clients]
     await asyncio.sleep(seconds)
@@ -242,33 +250,40 @@ async def _measure(clients: list[AsyncViserClient], pids: dict[str, list[int]], 
     return [(b - a) / (t1 - t0) for a, b in zip(frames0, frames1)], cpu
 
 
-async def _own_rooms(port: int, count: int, pids: dict[str, list[int]], warmup: float, seconds: float
-                     ) -> tuple[list[float], dict[str, float]]:
+async def _own_rooms(port: int, count: int, pids: dict[str, list[int]], warmup: float, seconds: float,
+                     start: Any = None) -> tuple[list[float], dict[str, float]]:
     clients: list[AsyncViserClient] = []
     try:
         for _ in range(count):
-            clients.append(await AsyncViserClient.connect(port, keep_messages=200))
+            clients.append(await AsyncViserClient.connect(port, keep_messages=200, open_timeout=60.0))
+
         async def play(client: AsyncViserClient) -> None:
             await start_playing(client, "Free body", timeout=60.0 + 2.0 * count)
             client.state.count_only = True  # pressed what it needs: decoding every frame would starve the server
 
         await asyncio.gather(*(play(c) for c in clients))
-        return await _measure(clients, pids, warmup, seconds)
+        return await _measure(clients, pids, warmup, seconds, start)
     finally:
         await asyncio.gather(*(c.close() for c in clients), return_exceptions=True)
 
 
-async def _followers(port: int, count: int, code: str, pids: dict[str, list[int]], warmup: float, seconds: float
-                     ) -> tuple[list[float], dict[str, float]]:
+async def _followers(port: int, count: int, code: str, pids: dict[str, list[int]], warmup: float, seconds: float,
+                     start: Any = None) -> tuple[list[float], dict[str, float]]:
     presenter = await AsyncViserClient.connect(port, keep_messages=200)
     clients: list[AsyncViserClient] = []
     try:
         await present_and_play(presenter, "Free body", timeout=30.0, code=code)
         presenter.state.count_only = True
-        for _ in range(count):
-            clients.append(await AsyncViserClient.connect(port, keep_messages=20))
-        await asyncio.gather(*(c.wait_for(lambda c=c: c.state.replay_done, 60.0 + 0.5 * count) for c in clients))
-        return await _measure(clients, pids, warmup, seconds)
+        async def joined(client: AsyncViserClient) -> None:
+            await client.wait_for(lambda: client.state.replay_done, 60.0 + 0.5 * count)
+            client.state.count_only = True  # it has the scene: decoding every frame would starve the server
+
+        waits = []
+        for _ in range(count):  # one after the other, as a class arrives
+            clients.append(await AsyncViserClient.connect(port, keep_messages=20, open_timeout=60.0))
+            waits.append(asyncio.ensure_future(joined(clients[-1])))
+        await asyncio.gather(*waits)
+        return await _measure(clients, pids, warmup, seconds, start)
     finally:
         await asyncio.gather(*(c.close() for c in [presenter, *clients]), return_exceptions=True)
 
@@ -296,24 +311,32 @@ def run(rooms: list[int], followers: list[int], warmup: float, seconds: float) -
         finally:
             single.stop()
         print(rows[-1], flush=True)
-        cluster = Cluster(2, lifetime)
-        try:
-            pids = cluster.pids()
-            for worker in cluster.workers:
-                worker.stats()  # clears the delays
-            fps, cpu = (run_async(_own_rooms(cluster.port, count, pids, warmup, seconds)) if kind == "rooms" else
-                        run_async(_followers(cluster.port, count, WORKER_CODE, pids, warmup, seconds)))
-            stats = [worker.stats() for worker in cluster.workers]
-            source = max(stats, key=lambda s: s["batches"])
-            other = min(stats, key=lambda s: s["batches"])
-            bus = (f"{other['p50_ms']:.1f} / {other['p95_ms']:.1f}, "
-                   f"{source['bytes'] / max(1, source['batches']):.0f} B" if source["batches"] else "no lecture")
-            rows.append(_row("2 workers", label, fps, cpu, bus))
-        except TimeoutError as error:
-            rows.append(f"| 2 workers | {label} | did not start: {error} | | |")
-        finally:
-            cluster.stop()
-        print(rows[-1], flush=True)
+        for setup, bus in (("2 plain processes", False), ("2 workers", True)):
+            if kind == "followers" and not bus:
+                continue  # plain processes share no lecture
+            cluster = Cluster(2, lifetime, bus=bus)
+            try:
+                pids = cluster.pids()
+
+                def clear(cluster: Cluster = cluster) -> None:  # the delays from the window's start on
+                    for worker in cluster.workers:
+                        worker.stats()
+
+                fps, cpu = (run_async(_own_rooms(cluster.port, count, pids, warmup, seconds, clear))
+                            if kind == "rooms" else
+                            run_async(_followers(cluster.port, count, WORKER_CODE, pids, warmup, seconds, clear)))
+                stats = [worker.stats() for worker in cluster.workers]
+                source = max(stats, key=lambda s: s["batches"])
+                other = min(stats, key=lambda s: s["batches"])
+                note = ("-" if not bus else "no lecture" if not source["batches"] else
+                        f"{other['p50_ms']:.1f} / {other['p95_ms']:.1f}, "
+                        f"{source['bytes'] / max(1, source['batches']):.0f} B")
+                rows.append(_row(setup, label, fps, cpu, note))
+            except TimeoutError as error:
+                rows.append(f"| {setup} | {label} | did not start: {error} | | |")
+            finally:
+                cluster.stop()
+            print(rows[-1], flush=True)
     return rows
 
 

@@ -6,6 +6,8 @@ internals falls back to pacing by time alone."""
 from __future__ import annotations
 
 import contextlib
+import threading
+import time
 import types
 from collections.abc import Iterator
 
@@ -84,6 +86,32 @@ def test_the_loop_leaves_the_sender_a_share_of_the_time_under_overload() -> None
     clock.t += 0.04  # 40 ms of work: longer than a frame
     pacer.end([a])  # type: ignore[list-item]
     assert abs(clock.t - 0.06) < 1e-3  # and then 20 ms asleep (GIL released)
+
+
+def test_a_wake_ends_the_wait_for_the_boundary_but_not_before_half_a_period() -> None:
+    clock, a, wake = _Clock(), _Client(0), threading.Event()
+    pacer = FramePacer(60.0, clock=clock, sleep=clock.sleep, wake=wake, max_unsent_bytes=None)
+    pacer.begin()
+    clock.t += 0.002
+    wake.set()  # a presenter's frame came from another process while this one drew
+    pacer.end([a])  # type: ignore[list-item]
+    assert abs(clock.t - 0.5 / 60) < 1e-3  # half a period from the start, not the whole
+    pacer.begin()
+    assert not wake.is_set()  # the next frame takes it in
+
+
+def test_a_wake_during_the_wait_starts_the_next_frame_then() -> None:
+    """Real time, a slow rate (2 Hz: a boundary 0.5 s after the start): woken at 0.3 s, the wait ends then."""
+    wake = threading.Event()
+    pacer = FramePacer(2.0, wake=wake, max_unsent_bytes=None)
+    start = time.perf_counter()
+    pacer.begin()
+    timer = threading.Timer(0.3, wake.set)
+    timer.start()
+    pacer.end([])
+    elapsed = time.perf_counter() - start
+    timer.join()
+    assert 0.29 <= elapsed < 0.45, elapsed
 
 
 def test_without_visers_internals_pending_is_zero_and_pacing_is_by_time() -> None:

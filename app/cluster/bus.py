@@ -237,6 +237,9 @@ class Bus:
         self._remote_audience = (0, 0)
         self.published_bytes = self.published_batches = self.resyncs = 0
         self.delays: collections.deque[float] = collections.deque(maxlen=2000)
+        self.wake: threading.Event | None = None
+        """Set when a scene batch arrives (the app's loop then starts its next frame at once:
+        followers here get the presenter's frame about when a follower of its process does)."""
         self._queue = divert_queue(interface_of(server), self._tap)  # the app's wire (or viser's) behind the tap
         lectern.events.append(self._events.append)
         lectern.remote_audience = lambda: self._remote_audience
@@ -280,6 +283,8 @@ class Bus:
                 self._answered(body)
                 continue
             self._inbox.append((channel, body))
+            if body.get("k") == "scene" and self.wake is not None:
+                self.wake.set()
 
     def _answered(self, body: dict[str, Any]) -> None:
         number, error = body.get("n"), body.get("error")
