@@ -169,7 +169,8 @@ def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
         return bool(np.allclose(camera.position, position, atol=1e-9))
 
     poll_until(fitted)
-    hall.frames(12)  # the lectern fits the phone's camera; the labels lay out
+    hall.frames(20)  # the lectern fits the phone's camera; the labels lay out (a layer's next layout
+    # comes PERIOD plus its phase, up to another PERIOD, after its first: 0.2 s at most)
     scene = hall.app.server.scene
     live = presenter.scene.root + "/"
     for moment in range(8):
