@@ -112,6 +112,7 @@ POINTER_COLOR = (235, 0, 140)
 POINTER_RADIUS = 0.22  # [scene units] of the ring
 POINTER_LABEL_CHARS = 40
 CALL_BACK_SECONDS = 10.0  # [s] an explorer called back has to press Stay before it follows again
+FOLLOWER_SCREENS_PERIOD = 0.25  # [s] the followers' kinds of screen are looked at again after this long
 MAX_LABEL_SCREENS = 6  # a presenter's labels are laid out for its screen and at most 5 kinds of follower's
 BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
 NARROW_MARGIN = 1.25  # a narrow view is that much farther back than the share's width needs (`fitted_camera`)
@@ -386,6 +387,9 @@ class Lectern:
         """An exact copy of the remote presenter's room (Explore on this process)."""
         self.clear_shared: Callable[[], None] = lambda: None
         """Remove another process's nodes from the shared scene (before this one draws there)."""
+        self._follower_screens: tuple[float, list[Screen]] | None = None  # (when, `follower_screens`)
+        self.remote_screens: Callable[[], list[Screen]] = lambda: []
+        """The kinds of follower's screen on the other processes (`label_screens` adds them)."""
 
     # ------------------------------------------------------------------ the lock
     def _recent_tries(self, seat: Any) -> collections.deque[float]:
@@ -659,6 +663,7 @@ class Lectern:
         follower.show_caption(*self.caption())
         follower.show_plot(*self.room_plot())
         self._followers[seat.client_id] = (seat, follower)
+        self._follower_screens = None
         with self._lock:
             self._called.pop(seat.client_id, None)
         self._watch_camera(seat)
@@ -669,6 +674,7 @@ class Lectern:
         """`seat` follows no more: its panel goes (nothing to remove if its browser has
         `disconnected`)."""
         entry = self._followers.pop(seat.client_id, None)
+        self._follower_screens = None
         if entry is not None and not disconnected:
             entry[1].remove()
 
@@ -888,16 +894,33 @@ class Lectern:
 
     def label_screens(self) -> list[Screen]:
         """The screens the shared scene's labels are laid out for (`LabelLayer.screens`): the
-        presenter's, then one of each kind of follower's (its canvas's aspect, its panel docked or
-        not, the camera's place), those that follow the presenter's camera first, the narrowest
-        first (a phone sees the picture from farthest: its labels lie closest); at most
-        MAX_LABEL_SCREENS in all.  Read without the lectern's lock (the layout holds a room's)."""
+        presenter's, then one of each kind of follower's (`follower_screens`), then those of the
+        followers on other processes (`remote_screens`); at most MAX_LABEL_SCREENS in all.  Read
+        without the lectern's lock (the layout holds a room's)."""
         screens: list[Screen] = []
         presenter = self.presenter
         if presenter is not None:
             own = screen_of(presenter.client.camera, docked=bool(getattr(presenter, "projector", False)))
             if own is not None:
                 screens.append(own)
+        for screen in (*self.follower_screens(), *self.remote_screens()):
+            if len(screens) >= MAX_LABEL_SCREENS:
+                break
+            if screen not in screens:
+                screens.append(screen)
+        return screens
+
+    def follower_screens(self) -> list[Screen]:
+        """One screen of each kind of this process's followers (its canvas's aspect, its panel
+        docked or not, the camera's place), those that follow the presenter's camera first, the
+        narrowest first (a phone sees the picture from farthest: its labels lie closest); at most
+        MAX_LABEL_SCREENS.  Kept until a follower comes, goes or its camera moves, and at most
+        FOLLOWER_SCREENS_PERIOD (500 followers: a tenth of the loop's time when every layout
+        looked at every follower's camera)."""
+        now = time.monotonic()
+        cached = self._follower_screens
+        if cached is not None and now - cached[0] < FOLLOWER_SCREENS_PERIOD:
+            return cached[1]
         kinds: dict[Any, tuple[tuple[bool, float], Screen]] = {}
         for seat, follower in tuple(self._followers.values()):
             screen = screen_of(follower.camera, docked=bool(getattr(seat, "projector", False)))
@@ -908,11 +931,8 @@ class Lectern:
                     tuple(round(c, 1) for c in (*screen.view.position, *screen.view.look_at)))
             if kind not in kinds:
                 kinds[kind] = ((not follower.follow_camera, aspect), screen)
-        for _rank, screen in sorted(kinds.values(), key=lambda item: item[0]):
-            if len(screens) >= MAX_LABEL_SCREENS:
-                break
-            if screen not in screens:
-                screens.append(screen)
+        screens = [screen for _rank, screen in sorted(kinds.values(), key=lambda item: item[0])][:MAX_LABEL_SCREENS]
+        self._follower_screens = (now, screens)
         return screens
 
     def _camera_moved(self, seat: Seat) -> None:
@@ -921,6 +941,7 @@ class Lectern:
             return
         entry = self._followers.get(seat.client_id)
         if entry is not None and entry[0] is seat:
+            self._follower_screens = None
             self._follower_resized(*entry)
 
     def send_camera(self, follower: Follower) -> None:

@@ -39,7 +39,7 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
                 time.sleep(0.05)
             if session.simulation.preset == preset.name:
                 break
-        assert session.simulation.preset == preset.name
+        assert session.simulation.preset == preset.name, (preset.name, session.simulation.preset, session.last_error)
         page.get_by_role("button", name="Play", exact=True).click()
         deadline = time.monotonic() + 30.0
         while session.simulation.t < 1.2 and time.monotonic() < deadline:

@@ -179,6 +179,39 @@ def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -
     assert b.bus.delays and float(np.median(b.bus.delays)) < 0.25
 
 
+def test_the_shared_labels_are_laid_out_for_a_phone_on_another_worker(workers: Workers) -> None:
+    """A phone follows on B: A's shared labels are laid out for its screen too (B writes its
+    followers' kinds of screen with its audience; A adds them to `label_screens`)."""
+    from test_label_screens import PHONE, _window
+
+    a, b = workers.start("a"), workers.start("b")
+    presenter = _present(workers, "a")
+    phone, phone_client = workers.connect("b", ViserClient)
+    _window(phone_client, *PHONE[:2])
+    poll_until(lambda: phone.mode == "following" and phone.client.camera.image_width == PHONE[0], timeout=10.0)
+    assert b.lectern.follower_screens() and all(s.width != PHONE[0] for s in a.lectern.follower_screens())
+    poll_until(lambda: any((s.width, s.height) == PHONE[:2] for s in a.lectern.label_screens()), timeout=10.0)
+    (remote,) = [s for s in a.lectern.label_screens() if (s.width, s.height) == PHONE[:2]]
+    here = b.lectern.follower_screens()[0]  # the same screen, through Redis (its camera may have moved since)
+    assert (remote.panel, remote.view.fov_deg) == (here.panel, here.view.fov_deg)
+    assert presenter.mode == "presenting"
+
+
+def test_a_screen_from_redis_is_checked() -> None:
+    from app.cluster.bus import _screen_from_list, _screen_to_list
+    from app.kit.core.common import CameraView
+    from app.kit.draw.screen import Screen
+
+    view = CameraView((3.0, 3.0, 3.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 50.0)
+    screen = Screen(view, 780, 1688, (0.0, 1000.0, 780.0, 1688.0))
+    assert _screen_from_list(msgspec.msgpack.decode(msgspec.msgpack.encode(_screen_to_list(screen)))) == screen
+    good = _screen_to_list(screen)
+    for bad in (None, "x", good[:12], [*good[:9], 0.0, *good[10:]], [*good[:9], 180.0, *good[10:]],
+                [*good[:10], 0, *good[11:]], [*good[:10], 1 << 20, *good[11:]], [float("nan"), *good[1:]],
+                [*good[:12], [0.0, 0.0, "1", 1.0]], [True, *good[1:]], [*good[:3], *good[:3], *good[6:]]):
+        assert _screen_from_list(bad) is None, bad
+
+
 def test_a_hostile_follower_on_another_worker_changes_nothing(workers: Workers) -> None:
     workers.start("a")
     b = workers.start("b")

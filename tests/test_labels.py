@@ -202,7 +202,7 @@ def test_own_rooms_share_a_budget_of_layouts_and_a_presenters_layer_keeps_its_pe
 
     alone = layer()
     run([alone], 2.0)
-    assert counts[id(alone)] == pytest.approx(2.0 / labels.PERIOD, abs=1)  # 10 Hz (its first at once, the next a phase late)
+    assert counts[id(alone)] == pytest.approx(2.0 / labels.PERIOD, abs=1)  # 10 Hz (the second a phase late)
     rooms = [layer() for _ in range(60)]
     presenter = layer(screens=lambda: [])
     run([*rooms, presenter], 1.0)  # the share counts the 60 layers

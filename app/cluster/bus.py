@@ -31,7 +31,9 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   stores the bytes under ROOM_KEY + n for ROOM_TTL_MS and answers with n; the asker decodes it
   (`decode_room`: checked, bit for bit the presenter's state).
 - Audience: each process writes its (following, exploring) into the hash AUDIENCE_KEY every
-  FOLLOW_PERIOD with the time; the presenter's badge adds the others' fresh entries.
+  FOLLOW_PERIOD with the time and its followers' kinds of screen (`Lectern.follower_screens`);
+  the presenter's badge adds the others' fresh counts, and its shared labels are laid out for
+  their screens too (`Lectern.remote_screens`: a phone on another process sees no overlap).
 
 Channels and keys start with `app.cluster.KEY_PREFIX`.  Everything read from Redis is msgpack of
 plain values, checked (types, sizes, names) before use; a bad message is logged and dropped.
@@ -54,7 +56,9 @@ import numpy as np
 
 from app.cluster import KEY_PREFIX, connect
 from app.hall.follower import Hall, view_aspect
-from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, Lectern, RemoteShow
+from app.kit.core.common import CameraView
+from app.kit.draw.screen import Screen
+from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, MAX_LABEL_SCREENS, Lectern, RemoteShow
 from app.viser_internals import divert_queue, interface_of, message_from_dict
 
 __all__ = ["ALLOWED", "ASK", "AUDIENCE_KEY", "CHANNEL", "LEASE_S", "Bus", "BusError", "Replica", "cull",
@@ -64,7 +68,7 @@ logger = logging.getLogger(__name__)
 
 CHANNEL = KEY_PREFIX + "live"  # the source to every process: scene batches, the hall, camera, call back, rooms
 ASK = KEY_PREFIX + "ask"  # any process to the source: "resync", "explore"
-AUDIENCE_KEY = KEY_PREFIX + "audience"  # hash: worker id -> msgpack [following, exploring, time [s]]
+AUDIENCE_KEY = KEY_PREFIX + "audience"  # hash: worker id -> msgpack [following, exploring, time [s], screens]
 ROOM_KEY = KEY_PREFIX + "room:"  # + number: an encoded room (Explore on another process)
 ROOM_TTL_MS = 20_000
 LAST_KEY = KEY_PREFIX + "last"  # the room a presenter left on the shared screen, encoded (Explore after it ended)
@@ -235,6 +239,7 @@ class Bus:
         self._waiting: dict[str, list[Any]] = {}  # explore request id -> [Event, room key or error]
         self._events: collections.deque[str] = collections.deque()
         self._remote_audience = (0, 0)
+        self._remote_screens: list[Screen] = []
         self.published_bytes = self.published_batches = self.resyncs = 0
         self.delays: collections.deque[float] = collections.deque(maxlen=2000)
         self.wake: threading.Event | None = None
@@ -243,6 +248,7 @@ class Bus:
         self._queue = divert_queue(interface_of(server), self._tap)  # the app's wire (or viser's) behind the tap
         lectern.events.append(self._events.append)
         lectern.remote_audience = lambda: self._remote_audience
+        lectern.remote_screens = lambda: self._remote_screens
         lectern.fetch_remote = self.fetch_room
         lectern.clear_shared = self._clear_shared
         self._stop = threading.Event()
@@ -550,18 +556,25 @@ class Bus:
         lectern = self.lectern
         following, exploring = lectern.audience()
         now = time.time()
+        screens = [_screen_to_list(screen) for screen in lectern.follower_screens()] if following else []
         try:
-            self.redis.hset(AUDIENCE_KEY, self.worker_id, msgspec.msgpack.encode([following, exploring, now]))
+            self.redis.hset(AUDIENCE_KEY, self.worker_id, msgspec.msgpack.encode([following, exploring, now, screens]))
             if lectern.presenter is not None:
                 total = [0, 0]
+                remote: list[Screen] = []
                 for worker, value in self.redis.hgetall(AUDIENCE_KEY).items():
                     entry = msgspec.msgpack.decode(value)
-                    if worker.decode() == self.worker_id or not isinstance(entry, list) or len(entry) != 3:
+                    if worker.decode() == self.worker_id or not isinstance(entry, list) or len(entry) != 4:
                         continue
                     if now - float(entry[2]) <= LEASE_S:
                         total[0] += int(entry[0])
                         total[1] += int(entry[1])
+                        for item in entry[3][:MAX_LABEL_SCREENS] if isinstance(entry[3], list) else ():
+                            screen = _screen_from_list(item)
+                            if screen is not None and screen not in remote:
+                                remote.append(screen)
                 self._remote_audience = (total[0], total[1])
+                self._remote_screens = remote[:MAX_LABEL_SCREENS]
         except Exception:  # noqa: BLE001 - the badge keeps its last figures
             logger.debug("bus: audience not written", exc_info=True)
 
@@ -582,7 +595,12 @@ class Bus:
         self._waiting[request] = waiting
         try:
             self._publish(ASK, {"k": "explore", "w": self.worker_id, "r": request})
-            if not waiting[0].wait(EXPLORE_TIMEOUT_S):
+            deadline = time.monotonic() + EXPLORE_TIMEOUT_S
+            while not waiting[0].wait(0.05):  # the answer, or the presenter leaving meanwhile
+                remote = self.lectern.remote
+                if time.monotonic() > deadline or remote is None or remote.hall is not Hall.LIVE:
+                    break
+            if not waiting[0].is_set():
                 data = self.redis.get(LAST_KEY)
                 if data is not None:
                     return decode_room(data)
@@ -628,6 +646,35 @@ def _camera(body: dict[str, Any]) -> dict[str, Any] | None:
             or not (0 < fov < 3.2 and 0 < aspect < 100):
         return None
     return {**shot, "fov": fov, "aspect": aspect}
+
+
+def _screen_to_list(screen: Screen) -> list[Any]:
+    """A follower's `Screen` as plain values: the camera's position, look_at, up (9), its fov
+    [deg], the canvas width and height [px], the panel's rectangle [px] or None."""
+    view = screen.view
+    return [*view.position, *view.look_at, *view.up, view.fov_deg, screen.width, screen.height,
+            None if screen.panel is None else list(screen.panel)]
+
+
+def _screen_from_list(item: Any) -> Screen | None:
+    """`_screen_to_list` read back from Redis, checked (finite numbers, a canvas of 1..16384 px,
+    a fov in (0°, 180°)); None for anything else."""
+    if not isinstance(item, list) or len(item) != 13:
+        return None
+    numbers, width, height, panel = item[:10], item[10], item[11], item[12]
+    if not all(isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x) for x in numbers):
+        return None
+    if not (isinstance(width, int) and isinstance(height, int) and 0 < width <= 16384 and 0 < height <= 16384
+            and 0.0 < numbers[9] < 180.0):
+        return None
+    if panel is not None and not (isinstance(panel, list) and len(panel) == 4 and all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x) for x in panel)):
+        return None
+    x = [float(v) for v in numbers]
+    view = CameraView((x[0], x[1], x[2]), (x[3], x[4], x[5]), (x[6], x[7], x[8]), x[9])
+    if view.position == view.look_at:
+        return None
+    return Screen(view, width, height, None if panel is None else tuple(float(v) for v in panel))  # type: ignore[arg-type]
 
 
 def _codec() -> tuple[Any, Any]:
