@@ -192,8 +192,7 @@ def test_the_shared_labels_are_laid_out_for_a_phone_on_another_worker(workers: W
     assert b.lectern.follower_screens() and all(s.width != PHONE[0] for s in a.lectern.follower_screens())
     poll_until(lambda: any((s.width, s.height) == PHONE[:2] for s in a.lectern.label_screens()), timeout=10.0)
     (remote,) = [s for s in a.lectern.label_screens() if (s.width, s.height) == PHONE[:2]]
-    here = b.lectern.follower_screens()[0]  # the same screen, through Redis (its camera may have moved since)
-    assert (remote.panel, remote.view.fov_deg) == (here.panel, here.view.fov_deg)
+    assert remote.panel == b.lectern.follower_screens()[0].panel  # the phone's bottom sheet, through Redis
     assert presenter.mode == "presenting"
 
 
