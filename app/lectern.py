@@ -914,9 +914,9 @@ class Lectern:
         """One screen of each kind of this process's followers (its canvas's aspect, its panel
         docked or not, the camera's place), those that follow the presenter's camera first, the
         narrowest first (a phone sees the picture from farthest: its labels lie closest); at most
-        MAX_LABEL_SCREENS.  Kept until a follower comes, goes or its camera moves, and at most
-        FOLLOWER_SCREENS_PERIOD (500 followers: a tenth of the loop's time when every layout
-        looked at every follower's camera)."""
+        MAX_LABEL_SCREENS.  Kept until a follower comes, goes or its camera moves (its browser
+        moves it or the lectern does), and at most FOLLOWER_SCREENS_PERIOD (500 followers: a
+        tenth of the loop's time when every layout looked at every follower's camera)."""
         now = time.monotonic()
         cached = self._follower_screens
         if cached is not None and now - cached[0] < FOLLOWER_SCREENS_PERIOD:
@@ -969,4 +969,5 @@ class Lectern:
             camera.fov = shot["fov"]
         except Exception:  # noqa: BLE001 - the presenter's camera is not known yet, or a client left
             logger.debug("camera not sent", exc_info=True)
+        self._follower_screens = None  # its screen's view moved
 

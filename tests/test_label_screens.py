@@ -185,6 +185,37 @@ def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
         hall.frames(7)
 
 
+def test_the_phones_screen_moves_with_the_camera_the_lectern_sends_it(hall: LectureHall) -> None:
+    """The follower screens the shared labels are laid out for are kept for a while
+    (`Lectern.follower_screens`); a camera the lectern sends a follower ends that at once."""
+    from conftest import poll_until
+    from viser import _messages
+
+    presenter, presenter_client = hall.join_with_client()
+    _window(presenter_client, *DESKTOP[:2])
+    poll_until(lambda: presenter.client.camera.image_width == DESKTOP[0])
+    presenter.present(CODE)
+    phone, phone_client = hall.join_with_client()
+    _window(phone_client, *PHONE[:2])
+    poll_until(lambda: phone.client.camera.image_width == PHONE[0])
+    hall.frames(1)
+    poll_until(lambda: phone.mode == "following")
+    hall.frames(2)
+    before = hall.app.lectern.follower_screens()[0].view.position
+    presenter_client.send(_messages.ViewerCameraMessage(  # the presenter turns the view
+        wxyz=(1.0, 0.0, 0.0, 0.0), position=(-4.0, 2.0, 1.5), fov=math.radians(50.0), near=0.01, far=100.0,
+        image_height=DESKTOP[1], image_width=DESKTOP[0], look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0)))
+    poll_until(lambda: presenter.client.camera.position[0] == -4.0)
+    moved = lambda: not np.allclose(phone.client.camera.position, before)  # noqa: E731
+    for _ in range(60):  # the lectern sends the presenter's camera (at most every CAMERA_PERIOD)
+        hall.frames(1)
+        if moved():
+            break
+    assert moved(), "the lectern did not send the presenter's camera to the phone"
+    now = hall.app.lectern.follower_screens()[0].view.position
+    assert np.allclose(now, phone.client.camera.position, atol=1e-9), (now, phone.client.camera.position, before)
+
+
 def test_the_pointers_label_shows_and_g_makes_room(hall: LectureHall) -> None:
     from conftest import poll_until
 
