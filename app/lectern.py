@@ -183,6 +183,8 @@ class RemoteShow:
         worker: the presenting process's worker id.  hall: LIVE, STOPPED or LEFT.
         title: the scene's title.  status, line: the followers' panel text and its one line.
         caption: (head, words) of the lesson caption.
+        plot: (tab, elements) of the presenter's open plot tab (`Lectern.room_plot`; elements
+            `app.hall.room_plot.ChartCopy` / `MarkdownCopy`), ("", ()) for none.
         camera: the presenter's camera (position, look_at, up [scene units], fov [rad], aspect
             [width / height]) or None before it is known.
     """
@@ -193,6 +195,7 @@ class RemoteShow:
     status: str = ""
     line: str = ""
     caption: tuple[str, str] = ("", "")
+    plot: tuple[str, tuple[Any, ...]] = ("", ())
     camera: dict[str, Any] | None = None
 
 
@@ -766,9 +769,12 @@ class Lectern:
 
     def room_plot(self) -> tuple[str, list[Any]]:
         """(tab, elements): the plot tab the presenter has open and its panel elements, which
-        every follower sees copied (`app.kit.view.SceneView.room_plot`); ("", []) for none."""
-        view = self.live_view
-        if self.presenter is None or view is None:
+        every follower sees copied (`app.kit.view.SceneView.room_plot`; a presenter on another
+        process: what the bus brought, `RemoteShow.plot`); ("", []) for none."""
+        view, presenter, remote = self.live_view, self.presenter, self.remote
+        if presenter is None and remote is not None:
+            return (remote.plot[0], list(remote.plot[1])) if remote.hall is Hall.LIVE else ("", [])
+        if presenter is None or view is None:
             return "", []
         try:
             return view.room_plot()

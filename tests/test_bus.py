@@ -211,6 +211,65 @@ def test_a_screen_from_redis_is_checked() -> None:
         assert _screen_from_list(bad) is None, bad
 
 
+def test_a_follower_on_another_worker_sees_the_presenters_plot_tab(workers: Workers) -> None:
+    """The presenter on A opens Plots and plays: B's follower has the same charts (titles,
+    series, column count) whose data follow the presenter's (float32 of the same samples)."""
+    workers.start("a")
+    workers.start("b")
+    presenter = _present(workers, "a")
+    follower, _ = workers.connect("b")
+    poll_until(lambda: follower.mode == "following", timeout=10.0)
+    presenter.guard("test", presenter.scene.tabs.show)("Plots")
+    presenter.guard("test", presenter.play)()
+    sources = presenter.scene.plot_elements("Plots")
+    mirror = follower.scene.plot
+    poll_until(lambda: mirror.tab == "Plots" and len(mirror.copies) == len(sources), timeout=10.0)
+    assert "Plots tab (read only)" in mirror.folder.label and mirror.folder.visible
+    charts = [(s, c) for s, c in zip(sources, mirror.copies) if hasattr(s, "series")]
+    assert charts
+    for source, copy in charts:
+        assert copy.title == source.title and len(copy.series) == len(source.series)
+        assert [x.get("label") for x in copy.series] == [x.get("label") for x in source.series]
+    source, copy = charts[-1]
+    start = float(np.asarray(copy.data[0])[-1])
+    poll_until(lambda: float(np.asarray(copy.data[0])[-1]) > start, timeout=10.0)  # it follows
+    presenter.guard("test", presenter.pause)()
+    time.sleep(0.3)
+    x_source = np.asarray(source.data[0], dtype=np.float32)
+    poll_until(lambda: np.array_equal(np.asarray(copy.data[0]), x_source), timeout=10.0)  # paused: the same samples
+    for column_source, column_copy in zip(source.data, copy.data):
+        np.testing.assert_array_equal(np.asarray(column_copy), np.asarray(column_source, dtype=np.float32))
+    presenter.guard("test", presenter.stop_presenting)()
+    poll_until(lambda: mirror.tab == "", timeout=10.0)  # stopped: the copy goes, as on one process
+
+
+def test_a_plot_from_redis_is_checked() -> None:
+    from app.cluster.bus import _plot_from_plain, _plot_to_plain
+    from app.hall.room_plot import ChartCopy, MarkdownCopy
+
+    x = np.linspace(0.0, 1.0, 5)
+    chart = ChartCopy((x, np.sin(x)), series=[{"label": "t"}, {"label": "ω_x", "stroke": "red"}], title="ω")
+    plain = msgspec.msgpack.decode(msgspec.msgpack.encode(_plot_to_plain("Plots", [chart, MarkdownCopy("**E** = 1")])))
+    tab, (got, words) = _plot_from_plain(plain, ("", ()))
+    assert tab == "Plots" and words == MarkdownCopy("**E** = 1") and got.title == "ω" and got.series == chart.series
+    np.testing.assert_array_equal(got.data[1], np.sin(x).astype(np.float32))
+    again = _plot_from_plain(plain, (tab, (got, words)))  # unchanged: the same objects (nothing re-sent)
+    assert again is not None and again[1][0] is got and again[1][1] is words
+    assert _plot_from_plain({"tab": "", "el": []}, (tab, (got, words))) == ("", ())
+    uplot = plain["el"][0]
+    for bad in ({"tab": "Setup", "el": plain["el"]}, {"tab": "Plots", "el": []}, {"tab": "Plots", "el": "x"},
+                {"tab": "Plots", "el": [["uplot", {"onclick": "alert(1)"}, uplot[2]]]},
+                {"tab": "Plots", "el": [["uplot", uplot[1], [uplot[2][0], uplot[2][1][:-4]]]]},
+                {"tab": "Plots", "el": [["uplot", uplot[1], [b"abc"]]]},
+                {"tab": "Plots", "el": [["uplot", uplot[1], [b"\0" * 4 * 20_004]]]},
+                {"tab": "Plots", "el": [["uplot", {"title": float("nan")}, uplot[2]]]},
+                {"tab": "Plots", "el": [["uplot", {"series": [{"label": "x" * 201}]}, uplot[2]]]},
+                {"tab": "Plots", "el": [["uplot", {"series": [[[[[[[[[[]]]]]]]]]]}, uplot[2]]]},
+                {"tab": "Plots", "el": [["markdown", 3]]}, {"tab": "Plots", "el": [["script", "x"]]},
+                {"tab": "Plots", "el": [["markdown", "x"]] * 17}):
+        assert _plot_from_plain(bad, ("", ())) is None, str(bad)[:120]
+
+
 def test_a_hostile_follower_on_another_worker_changes_nothing(workers: Workers) -> None:
     workers.start("a")
     b = workers.start("b")

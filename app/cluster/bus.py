@@ -23,6 +23,9 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
   moved; a "call_back" when the presenter calls everyone back.  Another process shows it as a
   `app.lectern.RemoteShow` (its `Lectern` then has a live show without a local room).
+- The presenter's open plot tab (`Lectern.room_plot`: uPlot charts as float32 columns and their
+  properties, Markdown) goes when it changed, at most every MIRROR_PERIOD and at least every
+  PLOT_RESEND_S; another process's followers see it copied as on one process (`RemoteShow.plot`).
 - Stopped and left: the source says "stopped" or "left" when its presenter stops or leaves (or
   its process stops); a process that hears nothing from a live source for LEASE_S takes it that
   the presenter has left (its process ended).  The last state stays on the followers' screens.
@@ -53,11 +56,14 @@ from typing import Any
 
 import msgspec.msgpack
 import numpy as np
+import viser
 
 from app.cluster import KEY_PREFIX, connect
 from app.hall.follower import Hall, view_aspect
+from app.hall.room_plot import MIRROR_PERIOD, UPLOT_PROPS, ChartCopy, MarkdownCopy
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import Screen
+from app.kit.view import PLOT_TABS
 from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, MAX_LABEL_SCREENS, Lectern, RemoteShow
 from app.viser_internals import divert_queue, interface_of, message_from_dict
 
@@ -78,6 +84,11 @@ EXPLORE_TIMEOUT_S = 10.0  # [s] an Explore on another process waits this long fo
 RESYNC_PERIOD_S = 1.0  # [s] a process out of step asks again after this long
 MAX_MESSAGE_BYTES = 64 << 20  # a bus message larger than this is refused
 MAX_DEPTH = 8  # nesting of a message dict
+PLOT_RESEND_S = 5.0  # [s] the presenter's open plot is sent again this often unchanged (a worker that came late)
+MAX_PLOT_ELEMENTS = 16  # a plot tab's elements, carried
+MAX_PLOT_COLUMNS = 16  # a chart's columns (x and its series)
+MAX_PLOT_SAMPLES = 20_000  # a column's samples
+MAX_PLOT_PROP_VALUES = 2_000  # the plain values in a chart's properties (its series, scales, axes ...)
 ALLOWED = frozenset({
     "FrameMessage", "BatchedAxesMessage", "GridMessage", "LabelMessage", "PointCloudMessage", "MeshMessage",
     "BoxMessage", "IcosphereMessage", "CylinderMessage", "GlbMessage", "BatchedMeshesMessage", "BatchedGlbMessage",
@@ -234,6 +245,8 @@ class Bus:
         self._hall_due = False
         self._since_hall = self._since_camera = self._since_audience = 0.0
         self._camera_sent: Any = None
+        self._since_plot = 0.0
+        self._plot_sent: tuple[str, list[Any]] | None = None  # (tab, its elements' values) last published
         self._room_requests: list[str] = []
         self._room_count = 0
         self._waiting: dict[str, list[Any]] = {}  # explore request id -> [Event, room key or error]
@@ -384,6 +397,12 @@ class Bus:
             remote.camera = _camera(body)
             for follower in list(lectern.followers.values()):
                 lectern.send_camera(follower)
+        elif kind == "plot":
+            plot = _plot_from_plain(body, remote.plot)
+            if plot is None:
+                logger.warning("bus: a plot message from %s refused", worker)
+            else:
+                remote.plot = plot
         elif kind == "call_back" and remote.hall is Hall.LIVE:
             lectern.remote_call_back()
 
@@ -454,7 +473,12 @@ class Bus:
             elif event == "call_back" and self.source:
                 self._publish(CHANNEL, {"k": "call_back", "w": self.worker_id})
         if self.source:
+            if self._resync_for:
+                self._plot_sent = None  # a worker out of step gets the plot too
             self._send_scene(batch)
+            self._since_plot += dt
+            if lectern.presenter is not None and self._since_plot >= MIRROR_PERIOD:
+                self._send_plot()
             self._since_hall += dt
             if self._hall_due or (lectern.presenter is not None and self._since_hall >= FOLLOW_PERIOD):
                 self._hall_due = False
@@ -502,6 +526,23 @@ class Bus:
         self._publish(CHANNEL, {"k": "hall", "w": self.worker_id, "hall": hall.value, "title": lectern.live_title(),
                                 "status": lectern.status(), "line": lectern.status_line(),
                                 "caption": list(lectern.caption())})
+
+    def _send_plot(self) -> None:
+        """The presenter's open plot tab, when a value changed (viser keeps the object it was last
+        given: `is` tells) or PLOT_RESEND_S passed."""
+        tab, elements = self.lectern.room_plot()
+        values = [_element_value(element) for element in elements]
+        sent = self._plot_sent
+        if (sent is not None and sent[0] == tab and len(sent[1]) == len(values)
+                and all(a is b for a, b in zip(sent[1], values)) and self._since_plot < PLOT_RESEND_S):
+            return
+        self._since_plot = 0.0
+        self._plot_sent = (tab, values)
+        try:
+            body = {"k": "plot", "w": self.worker_id, **_plot_to_plain(tab, elements)}
+            self._publish(CHANNEL, body)
+        except Exception:  # noqa: BLE001 - a chart property msgpack cannot carry: the followers elsewhere miss it
+            logger.warning("bus: the presenter's plot not sent", exc_info=True)
 
     def _send_camera(self) -> None:
         presenter = self.lectern.presenter
@@ -646,6 +687,96 @@ def _camera(body: dict[str, Any]) -> dict[str, Any] | None:
             or not (0 < fov < 3.2 and 0 < aspect < 100):
         return None
     return {**shot, "fov": fov, "aspect": aspect}
+
+
+def _is_chart(element: Any) -> bool:
+    return isinstance(element, (viser.GuiUplotHandle, ChartCopy))
+
+
+def _element_value(element: Any) -> Any:
+    return element.data if _is_chart(element) else element.content
+
+
+def _plot_to_plain(tab: str, elements: list[Any]) -> dict[str, Any]:
+    """The presenter's open plot tab as plain values: {"tab", "el"}, each element ["uplot",
+    {property: value} (UPLOT_PROPS), [float32 column bytes]] or ["markdown", text]."""
+    plain: list[Any] = []
+    for element in elements:
+        if _is_chart(element):
+            columns = [np.ascontiguousarray(column, dtype="<f4").tobytes() for column in element.data]
+            plain.append(["uplot", {name: getattr(element, name) for name in UPLOT_PROPS}, columns])
+        else:
+            plain.append(["markdown", str(element.content)])
+    return {"tab": tab if elements else "", "el": plain}
+
+
+def _plain_values(value: Any, depth: int = 0) -> int:
+    """How many plain values (None, bool, number, str of up to 200 characters, lists and dicts
+    of them, str keys) `value` holds; -1 for anything else or nested deeper than MAX_DEPTH."""
+    if value is None or isinstance(value, (bool, int)):
+        return 1
+    if isinstance(value, float):
+        return 1 if np.isfinite(value) else -1
+    if isinstance(value, str):
+        return 1 if len(value) <= 200 else -1
+    if depth >= MAX_DEPTH:
+        return -1
+    if isinstance(value, dict):
+        items = [*value.keys(), *value.values()]
+        if not all(isinstance(key, str) for key in value):
+            return -1
+    elif isinstance(value, list):
+        items = value
+    else:
+        return -1
+    total = 1
+    for item in items:
+        count = _plain_values(item, depth + 1)
+        if count < 0:
+            return -1
+        total += count
+    return total
+
+
+def _plot_from_plain(body: dict[str, Any], previous: tuple[str, tuple[Any, ...]]) -> tuple[str, tuple[Any, ...]] | None:
+    """`_plot_to_plain` read back from Redis, checked (a PLOT_TABS tab, at most MAX_PLOT_ELEMENTS
+    elements; a chart's properties plain values of UPLOT_PROPS only, its columns float32 of one
+    length); None for anything else.  An element equal to the one at its place in `previous` is
+    that object (the followers' copies are sent only when it changed)."""
+    tab, items = body.get("tab"), body.get("el")
+    if tab == "" and items == []:
+        return "", ()
+    if tab not in PLOT_TABS or not isinstance(items, list) or not 0 < len(items) <= MAX_PLOT_ELEMENTS:
+        return None
+    elements: list[Any] = []
+    for index, item in enumerate(items):
+        if not isinstance(item, list) or not item:
+            return None
+        old = previous[1][index] if previous[0] == tab and index < len(previous[1]) else None
+        if item[0] == "markdown" and len(item) == 2 and isinstance(item[1], str) and len(item[1]) <= 20_000:
+            elements.append(old if isinstance(old, MarkdownCopy) and old.content == item[1] else MarkdownCopy(item[1]))
+            continue
+        if item[0] != "uplot" or len(item) != 3:
+            return None
+        props, columns = item[1], item[2]
+        if not (isinstance(props, dict) and set(props) <= set(UPLOT_PROPS)
+                and 0 < _plain_values(props) <= MAX_PLOT_PROP_VALUES):
+            return None
+        if not (isinstance(columns, list) and 0 < len(columns) <= MAX_PLOT_COLUMNS
+                and all(isinstance(c, bytes) and len(c) == len(columns[0]) for c in columns)
+                and len(columns[0]) % 4 == 0 and len(columns[0]) <= 4 * MAX_PLOT_SAMPLES):
+            return None
+        data = tuple(np.frombuffer(column, dtype="<f4") for column in columns)
+        chart = ChartCopy(data, **props)
+        if (isinstance(old, ChartCopy) and _shape_equal(old, chart)
+                and all(np.array_equal(a, b, equal_nan=True) for a, b in zip(old.data, data))):
+            chart = old
+        elements.append(chart)
+    return tab, tuple(elements)
+
+
+def _shape_equal(a: ChartCopy, b: ChartCopy) -> bool:
+    return len(a.data) == len(b.data) and all(getattr(a, name) == getattr(b, name) for name in UPLOT_PROPS)
 
 
 def _screen_to_list(screen: Screen) -> list[Any]:

@@ -12,13 +12,15 @@ reading them; nothing flows back.  The lectern (`app.lectern.Lectern.refresh_fol
 `PlotMirror.show` every FOLLOW_PERIOD with the same source handles for every follower; a copy
 is sent only when its source's value object changed (viser keeps the object it was last given,
 so `is` tells), at most every MIRROR_PERIOD, as float32 (what a chart's pixels need), and only
-to a follower whose panel shows it (a phone's collapsed panel does not).  Cost: the free body's
-Plots tab (5 charts, 300 samples of 2-4 series) is ~24 kB a copy, ~24 kB/s for each laptop
-follower while the presenter's Plots tab is open and playing.
+to a follower whose panel shows it (a phone's collapsed panel does not).  A presenter on another
+process: the bus carries the tab's elements as `ChartCopy` and `MarkdownCopy`, copied the same
+way.  Cost: the free body's Plots tab (5 charts, 300 samples of 2-4 series) is ~24 kB a copy,
+~24 kB/s for each laptop follower while the presenter's Plots tab is open and playing.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -26,12 +28,33 @@ from typing import Any
 import numpy as np
 import viser
 
-__all__ = ["MIRROR_PERIOD", "UPLOT_PROPS", "PlotMirror"]
+__all__ = ["MIRROR_PERIOD", "UPLOT_PROPS", "ChartCopy", "MarkdownCopy", "PlotMirror"]
 
 MIRROR_PERIOD = 1.0  # [s] a chart's copy is sent at most this often
 
 UPLOT_PROPS = ("series", "scales", "title", "height", "axes", "legend")
 """The chart's properties copied with its data (what makes the copy look like the original)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class ChartCopy:
+    """A uPlot chart read from another process (`app.cluster.bus`): `PlotMirror` copies it as
+    it copies a `viser.GuiUplotHandle` (the UPLOT_PROPS as attributes, `data` its columns)."""
+
+    data: tuple[np.ndarray, ...]
+    series: Any = None
+    scales: Any = None
+    title: Any = None
+    height: Any = None
+    axes: Any = None
+    legend: Any = None
+
+
+@dataclasses.dataclass(frozen=True)
+class MarkdownCopy:
+    """A Markdown element read from another process: `PlotMirror` copies its `content`."""
+
+    content: str
 
 
 def _light(data: Any) -> tuple[Any, ...]:
@@ -41,7 +64,7 @@ def _light(data: Any) -> tuple[Any, ...]:
 
 def _shape(source: Any) -> tuple[Any, ...]:
     """What a copy is built from (a change rebuilds it): its kind and, for a chart, its props."""
-    if isinstance(source, viser.GuiUplotHandle):
+    if isinstance(source, (viser.GuiUplotHandle, ChartCopy)):
         return ("uplot", *(repr(getattr(source, name)) for name in UPLOT_PROPS))
     return ("markdown",)
 
