@@ -3,11 +3,12 @@ a presenter's page on worker A, a laptop follower's page on worker B (one real r
 both workers in this process, their loops running).
 
 The presenter types the code and presents Free body; the follower's page on B shows the
-follower panel with the presenter's scene, and the presenter's badge counts it.  The follower
+follower panel with the presenter's scene, and the presenter's badge counts it.  The presenter
+opens its Plots tab and plays: the follower's page shows the tab copied, read only.  The follower
 presses `Explore on my own`: its room on B is the presenter's, bit for bit (`app.codec`); it
 presses `Follow presenter` and follows again.
 Needs Debian's Chromium and redis-server.  BUS_SCREENSHOTS=<folder>: the follower's page is saved there
-(follower_other_worker.png, the README's picture).
+(follower_other_worker.png, the README's picture; follower_plot_other_worker.png, with the plot).
 """
 
 from __future__ import annotations
@@ -73,6 +74,17 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
         follower_page.wait_for_timeout(3000)  # the shared nodes fade in, the labels are laid out
         follower_page.screenshot(path=str(Path(SHOTS) / "follower_other_worker.png"))
 
+    # The presenter opens its Plots tab and plays: the follower on B sees the tab copied, read only.
+    presenter_page.get_by_role("button", name="Plots", exact=True).click()
+    presenter_page.get_by_role("button", name="Play", exact=True).click()
+    wait_until(lambda: presenter.scene.tabs.shown == "Plots" and presenter.room.playing, timeout=15.0)
+    follower_page.get_by_text("The presenter's Plots tab (read only)").first.wait_for(timeout=30_000)
+    follower_page.get_by_text("ω, body components [rad/s]").first.wait_for(timeout=30_000)  # a chart's title
+    if SHOTS:
+        follower_page.screenshot(path=str(Path(SHOTS) / "follower_plot_other_worker.png"))
+    presenter_page.get_by_role("button", name="Pause", exact=True).click()
+    wait_until(lambda: not presenter.room.playing, timeout=15.0)
+
     follower_page.get_by_role("button", name="Explore on my own").click()
     wait_until(lambda: follower.mode == "own", timeout=30.0)
     assert follower.room.scene.title == "Free body" and follower.error_count == 0, follower.last_error
@@ -80,6 +92,6 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
         original = presenter.room.fork()
     with follower.room.lock:
         copy = follower.room.fork()
-    assert_rooms_equal(copy, original, "explored on worker B")  # the preset's t = 0, paused, bit for bit
+    assert_rooms_equal(copy, original, "explored on worker B")  # paused where the presenter paused, bit for bit
     follower_page.get_by_role("button", name="Follow presenter").click()
     wait_until(lambda: follower.mode == "following", timeout=30.0)
