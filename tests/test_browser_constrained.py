@@ -21,9 +21,10 @@ pytestmark = pytest.mark.browser
 WIDTH, HEIGHT = 1280, 800
 
 
-@pytest.mark.xfail(strict=False, reason="known defect, open in issue 25's note (2026-11-26): under the two-process "
-                   "suite a preset button's click sometimes does not set the preset within 3 x 20 s (the previous "
-                   "preset stays); cause not found yet")
+KNOWN = ("known defect, open in issue 25's note (2026-11-26): under the two-process suite a preset button's click "
+         "sometimes does not set the preset within 3 x 20 s (the previous preset stays); cause not found yet")
+
+
 def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no-untyped-def]
     page.set_viewport_size({"width": WIDTH, "height": HEIGHT})
     session = open_app(page, app)
@@ -39,7 +40,12 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
                 time.sleep(0.05)
             if session.simulation.preset == preset.name:
                 break
-        assert session.simulation.preset == preset.name, (preset.name, session.simulation.preset, session.last_error)
+        if session.simulation.preset != preset.name:  # the reason, with what was found, is in the summary
+            buttons = page.get_by_role("button", name=preset.name, exact=True)
+            pytest.xfail(f"{KNOWN}. Clicked {preset.name!r} 3 times: the preset is {session.simulation.preset!r}, "
+                         f"{buttons.count()} such button(s), visible {buttons.first.is_visible()}, enabled "
+                         f"{buttons.first.is_enabled()}, playing {session.room.playing}, errors "
+                         f"{session.error_count} (last {session.last_error!r})")
         page.get_by_role("button", name="Play", exact=True).click()
         deadline = time.monotonic() + 30.0
         while session.simulation.t < 1.2 and time.monotonic() < deadline:
