@@ -245,7 +245,7 @@ class Bus:
         self._hall_due = False
         self._since_hall = self._since_camera = self._since_audience = 0.0
         self._camera_sent: Any = None
-        self._since_plot = 0.0
+        self._since_plot = self._plot_sent_at = 0.0
         self._plot_sent: tuple[str, list[Any]] | None = None  # (tab, its elements' values) last published
         self._room_requests: list[str] = []
         self._room_count = 0
@@ -530,14 +530,14 @@ class Bus:
     def _send_plot(self) -> None:
         """The presenter's open plot tab, when a value changed (viser keeps the object it was last
         given: `is` tells) or PLOT_RESEND_S passed."""
+        self._since_plot = 0.0  # looked at once a MIRROR_PERIOD, not every frame
         tab, elements = self.lectern.room_plot()
         values = [_element_value(element) for element in elements]
-        sent = self._plot_sent
+        sent, now = self._plot_sent, time.monotonic()
         if (sent is not None and sent[0] == tab and len(sent[1]) == len(values)
-                and all(a is b for a, b in zip(sent[1], values)) and self._since_plot < PLOT_RESEND_S):
+                and all(a is b for a, b in zip(sent[1], values)) and now - self._plot_sent_at < PLOT_RESEND_S):
             return
-        self._since_plot = 0.0
-        self._plot_sent = (tab, values)
+        self._plot_sent, self._plot_sent_at = (tab, values), now
         try:
             body = {"k": "plot", "w": self.worker_id, **_plot_to_plain(tab, elements)}
             self._publish(CHANNEL, body)
