@@ -48,6 +48,7 @@ from app.hall.own_panel import OwnPanel
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.hall.share import Camera, SharePanel
 from app.kit.core.room import Room, Scene
+from app.kit.panel.gui import writing_quietly
 from app.lectern import LIVE_ROOT, Lectern, Mode
 from app.lessons import Lesson
 from app.own import OwnLibrary
@@ -219,6 +220,15 @@ class Session:
 
         @functools.wraps(fn)
         def guarded(*args: Any, **kwargs: Any) -> R | None:
+            if writing_quietly():
+                # The server's own write echoed back on the writing thread (the app loop drawing,
+                # under the room's lock): it holds what it needs, and taking this session's lock
+                # after the room's would deadlock with a callback holding it and waiting for the room.
+                try:
+                    return fn(*args, **kwargs)
+                except Exception as error:  # noqa: BLE001 - this is the safety net
+                    self.report_error(where, error)
+                    return None
             with self._busy:
                 with self._switch_lock:
                     room = self.room

@@ -11,11 +11,12 @@ import json
 import math
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import RawClient, world_rotation
+from conftest import RawClient, poll_until, world_rotation
 from scipy.spatial.transform import Rotation
 
 from app.kit.core.presets import PRESETS_DIR, PresetError, load_presets
@@ -353,3 +354,43 @@ def test_a_steady_top_hangs_from_its_phi_theta_frame_and_sends_no_omega_or_L(man
     L_tip = R_tilt @ view.L.segment[1] / view.L_scale
     np.testing.assert_allclose(omega_tip, R @ sim.state.omega_body, atol=1e-9)
     np.testing.assert_allclose(L_tip, R @ (np.asarray(sim.model.inertia) * sim.state.omega_body), atol=1e-9)
+
+
+def test_the_loop_writing_a_slider_does_not_wait_for_a_callback_that_waits_for_the_room(manual) -> None:
+    """The app loop draws under the room's lock, and a slider it writes runs its callback at once
+    (viser calls it synchronously); meanwhile a callback of the same browser holds the session's
+    lock and waits for the room's.  The loop's write must finish (CI once hung 300 s here: the
+    loop waited for the session's lock)."""
+    session = manual.session
+    session.select_scene("Free body")
+    room, view = session.room, session.scene
+    slider = view.gui_angles[0]
+    room_held, written = threading.Event(), threading.Event()
+    ran: list[str] = []
+
+    def loop() -> None:
+        with room.lock:
+            room_held.set()
+            poll_until(lambda: not _free(session._busy), timeout=5.0)  # the callback below holds it
+            view.quiet.write(slider, float(slider.value) + 1.0)  # runs the slider's guarded callback
+            written.set()
+
+    def callback() -> None:
+        room_held.wait(5.0)
+        session.guard("test", lambda: ran.append("callback"))()  # session lock, then the room's
+
+    threads = [threading.Thread(target=loop, daemon=True), threading.Thread(target=callback, daemon=True)]
+    for thread in threads:
+        thread.start()
+    assert written.wait(5.0), "the loop's slider write waited for the session's lock"
+    for thread in threads:
+        thread.join(5.0)
+    assert ran == ["callback"] and session.error_count == 0, session.last_error
+
+
+def _free(lock: threading.RLock) -> bool:
+    """`lock` is not held by another thread now (taken and given back at once if free)."""
+    if not lock.acquire(blocking=False):
+        return False
+    lock.release()
+    return True

@@ -15,6 +15,7 @@ sent (`Tabs.shown`).
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -38,6 +39,7 @@ __all__ = [
     "Tabs",
     "Transport",
     "add_slider",
+    "writing_quietly",
 ]
 
 TIME_SCALE_RANGE = (0.1, 4.0)
@@ -49,19 +51,35 @@ Callback = Callable[[Any], None]
 """The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
 
 
+_writes = threading.local()  # .depth: how many `Quiet.write`s this thread is inside
+
+
+def writing_quietly() -> bool:
+    """True on a thread inside a `Quiet.write`: a callback running now is the server's own write
+    echoed back (its writer holds the locks it needs; `app.session.Session.guard` takes none)."""
+    return getattr(_writes, "depth", 0) > 0
+
+
 class Quiet:
     """Writes handles' values from the server without their callbacks acting on them.
 
     viser runs a handle's `on_update` synchronously when the server assigns its value (with
     `event.client` None); a callback that starts with `if quiet.active: return` then ignores
     what the server itself shows (a slider following the motion), so there is no feedback loop.
+    `active` is true only on the thread that writes: a browser's update handled meanwhile on
+    viser's thread pool still acts.
     A bound control (`app.kit.panel.binding`) registers a guard: while it says its user is editing,
     quiet writes skip that field (unless forced: a refusal putting the value in force back).
     """
 
     def __init__(self) -> None:
-        self.active = False
+        self._writers: set[int] = set()  # the threads inside `write`
         self._guards: dict[int, Callable[[], bool]] = {}
+
+    @property
+    def active(self) -> bool:
+        """This thread is writing through this Quiet now."""
+        return threading.get_ident() in self._writers
 
     def guard(self, handle: Any, editing: Callable[[], bool]) -> None:
         """Skip writes to `handle` while `editing()` is true."""
@@ -76,11 +94,16 @@ class Quiet:
         `force`), callbacks silenced."""
         if handle.value == value or (not force and self.editing(handle)):
             return
-        self.active = True
+        thread = threading.get_ident()
+        outer = thread in self._writers
+        self._writers.add(thread)
+        _writes.depth = getattr(_writes, "depth", 0) + 1
         try:
             handle.value = value
         finally:
-            self.active = False
+            _writes.depth -= 1
+            if not outer:
+                self._writers.discard(thread)
 
 
 class MessageLine:
