@@ -106,6 +106,12 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     chart.scroll_into_view_if_needed()
     first = chart.screenshot(timeout=60_000)
     wait_until(lambda: chart.screenshot(timeout=60_000) != first, timeout=20.0)
+    # ... its copied Accuracy lines fit the panel, as in the presenter's own (none runs past the edge).
+    laptop.get_by_text("attitude [rad]").first.wait_for(timeout=15_000)
+    for who, shown in (("presenter", presenter_page), ("laptop", laptop)):
+        assert _cut_lines(shown) == [], (who, _cut_lines(shown))
+        shown.locator("pre", has_text="attitude [rad]").first.screenshot(path=str(tmp_path / f"{who}_accuracy.png"),
+                                                                        timeout=120_000)
     # ... which hides the caption on its own screen only.
     laptop.locator(f'[id="{follower.scene.gui_caption._impl.uuid}"]').click()
     wait_until(lambda: _caption(laptop) is None, timeout=10.0)
@@ -127,3 +133,11 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     presenter_page.locator(f'[id="{presenter.lesson_runner.gui_caption._impl.uuid}"]').click()
     wait_until(lambda: _caption(phone) is None and _caption(presenter_page) is None, timeout=10.0)
     assert presenter.error_count == 0 and follower.error_count == 0, (presenter.last_error, follower.last_error)
+
+
+def _cut_lines(page) -> list[str]:  # type: ignore[no-untyped-def]
+    """The first line of each monospace block on `page` wider than its box (cut at the right edge), with
+    its width and the box's."""
+    return page.evaluate("""() => [...document.querySelectorAll('pre')]
+        .filter(pre => pre.offsetParent !== null && pre.scrollWidth > pre.clientWidth + 1)
+        .map(pre => `${pre.innerText.split('\\n')[0]} (${pre.scrollWidth} px in ${pre.clientWidth})`)""")

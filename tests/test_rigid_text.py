@@ -72,9 +72,10 @@ def test_status_accuracy_ghost_and_legend() -> None:
     status = status_text(sim, True, 0.5)
     assert f"t = {sim.t:.2f} s" in status and "▶ playing" in status and "0.5×" in status
     accuracy = accuracy_text(sim, "L_z")
-    error = _number(accuracy, r"attitude error\s+([-\d.e+]+) rad")
+    error = _number(accuracy, r"attitude \[rad\]\s+([-\d.e+]+)")
     assert error == float(f"{sim.attitude_error():.2e}")
-    assert "|ΔL_z| / |L₀|" in accuracy
+    assert "|ΔL_z|/|L₀|" in accuracy
+    assert max(len(line) for line in accuracy.split("```")[1].splitlines()) <= 34  # the follower's panel width
     note = ghost_note(sim, 1e6, "10⁶")
     assert f"{sim.attitude_error():.2e} rad" in note and "k = 10⁶" in note
     sim.set_integrator("exact")

@@ -27,6 +27,7 @@ html {{ font-size: 20px; }}
 label, button, input, .mantine-Text-root, .mantine-Button-label, .mantine-InputWrapper-label,
 .mantine-NumberInput-input, .mantine-Select-input, .mantine-TextInput-input, p, li, td {{ font-size: 19px !important; }}
 code, pre {{ font-size: 15px !important; }}
+pre {{ white-space: pre-wrap !important; overflow-wrap: anywhere; }}  /* wrapped in the narrow panel, never cut */
 .mantine-Slider-markLabel {{ display: none; }}
 .mantine-Flex-root:has(> div > p > label) {{ flex-wrap: wrap; }}
 .mantine-Flex-root > div:has(> p > label) {{ width: 100% !important; }}

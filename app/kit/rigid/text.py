@@ -46,23 +46,24 @@ def integrator_hint(model: Model) -> str:
 
 
 def accuracy_text(sim: RigidBodySimulation, momentum_label: str) -> str:
-    """The accuracy panel: energy and momentum drift and the attitude error, now and at most."""
+    """The accuracy panel: energy and momentum drift and the attitude error, now and at most, in
+    columns narrow enough for the panel (34 characters of monospace; the projector's narrower panel
+    wraps each row after its label)."""
     error = sim.attitude_error()  # now (the samples' are checked in batches: app.kit.rigid.simulation.ERROR_BATCH)
     if sim.method.reference:
-        error_line = "attitude error       —  (the integrator IS the exact solution)"
+        error_row, after = "—", "\n\nThe integrator IS the exact solution."
     elif error is None:
-        error_line = f"attitude error       —  (no closed form: {sim.exact_failed})"
+        error_row, after = "—", f"\n\nNo attitude error: no closed form ({sim.exact_failed})."
     else:
-        error_line = f"attitude error   {error:9.2e} rad   (max {max(error, sim.max_drift['attitude_error']):.2e})"
-    return (
-        f"**Accuracy** of {sim.integrator} since t = 0 (relative; exact would be 0)\n"
-        "```\n"
-        f"|ΔE| / E₀      {abs(sim.samples.last('drift_E')):9.2e}       (max {sim.max_drift['drift_E']:.2e})\n"
-        f"|Δ{momentum_label}| / |L₀|  {abs(sim.samples.last('drift_L')):9.2e}"
-        f"       (max {sim.max_drift['drift_L']:.2e})\n"
-        f"{error_line}\n"
-        "```"
+        error_row, after = f"{error:.2e}  {max(error, sim.max_drift['attitude_error']):.2e}", ""
+    rows = (
+        ("|ΔE|/E₀", f"{abs(sim.samples.last('drift_E')):.2e}  {sim.max_drift['drift_E']:.2e}"),
+        (f"|Δ{momentum_label}|/|L₀|", f"{abs(sim.samples.last('drift_L')):.2e}  {sim.max_drift['drift_L']:.2e}"),
+        ("attitude [rad]", error_row),
     )
+    table = "\n".join(f"{label:<16}{values}" for label, values in rows)
+    return (f"**Accuracy** of {sim.integrator} since t = 0, now and at most (relative; exact would be 0)\n"
+            f"```\n{table}\n```{after}")
 
 
 def _clean(x: float) -> float:
