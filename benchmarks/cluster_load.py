@@ -98,8 +98,9 @@ def serve_worker(redis_url: str, worker_id: str, max_lifetime: float) -> None:
     """--serve-worker: one worker on 127.0.0.1:0; prints 'BENCH_PORT <port>', answers 'stats'
     with 'BENCH_JSON {...}' (loop iterations, bus delays p50/p95 [ms], bytes and batches
     published); exits when stdin closes or after `max_lifetime` [s]."""
-    from app.main import create_server
+    from app.main import create_server, tune_collector
 
+    tune_collector()  # as `python -m app` does
     app = (create_server("127.0.0.1", 0, verbose=False, presenter_code=WORKER_CODE, redis_url=redis_url,
                          worker_id=worker_id) if redis_url else
            create_server("127.0.0.1", 0, verbose=False, presenter_code=WORKER_CODE))

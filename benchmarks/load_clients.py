@@ -34,6 +34,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import dataclasses
+import gc
 import math
 import os
 import queue
@@ -223,7 +224,26 @@ def serve(max_lifetime: float) -> None:
     stdin closes (this process's parent is gone) or after `max_lifetime` seconds."""
     if os.environ.get("BENCH_APP_ROOT"):  # --baseline: the app of another tree
         sys.path.insert(0, os.environ["BENCH_APP_ROOT"])
+    import app.main
     from app.main import create_server
+
+    if hasattr(app.main, "tune_collector"):  # as the command line does (a tree from before: Python's)
+        app.main.tune_collector()
+    full_passes = [0, 0.0, 0.0]  # the collector's full passes: count, total and longest [s]
+    started = [0.0]
+
+    def on_collect(phase: str, info: dict[str, int]) -> None:
+        if info["generation"] != 2:
+            return
+        if phase == "start":
+            started[0] = time.perf_counter()
+            return
+        took = time.perf_counter() - started[0]
+        full_passes[0] += 1
+        full_passes[1] += took
+        full_passes[2] = max(full_passes[2], took)
+
+    gc.callbacks.append(on_collect)
 
     tick_seconds = [0.0]  # wall time spent in Room.advance and Room.draw (the app loop's thread)
 
@@ -247,22 +267,23 @@ def serve(max_lifetime: float) -> None:
         Room.advance = timed(Room.advance)  # type: ignore[method-assign]  # this process only
         Room.draw = timed(Room.draw)  # type: ignore[method-assign]
     try:
-        app = create_server("127.0.0.1", 0, verbose=False, presenter_code=PRESENTER_CODE)
+        server = create_server("127.0.0.1", 0, verbose=False, presenter_code=PRESENTER_CODE)
     except TypeError:  # --baseline: an app from before the lecture hall
-        app = create_server("127.0.0.1", 0, verbose=False)
-    print(f"BENCH_PORT {app.port}", flush=True)
+        server = create_server("127.0.0.1", 0, verbose=False)
+    print(f"BENCH_PORT {server.port}", flush=True)
     done = threading.Event()
 
     def commands() -> None:
         for line in sys.stdin:
             if line.strip() == "stats":
-                print(f"BENCH_STATS {app.tick_count} {time.monotonic()} {len(app.sessions)} "
-                      f"{tick_seconds[0]}", flush=True)
+                print(f"BENCH_STATS {server.tick_count} {time.monotonic()} {len(server.sessions)} "
+                      f"{tick_seconds[0]} {full_passes[0]} {full_passes[1]} {full_passes[2]}", flush=True)
+                full_passes[2] = 0.0  # the longest since the last stats
         done.set()
 
     threading.Thread(target=commands, daemon=True).start()
     done.wait(max_lifetime)
-    app.stop()
+    server.stop()
 
 
 class ServerProcess:
@@ -281,7 +302,7 @@ class ServerProcess:
         self.port = self._read_port(start_timeout)
 
     def _read_port(self, timeout: float) -> int:
-        self._stats: queue.Queue[tuple[int, float, int, float]] = queue.Queue()
+        self._stats: queue.Queue[tuple[int, float, int, float, int, float, float]] = queue.Queue()
         found: list[int] = []
 
         def reader() -> None:
@@ -290,8 +311,9 @@ class ServerProcess:
                 if line.startswith("BENCH_PORT "):
                     found.append(int(line.split()[1]))
                 elif line.startswith("BENCH_STATS "):
-                    _tag, ticks, now, sessions, tick_s = line.split()
-                    self._stats.put((int(ticks), float(now), int(sessions), float(tick_s)))
+                    _tag, ticks, now, sessions, tick_s, passes, passes_s, longest_s = line.split()
+                    self._stats.put((int(ticks), float(now), int(sessions), float(tick_s), int(passes),
+                                     float(passes_s), float(longest_s)))
 
         threading.Thread(target=reader, daemon=True).start()
         deadline = time.monotonic() + timeout
@@ -302,9 +324,10 @@ class ServerProcess:
             time.sleep(0.02)
         return found[0]
 
-    def loop_stats(self, timeout: float = 5.0) -> tuple[int, float, int, float]:
-        """(app loop iterations so far, the server's monotonic time [s], open sessions,
-        total time spent in Room.tick [s])."""
+    def loop_stats(self, timeout: float = 5.0) -> tuple[int, float, int, float, int, float, float]:
+        """(app loop iterations so far, the server's monotonic time [s], open sessions, total time
+        spent in Room.advance and Room.draw [s], the garbage collector's full passes so far, their
+        total time [s], the longest since the previous call [s])."""
         assert self.process.stdin is not None
         self.process.stdin.write("stats\n")
         self.process.stdin.flush()
@@ -347,6 +370,9 @@ class LoadResult:
     loop_hz: float = math.nan
     loop_busy_percent: float = math.nan  # share of wall time the loop spent in Room.tick
     sessions: int = -1
+    gc_full_passes: int = -1  # the server's garbage collector's full passes in the window
+    gc_full_longest_ms: float = math.nan  # the longest of them
+    gc_full_percent: float = math.nan  # their share of wall time
 
     def summary(self) -> dict[str, float]:
         return {
@@ -397,6 +423,8 @@ async def _measure(server: ServerProcess, connected: list[AsyncViserClient], sce
         decode_errors=sum(len(c.state.errors) for c in connected),
         loop_hz=(loop1[0] - loop0[0]) / (loop1[1] - loop0[1]), sessions=loop1[2],
         loop_busy_percent=100.0 * (loop1[3] - loop0[3]) / (loop1[1] - loop0[1]),
+        gc_full_passes=loop1[4] - loop0[4], gc_full_longest_ms=1e3 * loop1[6],
+        gc_full_percent=100.0 * (loop1[5] - loop0[5]) / (loop1[1] - loop0[1]),
     )
 
 
@@ -473,8 +501,8 @@ def format_table(results: list[LoadResult]) -> str:
     lines = [
         "| scene | clients | fps min | fps median | fps max | clients < 30 fps | max gap [ms] "
         "| kB/s per client | app loop [Hz] | loop busy % | server CPU % | server RSS [MiB] (idle → loaded, peak) "
-        "| client CPU % |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| full GC passes (longest [ms], % of time) | client CPU % |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in results:
         s = r.summary()
@@ -483,7 +511,8 @@ def format_table(results: list[LoadResult]) -> str:
             f"| {s['clients_below_30']} | {s['max_gap_ms']:.0f} | {statistics.median(r.kbytes_per_s):.1f} "
             f"| {r.loop_hz:.1f} | {r.loop_busy_percent:.0f} | {r.server_cpu_percent:.0f} "
             f"| {r.server_rss_idle_mib:.0f} → {r.server_rss_mib:.0f}, "
-            f"{r.server_hwm_mib:.0f} | {r.client_cpu_percent:.0f} |"
+            f"{r.server_hwm_mib:.0f} | {r.gc_full_passes} ({r.gc_full_longest_ms:.0f}, {r.gc_full_percent:.0f} %) "
+            f"| {r.client_cpu_percent:.0f} |"
         )
     return "\n".join(lines)
 
