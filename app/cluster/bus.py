@@ -56,11 +56,10 @@ from typing import Any
 
 import msgspec.msgpack
 import numpy as np
-import viser
 
 from app.cluster import KEY_PREFIX, connect
 from app.hall.follower import Hall, view_aspect
-from app.hall.room_plot import MIRROR_PERIOD, UPLOT_PROPS, ChartCopy, MarkdownCopy
+from app.hall.room_plot import MIRROR_PERIOD, UPLOT_PROPS, ChartCopy, MarkdownCopy, is_chart
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import Screen
 from app.kit.view import PLOT_TABS
@@ -689,12 +688,8 @@ def _camera(body: dict[str, Any]) -> dict[str, Any] | None:
     return {**shot, "fov": fov, "aspect": aspect}
 
 
-def _is_chart(element: Any) -> bool:
-    return isinstance(element, (viser.GuiUplotHandle, ChartCopy))
-
-
 def _element_value(element: Any) -> Any:
-    return element.data if _is_chart(element) else element.content
+    return element.data if is_chart(element) else element.content
 
 
 def _plot_to_plain(tab: str, elements: list[Any]) -> dict[str, Any]:
@@ -702,7 +697,7 @@ def _plot_to_plain(tab: str, elements: list[Any]) -> dict[str, Any]:
     {property: value} (UPLOT_PROPS), [float32 column bytes]] or ["markdown", text]."""
     plain: list[Any] = []
     for element in elements:
-        if _is_chart(element):
+        if is_chart(element):
             columns = [np.ascontiguousarray(column, dtype="<f4").tobytes() for column in element.data]
             plain.append(["uplot", {name: getattr(element, name) for name in UPLOT_PROPS}, columns])
         else:

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import viser
 
-__all__ = ["MIRROR_PERIOD", "UPLOT_PROPS", "ChartCopy", "MarkdownCopy", "PlotMirror"]
+__all__ = ["MIRROR_PERIOD", "UPLOT_PROPS", "ChartCopy", "MarkdownCopy", "PlotMirror", "is_chart"]
 
 MIRROR_PERIOD = 1.0  # [s] a chart's copy is sent at most this often
 
@@ -62,9 +62,14 @@ def _light(data: Any) -> tuple[Any, ...]:
     return tuple(np.asarray(column, dtype=np.float32) for column in data)
 
 
+def is_chart(element: Any) -> bool:
+    """`element` of a plot tab is a chart (a viser uPlot handle or a `ChartCopy`), else Markdown."""
+    return isinstance(element, (viser.GuiUplotHandle, ChartCopy))
+
+
 def _shape(source: Any) -> tuple[Any, ...]:
     """What a copy is built from (a change rebuilds it): its kind and, for a chart, its props."""
-    if isinstance(source, (viser.GuiUplotHandle, ChartCopy)):
+    if is_chart(source):
         return ("uplot", *(repr(getattr(source, name)) for name in UPLOT_PROPS))
     return ("markdown",)
 
