@@ -106,8 +106,11 @@ def test_refusals_go_when_they_no_longer_hold_and_replay_shows_one_time(wait_unt
     wait_until(lambda: view.sim.t > 1.0, timeout=20.0)
     timeline = view.timeline
     assert timeline is not None
+    page.get_by_role("button", name="Pause", exact=True).click()  # the refusal holds while paused:
+    wait_until(lambda: not session.room.playing, timeout=10.0)  # the page has time to show it
     type_into(page, number_box(page, timeline.gui_slider), "999", delay=20, end="Enter")
     page.get_by_text("is recorded").first.wait_for(state="visible", timeout=10_000)
+    page.get_by_role("button", name="Play", exact=True).click()
     page.get_by_text("is recorded").first.wait_for(state="hidden", timeout=10_000)  # the stretch grew
     assert session.room.playing
 
