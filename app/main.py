@@ -446,8 +446,8 @@ def tune_collector() -> None:
     flight (messages queued for the sockets) are mostly gone before one, rather than promoted to
     the oldest generation, whose growth by a quarter starts a full pass.  A full pass scans every
     browser's objects (~4,000 a room): measured with 80 rooms playing (benchmarks/load_clients.py,
-    its "full GC" columns), Python's settings gave a full pass of ~0.3 s every ~2 s, seen as a
-    frame gap of ~0.5 s on every screen."""
+    its "full GC" columns), Python's settings gave a full pass of ~0.3 s every ~15 s, seen as a
+    frame gap of ~0.4 s on every screen; tuned, none in 60 s."""
     gc.collect()
     gc.freeze()
     gc.set_threshold(*GC_THRESHOLDS)

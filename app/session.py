@@ -220,24 +220,20 @@ class Session:
 
         @functools.wraps(fn)
         def guarded(*args: Any, **kwargs: Any) -> R | None:
-            if writing_quietly():
-                # The server's own write echoed back on the writing thread (the app loop drawing,
-                # under the room's lock): it holds what it needs, and taking this session's lock
-                # after the room's would deadlock with a callback holding it and waiting for the room.
+            with contextlib.ExitStack() as locks:
+                if not writing_quietly():
+                    # (A callback echoing the server's own quiet write runs under its writer's
+                    # locks: the app loop draws under the room's, and taking this session's lock
+                    # after it would deadlock with a callback that holds it and waits for the room.)
+                    locks.enter_context(self._busy)
+                    with self._switch_lock:
+                        room = self.room
+                    locks.enter_context(room.lock)
                 try:
                     return fn(*args, **kwargs)
                 except Exception as error:  # noqa: BLE001 - this is the safety net
                     self.report_error(where, error)
                     return None
-            with self._busy:
-                with self._switch_lock:
-                    room = self.room
-                with room.lock:
-                    try:
-                        return fn(*args, **kwargs)
-                    except Exception as error:  # noqa: BLE001 - this is the safety net
-                        self.report_error(where, error)
-                        return None
 
         return guarded
 
