@@ -84,6 +84,10 @@ class Session:
         self.share_store = share_store
         self.mode = Mode.OWN
         self.explored = False  # pressed "Explore on my own": a new presenter does not pull it back
+        self.came_after_lecture = False
+        """Connected after a lecture ended (its last state on the shared screen, nobody presenting):
+        it landed in its own room, told so, the last lecture's room one click away
+        (`open_last_lecture`); ends when it follows or presents."""
         self.client_id: int = client.client_id
         self.answer_token = new_token()  # this browser's anonymous answers (`app.ask`): never sent, never shown
         self.closed = False
@@ -152,11 +156,15 @@ class Session:
         self._build_commands(gui)
         self._shadow: Any = None
         self.scene: Any = None
-        if lectern is not None and lectern.live:
+        if lectern is not None and lectern.someone_presents:
             self.follow()
         else:
+            # Nobody presents: its own room, also after a lecture (not the frozen last state).
+            self.came_after_lecture = lectern is not None and lectern.live
             self.scene = self._new_view(self._room)
             self._hide_live(True)
+            if self.lecture is not None:
+                self.lecture.refresh()  # "the lecture has ended" from the first frame
         self._refresh_preset_commands()
 
     @property
@@ -658,6 +666,7 @@ class Session:
             panel.refused()  # the lectern's words, kept true while shown
             return
         panel.note("")
+        self.came_after_lecture = False
         if self.mode is Mode.FOLLOWING:
             self.explore()  # an exact copy of what is on screen, then it goes live
         self.narrow.end()  # a presenter has the whole panel
@@ -712,6 +721,7 @@ class Session:
             self.lesson_runner.end()
             self.mode = Mode.FOLLOWING
             self.explored = False
+            self.came_after_lecture = False
             self._hide_live(False)
             self.scene = lectern.add_follower(self)
         self._show_mode()
@@ -726,6 +736,30 @@ class Session:
         if lectern is None or self.mode is not Mode.FOLLOWING:
             return
         self._leave_presenter_for(lectern.live_copy())
+
+    def open_last_lecture(self) -> None:
+        """A browser that came after a lecture ended (`came_after_lecture`), in its own room:
+        an exact copy of the room the last presenter left (what `Explore on my own` copies then,
+        `Lectern.live_copy`: paused at its time; through the bus when that presenter was on
+        another process), shown in place of its own room; the camera goes to the scene's view
+        when the scene changes.  PermissionError while it follows or presents or while somebody
+        presents (follow the presenter then); RuntimeError when no lecture's room is kept."""
+        lectern = self.lectern
+        if lectern is None:
+            raise RuntimeError("this app has no lecture hall")
+        if self.mode is not Mode.OWN:
+            raise PermissionError("only a browser in its own room opens the last lecture's room")
+        if lectern.someone_presents:
+            raise PermissionError("a lecture is on: press 'Follow presenter' to see it")
+        if not lectern.live:
+            raise RuntimeError("no lecture has left a room to open")
+        copy = lectern.live_copy()
+        changed = copy.scene.title != self.room.scene.title
+        if changed:
+            self.lesson_runner.scene_changed()  # by hand: the lesson (and its text) ends
+        self.show(copy)
+        if changed:
+            self.reset_camera()
 
     def _leave_presenter_for(self, copy: Room) -> None:
         """A follower leaves the presenter and explores `copy` (its camera stays)."""

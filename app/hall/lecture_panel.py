@@ -7,7 +7,10 @@ This module owns `LecturePanel`:
   - while the browser presents: the badge ("● Live · 3 following · 1 exploring", `live_badge`),
     `Stop presenting`, `Pointer` and `Call everyone back`;
   - while it explores and somebody else presents: "Lecture on" with `Follow presenter`; when
-    the presenter calls everyone back, the countdown ("following again in 7 s") and `Stay`.
+    the presenter calls everyone back, the countdown ("following again in 7 s") and `Stay`;
+  - when it came after a lecture ended (in its own room, `Lecturer.came_after_lecture`): "The
+    lecture has ended" (`ended_text`) and `Open the last lecture's room` (a copy of the room
+    the presenter left, `Lecturer.open_last_lecture`), until it follows or presents.
 - **The Lecture folder**: `Presenter code`, `Present`, `Pointer label`, a note for a refused code
   that stays true (the wait counts down, the note goes when the refusal no longer holds).
 
@@ -27,13 +30,16 @@ from typing import Any, Protocol
 import viser
 
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
+from app.hall.follower import Hall
 from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
-__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "STAY_LABEL", "LecturePanel", "Lecturer", "call_text", "live_badge"]
+__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "STAY_LABEL", "LecturePanel", "Lecturer",
+           "call_text", "ended_text", "live_badge"]
 
 CALL_BACK_LABEL = "Call everyone back"
 FOLLOW_LABEL = "Follow presenter"
 STAY_LABEL = "Stay"
+LAST_ROOM_LABEL = "Open the last lecture's room"
 
 
 def live_badge(following: int, exploring: int) -> str:
@@ -52,8 +58,22 @@ def lecture_on_text(scene: str) -> str:
     return f"**● Lecture on** · the presenter shows {scene}"
 
 
+def ended_text(hall: Hall, scene: str) -> str:
+    """A newcomer's line (Markdown) once the lecture ended (`hall` STOPPED or LEFT), its last scene `scene`."""
+    how = "the presenter has left" if hall is Hall.LEFT else "the presenter stopped presenting"
+    return (f"**The lecture has ended** ({how}; its last scene: {scene}). This room is your own; "
+            "the button below opens a copy of where the lecture stopped.")
+
+
 class Lecturer(Seat, Protocol):
     """What the lecture's panel drives: a browser's session (`app.session.Session` is one)."""
+
+    came_after_lecture: bool
+    """It connected after a lecture ended (and has not followed or presented since)."""
+
+    def open_last_lecture(self) -> None:
+        """Show a copy of the room the last presenter left, in place of its own."""
+        ...
 
     def present(self, code: str) -> None:
         """Become the presenter with `code`."""
@@ -96,6 +116,10 @@ class LecturePanel:
                                        hint="keep exploring your own copy")
         self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
                                          hint="back to the presenter's live scene")
+        self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
+        self.gui_last_room = gui.add_button(LAST_ROOM_LABEL, icon=viser.Icon.HISTORY, visible=False,
+                                            order=next(orders),
+                                            hint="a copy of the room the presenter left, paused, yours to change")
         # The Lecture folder.
         self.folder = gui.add_folder("Lecture", expand_by_default=False)
         with self.folder:
@@ -112,6 +136,7 @@ class LecturePanel:
         self.gui_pointer.on_update(guard("pointer", lambda _event: self.set_pointer(self.gui_pointer.value)))
         self.gui_call_back.on_click(guard("call everyone back", lambda _event: self.call_back()))
         self.gui_stay.on_click(guard("stay", lambda _event: self.stay()))
+        self.gui_last_room.on_click(guard("last lecture's room", lambda _event: seat.open_last_lecture()))
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
@@ -142,7 +167,9 @@ class LecturePanel:
         """Show what the browser's mode and the lecture call for: `Present` and the code unless
         it presents; the badge, `Stop presenting`, the pointer and `Call everyone back` while it
         does; "Lecture on" and `Follow presenter` while it explores and somebody else presents
-        (with the countdown and `Stay` while it is called back).  Only what changed is sent."""
+        (with the countdown and `Stay` while it is called back); "The lecture has ended" and
+        `Open the last lecture's room` while a browser that came after the lecture ended is in
+        its own room and nobody presents.  Only what changed is sent."""
         mode, lectern = self.seat.mode, self.lectern
         presenter = lectern.presenter
         presenting = mode is Mode.PRESENTING
@@ -164,6 +191,12 @@ class LecturePanel:
             title = lectern.live_title()
             write_if_changed(self.gui_lecture_on, call_text(left) if left is not None
                    else lecture_on_text(title or "a scene"))
+        ended = (mode is Mode.OWN and self.seat.came_after_lecture and lectern.live
+                 and not lectern.someone_presents and lectern.hall in (Hall.STOPPED, Hall.LEFT))
+        if ended:
+            write_if_changed(self.gui_ended, ended_text(lectern.hall, lectern.live_title() or "a scene"))
+        show_if_changed(self.gui_ended, ended)
+        show_if_changed(self.gui_last_room, ended)
 
     def call_back(self) -> None:
         """The presenter asks every explorer back (`Lectern.call_back`); said in the badge's place."""
