@@ -11,7 +11,8 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import LectureHall, poll_until
+from conftest import LectureHall, RawClient, poll_until
+from test_bus import Workers, _present, redis_url, workers  # noqa: F401 - the fixtures across workers
 
 from app.hall.follower import Follower
 from app.hall.lecture_panel import LAST_ROOM_LABEL
@@ -138,3 +139,51 @@ def test_the_last_room_is_refused_while_someone_presents(hall: Hall) -> None:
     late.guard("last room", late.open_last_lecture)()
     assert late.room is before and "a lecture is on" in (late.last_error or "")
     assert newcomer.mode == Mode.FOLLOWING
+
+
+# ---------------------------------------------------------------------- across workers (app.cluster.bus)
+@pytest.mark.parametrize("how", ["stopped", "left"])
+def test_a_newcomer_on_another_worker_after_the_lecture_has_its_own_room(workers: Workers, how: str  # noqa: F811
+                                                                          ) -> None:
+    """A presenter on worker A plays Heavy top and stops (or closes its tab); a browser that
+    connects to worker B afterwards lands in its own room with the ended line, and the button
+    gives it the room A's presenter left, bit for bit (through Redis, `Lectern.fetch_remote`)."""
+    pytest.importorskip("app.codec")
+    from test_codec import assert_rooms_equal
+
+    from app.hall.follower import Hall as HallState
+
+    a, b = workers.start("a"), workers.start("b")
+    presenter = _present(workers, "a", "Heavy top")
+    presenter.guard("test", presenter.apply_preset)("Loop")
+    presenter.guard("test", presenter.play)()
+    follower_b, _ = workers.connect("b")
+    poll_until(lambda: follower_b.mode == Mode.FOLLOWING and b.lectern.hall is HallState.LIVE, timeout=20.0)
+    poll_until(lambda: presenter.room.sim.t > 0.5, timeout=20.0)
+    ended = HallState.STOPPED if how == "stopped" else HallState.LEFT
+    if how == "stopped":
+        presenter.guard("test", presenter.stop_presenting)()
+    else:
+        workers.clients[0].close()  # the presenter's tab
+        poll_until(lambda: not any(s is presenter for s in a.sessions.values()), timeout=20.0)
+    poll_until(lambda: b.lectern.hall is ended, timeout=20.0)
+    last = a.lectern.live_room
+    assert last is not None and not last.playing
+    newcomer, client = workers.connect("b", RawClient)
+    assert newcomer.mode == Mode.OWN and not isinstance(newcomer.scene, Follower), newcomer.mode
+    assert newcomer.room.scene.title == DEFAULT_SCENE and newcomer.gui_scene.visible
+    assert follower_b.mode == Mode.FOLLOWING  # the follower keeps the last state
+    panel = newcomer.lecture
+    poll_until(lambda: panel.gui_ended.visible and panel.gui_last_room.visible, timeout=10.0)
+    assert "lecture has ended" in panel.gui_ended.content and "Heavy top" in panel.gui_ended.content
+    client.set_value(panel.gui_last_room, True)
+    poll_until(lambda: newcomer.room.scene.title == "Heavy top", timeout=20.0)
+    with newcomer.lock:
+        pass
+    assert newcomer.error_count == 0, newcomer.last_error
+    with newcomer.room.lock:
+        copy = newcomer.room.fork()
+    with last.lock:
+        original = last.fork()
+    assert copy.sim.t == original.sim.t > 0.5
+    assert_rooms_equal(copy, original, "the last lecture's room on B")
