@@ -337,7 +337,7 @@ def test_a_presenter_on_b_takes_over_from_a_stopped_presenter_on_a(workers: Work
     poll_until(lambda: follower_b.mode == "following", timeout=10.0)
     first.guard("test", first.stop_presenting)()
     poll_until(lambda: b.lectern.hall is Hall.STOPPED, timeout=10.0)
-    second, _ = workers.connect("b")  # it follows the last state: Present explores it, then it picks a scene
+    second, _ = workers.connect("b")  # it lands in its own room (the lecture ended), presents it, picks a scene
     second.guard("test", second.present)(CODE)
     second.guard("test", second.select_scene)("Poinsot")
     poll_until(lambda: a.lectern.hall is Hall.LIVE and a.lectern.remote is not None, timeout=10.0)

@@ -441,10 +441,16 @@ class Bus:
         self.resyncs += 1
 
     def _clear_shared(self) -> None:
-        """Remove another process's nodes from the shared scene (this process presents now)."""
+        """Remove another process's nodes from the shared scene (this process presents now): each
+        node by name, the deepest first.  (One removal of LIVE_ROOT is not enough: the new view's
+        first node of that name supersedes it in viser's buffers, and the old nodes under it
+        stayed on this process's followers' screens, and in what a late browser is sent.)"""
         self._remote_worker = None
         self._expected = None
-        if self._applied.nodes():
+        names = self._applied.nodes()
+        for name in sorted(names, key=lambda n: (-n.count("/"), n)):
+            self._queue(message_from_dict({"type": "RemoveSceneNodeMessage", "name": name}, ALLOWED))
+        if names:
             self._queue(message_from_dict({"type": "RemoveSceneNodeMessage", "name": LIVE_ROOT}, ALLOWED))
         self._applied = Replica()
 
