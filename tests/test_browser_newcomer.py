@@ -1,0 +1,91 @@
+"""A visitor after the lecture (issue 34 row 9), in Debian's Chromium, through the pages: the
+presenter plays Heavy top, presents and closes its tab; a new browser that opens the URL then
+lands in its own room (the Scene dropdown on its own scene, no "Following the presenter"), with a
+line saying the lecture has ended, and `Open the last lecture's room` shows the room the presenter
+left at its time t.
+
+NEWCOMER_SCREENSHOTS=<folder>: save newcomer_landing.png and newcomer_last_room.png there.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import pytest
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, text_input  # noqa: F401
+from test_browser_lecture import open_page as lecture_open_page
+from test_browser_typing import number_box
+
+from app.hall.follower import Hall
+
+from app.main import App
+from app.scenes import DEFAULT_SCENE
+
+pytestmark = pytest.mark.browser
+
+SHOTS = os.environ.get("NEWCOMER_SCREENSHOTS")
+LAPTOP = {"viewport": {"width": 1280, "height": 800}}
+
+
+def open_page(browser, hall: App, **context):  # type: ignore[no-untyped-def]
+    """test_browser_lecture's `open_page` with a generous timeout (90 s) for a busy machine."""
+    return lecture_open_page(browser, hall, 90.0, **context)
+
+
+def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
+    """Save the page as `name` under NEWCOMER_SCREENSHOTS (if set)."""
+    if SHOTS:
+        close_toasts(page)
+        time.sleep(1.0)  # the nodes fade in (a picture for people, not a wait for a state)
+        Path(SHOTS).mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(Path(SHOTS) / name), timeout=120_000)
+
+
+def test_a_visitor_after_the_lecture_lands_in_its_own_room_and_opens_the_last_one(browser, hall_app: App,  # noqa: F811
+                                                                                  wait_until) -> None:
+    hall = hall_app
+    presenter_page, presenter = open_page(browser, hall, **LAPTOP)
+    presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
+    close_toasts(presenter_page)
+    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
+    presenter_page.get_by_role("option", name="Heavy top").click()
+    wait_until(lambda: presenter.scene.title == "Heavy top", timeout=15.0)
+    presenter_page.get_by_role("button", name="Play", exact=True).click()
+    open_folder(presenter_page, "Lecture", "Presenter code")
+    text_input(presenter_page, "Presenter code").click()
+    presenter_page.keyboard.type(CODE, delay=30)
+    presenter_page.get_by_role("button", name="Present").click()
+    wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
+    wait_until(lambda: presenter.room.sim.t > 2.0, timeout=60.0)
+    presenter_page.close()  # the presenter closes its tab
+    wait_until(lambda: hall.lectern.hall is Hall.LEFT, timeout=30.0)
+    last = hall.lectern.live_room
+    assert last is not None and not last.playing
+    t_last = last.sim.t
+
+    page, newcomer = open_page(browser, hall, **LAPTOP)
+    landing = page.get_by_text("The lecture has ended").or_(page.get_by_text("The presenter has left")).first
+    landing.wait_for(state="visible", timeout=60_000)
+    shot(page, "newcomer_landing.png")
+    # Its own room: the Scene dropdown on its own scene, not the frozen last state.
+    page.get_by_text("The lecture has ended").first.wait_for(state="visible", timeout=30_000)
+    assert not page.get_by_text("Following the presenter").first.is_visible(), "it follows the last state"
+    dropdown = page.locator(f'[id="{newcomer.gui_scene._impl.uuid}"]')
+    dropdown.wait_for(state="visible", timeout=30_000)
+    assert dropdown.input_value() == DEFAULT_SCENE, dropdown.input_value()
+    assert "has left" in page.get_by_text("The lecture has ended").first.locator("xpath=..").inner_text()
+    # One click: the room the presenter left, at its time.
+    page.get_by_role("button", name="Open the last lecture's room").click()
+    wait_until(lambda: dropdown.input_value() == "Heavy top", timeout=30.0)
+    wait_until(lambda: newcomer.room.scene.title == "Heavy top", timeout=30.0)
+    box = number_box(page, newcomer.scene.timeline.gui_slider)
+    try:
+        wait_until(lambda: abs(float(box.input_value()) - t_last) < 0.02, timeout=30.0)
+    except AssertionError:
+        raise AssertionError(f"the page's Timeline reads {box.input_value()!r}, the last room's t = {t_last:.3f} s"
+                             ) from None
+    assert newcomer.mode == "own" and newcomer.room is not last and newcomer.room.sim.t == t_last
+    assert newcomer.error_count == 0, newcomer.last_error
+    shot(page, "newcomer_last_room.png")
