@@ -19,7 +19,6 @@ from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
 from app.hall.follower import Hall
-
 from app.main import App
 from app.scenes import DEFAULT_SCENE
 

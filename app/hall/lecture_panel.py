@@ -29,8 +29,8 @@ from typing import Any, Protocol
 
 import viser
 
-from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.hall.follower import Hall
+from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
 __all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "STAY_LABEL", "LecturePanel", "Lecturer",
