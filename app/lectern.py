@@ -60,7 +60,10 @@ The rest:
   its own guard, and refreshes the lecture's part of every panel that is not following
   (`Seat.lecture_changed`) every FOLLOW_PERIOD.
 - **A presenter who stops or leaves** leaves the last state on the followers' screens (a paused
-  copy, which `Explore` copies), with a note; a new presenter takes over with the code.
+  copy, which `Explore` copies), with a note; a new presenter takes over with the code.  A
+  browser that connects after that follows nobody (`someone_presents` is false): it lands in its
+  own room, told that the lecture ended, with the last room one click away (`live_copy`;
+  `app.hall.lecture_panel`), and follows the next presenter.
 
 The lectern talks to a browser's session through the small `Seat` protocol; it never imports
 the session (layers: kit ← scenes ← follower ← lectern ← the session's parts ← session ← main).
