@@ -124,7 +124,7 @@ def test_a_browser_that_came_before_any_lecture_is_not_told_one_ended(hall: Hall
 
 
 def test_the_last_room_is_refused_while_someone_presents(hall: Hall) -> None:
-    presenter, newcomer = hall.join(), hall.join()
+    presenter, follower = hall.join(), hall.join()
     presenter.present(CODE)
     hall.frames(1)
     presenter.stop_presenting()
@@ -138,7 +138,7 @@ def test_the_last_room_is_refused_while_someone_presents(hall: Hall) -> None:
     before = late.room
     late.guard("last room", late.open_last_lecture)()
     assert late.room is before and "a lecture is on" in (late.last_error or "")
-    assert newcomer.mode == Mode.FOLLOWING
+    assert follower.mode == Mode.FOLLOWING
 
 
 # ---------------------------------------------------------------------- across workers (app.cluster.bus)
