@@ -61,8 +61,7 @@ def lecture_on_text(scene: str) -> str:
 def ended_text(hall: Hall, scene: str) -> str:
     """A newcomer's line (Markdown) once the lecture ended (`hall` STOPPED or LEFT), its last scene `scene`."""
     how = "the presenter has left" if hall is Hall.LEFT else "the presenter stopped presenting"
-    return (f"**The lecture has ended** ({how}; its last scene: {scene}). This room is your own; "
-            "the button below opens a copy of where the lecture stopped.")
+    return f"**The lecture has ended** ({how}; last scene: {scene}). This room is your own."
 
 
 class Lecturer(Seat, Protocol):
