@@ -33,6 +33,14 @@ def open_page(browser, hall: App, **context):  # type: ignore[no-untyped-def]
     return lecture_open_page(browser, hall, 90.0, **context)
 
 
+def waited(wait_until, what: str, predicate, seen, timeout: float) -> None:  # type: ignore[no-untyped-def]
+    """`wait_until(predicate, timeout)`, failing with what it waited for and what it saw (`seen()`)."""
+    try:
+        wait_until(predicate, timeout=timeout)
+    except AssertionError:
+        raise AssertionError(f"waited {timeout:g} s for {what}; saw {seen()!r}") from None
+
+
 def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
     """Save the page as `name` under NEWCOMER_SCREENSHOTS (if set)."""
     if SHOTS:
@@ -56,17 +64,20 @@ def test_a_visitor_after_the_lecture_lands_in_its_own_room_and_opens_the_last_on
     text_input(presenter_page, "Presenter code").click()
     presenter_page.keyboard.type(CODE, delay=30)
     presenter_page.get_by_role("button", name="Present").click()
-    wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
-    wait_until(lambda: presenter.room.sim.t > 2.0, timeout=60.0)
+    waited(wait_until, "the presenter presenting", lambda: presenter.mode == "presenting",
+           lambda: (presenter.mode, presenter.last_error), 30.0)
+    waited(wait_until, "the presenter's t > 1 s", lambda: presenter.room.sim.t > 1.0,
+           lambda: (presenter.room.sim.t, presenter.room.playing), 120.0)
     presenter_page.close()  # the presenter closes its tab
-    wait_until(lambda: hall.lectern.hall is Hall.LEFT, timeout=30.0)
+    waited(wait_until, "the hall to say the presenter left", lambda: hall.lectern.hall is Hall.LEFT,
+           lambda: hall.lectern.hall, 60.0)
     last = hall.lectern.live_room
     assert last is not None and not last.playing
     t_last = last.sim.t
 
     page, newcomer = open_page(browser, hall, **LAPTOP)
     landing = page.get_by_text("The lecture has ended").or_(page.get_by_text("The presenter has left")).first
-    landing.wait_for(state="visible", timeout=60_000)
+    landing.wait_for(state="visible", timeout=90_000)
     shot(page, "newcomer_landing.png")
     # Its own room: the Scene dropdown on its own scene, not the frozen last state.
     page.get_by_text("The lecture has ended").first.wait_for(state="visible", timeout=30_000)
@@ -77,14 +88,13 @@ def test_a_visitor_after_the_lecture_lands_in_its_own_room_and_opens_the_last_on
     assert "has left" in page.get_by_text("The lecture has ended").first.locator("xpath=..").inner_text()
     # One click: the room the presenter left, at its time.
     page.get_by_role("button", name="Open the last lecture's room").click()
-    wait_until(lambda: dropdown.input_value() == "Heavy top", timeout=30.0)
-    wait_until(lambda: newcomer.room.scene.title == "Heavy top", timeout=30.0)
+    waited(wait_until, "the page's Scene dropdown on Heavy top", lambda: dropdown.input_value() == "Heavy top",
+           lambda: (dropdown.input_value(), newcomer.room.scene.title, newcomer.last_error), 60.0)
+    waited(wait_until, "the session's room on Heavy top", lambda: newcomer.room.scene.title == "Heavy top",
+           lambda: newcomer.room.scene.title, 30.0)
     box = number_box(page, newcomer.scene.timeline.gui_slider)
-    try:
-        wait_until(lambda: abs(float(box.input_value()) - t_last) < 0.02, timeout=30.0)
-    except AssertionError:
-        raise AssertionError(f"the page's Timeline reads {box.input_value()!r}, the last room's t = {t_last:.3f} s"
-                             ) from None
+    waited(wait_until, f"the page's Timeline at the last room's t = {t_last:.3f} s",
+           lambda: abs(float(box.input_value()) - t_last) < 0.02, box.input_value, 60.0)
     assert newcomer.mode == "own" and newcomer.room is not last and newcomer.room.sim.t == t_last
     assert newcomer.error_count == 0, newcomer.last_error
     shot(page, "newcomer_last_room.png")
