@@ -501,6 +501,7 @@ class Lectern:
             self._since_renew = 0.0
             self.presenter = seat
             self.hall = Hall.LIVE
+            self.rounds.begin(self._holder(seat))  # its rounds are its own; one left from before ends
             self._called.clear()
             self._to_refresh.extend(self.seats())  # explorers: "Lecture on"
             # The app loop moves them (each in its own guard): not from the presenter's callback,
@@ -523,6 +524,7 @@ class Lectern:
                 return
             self.presenter = None
             self.hall = Hall.LEFT if disconnected else Hall.STOPPED
+            self.rounds.end_lecture("the presenter left" if disconnected else "the presenter stopped")
             self._called.clear()
             self._to_refresh.extend(self.seats())
             if self.pointer is not None:

@@ -3,9 +3,15 @@ the worker that asked (`app.ask.hub.Rounds` on each side).
 
 - The question: the worker whose presenter asked (the *source*) writes the round as it looks
   from outside (`app.ask.hub.Shown`: the question's dict, its number, open, revealed, its id, the
-  count) under ROUND_KEY whenever it changes (and every REFRESH_S, with a TTL of ROUND_TTL_S);
-  every worker reads it every POLL_S and shows it to its browsers (`Rounds.set_remote`).  A
-  round asked later on another worker replaces the source's own.
+  count, its owner) under ROUND_KEY whenever it changes, and every REFRESH_S, each write with a
+  TTL of ROUND_LIVE_S (a few REFRESH_S); every worker reads it every POLL_S and shows it to its
+  browsers (`Rounds.set_remote`).  A round asked later on another worker replaces the source's own.
+- **A round ends with its presenter.**  The source deletes the key when its round ends (its
+  presenter stopped or left: `app.lectern.Lectern.release` ends it).  A worker that dies stops
+  writing: the key lapses within ROUND_LIVE_S.  Sooner still, a worker shows another's round only
+  while the round's owner holds the presenter lock (`presenter`, the gate's `presenter()`; its
+  lease lapses within `app.cluster.gate.LEASE_S` of a dead worker's last renewal).  Nothing
+  another worker or a browser sends renews the key: answers only go onto the answers' list.
 - The answers: a browser on another worker answers there (checked against the question and
   limited in rate per browser by its `Rounds`), which pushes [token, value] onto the list
   ANSWERS_KEY + the round's id; the source pops them every POLL_S into its round, where the
@@ -33,7 +39,7 @@ from app.ask.questions import question_from_dict, question_to_dict
 from app.ask.round import Refused
 from app.cluster import KEY_PREFIX, connect
 
-__all__ = ["ANSWERS_KEY", "POLL_S", "ROUND_KEY", "AskBus"]
+__all__ = ["ANSWERS_KEY", "POLL_S", "REFRESH_S", "ROUND_KEY", "ROUND_LIVE_S", "AskBus"]
 
 logger = logging.getLogger(__name__)
 
@@ -41,7 +47,8 @@ ROUND_KEY = KEY_PREFIX + "ask:round"  # msgpack: the source's round as every bro
 ANSWERS_KEY = KEY_PREFIX + "ask:answers:"  # + round id: a list of msgpack [token, value]
 POLL_S = 0.1  # [s] every worker reads the round, the source pops the answers, this often
 REFRESH_S = 2.0  # [s] the source rewrites the round at least this often
-ROUND_TTL_S = 6 * 3600  # [s] a round's key and answers live this long
+ROUND_LIVE_S = 3 * REFRESH_S  # [s] the round's key lapses this long after the source's last write
+ANSWERS_TTL_S = 60.0  # [s] an answers' list no source pops lapses this long after its last answer
 MAX_POP = 5000  # answers the source takes in one poll
 MAX_ENTRY_BYTES = 8192
 
@@ -49,7 +56,7 @@ MAX_ENTRY_BYTES = 8192
 def encode_shown(shown: Shown, worker: str) -> bytes:
     return msgspec.msgpack.encode({"w": worker, "id": shown.id, "q": question_to_dict(shown.question),
                                    "n": shown.number, "open": shown.open, "revealed": shown.revealed,
-                                   "answered": shown.answered})
+                                   "answered": shown.answered, "o": shown.owner})
 
 
 def decode_shown(data: Any) -> tuple[str, Shown]:
@@ -65,10 +72,11 @@ def decode_shown(data: Any) -> tuple[str, Shown]:
     worker, rid, number = body.get("w"), body.get("id"), body.get("n")
     if not (isinstance(worker, str) and isinstance(rid, str) and 0 < len(rid) <= 64 and isinstance(number, int)
             and not isinstance(number, bool) and isinstance(body.get("open"), bool)
-            and isinstance(body.get("revealed"), bool) and isinstance(body.get("answered", 0), int)):
+            and isinstance(body.get("revealed"), bool) and isinstance(body.get("answered", 0), int)
+            and isinstance(body.get("o", ""), str) and len(body.get("o", "")) <= 200):
         raise ValueError("a round with missing fields")
     return worker, Shown(question_from_dict(body.get("q")), number, body["open"], body["revealed"], rid,
-                         int(body.get("answered", 0)))
+                         int(body.get("answered", 0)), body.get("o", ""))
 
 
 class AskBus:
@@ -76,10 +84,14 @@ class AskBus:
 
     Args:
         rounds: the worker's `Rounds` (its `forward` is set here).  url: Redis.  worker_id: this worker.
+        presenter: () -> the presenter lock's holder now, or None (`app.cluster.gate.Gate.presenter`);
+            another worker's round is shown only while its owner holds it.  None: not checked.
     """
 
-    def __init__(self, rounds: Rounds, url: str, worker_id: str, clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(self, rounds: Rounds, url: str, worker_id: str, clock: Callable[[], float] = time.monotonic,
+                 presenter: Callable[[], str | None] | None = None) -> None:
         self.rounds = rounds
+        self.presenter = presenter
         self.worker_id = str(worker_id)
         self.redis = connect(url)
         self.clock = clock
@@ -94,7 +106,7 @@ class AskBus:
         data = msgspec.msgpack.encode([token, list(value) if isinstance(value, tuple) else value])
         pipe = self.redis.pipeline(transaction=False)
         pipe.rpush(key, data)
-        pipe.expire(key, ROUND_TTL_S)
+        pipe.expire(key, int(ANSWERS_TTL_S))
         pipe.execute()
 
     def tick(self, dt: float) -> None:
@@ -132,10 +144,21 @@ class AskBus:
                 self.redis.delete(ROUND_KEY)
             self._written = None
             theirs = None
-        if theirs is None or theirs[0] == self.worker_id:
+        if theirs is None or theirs[0] == self.worker_id or not self._owner_presents(theirs[1]):
             rounds.set_remote(None)
         else:
             rounds.set_remote(theirs[1])
+
+    def _owner_presents(self, shown: Shown) -> bool:
+        """The round's owner holds the presenter lock (True when either is not known: the lock
+        unreachable, no `presenter`, a round without an owner)."""
+        if self.presenter is None or not shown.owner:
+            return True
+        try:
+            return self.presenter() == shown.owner
+        except Exception:  # noqa: BLE001 - the gate unreachable: the key's TTL still ends the round
+            logger.debug("ask bus: presenter not known", exc_info=True)
+            return True
 
     def _write(self) -> None:
         shown = self.rounds.shown()
@@ -145,7 +168,7 @@ class AskBus:
         key = (shown.id, shown.number, shown.open, shown.revealed, shown.answered)
         if key == self._written and now - self._written_at < REFRESH_S:
             return
-        self.redis.set(ROUND_KEY, encode_shown(shown, self.worker_id), ex=ROUND_TTL_S)
+        self.redis.set(ROUND_KEY, encode_shown(shown, self.worker_id), px=int(ROUND_LIVE_S * 1000))
         self._written, self._written_at = key, now
 
     def _take_answers(self) -> None:
