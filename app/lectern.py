@@ -94,13 +94,14 @@ from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
-           "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat", "fitted_camera",
+           "POINTER_ROOT", "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat", "fitted_camera",
            "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
 
 LIVE_ROOT = "/l"  # the presenter's 3D in the shared scene hangs under this node (every follower message
 # carries its node's name: short)
+POINTER_ROOT = LIVE_ROOT + "/pointer"  # the pointer's markers (`Pointer`), under the live root
 MAX_TRIES = 5  # wrong codes a browser may try ...
 TRIES_WINDOW = 60.0  # ... per this many seconds
 DOWN_NOTE_SECONDS = 10.0  # [s] "the presenter lock does not answer" stays this long (then try again)
@@ -296,7 +297,7 @@ class Pointer:
         angles = np.linspace(0.0, 2.0 * np.pi, 49)
         ring = POINTER_RADIUS * (np.cos(angles)[:, None] * u + np.sin(angles)[:, None] * v)
         segments = np.stack([ring[:-1], ring[1:]], axis=1).astype(np.float32)
-        name = f"{LIVE_ROOT}/pointer/{self.count}"
+        name = f"{POINTER_ROOT}/{self.count}"
         self.count += 1
         frame = self.scene.add_frame(name, show_axes=False, position=tuple(float(x) for x in point))
         handles = [frame,

@@ -315,3 +315,43 @@ def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed() -> None:
         services.stop_process(redis_process)
         out.close()
         Path(out.name).unlink(missing_ok=True)
+
+
+def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens() -> None:
+    """The presenter on a points; b's followers see the marker.  a dies without a word (no
+    removal said): once b takes it that the presenter left, the marker leaves b's shared scene
+    (the rest stays, the last state)."""
+    from conftest import poll_until
+    from test_bus import Workers, _live_nodes, _present
+
+    from app.cluster import services
+    from app.hall.follower import Hall
+    from app.lectern import POINTER_ROOT
+
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    workers = Workers(url)
+    try:
+        a, b = workers.start("a"), workers.start("b")
+        presenter = _present(workers, "a")
+        follower_b, mirror_b = workers.connect("b")
+        poll_until(lambda: follower_b.mode == "following" and b.lectern.hall is Hall.LIVE, timeout=10.0)
+        a.lectern.point(presenter, (0.0, -6.0, 1.0), (0.0, 1.0, 0.0), "here")
+        a.lectern.pointer.tick = lambda _dt: None  # the marker does not fade: a dies before it would
+
+        def markers() -> list[str]:
+            return [name for name in _live_nodes(mirror_b) if name.startswith(POINTER_ROOT + "/")]
+
+        poll_until(lambda: markers(), timeout=10.0)
+        assert any(name.startswith(POINTER_ROOT + "/") for name in b.bus._applied.nodes())
+        a.bus.source = False  # as if killed: no "left" said, no removal sent
+        a.stop()
+        del workers.apps["a"]
+        poll_until(lambda: b.lectern.hall is Hall.LEFT, timeout=10.0)
+        poll_until(lambda: not markers(), timeout=5.0)
+        assert _live_nodes(mirror_b), "the last state stays on b's screens"
+    finally:
+        workers.close()
+        services.stop_process(process)
