@@ -355,3 +355,49 @@ def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens() -> N
     finally:
         workers.close()
         services.stop_process(process)
+
+
+@pytest.mark.parametrize("end", ["stop", "tab closed"])
+def test_the_presenters_caption_plot_lesson_and_pointer_leave_the_followers(end: str) -> None:
+    """Everything the presenter owns on the followers' screens but the last state of the room:
+    the lesson caption, the plot tab's copy, the lesson step in the status, the pointer's marker,
+    ends when it stops or closes its tab (the room itself stays, paused, with a note)."""
+    from conftest import LectureHall, poll_until
+
+    from app.lectern import FOLLOW_PERIOD, POINTER_ROOT
+
+    frames = int(round(FOLLOW_PERIOD * 60)) + 2
+    hall = LectureHall(CODE)
+    try:
+        presenter, presenter_client = hall.join_with_client()
+        presenter.present(CODE)
+        presenter.start_lesson("§6 The free body and the heavy top")
+        for _ in range(2):
+            presenter.next_step(1)  # "Watch ω_y′ change sign in the Plots tab"
+        follower = hall.join()
+        hall.frames(frames)
+        hall.app.lectern.point(presenter, (0.0, -6.0, 1.0), (0.0, 1.0, 0.0), "here")
+        panel = follower.scene
+        nodes = hall.app.server.scene._handle_from_node_name
+
+        def markers() -> list[str]:
+            return [name for name in list(nodes) if name.startswith(POINTER_ROOT + "/")]
+
+        step = presenter.lesson.steps[2].text
+        assert panel.caption.text == step and panel.caption.handle.visible
+        assert panel.plot.tab == "Plots" and panel.plot.copies
+        assert "step 3/7" in hall.app.lectern.status() and markers()
+        if end == "stop":
+            presenter.stop_presenting()
+        else:
+            presenter_client.close()
+            poll_until(lambda: hall.app.lectern.presenter is None, timeout=10.0)
+        hall.frames(frames)
+        assert panel.caption.text == "" and not panel.caption.handle.visible, "the caption stayed"
+        assert panel.plot.tab == "" and not panel.plot.copies, "the plot copy stayed"
+        assert "step 3/7" not in hall.app.lectern.status(), "the lesson step stayed"
+        assert not markers(), "the pointer's marker stayed"
+        assert hall.app.lectern.live_room is not None and not hall.app.lectern.live_room.playing  # the last state
+        assert follower.error_count == 0, follower.last_error
+    finally:
+        hall.close()

@@ -8,7 +8,9 @@ the panel (`histogram_text`, bars of text; the round before it beside after `Vot
 direction every answer's tip as a point on one sphere of radius SPHERE_RADIUS around the origin
 (the body's centre) in the presenter's own 3D view, the true direction an arrow once revealed.
 `Close the round`, `Vote again`, `Reveal the answer`, `Download answers (CSV)` and `New
-question`.  The sphere is drawn in the presenter's own scene (`client.scene`), so the followers'
+question`; once a round has ended (`New question`, or a presenter stopped or left: the round is
+the presenter's, `app.ask.hub`), `Download earlier rounds (CSV)`.  Every CSV is saved by the
+browser at once (`app.kit.panel.download.save_download`).  The sphere is drawn in the presenter's own scene (`client.scene`), so the followers'
 screens never show the others' answers.
 
 **A student** (`AnswerPanel`, every browser but the presenter's): while a round is open, the
