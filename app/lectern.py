@@ -63,27 +63,44 @@ The rest:
   copy, which `Explore` copies), with a note; a new presenter takes over with the code.
 
 **Who owns each piece of lecture state, and what ends it** (the one list; each end is done where
-named, and tested in tests/test_round_ends.py, tests/test_bus.py, tests/test_lectern.py).  "Stop"
+named; tested in tests/test_round_ends.py and tests/test_browser_round_ends.py).  "Stop"
 is `Stop presenting`, "tab closed" a disconnect (`Session.close`), "lock lost" `_renew_lock`
 finding someone else holds it; all three go through `release`.  "Worker killed": another
 process's presenter whose process dies without a word.
 
-| state | where | owner | ends (and how) |
-|---|---|---|---|
-| presenter lock | `app.cluster.gate` | the presenter | stop, tab closed: `release` frees it; worker killed: its lease lapses within `gate.LEASE_S` |
-| question round | `Rounds.current` (`app.ask.hub`), ROUND_KEY (`app.cluster.askbus`) | the presenter who asked it (`Rounds.begin` in `start`; `Shown.owner`) | stop, tab closed, lock lost: `release` → `Rounds.end_lecture`: closed, off every panel, answers refused, kept in `Rounds.earlier` (the next presenter's `Download earlier rounds (CSV)`), the source deletes ROUND_KEY; worker killed: the others show it only while its owner holds the lock (≤ LEASE_S), its key lapses in `askbus.ROUND_LIVE_S`; `New question`: `Rounds.end` (kept too) |
-| a student's question panel, arrow and gizmo | `app.hall.ask.AnswerPanel` (the student's own scene, /ask/gizmo) | the round | hidden as soon as `Rounds.shown()` is None (the app loop's `_ask_tick` on `Rounds.version`) |
-| sphere, tips, true arrow; state gallery | `app.hall.ask.AskPanel` (the presenter's own scene, /ask, /ask/gallery) | the presenter's browser and its round | the round ends or the browser stops presenting: hidden (`AskPanel.refresh`, `set_shown(False)`); tab closed: viser drops the browser's nodes |
-| caption | `caption` ← `Seat.caption_words` (`app.hall.caption`) | the presenter | `caption()` is ("", "") once `presenter` is None or the hall is not LIVE: cleared on every follower by `release`'s `refresh_followers`; worker killed: the bus's `remote_ended` (hall LEFT) |
-| pointer markers | `Pointer` (shared scene, POINTER_ROOT) | the presenter | fade in POINTER_SECONDS; `release` clears them; worker killed: `app.cluster.bus.Bus._drop_pointer` removes them when the bus takes it that the presenter left |
-| shared plot | `room_plot` (`app.hall.room_plot`) | the presenter's open plot tab | ("", []) once `presenter` is None or the remote hall is not LIVE: cleared on every follower |
-| lesson step | `Seat.lesson_text` in `status` | the presenter's session | not shown once `presenter` is None or the hall is not LIVE |
-| call back | `_called` | the presenter | `start`, `release` and `remote_ended` clear it |
-| live view (shared 3D under LIVE_ROOT) | `live_view`, `_live_room` | the presenter | stop, tab closed: detached, its nodes the followers' last state (paused, `Explore` copies it) with a note, until the next presenter (`make_live_view` → `_forget_live_view`) or another process's (`show_remote`); worker killed: the bus's replica stays the same way |
+Each piece, as *owner* → *what ends it*:
 
-The lectern talks to a browser's session through the small `Seat` protocol; it never imports
-the session (layers: kit ← scenes ← follower ← lectern ← the session's parts ← session ← main).
-The followers are changed only through `add_follower` and `remove_follower`.
+- **presenter lock** (`app.cluster.gate`): the presenter → stop, tab closed: `release` frees it;
+  worker killed: its lease lapses within `app.cluster.gate.LEASE_S`.
+- **question round** (`Rounds.current`, `app.ask.hub`; ROUND_KEY, `app.cluster.askbus`): the
+  presenter who asked it (`Rounds.begin` in `start`; `Shown.owner`) → stop, tab closed, lock
+  lost: `release` calls `Rounds.end_lecture`: the round closes, leaves every panel, answers are
+  refused, and it is kept in `Rounds.earlier` (the next presenter's `Download earlier rounds
+  (CSV)`); the source deletes ROUND_KEY.  Worker killed: the other workers show it only while
+  its owner holds the lock (<= LEASE_S), and its key lapses within `askbus.ROUND_LIVE_S`.
+  `New question` ends it too (`Rounds.end`, kept the same way).
+- **a student's question, arrow and gizmo** (`app.hall.ask.AnswerPanel`, the student's own
+  scene, /ask/gizmo): the round → hidden once `Rounds.shown()` is None (the app loop's
+  `_ask_tick`, on `Rounds.version`).
+- **sphere, tips, true arrow; a State round's gallery** (`app.hall.ask.AskPanel`, the presenter's
+  own scene, /ask and /ask/gallery): the presenter's browser and its round → hidden when the
+  round ends (`AskPanel.refresh`) or the browser stops presenting (`set_shown(False)`); tab
+  closed: viser drops the browser's nodes.
+- **caption** (`caption`, from `Seat.caption_words`; `app.hall.caption`): the presenter →
+  ("", "") once `presenter` is None or the hall is not LIVE, cleared on every follower by
+  `release`'s `refresh_followers`; worker killed: the bus's `remote_ended` (hall LEFT).
+- **pointer markers** (`Pointer`, shared scene, POINTER_ROOT): the presenter → fade within
+  POINTER_SECONDS; `release` clears them; worker killed: `app.cluster.bus.Bus._drop_pointer`
+  removes them when the bus takes it that the presenter left.
+- **shared plot** (`room_plot`, `app.hall.room_plot`): the presenter's open plot tab → ("", [])
+  once `presenter` is None or the remote hall is not LIVE: cleared on every follower.
+- **lesson step** (`Seat.lesson_text` in `status`): the presenter's session → not in the
+  followers' status once `presenter` is None or the hall is not LIVE.
+- **call back** (`_called`): the presenter → `start`, `release` and `remote_ended` clear it.
+- **live view** (the shared 3D under LIVE_ROOT: `live_view`, `_live_room`): the presenter →
+  stop, tab closed: detached, its nodes the followers' last state (paused, `Explore` copies it)
+  with a note, until the next presenter (`make_live_view` → `_forget_live_view`) or another
+  process's (`show_remote`); worker killed: the bus's replica stays the same way.
 """
 
 from __future__ import annotations
@@ -113,8 +130,8 @@ from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
-           "POINTER_ROOT", "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat", "fitted_camera",
-           "new_code", "pointed_at"]
+           "POINTER_ROOT", "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat",
+           "fitted_camera", "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
 

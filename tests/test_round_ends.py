@@ -245,13 +245,13 @@ def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed() -> None:
     a raw websocket, asks through its panel; w2's student sees the question.  SIGKILL w1: w2's
     student stops seeing it within a few seconds (the presenter lock's lease, the round key's
     TTL), and w2's next presenter gets the form."""
-    from benchmarks.ws_client import ViserClient
     from conftest import poll_until
 
     from app.cluster import services
     from app.cluster.askbus import ROUND_KEY, ROUND_LIVE_S
     from app.cluster.gate import LEASE_S
     from app.main import create_server
+    from benchmarks.ws_client import ViserClient
 
     try:
         url, redis_process = services.start_redis()

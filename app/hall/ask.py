@@ -10,8 +10,8 @@ direction every answer's tip as a point on one sphere of radius SPHERE_RADIUS ar
 `Close the round`, `Vote again`, `Reveal the answer`, `Download answers (CSV)` and `New
 question`; once a round has ended (`New question`, or a presenter stopped or left: the round is
 the presenter's, `app.ask.hub`), `Download earlier rounds (CSV)`.  Every CSV is saved by the
-browser at once (`app.kit.panel.download.save_download`).  The sphere is drawn in the presenter's own scene (`client.scene`), so the followers'
-screens never show the others' answers.
+browser at once (`app.kit.panel.download.save_download`).  The sphere is drawn in the
+presenter's own scene (`client.scene`), so the followers' screens never show the others' answers.
 
 **A student** (`AnswerPanel`, every browser but the presenter's): while a round is open, the
 question and its controls sit at the top of the panel and the follower's panel is folded away
@@ -45,8 +45,8 @@ from app.ask.state_tally import gallery_entries, judged_histogram_text
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.kit.panel.download import save_download
 
-__all__ = ["ASK_LABEL", "CHANGE_LABEL", "CLOSE_LABEL", "CSV_LABEL", "DIRECTION_LABEL", "EARLIER_LABEL", "FROM_COPY_LABEL",
-           "NEW_LABEL",
+__all__ = ["ASK_LABEL", "CHANGE_LABEL", "CLOSE_LABEL", "CSV_LABEL", "DIRECTION_LABEL", "EARLIER_LABEL",
+           "FROM_COPY_LABEL", "NEW_LABEL",
            "REVEAL_LABEL", "SPHERE_RADIUS", "STATE_LABEL", "VOTE_AGAIN_LABEL", "AnswerPanel", "AskPanel", "Student",
            "answer_words", "count_text", "direction_of", "histogram_text", "quaternion_to", "sphere_points"]
 

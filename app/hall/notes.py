@@ -4,7 +4,8 @@ This module owns `Notes`: the folder, `Record` (the next seconds of the scene sh
 from a copy of its room faster than real time, offered as .html and .viser downloads) and
 `Screenshot` (a PNG of the browser's 3D view: the scene without the panel and without the drag
 gizmos, which are hidden while the browser renders it).  The browser saves both at once under
-their whole names (`app.kit.panel.download.save_download`: no toast with a link to click).  Both work in a thread and report their errors in the browser's panel.
+their whole names (`app.kit.panel.download.save_download`: no toast with a link to click).
+Both work in a thread and report their errors in the browser's panel.
 """
 
 from __future__ import annotations
