@@ -154,6 +154,22 @@ def test_a_round_ends_when_its_presenters_tab_closes(hall: Any) -> None:
     _next_presenter_starts_with_the_form(hall, "the presenter left")
 
 
+def test_an_answered_round_shown_again_shows_the_answer_not_both(hall: Any) -> None:
+    """A panel that stopped showing a round (its browser presented meanwhile) and shows it again
+    shows the answer given, not `Send my direction` beside "Your answer: …"."""
+    _presenter, _, alice = _asked_and_answered(hall)
+    panel = alice.question
+    panel.refresh()  # its panel shows the answer given through the automation API
+    assert panel.gui_mine.visible and not panel.gui_send_direction.visible, "the answer not shown"
+    panel.active = False  # as while its browser presents
+    panel.refresh()
+    assert not panel.folder.visible
+    panel.active = True
+    panel.refresh()
+    assert panel.folder.visible and panel.gui_mine.visible
+    assert not panel.gui_send_direction.visible, "Send my direction beside Your answer"
+
+
 def test_a_hostile_client_keeps_no_round_alive_after_its_presenter_left(hall: Any) -> None:
     """A raw websocket that answers, then clicks every button it was ever sent (its own hidden
     `Ask the class`, `Vote again`, `Reveal` ... included) after the presenter left: the round

@@ -492,6 +492,8 @@ class AnswerPanel:
         self.active = True  # False while the browser presents (its own questions are not for it)
         self.editing = True  # the controls are shown (before an answer, or after Change my answer)
         self.drawn: tuple[Any, ...] = ()
+        self._round_id: str | None = None  # the round the panel last showed (None: none)
+        self._mine_seen = ""  # repr of this browser's answer when the panel last looked
         self._writing = False  # the server moves the sliders: their callbacks do nothing
         gui: Any = student.client.gui
         self.folder = gui.add_folder("Question", order=order, visible=False)
@@ -580,9 +582,14 @@ class AnswerPanel:
             show_if_changed(self.folder, False)
             self._arrow_shown(False)
             self.student.folded_for_question(False)
-            self.editing = True
+            self.editing, self._round_id = True, None
             return
         question = shown.question
+        if shown.id != self._round_id:  # a round (re)appears: its controls only if not answered yet
+            self.editing, self._round_id = mine is None, shown.id
+        elif mine is not None and repr(mine) != self._mine_seen:  # a new answer kept (any way in): shown
+            self.editing = False
+        self._mine_seen = repr(mine)
         if mine is None:
             self.editing = True
         controls = shown.open and self.editing
