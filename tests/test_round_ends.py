@@ -183,7 +183,10 @@ def test_a_hostile_client_keeps_no_round_alive_after_its_presenter_left(hall: An
     _frames_until(hall, lambda: len(hall.app.rounds.current or ()) == 2, "the hostile answer counted")
     presenter_client.close()
     _frames_until(hall, lambda: hall.app.rounds.current is None, "the round ends with its presenter")
-    buttons = [e.uuid for e in client.state.gui.values() if "Button" in e.type]
+    client.wait_for_label("Send my direction", timeout=20.0, type_contains="Button")
+    client.wait_for_label("Ask the class", timeout=20.0, type_contains="Button")
+    with client.state.lock:
+        buttons = [e.uuid for e in client.state.gui.values() if "Button" in e.type]
     assert len(buttons) > 10
     for _ in range(3):
         for uuid in buttons:
@@ -238,7 +241,7 @@ def test_a_round_on_another_worker_ends_when_its_presenter_stops() -> None:
         poll_until(lambda: apps[0].rounds.tally() is not None and apps[0].rounds.tally().answered == 1, timeout=10.0)
         presenter.stop_presenting()
         poll_until(lambda: not student.question.folder.visible, timeout=5.0)
-        assert apps[0].ask_bus.redis.get(ROUND_KEY) is None
+        poll_until(lambda: apps[0].ask_bus.redis.get(ROUND_KEY) is None, timeout=2.0)  # the source deletes it
         with pytest.raises(Refused):
             student.answer(1)
         newcomer = _join(apps[1], clients)
