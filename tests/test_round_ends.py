@@ -251,6 +251,15 @@ def test_a_round_on_another_worker_ends_when_its_presenter_stops() -> None:
         assert apps[1].rounds.shown() is None
         (ended,) = apps[0].rounds.earlier
         assert ended.why == "the presenter stopped" and ended.round_.tally().counts == (0, 0, 1)
+        # the next presenter, on the other worker, downloads the ended round (saved at once)
+        poll_until(lambda: newcomer.ask_panel.gui_earlier.visible, timeout=10.0)
+        sent = _recorded_downloads(newcomer)
+        newcomer.ask_panel.download_earlier()
+        ((name, data, at_once),) = sent
+        text = data.decode("utf-8")
+        assert at_once and "ended: the presenter stopped" in text and "Which axis is stable?" in text, text
+        rows = list(csv.DictReader(line for line in io.StringIO(text) if not line.startswith("#")))
+        assert [row["option"] for row in rows] == ["3"]
     finally:
         for client in clients:
             client.close()

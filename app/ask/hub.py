@@ -56,12 +56,21 @@ class Shown:
 class Ended:
     """A round that ended: `round_` (its answers kept, closed), the `lecture` it was asked in
     (1, 2, ... on this process: a lecture is one presenter's time presenting), `owner` (who asked
-    it) and `why` ("new question", "the presenter stopped", "the presenter left")."""
+    it), `why` ("new question", "the presenter stopped", "the presenter left") and `id` (the
+    round's id, `Shown.id`)."""
 
     round_: Round
     lecture: int
     owner: str
     why: str
+    id: str = ""
+
+    def section(self) -> str:
+        """This round's part of `Rounds.earlier_csv`: a comment line naming the lecture, the
+        presenter and why it ended, then `Round.csv` (its question, its rounds' anonymous answers)."""
+        who = f" · presenter {self.owner}" if self.owner else ""
+        return (f"# lecture {self.lecture}{who} · round {self.round_.number} · ended: {self.why}\n"
+                f"{self.round_.csv()}")
 
 
 class Rounds:
@@ -78,7 +87,11 @@ class Rounds:
         """The presenter a new round belongs to (`begin`), "" between lectures."""
         self.lecture = 0  # counts `begin`
         self.earlier: list[Ended] = []
-        """Rounds that ended, oldest first, at most MAX_EARLIER (`earlier_csv`)."""
+        """Rounds that ended on this process, oldest first, at most MAX_EARLIER (`earlier_csv`)."""
+        self.shared_earlier: Callable[[], list[tuple[str, str]]] | None = None
+        """() -> (id, `Ended.section`) of the rounds that ended on every process, oldest first
+        (set by the bus, `app.cluster.askbus`; None on one process)."""
+        self.earlier_elsewhere = 0  # how many the bus last counted (`set_earlier_elsewhere`)
         self._mine: dict[str, Any] = {}  # token -> its answer to the remote round (what its browser sees)
         self._rate = RateLimit()
         self._lock = threading.RLock()
@@ -139,7 +152,7 @@ class Rounds:
             round_ = self.current
             if round_ is not None:
                 round_.close()
-                self.earlier.append(Ended(round_, self.lecture, self.owner, str(why)))
+                self.earlier.append(Ended(round_, self.lecture, self.owner, str(why), self.current_id))
                 del self.earlier[:-MAX_EARLIER]
             self.current, self.current_id, self.remote, self._mine = None, "", None, {}
             self.version += 1
@@ -150,14 +163,28 @@ class Rounds:
             self.end(why)
             self.owner = ""
 
-    def earlier_csv(self) -> str:
-        """The rounds that ended (`earlier`), each under a comment line naming its lecture and why
-        it ended, then its CSV (`Round.csv`: its question, its rounds' anonymous answers); "" for none."""
+    @property
+    def has_earlier(self) -> bool:
+        """A round has ended, here or (the bus counted) on another process."""
+        return bool(self.earlier) or self.earlier_elsewhere > 0
+
+    def set_earlier_elsewhere(self, count: int) -> None:
+        """The bus counted `count` ended rounds over every process."""
         with self._lock:
-            ended = list(self.earlier)
-        parts = [f"# lecture {one.lecture} · round {one.round_.number} · ended: {one.why}\n{one.round_.csv()}"
-                 for one in ended]
-        return "\n".join(parts)
+            if count != self.earlier_elsewhere:
+                self.earlier_elsewhere = count
+                self.version += 1
+
+    def earlier_csv(self) -> str:
+        """The rounds that ended (every process's through `shared_earlier`, then this process's
+        not there yet), each its `Ended.section`; "" for none."""
+        with self._lock:
+            local = [(one.id, one.section()) for one in self.earlier]
+            fetch = self.shared_earlier
+        sections = fetch() if fetch is not None else []
+        ids = {rid for rid, _ in sections}
+        sections += [(rid, text) for rid, text in local if rid not in ids]
+        return "\n".join(text for _, text in sections)
 
     def _local(self) -> Round:
         if self.current is None:

@@ -18,6 +18,11 @@ the worker that asked (`app.ask.hub.Rounds` on each side).
   round's rules hold again (one per browser, bounded, checked).  So the tally, on the source, is
   the same whichever worker the students are on, and complete within about POLL_S of the last
   answer.
+- **Earlier rounds.**  A round that ended on a worker (`Rounds.earlier`) is pushed, as its CSV
+  section (`app.ask.hub.Ended.section`), onto the list EARLIER_KEY (the last MAX_EARLIER kept,
+  for EARLIER_TTL_S); every worker counts the list every REFRESH_S (`Rounds.set_earlier_elsewhere`:
+  its presenter's `Download earlier rounds (CSV)` shows) and reads it when that is pressed
+  (`Rounds.shared_earlier`).  A worker killed before its poll pushes nothing.
 - Tokens are the server's random per-browser tokens; nothing a browser sends chooses one.
   Everything read from Redis is msgpack of plain values, checked before use (`question_from_dict`,
   the round's checks); a bad entry is dropped.
@@ -34,12 +39,12 @@ from typing import Any
 
 import msgspec.msgpack
 
-from app.ask.hub import Rounds, Shown
+from app.ask.hub import MAX_EARLIER, Rounds, Shown
 from app.ask.questions import question_from_dict, question_to_dict
 from app.ask.round import Refused
 from app.cluster import KEY_PREFIX, connect
 
-__all__ = ["ANSWERS_KEY", "POLL_S", "REFRESH_S", "ROUND_KEY", "ROUND_LIVE_S", "AskBus"]
+__all__ = ["ANSWERS_KEY", "EARLIER_KEY", "POLL_S", "REFRESH_S", "ROUND_KEY", "ROUND_LIVE_S", "AskBus"]
 
 logger = logging.getLogger(__name__)
 
@@ -49,6 +54,9 @@ POLL_S = 0.1  # [s] every worker reads the round, the source pops the answers, t
 REFRESH_S = 2.0  # [s] the source rewrites the round at least this often
 ROUND_LIVE_S = 3 * REFRESH_S  # [s] the round's key lapses this long after the source's last write
 ANSWERS_TTL_S = 60.0  # [s] an answers' list no source pops lapses this long after its last answer
+EARLIER_KEY = KEY_PREFIX + "ask:earlier"  # a list of msgpack [round id, CSV section]: the rounds that ended
+EARLIER_TTL_S = 12 * 3600  # [s] the list lapses this long after its last push
+MAX_SECTION_BYTES = 8 * 1024 * 1024  # a section read back longer than this is dropped
 MAX_POP = 5000  # answers the source takes in one poll
 MAX_ENTRY_BYTES = 8192
 
@@ -99,7 +107,10 @@ class AskBus:
         self._written: tuple[Any, ...] | None = None  # what the source last wrote, and when
         self._written_at = -float("inf")
         self.taken = 0  # answers taken from other workers (the source's count)
+        self._pushed: set[str] = set()  # ids of this worker's ended rounds pushed onto EARLIER_KEY
+        self._counted_at = -float("inf")
         rounds.forward = self._forward
+        rounds.shared_earlier = self._fetch_earlier
 
     def _forward(self, round_id: str, token: str, value: Any) -> None:
         key = ANSWERS_KEY + round_id
@@ -122,6 +133,42 @@ class AskBus:
             logger.warning("ask bus: poll failed", exc_info=True)
 
     def _poll(self) -> None:
+        self._push_earlier()
+        now = self.clock()
+        if now - self._counted_at >= REFRESH_S:
+            self._counted_at = now
+            self.rounds.set_earlier_elsewhere(int(self.redis.llen(EARLIER_KEY)))
+        self._poll_round()
+
+    def _push_earlier(self) -> None:
+        """This worker's rounds that ended since the last poll go onto EARLIER_KEY."""
+        fresh = [one for one in list(self.rounds.earlier) if one.id not in self._pushed]
+        if not fresh:
+            return
+        pipe = self.redis.pipeline(transaction=False)
+        for one in fresh:
+            pipe.rpush(EARLIER_KEY, msgspec.msgpack.encode([one.id, one.section()]))
+        pipe.ltrim(EARLIER_KEY, -MAX_EARLIER, -1)
+        pipe.expire(EARLIER_KEY, EARLIER_TTL_S)
+        pipe.execute()
+        self._pushed.update(one.id for one in fresh)
+
+    def _fetch_earlier(self) -> list[tuple[str, str]]:
+        """(round id, CSV section) of every worker's ended rounds, oldest first (bad entries dropped)."""
+        found: list[tuple[str, str]] = []
+        for data in self.redis.lrange(EARLIER_KEY, 0, -1):
+            try:
+                if not isinstance(data, bytes) or len(data) > MAX_SECTION_BYTES:
+                    raise ValueError("too long")
+                body = msgspec.msgpack.decode(data)
+                if not (isinstance(body, list) and len(body) == 2 and all(isinstance(x, str) for x in body)):
+                    raise ValueError("not [id, section]")
+                found.append((body[0], body[1]))
+            except (ValueError, msgspec.DecodeError) as error:
+                logger.warning("ask bus: an earlier round dropped: %s", error)
+        return found
+
+    def _poll_round(self) -> None:
         rounds = self.rounds
         data = self.redis.get(ROUND_KEY)
         theirs: tuple[str, Shown] | None = None
@@ -197,6 +244,8 @@ class AskBus:
                 data = self.redis.get(ROUND_KEY)
                 if data is not None and decode_shown(data)[0] == self.worker_id:
                     self.redis.delete(ROUND_KEY)
+            self._push_earlier()
         except Exception:  # noqa: BLE001 - Redis gone already
             logger.debug("ask bus: close", exc_info=True)
         self.rounds.forward = None
+        self.rounds.shared_earlier = None

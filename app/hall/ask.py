@@ -405,7 +405,7 @@ class AskPanel:
                 show_if_changed(handle, False)
         for handle in (self.gui_count, self.gui_close, self.gui_again, self.gui_csv, self.gui_new):
             show_if_changed(handle, not asking)
-        show_if_changed(self.gui_earlier, bool(rounds.earlier))
+        show_if_changed(self.gui_earlier, rounds.has_earlier)
         if round_ is None:
             show_if_changed(self.gui_histogram, False)
             show_if_changed(self.gui_reveal, False)
