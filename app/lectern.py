@@ -76,8 +76,9 @@ Each piece, as *owner* → *what ends it*:
   presenter who asked it (`Rounds.begin` in `start`; `Shown.owner`) → stop, tab closed, lock
   lost: `release` calls `Rounds.end_lecture`: the round closes, leaves every panel, answers are
   refused, and it is kept in `Rounds.earlier` (the next presenter's `Download earlier rounds
-  (CSV)`, on any worker: `askbus.EARLIER_KEY`); the source deletes ROUND_KEY.  Worker killed: the other workers show it only while
-  its owner holds the lock (<= LEASE_S), and its key lapses within `askbus.ROUND_LIVE_S`.
+  (CSV)`, on any worker: `askbus.EARLIER_KEY`); the source deletes ROUND_KEY.  Worker killed:
+  the other workers show it only while its owner holds the lock (<= LEASE_S), and its key
+  lapses within `askbus.ROUND_LIVE_S`.
   `New question` ends it too (`Rounds.end`, kept the same way).
 - **a student's question, arrow and gizmo** (`app.hall.ask.AnswerPanel`, the student's own
   scene, /ask/gizmo): the round → hidden once `Rounds.shown()` is None (the app loop's
