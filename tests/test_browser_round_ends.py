@@ -9,8 +9,8 @@ Scene dropdown (at most one click on `Explore on my own` away); a new presenter'
 the `Ask the class` form, not the old round, and `Download earlier rounds (CSV)` saves the ended
 round's answers at once.
 
-ROUND_SCREENSHOTS=<folder>: the pages are saved there (student_after_leave.png, newcomer.png,
-next_presenter.png).  Needs Debian's Chromium: `apt-get install chromium`.
+ROUND_SCREENSHOTS=<folder>: the pages are saved there (download_answers.png,
+student_after_leave.png, newcomer.png, next_presenter.png).  Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
@@ -83,6 +83,7 @@ def test_a_round_ends_when_its_presenter_closes_the_tab(browser, hall_app: App, 
     close_toasts(lecturer)
     name, text = _download(lecturer, _button(lecturer, "Download answers (CSV)"))
     assert name == "answers-round-1.csv" and "flips" in text, (name, text)
+    _shot(lecturer, "download_answers.png")  # saved: no toast with a link
 
     lecturer.context.close()  # the presenter closes its tab without `Close the round`
     wait_until(lambda: presenter.closed and app.lectern.presenter is None, timeout=20.0)
