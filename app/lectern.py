@@ -65,9 +65,46 @@ The rest:
   own room, told that the lecture ended, with the last room one click away (`live_copy`;
   `app.hall.lecture_panel`), and follows the next presenter.
 
-The lectern talks to a browser's session through the small `Seat` protocol; it never imports
-the session (layers: kit ← scenes ← follower ← lectern ← the session's parts ← session ← main).
-The followers are changed only through `add_follower` and `remove_follower`.
+**Who owns each piece of lecture state, and what ends it** (the one list; each end is done where
+named; tested in tests/test_round_ends.py and tests/test_browser_round_ends.py).  "Stop"
+is `Stop presenting`, "tab closed" a disconnect (`Session.close`), "lock lost" `_renew_lock`
+finding someone else holds it; all three go through `release`.  "Worker killed": another
+process's presenter whose process dies without a word.
+
+Each piece, as *owner* → *what ends it*:
+
+- **presenter lock** (`app.cluster.gate`): the presenter → stop, tab closed: `release` frees it;
+  worker killed: its lease lapses within `app.cluster.gate.LEASE_S`.
+- **question round** (`Rounds.current`, `app.ask.hub`; ROUND_KEY, `app.cluster.askbus`): the
+  presenter who asked it (`Rounds.begin` in `start`; `Shown.owner`) → stop, tab closed, lock
+  lost: `release` calls `Rounds.end_lecture`: the round closes, leaves every panel, answers are
+  refused, and it is kept in `Rounds.earlier` (the next presenter's `Download earlier rounds
+  (CSV)`, on any worker: `askbus.EARLIER_KEY`); the source deletes ROUND_KEY.  Worker killed:
+  the other workers show it only while its owner holds the lock (<= LEASE_S), and its key
+  lapses within `askbus.ROUND_LIVE_S`.
+  `New question` ends it too (`Rounds.end`, kept the same way).
+- **a student's question, arrow and gizmo** (`app.hall.ask.AnswerPanel`, the student's own
+  scene, /ask/gizmo): the round → hidden once `Rounds.shown()` is None (the app loop's
+  `_ask_tick`, on `Rounds.version`).
+- **sphere, tips, true arrow; a State round's gallery** (`app.hall.ask.AskPanel`, the presenter's
+  own scene, /ask and /ask/gallery): the presenter's browser and its round → hidden when the
+  round ends (`AskPanel.refresh`) or the browser stops presenting (`set_shown(False)`); tab
+  closed: viser drops the browser's nodes.
+- **caption** (`caption`, from `Seat.caption_words`; `app.hall.caption`): the presenter →
+  ("", "") once `presenter` is None or the hall is not LIVE, cleared on every follower by
+  `release`'s `refresh_followers`; worker killed: the bus's `remote_ended` (hall LEFT).
+- **pointer markers** (`Pointer`, shared scene, POINTER_ROOT): the presenter → fade within
+  POINTER_SECONDS; `release` clears them; worker killed: `app.cluster.bus.Bus._drop_pointer`
+  removes them when the bus takes it that the presenter left.
+- **shared plot** (`room_plot`, `app.hall.room_plot`): the presenter's open plot tab → ("", [])
+  once `presenter` is None or the remote hall is not LIVE: cleared on every follower.
+- **lesson step** (`Seat.lesson_text` in `status`): the presenter's session → not in the
+  followers' status once `presenter` is None or the hall is not LIVE.
+- **call back** (`_called`): the presenter → `start`, `release` and `remote_ended` clear it.
+- **live view** (the shared 3D under LIVE_ROOT: `live_view`, `_live_room`): the presenter →
+  stop, tab closed: detached, its nodes the followers' last state (paused, `Explore` copies it)
+  with a note, until the next presenter (`make_live_view` → `_forget_live_view`) or another
+  process's (`show_remote`); worker killed: the bus's replica stays the same way.
 """
 
 from __future__ import annotations
@@ -97,13 +134,14 @@ from app.kit.draw.screen import screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
-           "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat", "fitted_camera",
-           "new_code", "pointed_at"]
+           "POINTER_ROOT", "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer", "RemoteShow", "Seat",
+           "fitted_camera", "new_code", "pointed_at"]
 
 logger = logging.getLogger(__name__)
 
 LIVE_ROOT = "/l"  # the presenter's 3D in the shared scene hangs under this node (every follower message
 # carries its node's name: short)
+POINTER_ROOT = LIVE_ROOT + "/pointer"  # the pointer's markers (`Pointer`), under the live root
 MAX_TRIES = 5  # wrong codes a browser may try ...
 TRIES_WINDOW = 60.0  # ... per this many seconds
 DOWN_NOTE_SECONDS = 10.0  # [s] "the presenter lock does not answer" stays this long (then try again)
@@ -299,7 +337,7 @@ class Pointer:
         angles = np.linspace(0.0, 2.0 * np.pi, 49)
         ring = POINTER_RADIUS * (np.cos(angles)[:, None] * u + np.sin(angles)[:, None] * v)
         segments = np.stack([ring[:-1], ring[1:]], axis=1).astype(np.float32)
-        name = f"{LIVE_ROOT}/pointer/{self.count}"
+        name = f"{POINTER_ROOT}/{self.count}"
         self.count += 1
         frame = self.scene.add_frame(name, show_axes=False, position=tuple(float(x) for x in point))
         handles = [frame,
@@ -504,6 +542,7 @@ class Lectern:
             self._since_renew = 0.0
             self.presenter = seat
             self.hall = Hall.LIVE
+            self.rounds.begin(self._holder(seat))  # its rounds are its own; one left from before ends
             self._called.clear()
             self._to_refresh.extend(self.seats())  # explorers: "Lecture on"
             # The app loop moves them (each in its own guard): not from the presenter's callback,
@@ -514,9 +553,10 @@ class Lectern:
         self._tell("start")
 
     def release(self, seat: Seat, *, disconnected: bool) -> None:
-        """The presenter stops (Stop presenting) or leaves (disconnect): the lock is free.  The
-        followers keep the last state on screen (a paused copy of the room, which is what
-        Explore then copies), with a note, until a new presenter starts."""
+        """The presenter stops (Stop presenting) or leaves (disconnect): the lock is free, its
+        question round ends (kept as an earlier round), its pointer markers go.  The followers
+        keep the last state on screen (a paused copy of the room, which is what Explore then
+        copies), with a note, until a new presenter starts (the module docstring's table)."""
         with self._lock:
             try:
                 self.gate.release(self._holder(seat))
@@ -526,6 +566,7 @@ class Lectern:
                 return
             self.presenter = None
             self.hall = Hall.LEFT if disconnected else Hall.STOPPED
+            self.rounds.end_lecture("the presenter left" if disconnected else "the presenter stopped")
             self._called.clear()
             self._to_refresh.extend(self.seats())
             if self.pointer is not None:

@@ -385,7 +385,7 @@ def create_server(
     if redis_url is not None:
         from app.cluster.askbus import AskBus  # noqa: PLC0415 - a one-process app imports no redis
 
-        app.ask_bus = AskBus(app.lectern.rounds, redis_url, worker_id or "w1")
+        app.ask_bus = AskBus(app.lectern.rounds, redis_url, worker_id or "w1", presenter=app.lectern.gate.presenter)
     if start_loop:
         app.start()
     return app

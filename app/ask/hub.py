@@ -10,7 +10,15 @@ asking process.
 
 Every browser's panel reads `shown()` (a `Shown`, or None for no question) and its own answer
 (`mine(token)`); `version` changes whenever what `shown()` says changes (the panels redraw then),
-`answers_version` whenever an answer arrives (the presenter's counts).  No viser here.
+`answers_version` whenever an answer arrives (the presenter's counts).
+
+**A round belongs to the presenter who asked it** (`owner`, the gate's holder string
+"<worker>:<client>", set by `app.lectern.Lectern` through `begin`).  When that presenter stops
+or leaves, the lectern calls `end`: the round closes and leaves every panel, and is kept, with
+its answers, in `earlier` (`Ended`: the lecture it belonged to, why it ended), which the next
+presenter may download (`earlier_csv`), never shown to anyone.  A round seen from another
+process carries its owner (`Shown.owner`): `app.cluster.askbus` shows it only while that owner
+holds the presenter lock.  No viser here.
 """
 
 from __future__ import annotations
@@ -24,7 +32,9 @@ from typing import Any
 from app.ask.questions import Question, question_from_dict
 from app.ask.round import RateLimit, Refused, Round, Tally
 
-__all__ = ["Rounds", "Shown"]
+__all__ = ["MAX_EARLIER", "Ended", "Rounds", "Shown"]
+
+MAX_EARLIER = 50  # ended rounds kept for `earlier_csv` (the oldest go)
 
 
 @dataclass(frozen=True)
@@ -39,6 +49,28 @@ class Shown:
     revealed: bool
     id: str
     answered: int = 0
+    owner: str = ""  # the presenter who asked it (the gate's holder string; "" when not known)
+
+
+@dataclass(frozen=True)
+class Ended:
+    """A round that ended: `round_` (its answers kept, closed), the `lecture` it was asked in
+    (1, 2, ... on this process: a lecture is one presenter's time presenting), `owner` (who asked
+    it), `why` ("new question", "the presenter stopped", "the presenter left") and `id` (the
+    round's id, `Shown.id`)."""
+
+    round_: Round
+    lecture: int
+    owner: str
+    why: str
+    id: str = ""
+
+    def section(self) -> str:
+        """This round's part of `Rounds.earlier_csv`: a comment line naming the lecture, the
+        presenter and why it ended, then `Round.csv` (its question, its rounds' anonymous answers)."""
+        who = f" · presenter {self.owner}" if self.owner else ""
+        return (f"# lecture {self.lecture}{who} · round {self.round_.number} · ended: {self.why}\n"
+                f"{self.round_.csv()}")
 
 
 class Rounds:
@@ -51,11 +83,29 @@ class Rounds:
         self.forward: Callable[[str, str, Any], None] | None = None
         """(round id, token, value) -> None: an answer sent to the process that asked (set by the bus)."""
         self.version = 0
+        self.owner = ""
+        """The presenter a new round belongs to (`begin`), "" between lectures."""
+        self.lecture = 0  # counts `begin`
+        self.earlier: list[Ended] = []
+        """Rounds that ended on this process, oldest first, at most MAX_EARLIER (`earlier_csv`)."""
+        self.shared_earlier: Callable[[], list[tuple[str, str]]] | None = None
+        """() -> (id, `Ended.section`) of the rounds that ended on every process, oldest first
+        (set by the bus, `app.cluster.askbus`; None on one process)."""
+        self.earlier_elsewhere = 0  # how many the bus last counted (`set_earlier_elsewhere`)
         self._mine: dict[str, Any] = {}  # token -> its answer to the remote round (what its browser sees)
         self._rate = RateLimit()
         self._lock = threading.RLock()
 
     # ------------------------------------------------------------------ the presenter's side
+    def begin(self, owner: str) -> None:
+        """A presenter (`owner`, the gate's holder string) starts: a round left from before ends
+        (kept in `earlier`), the next rounds are `owner`'s."""
+        with self._lock:
+            self.end("a new presenter started")
+            self.owner = str(owner)
+            self.lecture += 1
+            self.version += 1
+
     def ask(self, question: Question | dict[str, Any]) -> Round:
         """Open a round of `question` (a question or its dict; ValueError if it is not one); the
         round before it ends."""
@@ -94,13 +144,47 @@ class Rounds:
             self._local().reveal(shown)
             self.version += 1
 
-    def end(self) -> None:
-        """No question any more (the presenter's `New question`, or the presenter left)."""
+    def end(self, why: str = "new question") -> None:
+        """No question any more (the presenter's `New question`; the presenter stopped or left:
+        `app.lectern.Lectern.release`): the round closes, leaves every panel and is kept, with its
+        answers, in `earlier`.  `why` is said in `earlier_csv`."""
         with self._lock:
-            if self.current is not None:
-                self.current.close()
+            round_ = self.current
+            if round_ is not None:
+                round_.close()
+                self.earlier.append(Ended(round_, self.lecture, self.owner, str(why), self.current_id))
+                del self.earlier[:-MAX_EARLIER]
             self.current, self.current_id, self.remote, self._mine = None, "", None, {}
             self.version += 1
+
+    def end_lecture(self, why: str) -> None:
+        """The presenter stopped or left (`why`): its round ends (`end`), no one owns the next."""
+        with self._lock:
+            self.end(why)
+            self.owner = ""
+
+    @property
+    def has_earlier(self) -> bool:
+        """A round has ended, here or (the bus counted) on another process."""
+        return bool(self.earlier) or self.earlier_elsewhere > 0
+
+    def set_earlier_elsewhere(self, count: int) -> None:
+        """The bus counted `count` ended rounds over every process."""
+        with self._lock:
+            if count != self.earlier_elsewhere:
+                self.earlier_elsewhere = count
+                self.version += 1
+
+    def earlier_csv(self) -> str:
+        """The rounds that ended (every process's through `shared_earlier`, then this process's
+        not there yet), each its `Ended.section`; "" for none."""
+        with self._lock:
+            local = [(one.id, one.section()) for one in self.earlier]
+            fetch = self.shared_earlier
+        sections = fetch() if fetch is not None else []
+        ids = {rid for rid, _ in sections}
+        sections += [(rid, text) for rid, text in local if rid not in ids]
+        return "\n".join(text for _, text in sections)
 
     def _local(self) -> Round:
         if self.current is None:
@@ -127,7 +211,8 @@ class Rounds:
         """The round every browser is asked now (local or from another process), or None."""
         round_ = self.current
         if round_ is not None:
-            return Shown(round_.question, round_.number, round_.open, round_.revealed, self.current_id, len(round_))
+            return Shown(round_.question, round_.number, round_.open, round_.revealed, self.current_id, len(round_),
+                         self.owner)
         return self.remote
 
     def answer(self, token: str, value: Any) -> Any:
@@ -173,7 +258,6 @@ class Rounds:
             if shown is not None and (self.remote is None or self.remote.id != shown.id):
                 self._mine = {}
             if shown is not None and self.current is not None:
-                self.current.close()
-                self.current, self.current_id = None, ""
+                self.end("asked later on another process")
             self.remote = shown
             self.version += 1

@@ -63,7 +63,7 @@ from app.hall.room_plot import MIRROR_PERIOD, UPLOT_PROPS, ChartCopy, MarkdownCo
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import Screen
 from app.kit.view import PLOT_TABS
-from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, MAX_LABEL_SCREENS, Lectern, RemoteShow
+from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, MAX_LABEL_SCREENS, POINTER_ROOT, Lectern, RemoteShow
 from app.viser_internals import divert_queue, interface_of, message_from_dict
 
 __all__ = ["ALLOWED", "ASK", "AUDIENCE_KEY", "CHANNEL", "LEASE_S", "Bus", "BusError", "Replica", "cull",
@@ -336,6 +336,17 @@ class Bus:
         if (remote is not None and remote.hall is Hall.LIVE and self._remote_worker is not None
                 and time.monotonic() - self._heard_at > LEASE_S):
             lectern.remote_ended(left=True)
+            self._drop_pointer()
+
+    def _drop_pointer(self) -> None:
+        """The pointer's markers of a source that went silent (killed: it never removes them) go
+        from the shared scene; the rest stays, the last state it showed."""
+        markers = [name for name in self._applied.nodes() if name.startswith(POINTER_ROOT + "/")
+                   and "/" not in name[len(POINTER_ROOT) + 1:]]
+        for name in sorted(markers):
+            message = message_from_dict({"type": "RemoveSceneNodeMessage", "name": name}, ALLOWED)
+            self._queue(message)
+            self._applied.add(message)
 
     def _asked(self, body: dict[str, Any]) -> None:
         if not self.source:

@@ -8,8 +8,10 @@ the panel (`histogram_text`, bars of text; the round before it beside after `Vot
 direction every answer's tip as a point on one sphere of radius SPHERE_RADIUS around the origin
 (the body's centre) in the presenter's own 3D view, the true direction an arrow once revealed.
 `Close the round`, `Vote again`, `Reveal the answer`, `Download answers (CSV)` and `New
-question`.  The sphere is drawn in the presenter's own scene (`client.scene`), so the followers'
-screens never show the others' answers.
+question`; once a round has ended (`New question`, or a presenter stopped or left: the round is
+the presenter's, `app.ask.hub`), `Download earlier rounds (CSV)`.  Every CSV is saved by the
+browser at once (`app.kit.panel.download.save_download`).  The sphere is drawn in the
+presenter's own scene (`client.scene`), so the followers' screens never show the others' answers.
 
 **A student** (`AnswerPanel`, every browser but the presenter's): while a round is open, the
 question and its controls sit at the top of the panel and the follower's panel is folded away
@@ -41,8 +43,10 @@ from app.ask.judges import MOTION_WORDS, AnswerState, judge
 from app.ask.questions import MAX_OPTIONS
 from app.ask.state_tally import gallery_entries, judged_histogram_text
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
+from app.kit.panel.download import save_download
 
-__all__ = ["ASK_LABEL", "CHANGE_LABEL", "CLOSE_LABEL", "CSV_LABEL", "DIRECTION_LABEL", "FROM_COPY_LABEL", "NEW_LABEL",
+__all__ = ["ASK_LABEL", "CHANGE_LABEL", "CLOSE_LABEL", "CSV_LABEL", "DIRECTION_LABEL", "EARLIER_LABEL",
+           "FROM_COPY_LABEL", "NEW_LABEL",
            "REVEAL_LABEL", "SPHERE_RADIUS", "STATE_LABEL", "VOTE_AGAIN_LABEL", "AnswerPanel", "AskPanel", "Student",
            "answer_words", "count_text", "direction_of", "histogram_text", "quaternion_to", "sphere_points"]
 
@@ -52,6 +56,7 @@ VOTE_AGAIN_LABEL = "Vote again"
 REVEAL_LABEL = "Reveal the answer"
 HIDE_LABEL = "Hide the answer"
 CSV_LABEL = "Download answers (CSV)"
+EARLIER_LABEL = "Download earlier rounds (CSV)"
 NEW_LABEL = "New question"
 DIRECTION_LABEL = "Send my direction"
 FROM_COPY_LABEL = "Answer from my copy"
@@ -251,6 +256,9 @@ class AskPanel:
             self.gui_csv = gui.add_button(CSV_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
                                           hint="every round's anonymous answers")
             self.gui_new = gui.add_button(NEW_LABEL, visible=False, hint="back to the form")
+            self.gui_earlier = gui.add_button(EARLIER_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
+                                              hint="the anonymous answers of the rounds that ended: "
+                                                   "yours and those of the presenters before you")
             self.gallery = Gallery(client.scene, root=f"{ASK_ROOT}/gallery")  # its node made now, hidden
             self.gallery_panel = GalleryPanel(gui, self.gallery, lambda entry: self.play_entry(entry), guard)
             self.gallery_panel.folder.visible = False
@@ -272,6 +280,7 @@ class AskPanel:
         self.gui_reveal.on_click(guard("reveal the answer", lambda _e: self._changed(
             lambda: rounds.reveal(not (rounds.current is not None and rounds.current.revealed)))))
         self.gui_csv.on_click(guard("download answers", lambda _e: self.download()))
+        self.gui_earlier.on_click(guard("download earlier rounds", lambda _e: self.download_earlier()))
         self.gui_new.on_click(guard("new question", lambda _e: self._changed(rounds.end)))
 
     def _check(self) -> None:
@@ -346,13 +355,22 @@ class AskPanel:
         self.refresh()
 
     def download(self) -> None:
-        """Offer the round's anonymous answers as a CSV file."""
+        """The round's anonymous answers as a CSV file, saved by the browser at once."""
         self._check()
         text = self.rounds.csv()
         if not text:
             raise LookupError("no round to download")
         round_ = self.rounds.current
-        self.client.send_file_download(f"answers-round-{round_.number if round_ else 0}.csv", text.encode("utf-8"))
+        save_download(self.client, f"answers-round-{round_.number if round_ else 0}.csv", text)
+
+    def download_earlier(self) -> None:
+        """The rounds that ended (this presenter's and earlier presenters', `Rounds.earlier_csv`)
+        as one CSV file, saved by the browser at once."""
+        self._check()
+        text = self.rounds.earlier_csv()
+        if not text:
+            raise LookupError("no earlier round to download")
+        save_download(self.client, "answers-earlier-rounds.csv", text)
 
     # ------------------------------------------------------------------ the round
     def set_shown(self, shown: bool) -> None:
@@ -387,6 +405,7 @@ class AskPanel:
                 show_if_changed(handle, False)
         for handle in (self.gui_count, self.gui_close, self.gui_again, self.gui_csv, self.gui_new):
             show_if_changed(handle, not asking)
+        show_if_changed(self.gui_earlier, rounds.has_earlier)
         if round_ is None:
             show_if_changed(self.gui_histogram, False)
             show_if_changed(self.gui_reveal, False)
@@ -473,6 +492,8 @@ class AnswerPanel:
         self.active = True  # False while the browser presents (its own questions are not for it)
         self.editing = True  # the controls are shown (before an answer, or after Change my answer)
         self.drawn: tuple[Any, ...] = ()
+        self._round_id: str | None = None  # the round the panel last showed (None: none)
+        self._mine_seen = ""  # repr of this browser's answer when the panel last looked
         self._writing = False  # the server moves the sliders: their callbacks do nothing
         gui: Any = student.client.gui
         self.folder = gui.add_folder("Question", order=order, visible=False)
@@ -561,9 +582,14 @@ class AnswerPanel:
             show_if_changed(self.folder, False)
             self._arrow_shown(False)
             self.student.folded_for_question(False)
-            self.editing = True
+            self.editing, self._round_id = True, None
             return
         question = shown.question
+        if shown.id != self._round_id:  # a round (re)appears: its controls only if not answered yet
+            self.editing, self._round_id = mine is None, shown.id
+        elif mine is not None and repr(mine) != self._mine_seen:  # a new answer kept (any way in): shown
+            self.editing = False
+        self._mine_seen = repr(mine)
         if mine is None:
             self.editing = True
         controls = shown.open and self.editing

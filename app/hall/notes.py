@@ -4,8 +4,8 @@ This module owns `Notes`: the folder, `Record` (the next seconds of the scene sh
 from a copy of its room faster than real time, offered as .html and .viser downloads) and
 `Screenshot` (a PNG of the browser's 3D view: the scene without the panel and without the drag
 gizmos, which are hidden while the browser renders it).  The browser saves both at once under
-their whole names (viser's `send_file_download(..., save_immediately=True)`: no toast with a link
-to click).  Both work in a thread and report their errors in the browser's panel.
+their whole names (`app.kit.panel.download.save_download`: no toast with a link to click).
+Both work in a thread and report their errors in the browser's panel.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import viser
 from app.export import MAX_SECONDS, record
 from app.kit.core.common import Wrap, checked_value
 from app.kit.core.room import Room
+from app.kit.panel.download import save_download
 
 __all__ = ["Notes"]
 
@@ -80,8 +81,8 @@ class Notes:
                 bar.visible = True
                 html = record(copy, value, fmt="html", progress=lambda f: setattr(bar, "value", 50.0 * f))
                 data = record(copy, value, fmt="viser", progress=lambda f: setattr(bar, "value", 50.0 + 50.0 * f))
-                self.client.send_file_download(f"{title}_{value:g}s.html", html, save_immediately=True)
-                self.client.send_file_download(f"{title}_{value:g}s.viser", data, save_immediately=True)
+                save_download(self.client, f"{title}_{value:g}s.html", html)
+                save_download(self.client, f"{title}_{value:g}s.viser", data)
                 self.last_recording = (html, data)
             except Exception as error:  # noqa: BLE001 - shown, never raised into a thread
                 self._report_error("record", error)
@@ -112,7 +113,7 @@ class Notes:
                     if hide is not None:
                         self._guard("screenshot", hide)(False)
                 png = iio.imwrite("<bytes>", image, extension=".png")
-                self.client.send_file_download(name, png, save_immediately=True)
+                save_download(self.client, name, png)
                 self.last_screenshot = png
             except Exception as error:  # noqa: BLE001
                 self._report_error("screenshot", error)

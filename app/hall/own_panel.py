@@ -25,6 +25,7 @@ import viser
 
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
+from app.kit.panel.download import save_download
 from app.lessons import LessonError
 from app.own import OwnLibrary
 
@@ -185,7 +186,7 @@ class OwnPanel:
         title = " ".join(str(self.gui_lesson_title.value).split())
         data = self.library.export_lesson(title)
         name = "".join(c if c.isalnum() or c in "-_" else "_" for c in title) + ".json"
-        self.stage.client.send_file_download(name, data, save_immediately=True)
+        save_download(self.stage.client, name, data)
         self.last_export = data
         self.say(f"Exported **{title}** as {name}.")
 
