@@ -5,6 +5,7 @@ value in force again (app.kit.panel.binding: a browser's update applies when it 
 from __future__ import annotations
 
 import copy
+import re
 from typing import Any
 
 import numpy as np
@@ -135,3 +136,40 @@ def test_every_bound_slider_in_every_scene_applies_a_browser_value_when_it_arriv
                 assert handle.value == pytest.approx(value), (title, binding.where)
             tried += 1
     assert tried >= 20 and session.last_error is None
+
+
+@pytest.mark.parametrize("playing", [True, False], ids=["playing", "paused"])
+def test_a_time_typed_outside_the_timeline_is_refused_the_same_while_playing_or_paused(manual,
+                                                                                     playing: bool) -> None:
+    """One rule for the Timeline's box: 999 s is refused with the recorded stretch, said under the
+    slider, the slider back at the time shown at once and the motion as it was; while it plays the
+    refusal stays, in the stretch's words as they are now; a time taken lets it go."""
+    from app.kit.core.room import LIVE, SCRUBBING
+    from app.kit.panel.timeline import LIVE_FOLLOW_PERIOD
+
+    session = manual.session  # Euler angles
+    view, room = session.scene, session.room
+    timeline = view.timeline
+    assert timeline is not None
+    session.play()
+    manual.tick(2.0)
+    if not playing:
+        session.pause()
+    slider, binding = timeline.gui_slider, timeline.binding
+    manual.client.set_value(slider, 999.0)
+    manual.wait(lambda: binding.refusal != "", timeout=10.0)
+    said = re.search(r"Time 999\.0 s refused: only 0\.00 s to (\d+\.\d\d) s is recorded", binding.refusal)
+    assert said is not None, binding.refusal
+    assert slider.value == pytest.approx(timeline._shown_value(), abs=1e-9) and slider.value < 999.0
+    assert room.playing == playing and room.mode == LIVE
+    manual.tick(2.0)
+    stretch = room.stretch()
+    assert stretch is not None
+    now = re.search(r"Time 999\.0 s refused: only 0\.00 s to (\d+\.\d\d) s is recorded", binding.refusal)
+    assert now is not None, binding.refusal  # still said ...
+    assert stretch[1] - LIVE_FOLLOW_PERIOD - 0.01 <= float(now[1]) <= stretch[1] + 0.01  # ... and true now
+    assert (float(now[1]) > float(said[1]) + 0.5) == playing and room.playing == playing
+    manual.client.set_value(slider, 1.0)
+    manual.wait(lambda: binding.refusal == "", timeout=10.0)
+    assert room.mode == SCRUBBING and room.shown_t == pytest.approx(1.0)
+    assert session.last_error is None
