@@ -85,6 +85,13 @@ def same_number(shown: tuple[str, str | None]) -> bool:
         return False
 
 
+def recorded_end(refused: re.Pattern[str], text: str) -> float:
+    """[s] the end of the recorded stretch a Timeline refusal quotes (its pattern's group 1)."""
+    found = refused.search(text)
+    assert found is not None, text
+    return float(found[1])
+
+
 def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
     if SHOTS:
         page.screenshot(path=os.path.join(SHOTS, name))
@@ -199,10 +206,10 @@ def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_r
         shot(page, f"after_row6_timeline_999_{'playing' if playing else 'paused'}.png")
         assert session.room.playing == playing
         if playing:  # the stretch grows: the refusal stays, in words that hold now
-            first = float(refused.search(said)[1])  # type: ignore[index]
+            first = recorded_end(refused, said)
             wait_for_page(page, "the refusal quoting a longer stretch, still under the slider",
                           lambda: refusal_beside(page, box, refused),
-                          lambda text: float(refused.search(text)[1]) > first + 0.5)  # type: ignore[index]
+                          lambda text, first=first: recorded_end(refused, text) > first + 0.5)
     type_into(page, box, "1", delay=20, end="Enter")  # a time taken: the refusal goes
     wait_until(lambda: session.room.shown_t == 1.0, timeout=30.0)
     wait_for_page(page, "the refusal gone", lambda: said_near(page, box, refused), lambda near: near == [])
