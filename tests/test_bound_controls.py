@@ -70,6 +70,9 @@ def test_a_refused_value_changes_nothing_says_why_and_the_control_goes_back(manu
     manual.wait(lambda: said in view.message.text)
     assert_same(snapshot(view.sim), before)
     assert handle.value == pytest.approx(shown, abs=1e-9)  # the value in force, not the refused one
+    note = binding_of(view, handle).note
+    assert note is not None and said in note.text  # said right under the control too
+    assert note.handle in view.gui_roots  # (folded with the panel on a phone)
     assert session.last_error is None
 
 
@@ -89,15 +92,33 @@ def test_letters_sent_for_a_mass_change_nothing(manual) -> None:
     assert session.last_error is None
 
 
+def binding_of(view: Any, handle: Any) -> Any:
+    """The view's binding of `handle` (the transport's time scale's included)."""
+    (binding,) = (b for b in view._all_bindings() if b.handle is handle)
+    return binding
+
+
 def test_a_good_value_after_a_refusal_applies_and_clears_the_message(manual) -> None:
     session = manual.session
     session.select_scene("Inertia")
     view = session.scene
     manual.client.set_value(view.gui_mass, 1e9)
     manual.wait(lambda: "refused" in view.message.text)
+    assert "refused" in binding_of(view, view.gui_mass).refusal
     manual.client.set_value(view.gui_mass, 2.5)
     manual.wait(lambda: view.sim.masses[view.selected] == 2.5)
     assert view.message.text == "" and view.gui_mass.value == 2.5
+    assert binding_of(view, view.gui_mass).refusal == ""  # the refusal under the box is gone too
+
+
+def test_a_views_refusal_notes_leave_the_panel_with_it(manual) -> None:
+    session = manual.session
+    view = session.scene  # Euler angles
+    notes = [b.note for b in view._all_bindings()]
+    assert notes and all(note is not None and not note.handle._impl.removed for note in notes)
+    session.select_scene("Free body")
+    assert all(note.handle._impl.removed for note in notes)
+    assert session.last_error is None
 
 
 def test_every_bound_slider_in_every_scene_applies_a_browser_value_when_it_arrives(manual, monkeypatch) -> None:
