@@ -210,6 +210,7 @@ def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_r
             wait_for_page(page, "the refusal quoting a longer stretch, still under the slider",
                           lambda: refusal_beside(page, box, refused),
                           lambda text, first=first: recorded_end(refused, text) > first + 0.5)
+            shot(page, "after_row6_timeline_999_playing_later.png")
     type_into(page, box, "1", delay=20, end="Enter")  # a time taken: the refusal goes
     wait_until(lambda: session.room.shown_t == 1.0, timeout=30.0)
     wait_for_page(page, "the refusal gone", lambda: said_near(page, box, refused), lambda near: near == [])
