@@ -19,7 +19,9 @@ Features and what the app does without them:
   no walker (`app.kit.draw.labels` shows every wanted label, with no layout), `remove_under` removes
   a subtree by replacing its root, `node_removed` is False.
 - `PANEL_INPUTS`: a panel's inputs (and checkboxes) below given top-level handles (`panel_inputs`,
-  `panel_checkboxes`); off: None (`app.kit.view` looks through the view's attributes).
+  `panel_checkboxes`), and the folder or tab a control is in (`add_beside`: a refusal note goes
+  right under its control); off: None (`app.kit.view` looks through the view's attributes), and
+  `add_beside` adds in the container being built (the root, for a control bound after its folder).
 - `FRAME_CAPTURE`: `app.wire` (a frame encoded once, in viser's wire format, written to the
   sockets): `divert_queue`, the interfaces, buffers, connections and event loop, the window
   envelope (`pack_window`); needs viser `SUPPORTED` (the wire builds viser's frames itself); off:
@@ -51,7 +53,7 @@ import viser
 from physics.quaternion import matrix_from_wxyz
 
 __all__ = ["FAST_SETTERS", "FEATURES", "FRAME_CAPTURE", "NEEDS", "PANEL_INPUTS", "SCENE_NODES", "SEND_QUEUE",
-           "SUPPORTED", "VERSION", "Feature", "Need", "atomic_unless_captured", "check", "client_buffer",
+           "SUPPORTED", "VERSION", "Feature", "Need", "add_beside", "atomic_unless_captured", "check", "client_buffer",
            "configure", "connection_closed", "divert_queue", "event_loop", "flush_all", "frame_capture",
            "in_frame_capture", "interface_of", "label_props", "live_connections", "message_buffer", "message_from_dict",
            "node_pose", "node_removed",
@@ -80,7 +82,8 @@ class Feature:
 FAST_SETTERS = Feature("fast setters", "poses, points and scales go through viser's public setters")
 SCENE_NODES = Feature("scene nodes", "labels are shown as wanted (no layout); a view's controls go with a "
                                      "replaced root")
-PANEL_INPUTS = Feature("panel inputs", "a view's checkboxes are looked for in its own attributes")
+PANEL_INPUTS = Feature("panel inputs", "a view's checkboxes are looked for in its own attributes, and a "
+                                      "control's refusal note sits where the view's panel is being built")
 FRAME_CAPTURE = Feature("frame capture", "frames go through viser's own sender, one atomic() block a view")
 SEND_QUEUE = Feature("send queue", "the pacer goes by time alone; flushes are client.flush()")
 FEATURES = (FAST_SETTERS, SCENE_NODES, PANEL_INPUTS, FRAME_CAPTURE, SEND_QUEUE)
@@ -452,6 +455,33 @@ def panel_inputs(gui: Any, roots: Iterable[Any]) -> list[Any] | None:
 
     return [handle for handle in list(gui._gui_input_handle_from_uuid.values())
             if not handle._impl.removed and (handle._impl.uuid in top or ours(handle._impl.parent_container_id))]
+
+
+BESIDE_GAP = 1e-3
+"""viser's `order` of what `add_beside` adds: this far after its control (siblings' orders differ by
+0.01 or more: viser's counter counts 1 a handle, the app's own orders step by 0.01 at least)."""
+
+
+def add_beside(gui: Any, handle: Any, add: Callable[[float], Any]) -> Any:
+    """What `add(order)` adds to the panel `gui` (a `client.gui`), right under `handle`: in its
+    folder or tab, at `order` just after `handle.order` (BESIDE_GAP).  Without PANEL_INPUTS, or
+    for a control at the panel's root, `add` runs in the container being built now."""
+    order = float(handle.order) + BESIDE_GAP
+    container = None
+    if PANEL_INPUTS.on:
+        impl = getattr(handle, "_impl", None)
+        parent = getattr(impl, "parent_container_id", "root")
+        container = getattr(gui, "_container_handle_from_uuid", {}).get(parent) if parent != "root" else None
+    if container is None or not hasattr(container, "__enter__"):
+        return add(order)
+    try:
+        container.__enter__()
+    except RuntimeError:  # its `with` block is open on this thread: the call is inside it already
+        return add(order)
+    try:
+        return add(order)
+    finally:
+        container.__exit__(None, None, None)
 
 
 def panel_checkboxes(gui: Any, roots: Iterable[Any]) -> list[Any] | None:

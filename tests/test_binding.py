@@ -3,7 +3,9 @@
 The page sends complete values (its typing guard, tested in the browser in
 test_browser_typing.py); here every update must be applied the moment it arrives, however slowly
 or quickly updates come, checked and refused with the field back at the value in force, and the
-server's quiet writes must leave a field alone while its user moves it.
+server's quiet writes must leave a field alone while its user moves it.  A refusal is said where
+the hand is: in a note right under the control (in its folder, ordered just after it), which goes
+once the control takes a value.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import pytest
 from app.kit.core.common import SliderSpec
 from app.kit.panel.binding import HANDS_OFF_S, ManualClock, Refused, bind
 from app.kit.panel.gui import Quiet
+from app.viser_internals import BESIDE_GAP
 
 SPEC = SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01)
 ANGLE = SliderSpec("phi", "φ [deg]", -180.0, 180.0, 1.0)
@@ -30,6 +33,7 @@ class FakeHandle:
     def __init__(self, value: Any) -> None:
         self._value = value
         self.precision = 0
+        self.order = 7.0
         self.callbacks: list[Any] = []
         self.writes: list[Any] = []
 
@@ -65,10 +69,33 @@ class Message:
         self.text = ""
 
 
-class Rig:
-    """A handle bound to `self.in_force`; `apply` refuses a sum of moments breaking I1 + I2 >= I3."""
+class FakeMarkdown:
+    """A Markdown element as a note sees it: `content`, `visible`, `order`, `remove`."""
 
-    def __init__(self, value: float = 1.0, spec: SliderSpec = SPEC) -> None:
+    def __init__(self, content: str, visible: bool, order: float) -> None:
+        self.content, self.visible, self.order = content, visible, order
+        self.removed = 0
+
+    def remove(self) -> None:
+        self.removed += 1
+
+
+class FakeGui:
+    """A panel: the Markdown elements added to it."""
+
+    def __init__(self) -> None:
+        self.added: list[FakeMarkdown] = []
+
+    def add_markdown(self, content: str, visible: bool = True, order: float | None = None) -> FakeMarkdown:
+        self.added.append(FakeMarkdown(content, visible, float(order if order is not None else 0.0)))
+        return self.added[-1]
+
+
+class Rig:
+    """A handle bound to `self.in_force`; `apply` refuses a sum of moments breaking I1 + I2 >= I3.
+    With `gui`, the handle's refusals are said under it too (`ControlNote`)."""
+
+    def __init__(self, value: float = 1.0, spec: SliderSpec = SPEC, gui: FakeGui | None = None) -> None:
         self.clock = ManualClock()
         self.handle = FakeHandle(value)
         self.message = Message()
@@ -77,7 +104,7 @@ class Rig:
         self.applied: list[float] = []
         self.binding = bind(self.handle, where="I3 slider", wrap=lambda _where, fn: fn, message=self.message,
                             quiet=self.quiet, apply=self.apply, current=lambda: self.in_force, spec=spec,
-                            clock=self.clock)
+                            clock=self.clock, gui=gui)
 
     def apply(self, value: float) -> str | None:
         if value > 2.0:  # I1 = I2 = 1: I3 <= 2
@@ -183,3 +210,74 @@ def test_a_custom_check_and_a_closed_binding() -> None:
     binding.close()  # the view went away
     handle.receive((1.5, 2.0, 3.0))
     assert applied == [(1.0, 2.0, 3.0)]
+
+
+def test_a_refusal_is_said_under_its_control_and_goes_when_the_control_takes_a_value() -> None:
+    gui = FakeGui()
+    rig = Rig(value=1.5, gui=gui)
+    (note,) = gui.added
+    assert not note.visible and note.order == rig.handle.order + BESIDE_GAP  # right after its control
+    rig.handle.receive(1e9)
+    assert note.visible and "1000000000.0 refused: the range is 0.05 to 5" in note.content
+    assert rig.binding.refusal == note.content and rig.handle.value == 1.5  # the box shows the value in force
+    assert "refused" in rig.message.text  # the message line at the top says it too
+    rig.handle.receive(4.9)  # refused by apply: said there as well
+    assert "I3 = 4.9 refused: not a rigid body" in rig.binding.refusal and note.visible
+    rig.handle.receive(1.75)  # a value taken: the refusal goes
+    assert rig.applied == [1.75] and not note.visible and rig.binding.refusal == ""
+    rig.handle.receive(-3.0)
+    assert note.visible
+    rig.handle.receive(1.75)  # the value in force sent again (an edit that ended on it) is taken too
+    assert not note.visible and rig.binding.refusal == ""
+    rig.binding.close()
+    assert note.removed == 1
+    rig.binding.close()
+    assert note.removed == 1  # once
+
+
+def test_a_refusal_whose_words_change_is_said_anew_and_goes_once_it_no_longer_holds() -> None:
+    gui = FakeGui()
+    handle, message = FakeHandle(0.0), Message()
+    recorded = [5.0]  # [s] the end of a recorded stretch, growing
+
+    def words(value: float) -> str | None:
+        return None if value <= recorded[0] else f"t = {value:g} s refused: only 0 s to {recorded[0]:g} s recorded"
+
+    def apply(value: float) -> None:
+        if words(value) is not None:
+            raise Refused(str(words(value)), restate=lambda: words(value))
+
+    binding = bind(handle, where="t", wrap=lambda _where, fn: fn, message=message, quiet=Quiet(), apply=apply,
+                   current=lambda: 0.0, check=float, clock=ManualClock(), gui=gui)
+    handle.receive(8.0)
+    assert binding.refusal.endswith("only 0 s to 5 s recorded**") and message.text.endswith("to 5 s recorded")
+    recorded[0] = 6.0
+    binding.restate()
+    assert binding.refusal.endswith("only 0 s to 6 s recorded**")  # true as it is now, not as it was
+    assert message.text.endswith("to 6 s recorded")  # and the message line in the same words
+    recorded[0] = 8.5
+    binding.restate()
+    assert binding.refusal == ""  # 8 s is recorded now: the refusal no longer holds
+
+
+def test_a_note_sits_in_its_controls_folder_right_under_it(server: Any) -> None:
+    gui = server.gui
+    with gui.add_folder("Far down") as folder:
+        first = gui.add_slider("a", 0.0, 1.0, 0.1, 0.5)
+        second = gui.add_slider("b", 0.0, 1.0, 0.1, 0.5)
+    binding = bind(first, where="a", wrap=lambda _where, fn: fn, message=Message(), quiet=Quiet(),
+                   apply=lambda _value: None, current=lambda: 0.5, spec=SliderSpec("a", "a", 0.0, 1.0, 0.1),
+                   gui=gui)  # bound after the folder's block, as the scenes do
+    note = binding.note
+    assert note is not None
+    assert note.handle._impl.parent_container_id == folder._impl.uuid
+    assert first.order < note.handle.order < second.order
+    with folder:  # bound inside the folder's own block
+        third = gui.add_slider("c", 0.0, 1.0, 0.1, 0.5)
+        inside = bind(third, where="c", wrap=lambda _where, fn: fn, message=Message(), quiet=Quiet(),
+                      apply=lambda _value: None, current=lambda: 0.5, spec=SliderSpec("c", "c", 0.0, 1.0, 0.1),
+                      gui=gui)
+    assert inside.note is not None and inside.note.handle._impl.parent_container_id == folder._impl.uuid
+    binding.close()
+    inside.close()
+    folder.remove()

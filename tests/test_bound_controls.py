@@ -5,6 +5,7 @@ value in force again (app.kit.panel.binding: a browser's update applies when it 
 from __future__ import annotations
 
 import copy
+import re
 from typing import Any
 
 import numpy as np
@@ -69,6 +70,9 @@ def test_a_refused_value_changes_nothing_says_why_and_the_control_goes_back(manu
     manual.wait(lambda: said in view.message.text)
     assert_same(snapshot(view.sim), before)
     assert handle.value == pytest.approx(shown, abs=1e-9)  # the value in force, not the refused one
+    note = binding_of(view, handle).note
+    assert note is not None and said in note.text  # said right under the control too
+    assert note.handle in view.gui_roots  # (folded with the panel on a phone)
     assert session.last_error is None
 
 
@@ -88,15 +92,33 @@ def test_letters_sent_for_a_mass_change_nothing(manual) -> None:
     assert session.last_error is None
 
 
+def binding_of(view: Any, handle: Any) -> Any:
+    """The view's binding of `handle` (the transport's time scale's included)."""
+    (binding,) = (b for b in view._all_bindings() if b.handle is handle)
+    return binding
+
+
 def test_a_good_value_after_a_refusal_applies_and_clears_the_message(manual) -> None:
     session = manual.session
     session.select_scene("Inertia")
     view = session.scene
     manual.client.set_value(view.gui_mass, 1e9)
     manual.wait(lambda: "refused" in view.message.text)
+    assert "refused" in binding_of(view, view.gui_mass).refusal
     manual.client.set_value(view.gui_mass, 2.5)
     manual.wait(lambda: view.sim.masses[view.selected] == 2.5)
     assert view.message.text == "" and view.gui_mass.value == 2.5
+    assert binding_of(view, view.gui_mass).refusal == ""  # the refusal under the box is gone too
+
+
+def test_a_views_refusal_notes_leave_the_panel_with_it(manual) -> None:
+    session = manual.session
+    view = session.scene  # Euler angles
+    notes = [b.note for b in view._all_bindings()]
+    assert notes and all(note is not None and not note.handle._impl.removed for note in notes)
+    session.select_scene("Free body")
+    assert all(note.handle._impl.removed for note in notes)
+    assert session.last_error is None
 
 
 def test_every_bound_slider_in_every_scene_applies_a_browser_value_when_it_arrives(manual, monkeypatch) -> None:
@@ -135,3 +157,40 @@ def test_every_bound_slider_in_every_scene_applies_a_browser_value_when_it_arriv
                 assert handle.value == pytest.approx(value), (title, binding.where)
             tried += 1
     assert tried >= 20 and session.last_error is None
+
+
+@pytest.mark.parametrize("playing", [True, False], ids=["playing", "paused"])
+def test_a_time_typed_outside_the_timeline_is_refused_the_same_while_playing_or_paused(manual,
+                                                                                     playing: bool) -> None:
+    """One rule for the Timeline's box: 999 s is refused with the recorded stretch, said under the
+    slider, the slider back at the time shown at once and the motion as it was; while it plays the
+    refusal stays, in the stretch's words as they are now; a time taken lets it go."""
+    from app.kit.core.room import LIVE, SCRUBBING
+    from app.kit.panel.timeline import LIVE_FOLLOW_PERIOD
+
+    session = manual.session  # Euler angles
+    view, room = session.scene, session.room
+    timeline = view.timeline
+    assert timeline is not None
+    session.play()
+    manual.tick(2.0)
+    if not playing:
+        session.pause()
+    slider, binding = timeline.gui_slider, timeline.binding
+    manual.client.set_value(slider, 999.0)
+    manual.wait(lambda: binding.refusal != "", timeout=10.0)
+    said = re.search(r"Time 999\.0 s refused: only 0\.00 s to (\d+\.\d\d) s is recorded", binding.refusal)
+    assert said is not None, binding.refusal
+    assert slider.value == pytest.approx(timeline._shown_value(), abs=1e-9) and slider.value < 999.0
+    assert room.playing == playing and room.mode == LIVE
+    manual.tick(2.0)
+    stretch = room.stretch()
+    assert stretch is not None
+    now = re.search(r"Time 999\.0 s refused: only 0\.00 s to (\d+\.\d\d) s is recorded", binding.refusal)
+    assert now is not None, binding.refusal  # still said ...
+    assert stretch[1] - LIVE_FOLLOW_PERIOD - 0.01 <= float(now[1]) <= stretch[1] + 0.01  # ... and true now
+    assert (float(now[1]) > float(said[1]) + 0.5) == playing and room.playing == playing
+    manual.client.set_value(slider, 1.0)
+    manual.wait(lambda: binding.refusal == "", timeout=10.0)
+    assert room.mode == SCRUBBING and room.shown_t == pytest.approx(1.0)
+    assert session.last_error is None

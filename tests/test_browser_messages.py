@@ -4,8 +4,11 @@
    names (Playwright's download event, no toast to click), and the screenshot shows the scene
    without the ω drag gizmo: it equals, pixel for pixel (within a small share), the screenshot
    taken after `Drag ω` is switched off.
-2. A refusal goes when it no longer holds: `999` typed into `Timeline [s]` while the motion
-   plays is refused with the recorded stretch, and the refusal goes once the stretch has grown.
+2. A refusal is said where the hand is: `1e9` typed into Heavy top's spin box far down the panel
+   is refused right under the box (in the viewport, within NEAR_PX of it), and the refusal goes
+   once the box takes a good value.  `999` typed into `Timeline [s]` is refused alike while the
+   motion plays and while it stands: under the slider, with the recorded stretch (growing with
+   it while it plays, the refusal staying), and the box shows the slider's value again at once.
    While replaying, the panel shows one time (the Timeline's).
 3. The lecture hall: a follower who presses space, R and S sees one toast; its "Someone else is
    presenting" goes when the presenter stops; four wrong codes say "1 try left", a fifth "wait
@@ -18,21 +21,80 @@ Needs Debian's Chromium: `apt-get install chromium`.
 from __future__ import annotations
 
 import io
+import os
 import re
 import time
 
 import numpy as np
 import pytest
 from PIL import Image
-from test_browser import open_app
+from test_browser import open_app, slider_thumb
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input  # noqa: F401
-from test_browser_typing import number_box, type_into
+from test_browser_typing import binding_of, number_box, type_into
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
 
 GIZMO_FREE_SHARE = 0.002  # at most this share of pixels differs between two gizmo-free screenshots
+NEAR_PX = 150  # [px] a refusal said "at the control": its text this close to the box, above or below
+SHOTS = os.environ.get("REFUSAL_SHOTS", "")  # a folder to save the refusal tests' screenshots in (or none)
+
+
+def said_near(page, box, pattern: re.Pattern[str]) -> list[tuple[str, float]]:  # type: ignore[no-untyped-def]
+    """(text, vertical gap [px] to `box`) of each shown element matching `pattern` that lies
+    wholly inside the viewport (read in one go: an element may leave the page meanwhile)."""
+    height = page.viewport_size["height"]
+    top, bottom = box.evaluate("el => { const r = el.getBoundingClientRect(); return [r.top, r.bottom]; }")
+    rects = page.get_by_text(pattern).evaluate_all(
+        "els => els.map(el => { const r = el.getBoundingClientRect();"
+        " return [el.innerText, r.top, r.bottom, r.width > 0 && r.height > 0]; })")
+    return [(text, max(0.0, y0 - bottom, top - y1)) for text, y0, y1, shown in rects
+            if shown and y0 >= 0 and y1 <= height]
+
+
+def wait_for_page(page, what: str, seen, done, timeout: float = 30.0):  # type: ignore[no-untyped-def]
+    """Poll `seen()` (what the page shows) until `done(it)`; the page's events are delivered meanwhile."""
+    deadline = time.monotonic() + timeout
+    it = seen()
+    while not done(it):
+        if time.monotonic() > deadline:
+            raise AssertionError(f"waited {timeout:g} s for {what}; the page showed {it!r}")
+        page.wait_for_timeout(100)
+        it = seen()
+    return it
+
+
+def refusal_beside(page, box, pattern: re.Pattern[str], timeout: float = 30.0) -> str:  # type: ignore[no-untyped-def]
+    """The refusal matching `pattern` said beside `box` (within NEAR_PX, in the viewport)."""
+    near = wait_for_page(page, f"{pattern.pattern!r} within {NEAR_PX} px of the box, in view",
+                         lambda: said_near(page, box, pattern), lambda it: any(gap <= NEAR_PX for _, gap in it),
+                         timeout)
+    return next(text for text, gap in near if gap <= NEAR_PX)
+
+
+def box_shows_slider(page, box, handle) -> tuple[str, str | None]:  # type: ignore[no-untyped-def]
+    """(the box's text, the slider thumb's value) of a slider."""
+    return box.input_value(), slider_thumb(page, handle).get_attribute("aria-valuenow")
+
+
+def same_number(shown: tuple[str, str | None]) -> bool:
+    try:
+        return shown[1] is not None and abs(float(shown[0]) - float(shown[1])) < 1e-6
+    except ValueError:
+        return False
+
+
+def recorded_end(refused: re.Pattern[str], text: str) -> float:
+    """[s] the end of the recorded stretch a Timeline refusal quotes (its pattern's group 1)."""
+    found = refused.search(text)
+    assert found is not None, text
+    return float(found[1])
+
+
+def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
+    if SHOTS:
+        page.screenshot(path=os.path.join(SHOTS, name))
 
 
 def choose_scene(page, session, title: str, wait_until) -> None:  # type: ignore[no-untyped-def]
@@ -99,20 +161,59 @@ def test_screenshot_and_record_download_with_whole_names_and_no_gizmo(wait_until
     assert session.error_count == 0
 
 
-def test_refusals_go_when_they_no_longer_hold_and_replay_shows_one_time(wait_until, app: App, page) -> None:
+def test_a_refusal_far_down_the_panel_is_said_beside_the_box_and_goes_with_a_good_value(
+        wait_until, app: App, page) -> None:
+    session = open_app(page, app)
+    choose_scene(page, session, "Heavy top", wait_until)
+    view = session.scene
+    spin = view.gui_rates[0]  # spin ω_z′ [rad/s], range -40 to 40, under the angles: far down the panel
+    box = number_box(page, spin)
+    type_into(page, box, "1e9", delay=20, end="Enter")
+    said = refusal_beside(page, box, re.compile(r"1000000000\.0 refused"))
+    assert "the range is -40 to 40" in said, said
+    wait_for_page(page, "the box back at the value in force (12)", box.input_value, lambda text: text == "12")
+    shot(page, "after_row5_spin_1e9_refused.png")
+    taken = binding_of(view, spin).applied
+    type_into(page, box, "15", delay=20, end="Enter")
+    wait_until(lambda: binding_of(view, spin).applied > taken and spin.value == 15.0, timeout=30.0)
+    wait_for_page(page, "the refusal gone", lambda: said_near(page, box, re.compile(r"refused")),
+                  lambda near: near == [])
+    shot(page, "after_row5_spin_15_taken.png")
+    assert session.error_count == 0
+
+
+def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_replay_shows_one_time(
+        wait_until, app: App, page) -> None:
     session = open_app(page, app)
     view = session.scene  # Euler angles
     page.get_by_role("button", name="Play", exact=True).click()
     wait_until(lambda: view.sim.t > 1.0, timeout=20.0)
     timeline = view.timeline
     assert timeline is not None
-    page.get_by_role("button", name="Pause", exact=True).click()  # the refusal holds while paused:
-    wait_until(lambda: not session.room.playing, timeout=10.0)  # the page has time to show it
-    type_into(page, number_box(page, timeline.gui_slider), "999", delay=20, end="Enter")
-    page.get_by_text("is recorded").first.wait_for(state="visible", timeout=10_000)
-    page.get_by_role("button", name="Play", exact=True).click()
-    page.get_by_text("is recorded").first.wait_for(state="hidden", timeout=10_000)  # the stretch grew
-    assert session.room.playing
+    box = number_box(page, timeline.gui_slider)
+    refused = re.compile(r"Time 999\.0 s refused: only 0\.00 s to (\d+\.\d\d) s is recorded")
+    for playing in (True, False):
+        if not playing:
+            page.get_by_role("button", name="Pause", exact=True).click()
+            wait_until(lambda: not session.room.playing, timeout=10.0)
+        typed = time.monotonic()
+        type_into(page, box, "999", delay=20, end="Enter")
+        said = refusal_beside(page, box, refused)  # under the slider, with the stretch
+        shown = wait_for_page(page, "the box showing the slider's value", lambda: box_shows_slider(
+            page, box, timeline.gui_slider), same_number)
+        print(f"{'playing' if playing else 'paused'}: the box showed {shown[0]} "
+              f"{time.monotonic() - typed:.2f} s after the keys were typed")
+        shot(page, f"after_row6_timeline_999_{'playing' if playing else 'paused'}.png")
+        assert session.room.playing == playing
+        if playing:  # the stretch grows: the refusal stays, in words that hold now
+            first = recorded_end(refused, said)
+            wait_for_page(page, "the refusal quoting a longer stretch, still under the slider",
+                          lambda: refusal_beside(page, box, refused),
+                          lambda text, first=first: recorded_end(refused, text) > first + 0.5)
+            shot(page, "after_row6_timeline_999_playing_later.png")
+    type_into(page, box, "1", delay=20, end="Enter")  # a time taken: the refusal goes
+    wait_until(lambda: session.room.shown_t == 1.0, timeout=30.0)
+    wait_for_page(page, "the refusal gone", lambda: said_near(page, box, refused), lambda near: near == [])
 
     page.get_by_role("button", name="Replay", exact=True).click()
     page.get_by_text("Replaying t = ").first.wait_for(state="visible", timeout=10_000)

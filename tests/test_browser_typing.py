@@ -75,10 +75,10 @@ def test_typed_values_arrive_exactly_and_a_refused_moment_goes_back(wait_until, 
     i3.wait_for(timeout=10_000)
     moments = view.sim.moments
     type_into(page, i3, "1e9", delay=100, end="Tab")  # out of range
-    page.get_by_text("I3 [kg m²] = 1000000000.0 refused").wait_for(timeout=10_000)
+    page.get_by_text("I3 [kg m²] = 1000000000.0 refused").last.wait_for(timeout=10_000)  # (the last: under the box)
     wait_until(lambda: i3.input_value() == f"{moments[2]:g}", timeout=10.0)
     type_into(page, i3, "4", delay=100, end="Enter")  # in range, but 1 + 2 < 4: not a body
-    page.get_by_text("I3 = 4 refused: not a rigid body", exact=False).wait_for(timeout=10_000)
+    page.get_by_text("I3 = 4 refused: not a rigid body", exact=False).last.wait_for(timeout=10_000)
     wait_until(lambda: i3.input_value() == f"{moments[2]:g}", timeout=10.0)
     assert view.sim.moments == moments and view.gui_moments[2].value == moments[2]
     assert session.last_error is None
@@ -92,7 +92,7 @@ def test_inertia_refuses_a_huge_mass_and_takes_a_small_mesh_mass_exactly(wait_un
     masses = view.sim.masses.copy()
     mass = number_box(page, view.gui_mass)
     type_into(page, mass, "1e9", delay=60, end="Tab")
-    page.get_by_text("m [kg] = 1000000000.0 refused", exact=False).wait_for(timeout=10_000)
+    page.get_by_text("m [kg] = 1000000000.0 refused", exact=False).last.wait_for(timeout=10_000)
     wait_until(lambda: mass.input_value() == f"{masses[view.selected]:g}", timeout=10.0)
     assert (view.sim.masses == masses).all()  # not clamped to 10 kg on the way
     type_into(page, mass, "2.5", delay=60, end="Enter")

@@ -71,8 +71,9 @@ The recipe for a new scene:
    Every callback goes through `wrap(where, fn)` (the session's guard: the room's lock, errors
    shown, never raised).  A control bound to a simulation value is one call,
    `self.bind(handle, where, apply, current, spec=...)` (`app.kit.panel.binding`): each value is applied
-   when it arrives (the page sends typed numbers once, complete), refused with a message and the
-   field put back to `current()` otherwise, and never written into while its user moves it.  A user's edit
+   when it arrives (the page sends typed numbers once, complete), refused with a message right under
+   the control and the field put back to `current()` otherwise, and never written into while its user
+   moves it.  A user's edit
    changes the room's simulation and calls `room.refresh()`, so every view of the room shows it.
 
 3. **Presets** as data: `assets/presets/<scene>.json` (format in `app.kit.core.presets`), checked

@@ -301,8 +301,16 @@ class SceneView:
 
     @property
     def gui_roots(self) -> tuple[Any, ...]:
-        """The top-level handles of the view's panel (what a narrow explorer's panel folds)."""
-        return tuple(self._gui_roots)
+        """The top-level handles of the view's panel (what a narrow explorer's panel folds), with
+        the refusal notes under its bound controls (a control at the panel's root has its note
+        there too)."""
+        return (*self._gui_roots, *(binding.note.handle for binding in self._all_bindings()
+                                    if binding.note is not None and binding.active))
+
+    def _all_bindings(self) -> list[Binding]:
+        """The view's bindings: its own (`bind`, the Timeline's) and the transport's time scale."""
+        transport = self.transport
+        return [*self._bindings, *([transport.time_scale_binding] if transport is not None else [])]
 
     def remove(self) -> None:
         """Leave the room and remove this view's panel and nodes from its client."""
@@ -313,8 +321,8 @@ class SceneView:
         """Leave the room and remove the panel; the nodes stay as last drawn (a presenter who
         stops leaves the last state on the followers' screens)."""
         self.room.remove_view(self)
-        for binding in self._bindings:
-            binding.close()
+        for binding in self._all_bindings():
+            binding.close()  # (its note goes before the folders it is in)
         self._bindings = []
         for handle in self._gui_roots:
             handle.remove()
@@ -388,9 +396,9 @@ class SceneView:
              spec: SliderSpec | None = None, check: Callable[[Any], Any] | None = None) -> Binding:
         """Bind a control of this view to a simulation value (`app.kit.panel.binding.bind`): each value
         the browser sends is checked by `spec` or `check` and `apply`'d when it arrives, or refused
-        in the message line with the field back at `current()`."""
+        right under the control (and in the message line) with the field back at `current()`."""
         binding = bind(handle, where=where, wrap=self._wrap, message=self.message, quiet=self.quiet, apply=apply,
-                       current=current, spec=spec, check=check, clock=self.clock)
+                       current=current, spec=spec, check=check, clock=self.clock, gui=self.client.gui)
         self._bindings.append(binding)
         return binding
 

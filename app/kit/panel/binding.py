@@ -25,8 +25,13 @@ The two sides split the work where each thing is known:
   parsed and checked (`check`: a `SliderSpec`'s range, or a function that raises `Refused`),
   then `apply(value)` (a value equal to the one in force is not applied again, but it clears the
   message line: the edit ended on a valid value); a refusal (not a number, NaN, out of range, or
-  `apply` returning/raising one) is said in the message line and the field goes back to
-  `current()`, the value in force.  For HANDS_OFF_S after a browser's last update, the server's
+  `apply` returning/raising one) is said where the hand is, in the control's `ControlNote` right
+  under it (a view's controls have one: `bind(..., gui=)`), as well as in the message line at the
+  top of the panel, and the field goes back to `current()`, the value in force, at once.  The
+  note goes when the control takes a value (one applied, or the one in force sent again); a
+  refusal whose words change as time passes (the Timeline's recorded stretch grows while it
+  plays) says them anew at `Binding.restate()` (`Refused.restate`), so it holds the same while
+  the motion plays or stands.  For HANDS_OFF_S after a browser's last update, the server's
   quiet writes (a slider following the motion) skip the field, so a thumb under the hand is not
   pulled back.
 
@@ -44,6 +49,7 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from app.kit.core.common import SliderSpec
+from app.viser_internals import add_beside
 
 __all__ = [
     "BOX_DIGITS",
@@ -52,6 +58,7 @@ __all__ = [
     "TYPING_GUARD_JS",
     "Binding",
     "Clock",
+    "ControlNote",
     "ManualClock",
     "MonotonicClock",
     "Refused",
@@ -71,13 +78,50 @@ which would cut a typed -0.8 to -0)."""
 
 
 class Refused(ValueError):
-    """A value that is not applied; the message says why (shown in the message line).
+    """A value that is not applied; the message says why (at the control and in the message line).
 
-    stale: optional; true once the message no longer holds (`MessageLine.show`)."""
+    stale: optional; true once the message no longer holds (`MessageLine.show`).
+    restate: optional; the refusal's words as they hold now (None: it no longer holds), which the
+    control's note says at each `Binding.restate()` (the Timeline's stretch, growing as it plays)."""
 
-    def __init__(self, message: str, stale: Callable[[], bool] | None = None) -> None:
+    def __init__(self, message: str, stale: Callable[[], bool] | None = None,
+                 restate: Callable[[], str | None] | None = None) -> None:
         super().__init__(message)
         self.stale = stale
+        self.restate = restate
+
+
+class ControlNote:
+    """A refusal said where the hand is: a Markdown line right under its control (in the control's
+    folder, `app.viser_internals.add_beside`), hidden while there is nothing to say."""
+
+    def __init__(self, gui: Any, control: Any) -> None:
+        self.handle = add_beside(gui, control, lambda order: gui.add_markdown("", visible=False, order=order))
+        self._removed = False
+
+    @property
+    def text(self) -> str:
+        """What the note says now ("" while hidden)."""
+        return str(self.handle.content) if self.handle.visible else ""
+
+    def show(self, text: str) -> None:
+        content = f"**⚠ {text}**"
+        if self.handle.content != content:
+            self.handle.content = content
+        if not self.handle.visible:
+            self.handle.visible = True
+
+    def clear(self) -> None:
+        if self.handle.visible:
+            self.handle.visible = False
+        if self.handle.content:
+            self.handle.content = ""
+
+    def remove(self) -> None:
+        """Take the note off the panel (once)."""
+        if not self._removed:
+            self._removed = True
+            self.handle.remove()
 
 
 class Clock(Protocol):
@@ -135,9 +179,14 @@ class Binding:
 
     def __init__(self, handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], Callable[..., Any]],
                  message: Any, quiet: Any, apply: Callable[[Any], str | None], current: Callable[[], Any],
-                 check: Callable[[Any], Any], clock: Clock) -> None:
+                 check: Callable[[Any], Any], clock: Clock, note: ControlNote | None = None) -> None:
         self.handle = handle
         self.where = where
+        self.note = note
+        """The refusal said under the control (None: only in the message line)."""
+        self._restate: Callable[[], str | None] | None = None
+        self._said = ""  # the refusal last said (in the message line, and under the control)
+        self._said_stale: Callable[[], bool] | None = None
         self._message = message
         self._quiet = quiet
         self._apply = apply
@@ -161,9 +210,42 @@ class Binding:
         reach the field again at once, not HANDS_OFF_S after its last update."""
         self._last_update = -math.inf
 
+    @property
+    def active(self) -> bool:
+        """Not closed: updates are applied."""
+        return self._active
+
     def close(self) -> None:
-        """The view goes away: updates are no longer applied."""
+        """The view goes away: updates are no longer applied; the note leaves the panel."""
         self._active = False
+        self._restate = None
+        if self.note is not None:
+            self.note.remove()
+
+    @property
+    def refusal(self) -> str:
+        """The refusal said under the control now ("" if none, or no note)."""
+        return self.note.text if self.note is not None else ""
+
+    def taken(self) -> None:
+        """The control took a value: its refusal goes."""
+        self._restate = None
+        if self.note is not None:
+            self.note.clear()
+
+    def restate(self) -> None:
+        """Say the control's refusal anew in the words that hold now (`Refused.restate`), or let it
+        go if it no longer holds."""
+        if self._restate is None or self.note is None:
+            return
+        text = self._restate()
+        if text is None:
+            self.taken()
+            return
+        self.note.show(text)
+        said, self._said = self._said, text
+        if said and text != said and said in self._message.text:  # the message line says it still: the same words
+            self._say(text, self._said_stale)
 
     def _received(self, event: Any) -> None:
         if self._quiet.active or not self._active:
@@ -174,28 +256,41 @@ class Binding:
 
     def decide(self, value: Any) -> None:
         """Check and apply `value`; a refusal is said and the field goes back to the value in force."""
-        stale = None
+        stale = restate = None
         try:
             parsed = self._check(value)
             self._message.clear()
             if _same(parsed, self._current()):
+                self.taken()
                 return  # the value in force, sent again (a typed edit that ended without a number)
             refusal = self._apply(parsed)
         except Refused as error:
-            refusal, stale = str(error), error.stale
+            refusal, stale, restate = str(error), error.stale, error.restate
         if refusal is not None:
-            self.refuse(refusal, stale)
+            self.refuse(refusal, stale, restate)
             return
         self.applied += 1
+        self.taken()
 
-    def refuse(self, text: str, stale: Callable[[], bool] | None = None) -> None:
-        """Say `text` (until `stale()`, if given) and put the field back to the value in force."""
+    def refuse(self, text: str, stale: Callable[[], bool] | None = None,
+               restate: Callable[[], str | None] | None = None) -> None:
+        """Say `text` under the control (in the words of `restate()` at each `restate`, if given)
+        and in the message line (until `stale()`, if given), and put the field back to the value
+        in force."""
         self.refused += 1
+        self._say(text, stale)
+        self._said, self._said_stale = text, stale
+        if self.note is not None:
+            self._restate = restate
+            self.note.show(text)
+        self.revert()
+
+    def _say(self, text: str, stale: Callable[[], bool] | None) -> None:
+        """`text` in the message line (until `stale()`, if given)."""
         if stale is None:
             self._message.show(text)
         else:
             self._message.show(text, stale)
-        self.revert()
 
     def revert(self) -> None:
         """The field shows the value in force again (written even while a user edits it)."""
@@ -207,7 +302,7 @@ class Binding:
 def bind(handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], Callable[..., Any]], message: Any,
          quiet: Any, apply: Callable[[Any], str | None], current: Callable[[], Any],
          spec: SliderSpec | None = None, check: Callable[[Any], Any] | None = None,
-         clock: Clock | None = None) -> Binding:
+         clock: Clock | None = None, gui: Any = None) -> Binding:
     """Bind `handle` to a simulation value (see the module docstring).
 
     Args:
@@ -217,6 +312,8 @@ def bind(handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], C
         current: the value in force, shown again after a refusal.
         spec: the slider's range (its refusal text), or `check`: value -> parsed, or Refused.
         clock: the time (tests pass a ManualClock).
+        gui: the panel `handle` is in (a `client.gui`): its refusals are said right under it too
+            (a `ControlNote`); None: in the message line only.
     """
     if check is None:
         if spec is None:
@@ -225,8 +322,9 @@ def bind(handle: Any, *, where: str, wrap: Callable[[str, Callable[..., Any]], C
     precision = getattr(handle, "precision", None)
     if isinstance(precision, int) and precision < BOX_DIGITS:
         handle.precision = BOX_DIGITS  # the box accepts typed decimals (-0.8 on a step-1 slider)
+    note = ControlNote(gui, handle) if gui is not None else None
     return Binding(handle, where=where, wrap=wrap, message=message, quiet=quiet, apply=apply, current=current,
-                   check=check, clock=clock or DEFAULT_CLOCK)
+                   check=check, clock=clock or DEFAULT_CLOCK, note=note)
 
 
 # ---------------------------------------------------------------------------- the browser side

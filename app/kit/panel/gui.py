@@ -209,7 +209,7 @@ class Transport:
 
         self.time_scale_binding = bind(self.gui_time_scale, where="time scale", wrap=wrap, message=message,
                                        quiet=self.quiet, apply=time_scale, current=lambda: self._time_scale,
-                                       check=check_time_scale, clock=clock)
+                                       check=check_time_scale, clock=clock, gui=gui)
         if self.gui_integrator is not None and on_integrator is not None:
             menu = self.gui_integrator
 

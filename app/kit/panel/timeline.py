@@ -17,8 +17,13 @@ adds one under the transport of every scene whose simulation can be replayed (th
 - The status line: "Replaying t = 12.3 s of 40.1 s (0.1×)".  While the room shows a recorded
   moment it is the panel's one time: the transport's own status line says no time meanwhile
   (`Transport.looking_back`; it keeps its place, so nothing moves under the hand).
-- A refusal quotes the stretch ("only 0.00 s to 6.20 s is recorded"); it goes as soon as the
-  stretch has moved on by STALE_S (`MessageLine.show(..., stale)`), since it no longer holds.
+- A typed time outside the stretch is refused the same way while the motion plays or stands:
+  the box shows the slider's value again at once, and the refusal is said right under the slider
+  (`app.kit.panel.binding.ControlNote`), quoting the stretch as it is now ("only 0.00 s to 6.20 s
+  is recorded", said anew whenever the Timeline shows the room's state, so it stays true while the
+  stretch grows); it goes when the slider takes a time or a button is pressed, or once the
+  stretch has grown to hold the time refused.  The message line at the top of the panel says it
+  too, until the stretch has moved on by STALE_S (`MessageLine.show(..., stale)`).
 """
 
 from __future__ import annotations
@@ -99,7 +104,7 @@ class Timeline:
             try:
                 room.scrub(value)
             except ValueError as error:
-                raise Refused(str(error), stale_now()) from None
+                raise Refused(str(error), stale_now(), lambda: self._refusal_now(value)) from None
             message.clear()
 
         def check(value: Any) -> float:
@@ -112,7 +117,8 @@ class Timeline:
             return number
 
         self.binding: Binding = bind(self.gui_slider, where="timeline", wrap=wrap, message=message, quiet=self.quiet,
-                                     apply=scrub, current=lambda: self._shown_value(), check=check, clock=clock)
+                                     apply=scrub, current=lambda: self._shown_value(), check=check, clock=clock,
+                                     gui=gui)
 
         def clicked(event: Any) -> None:
             choice = str(event.target.value)
@@ -131,13 +137,22 @@ class Timeline:
                 message.show(str(error), stale_now())
                 return
             message.clear()
+            self.binding.taken()  # the Timeline moved on: the refusal under its slider goes
 
         self.gui_buttons.on_click(wrap("timeline buttons", clicked))
 
     @property
     def handles(self) -> list[Any]:
-        """All GUI handles, for removal."""
+        """All GUI handles, for removal (the refusal note under the slider goes with its binding)."""
         return [self.gui_slider, self.gui_buttons, self.gui_status]
+
+    def _refusal_now(self, t: float) -> str | None:
+        """The refusal of the time t [s] in the words that hold now (the stretch as recorded now);
+        None once the stretch holds t, or once a new run dropped the stretch it was refused from."""
+        history, stretch = self.room.history, self.room.stretch()
+        if history is None or stretch is None or stretch[0] - TIMELINE_STEP <= t <= stretch[1] + TIMELINE_STEP:
+            return None
+        return str(history.outside_message(t))
 
     def _shown_value(self) -> float:
         lo, hi = self._range
@@ -182,3 +197,4 @@ class Timeline:
         if self.gui_status.content != text:
             self.gui_status.content = text
         self._message.recheck()
+        self.binding.restate()
