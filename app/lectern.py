@@ -104,7 +104,11 @@ Each piece, as *owner* → *what ends it*:
 - **live view** (the shared 3D under LIVE_ROOT: `live_view`, `_live_room`): the presenter →
   stop, tab closed: detached, its nodes the followers' last state (paused, `Explore` copies it)
   with a note, until the next presenter (`make_live_view` → `_forget_live_view`) or another
-  process's (`show_remote`); worker killed: the bus's replica stays the same way.
+  process's (`show_remote`); worker killed: the bus's replica stays the same way, and `Explore`
+  (`live_copy_noted`) copies the last state the bus kept of it, or its scene, saying so.
+- **the room a lecture left** (LAST_KEY, `app.cluster.bus`): the lecture (its presenter's start,
+  `Bus.lecture_id`) → offered only to that lecture's followers and newcomers; the next lecture's
+  room replaces it; the key lapses after `LAST_TTL_S`.
 """
 
 from __future__ import annotations
@@ -429,6 +433,9 @@ class Lectern:
         """(following, exploring) on the other processes, added to the presenter's badge."""
         self.fetch_remote: Callable[[], Room] | None = None
         """An exact copy of the remote presenter's room (Explore on this process)."""
+        self.fetch_remote_noted: Callable[[], tuple[Room, str]] | None = None
+        """The same with a note: "" for an exact copy, else what the copy is (the presenter's
+        process gone: the last state seen here, or only the scene)."""
         self.clear_shared: Callable[[], None] = lambda: None
         """Remove another process's nodes from the shared scene (before this one draws there)."""
         self._follower_screens: tuple[float, list[Screen]] | None = None  # (when, `follower_screens`)
@@ -652,6 +659,13 @@ class Lectern:
         if self.remote is not None and self.fetch_remote is not None:
             return self.fetch_remote()
         raise RuntimeError("there is nothing on the shared screen to explore")
+
+    def live_copy_noted(self) -> tuple[Room, str]:
+        """(`live_copy`, a note): "" for an exact copy; a remote presenter's process that died
+        leaves the best copy to be had with a note saying what it is (`fetch_remote_noted`)."""
+        if self.live_room is None and self.remote is not None and self.fetch_remote_noted is not None:
+            return self.fetch_remote_noted()
+        return self.live_copy(), ""
 
     # ------------------------------------------------------------------ a presenter on another process
     def show_remote(self, show: RemoteShow) -> None:

@@ -667,8 +667,9 @@ class Session:
             return
         panel.note("")
         self.came_after_lecture = False
+        copy_note = ""
         if self.mode is Mode.FOLLOWING:
-            self.explore()  # an exact copy of what is on screen, then it goes live
+            copy_note = self._explore()  # an exact copy of what is on screen, then it goes live
         self.narrow.end()  # a presenter has the whole panel
         with self._switch_lock:
             panel.gui_code.value = ""
@@ -683,6 +684,8 @@ class Session:
         lectern.start(self)
         self._show_mode()
         panel.set_pointer(bool(panel.gui_pointer.value))
+        if copy_note:
+            self.scene.show_message(copy_note)  # what the new presenter took over
 
     def stop_presenting(self) -> None:
         """Release the lock; the followers keep the last state; this browser keeps the room."""
@@ -731,11 +734,22 @@ class Session:
         """Leave the presenter with an exact copy of what the shared screen shows now (the same
         scene, state, time, traces, plots and replay history, playing if it plays: `Room.fork`),
         seen from where this browser looked (its camera stays); a narrow screen keeps the phone
-        layout (`app.hall.narrow.NarrowPanel`: one line and `Details`)."""
+        layout (`app.hall.narrow.NarrowPanel`: one line and `Details`).  When the presenter's
+        process has died, the best copy this process has, with a line saying what it is."""
+        self._explore()
+
+    def _explore(self) -> str:
+        """`explore`; the copy's note ("" for an exact copy), also said in the view's message
+        line: a presenter's process that died leaves the last state its room was seen in here,
+        or only its scene (`app.cluster.bus.Bus.fetch_room_noted`)."""
         lectern = self.lectern
         if lectern is None or self.mode is not Mode.FOLLOWING:
-            return
-        self._leave_presenter_for(lectern.live_copy())
+            return ""
+        copy, note = lectern.live_copy_noted()
+        self._leave_presenter_for(copy)
+        if note:
+            self.scene.show_message(note)
+        return note
 
     def open_last_lecture(self) -> None:
         """A browser that came after a lecture ended (`came_after_lecture`), in its own room:
@@ -753,13 +767,15 @@ class Session:
             raise PermissionError("a lecture is on: press 'Follow presenter' to see it")
         if not lectern.live:
             raise RuntimeError("no lecture has left a room to open")
-        copy = lectern.live_copy()
+        copy, note = lectern.live_copy_noted()
         changed = copy.scene.title != self.room.scene.title
         if changed:
             self.lesson_runner.scene_changed()  # by hand: the lesson (and its text) ends
         self.show(copy)
         if changed:
             self.reset_camera()
+        if note:
+            self.scene.show_message(note)
 
     def _leave_presenter_for(self, copy: Room) -> None:
         """A follower leaves the presenter and explores `copy` (its camera stays)."""

@@ -33,6 +33,18 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   encodes its live room ONCE for all the requests of a frame (`encode_room`, the kit's codec),
   stores the bytes under ROOM_KEY + n for ROOM_TTL_MS and answers with n; the asker decodes it
   (`decode_room`: checked, bit for bit the presenter's state).
+- A lecture survives its source's death.  Each presenter's start is a new lecture (`lecture_id`,
+  carried in its scene batches); its room left on the shared screen is kept in Redis (LAST_KEY)
+  with that id, so only that lecture's followers copy it (an older lecture's room, kept
+  LAST_TTL_S, is never offered for a newer one).  While it presents, the source also publishes
+  its room without history ("keep", `encode_room(history=False)`, under 0.5 ms, up to ~280 kB)
+  every KEEP_PERIOD_S when it changed; every process keeps the last one of the lecture it shows
+  (`Kept`), and each scene batch says the room's time ("st").  Explore when the source does not
+  answer (killed: SIGKILL says nothing) gives, the best first: the room the lecture left in Redis
+  (exact: stored when its presenter stopped or left, after the last keep), else the kept copy
+  advanced to the time of the last batch this process drew (at most MAX_CATCH_UP_S; the same
+  integrator, frames of 1/60 s) and paused, else a fresh room of the same scene; the last two
+  with a note saying so (`fetch_room_noted`).
 - Audience: each process writes its (following, exploring) into the hash AUDIENCE_KEY every
   FOLLOW_PERIOD with the time and its followers' kinds of screen (`Lectern.follower_screens`);
   the presenter's badge adds the others' fresh counts, and its shared labels are laid out for
@@ -47,7 +59,9 @@ from __future__ import annotations
 
 import collections
 import contextlib
+import dataclasses
 import logging
+import math
 import secrets
 import threading
 import time
@@ -61,13 +75,15 @@ from app.cluster import KEY_PREFIX, connect
 from app.hall.follower import Hall, view_aspect
 from app.hall.room_plot import MIRROR_PERIOD, UPLOT_PROPS, ChartCopy, MarkdownCopy, is_chart
 from app.kit.core.common import CameraView
+from app.kit.core.room import LIVE, Room
 from app.kit.draw.screen import Screen
 from app.kit.view import PLOT_TABS
 from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, LIVE_ROOT, MAX_LABEL_SCREENS, POINTER_ROOT, Lectern, RemoteShow
+from app.scenes import SCENES
 from app.viser_internals import divert_queue, interface_of, message_from_dict
 
-__all__ = ["ALLOWED", "ASK", "AUDIENCE_KEY", "CHANNEL", "LEASE_S", "Bus", "BusError", "Replica", "cull",
-           "decode_batch", "encode_batch"]
+__all__ = ["ALLOWED", "ASK", "AUDIENCE_KEY", "CHANNEL", "LAST_KEY", "LEASE_S", "Bus", "BusError", "Kept", "Replica",
+           "cull", "decode_batch", "encode_batch"]
 
 logger = logging.getLogger(__name__)
 
@@ -78,6 +94,11 @@ ROOM_KEY = KEY_PREFIX + "room:"  # + number: an encoded room (Explore on another
 ROOM_TTL_MS = 20_000
 LAST_KEY = KEY_PREFIX + "last"  # the room a presenter left on the shared screen, encoded (Explore after it ended)
 LAST_TTL_S = 6 * 3600  # [s] kept this long (a lecture's length and more)
+KEEP_PERIOD_S = 1.0  # [s] the source publishes its room (no history) this often when it changed
+KEEP_RESEND_S = 5.0  # [s] ... and this often unchanged (a worker that came late)
+MAX_CATCH_UP_S = 2 * KEEP_PERIOD_S + 1.0  # [s] a kept copy is advanced at most this far to the last frame drawn
+CATCH_UP_FRAME_S = 1.0 / 60.0  # [s] of wall time per frame of that advance
+MAX_LECTURE_ID = 64  # characters of a lecture id read from Redis
 LEASE_S = 3.0  # [s] a live source heard nothing from this long: its presenter has left
 EXPLORE_TIMEOUT_S = 10.0  # [s] an Explore on another process waits this long for the source's room
 RESYNC_PERIOD_S = 1.0  # [s] a process out of step asks again after this long
@@ -100,6 +121,22 @@ DTYPES = frozenset({"<f4", "<f8", "|u1", "<u2", "<u4", "<i4", "|i1", "<i2", "<i8
 
 class BusError(ValueError):
     """A bus message that is not what the bus sends (dropped, logged)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Kept:
+    """The last copy of the remote presenter's room this process received ("keep").
+
+    Attributes:
+        lecture: the lecture id it belongs to.  data: `encode_room(room, history=False)`.
+        t: the room's shown time [s] when encoded.  running: it was live and playing (a copy
+            may then be advanced to the time last drawn here).
+    """
+
+    lecture: str
+    data: bytes
+    t: float
+    running: bool
 
 
 def _live_name(name: Any) -> bool:
@@ -247,6 +284,13 @@ class Bus:
         self._since_plot = self._plot_sent_at = 0.0
         self._plot_sent: tuple[str, list[Any]] | None = None  # (tab, its elements' values) last published
         self._room_requests: list[str] = []
+        self.lecture_id = ""
+        """This process's presenter's lecture (a new id at each start), in its batches and LAST_KEY."""
+        self._since_keep = 0.0
+        self._keep_sent: tuple[bytes, float] | None = None  # (data, when) last published as "keep"
+        self._remote_lecture = ""  # the lecture of the remote presenter shown here
+        self._kept: Kept | None = None  # its room's last copy received
+        self._seen_t: float | None = None  # its room's time [s] in the last scene batch drawn here
         self._room_count = 0
         self._waiting: dict[str, list[Any]] = {}  # explore request id -> [Event, room key or error]
         self._events: collections.deque[str] = collections.deque()
@@ -262,6 +306,7 @@ class Bus:
         lectern.remote_audience = lambda: self._remote_audience
         lectern.remote_screens = lambda: self._remote_screens
         lectern.fetch_remote = self.fetch_room
+        lectern.fetch_remote_noted = self.fetch_room_noted
         lectern.clear_shared = self._clear_shared
         self._stop = threading.Event()
         self._reader = threading.Thread(target=self._read, name=f"bus-{self.worker_id}", daemon=True)
@@ -370,14 +415,17 @@ class Bus:
             if worker != self._remote_worker:
                 return
             self._heard_at = time.monotonic()
+            self._lecture_heard(body.get("lid"))
             seq = int(body["s"])
             if mine or (full is not None and seq != self._expected):  # also another's resync, if out of step
                 self._apply_full(decode_batch(body["m"], body["b"], body["sh"]))
                 self._expected = seq + 1
+                self._seen(body.get("st"))
             elif full is not None or seq == self._expected:
                 if full is None:
                     self._apply(decode_batch(body["m"], body["b"], body["sh"]))
                 self._expected = seq + 1
+                self._seen(body.get("st"))
             else:
                 self._expected = None
                 self._ask_resync()
@@ -415,6 +463,23 @@ class Bus:
                 remote.plot = plot
         elif kind == "call_back" and remote.hall is Hall.LIVE:
             lectern.remote_call_back()
+        elif kind == "keep":
+            data, lecture, t = body.get("room"), body.get("lid"), body.get("st")
+            if (isinstance(data, bytes) and isinstance(lecture, str) and lecture == self._remote_lecture
+                    and isinstance(t, float) and math.isfinite(t)):
+                self._kept = Kept(lecture, data, t, body.get("run") is True)
+
+    def _lecture_heard(self, lecture: Any) -> None:
+        """The remote presenter's lecture id (a new lecture: what was kept of the last one goes)."""
+        lecture = lecture if isinstance(lecture, str) and len(lecture) <= MAX_LECTURE_ID else ""
+        if lecture != self._remote_lecture:
+            self._remote_lecture = lecture
+            self._kept = None
+            self._seen_t = None
+
+    def _seen(self, t: Any) -> None:
+        if isinstance(t, float) and math.isfinite(t):
+            self._seen_t = t
 
     def _ask_resync(self, worker: str | None = None) -> None:
         now = time.monotonic()
@@ -479,6 +544,9 @@ class Bus:
             event = self._events.popleft()
             if event == "start":
                 self.source = True
+                self.lecture_id = secrets.token_hex(8)
+                self._keep_sent = None
+                self._since_keep = KEEP_PERIOD_S  # the first copy with the first frame
                 self._remote_worker = None
                 self._resync_for = {"*"}
                 self._hall_due = True
@@ -506,6 +574,10 @@ class Bus:
                 self._send_camera()
             if self._room_requests:
                 self._send_room()
+            self._since_keep += dt
+            if lectern.presenter is not None and self._since_keep >= KEEP_PERIOD_S:
+                self._since_keep = 0.0
+                self._send_keep()
         self._since_audience += dt
         if self._since_audience >= FOLLOW_PERIOD:
             self._since_audience = 0.0
@@ -531,8 +603,10 @@ class Bus:
                 return
         dicts, buffers, shapes = encode_batch(messages)
         self._seq += 1
+        room = self.lectern.live_room
         body = {"k": "scene", "w": self.worker_id, "s": self._seq, "full": full, "m": dicts, "b": buffers, "sh": shapes,
-                "t": time.time(), "title": self.lectern.live_title()}
+                "t": time.time(), "title": self.lectern.live_title(), "lid": self.lecture_id,
+                "st": None if room is None else float(room.shown_t)}
         self.published_bytes += self._publish(CHANNEL, body)
         self.published_batches += 1
 
@@ -595,6 +669,27 @@ class Bus:
             answer["error"] = f"{type(error).__name__}: {error}"
         self._publish(CHANNEL, answer)
 
+    def _send_keep(self) -> None:
+        """Publish the live room without its history ("keep"): what the other processes copy
+        if this one dies (sent when it changed, or KEEP_RESEND_S passed)."""
+        room = self.lectern.live_room
+        if room is None:
+            return
+        try:
+            encode_room, _ = _codec()
+            with room.lock:
+                data = encode_room(room, history=False)
+                t, running = float(room.shown_t), bool(room.playing and room.mode == LIVE)
+        except Exception:  # noqa: BLE001 - the others keep the last copy they had
+            logger.warning("bus: the live room could not be kept elsewhere", exc_info=True)
+            return
+        now, sent = time.monotonic(), self._keep_sent
+        if sent is not None and sent[0] == data and now - sent[1] < KEEP_RESEND_S:
+            return
+        self._keep_sent = (data, now)
+        self._publish(CHANNEL, {"k": "keep", "w": self.worker_id, "lid": self.lecture_id, "room": data, "st": t,
+                                "run": running})
+
     def _store_last(self) -> None:
         """Keep the room on this process's shared screen in Redis (LAST_KEY): what another
         process's Explore copies once this process's presenter has stopped, left or ended."""
@@ -605,7 +700,7 @@ class Bus:
             encode_room, _ = _codec()
             with room.lock:
                 data = encode_room(room)
-            self.redis.set(LAST_KEY, data, ex=LAST_TTL_S)
+            self.redis.set(LAST_KEY, msgspec.msgpack.encode([self.lecture_id, data]), ex=LAST_TTL_S)
         except Exception:  # noqa: BLE001 - then Explore elsewhere says the presenter's process is gone
             logger.warning("bus: the last room could not be kept", exc_info=True)
 
@@ -636,17 +731,33 @@ class Bus:
             logger.debug("bus: audience not written", exc_info=True)
 
     # ------------------------------------------------------------------ Explore on this process
-    def fetch_room(self) -> Any:
-        """An exact copy of the remote presenter's room: asked of its process, decoded here;
-        once that presenter has stopped or left, or its process does not answer, the room it left
-        (LAST_KEY).  RuntimeError when neither is to be had (no answer in EXPLORE_TIMEOUT_S and
-        no room kept: a process killed outright keeps none)."""
+    def fetch_room(self) -> Room:
+        """A copy of the remote presenter's room (`fetch_room_noted` without its note)."""
+        return self.fetch_room_noted()[0]
+
+    def fetch_room_noted(self) -> tuple[Room, str]:
+        """(a copy of the remote presenter's room, a note: "" for an exact copy).
+
+        The best to be had: the room asked of its process and decoded here, bit for bit (while
+        it presents); once that presenter has stopped or left, or its process does not answer,
+        the room the lecture left (LAST_KEY of this lecture, exact); else the last copy this
+        process kept (`Kept`, brought to the last frame drawn here, paused) or a fresh room of
+        the same scene, each with a note saying so.  RuntimeError when the source answered with
+        an error, or nothing of the lecture is known here (not even its scene)."""
         _, decode_room = _codec()
         remote = self.lectern.remote
-        if remote is not None and remote.hall is not Hall.LIVE:
-            data = self.redis.get(LAST_KEY)  # the room the presenter left, if its process kept it
-            if data is not None:
-                return decode_room(data)
+        if remote is None or remote.hall is Hall.LIVE:
+            asked = self._ask_source(decode_room)
+            if asked is not None:
+                return asked, ""
+        last = self._last_of_this_lecture(decode_room)
+        if last is not None:
+            return last, ""
+        return self._orphan_copy(decode_room)
+
+    def _ask_source(self, decode_room: Any) -> Room | None:
+        """The live room, asked of the source; None when it does not answer within
+        EXPLORE_TIMEOUT_S or its presenter stops or leaves meanwhile (killed: after LEASE_S)."""
         request = secrets.token_hex(8)
         waiting: list[Any] = [threading.Event(), None]
         self._waiting[request] = waiting
@@ -658,19 +769,59 @@ class Bus:
                 if time.monotonic() > deadline or remote is None or remote.hall is not Hall.LIVE:
                     break
             if not waiting[0].is_set():
-                data = self.redis.get(LAST_KEY)
-                if data is not None:
-                    return decode_room(data)
-                raise RuntimeError("the presenter's process did not answer (it may have ended)")
+                return None
             kind, value = waiting[1]
             if kind == "error":
                 raise RuntimeError(f"the presenter's process could not send its room: {value}")
             data = self.redis.get(value)
             if data is None:
                 raise RuntimeError("the presenter's room expired before it was read")
-            return decode_room(data)
+            room: Room = decode_room(data)
+            return room
         finally:
             self._waiting.pop(request, None)
+
+    def _last_of_this_lecture(self, decode_room: Any) -> Room | None:
+        """The room kept in LAST_KEY if the lecture shown here left it (an older lecture's: None)."""
+        data = self.redis.get(LAST_KEY)
+        if data is None or not self._remote_lecture:
+            return None
+        try:
+            kept = msgspec.msgpack.decode(data)
+        except msgspec.DecodeError:
+            logger.warning("bus: an undecodable last room ignored")
+            return None
+        if not (isinstance(kept, list) and len(kept) == 2 and kept[0] == self._remote_lecture
+                and isinstance(kept[1], bytes)):
+            return None
+        room: Room = decode_room(kept[1])
+        return room
+
+    def _orphan_copy(self, decode_room: Any) -> tuple[Room, str]:
+        """The presenter's process is gone (or silent) and left nothing in Redis: the last copy
+        kept here, brought to the last frame drawn here and paused, else a fresh room of the
+        scene; with the note saying which."""
+        remote = self.lectern.remote
+        gone = "is gone" if remote is None or remote.hall is not Hall.LIVE else "does not answer"
+        kept, seen_t = self._kept, self._seen_t
+        if kept is not None and kept.lecture == self._remote_lecture:
+            try:
+                room: Room = decode_room(kept.data)
+            except Exception:  # noqa: BLE001 - then the scene alone
+                logger.warning("bus: the kept copy of the presenter's room could not be read", exc_info=True)
+            else:
+                if kept.running and seen_t is not None:
+                    _catch_up(room, min(seen_t, kept.t + MAX_CATCH_UP_S))
+                room.playing = False
+                return room, (f"The presenter's worker {gone}: this is the last state of its room that this "
+                              f"server saw (t = {room.shown_t:.2f} s), paused.")
+        title = remote.title if remote is not None else ""
+        scene = SCENES.get(title)
+        if scene is None:
+            raise RuntimeError(f"the presenter's process {gone} and nothing of its room reached this one")
+        return Room(scene, scene.new_simulation()), (
+            f"The presenter's worker {gone} and none of its room reached this server: only the scene "
+            f"({title}) could be kept, in a fresh room.")
 
     def close(self) -> None:
         """Say "left" if this process's presenter is still on (its room kept for Explore
@@ -818,6 +969,20 @@ def _screen_from_list(item: Any) -> Screen | None:
     if view.position == view.look_at:
         return None
     return Screen(view, width, height, None if panel is None else tuple(float(v) for v in panel))  # type: ignore[arg-type]
+
+
+def _catch_up(room: Room, t_s: float) -> None:
+    """Advance a playing live `room` in frames of CATCH_UP_FRAME_S (times its time scale) until
+    its time reaches `t_s` [s] (a kept copy brought to the last frame drawn)."""
+    scale = room.time_scale
+    if not scale > 0:
+        return
+    with room.lock:
+        for _ in range(int(MAX_CATCH_UP_S / CATCH_UP_FRAME_S / min(max(scale, 0.1), 1.0)) + 2):
+            left_s = t_s - room.shown_t
+            if not room.playing or room.mode != LIVE or left_s <= 1e-12:
+                return
+            room.advance(min(CATCH_UP_FRAME_S, left_s / scale))
 
 
 def _codec() -> tuple[Any, Any]:
