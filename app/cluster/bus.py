@@ -288,6 +288,7 @@ class Bus:
         """This process's presenter's lecture (a new id at each start), in its batches and LAST_KEY."""
         self._since_keep = 0.0
         self._keep_sent: tuple[bytes, float] | None = None  # (data, when) last published as "keep"
+        self._keep_mark: tuple[Any, ...] = ()  # `_room_mark` of the room last kept
         self._remote_lecture = ""  # the lecture of the remote presenter shown here
         self._kept: Kept | None = None  # its room's last copy received
         self._seen_t: float | None = None  # its room's time [s] in the last scene batch drawn here
@@ -575,7 +576,8 @@ class Bus:
             if self._room_requests:
                 self._send_room()
             self._since_keep += dt
-            if lectern.presenter is not None and self._since_keep >= KEEP_PERIOD_S:
+            if lectern.presenter is not None and (self._since_keep >= KEEP_PERIOD_S
+                                                  or _room_mark(lectern.live_room) != self._keep_mark):
                 self._since_keep = 0.0
                 self._send_keep()
         self._since_audience += dt
@@ -673,6 +675,7 @@ class Bus:
         """Publish the live room without its history ("keep"): what the other processes copy
         if this one dies (sent when it changed, or KEEP_RESEND_S passed)."""
         room = self.lectern.live_room
+        self._keep_mark = _room_mark(room)
         if room is None:
             return
         try:
@@ -969,6 +972,17 @@ def _screen_from_list(item: Any) -> Screen | None:
     if view.position == view.look_at:
         return None
     return Screen(view, width, height, None if panel is None else tuple(float(v) for v in panel))  # type: ignore[arg-type]
+
+
+def _room_mark(room: Room | None) -> tuple[Any, ...]:
+    """What a kept copy must be sent again at once when it changes (else a copy advanced to the
+    last frame drawn would run from the wrong start): the room, its simulation and its run or
+    version (a preset, an edit), playing, time scale, live or in the past."""
+    if room is None:
+        return ()
+    sim = room.sim
+    return (id(room), id(sim), getattr(sim, "run", None), getattr(sim, "version", None), room.playing,
+            room.time_scale, room.mode)
 
 
 def _catch_up(room: Room, t_s: float) -> None:
