@@ -166,6 +166,7 @@ class Session:
             if self.lecture is not None:
                 self.lecture.refresh()  # "the lecture has ended" from the first frame
         self._refresh_preset_commands()
+        self._show_questions()  # the round asked now, or none, from the first frame
 
     @property
     def room(self) -> Room:
