@@ -218,3 +218,39 @@ def test_only_the_last_lectures_room_is_offered_after_its_worker_died() -> None:
     finally:
         workers.close()
         services.stop_process(process)
+
+
+def test_with_nothing_of_the_room_kept_explore_gives_a_fresh_room_of_the_scene(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The last resort: a killed source whose room never reached B (no copy kept, none in Redis):
+    Explore on B still leaves the frozen screen, with a fresh room of the same scene and a line
+    saying only the scene could be kept."""
+    from test_bus import Workers, _present
+
+    from app.cluster import services
+    from app.cluster.bus import Bus
+    from app.hall.follower import Hall
+
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    monkeypatch.setattr(Bus, "_send_keep", lambda self: None)  # no copy of the room ever published
+    workers = Workers(url)
+    try:
+        a, b = workers.start("a"), workers.start("b")
+        _present(workers, "a", "Poinsot")
+        follower, _ = workers.connect("b")
+        _wait(lambda: follower.mode == "following" and b.lectern.live_title() == "Poinsot",
+              "B's browser following the Poinsot lecture", lambda: (follower.mode, b.lectern.live_title()))
+        a.bus.source = False  # as if killed
+        a.stop()
+        del workers.apps["a"]
+        _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that the presenter left", lambda: b.lectern.hall, 15.0)
+        follower.guard("test", follower.explore)()
+        assert follower.mode == "own" and follower.error_count == 0, follower.last_error
+        assert follower.room.scene.title == "Poinsot" and follower.room.shown_t == 0.0
+        note = follower.scene.message.text
+        assert "presenter's worker is gone" in note and "only the scene" in note, note
+    finally:
+        workers.close()
+        services.stop_process(process)

@@ -524,6 +524,7 @@ class Bus:
         stayed on this process's followers' screens, and in what a late browser is sent.)"""
         self._remote_worker = None
         self._expected = None
+        self._lecture_heard("")  # what was kept of the other's lecture goes with it
         names = self._applied.nodes()
         for name in sorted(names, key=lambda n: (-n.count("/"), n)):
             self._queue(message_from_dict({"type": "RemoveSceneNodeMessage", "name": name}, ALLOWED))
@@ -553,6 +554,7 @@ class Bus:
                 self._hall_due = True
             elif event in ("stopped", "left"):
                 self._hall_due = True
+                self._keep_sent = None  # the lecture's last room goes to LAST_KEY instead
                 if self.source:
                     self._store_last()
             elif event == "call_back" and self.source:
