@@ -37,8 +37,9 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   carried in its scene batches); its room left on the shared screen is kept in Redis (LAST_KEY)
   with that id, so only that lecture's followers copy it (an older lecture's room, kept
   LAST_TTL_S, is never offered for a newer one).  While it presents, the source also publishes
-  its room without history ("keep", `encode_room(history=False)`, under 0.5 ms, up to ~280 kB)
-  every KEEP_PERIOD_S when it changed; every process keeps the last one of the lecture it shows
+  its room without history ("keep", `encode_room(history=False)`, under 0.5 ms, up to ~280 kB:
+  ~250 kB/s for Heavy top playing) at once when its run or transport changes (`_room_mark`),
+  else every KEEP_PERIOD_S when it changed; every process keeps the last one of the lecture it shows
   (`Kept`), and each scene batch says the room's time ("st").  Explore when the source does not
   answer (killed: SIGKILL says nothing) gives, the best first: the room the lecture left in Redis
   (exact: stored when its presenter stopped or left, after the last keep), else the kept copy
@@ -978,13 +979,13 @@ def _screen_from_list(item: Any) -> Screen | None:
 
 def _room_mark(room: Room | None) -> tuple[Any, ...]:
     """What a kept copy must be sent again at once when it changes (else a copy advanced to the
-    last frame drawn would run from the wrong start): the room, its simulation and its run or
-    version (a preset, an edit), playing, time scale, live or in the past."""
+    last frame drawn would run from the wrong start): the room, its simulation and its run (a
+    restart: a preset, an edit), playing, time scale, live or in the past.  (Not `version`: it
+    counts every step.)"""
     if room is None:
         return ()
     sim = room.sim
-    return (id(room), id(sim), getattr(sim, "run", None), getattr(sim, "version", None), room.playing,
-            room.time_scale, room.mode)
+    return (id(room), id(sim), getattr(sim, "run", None), room.playing, room.time_scale, room.mode)
 
 
 def _catch_up(room: Room, t_s: float) -> None:
