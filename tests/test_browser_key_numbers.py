@@ -80,6 +80,9 @@ def test_followers_key_numbers_move_while_the_presenter_shows_the_energy_tab(  #
 
     try:
         wait_until(moved, timeout=60.0)
+    except AssertionError:
+        raise AssertionError(f"waited 60 s for the follower's φ to take 3 values as t runs on; its page read "
+                             f"(t, φ): {readings}, presenter at t = {presenter.room.sim.t:.1f} s") from None
     finally:
         if SHOTS:
             Path(SHOTS).mkdir(parents=True, exist_ok=True)

@@ -10,7 +10,8 @@ while t ran on.
   angles z-x-z of R_space_body, Euler rates of ω_b, in degrees, rounded to the slider's step),
   and they change over time while the sliders stand still.
 - Across workers (app.cluster.bus ships `Lectern.status()` as the followers' panel): the status a
-  worker would ship carries moving numbers while the presenter's sliders are stale.
+  worker would ship carries moving numbers while the presenter's sliders are stale, and with two
+  workers on one Redis, the status the other worker's followers read moves with t.
 """
 
 from __future__ import annotations
@@ -22,11 +23,16 @@ from typing import Any
 import numpy as np
 import pytest
 import viser
+from conftest import poll_until
+from test_bus import _present as present_on
+from test_bus import redis_url, workers
 
 from app.kit.core.common import SliderSpec, wrap_deg
 from app.kit.rigid.view import ANGLE_SPECS, RigidBodyView
 from app.scenes import SCENES
 from physics.euler import euler_rates_from_omega_body, euler_zxz_from_matrix
+
+__all__ = ["redis_url", "workers"]  # the fixtures, for pytest
 
 CODE = "24681357"
 
@@ -166,6 +172,40 @@ def test_the_status_a_worker_ships_carries_moving_numbers_while_the_sliders_are_
         assert_close_to_the_state(numbers, expected_rigid(view), view)
         shipped.append(numbers[phi])
     assert len(set(shipped)) == 3, f"the shipped φ stood still: {shipped}"
+
+
+def test_a_follower_on_another_worker_reads_moving_numbers_while_the_sliders_are_stale(workers) -> None:
+    """Two workers on one Redis (tests/test_bus.py): the presenter on A plays Heavy top (Loop)
+    on its Energy tab, its slider widgets stale; B's followers' status (what the bus brought,
+    `RemoteShow.status`) shows φ taking new values as t runs on."""
+    workers.start("a")
+    b = workers.start("b")
+    presenter = present_on(workers, "a", "Heavy top")
+    follower, _ = workers.connect("b")
+    poll_until(lambda: follower.mode == "following", timeout=30.0)
+    presenter.guard("test", presenter.apply_preset)("Loop")
+    view = presenter.scene
+    presenter.guard("test", lambda: view.show_tab("Energy"))()
+    presenter.guard("test", presenter.play)()
+    with presenter.lock:
+        make_stale(view)
+    phi = ANGLE_SPECS[0].label
+    seen: dict[str, float] = {}
+
+    def moved() -> bool:
+        status = b.lectern.status()
+        time_line = re.search(r"t = ([0-9.]+) s", status)
+        numbers = key_values([line.strip(" `*-") for line in status.splitlines()])
+        if "playing" in status and time_line and phi in numbers:
+            seen.setdefault(time_line.group(1), numbers[phi])
+        return len(set(seen.values())) >= 3
+
+    try:
+        poll_until(moved, timeout=30.0, interval=0.1)
+    except AssertionError:
+        raise AssertionError(f"B's followers read φ by t: {seen}; status now:\n{b.lectern.status()}") from None
+    assert b.lectern.remote is not None and b.lectern.remote.worker == "a"
+    assert presenter.last_error is None and follower.last_error is None
 
 
 @pytest.fixture
