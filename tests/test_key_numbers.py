@@ -9,6 +9,8 @@ while t ran on.
   Loop): φ, θ, ψ and the rates equal the values computed from the simulation's state (Euler
   angles z-x-z of R_space_body, Euler rates of ω_b, in degrees, rounded to the slider's step),
   and they change over time while the sliders stand still.
+- Constrained particles (its own key numbers, `readouts.key_numbers_text`), playing on the
+  Readout tab: θ, φ and their rates are the integrator's q, q̇ in degrees, and move.
 - Across workers (app.cluster.bus ships `Lectern.status()` as the followers' panel): the status a
   worker would ship carries moving numbers while the presenter's sliders are stale, and with two
   workers on one Redis, the status the other worker's followers read moves with t.
@@ -59,7 +61,8 @@ def bound_sliders(view: Any) -> list[Any]:
     """The slider widgets the view's key numbers are labelled after (its bound sliders but the
     timeline's, which says t, shown in the status already)."""
     timeline = view.timeline.binding if view.timeline is not None else None
-    return [b.handle for b in view._bindings if isinstance(b.handle, viser.GuiSliderHandle) and b is not timeline]
+    bindings = [*view._bindings, *getattr(view, "_system_bindings", ())]  # a constrained system's own
+    return [b.handle for b in bindings if isinstance(b.handle, viser.GuiSliderHandle) and b is not timeline]
 
 
 def make_stale(view: Any) -> dict[str, Any]:
@@ -144,6 +147,35 @@ def test_key_numbers_follow_the_motion_with_another_tab_open(manual, title: str,
     assert readings[0][0] < readings[1][0] < readings[2][0]
     assert len({shown[phi] for _, shown in readings}) == 3 or title == "Poinsot", readings
     assert readings[0][1] != readings[1][1] != readings[2][1], readings
+    assert session.last_error is None
+
+
+def test_constrained_key_numbers_follow_q_with_another_tab_open(manual) -> None:
+    """The spherical pendulum playing with its Readout tab open (its q, q̇ sliders follow the
+    motion on the Setup tab only): θ, φ and their rates are the integrator's q, q̇ in degrees."""
+    session = manual.session
+    session.select_scene("Constrained particles")
+    session.apply_preset("Spherical pendulum")
+    view = session.scene
+    view.show_tab("Readout")
+    session.play()
+    kind = view.sim.setup.kind_spec
+    widgets = [h.value for h in bound_sliders(view)]
+    readings = []
+    for _ in range(3):
+        manual.tick(0.5)
+        shown = key_values(view.key_numbers())
+        q_deg = np.degrees(view.sim.integrator.q)
+        q_dot_deg = np.degrees(view.sim.integrator.q_dot)
+        for spec, value in zip((*kind.q_specs, *kind.rate_specs), (*q_deg, *q_dot_deg)):
+            assert spec.label in shown, f"no key number {spec.label!r} in {view.key_numbers()}"
+            difference = shown[spec.label] - float(value)
+            if (spec.lo, spec.hi) == (-180.0, 180.0):
+                difference = (difference + 180.0) % 360.0 - 180.0
+            assert abs(difference) <= spec.step, (spec.label, shown[spec.label], float(value), view.sim.t)
+        readings.append(shown)
+    assert [h.value for h in bound_sliders(view)] == widgets  # the sliders stood still ...
+    assert readings[0] != readings[1] != readings[2], readings  # ... the numbers moved
     assert session.last_error is None
 
 
