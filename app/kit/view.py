@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
+from weakref import WeakKeyDictionary
 
 import viser
 
@@ -121,6 +122,10 @@ class SceneView:
         self.message: MessageLine
         self._gui_roots: list[Any] = []
         self._bindings: list[Binding] = []
+        self._in_force: WeakKeyDictionary[Binding, tuple[Callable[[], Any], SliderSpec | None]] = \
+            WeakKeyDictionary()
+        """binding -> (the value in force, read from the simulation; the slider's spec): what
+        the followers read (`control_values`), never the widget, which may be stale."""
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
         # Every 3D label of the view is registered here with a priority; `frame` ends with
         # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.draw.labels).
@@ -380,16 +385,30 @@ class SceneView:
         raise ValueError(f"{self.title} has no integrator menu (asked for {name!r})")
 
     def key_numbers(self) -> list[str]:
-        """A few lines of the scene's key numbers, for the followers' read-only panel (the
-        sliders' values by default)."""
+        """A few lines of the scene's key numbers, for the followers' read-only panel: by default
+        "label = value" of each bound slider, its value read from the room's simulation now
+        (`control_values`), whatever tab the browser shows."""
         return [f"{label} = {value}" for label, value in self.control_values()]
 
     def control_values(self) -> list[tuple[str, str]]:
         """(label, value) of the view's bound sliders (`bind`; the timeline's not), for the
-        followers' read-only panel."""
+        followers' read-only panel.  Each value is the binding's value in force (`current`: read
+        from the room's simulation, as the slider would show it, rounded to its step), not the
+        slider's widget: a view does not keep its sliders current while another tab shows."""
         timeline = self.timeline.binding if self.timeline is not None else None
-        return [(str(b.handle.label), f"{b.handle.value:g}") for b in self._bindings
+        return [(str(b.handle.label), self.value_in_force(b)) for b in self._bindings
                 if isinstance(b.handle, viser.GuiSliderHandle) and b is not timeline]
+
+    def value_in_force(self, binding: Binding) -> str:
+        """The value in force of a bound control, from the simulation (`bind`'s `current`),
+        rounded to its slider's step, as text (`:g`); the widget's value for a control not bound
+        through `bind`."""
+        source = self._in_force.get(binding)
+        if source is None:
+            return f"{binding.handle.value:g}"
+        current, spec = source
+        value = float(current())
+        return f"{spec.rounded(value) if spec is not None else value:g}"
 
     # ------------------------------------------------------------------ bound controls
     def bind(self, handle: Any, where: str, apply: Callable[[Any], str | None], current: Callable[[], Any],
@@ -400,6 +419,7 @@ class SceneView:
         binding = bind(handle, where=where, wrap=self._wrap, message=self.message, quiet=self.quiet, apply=apply,
                        current=current, spec=spec, check=check, clock=self.clock, gui=self.client.gui)
         self._bindings.append(binding)
+        self._in_force[binding] = (current, spec)
         return binding
 
     def show_values(self, handles: Sequence[Any], specs: Sequence[SliderSpec], values: Sequence[float],

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import math
 
+from app.kit.core.common import SliderSpec
 from app.scenes.constrained.simulation import ConstrainedSimulation
 from physics.constrained import Evaluation, hoop_equilibrium
 
-__all__ = ["conserved_text", "extra_line", "readout_text", "status_text"]
+__all__ = ["conserved_text", "extra_line", "key_numbers_text", "on_step", "readout_text", "status_text"]
 
 
 def status_text(t: float, playing: bool, time_scale: float) -> str:
@@ -54,6 +55,27 @@ def conserved_text(sim: ConstrainedSimulation, ev: Evaluation) -> str:
                 f"{ev.h:.6f} J** (drift {drift:.1e}).")
     extra = extra_line(sim, ev)
     return note + ("  \n" + extra if extra else "")
+
+
+def on_step(value: float, spec: SliderSpec) -> float:
+    """`value` rounded to the slider's step (as `SliderSpec.rounded`, but not clamped to its range:
+    a key number says where the motion is, also beyond a slider's end); an angle on a
+    (−180, 180) slider wrapped into it first."""
+    if (spec.lo, spec.hi) == (-180.0, 180.0):
+        value = (value + 180.0) % 360.0 - 180.0
+    decimals = max(0, -math.floor(math.log10(spec.step)) + 1)
+    return round(round(value / spec.step) * spec.step, decimals) + 0.0  # never -0
+
+
+def key_numbers_text(sim: ConstrainedSimulation) -> list[str]:
+    """The followers' key numbers: "label = value" of q and q̇ now (display units, labelled as
+    their sliders, on the sliders' steps) and of the system's parameters."""
+    kind = sim.setup.kind_spec
+    lines = [f"{spec.label} = {on_step(value, spec):g}"
+             for specs, values in ((kind.q_specs, sim.q_shown), (kind.rate_specs, sim.rates_shown))
+             for spec, value in zip(specs, values)]
+    lines += [f"{spec.label} = {spec.rounded(value):g}" for spec, value in zip(kind.param_specs, sim.setup.params)]
+    return lines
 
 
 def _num(x: float) -> str:

@@ -47,7 +47,7 @@ from app.kit.draw.widgets import Stage, TraceLines, Vector
 from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
 from app.kit.panel.plots import LivePlots, PlotSpec
 from app.kit.view import SceneView, nth
-from app.scenes.constrained.readouts import conserved_text, readout_text, status_text
+from app.scenes.constrained.readouts import conserved_text, key_numbers_text, readout_text, status_text
 from app.scenes.constrained.simulation import (
     GUIDE_POINTS,
     ConstrainedSetup,
@@ -336,6 +336,11 @@ class ConstrainedView(SceneView):
             self._render_readout()
             self.plots.push()
             self.labels.settle()
+
+    def key_numbers(self) -> list[str]:
+        """q, q̇ now and the parameters, from the simulation (`readouts.key_numbers_text`), whatever
+        tab shows (the q, q̇ sliders follow the motion on the Setup tab only)."""
+        return key_numbers_text(self.sim)
 
     def _show_state_sliders(self) -> None:
         """While playing the q, q̇ sliders follow the motion; paused at t = 0 they show the setup."""
