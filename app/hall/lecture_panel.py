@@ -33,8 +33,8 @@ import viser
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
-__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LIVE_BAR_CLASS", "LIVE_BAR_CSS", "STAY_LABEL", "LecturePanel", "Lecturer",
-           "call_text", "live_badge"]
+__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LIVE_BAR_CLASS", "LIVE_BAR_CSS", "STAY_LABEL", "LecturePanel",
+           "Lecturer", "call_text", "live_badge"]
 
 CALL_BACK_LABEL = "Call everyone back"
 FOLLOW_LABEL = "Follow presenter"
@@ -43,7 +43,8 @@ LIVE_BAR_CLASS = "rb-live-bar"  # the marker inside the live bar's form (the CSS
 LIVE_BAR_CSS = f"""<div class="{LIVE_BAR_CLASS}"><style>
 .mantine-ScrollArea-viewport div[style*="overflow: hidden"]:has(.{LIVE_BAR_CLASS}) {{ overflow: clip !important; }}
 form:has(.{LIVE_BAR_CLASS}) {{ position: sticky; top: 0; z-index: 20; background: var(--mantine-color-body); }}
-form:has(.{LIVE_BAR_CLASS}):has(button:not([hidden])) {{ padding-top: 0.4em; box-shadow: 0 0.3em 0.4em -0.3em rgba(0,0,0,0.25); }}
+form:has(.{LIVE_BAR_CLASS}):has(button:not([hidden])) {{
+  padding-top: 0.4em; box-shadow: 0 0.3em 0.4em -0.3em rgba(0,0,0,0.25); }}
 </style></div>"""
 """The live bar pinned at the top of the panel's scroll: an HTML element inside the bar's form,
 whose style (it applies to the whole page) makes that form sticky over an opaque background,
