@@ -3,7 +3,8 @@
 1. The lecturer's controls stay in sight (issue 34, row 3): a presenter on a 1280×800 laptop, a
    1024×768 projector and a 390×844 phone picks every scene in the Scene dropdown, a preset,
    Play and a long folder, the panel scrolled to its end: `Stop presenting` (and the live
-   badge) lie inside the window, and a click on it stops the presentation.
+   badge) lie inside the window, the panel does not scroll sideways, and a click on it stops
+   the presentation.
 2. A phone before class (row 7): with nobody presenting, the phone's panel is folded to one
    line and `Details` from its first frame (no `Play` was ever in the page), covers less than
    35 % of the screen, and the body is in the part it leaves.
@@ -91,6 +92,9 @@ def stop_in_sight(page, session, wait_until, width: float, height: float, where:
         raise AssertionError(f"{where}: Stop presenting and the badge not inside the {width:.0f}x{height:.0f} "
                              f"window; their boxes: {seen}") from None
     assert session.mode == "presenting"
+    sideways = page.evaluate("() => [...document.querySelectorAll('.mantine-ScrollArea-viewport')]"
+                             ".map(v => v.scrollWidth - v.clientWidth)")
+    assert max(sideways, default=0) <= 1, f"{where}: the panel scrolls sideways by {sideways} px"
     return stop
 
 

@@ -41,7 +41,8 @@ FOLLOW_LABEL = "Follow presenter"
 STAY_LABEL = "Stay"
 LIVE_BAR_CLASS = "rb-live-bar"  # the marker inside the live bar's form (the CSS finds the form by it)
 LIVE_BAR_CSS = f"""<div class="{LIVE_BAR_CLASS}"><style>
-.mantine-ScrollArea-viewport div[style*="overflow: hidden"]:has(.{LIVE_BAR_CLASS}) {{ overflow: clip !important; }}
+.mantine-ScrollArea-viewport div[style*="overflow: hidden"]:has(.{LIVE_BAR_CLASS}) {{
+  overflow: clip !important; min-width: 0; }}
 form:has(.{LIVE_BAR_CLASS}) {{ position: sticky; top: 0; z-index: 20; background: var(--mantine-color-body); }}
 form:has(.{LIVE_BAR_CLASS}):has(button:not([hidden])) {{
   padding-top: 0.4em; box-shadow: 0 0.3em 0.4em -0.3em rgba(0,0,0,0.25); }}
@@ -50,7 +51,9 @@ form:has(.{LIVE_BAR_CLASS}):has(button:not([hidden])) {{
 whose style (it applies to the whole page) makes that form sticky over an opaque background,
 with a shadow while it shows anything.  viser wraps the panel's contents in a collapse whose
 `overflow: hidden` would be the sticky form's scroll box (it never scrolls): between the panel's
-scroller and the bar it becomes `overflow: clip`, which clips the same and scrolls nothing."""
+scroller and the bar it becomes `overflow: clip`, which clips the same and scrolls nothing, with
+`min-width: 0` (a grid item that is no scroll box would otherwise grow to its content's width,
+and the panel would scroll sideways)."""
 
 
 def live_badge(following: int, exploring: int) -> str:
