@@ -18,7 +18,7 @@ import pytest
 
 from app.kit.core.common import SliderSpec
 from app.kit.panel.binding import HANDS_OFF_S, ManualClock, Refused, bind
-from app.kit.panel.gui import Quiet
+from app.kit.panel.gui import MessageLine, Quiet
 from app.viser_internals import BESIDE_GAP
 
 SPEC = SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01)
@@ -62,8 +62,9 @@ class Message:
     def __init__(self) -> None:
         self.text = ""
 
-    def show(self, text: str) -> None:
+    def show(self, text: str, stale: object = None, *, here: bool = True) -> None:
         self.text = text
+        self.here = here
 
     def clear(self) -> None:
         self.text = ""
@@ -220,7 +221,8 @@ def test_a_refusal_is_said_under_its_control_and_goes_when_the_control_takes_a_v
     rig.handle.receive(1e9)
     assert note.visible and "1000000000.0 refused: the range is 0.05 to 5" in note.content
     assert rig.binding.refusal == note.content and rig.handle.value == 1.5  # the box shows the value in force
-    assert "refused" in rig.message.text  # the message line at the top says it too
+    assert "refused" in rig.message.text  # the view's message holds it ...
+    assert not rig.message.here  # ... but the page says it once, under the box (the top line stays hidden)
     rig.handle.receive(4.9)  # refused by apply: said there as well
     assert "I3 = 4.9 refused: not a rigid body" in rig.binding.refusal and note.visible
     rig.handle.receive(1.75)  # a value taken: the refusal goes
@@ -281,3 +283,15 @@ def test_a_note_sits_in_its_controls_folder_right_under_it(server: Any) -> None:
     binding.close()
     inside.close()
     folder.remove()
+
+
+def test_a_message_said_elsewhere_is_the_views_message_with_its_line_hidden() -> None:
+    line = MessageLine(FakeGui())
+    line.show("x = 9 refused: within ±3 m.", here=False)
+    assert line.text == "**⚠ x = 9 refused: within ±3 m.**" and not line.handle.visible
+    line.show("Run stopped.")
+    assert line.handle.visible and line.text == "**⚠ Run stopped.**"
+    line.show("t = 999 refused.", lambda: True, here=False)
+    assert not line.handle.visible and line.text
+    line.recheck()  # stale: it goes
+    assert line.text == ""

@@ -26,8 +26,9 @@ The two sides split the work where each thing is known:
   then `apply(value)` (a value equal to the one in force is not applied again, but it clears the
   message line: the edit ended on a valid value); a refusal (not a number, NaN, out of range, or
   `apply` returning/raising one) is said where the hand is, in the control's `ControlNote` right
-  under it (a view's controls have one: `bind(..., gui=)`), as well as in the message line at the
-  top of the panel, and the field goes back to `current()`, the value in force, at once.  The
+  under it (a view's controls have one: `bind(..., gui=)`; the message line at the top of the
+  panel holds it as the view's message but stays hidden, so the page says it once), or in the
+  message line for a control without a note, and the field goes back to `current()`, the value in force, at once.  The
   note goes when the control takes a value (one applied, or the one in force sent again); a
   refusal whose words change as time passes (the Timeline's recorded stretch grows while it
   plays) says them anew at `Binding.restate()` (`Refused.restate`), so it holds the same while
@@ -286,11 +287,9 @@ class Binding:
         self.revert()
 
     def _say(self, text: str, stale: Callable[[], bool] | None) -> None:
-        """`text` in the message line (until `stale()`, if given)."""
-        if stale is None:
-            self._message.show(text)
-        else:
-            self._message.show(text, stale)
+        """`text` as the view's message (until `stale()`, if given): said under the control when it
+        has a note, else in the message line."""
+        self._message.show(text, stale, here=self.note is None)
 
     def revert(self) -> None:
         """The field shows the value in force again (written even while a user edits it)."""

@@ -112,30 +112,44 @@ class MessageLine:
     A message says what is true now: shown with `stale` (a function, true once the message no
     longer holds: the recorded stretch it quotes has grown), it goes at the next `recheck()`
     after that (the Timeline rechecks whenever it shows the room's state).  The same message
-    shown again is one message (nothing is sent)."""
+    shown again is one message (nothing is sent).  A message said elsewhere on the page (a
+    refusal under its own control, `app.kit.panel.binding.ControlNote`) is the view's message
+    (`text`) but the line stays hidden, so the page says it once."""
 
     def __init__(self, gui: Any) -> None:
         self.handle = gui.add_markdown("", visible=False)
         self._stale: Callable[[], bool] | None = None
+        self._elsewhere = ""  # the message said elsewhere on the page (the line hidden)
 
     @property
     def text(self) -> str:
-        return str(self.handle.content) if self.handle.visible else ""
+        """The view's message now ("" for none), wherever the page says it."""
+        return str(self.handle.content) if self.handle.visible else self._elsewhere
 
-    def show(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+    def show(self, text: str, stale: Callable[[], bool] | None = None, *, here: bool = True) -> None:
+        """Say `text` (until `stale()`, if given); `here=False`: it is said elsewhere on the page."""
         content = text if text.startswith("**") else f"**⚠ {text}**"
         self._stale = stale
+        if not here:
+            self._elsewhere = content
+            self._hide()
+            return
+        self._elsewhere = ""
         if self.handle.content != content or not self.handle.visible:
             self.handle.content = content
             self.handle.visible = True
 
     def recheck(self) -> None:
         """Clear the message if it was shown with a `stale` test that now says it no longer holds."""
-        if self._stale is not None and self.handle.visible and self._stale():
+        if self._stale is not None and self.text and self._stale():
             self.clear()
 
     def clear(self) -> None:
         self._stale = None
+        self._elsewhere = ""
+        self._hide()
+
+    def _hide(self) -> None:
         if self.handle.visible:
             self.handle.visible = False
             self.handle.content = ""
