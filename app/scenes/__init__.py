@@ -7,7 +7,6 @@ derived from it here (`simulation_parts`); the tests' per-scene tables are check
 
 from __future__ import annotations
 
-import functools
 import inspect
 import sys
 import types
@@ -47,10 +46,15 @@ def check_presets() -> None:
         scene.presets()
 
 
-@functools.cache
+_SIMULATION_CLASSES: dict[str, type] = {}
+
+
 def simulation_class(scene: Scene) -> type:
     """The class of the simulation the scene makes (its first preset's, built once per scene)."""
-    return type(scene.new_simulation())
+    found = _SIMULATION_CLASSES.get(scene.title)
+    if found is None:
+        found = _SIMULATION_CLASSES[scene.title] = type(scene.new_simulation())
+    return found
 
 
 def simulation_parts(scene: Scene) -> tuple[type | Callable[..., Any], ...]:
