@@ -134,7 +134,7 @@ from app.cluster.gate import new_code as new_gate_code
 from app.hall.follower import Follower, Hall, ended_head, ended_line, status_line, status_text, view_aspect
 from app.kit.core.room import Room
 from app.kit.draw.labels import POINTER, Screen
-from app.kit.draw.screen import screen_of
+from app.kit.draw.screen import BODY_WIDTH_SHARE, NARROW_MARGIN, screen_of
 from app.viser_internals import atomic_unless_captured
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_TRIES",
@@ -159,8 +159,6 @@ POINTER_LABEL_CHARS = 40
 CALL_BACK_SECONDS = 10.0  # [s] an explorer called back has to press Stay before it follows again
 FOLLOWER_SCREENS_PERIOD = 0.25  # [s] the followers' kinds of screen are looked at again after this long
 MAX_LABEL_SCREENS = 6  # a presenter's labels are laid out for its screen and at most 5 kinds of follower's
-BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (`fitted_camera`)
-NARROW_MARGIN = 1.25  # a narrow view is that much farther back than the share's width needs (`fitted_camera`)
 
 
 class Mode(enum.StrEnum):

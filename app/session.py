@@ -28,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import logging
+import math
 import threading
 from collections.abc import Callable
 from typing import Any, TypeVar
@@ -47,7 +48,9 @@ from app.hall.notes import Notes
 from app.hall.own_panel import OwnPanel
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.hall.share import Camera, SharePanel
+from app.kit.core.common import CameraView, apply_camera
 from app.kit.core.room import Room, Scene
+from app.kit.draw.screen import body_centre, centred_view
 from app.kit.panel.gui import writing_quietly
 from app.lectern import LIVE_ROOT, Lectern, Mode
 from app.lessons import Lesson
@@ -126,7 +129,8 @@ class Session:
                                       presenting=lambda: self.mode is Mode.PRESENTING,
                                       play=self._play_state)
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
-        self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5)
+        self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5,
+                                  copy=lambda: self.explored)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
         self.share = None if self.share_store is None else SharePanel(
@@ -167,6 +171,14 @@ class Session:
                 self.lecture.refresh()  # "the lecture has ended" from the first frame
         self._refresh_preset_commands()
         self._show_questions()  # the round asked now, or none, from the first frame
+        self._fit_phone()
+
+    def _fit_phone(self) -> None:
+        """A narrow screen (a phone) with its own room, from the first panel on: the folded phone
+        layout (`app.hall.narrow`) and the camera centring the body above its bottom sheet."""
+        if self.mode is Mode.OWN and is_narrow(self.client.camera):
+            self.narrow.start()
+            self.reset_camera()
 
     @property
     def room(self) -> Room:
@@ -796,7 +808,23 @@ class Session:
         self._show_mode()
         if narrow:
             self.narrow.start()
+            self._centre_body()
         self._refresh_preset_commands()
+
+    def _centre_body(self) -> None:
+        """A narrow explorer's camera: where it looked from (direction, distance, fov), moved
+        sideways so the body is in the middle of what its bottom sheet leaves (`centred_view`)."""
+        camera = self.client.camera
+        try:
+            view = CameraView(tuple(float(c) for c in camera.position),  # type: ignore[arg-type]
+                              tuple(float(c) for c in camera.look_at),  # type: ignore[arg-type]
+                              tuple(float(c) for c in camera.up_direction),  # type: ignore[arg-type]
+                              math.degrees(float(camera.fov)))
+        except (AttributeError, TypeError, ValueError):  # not reported yet: nothing to keep
+            return
+        distance = math.dist(view.position, view.look_at)
+        if distance > 0.0:
+            apply_camera(self.client, centred_view(view, body_centre(self._room.scene.view), distance))
 
     def open_moment(self, room: Room, camera: Camera | None = None) -> None:
         """Show a shared moment (`app.hall.share`): in this browser's own room, on the presenter's

@@ -34,7 +34,7 @@ must; the exact drift only makes the error constant small (it carries the torque
 not the free motion's).  A drift costs several right-hand-side evaluations of straight-line
 float code and the 6th-order composition 11 drifts a step, so per unit of accuracy it is not
 cheaper than `physics.dop853.integrate_adaptive` on the bodies measured
-(benchmarks/work_precision.py: the README's speed-against-error section).
+(benchmarks/work_precision.py: docs/performance.md, "Speed against error").
 
 `integrate_free_kick(model, state0, t_eval, tol=..., h=None, scheme="bm6")`: fixed steps of h
 [s] (default: from `tol`, `step_for`), cut so every output time is a step end.  Applies to a

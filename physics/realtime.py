@@ -273,7 +273,7 @@ class RealtimeStepper:
 
 NOMINAL_STEP = 1.0 / 60.0
 """[s] of simulated time: the fixed step of `GridStepper` (the app's), the display step at which
-REALTIME_SUBSTEP_ANGLE was tuned and the README's accuracy figures were measured."""
+REALTIME_SUBSTEP_ANGLE was tuned and the accuracy figures in docs/performance.md were measured."""
 
 GRID_TOLERANCE = 1e-9
 """A time within this fraction of a step of a grid point is on it (frames of exactly h, summed

@@ -8,7 +8,7 @@ opens its Plots tab and plays: the follower's page shows the tab copied, read on
 presses `Explore on my own`: its room on B is the presenter's, bit for bit (`app.codec`); it
 presses `Follow presenter` and follows again.
 Needs Debian's Chromium and redis-server.  BUS_SCREENSHOTS=<folder>: the follower's page is saved there
-(follower_other_worker.png, the README's picture; follower_plot_other_worker.png, with the plot).
+(follower_other_worker.png, the picture in docs/cluster.md; follower_plot_other_worker.png, with the plot).
 """
 
 from __future__ import annotations

@@ -60,7 +60,7 @@ class Budget:
         return self.bytes_per_second / FRAMES_PER_SECOND
 
 
-# The measured figures of every scene are in the README ("App performance").
+# The measured figures of every scene are in docs/performance.md ("App performance").
 BUDGETS: dict[str, Budget] = {
     "Euler angles": Budget(5.5, 5.5),
     "Inertia": Budget(None, None),  # edited, never played: no Play button

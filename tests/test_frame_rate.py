@@ -37,7 +37,7 @@ def _run(scene, preset: str, fps: float, seconds: float, jitter: float = 0.0, se
 
 
 def test_dzhanibekov_attitude_error_after_25_s_does_not_depend_on_the_frame_rate() -> None:
-    """The README's accuracy at 60 fps holds at 15 fps, with steady or jittering frames (the
+    """The accuracy at 60 fps in docs/scenes.md holds at 15 fps, with steady or jittering frames (the
     old per-frame step gave 1.5e-3 rad at 15 ± 20 % fps, 4.6e-5 at 60 ± 20 %)."""
     errors = {}
     for fps in (15.0, 60.0):

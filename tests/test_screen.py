@@ -73,3 +73,22 @@ def test_an_outline_meets_the_boxes_the_numpy_polygon_test_says() -> None:
             x0, y0 = rng.uniform(0.0, 450.0, size=2)
             box = (x0, y0, x0 + rng.uniform(1.0, 120.0), y0 + rng.uniform(1.0, 60.0))
             assert outline.meets(box) == polygon_meets_box(polygon, box)
+
+
+def test_a_narrow_view_centres_the_body_above_the_bottom_sheet() -> None:
+    """`narrow_view`: every scene's camera view, for a 390x844 phone, keeps its viewing direction
+    and fov, is farther back, and shows the body's middle (`body_centre`) horizontally centred in
+    the middle of the part the bottom sheet (PHONE_PANEL_SHARE) leaves."""
+    import numpy as np
+
+    from app.kit.draw.screen import PHONE_PANEL_SHARE, body_centre, narrow_view
+    from app.scenes import SCENES
+
+    for title, scene in SCENES.items():
+        view = scene.view
+        phone = narrow_view(view, 390 / 844)
+        (x, y), depth = project_one(phone, body_centre(view), 390, 844)
+        assert abs(x - 195.0) < 1e-6 and abs(y - (1.0 - PHONE_PANEL_SHARE) * 844 / 2) < 1e-6, (title, x, y)
+        sight, wide_sight = np.subtract(phone.position, phone.look_at), np.subtract(view.position, view.look_at)
+        np.testing.assert_allclose(sight / np.linalg.norm(sight), wide_sight / np.linalg.norm(wide_sight), atol=1e-12)
+        assert np.linalg.norm(sight) > 2.0 * np.linalg.norm(wide_sight) and phone.fov_deg == view.fov_deg, title

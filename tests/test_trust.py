@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 from conftest import LectureHall, RawClient, poll_until
 
+from app.kit.draw.screen import project_one, screen_of
 from app.lectern import BODY_WIDTH_SHARE, NARROW_MARGIN, fitted_camera
 from app.scenes import SCENES
 from benchmarks.ws_client import ViserClient
@@ -410,7 +411,7 @@ def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
         pass
     hall.frames(31)  # the lectern fits the follower's camera to the phone (every CAMERA_PERIOD): then look
     camera = explorer.client.camera
-    position = tuple(camera.position)
+    sight = np.subtract(camera.position, camera.look_at)  # from where it looks at, to the eye
     explorer.explore()
     hall.frames(31)
     narrow = explorer.narrow
@@ -418,7 +419,12 @@ def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
     assert "Your copy" in narrow.gui_line.content and explorer.gui_follow.visible
     folded = [explorer.gui_scene, *explorer.scene.gui_roots]
     assert not any(handle.visible for handle in folded)
-    assert tuple(explorer.client.camera.position) == position  # the camera it had, fitted to the phone
+    # The camera it had, fitted to the phone (direction and distance), moved sideways onto the body.
+    np.testing.assert_allclose(np.subtract(camera.position, camera.look_at), sight, atol=1e-9)
+    screen = screen_of(camera)
+    assert screen is not None
+    (pivot_x, _), _ = project_one(screen.view, (0.0, 0.0, 0.0), screen.width, screen.height)
+    assert abs(pivot_x - 390) < 0.08 * 780, f"the top's pivot is at x = {pivot_x:.0f} of 780 px: not centred"
     narrow.set_expanded(True)  # Details
     assert explorer.gui_scene.visible and explorer.scene.transport.gui_play.visible and not narrow.gui_line.visible
     narrow.set_expanded(False)

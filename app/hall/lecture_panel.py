@@ -3,7 +3,10 @@
 This module owns `LecturePanel`:
 
 - **The live bar**, at the top of the panel (right under the error line), outside every folder,
-  so that every layout shows it (the projector's docked panel included):
+  so that every layout shows it (the projector's docked panel included), and pinned there: its
+  widgets sit in one unlabelled form (`bar`, one `<form>` element in the page) that LIVE_BAR_CSS
+  keeps at the top of the panel's scroll (`position: sticky`), so a long scene panel scrolls
+  under it and `Stop presenting` stays in sight whatever scene, preset or folder is open:
   - while the browser presents: the badge ("● Live · 3 following · 1 exploring", `live_badge`),
     `Stop presenting`, `Pointer` and `Call everyone back`;
   - while it explores and somebody else presents: "Lecture on" with `Follow presenter`; when
@@ -25,6 +28,7 @@ following, calling back) is the session's and the lectern's: the panel calls the
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any, Protocol
 
 import viser
@@ -33,13 +37,28 @@ from app.hall.follower import Hall
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
-__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "STAY_LABEL", "LecturePanel", "Lecturer",
-           "call_text", "ended_text", "live_badge"]
+__all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "LIVE_BAR_CLASS", "LIVE_BAR_CSS", "STAY_LABEL",
+           "LecturePanel", "Lecturer", "call_text", "ended_text", "live_badge"]
 
 CALL_BACK_LABEL = "Call everyone back"
 FOLLOW_LABEL = "Follow presenter"
 STAY_LABEL = "Stay"
 LAST_ROOM_LABEL = "Open the last lecture's room"
+LIVE_BAR_CLASS = "rb-live-bar"  # the marker inside the live bar's form (the CSS finds the form by it)
+LIVE_BAR_CSS = f"""<div class="{LIVE_BAR_CLASS}"><style>
+.mantine-ScrollArea-viewport div[style*="overflow: hidden"]:has(.{LIVE_BAR_CLASS}) {{
+  overflow: clip !important; min-width: 0; }}
+form:has(.{LIVE_BAR_CLASS}) {{ position: sticky; top: 0; z-index: 20; background: var(--mantine-color-body); }}
+form:has(.{LIVE_BAR_CLASS}):has(button:not([hidden])) {{
+  padding-top: 0.4em; box-shadow: 0 0.3em 0.4em -0.3em rgba(0,0,0,0.25); }}
+</style></div>"""
+"""The live bar pinned at the top of the panel's scroll: an HTML element inside the bar's form,
+whose style (it applies to the whole page) makes that form sticky over an opaque background,
+with a shadow while it shows anything.  viser wraps the panel's contents in a collapse whose
+`overflow: hidden` would be the sticky form's scroll box (it never scrolls): between the panel's
+scroller and the bar it becomes `overflow: clip`, which clips the same and scrolls nothing, with
+`min-width: 0` (a grid item that is no scroll box would otherwise grow to its content's width,
+and the panel would scroll sideways)."""
 
 
 def live_badge(following: int, exploring: int) -> str:
@@ -93,7 +112,8 @@ class LecturePanel:
         order: the live bar's place in the panel (viser's `order`: it goes right after this).
 
     Attributes:
-        folder: the Lecture folder; gui_*: the widgets.
+        bar: the live bar's form (pinned at the top of the panel); folder: the Lecture folder;
+        gui_*: the widgets.
     """
 
     def __init__(self, seat: Lecturer, guard: Wrap, lectern: Lectern, *, order: float = -5.0) -> None:
@@ -101,24 +121,10 @@ class LecturePanel:
         self.lectern = lectern
         gui: Any = seat.client.gui  # viser's handles type `value` read-only; it is not
         orders = iter(order + 0.01 * k for k in range(1, 20))
-        # The live bar (top of the panel, in no folder).
-        self.gui_badge = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False, order=next(orders))
-        self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False, order=next(orders),
-                                            hint="click in the 3D view to point for everyone (or hold Shift)")
-        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False,
-                                            order=next(orders),
-                                            hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
-                                                 f"unless they press {STAY_LABEL}")
-        self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_stay = gui.add_button(STAY_LABEL, visible=False, order=next(orders),
-                                       hint="keep exploring your own copy")
-        self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
-                                         hint="back to the presenter's live scene")
-        self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_last_room = gui.add_button(LAST_ROOM_LABEL, icon=viser.Icon.HISTORY, visible=False,
-                                            order=next(orders),
-                                            hint="a copy of the room the presenter left, paused, yours to change")
+        # The live bar (top of the panel, in no folder), in one unlabelled form pinned by LIVE_BAR_CSS.
+        self.bar = gui.add_form(None, order=next(orders))
+        with self.bar:
+            self._build_bar(gui, orders)
         # The Lecture folder.
         self.folder = gui.add_folder("Lecture", expand_by_default=False)
         with self.folder:
@@ -136,6 +142,27 @@ class LecturePanel:
         self.gui_call_back.on_click(guard("call everyone back", lambda _event: self.call_back()))
         self.gui_stay.on_click(guard("stay", lambda _event: self.stay()))
         self.gui_last_room.on_click(guard("last lecture's room", lambda _event: seat.open_last_lecture()))
+
+    def _build_bar(self, gui: Any, orders: Iterator[float]) -> None:
+        """The live bar's widgets (inside `bar`), hidden until `refresh` shows them."""
+        self.gui_pin = gui.add_html(LIVE_BAR_CSS, order=next(orders))
+        self.gui_badge = gui.add_markdown("", visible=False, order=next(orders))
+        self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False, order=next(orders))
+        self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False, order=next(orders),
+                                            hint="click in the 3D view to point for everyone (or hold Shift)")
+        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False,
+                                            order=next(orders),
+                                            hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
+                                                 f"unless they press {STAY_LABEL}")
+        self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
+        self.gui_stay = gui.add_button(STAY_LABEL, visible=False, order=next(orders),
+                                       hint="keep exploring your own copy")
+        self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
+                                         hint="back to the presenter's live scene")
+        self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
+        self.gui_last_room = gui.add_button(LAST_ROOM_LABEL, icon=viser.Icon.HISTORY, visible=False,
+                                            order=next(orders),
+                                            hint="a copy of the room the presenter left, paused, yours to change")
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""

@@ -1,7 +1,9 @@
 """An explorer's panel on a narrow screen: one status line and `Details` (`NarrowPanel`).
 
 A phone that follows the presenter sees one status line and `Details` (`app.hall.follower`),
-so the body stays in view.  When it presses `Explore on my own` it keeps that layout: its own
+so the body stays in view.  A phone that opens the app with nobody presenting gets this layout
+from its first frame (the session starts it while it builds the panel), with "Your scene" in
+the line.  When a follower presses `Explore on my own` it keeps that layout: its own
 room's panel (the scene's transport, tabs and sliders, the scene dropdown, its own folders) is
 folded away behind `Details`, and one line says what its own copy does ("▶ Heavy top · t =
 12.3 s · your own copy").  `Details` unfolds the whole panel, `Hide details` folds it again.
@@ -27,12 +29,14 @@ from app.kit.core.room import LIVE, Room
 __all__ = ["NarrowPanel", "own_line"]
 
 
-def own_line(room: Room) -> str:
-    """An explorer's status in one line (Markdown): what its own room does."""
+def own_line(room: Room, copy: bool = True) -> str:
+    """An explorer's status in one line (Markdown): what its own room does ("Your copy" of the
+    presenter's room, or `copy` False: "Your scene", a browser that never followed)."""
+    whose = "Your copy" if copy else "Your scene"
     if room.mode != LIVE:
-        return f"**Your copy** · {room.scene.title} · looking back at t = {room.shown_t:.1f} s"
+        return f"**{whose}** · {room.scene.title} · looking back at t = {room.shown_t:.1f} s"
     state = "▶ playing" if room.playing else "paused"
-    return f"**Your copy** · {room.scene.title} · {state} · t = {room.sim.t:.1f} s"
+    return f"**{whose}** · {room.scene.title} · {state} · t = {room.sim.t:.1f} s"
 
 
 class NarrowPanel:
@@ -43,6 +47,7 @@ class NarrowPanel:
         guard: its session's guard: `Details` runs in it.
         handles: the panel's handles to fold (now).
         room: the browser's own room (now), for the line.
+        copy: the room is a copy of the presenter's (the line says "Your copy", else "Your scene").
         order: where the line and `Details` sit in the panel (viser's `order`).
 
     Attributes:
@@ -50,10 +55,11 @@ class NarrowPanel:
     """
 
     def __init__(self, client: viser.ClientHandle, guard: Wrap, handles: Callable[[], Sequence[Any]],
-                 room: Callable[[], Room], *, order: float) -> None:
+                 room: Callable[[], Room], *, order: float, copy: Callable[[], bool] = lambda: True) -> None:
         gui = client.gui
         self._handles = handles
         self._room = room
+        self._copy = copy
         self.on = False
         self.expanded = False
         self._folded: dict[int, Any] = {}  # id -> handle this panel hid
@@ -105,7 +111,7 @@ class NarrowPanel:
         if self.gui_line.visible != folded:
             self.gui_line.visible = folded
         if folded:
-            line = own_line(self._room())
+            line = own_line(self._room(), self._copy())
             if self.gui_line.content != line:
                 self.gui_line.content = line
 

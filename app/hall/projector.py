@@ -3,7 +3,8 @@
 This module owns the layout (`ProjectorLayout`): panel text >= 18 px (PROJECTOR_CSS), the
 lesson's caption at PROJECTOR_CAPTION_PX (`app.hall.caption`), a narrow panel docked on the
 right, 3D labels PROJECTOR_LABEL_SCALE times larger, and the scene's camera view moved for the
-narrow panel (`projector_view`).  A follower's browser takes the panel part only: the shared
+narrow panel (`projector_view`); off, a narrow screen's camera centres the body above its bottom
+sheet (`app.kit.draw.screen.narrow_view`).  A follower's browser takes the panel part only: the shared
 scene's labels and camera are not its own.
 """
 
@@ -16,6 +17,7 @@ import viser
 
 from app.hall.caption import CAPTION_PROJECTOR_RULES
 from app.kit.core.common import CameraView, Wrap, apply_camera
+from app.kit.draw.screen import narrow_size, narrow_view
 from app.viser_internals import scene_nodes
 
 __all__ = ["BRAND_COLOR", "PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "ProjectorLayout", "projector_view"]
@@ -102,8 +104,24 @@ class ProjectorLayout:
             self._scale_labels(view.root, PROJECTOR_LABEL_SCALE)
 
     def reset_camera(self, view: CameraView) -> None:
-        """Move the camera to the scene's camera `view` (centred for the projector layout)."""
-        apply_camera(self.client, projector_view(view) if self.on else view)
+        """Move the camera to the scene's camera `view`: centred for the projector layout, and on a
+        narrow screen (a phone) the body centred above its bottom sheet (`narrow_view`)."""
+        if self.on:
+            view = projector_view(view)
+        else:
+            aspect = self.narrow_aspect()
+            if aspect is not None:
+                view = narrow_view(view, aspect)
+        apply_camera(self.client, view)
+
+    def narrow_aspect(self) -> float | None:
+        """The width / height of the browser's view if it is narrow (`narrow_size`: a phone), else
+        None (a wide view, or its size not reported)."""
+        try:
+            width, height = float(self.client.camera.image_width), float(self.client.camera.image_height)
+        except (AttributeError, TypeError, ValueError):
+            return None
+        return width / height if height > 0.0 and narrow_size(width, height) else None
 
     def _scale_labels(self, root: str, factor: float) -> None:
         """Multiply the screen size of every 3D label under `root` (this browser's nodes)."""

@@ -31,9 +31,10 @@ import numpy as np
 from app.kit.core.common import CameraView
 from app.viser_internals import node_world, scene_nodes
 
-__all__ = ["ANCHOR_SHIFT", "NARROW_ASPECT", "NARROW_PX", "PANEL_WIDTH_SHARE", "PHONE_PANEL_SHARE", "Box",
-           "LabelBox", "Outline", "Projector", "Screen", "box_at", "boxes_meet", "convex_hull", "hull_chain",
-           "label_boxes", "narrow_size",
+__all__ = ["ANCHOR_SHIFT", "BODY_CENTRE_SHARE", "BODY_WIDTH_SHARE", "NARROW_ASPECT", "NARROW_MARGIN", "NARROW_PX",
+           "PANEL_WIDTH_SHARE", "PHONE_PANEL_SHARE", "WIDE_ASPECT", "Box",
+           "LabelBox", "Outline", "Projector", "Screen", "body_centre", "box_at", "boxes_meet", "centred_view",
+           "convex_hull", "hull_chain", "label_boxes", "narrow_size", "narrow_view",
            "overlapping", "panel_box", "polygon_meets_box", "project", "project_one", "screen_of", "text_box",
            "text_size"]
 
@@ -47,6 +48,10 @@ NARROW_PX = 500  # a view at most this wide [px] is narrow (a phone) ...
 NARROW_ASPECT = 0.8  # ... and so is a portrait one (width / height below this)
 PANEL_WIDTH_SHARE = 0.31  # a wide view's floating panel: the right 31 % (viser's ~400 px panel of 1280)
 PHONE_PANEL_SHARE = 0.28  # a narrow view's bottom sheet (one status line, `Details`): the lowest 28 %
+WIDE_ASPECT = 1.6  # the width / height of the wide window a scene's camera view is made for (1280 x 800)
+BODY_WIDTH_SHARE = 0.6  # the share of a wide view's width a scene's body is framed in (left of the floating panel)
+NARROW_MARGIN = 1.25  # a narrow view is that much farther back than the share's width needs
+BODY_CENTRE_SHARE = 0.3  # a scene's body lies this share of the way from the origin to its view's look_at
 
 Box = tuple[float, float, float, float]  # (x0, y0, x1, y1) [px], y down
 
@@ -56,6 +61,44 @@ def narrow_size(width: float, height: float) -> bool:
     NARROW_ASPECT).  (viser reports a view's size in device pixels; a phone's CSS width of ~400
     px is 800-1200 of them, which the portrait test catches.)"""
     return (0.0 < width <= NARROW_PX) or (width > 0.0 and height > 0.0 and width / height < NARROW_ASPECT)
+
+
+def body_centre(view: CameraView) -> tuple[float, float, float]:
+    """Where a scene's body is seen, from the scene's camera `view` [scene units]: the scenes put
+    their body at the origin and look at a point beside it (framing it left of the floating
+    panel), so the body's middle is taken BODY_CENTRE_SHARE of the way from the origin to look_at
+    (where the projector layout looks too, `app.hall.projector.projector_view`)."""
+    return (BODY_CENTRE_SHARE * view.look_at[0], BODY_CENTRE_SHARE * view.look_at[1],
+            BODY_CENTRE_SHARE * view.look_at[2])
+
+
+def centred_view(view: CameraView, centre: Any, distance: float, panel_share: float = PHONE_PANEL_SHARE) -> CameraView:
+    """`view`'s viewing direction, up and fov from `distance` [scene units], aimed so that the world
+    point `centre` (3,) projects to the middle of what a narrow window's bottom sheet leaves of it
+    (the top 1 - panel_share of its height, horizontally centred): the look-at point lies
+    panel_share tan(fov/2) distance below `centre` along the screen's up."""
+    eye, target = np.asarray(view.position, dtype=float), np.asarray(view.look_at, dtype=float)
+    back = (eye - target) / np.linalg.norm(eye - target)  # from the look-at point to the eye
+    up = np.asarray(view.up, dtype=float)
+    screen_up = up - (up @ back) * back
+    norm = float(np.linalg.norm(screen_up))
+    screen_up = screen_up / norm if norm > 1e-9 else np.zeros(3)  # looking along `up`: no lift
+    lift = panel_share * math.tan(0.5 * math.radians(view.fov_deg)) * distance
+    look_at = np.asarray(centre, dtype=float) - lift * screen_up
+    position = look_at + distance * back
+    return CameraView(tuple(float(c) for c in position), tuple(float(c) for c in look_at),  # type: ignore[arg-type]
+                      view.up, view.fov_deg)
+
+
+def narrow_view(view: CameraView, aspect: float) -> CameraView:
+    """A scene's camera `view` (made for a WIDE_ASPECT window, the body in the left BODY_WIDTH_SHARE
+    of its width) for a narrow window of width / height `aspect`: the same direction and fov, the
+    body (`body_centre`) in the middle of what the bottom sheet leaves (`centred_view`), from
+    BODY_WIDTH_SHARE WIDE_ASPECT / aspect NARROW_MARGIN times the view's distance (so that share's
+    width fits the narrow width; never nearer than the view)."""
+    distance = float(np.linalg.norm(np.subtract(view.position, view.look_at)))
+    factor = BODY_WIDTH_SHARE * WIDE_ASPECT / aspect * NARROW_MARGIN if aspect > 0.0 else 1.0
+    return centred_view(view, body_centre(view), distance * max(1.0, factor))
 
 
 def panel_box(width: int, height: int, docked: bool = False) -> Box | None:

@@ -2,7 +2,7 @@
 for one browser (`app.scenes.constrained`).
 
 What a playing frame sends (the turning hoop, the default; tests/test_frame_budget.py counts the
-bytes, the README has the figures): the hoop's turn (one orientation), the bead's position, the
+bytes, docs/performance.md has the figures): the hoop's turn (one orientation), the bead's position, the
 turn of the bead's frame `o` and C's tip (a position) — the four numbers α, θ, C's direction
 about the hoop and |C|.  How:
 
