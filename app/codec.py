@@ -17,13 +17,15 @@ is a list whose first item is a tag:
   `["s", items]` set, `["z", items]` frozenset, `["y", raw]` bytes;
 - `["a", dtype, shape, raw, writeable]` a NumPy array: dtype from `DTYPES` (little-endian), its
   shape and raw C-ordered bytes; `["g", dtype, raw]` a NumPy scalar;
-- `["o", class, {field: value}]` an object of a class of the allowlist (`ALLOWED_MODULES`: the
-  classes defined in those modules, named `module:qualname`), built with `object.__new__`
-  and its fields set (no `__init__`, no `__setstate__`, nothing else of the data is run);
-- `["F", name]` a function defined at the top level of an allowlisted module (the module's own
-  object); `["f", name, defaults, kwdefaults, cells]` a closure: the code object comes from the
-  allowlisted module's source (found through its functions' constants when the codec is
-  imported), only the values its cells hold come from the data;
+- `["o", class, {field: value}]` an object of a class of the allowlist (named `module:qualname`):
+  the classes of `ALLOWED_MODULES` (the kit's core, `physics`) and those each scene's simulation
+  is made of (`app.scenes.simulation_parts`: the classes of its simulation class's module and what
+  the scene declares), built with `object.__new__` and its fields set (no `__init__`, no
+  `__setstate__`, nothing else of the data is run);
+- `["F", name]` a function of the allowlist (defined at the top level of an allowlisted module, or
+  declared by a scene; the app's own object); `["f", name, defaults, kwdefaults, cells]` a
+  closure: the code object comes from the allowlisted code (found through its functions'
+  constants when the codec is imported), only the values its cells hold come from the data;
 - `["r", n]` the n-th object built so far (shared objects stay shared: a stepper that both the
   simulation and the history's snapshots hold is one object after decoding, as after a fork).
 
@@ -82,7 +84,7 @@ import physics.realtime
 import physics.splitting
 from app.kit.core.history import History, Snapshot
 from app.kit.core.room import Room
-from app.scenes import SCENES
+from app.scenes import SCENES, simulation_class, simulation_parts
 
 __all__ = ["CACHE_FIELDS", "DTYPES", "FORMAT_VERSION", "MAX_BYTES", "MAX_DEPTH", "MAX_NODES", "CodecError",
            "decode_room", "encode_room"]
@@ -101,21 +103,21 @@ _NOT_ALLOWED = ("__main__", "casefile", "meshfile")  # physics' command line and
 
 ALLOWED_MODULES: tuple[types.ModuleType, ...] = (
     _history, _samples, _trace, _rigid_simulation,
-    *dict.fromkeys(sys.modules[f"{scene.__module__.rpartition('.')[0]}.simulation"] for scene in SCENES.values()
-                   if f"{scene.__module__.rpartition('.')[0]}.simulation" in sys.modules),
     *(importlib.import_module(f"physics.{info.name}") for info in pkgutil.iter_modules(physics.__path__)
       if info.name not in _NOT_ALLOWED),
 )
-"""The modules whose classes and functions a room may hold (what a scene's simulation is made of):
-the kit's core, the simulation module of each scene's package (`app.scenes.<scene>.simulation`)
-and every module of `physics` (listed from the package
-when the codec is imported, never from the data)."""
+"""The modules whose classes and functions every room may hold: the kit's core and every module of
+`physics` (listed from the package when the codec is imported, never from the data)."""
 
-SCENE_MODULES: tuple[types.ModuleType, ...] = tuple(
-    dict.fromkeys(sys.modules[scene.__module__] for scene in SCENES.values()))
-"""The scenes' own modules (`app.scenes.SCENES`): only their functions of one parameter `state: State`
-(a traced point, `app.kit.rigid.simulation.PointOf`, as `RigidBodySimulation.track` keeps it), never
-their classes (views) or other functions."""
+SCENE_PARTS: dict[type | Callable[..., Any], str] = {
+    part: scene.title for scene in SCENES.values() for part in simulation_parts(scene)}
+"""The classes and functions a scene's simulation is made of -> a scene's title: learnt from the
+registry (`app.scenes.simulation_parts`: the classes of the module of the class its simulation is,
+and what the scene declares in `simulation_parts`), never from a module's path."""
+
+REFUSED = ("a scene's simulation holds the kit's core, physics, the classes of its own class's module "
+           "and what its scene declares in `simulation_parts` (app.scenes.simulation_parts)")
+"""The rule an encoding or decoding error names when a class or function is outside the allowlist."""
 
 
 def _rebuild_state_maker(stepper: Any) -> Any:
@@ -152,11 +154,14 @@ class CodecError(ValueError):
 
 
 # ---------------------------------------------------------------------------- the allowlist
-def _is_point_of(fn: types.FunctionType) -> bool:
-    """A scene's function of one parameter annotated `State` (a point a simulation follows)."""
-    code = fn.__code__
-    return (code.co_argcount == 1 and not code.co_kwonlyargcount and fn.__closure__ is None
-            and fn.__annotations__.get(code.co_varnames[0]) in ("State", _dynamics.State))
+def _allowed() -> Iterable[tuple[types.ModuleType, Any]]:
+    """(module, value) of every class and function of the allowlist."""
+    for module in ALLOWED_MODULES:
+        for value in list(vars(module).values()):
+            if getattr(value, "__module__", None) == module.__name__:
+                yield module, value
+    for part in SCENE_PARTS:
+        yield sys.modules[part.__module__], part
 
 
 def _collect() -> tuple[dict[str, type], dict[type, str], dict[str, types.CodeType], dict[str, types.ModuleType],
@@ -172,29 +177,25 @@ def _collect() -> tuple[dict[str, type], dict[type, str], dict[str, types.CodeTy
             if isinstance(const, types.CodeType):
                 yield from nested(const, module)
 
-    for module in ALLOWED_MODULES + SCENE_MODULES:
-        for value in list(vars(module).values()):
-            if getattr(value, "__module__", None) != module.__name__:
-                continue
-            allowed_class = module in ALLOWED_MODULES and type(value) in (type, abc.ABCMeta)
-            if allowed_class and not issubclass(value, BaseException):
-                classes[f"{module.__name__}:{value.__qualname__}"] = value
-                members = [m for m in vars(value).values() if isinstance(m, types.FunctionType)]
-                members += [m.__func__ for m in vars(value).values() if isinstance(m, classmethod | staticmethod)
-                            and isinstance(m.__func__, types.FunctionType)]
-                functions = members
-            elif isinstance(value, types.FunctionType) and (module in ALLOWED_MODULES or _is_point_of(value)):
-                top[f"{module.__name__}:{value.__qualname__}"] = value
-                functions = [value]
-            else:
-                continue
-            for fn in functions:
-                for c in nested(fn.__code__, module):
-                    if module.__spec__ is None or c.co_filename != module.__spec__.origin:
-                        continue  # generated (a dataclass's methods): never a room's
-                    key = f"{module.__name__}:{c.co_qualname}"
-                    code.setdefault(key, c)
-                    module_of.setdefault(key, module)
+    for module, value in _allowed():
+        if type(value) in (type, abc.ABCMeta) and not issubclass(value, BaseException):
+            classes[f"{module.__name__}:{value.__qualname__}"] = value
+            members = [m for m in vars(value).values() if isinstance(m, types.FunctionType)]
+            members += [m.__func__ for m in vars(value).values() if isinstance(m, classmethod | staticmethod)
+                        and isinstance(m.__func__, types.FunctionType)]
+            functions = members
+        elif isinstance(value, types.FunctionType):
+            top[f"{module.__name__}:{value.__qualname__}"] = value
+            functions = [value]
+        else:
+            continue
+        for fn in functions:
+            for c in nested(fn.__code__, module):
+                if module.__spec__ is None or c.co_filename != module.__spec__.origin:
+                    continue  # generated (a dataclass's methods): never a room's
+                key = f"{module.__name__}:{c.co_qualname}"
+                code.setdefault(key, c)
+                module_of.setdefault(key, module)
     names = {cls: name for name, cls in classes.items()}
     return classes, names, code, module_of, top
 
@@ -273,8 +274,8 @@ class _Encoder:
             return ["B", _BUILTIN_NAMES[id(obj)]]
         name = _CLASS_NAMES.get(kind)
         if name is None:
-            raise CodecError(f"{where}: a {kind.__module__}.{kind.__qualname__} is not in the codec's allowlist "
-                             "(app.codec.ALLOWED_MODULES)")
+            raise CodecError(f"{where}: a {kind.__module__}.{kind.__qualname__} is not in the codec's allowlist: "
+                             f"{REFUSED}")
         if issubclass(kind, tuple):  # a NamedTuple
             return ["n", name, [self.node(x, f"{where}[{k}]", deeper) for k, x in enumerate(obj)]]
         constructed = CONSTRUCTED.get(kind)
@@ -292,7 +293,7 @@ class _Encoder:
         key = f"{fn.__module__}:{fn.__qualname__}"
         if _CODE.get(key) is not fn.__code__:
             raise CodecError(f"{where}: function {key} is not one of the allowlisted modules' own "
-                             "(generated or foreign code is never encoded)")
+                             f"(generated or foreign code is never encoded; {REFUSED})")
         try:
             cells = [c.cell_contents for c in fn.__closure__ or ()]
         except ValueError as exc:
@@ -450,7 +451,7 @@ class _Decoder:
         key = data[1]
         code = _CODE.get(key) if type(key) is str else None
         if code is None:
-            raise CodecError(f"{where}: function {key!r} is not in the allowlist")
+            raise CodecError(f"{where}: function {key!r} is not in the allowlist: {REFUSED}")
         index = self._slot()
         defaults = self.node(data[2], f"{where}.__defaults__", depth)
         kwdefaults = self.node(data[3], f"{where}.__kwdefaults__", depth)
@@ -472,7 +473,7 @@ class _Decoder:
         name = data[1]
         cls = _CLASSES.get(name) if type(name) is str else None
         if cls is None:
-            raise CodecError(f"{where}: class {name!r} is not in the allowlist")
+            raise CodecError(f"{where}: class {name!r} is not in the allowlist: {REFUSED}")
         fields = data[2]
         if type(fields) is not dict:
             raise CodecError(f"{where}: the fields of {name} are not a map")
@@ -598,8 +599,9 @@ def decode_room(data: bytes) -> Room:
     except (RecursionError, AttributeError, TypeError, ValueError, KeyError, IndexError) as exc:
         raise CodecError(f"the room does not build: {type(exc).__name__}: {exc}") from None
     sim = values["sim"]
-    if type(sim) is not _sim_class(scene):
-        raise CodecError(f"the simulation of {title!r} is a {type(sim).__name__}, not a {_sim_class(scene).__name__}")
+    expected = simulation_class(scene)
+    if type(sim) is not expected:
+        raise CodecError(f"the simulation of {title!r} is a {type(sim).__name__}, not a {expected.__name__}")
     room = Room(scene, sim)
     playing, scale = values["playing"], values["time_scale"]
     if type(playing) is not bool or type(values["_live_playing"]) is not bool:
@@ -649,14 +651,3 @@ def _trial(room: Room) -> None:
                 pass
     except (TypeError, AttributeError, IndexError, KeyError, RecursionError) as exc:
         raise CodecError(f"the decoded {room.scene.title} does not run: {type(exc).__name__}: {exc}") from None
-
-
-_SIM_CLASSES: dict[str, type] = {}
-
-
-def _sim_class(scene: Any) -> type:
-    """The class of the simulation the scene makes (its first preset's, built once)."""
-    cls = _SIM_CLASSES.get(scene.title)
-    if cls is None:
-        cls = _SIM_CLASSES[scene.title] = type(scene.new_simulation())
-    return cls

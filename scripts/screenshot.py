@@ -17,6 +17,8 @@ Shots (each from the running app, through a real browser):
                        applied and constraint force (`--scenes constrained`).
     phone_follower.png a phone (390×844, touch) following a presenter who plays the heavy top's
                        "Loop": one status line, the body in view (`--scenes phone`).
+    scene_<title>.png  any other scene of the registry by its title (`--scenes "Heavy top"`): its
+                       first preset played for a few seconds (a new scene needs no edit here).
 
 Starts the app on a loopback ephemeral port, opens it in Debian's Chromium through Playwright
 (software WebGL via SwiftShader, the flags of docs/VISER.md), drives that browser's session
@@ -37,6 +39,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from app.main import create_server  # noqa: E402
+from app.scenes import SCENES as REGISTRY  # noqa: E402
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
 
 SCENES = ("euler", "inertia", "free", "top", "poinsot", "moving", "constrained", "projector", "phone")
@@ -112,7 +115,17 @@ def _prepare(page: Any, session: Any, scene: str) -> None:
         _slow_motion(session)
         time.sleep(2.0)
         return
-    raise ValueError(f"unknown scene {scene!r}; choose from {', '.join(SCENES)}")
+    if scene in REGISTRY:  # any scene by its title: its first preset, played a few seconds
+        session.select_scene(scene)
+        session.apply_preset(REGISTRY[scene].presets()[0].name)
+        _wait_for(lambda: getattr(session.scene, "title", None) == scene, 30.0)
+        time.sleep(1.0)
+        session.play()
+        _wait_for(lambda: session.simulation.t > 3.0 or not session.room.playing, 60.0)
+        _slow_motion(session)
+        time.sleep(2.0)
+        return
+    raise ValueError(f"unknown scene {scene!r}; choose from {', '.join((*SCENES, *REGISTRY))}")
 
 
 def _phone_shot(browser: Any, app: Any, out: Path) -> Path:
@@ -169,7 +182,8 @@ def take_screenshots(
                     _close_toasts(page)
                     _prepare(page, session, scene)
                     _close_toasts(page)
-                    out = outdir / ("projector_1024.png" if scene == "projector" else f"scene_{scene}.png")
+                    name = scene.lower().replace(" ", "_")
+                    out = outdir / ("projector_1024.png" if scene == "projector" else f"scene_{name}.png")
                     out.parent.mkdir(parents=True, exist_ok=True)
                     page.screenshot(path=str(out))
                     written.append(out)
@@ -185,7 +199,7 @@ def take_screenshots(
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--outdir", type=Path, default=ROOT / "docs" / "img")
-    parser.add_argument("--scenes", nargs="*", default=list(SCENES), choices=SCENES)
+    parser.add_argument("--scenes", nargs="*", default=list(SCENES), choices=(*SCENES, *REGISTRY))
     parser.add_argument("--size", default="1280x800", help="viewport WIDTHxHEIGHT [px]")
     parser.add_argument("--chromium", default=CHROMIUM)
     args = parser.parse_args(argv)

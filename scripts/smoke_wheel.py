@@ -39,7 +39,7 @@ import urllib.request
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGED = ("pyproject.toml", "README.md", "app", "physics", "assets")  # what the wheel is built from
+PACKAGED = ("pyproject.toml", "setup.py", "README.md", "app", "physics", "assets")  # what the wheel is built from
 SCENE = "Free body"  # the scene the client selects and plays (and the export records)
 SCENE_LABEL, PLAY_LABEL, PAUSE_LABEL = "Scene", "Play", "Pause"  # app.session, app.kit.panel.gui
 EXPORT_ARGS = ("export", "--scene", SCENE, "--preset", "Dzhanibekov", "--seconds", "2", "--out", "flip.html")

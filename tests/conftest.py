@@ -38,6 +38,19 @@ def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: flo
         time.sleep(interval)
 
 
+def scenes_without_an_entry(table: Any, name: str) -> str:
+    """What is wrong with a per-scene test table (a dict by scene title, or a collection of titles)
+    against the registry (`app.scenes.SCENES`): each registered scene it lacks and each title it
+    holds that is no scene, named with the table; "" if it fits."""
+    from app.scenes import SCENES  # noqa: PLC0415 - the registry imports the kit; conftest stays light
+
+    lacking = [title for title in SCENES if title not in table]
+    stale = [title for title in table if title not in SCENES]
+    problems = [f"the scene {title!r} of app.scenes.SCENES has no entry in {name}" for title in lacking]
+    problems += [f"{name} has an entry {title!r}, which is no scene of app.scenes.SCENES" for title in stale]
+    return "; ".join(problems)
+
+
 BROWSER_GROUP = "browser"
 
 

@@ -18,7 +18,9 @@ import viser
 
 from app.codec import CACHE_FIELDS, MAX_BYTES, MAX_DEPTH, CodecError, decode_room, encode_room
 from app.kit.core.room import Room
-from app.scenes import SCENES
+from app.scenes import SCENES, simulation_class, simulation_parts
+from app.scenes.euler_angles.view import RateArrow
+from app.scenes.moving_frame.simulation import MovingFrameSetup
 from tests.test_fork import (
     CASES,
     DT,
@@ -270,6 +272,33 @@ def test_what_a_room_cannot_hold_is_refused_when_encoded() -> None:
     room.sim.preset = object()
     with pytest.raises(CodecError, match="not in the codec's allowlist"):
         encode_room(room)
+
+
+NOT_A_PART = "app.scenes.euler_angles.view:RateArrow"  # an app class of a scene, which no simulation is made of
+
+
+def test_a_class_no_scene_declares_is_refused_naming_the_rule() -> None:
+    """The codec's classes come from the registry (`app.scenes.simulation_parts`), not from a module's
+    path: a class of a scene's package that no scene's simulation is made of is refused, and the
+    message says where a scene declares what its simulation holds."""
+    assert RateArrow not in {part for scene in SCENES.values() for part in simulation_parts(scene)}
+    with pytest.raises(CodecError, match=r"RateArrow.*simulation_parts"):
+        decode_room(_mutated(_set("o", 1, NOT_A_PART)))
+    scene = SCENES["Free body"]
+    room = Room(scene, scene.new_simulation())
+    room.sim.preset = object.__new__(RateArrow)
+    with pytest.raises(CodecError, match=r"not in the codec's allowlist.*simulation_parts"):
+        encode_room(room)
+
+
+def test_each_scenes_parts_are_derived_from_the_simulation_it_makes() -> None:
+    """No scene lists its simulation's classes: the class of the simulation it makes and its module's
+    classes are its parts; what a scene declares (Heavy top's and Poinsot's traced points) is added."""
+    for scene in SCENES.values():
+        parts = simulation_parts(scene)
+        assert type(scene.new_simulation()) is simulation_class(scene) and simulation_class(scene) in parts
+        assert set(scene.simulation_parts) <= set(parts), scene.title
+    assert MovingFrameSetup in simulation_parts(SCENES["Moving frame"])  # same module as its simulation class
 
 
 def test_sizes_per_scene(capsys: pytest.CaptureFixture[str]) -> None:

@@ -23,7 +23,7 @@ The recipe for a new scene:
    in `physics/`, with tests.
 
 2. **A view class** under `app/scenes/`, subclassing `app.kit.view.SceneView`: a small scene is
-   one file; a big one is a package (`app/scenes/moving_frame/`): `simulation.py` (no viser:
+   one file; a big one is a package (`app/scenes/moving_frame/`, the template to copy): `simulation.py` (no viser:
    `tests/test_layers.py` checks it, through everything it imports), `readouts.py` (its texts
    as pure functions, numbers to strings, tested without viser as `tests/test_*_readouts.py`
    do), `view.py`, and an `__init__.py` that re-exports the names others import.
@@ -86,7 +86,13 @@ The recipe for a new scene:
 5. **Its budgets and its fork**: an entry in `BUDGETS` of `tests/test_frame_budget.py` (the
    scene messages a playing frame may send, own room and follower, and whether it is within
    the byte budget), and a bit-exact `fork()` (item 1) with the scene's edit in `EDITS` of
-   `tests/test_fork.py`, which checks that a fork draws and goes on exactly as the original.
+   `tests/test_fork.py`, which checks that a fork draws and goes on exactly as the original
+   (each table's test names the scene it lacks).
+
+6. **What the room codec decodes** (`app.codec`: Explore across processes, Share) is derived
+   from the scene (`app.scenes.simulation_parts`: the classes of its simulation class's module);
+   only a function or class of another module that its simulation holds (a point a trace
+   follows: `HeavyTopView.simulation_parts`) is declared, in `simulation_parts`.
 
 The loop (`app.main.App.frame`, once per frame): every room advances once (`Room.advance`: its
 simulation, if playing, whatever the number of views), then each view draws (`Room.draw`) if

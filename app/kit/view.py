@@ -91,6 +91,10 @@ class SceneView:
     preset_file: ClassVar[str] = ""  # under assets/presets/
     param_specs: ClassVar[tuple[SliderSpec, ...]] = ()
     rate_specs: ClassVar[tuple[SliderSpec, ...]] = ()
+    simulation_parts: ClassVar[tuple[type | Callable[..., Any], ...]] = ()
+    """What the scene's simulation holds from modules other than its own class's (a function a
+    trace follows, a class of another module): the room codec decodes nothing else
+    (`app.scenes.simulation_parts`; an encoding error names what is missing)."""
     tabs: Tabs | None = None
     """The panel's tabs (Setup / Readout / ...), if the scene has them."""
     open_scene: Callable[[str, Callable[[Room], None]], Room] | None = None

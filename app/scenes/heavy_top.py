@@ -84,6 +84,7 @@ class HeavyTopView(RigidBodyView):
     """The heavy symmetric top (see the module docstring)."""
 
     title = "Heavy top"
+    simulation_parts = (tip_axis,)  # the point its trace follows (the room codec decodes it)
     root = "/top"
     view = CameraView(position=(5.2, -4.0, 2.4), look_at=(0.55, 0.95, -0.1))
     intro = (

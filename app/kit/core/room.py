@@ -109,6 +109,11 @@ class Scene(Protocol):
 
     title: str
     view: CameraView
+    @property
+    def simulation_parts(self) -> tuple[type | Callable[..., Any], ...]:
+        """Classes and functions the scene's simulation holds from modules other than the one of
+        its own class (`app.scenes.simulation_parts`: what the room codec may decode)."""
+        ...
 
     @classmethod
     def presets(cls) -> tuple[Preset, ...]:

@@ -88,6 +88,7 @@ class PoinsotView(TorqueFreeView):
     """Poinsot's construction (see the module docstring)."""
 
     title = "Poinsot"
+    simulation_parts = (omega_space,)  # the point the herpolhode follows (the room codec decodes it)
     root = "/pt"  # node names are short: every message of a frame carries its node's name
     view = CameraView(position=(2.6, -8.2, 1.9), look_at=(1.1, 0.5, -0.5))
     intro = (
