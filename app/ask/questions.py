@@ -30,9 +30,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
+from app.ask.tally_text import TallyView as Tally
+
 if TYPE_CHECKING:
     from app.ask.judges import Judged
-    from app.ask.round import Tally
 
 __all__ = ["KINDS", "MAX_NUMBER", "MAX_OPTIONS", "MAX_OPTION_CHARS", "MAX_PROMPT_CHARS", "MIN_OPTIONS", "Choice",
            "Direction", "Number", "Question", "QuestionKind", "State", "finite_number", "question_from_dict",
@@ -354,7 +355,7 @@ class State:
         return {"judged": tuple(judged)}
 
     def tally_text(self, tally: Tally, revealed: bool) -> str:
-        from app.ask.state_tally import judged_histogram_text
+        from app.ask.tally_text import judged_histogram_text
 
         return judged_histogram_text(tally) or f"{tally.answered} states sent"
 
