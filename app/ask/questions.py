@@ -506,7 +506,7 @@ def question_from_dict(d: Any) -> Question:
 
     A question object is returned as it is.  ValueError naming the field for anything wrong."""
     if isinstance(d, tuple(KINDS.values())):
-        return d  # type: ignore[no-any-return]
+        return d  # type: ignore[return-value]
     if not isinstance(d, Mapping):
         raise ValueError(f"a question is an object with a kind, got {_short(d)}")
     kind = d.get("kind")

@@ -21,6 +21,7 @@ from app.ask.tally_text import BAR_CHARS, DEGREE_BINS_DEG, judged_histogram_text
 
 __all__ = ["BAR_CHARS", "DEGREE_BINS_DEG", "gallery_entries", "judged_histogram_text"]
 
+
 def gallery_entries(round_: Any) -> tuple[GalleryEntry, ...]:
     """The round's state answers for the gallery (module docstring)."""
     entries: list[GalleryEntry] = []
