@@ -32,7 +32,7 @@ def test_a_number_question_round_trips_through_its_dict_and_is_registered() -> N
     assert question_to_dict(question) == {**FLIP, "value": 2.5, "tolerance": 0.2}
     assert question_from_dict(question_to_dict(question)) == question
     bare = question_from_dict({"kind": "number", "prompt": "Guess"})  # no right value: only collected
-    assert question_from_dict(question_to_dict(bare)) == bare and not bare.has_truth  # type: ignore[union-attr]
+    assert question_from_dict(question_to_dict(bare)) == bare and not bare.has_truth
 
 
 @pytest.mark.parametrize("bad, words", [
@@ -114,7 +114,7 @@ def test_every_kind_is_registered_once_with_its_panels() -> None:
 
 # ---------------------------------------------------------------------- the app: the presenter's form, the panels
 @pytest.fixture(scope="module")
-def hall():  # type: ignore[no-untyped-def]
+def hall() -> Any:
     from conftest import LectureHall
 
     running = LectureHall(HALL_CODE)
@@ -153,7 +153,8 @@ def test_the_presenter_asks_a_number_two_students_answer_and_the_tally_and_csv_a
     assert hall.app.rounds.current is None
     form.gui_tolerance.value = "0.2"
     panel.ask_from_form()
-    assert hall.app.rounds.current.question == question_from_dict(FLIP)
+    current = hall.app.rounds.current
+    assert current is not None and current.question == question_from_dict(FLIP)
     _frames_until(hall, lambda: alice.question.gui_number.visible and bob.question.gui_send_number.visible)
     assert alice.question.gui_number.label == "Your answer [s]" and not alice.question.gui_options[0].visible
     # Alice types 2.6 in her number box and presses Send my number (what her page sends).

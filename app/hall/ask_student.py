@@ -20,7 +20,7 @@ from __future__ import annotations
 from typing import Any
 
 from app.ask import Question, Rounds, Shown
-from app.hall.ask_kinds import PANELS, KindWidget, Student
+from app.hall.ask_kinds import PANELS, KindWidget, Student, direction_of
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 
 __all__ = ["CHANGE_LABEL", "AnswerPanel", "answer_words"]
@@ -73,7 +73,8 @@ class AnswerPanel:
     def direction(self) -> tuple[float, float, float]:
         """The direction the sliders (and the arrow) show now, a unit 3-vector in the space frame."""
         widget: Any = self.widgets["direction"]
-        return widget.direction()  # type: ignore[no-any-return]
+        azimuth, elevation = float(widget.gui_azimuth.value), float(widget.gui_elevation.value)
+        return direction_of(azimuth, elevation)
 
     def send(self, value: Any) -> None:
         """Answer `value`; the panel then shows the answer (a refusal is raised: the guard says it)."""
