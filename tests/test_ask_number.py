@@ -80,7 +80,9 @@ def test_a_number_is_right_within_its_tolerance_and_the_tally_is_a_histogram() -
     shown = question.tally_text(tally, revealed=True)
     assert "█" in hidden and "✓" not in hidden and "4 of 6" not in hidden
     assert "**4 of 6** within ±0.2 s of 2.5 s" in shown and "✓" in shown
-    assert sum(n for _, _, n in question.bins(tally.values)) == 6
+    bins = question.bins(tally.values)
+    assert len(bins) == 4 and sum(n for _, _, n in bins) == 6  # 1 + log2(6) bins, every answer in one
+    assert bins[0][:2] == (1.0, 1.6) and bins[-1][2] == 1  # 1.0 in the first, 3.4 alone in the last
     again = round_.vote_again()
     again.answer("t0", 2.5)
     assert "round 1: 6 answers" in question.tally_text(again.tally(), revealed=False)

@@ -439,14 +439,16 @@ class Number:
         """`value` in words with the unit: "2.5 s"."""
         return f"{value:.4g} {self.unit}".strip()
 
-    def bins(self, values: Sequence[float], count: int = 8) -> list[tuple[float, float, int]]:
-        """The answers' histogram: (low, high, answers) per bin, `count` bins of equal width from
-        the least to the greatest answer (one bin when they are all equal); [] without answers."""
+    def bins(self, values: Sequence[float], most: int = 8) -> list[tuple[float, float, int]]:
+        """The answers' histogram: (low, high, answers) per bin, bins of equal width from the least
+        to the greatest answer, 1 + log2(answers) of them (Sturges) but at most `most` and at most
+        the distinct answers; one bin when they are all equal; [] without answers."""
         if not values:
             return []
         low, high = min(values), max(values)
         if high - low <= 1e-12 * max(1.0, abs(low)):
             return [(low, high, len(values))]
+        count = max(2, min(most, len(set(values)), 1 + math.ceil(math.log2(len(values)))))
         width = (high - low) / count
         counts = [0] * count
         for value in values:
@@ -466,7 +468,7 @@ class Number:
             span = self.with_unit(low) if low == high else f"{low:.4g} … {self.with_unit(high)}"
             holds_right = self.value is not None and low - self.tolerance <= self.value <= high + self.tolerance
             mark = " ✓" if revealed and holds_right else ""
-            lines.append(f"{span}{mark}  \n`{bar or '·'}` **{n}**")
+            lines.append(f"{span}{mark} `{bar or '·'}` **{n}**")  # one line a bin
         if revealed and self.value is not None:
             right = sum(1 for v in tally.values if self.right(v))
             lines.append(f"**{right} of {tally.answered}** within ±{self.with_unit(self.tolerance)} "
