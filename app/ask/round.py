@@ -30,8 +30,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from app.ask.judges import Judged, judge
-from app.ask.questions import Choice, Direction, Question, State, question_from_dict
+from app.ask.judges import Judged
+from app.ask.questions import Question, question_from_dict
 
 __all__ = ["MAX_BROWSERS", "RATE", "Answer", "RateLimit", "Refused", "Round", "Tally", "new_token"]
 
@@ -99,6 +99,7 @@ class Tally:
         directions: a Direction's answers, unit 3-vectors in its frame, shape (answered, 3) as
             tuples, in no particular order; () otherwise.
         judged: a State's judged answers (None for an answer no judge judged); () otherwise.
+        values: a Number's answers (floats, in its unit), in no particular order; () otherwise.
         previous: the tally of the round before it (Vote again), or None.
     """
 
@@ -109,6 +110,7 @@ class Tally:
     counts: tuple[int, ...] = ()
     directions: tuple[tuple[float, float, float], ...] = ()
     judged: tuple[Judged | None, ...] = ()
+    values: tuple[float, ...] = ()
     previous: Tally | None = None
 
     def share(self, option: int) -> float:
@@ -165,7 +167,7 @@ class Round:
             raise Refused(f"too fast: at most {RATE} answers a second")
         try:
             value = self.question.check(value)
-            judged = judge(self.question, value) if isinstance(self.question, State) else None
+            judged = self.question.judged(value)
         except ValueError as error:  # a judge refuses a body it cannot judge (another scene's, ...)
             raise Refused(f"not an answer: {error}") from None
         with self._lock:
@@ -205,17 +207,8 @@ class Round:
             answers = list(self._answers.values())
             is_open = self.open
         previous = None if self.previous is None else self.previous.tally()
-        question = self.question
-        if isinstance(question, Choice):
-            counts = [0] * len(question.options)
-            for answer in answers:
-                counts[answer.value] += 1
-            return Tally(self.number, question, is_open, len(answers), counts=tuple(counts), previous=previous)
-        if isinstance(question, Direction):
-            return Tally(self.number, question, is_open, len(answers),
-                         directions=tuple(answer.value for answer in answers), previous=previous)
-        return Tally(self.number, question, is_open, len(answers),
-                     judged=tuple(answer.judged for answer in answers), previous=previous)
+        fields = self.question.tally_fields([a.value for a in answers], [a.judged for a in answers])
+        return Tally(self.number, self.question, is_open, len(answers), previous=previous, **fields)
 
     def vote_again(self) -> Round:
         """Close this round; the next round of the same question, with this one beside it."""
@@ -223,7 +216,7 @@ class Round:
         return Round(self.question, self.number + 1, previous=self, clock=self.clock, max_browsers=self.max_browsers)
 
     CSV_COLUMNS = ("round", "answer", "seconds", "option", "option_text", "x", "y", "z", "state", "judged",
-                   "judged_words")
+                   "judged_words", "value")
 
     def rows(self) -> list[dict[str, Any]]:
         """This round's answers as anonymous rows (CSV_COLUMNS; "answer" numbers them 1.. by time)."""
@@ -234,17 +227,7 @@ class Round:
         for k, answer in enumerate(answers, start=1):
             row: dict[str, Any] = dict.fromkeys(self.CSV_COLUMNS, "")
             row.update({"round": self.number, "answer": k, "seconds": f"{answer.at:.2f}"})
-            if isinstance(question, Choice):
-                row.update({"option": answer.value + 1, "option_text": question.options[answer.value]})
-            elif isinstance(question, Direction):
-                row.update(dict(zip("xyz", (f"{c:.4f}" for c in answer.value), strict=True)))
-            else:
-                row["state"] = " ".join(f"{key}={val:g}" if isinstance(val, float) else f"{key}={val}"
-                                        for key, val in answer.value.items())
-                if answer.judged is not None:
-                    value = answer.judged.value
-                    row.update({"judged": f"{value:g}" if isinstance(value, float) else value,
-                                "judged_words": answer.judged.words})
+            row.update(question.csv_row(answer.value, answer.judged))
             rows.append(row)
         return rows
 
@@ -258,9 +241,7 @@ class Round:
             here = here.previous
         out = io.StringIO()
         out.write(f"# {self.question.kind}: {self.question.prompt}\n")
-        if isinstance(self.question, Choice):
-            out.write("# options: " + " | ".join(f"{k + 1}. {o}" for k, o in enumerate(self.question.options))
-                      + ("" if self.question.correct is None else f" (correct: {self.question.correct + 1})") + "\n")
+        out.write(self.question.csv_head())
         writer = csv.DictWriter(out, fieldnames=self.CSV_COLUMNS, lineterminator="\n")
         writer.writeheader()
         for one in reversed(rounds):

@@ -13,70 +13,13 @@ and the gallery's entries of a round.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from typing import Any
 
 from app.ask.gallery import GalleryEntry
-from app.ask.judges import AnswerState, Judged
-from app.ask.round import Tally
+from app.ask.judges import AnswerState
+from app.ask.tally_text import BAR_CHARS, DEGREE_BINS_DEG, judged_histogram_text
 
 __all__ = ["BAR_CHARS", "DEGREE_BINS_DEG", "gallery_entries", "judged_histogram_text"]
-
-BAR_CHARS = 16  # the longest bar
-DEGREE_BINS_DEG = (0.0, 5.0, 10.0, 20.0, 45.0, 90.0, 180.0)  # bin edges [deg]; the last bin is closed
-
-
-def _bins(judged: Sequence[Judged | None]) -> tuple[list[str], dict[str, int]]:
-    """(labels in order, counts by label) of judged answers."""
-    values = [j.value for j in judged if j is not None]
-    if values and all(isinstance(v, float) for v in values):
-        unit = next((j.unit for j in judged if j is not None), "")
-        sign = "°" if unit == "deg" else f" {unit}" if unit else ""
-        labels = [f"{lo:g}–{hi:g}{sign}" for lo, hi in zip(DEGREE_BINS_DEG, DEGREE_BINS_DEG[1:], strict=False)]
-        counts = dict.fromkeys(labels, 0)
-        for value in values:
-            assert isinstance(value, float)
-            k = next((i for i, hi in enumerate(DEGREE_BINS_DEG[1:]) if value < hi), len(labels) - 1)
-            counts[labels[k]] += 1
-        return labels, counts
-    labels = []
-    counts = {}
-    for value in values:
-        label = str(value)
-        if label not in counts:
-            labels.append(label)
-            counts[label] = 0
-        counts[label] += 1
-    return labels, counts
-
-
-def judged_histogram_text(tally: Tally) -> str:
-    """The judged quantity's distribution (Markdown; module docstring); "" with no judged answer."""
-    judged = tally.judged
-    labels, counts = _bins(judged)
-    previous_counts: dict[str, int] = {}
-    if tally.previous is not None:
-        previous_labels, previous_counts = _bins(tally.previous.judged)
-        labels += [label for label in previous_labels if label not in labels]
-    if not labels:
-        return "" if not tally.answered else f"{tally.answered} states sent (none judged)"
-    top = max((*counts.values(), *previous_counts.values()), default=0)
-    lines = []
-    for label in labels:
-        count = counts.get(label, 0)
-        bar = "█" * (round(BAR_CHARS * count / top) if top else 0)
-        line = f"{label} `{bar or '·'}` **{count}**"  # one line a bin: the gallery stays in view
-        if tally.previous is not None:
-            line += f" · round {tally.previous.number}: {previous_counts.get(label, 0)}"
-        lines.append(line)
-    said = [j for j in judged if j is not None and j.good is not None]
-    if said:
-        good = sum(1 for j in said if j.good)
-        lines.append(f"✓ **{good}** of {len(said)} meet the target")
-    unjudged = sum(1 for j in judged if j is None)
-    if unjudged:
-        lines.append(f"{unjudged} not judged")
-    return "  \n".join(lines)
 
 
 def gallery_entries(round_: Any) -> tuple[GalleryEntry, ...]:

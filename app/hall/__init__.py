@@ -9,8 +9,10 @@
   presenting, Pointer, Call everyone back; an explorer's "Lecture on", Follow presenter, Stay)
   and the Lecture folder (Present, the presenter code, the pointer's label).
 - `app.hall.narrow`: a narrow explorer's panel folded to one status line and `Details`.
-- `app.hall.ask`: Ask the class: the presenter's folder (the question, the live count, the
-  histogram, the sphere of directions) and a student's question over the follower's panel.
+- `app.hall.ask`: Ask the class, its names in one place: `app.hall.ask_presenter` the
+  presenter's folder (the form, the live count, the kind's tally, the sphere of directions, a
+  state round's gallery), `app.hall.ask_student` a student's question over the follower's
+  panel, `app.hall.ask_kinds` each question kind's form fields and student widget (`PANELS`).
 
 Each part builds its own widgets and wires its own callbacks through the session's guard; it is
 handed what it acts on (callables, or the session through a small protocol), and never imports

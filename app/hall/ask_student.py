@@ -1,0 +1,137 @@
+"""Ask the class, a student's side (`AnswerPanel`, every browser but the presenter's).
+
+While a round is open, the question and its controls sit at the top of the panel and the
+follower's panel is folded away until the student answers.  The controls are the kind's widget
+(`app.hall.ask_kinds`): a choice is one button per option, a direction an arrow turned by a
+gizmo (a laptop) or by two sliders, azimuth and elevation (a phone), then `Send my direction`; a
+state is `Answer from my copy` (an exact copy of the presenter's room to work in, `Explore`) then
+`Send my state`; a number a number box then `Send my number`.  Answered, the panel says the
+answer (`QuestionKind.answer_words`) and offers `Change my answer` until the round closes.  The
+arrow and its gizmo are in the student's own scene: no other browser sees or moves them.
+
+Everything a student sends goes through `Student.answer` (the session: its anonymous token, the
+app's `Rounds`), where the round's rules hold (`app.ask.round`): a refused answer is said in the
+student's panel and changes nothing.  The panel refreshes from the app loop (`refresh`), writing
+only what changed.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from app.ask import Question, Rounds, Shown
+from app.hall.ask_kinds import PANELS, KindWidget, Student, direction_of
+from app.kit.core.common import Wrap, show_if_changed, write_if_changed
+
+__all__ = ["CHANGE_LABEL", "AnswerPanel", "answer_words"]
+
+CHANGE_LABEL = "Change my answer"
+
+
+def answer_words(question: Question, value: Any) -> str:
+    """A student's own answer in words (Markdown, `QuestionKind.answer_words`)."""
+    return question.answer_words(value)
+
+
+class AnswerPanel:
+    """A student's question: at the top of the panel while a round is shown (module docstring).
+
+    Args:
+        student: the browser's session.  guard: its guard.  rounds: the app's `Rounds`.
+        order: the folder's place (above the follower's panel).
+    """
+
+    def __init__(self, student: Student, guard: Wrap, rounds: Rounds, *, order: float) -> None:
+        self.student = student
+        self.rounds = rounds
+        self.active = True  # False while the browser presents (its own questions are not for it)
+        self.editing = True  # the controls are shown (before an answer, or after Change my answer)
+        self.drawn: tuple[Any, ...] = ()
+        self._round_id: str | None = None  # the round the panel last showed (None: none)
+        self._mine_seen = ""  # repr of this browser's answer when the panel last looked
+        gui: Any = student.client.gui
+        self.folder = gui.add_folder("Question", order=order, visible=False)
+        with self.folder:
+            self.gui_prompt = gui.add_markdown("")
+            self.widgets: dict[str, KindWidget] = {
+                kind: panels.widget(gui, guard, student, self.send, self._redraw) for kind, panels in PANELS.items()}
+            self.gui_mine = gui.add_markdown("", visible=False)
+            self.gui_change = gui.add_button(CHANGE_LABEL, visible=False, hint="until the round closes")
+        self.gui_change.on_click(guard("change my answer", lambda _e: self._edit()))
+        self._alias_widgets()
+
+    def _alias_widgets(self) -> None:
+        """The kinds' controls under their old names (tests read them)."""
+        widgets: Any = self.widgets
+        self.gui_options = widgets["choice"].gui_options
+        direction = widgets["direction"]
+        self.gui_azimuth, self.gui_elevation = direction.gui_azimuth, direction.gui_elevation
+        self.gui_send_direction = direction.gui_send_direction
+        self.gui_from_copy, self.gui_send_state = widgets["state"].gui_from_copy, widgets["state"].gui_send_state
+        self.gui_number, self.gui_send_number = widgets["number"].gui_number, widgets["number"].gui_send_number
+
+    def direction(self) -> tuple[float, float, float]:
+        """The direction the sliders (and the arrow) show now, a unit 3-vector in the space frame."""
+        widget: Any = self.widgets["direction"]
+        azimuth, elevation = float(widget.gui_azimuth.value), float(widget.gui_elevation.value)
+        return direction_of(azimuth, elevation)
+
+    def send(self, value: Any) -> None:
+        """Answer `value`; the panel then shows the answer (a refusal is raised: the guard says it)."""
+        self.student.answer(value)
+        self.editing = False
+        self.drawn = ()
+        self.refresh()
+
+    def _edit(self) -> None:
+        self.editing = True
+        self.drawn = ()
+        self.refresh()
+
+    def _redraw(self) -> None:
+        self.drawn = ()
+        self.refresh()
+
+    def refresh(self) -> None:
+        """Show the round the class is asked now (or nothing), the controls or this browser's answer."""
+        shown: Shown | None = self.rounds.shown() if self.active else None
+        mine = self.student.my_answer() if shown is not None else None
+        key = (None if shown is None else (shown.id, shown.open), self.editing, mine is None,
+               repr(mine), getattr(self.student, "mode", None))
+        if key == self.drawn:
+            return
+        self.drawn = key
+        if shown is None:
+            show_if_changed(self.folder, False)
+            for widget in self.widgets.values():
+                widget.show(None, False)
+            self.student.folded_for_question(False)
+            self.editing, self._round_id = True, None
+            return
+        question = shown.question
+        if shown.id != self._round_id:  # a round (re)appears: its controls only if not answered yet
+            self.editing, self._round_id = mine is None, shown.id
+        elif mine is not None and repr(mine) != self._mine_seen:  # a new answer kept (any way in): shown
+            self.editing = False
+        self._mine_seen = repr(mine)
+        if mine is None:
+            self.editing = True
+        controls = shown.open and self.editing
+        head = f"**Question {shown.number}** · {question.prompt}"
+        if not shown.open:
+            head += "  \n*The round is closed.*"
+        write_if_changed(self.gui_prompt, head)
+        show_if_changed(self.folder, True)
+        for kind, widget in self.widgets.items():
+            widget.show(question if kind == question.kind else None, controls)
+        show_if_changed(self.gui_mine, mine is not None)
+        if mine is not None:
+            write_if_changed(self.gui_mine, f"Your answer: {question.answer_words(mine)}"
+                   + (" · you can change it until the round closes." if shown.open else ""))
+        show_if_changed(self.gui_change, mine is not None and shown.open and not self.editing)
+        self.student.folded_for_question(shown.open and mine is None)
+
+    def remove(self) -> None:
+        for widget in self.widgets.values():
+            widget.remove()
+        self.folder.remove()
