@@ -15,6 +15,7 @@ import pytest
 from app.lectern import Mode
 from app.main import App, create_server, tune_collector
 from app.session import Session
+from app.sweep import Sweep
 from tests.conftest import RawClient
 
 CODE = "271828"
@@ -97,3 +98,34 @@ def test_browsers_that_followed_and_left_leave_no_session_and_no_entry(served: A
         assert app.sweep.passes >= 1
     finally:
         presenter_client.close()
+
+
+def test_a_sweep_runs_only_after_a_departure_and_at_most_as_often_as_its_cost_allows() -> None:
+    now = [100.0]
+    took = [0.0]
+
+    def collect() -> int:
+        now[0] += took[0]
+        return 0
+
+    sweep = Sweep(min_interval_s=5.0, cost_factor=50.0, clock=lambda: now[0], collect=collect)
+    assert not sweep.run_if_due(), "nobody left: no pass"
+    sweep.left()
+    took[0] = 0.25  # a pass of 0.25 s: the next one not before 50 x 0.25 = 12.5 s after it
+    assert sweep.run_if_due() and sweep.passes == 1 and sweep.owed == 0
+    sweep.left()
+    now[0] += 12.0
+    assert not sweep.run_if_due(), "12 s after a 0.25 s pass: too soon"
+    now[0] += 0.5
+    took[0] = 0.0625
+    assert sweep.run_if_due() and sweep.passes == 2
+    now[0] += 20.0
+    assert not sweep.run_if_due(), "nobody left since the last pass"
+    sweep.left()
+    assert sweep.run_if_due() and sweep.passes == 3, "a departure long after the last pass: at once"
+    sweep.left()
+    now[0] += 4.5
+    assert not sweep.run_if_due(), "4.5 s after a 0.0625 s pass: within the minimum interval"
+    now[0] += 0.5
+    assert sweep.run_if_due() and sweep.passes == 4
+    assert sweep.longest == 0.25 and sweep.seconds == 0.4375
