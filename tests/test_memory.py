@@ -96,6 +96,7 @@ def test_browsers_that_followed_and_left_leave_no_session_and_no_entry(served: A
                  lambda: f"{sessions_in_memory()} Session objects in memory, {app.sweep.passes} sweeps, "
                          f"{app.sweep.owed} browsers owed one; {kept_by(presenter)}")
         assert app.sweep.passes >= 1
+        print(f"sweeps: {app.sweep.passes}, longest {app.sweep.longest * 1e3:.0f} ms")
     finally:
         presenter_client.close()
 
