@@ -940,6 +940,20 @@ class Lectern:
         with contextlib.suppress(Exception):
             self.gate.close()
 
+    def forget(self, client_id: int) -> None:
+        """The browser `client_id` left (its session closed): drop what the lectern kept under its
+        id (wrong codes, refusals, refusal note, call back, camera heard, following).  Client
+        ids are never reused, so nothing of it is needed again."""
+        with self._lock:
+            self._tries.pop(client_id, None)
+            self._refused.pop(client_id, None)
+            self._hall_wait.pop(client_id, None)
+            self._refusal_watchers.pop(client_id, None)
+            self._called.pop(client_id, None)
+            self._watched.discard(client_id)
+            if self._followers.pop(client_id, None) is not None:
+                self._follower_screens = None
+
     def point(self, seat: Seat, ray_origin: Any, ray_direction: Any, label: str = "") -> np.ndarray:
         """The presenter points: a marker where its click's ray passes nearest its camera's
         look-at point (`pointed_at`), for every follower.  PermissionError for anyone else,

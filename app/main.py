@@ -40,6 +40,7 @@ from app.scenes import SCENES, check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.sharestore import ShareStore, open_share_store
+from app.sweep import Sweep
 from app.theme import configure_scene
 from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals
@@ -130,6 +131,8 @@ class App:
         self._wake = threading.Event()  # the next frame now (stop; the bus: a presenter's frame from another process)
         if self.bus is not None:
             self.bus.wake = self._wake
+        self.sweep = Sweep()
+        """Full collections for browsers that left (`app.sweep`): what a browser held ends with it."""
         self._thread = threading.Thread(target=self._run_loop, name="app-tick-loop", daemon=True)
         server.on_client_connect(self._on_client_connect)
         server.on_client_disconnect(self._on_client_disconnect)
@@ -171,6 +174,8 @@ class App:
             self._sessions_changed.notify_all()
         if session is not None:
             session.close()
+        self.lectern.forget(client.client_id)
+        self.sweep.left()
         logger.info("client %d: session ended (%d open)", client.client_id, len(self.sessions))
 
     def wait_for_sessions(self, count: int, timeout: float = 10.0) -> dict[int, Session]:
@@ -208,6 +213,7 @@ class App:
         pacer = FramePacer(self.tick_hz, sleep=self._stop.wait, wake=self._wake)
         window = (time.monotonic(), 0, 0, 0)  # start, frames, drawn, skipped at the start
         while not self._stop.is_set():
+            self.sweep.run_if_due()  # between frames: what browsers that left held
             drawn = self.frame(min(pacer.begin(), MAX_TICK_DT), pacer)
             self.pacer_stats = stats = pacer.stats
             now = time.monotonic()

@@ -3,16 +3,19 @@
 The app runs in a subprocess (`load_clients.py --serve`).  One presenter types the code,
 presses Present, picks the free body's Dzhanibekov preset and presses Play.  `--browsers`
 followers join; every `--churn` seconds the oldest one leaves and a new one joins (a class
-coming and going).  Every 10 s the server's resident memory is sampled.  At the end: memory
-after the first minute ("settled") and at the end, the largest growth after the first minute,
-the frames a follower that stayed all along received per second, and the errors the server
-logged (ERROR or Traceback lines in its log).
+coming and going).  Every 10 s the server's resident memory is sampled (with `--workers N`:
+N workers behind nginx with the lecture's Redis bus, `benchmarks/cluster_load.Cluster`, each
+worker's memory), and printed once a minute as the run goes.  At the end: memory after the
+first minute ("settled"), after 10 minutes and at the end, the frames a follower that stayed all
+along received per second, and the errors the server (every worker) logged (ERROR or Traceback
+lines in its log).
 
     python benchmarks/soak.py                      # an hour, 20 browsers (the issue's soak)
+    python benchmarks/soak.py --workers 2          # the same, two workers
     python benchmarks/soak.py --minutes 2 --hostile   # the version tests/test_soak.py runs
 
-Target (lecture-hall issue): memory at the end within 10 MiB of where it settled after the
-first minute; no error logged.
+Target (lecture-hall issues): memory at the end within 10 MiB of where it settled after the
+first minute (issue 34: of where it stands after 10 minutes), on each process; no error logged.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ import dataclasses
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
@@ -43,27 +47,57 @@ __all__ = ["SoakResult", "main", "run_soak"]
 SAMPLE_PERIOD = 10.0  # [s] between memory samples
 
 
+def rss_at(samples: list[tuple[float, float]], seconds: float) -> float:
+    """The first sample at or after `seconds` [s] (the last one if none) [MiB]."""
+    return next((rss for t, rss in samples if t >= seconds), samples[-1][1])
+
+
 @dataclasses.dataclass
 class SoakResult:
     minutes: float
     browsers: int
     joins: int
-    rss_mib: list[tuple[float, float]]  # (seconds since start, VmRSS [MiB])
+    rss_mib: list[tuple[float, float]]  # (seconds since start, VmRSS [MiB]) of the first process
     settled_mib: float  # the first sample at or after one minute
     end_mib: float
     steady_fps: float  # frames/s received by a follower that stayed all along
     errors: list[str]
+    processes: dict[str, list[tuple[float, float]]] = dataclasses.field(default_factory=dict)
+    """Every process's samples by name ("server", or "worker 1", "worker 2", ...)."""
 
     @property
     def growth_mib(self) -> float:
-        """End memory minus the settled memory [MiB]."""
-        return self.end_mib - self.settled_mib
+        """End memory minus the settled memory [MiB], the largest over the processes."""
+        return max((s[-1][1] - rss_at(s, 60.0) for s in self.processes.values()),
+                   default=self.end_mib - self.settled_mib)
+
+    def growth_after_mib(self, minutes: float) -> dict[str, float]:
+        """End memory minus memory after `minutes` [MiB], by process."""
+        return {name: s[-1][1] - rss_at(s, 60.0 * minutes) for name, s in self.processes.items()}
+
+    def minute_lines(self, every: int = 10) -> list[str]:
+        """RSS after 1 minute, every `every` minutes and at the end, one line per process."""
+        marks = sorted({1, *range(every, int(self.minutes) + 1, every)})
+        return [f"{name}: RSS [MiB] " + ", ".join(f"{m} min {rss_at(s, 60.0 * m):.1f}" for m in marks)
+                + f", end {s[-1][1]:.1f}" for name, s in self.processes.items()]
 
     def summary(self) -> str:
         return (f"{self.minutes:g} min, {self.browsers} browsers, {self.joins} joins: RSS settled "
                 f"{self.settled_mib:.1f} MiB after 1 min, {self.end_mib:.1f} MiB at the end "
-                f"({self.growth_mib:+.1f} MiB); a follower that stayed got {self.steady_fps:.1f} fps; "
+                f"({self.growth_mib:+.1f} MiB, the most of {len(self.processes) or 1} process(es)); "
+                f"a follower that stayed got {self.steady_fps:.1f} fps; "
                 f"{len(self.errors)} error line(s) logged")
+
+
+@dataclasses.dataclass
+class Target:
+    """What the soak runs against: the port browsers connect to, the presenter code, the pids
+    whose memory is sampled by name, and `log()` (everything the processes logged)."""
+
+    port: int
+    code: str
+    pids: dict[str, int]
+    log: Any
 
 
 async def _hostile(port: int, stop: asyncio.Event) -> None:
@@ -91,11 +125,16 @@ async def _hostile(port: int, stop: asyncio.Event) -> None:
         await silent.close()
 
 
-async def _soak(server: ServerProcess, minutes: float, browsers: int, churn: float,
+def _sample(target: Target, samples: dict[str, list[tuple[float, float]]], seconds: float) -> None:
+    for name, pid in target.pids.items():
+        samples[name].append((seconds, sample_process(pid).rss_mib))
+
+
+async def _soak(target: Target, minutes: float, browsers: int, churn: float,
                 hostile: bool = False) -> SoakResult:
-    presenter = await AsyncViserClient.connect(server.port, keep_messages=100)
+    presenter = await AsyncViserClient.connect(target.port, keep_messages=100)
     await presenter.wait_for_label("Presenter code", 30.0)
-    await presenter.set_value("Presenter code", PRESENTER_CODE)
+    await presenter.set_value("Presenter code", target.code)
     await asyncio.sleep(0.2)
     await presenter.click("Present")
     await asyncio.sleep(0.5)
@@ -103,20 +142,21 @@ async def _soak(server: ServerProcess, minutes: float, browsers: int, churn: flo
     presenter.state.count_only = True
 
     async def join() -> AsyncViserClient:
-        client = await AsyncViserClient.connect(server.port, keep_messages=20)
+        client = await AsyncViserClient.connect(target.port, keep_messages=20)
         await client.wait_for(lambda: client.state.replay_done, 60.0)
         client.state.count_only = True
         return client
 
     stop = asyncio.Event()
-    hostiles = asyncio.create_task(_hostile(server.port, stop)) if hostile else None
+    hostiles = asyncio.create_task(_hostile(target.port, stop)) if hostile else None
     steady = await join()
     crowd: collections.deque[AsyncViserClient] = collections.deque([await join() for _ in range(browsers - 1)])
     joins = browsers
     start = time.monotonic()
     frames0 = steady.state.frames
-    samples: list[tuple[float, float]] = [(0.0, sample_process(server.pid).rss_mib)]
-    next_sample, next_churn = start + SAMPLE_PERIOD, start + churn
+    samples: dict[str, list[tuple[float, float]]] = {name: [] for name in target.pids}
+    _sample(target, samples, 0.0)
+    next_sample, next_churn, next_minute = start + SAMPLE_PERIOD, start + churn, 1
     end = start + 60.0 * minutes
     try:
         while (now := time.monotonic()) < end:
@@ -126,30 +166,53 @@ async def _soak(server: ServerProcess, minutes: float, browsers: int, churn: flo
                 joins += 1
                 next_churn += churn
             if now >= next_sample:
-                samples.append((now - start, sample_process(server.pid).rss_mib))
+                _sample(target, samples, now - start)
                 next_sample += SAMPLE_PERIOD
+                if now - start >= 60.0 * next_minute:
+                    print(f"minute {next_minute} ({joins} joins): RSS [MiB] " + ", ".join(
+                        f"{name} {s[-1][1]:.1f}" for name, s in samples.items()), flush=True)
+                    next_minute += 1
             await asyncio.sleep(0.05)
-        samples.append((time.monotonic() - start, sample_process(server.pid).rss_mib))
+        _sample(target, samples, time.monotonic() - start)
         fps = (steady.state.frames - frames0) / (time.monotonic() - start)
     finally:
         stop.set()
         if hostiles is not None:
             await asyncio.gather(hostiles, return_exceptions=True)
         await asyncio.gather(*(c.close() for c in [presenter, steady, *crowd]), return_exceptions=True)
-    settled = next((rss for t, rss in samples if t >= 60.0), samples[-1][1])
-    log = server.log_tail(1_000_000)
-    errors = [line for line in log.splitlines() if "ERROR" in line or "Traceback" in line]
-    return SoakResult(minutes, browsers, joins, samples, settled, samples[-1][1], fps, errors)
+    first = next(iter(samples.values()))
+    errors = [line for line in target.log().splitlines() if "ERROR" in line or "Traceback" in line]
+    return SoakResult(minutes, browsers, joins, first, rss_at(first, 60.0), first[-1][1], fps, errors,
+                      samples)
 
 
-def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, hostile: bool = False
-             ) -> SoakResult:
-    """Run the soak (see the module docstring) against a fresh server subprocess."""
-    if minutes <= 0 or browsers < 1 or churn <= 0:
-        raise ValueError("need minutes > 0, browsers >= 1, churn > 0")
-    server = ServerProcess(max_lifetime=60.0 * minutes + 120.0)
+def _worker_log(worker: Any) -> str:
+    worker._log.seek(0)
+    return str(worker._log.read())
+
+
+def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, hostile: bool = False,
+             workers: int = 0) -> SoakResult:
+    """Run the soak (see the module docstring) against a fresh server subprocess (`workers` 0),
+    or `workers` worker processes behind nginx with the lecture's Redis bus."""
+    if minutes <= 0 or browsers < 1 or churn <= 0 or workers < 0:
+        raise ValueError("need minutes > 0, browsers >= 1, churn > 0, workers >= 0")
+    lifetime = 60.0 * minutes + 120.0
+    if workers:
+        from benchmarks.cluster_load import WORKER_CODE, Cluster
+
+        cluster = Cluster(workers, lifetime, bus=True)
+        try:
+            target = Target(cluster.port, WORKER_CODE,
+                            {f"worker {i + 1}": w.pid for i, w in enumerate(cluster.workers)},
+                            lambda: "\n".join(_worker_log(w) for w in cluster.workers))
+            return run_async(_soak(target, minutes, browsers, churn, hostile))
+        finally:
+            cluster.stop()
+    server = ServerProcess(max_lifetime=lifetime)
     try:
-        return run_async(_soak(server, minutes, browsers, churn, hostile))
+        target = Target(server.port, PRESENTER_CODE, {"server": server.pid}, lambda: server.log_tail(1_000_000))
+        return run_async(_soak(target, minutes, browsers, churn, hostile))
     finally:
         server.stop()
 
@@ -159,12 +222,20 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--minutes", type=float, default=60.0)
     parser.add_argument("--browsers", type=int, default=20)
     parser.add_argument("--churn", type=float, default=3.0, help="seconds between a leave and a join")
+    parser.add_argument("--workers", type=int, default=0,
+                        help="N worker processes behind nginx with the Redis bus (0: one process)")
     parser.add_argument("--hostile", action="store_true",
                         help="add a browser that never reads, one that guesses codes, one that sends foreign updates")
     args = parser.parse_args(argv)
-    result = run_soak(args.minutes, args.browsers, args.churn, args.hostile)
+    result = run_soak(args.minutes, args.browsers, args.churn, args.hostile, args.workers)
     print(result.summary())
-    print("RSS [MiB] every 10 s: " + " ".join(f"{rss:.0f}" for _, rss in result.rss_mib))
+    for line in result.minute_lines():
+        print(line)
+    if args.minutes > 10:
+        print("end - 10 min [MiB]: " + ", ".join(f"{name} {growth:+.1f}"
+                                                for name, growth in result.growth_after_mib(10.0).items()))
+    for name, samples in result.processes.items():
+        print(f"{name}: RSS [MiB] every 10 s: " + " ".join(f"{rss:.0f}" for _, rss in samples))
     for line in result.errors[:10]:
         print("logged:", line)
 
