@@ -218,8 +218,9 @@ def test_the_phones_screen_moves_with_the_camera_the_lectern_sends_it(hall: Lect
     try:
         poll_until(sent, timeout=20.0, interval=0.005)
     except AssertionError:
-        raise AssertionError(f"the lectern did not send the presenter's camera {tuple(presenter.client.camera.position)}"
-                             f" to the phone within 20 s: it stayed at {tuple(phone.client.camera.position)}") from None
+        turned, stayed = tuple(presenter.client.camera.position), tuple(phone.client.camera.position)
+        raise AssertionError(f"the lectern did not send the presenter's camera {turned} to the phone "
+                             f"within 20 s: it stayed at {stayed}") from None
     now = hall.app.lectern.follower_screens()[0].view.position
     assert np.allclose(now, phone.client.camera.position, atol=1e-9), (now, phone.client.camera.position, before)
 

@@ -21,7 +21,8 @@ for the lecture) and makes a remote follower's scene the same messages a local f
 - The hall's state (the followers' status and its one line, the caption, the scene's title) goes
   as a small dict every FOLLOW_PERIOD, the presenter's camera (with its aspect, so each
   follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
-  moved, and again after a resync (a process that came late has never heard it); a "call_back" when the presenter calls everyone back.  Another process shows it as a
+  moved, and again after a resync (a process that came late has never heard it); a "call_back"
+  when the presenter calls everyone back.  Another process shows it as a
   `app.lectern.RemoteShow` (its `Lectern` then has a live show without a local room).
 - The presenter's open plot tab (`Lectern.room_plot`: uPlot charts as float32 columns and their
   properties, Markdown) goes when it changed, at most every MIRROR_PERIOD and at least every
