@@ -137,13 +137,13 @@ def _same(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
-def _wait_for_cameras(presenter: Any, followers: list[Any], timeout: float = 10.0) -> None:
-    """Wait until every follower's camera looks at what the presenter's does (the lectern's
-    `send_camera`, through the bus on another worker); the failure names who does not."""
+def _wait_for_cameras(presenter: Any, followers: dict[str, Any], timeout: float = 10.0) -> None:
+    """Wait until every follower's camera (by its worker) looks at what the presenter's does (the
+    lectern's `send_camera`, through the bus on another worker); the failure names who does not."""
     look_at = np.asarray(presenter.client.camera.look_at, float)
-    away = lambda: [(f.client_id, tuple(f.client.camera.look_at)) for f in followers  # noqa: E731
+    away = lambda: [(worker, [float(x) for x in f.client.camera.look_at]) for worker, f in followers.items()  # noqa: E731
                     if not np.allclose(f.client.camera.look_at, look_at, atol=1e-6)]
-    _poll(lambda: not away(), lambda: f"every follower's camera looking at the presenter's {tuple(look_at)}; "
+    _poll(lambda: not away(), lambda: f"every follower's camera looking at the presenter's {look_at.tolist()}; "
           f"not: {away()}", timeout)
 
 
@@ -190,7 +190,7 @@ def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -
     poll_until(lambda: a.lectern.total_audience() == (3, 0), timeout=10.0)
     # The camera: the presenter's view reaches every follower, also C's (a worker that came after
     # it was last sent), and the shared labels are then laid out for that view only.
-    _wait_for_cameras(presenter, [follower_a, follower_b, follower_c])
+    _wait_for_cameras(presenter, {"A": follower_a, "B": follower_b, "C": follower_c})
     views = lambda: {s.view for s in a.lectern.label_screens()}  # noqa: E731
     _poll(lambda: views() == {screen_of(presenter.client.camera).view},
           lambda: f"the shared labels laid out for the presenter's view only; they are for {views()}")
