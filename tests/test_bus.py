@@ -32,6 +32,7 @@ from test_wire import SceneMirror, _array, _settled
 from app.cluster import services
 from app.cluster.bus import BusError, cull, decode_batch, encode_batch
 from app.hall.follower import Hall
+from app.kit.draw.screen import screen_of
 from app.lectern import LIVE_ROOT
 from app.main import App, create_server
 from benchmarks.ws_client import ViserClient
@@ -136,6 +137,24 @@ def _same(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
+def _wait_for_cameras(presenter: Any, followers: dict[str, Any], timeout: float = 10.0) -> None:
+    """Wait until every follower's camera (by its worker) looks at what the presenter's does (the
+    lectern's `send_camera`, through the bus on another worker); the failure names who does not."""
+    look_at = np.asarray(presenter.client.camera.look_at, float)
+    away = lambda: [(worker, [float(x) for x in f.client.camera.look_at]) for worker, f in followers.items()  # noqa: E731
+                    if not np.allclose(f.client.camera.look_at, look_at, atol=1e-6)]
+    _poll(lambda: not away(), lambda: f"every follower's camera looking at the presenter's {look_at.tolist()}; "
+          f"not: {away()}", timeout)
+
+
+def _poll(predicate: Any, message: Any, timeout: float = 10.0) -> None:
+    """poll_until, its failure saying `message()`: what it waited for and what it saw."""
+    try:
+        poll_until(predicate, timeout=timeout, interval=0.05)
+    except AssertionError:
+        raise AssertionError(f"after {timeout} s: {message()}") from None
+
+
 def _scene_differences(a: SceneMirror, b: SceneMirror) -> list[str]:
     _settled(a)
     _settled(b)
@@ -165,15 +184,20 @@ def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -
     except AssertionError:
         raise AssertionError(_scene_differences(mirror_a, mirror_c)[:8]) from None
     assert len(_live_nodes(mirror_b)) > 20  # the body, its axes, ω, L, the labels ...
-    shown = [node.get("text") for node in _live_nodes(mirror_b).values() if node.get("visible") and "text" in node]
-    assert "ω" in shown and "L" in shown, shown
     # Their panels say the same; the presenter's badge counts every worker's followers.
     poll_until(lambda: b.lectern.status() == a.lectern.status() == c.lectern.status(), timeout=10.0)
     assert "Free body" in b.lectern.status() and b.lectern.hall is Hall.LIVE
     poll_until(lambda: a.lectern.total_audience() == (3, 0), timeout=10.0)
-    # The camera: the presenter's viewing direction reaches B's follower.
-    look_at = np.asarray(presenter.client.camera.look_at, float)
-    poll_until(lambda: np.allclose(follower_b.client.camera.look_at, look_at, atol=1e-6), timeout=10.0)
+    # The camera: the presenter's view reaches every follower, also C's (a worker that came after
+    # it was last sent), and the shared labels are then laid out for that view only.
+    _wait_for_cameras(presenter, {"A": follower_a, "B": follower_b, "C": follower_c})
+    views = lambda: {s.view for s in a.lectern.label_screens()}  # noqa: E731
+    _poll(lambda: views() == {screen_of(presenter.client.camera).view},
+          lambda: f"the shared labels laid out for the presenter's view only; they are for {views()}")
+    poll_until(lambda: not _scene_differences(mirror_a, mirror_b), timeout=10.0, interval=0.1)
+    shown = lambda: [node.get("text") for node in _live_nodes(mirror_b).values()  # noqa: E731
+                     if node.get("visible") and "text" in node]
+    _poll(lambda: "ω" in shown() and "L" in shown(), lambda: f"ω and L shown on B's follower; shown: {shown()}")
     # The bus: a scene batch once a frame, small, and fast enough.
     assert a.bus.published_batches > 10 and a.bus.published_bytes / a.bus.published_batches < 20_000
     assert b.bus.delays and float(np.median(b.bus.delays)) < 0.25

@@ -21,7 +21,8 @@ for the lecture) and makes a remote follower's scene the same messages a local f
 - The hall's state (the followers' status and its one line, the caption, the scene's title) goes
   as a small dict every FOLLOW_PERIOD, the presenter's camera (with its aspect, so each
   follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
-  moved; a "call_back" when the presenter calls everyone back.  Another process shows it as a
+  moved, and again after a resync (a process that came late has never heard it); a "call_back"
+  when the presenter calls everyone back.  Another process shows it as a
   `app.lectern.RemoteShow` (its `Lectern` then has a live show without a local room).
 - The presenter's open plot tab (`Lectern.room_plot`: uPlot charts as float32 columns and their
   properties, Markdown) goes when it changed, at most every MIRROR_PERIOD and at least every
@@ -562,7 +563,8 @@ class Bus:
                 self._publish(CHANNEL, {"k": "call_back", "w": self.worker_id})
         if self.source:
             if self._resync_for:
-                self._plot_sent = None  # a worker out of step gets the plot too
+                self._plot_sent = None  # a worker out of step gets the plot too,
+                self._camera_sent = None  # and the camera (sent only when it moved): its followers' view
             self._send_scene(batch)
             self._since_plot += dt
             if lectern.presenter is not None and self._since_plot >= MIRROR_PERIOD:
