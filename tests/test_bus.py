@@ -194,7 +194,8 @@ def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -
     views = lambda: {s.view for s in a.lectern.label_screens()}  # noqa: E731
     _poll(lambda: views() == {screen_of(presenter.client.camera).view},
           lambda: f"the shared labels laid out for the presenter's view only; they are for {views()}")
-    poll_until(lambda: not _scene_differences(mirror_a, mirror_b), timeout=10.0, interval=0.1)
+    _poll(lambda: not _scene_differences(mirror_a, mirror_b),
+          lambda: f"B's scene equal to A's; differences: {_scene_differences(mirror_a, mirror_b)[:8]}", 30.0)
     shown = lambda: [node.get("text") for node in _live_nodes(mirror_b).values()  # noqa: E731
                      if node.get("visible") and "text" in node]
     _poll(lambda: "ω" in shown() and "L" in shown(), lambda: f"ω and L shown on B's follower; shown: {shown()}")
