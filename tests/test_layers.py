@@ -23,7 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 # layer where the pair is listed in SAME_LAYER_OK).
 LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
-    "app.data": 0, "app.userdata": 0, "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0, "app.cluster": 0,
+    "app.data": 0, "app.userdata": 0, "app.sweep": 0,
+    "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0, "app.cluster": 0,
     "app.ask": 0.5,  # questions to the class: the model (no viser)
     # the kit's rooms: core <- panel, draw (neither imports the other) <- view <- rigid
     "app.kit": 1.0, "app.kit.core": 1.0, "app.kit.panel": 1.2, "app.kit.draw": 1.2, "app.kit.view": 1.4,
