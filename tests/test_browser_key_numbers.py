@@ -98,8 +98,16 @@ def test_followers_key_numbers_move_while_the_presenter_shows_the_energy_tab(  #
         R = presenter.room.sim.state.R_space_body.copy()
         t_paused = presenter.room.sim.t
     phi_state = ANGLE_SPECS[0].rounded(wrap_deg(math.degrees(float(np.asarray(euler_zxz_from_matrix(R))[0]))))
-    wait_until(lambda: (_reading(follower_page, follower) or (None, None))[0] == round(t_paused, 1), timeout=30.0)
-    shown = _reading(follower_page, follower)
-    assert shown is not None and abs((shown[1] - phi_state + 180.0) % 360.0 - 180.0) <= ANGLE_SPECS[0].step, \
-        (shown, phi_state, t_paused)
+    # A reading of the same rounded t may still be one made a few ms before the pause (φ runs at
+    # ~60°/s in Loop): wait for the page to show the paused state's t and φ.
+    def paused_state_shown() -> bool:
+        shown = _reading(follower_page, follower)
+        return shown is not None and shown[0] == round(t_paused, 1) \
+            and abs((shown[1] - phi_state + 180.0) % 360.0 - 180.0) <= ANGLE_SPECS[0].step
+
+    try:
+        wait_until(paused_state_shown, timeout=30.0)
+    except AssertionError:
+        raise AssertionError(f"waited 30 s for the follower's page to show the paused state (t, φ) = "
+                             f"({t_paused:.1f}, {phi_state}); it read {_reading(follower_page, follower)}") from None
     assert presenter.error_count == 0 and follower.error_count == 0, (presenter.last_error, follower.last_error)

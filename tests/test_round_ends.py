@@ -420,9 +420,13 @@ def test_the_presenters_caption_plot_lesson_and_pointer_leave_the_followers(end:
         else:
             presenter_client.close()
             poll_until(lambda: hall.app.lectern.presenter is None, timeout=10.0)
-        hall.frames(frames)
+        # Frames until the followers' panel is refreshed without them (on a busy machine the
+        # refresh of a closed tab's end may come some frames later), up to a generous deadline.
+        deadline = time.monotonic() + 20.0
+        while time.monotonic() < deadline and (panel.caption.text or panel.plot.tab or panel.plot.copies):
+            hall.frames(1)
         assert panel.caption.text == "" and not panel.caption.handle.visible, "the caption stayed"
-        assert panel.plot.tab == "" and not panel.plot.copies, "the plot copy stayed"
+        assert panel.plot.tab == "" and not panel.plot.copies, f"the plot copy stayed: {panel.plot.copies}"
         assert "step 3/7" not in hall.app.lectern.status(), "the lesson step stayed"
         assert not markers(), "the pointer's marker stayed"
         assert hall.app.lectern.live_room is not None and not hall.app.lectern.live_room.playing  # the last state

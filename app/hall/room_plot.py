@@ -21,6 +21,7 @@ way.  Cost: the free body's Plots tab (5 charts, 300 samples of 2-4 series) is ~
 from __future__ import annotations
 
 import dataclasses
+import threading
 import time
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -96,6 +97,7 @@ class PlotMirror:
         self._seen: list[Any] = []  # the source value each copy was last sent
         self.sends = 0
         self.shown = True
+        self._lock = threading.Lock()  # the loop's refresh and a release's (a closed tab's thread) race
 
     def set_shown(self, shown: bool) -> None:
         """The follower's panel shows (True) or hides the copies (a collapsed phone panel)."""
@@ -106,8 +108,12 @@ class PlotMirror:
 
     def show(self, tab: str, sources: Sequence[Any]) -> None:
         """Copy `sources` (the presenter's open plot tab `tab`'s elements; "" and () for none)."""
+        with self._lock:
+            self._show(tab, sources)
+
+    def _show(self, tab: str, sources: Sequence[Any]) -> None:
         if not tab or not sources:
-            if self.tab:
+            if self.tab or self.copies:
                 self.tab = ""
                 self._clear()
                 self.set_shown(self.shown)
