@@ -667,7 +667,7 @@ def _row(setup: str, load: str, tree: str, cell: Cell, reference: Cell | None) -
     if cell.failed:
         fps += f" ({cell.failed} run(s) failed)"
     ratios = (f"{_ratio_text(cell.fps_min, reference.fps_min)} / {_ratio_text(cell.fps_median, reference.fps_median)}"
-              if reference is not None else "—")
+              if reference is not None and reference.medians else "—")
     return (f"| {setup} | {load} | {tree} | {fps} | {ratios} | {', '.join(f'{m:.1f}' for m in cell.medians)} "
             f"| {_servers_cpu(cell.servers)} | {cell.clients:.0f} | {cell.others:.0f} | {cell.steal:.0f} "
             f"| {cell.bus} |")
