@@ -470,6 +470,9 @@ def measure_once(setup: str, kind: str, count: int, tree: str, app_root: Path | 
         if setup == SETUPS[0]:
             single = ServerProcess(max_lifetime=lifetime, start_timeout=60.0, app_root=app_root)
             try:
+                expected = (app_root or ROOT).resolve() / "app"
+                if single.app_folder != expected:
+                    raise RuntimeError(f"the server runs the app in {single.app_folder}, not {expected}")
                 pids = {"app": [single.pid]}
                 result = (run_async(_own_rooms(single.port, count, pids, warmup, seconds)) if kind == "rooms" else
                           run_async(_followers(single.port, count, PRESENTER_CODE, pids, warmup, seconds)))
