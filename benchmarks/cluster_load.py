@@ -642,7 +642,7 @@ def format_report(results: list[Measured], info: ReportInfo) -> str:
               f"of the cores busy, {100 * info.probe[1]:.0f} % stolen (a probe of /proc/stat)",
               f"- each row: {info.order.count(THIS)} run(s) a tree, in the order {', '.join(info.order)}; "
               f"window {info.seconds:g} s after {info.warmup:g} s warm-up; the figures are medians over the runs",
-              "", *TABLE_HEAD]
+              *_others_line(results), "", *TABLE_HEAD]
     failures = []
     rows = list(dict.fromkeys((r.setup, r.load) for r in results))
     for setup, load in rows:
@@ -661,6 +661,16 @@ def format_report(results: list[Measured], info: ReportInfo) -> str:
     if failures:
         lines += ["", "Runs without figures:", *failures]
     return "\n".join(lines) + "\n"
+
+
+def _others_line(results: list[Measured]) -> list[str]:
+    """'- during the runs: ...' (other work's and the hypervisor's share), or nothing without figures."""
+    good = [r for r in results if r.fps and not r.error]
+    if not good:
+        return []
+    others = [r.others for r in good]
+    return [f"- during the runs other work took {statistics.median(others):.0f} % of one core (median; at most "
+            f"{max(others):.0f} %), the hypervisor stole at most {max(r.steal for r in good):.0f} %"]
 
 
 def _row(setup: str, load: str, tree: str, cell: Cell, reference: Cell | None) -> str:

@@ -144,6 +144,8 @@ def test_the_table_is_markdown_with_its_calibration() -> None:
     assert "- this tree: abc1234; reference: def5678 (`--reference v1`)" in table
     assert "2 CPUs, AMD EPYC, Python 3.11.7; 1-minute load average 0.31 before, 1.95 after" in table
     assert "in the order this tree, reference, reference, this tree; window 8 s after 3 s warm-up" in table
+    assert "- during the runs other work took 6 % of one core (median; at most 8 %), the hypervisor stole at most 1 %" \
+        in table
     rows = [line for line in lines if line.startswith("|")]
     assert rows[:2] == cluster_load.TABLE_HEAD
     assert {row.count("|") for row in rows} == {rows[0].count("|")}
