@@ -482,12 +482,16 @@ def _remote_seen(show: Any) -> tuple[Any, ...]:
     return (show.worker, show.hall, show.title, show.status, show.line, show.caption, show.plot)
 
 
-def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: Workers) -> None:
+def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: Workers,
+                                                                       caplog: pytest.LogCaptureFixture) -> None:
     """The test plays a source (worker "s", its messages put on the channel by hand) that B
     follows.  Garbage, JSON and wrong-typed messages in its name (a hall "stopped" with a number
     for a title, a camera at NaN, a scene numbered "x", a plot with a script, an unknown kind) and
     on the requests' channel change nothing on B: its remote show and camera stay; the valid
-    message after them is applied; B's browser goes on following and a newcomer follows."""
+    message after them is applied; B's browser goes on following and a newcomer follows.  Each
+    one dropped is said in B's log."""
+    import logging
+
     import redis
 
     from app.cluster.bus import ASK, CHANNEL
@@ -516,7 +520,8 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
     remote = b.lectern.remote
     before, camera = _remote_seen(remote), dict(remote.camera)
     pack = msgspec.msgpack.encode
-    for data in (b"\xc1", b"not msgpack", b'{"k": "hall", "w": "s", "hall": "stopped"}',
+    caplog.set_level(logging.WARNING, logger="app.cluster.bus")
+    garbage = (b"\xc1", b"not msgpack", b'{"k": "hall", "w": "s", "hall": "stopped"}',
                  pack({"k": "hall", "w": "s", "hall": "stopped", "title": 5, "status": ["evil"], "line": "x"}),
                  pack({"k": "hall", "w": "s", "hall": "sideways", "title": "Evil"}),
                  pack({"k": "camera", "w": "s", "position": [float("nan"), 0.0, 0.0], "look_at": [0.0, 0.0, 0.0],
@@ -524,9 +529,11 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
                  pack({"k": "scene", "w": "s", "s": "x", "m": [], "b": [], "sh": []}),
                  pack({"k": "plot", "w": "s", "tab": "Plots", "el": [["script", "alert(1)"]]}),
                  pack({"k": "keep", "w": "s", "lid": "", "room": "not bytes", "st": 1.0}),
-                 pack({"k": "evil", "w": "s"}), pack({"k": "call_back"}), pack([1, 2, 3]), pack("hall")):
+                 pack({"k": "evil", "w": "s"}), pack({"k": "call_back"}), pack([1, 2, 3]), pack("hall"))
+    asks = (b"\xc1", pack({"k": "explore", "w": "x", "r": 5}), pack({"k": "resync"}))
+    for data in garbage:
         client.publish(CHANNEL, data)
-    for data in (b"\xc1", pack({"k": "explore", "w": "x", "r": 5}), pack({"k": "resync"})):
+    for data in asks:
         client.publish(ASK, data)
     say(Camera(worker="s", position=(4.0, 4.0, 4.0), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0), fov=0.8,
                aspect=1.5))
@@ -536,6 +543,8 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
     assert {key: value for key, value in remote.camera.items() if key != "position"} == \
         {key: value for key, value in camera.items() if key != "position"}
     assert b.lectern.hall is Hall.LIVE and follower.mode == "following"
+    dropped = [r.getMessage() for r in caplog.records if "malformed message" in r.getMessage()]
+    assert len(dropped) == len(garbage) + len(asks), dropped
     newcomer, _ = workers.connect("b")
     _poll(lambda: heard() and newcomer.mode == "following", lambda: f"a newcomer on B following: {newcomer.mode}")
 
