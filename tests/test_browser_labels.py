@@ -119,10 +119,13 @@ def test_labels_do_not_overlap_on_a_projector_and_a_phone_as_a_lesson_step_plays
     room = presenter.room
     next_step.click()
     wait_until(lambda: presenter.lesson_runner.step == 2 and room.playing, timeout=10.0, interval=0.002)
+    # The labels as the step's motion starts: at least 5 samples over at least 0.6 s of it (a
+    # busy machine takes longer to sample; the room's lock is shared with the loop).
     started = time.monotonic()
     samples = 0
-    while time.monotonic() - started < 0.6:
+    while samples < 5 or time.monotonic() - started < 0.6:
         elapsed = time.monotonic() - started
+        assert elapsed < 60.0, f"{samples} samples of the labels in 60 s"
         with room.lock:
             seen = [(who, *_labels(app, session, root)) for who, session in (("projector", presenter),
                                                                              ("phone", follower))]
@@ -130,10 +133,7 @@ def test_labels_do_not_overlap_on_a_projector_and_a_phone_as_a_lesson_step_plays
             _check(boxes, width, height, None, f"{who} at {elapsed:.2f} s")
             assert len(boxes) >= 5, f"{who}: {[b.text for b in boxes]}"
         samples += 1
-        if samples == 1:
-            assert elapsed < 0.2
         time.sleep(0.03)
-    assert samples >= 5
     # The panels as the pages lay them out: the phone's bottom sheet, the projector's docked bar.
     with room.lock:
         phone_boxes, width, height = _labels(app, follower, root)

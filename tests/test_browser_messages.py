@@ -177,13 +177,13 @@ def test_a_refusal_far_down_the_panel_is_said_beside_the_box_and_goes_with_a_goo
     view = session.scene
     spin = view.gui_rates[0]  # spin ω_z′ [rad/s], range -40 to 40, under the angles: far down the panel
     box = number_box(page, spin)
-    type_into(page, box, "1e9", delay=20, end="Enter")
+    type_into(page, box, "1e9", delay=20, end="Enter", whole=True)
     said = refusal_beside(page, box, re.compile(r"1000000000\.0 refused"))
     assert "the range is -40 to 40" in said, said
     wait_for_page(page, "the box back at the value in force (12)", box.input_value, lambda text: text == "12")
     shot(page, "after_row5_spin_1e9_refused.png")
     taken = binding_of(view, spin).applied
-    type_into(page, box, "15", delay=20, end="Enter")
+    type_into(page, box, "15", delay=20, end="Enter", whole=True)
     wait_until(lambda: binding_of(view, spin).applied > taken and spin.value == 15.0, timeout=30.0)
     wait_for_page(page, "the refusal gone", lambda: said_near(page, box, re.compile(r"refused")),
                   lambda near: near == [])
@@ -206,8 +206,16 @@ def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_r
             page.get_by_role("button", name="Pause", exact=True).click()
             wait_until(lambda: not session.room.playing, timeout=10.0)
         typed = time.monotonic()
-        type_into(page, box, "999", delay=20, end="Enter")
-        said = refusal_beside(page, box, refused)  # under the slider, with the stretch
+        type_into(page, box, "999", delay=20, end="Enter", whole=True)
+        try:
+            said = refusal_beside(page, box, refused)  # under the slider, with the stretch
+        except AssertionError as error:
+            raise AssertionError(f"{'playing' if playing else 'paused'}: {error}; the box "
+                                 f"{box.input_value()!r}, focused "
+                                 f"{box.evaluate('el => el === document.activeElement')}; "
+                                 f"the server: message {view.message.text!r}, refused {timeline.binding.refused}, "
+                                 f"applied {timeline.binding.applied}, t shown {session.room.shown_t:.2f}, "
+                                 f"errors {session.error_count} {session.last_error!r}") from error
         shown = wait_for_page(page, "the box showing the slider's value", lambda: box_shows_slider(
             page, box, timeline.gui_slider), same_number)
         print(f"{'playing' if playing else 'paused'}: the box showed {shown[0]} "
@@ -220,7 +228,7 @@ def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_r
                           lambda: refusal_beside(page, box, refused),
                           lambda text, first=first: recorded_end(refused, text) > first + 0.5)
             shot(page, "after_row6_timeline_999_playing_later.png")
-    type_into(page, box, "1", delay=20, end="Enter")  # a time taken: the refusal goes
+    type_into(page, box, "1", delay=20, end="Enter", whole=True)  # a time taken: the refusal goes
     wait_until(lambda: session.room.shown_t == 1.0, timeout=30.0)
     wait_for_page(page, "the refusal gone", lambda: said_near(page, box, refused), lambda near: near == [])
 
