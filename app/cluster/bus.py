@@ -18,8 +18,8 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   a gap asks (`ASK`, "resync") and the source publishes its shared scene's whole state (`Replica`:
   the last create and the last value of every node under LIVE_ROOT, kept from the same tap);
   the one that asked removes the nodes the state no longer has and applies it.
-- The hall's state (the followers' status and its one line, the caption, the scene's title) goes
-  as a small dict every FOLLOW_PERIOD, the presenter's camera (with its aspect, so each
+- The hall's state (the followers' status as data, `FollowerStatus`; the caption, the title)
+  goes as a small dict every FOLLOW_PERIOD, the presenter's camera (with its aspect, so each
   follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
   moved, and again after a resync (a process that came late has never heard it); a "call_back"
   when the presenter calls everyone back.  Another process shows it as a
@@ -74,7 +74,7 @@ import msgspec.msgpack
 import numpy as np
 
 from app.cluster import KEY_PREFIX, connect
-from app.hall.follower import Hall, view_aspect
+from app.hall.follower import FollowerStatus, Hall, view_aspect
 from app.hall.room_plot import MIRROR_PERIOD, UPLOT_PROPS, ChartCopy, MarkdownCopy, is_chart
 from app.kit.core.common import CameraView
 from app.kit.core.room import LIVE, Room
@@ -446,9 +446,9 @@ class Bus:
             return
         if kind == "hall":
             hall = body.get("hall")
+            status = FollowerStatus.from_dict(body.get("status"))  # checked: ValueError drops the message
             remote.title = str(body.get("title", ""))[:200]
-            remote.status = str(body.get("status", ""))[:4000]
-            remote.line = str(body.get("line", ""))[:400]
+            remote.status = status
             caption = body.get("caption")
             remote.caption = ((str(caption[0])[:400], str(caption[1])[:4000])
                               if isinstance(caption, list) and len(caption) == 2 else ("", ""))
@@ -621,7 +621,7 @@ class Bus:
         lectern = self.lectern
         hall = lectern.hall
         self._publish(CHANNEL, {"k": "hall", "w": self.worker_id, "hall": hall.value, "title": lectern.live_title(),
-                                "status": lectern.status(), "line": lectern.status_line(),
+                                "status": lectern.follower_status().to_dict(),
                                 "caption": list(lectern.caption())})
 
     def _send_plot(self) -> None:
@@ -839,7 +839,8 @@ class Bus:
         if self.source and self.lectern.presenter is not None:
             with contextlib.suppress(Exception):
                 self._publish(CHANNEL, {"k": "hall", "w": self.worker_id, "hall": Hall.LEFT.value,
-                                        "title": self.lectern.live_title(), "status": "", "line": "",
+                                        "title": self.lectern.live_title(),
+                                        "status": self.lectern.follower_status().ended(Hall.LEFT).to_dict(),
                                         "caption": ["", ""]})
         with contextlib.suppress(Exception):
             self.redis.hdel(AUDIENCE_KEY, self.worker_id)
