@@ -19,6 +19,18 @@
    simulation bit-identical (tests/test_trust.py), and a browser follower's drags do not move
    the presenter's numbers (tests/test_browser_lecture.py).
 
+**The parts** (`Lectern` keeps who presents and what the shared screen shows, and the methods
+other code calls; each part reads that state through `app.lectern.seat.Stage`):
+
+- `app.lectern.lock.PresenterLock`: the code, the refusals and their words, the lease.
+- `app.lectern.followers.Followers`: the following browsers' panels and what is written into
+  them (the status as an `app.hall.follower.FollowerStatus`, the caption, the plot), the
+  presenter's camera fitted to each screen, the kinds of follower's screen for the labels.
+- `app.lectern.seating.Seating`: the seats the app loop moves (a new presenter's pull, a call
+  back that ran out) and the lecture's part of the panels that do not follow.
+- `app.lectern.broadcast`: the presenter's draw target into the shared scene, the pointer.
+- `app.lectern.seat`: `Seat`, `Mode`, `RemoteShow` (another worker's show), `Stage`.
+
 The rest:
 
 - **The lock.**  `Lectern` asks its gate (`app.cluster.gate`: `LocalGate` in one process,
@@ -37,11 +49,12 @@ The rest:
 - **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
   (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
-  panel (`app.hall.follower.Follower`, built and written here): who presents what (scene,
-  preset, lesson step, time, the scene's key numbers), or plainly that the presenter stopped or
-  left; the lesson step's caption over the 3D view and the presenter's open plot tab, read
-  only (`caption`, `room_plot`); `Follow camera` (the presenter's viewing direction, framed for
-  the follower's own screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
+  panel (`app.hall.follower.Follower`, built and written by `Followers`): who presents what
+  (scene, preset, lesson step, time, the scene's key numbers: a `FollowerStatus`, written as
+  Markdown by the panel), or plainly that the presenter stopped or left; the lesson step's
+  caption over the 3D view and the presenter's open plot tab, read only (`caption`,
+  `room_plot`); `Follow camera` (the presenter's viewing direction, framed for the follower's
+  own screen) and `Explore on my own`, which gives it an exact copy of the room as shown now
   (`Room.fork`: state, time, traces, plots, replay history, playing), seen from where the
   browser looked.  While a presenter presents, "Lecture on" and `Follow presenter` top an
   explorer's panel (`app.hall.lecture_panel`).  On a narrow screen (a phone) the panel shrinks
@@ -67,8 +80,8 @@ The rest:
 
 **Who owns each piece of lecture state, and what ends it** (the one list; each end is done where
 named; tested in tests/test_round_ends.py and tests/test_browser_round_ends.py).  "Stop"
-is `Stop presenting`, "tab closed" a disconnect (`Session.close`), "lock lost" `_renew_lock`
-finding someone else holds it; all three go through `release`.  "Worker killed": another
+is `Stop presenting`, "tab closed" a disconnect (`Session.close`), "lock lost"
+`PresenterLock.tick` finding someone else holds it; all three go through `release`.  "Worker killed": another
 process's presenter whose process dies without a word.
 
 Each piece, as *owner* → *what ends it*:
@@ -98,10 +111,17 @@ Each piece, as *owner* → *what ends it*:
   removes them when the bus takes it that the presenter left.
 - **shared plot** (`room_plot`, `app.hall.room_plot`): the presenter's open plot tab → ("", [])
   once `presenter` is None or the remote hall is not LIVE: cleared on every follower.
-- **lesson step** (`Seat.lesson_text` in `status`): the presenter's session → not in the
-  followers' status once `presenter` is None or the hall is not LIVE.
-- **call back** (`_called`): the presenter → `start`, `release` and `remote_ended` clear it.
-- **live view** (the shared 3D under LIVE_ROOT: `live_view`, `_live_room`): the presenter →
+- **lesson step** (`Seat.lesson_text` in `FollowerStatus.lesson`): the presenter's session → not
+  in the followers' status once `presenter` is None or the hall is not LIVE (`markdown` shows
+  it only while LIVE: also on another worker, whatever the last status heard said).
+- **the followers' status** (`FollowerStatus`, made by `Followers.status`; another worker's:
+  `RemoteShow.status`, from the bus as data): the shared screen → made anew at every refresh;
+  stop, tab closed, lock lost: `release` sets the hall (STOPPED, LEFT), which the status says;
+  worker killed: the bus's `remote_ended` sets `RemoteShow.hall` (`FollowerStatus.ended`): the
+  last scene, time and key numbers stay, the head says the presenter left.
+- **call back** (`Seating`'s called): the presenter → `start`, `release`, `show_remote` and
+  `remote_ended` clear it; a browser that follows or leaves is no longer called.
+- **live view** (the shared 3D under LIVE_ROOT: `live_view`, `live_room`): the presenter →
   stop, tab closed: detached, its nodes the followers' last state (paused, `Explore` copies it)
   with a note, until the next presenter (`make_live_view` → `_forget_live_view`) or another
   process's (`show_remote`); worker killed: the bus's replica stays the same way, and `Explore`
