@@ -37,7 +37,7 @@ from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 
 __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "FollowerStatus", "Hall", "Transport",
-           "ended_head", "ended_line", "is_narrow", "status_line", "status_text", "transport_words", "view_aspect"]
+           "ended_head", "ended_line", "is_narrow", "transport_words", "view_aspect"]
 
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 MAX_LINE_CHARS = 400  # a title, preset or key number's line in a status read from another worker
@@ -185,16 +185,6 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
             return f"**⟲ {self.title}** · t = {transport.shown_t:.1f} of {transport.live_t:.1f} s"
         state = "▶" if transport.playing else "⏸"
         return f"**{state} {self.title}** · t = {transport.t:.1f} s"
-
-
-def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Sequence[str] = ()) -> str:
-    """The followers' panel text for `room` in `hall` (`FollowerStatus.markdown`)."""
-    return FollowerStatus.of_room(room, hall, lesson, key_numbers).markdown()
-
-
-def status_line(room: Room | None, hall: Hall) -> str:
-    """The followers' status in one line for `room` in `hall` (`FollowerStatus.line`)."""
-    return FollowerStatus.of_room(room, hall).line()
 
 
 def ended_head(hall: Hall) -> str:
