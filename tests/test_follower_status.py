@@ -83,6 +83,15 @@ def test_a_status_that_is_not_one_is_refused(change: dict[str, Any]) -> None:
         FollowerStatus.from_dict("**Presenter:** ▶ playing")  # the words, as the bus once sent them
 
 
+def test_a_status_made_of_long_words_is_one_the_other_workers_accept() -> None:
+    """A long lesson step or many key numbers are cut where the status is made, so the source never
+    sends a status the others refuse (each refusal would drop a hall message)."""
+    status = FollowerStatus.of_room(_room(False), Hall.LIVE, "x" * 10_000, ["k = 1" * 200] * 500)
+    heard = _through_the_bus(status)
+    assert heard == status and heard.lesson == "x" * len(heard.lesson) and 0 < len(heard.lesson) < 10_000
+    assert 0 < len(heard.key_numbers) < 500 and all(0 < len(line) < 1000 for line in heard.key_numbers)
+
+
 @pytest.mark.parametrize("looking_back", [False, True])
 def test_a_presenter_who_left_another_worker_reads_as_on_its_own(looking_back: bool) -> None:
     """B's followers, after A's presenter left, read what A's own followers read: the head says

@@ -130,12 +130,15 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
     @classmethod
     def of_room(cls, room: Room | None, hall: Hall, lesson: str = "",
                 key_numbers: Sequence[str] = ()) -> FollowerStatus:
-        """The status of `room` (the room on the shared screen, None if there is none) in `hall`."""
+        """The status of `room` (the room on the shared screen, None if there is none) in `hall`;
+        its texts cut to the lengths `from_dict` accepts (a long lesson step is not refused)."""
         if room is None:
             return cls(hall=hall)
         preset = getattr(room.sim, "preset", None)
-        return cls(hall=hall, title=str(room.scene.title), preset=str(preset) if preset else "",
-                   transport=Transport.of_room(room), lesson=lesson, key_numbers=tuple(key_numbers))
+        return cls(hall=hall, title=str(room.scene.title)[:MAX_LINE_CHARS],
+                   preset=str(preset)[:MAX_LINE_CHARS] if preset else "", transport=Transport.of_room(room),
+                   lesson=str(lesson)[:MAX_TEXT_CHARS],
+                   key_numbers=tuple(str(line)[:MAX_LINE_CHARS] for line in key_numbers[:MAX_KEY_NUMBERS]))
 
     def ended(self, hall: Hall) -> FollowerStatus:
         """The same status once the presenter stopped (`hall` STOPPED) or left (LEFT)."""
