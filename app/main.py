@@ -175,7 +175,7 @@ class App:
         if session is not None:
             session.close()
         self.lectern.forget(client.client_id)
-        self.sweep.left()
+        self.sweep.left(session)
         logger.info("client %d: session ended (%d open)", client.client_id, len(self.sessions))
 
     def wait_for_sessions(self, count: int, timeout: float = 10.0) -> dict[int, Session]:

@@ -130,7 +130,7 @@ class Session:
                                       play=self._play_state)
             self.question = AnswerPanel(self, self.guard, lectern.rounds, order=-20.0)
         self.narrow = NarrowPanel(self.client, self.guard, self._foldable, lambda: self.room, order=top + 0.5,
-                                  copy=lambda: self.explored)
+                                  copy=lambda: self.explored, own=lambda: self.mode is Mode.OWN)
         self.lesson_runner = LessonRunner(gui, self.guard, self, on_step=self._lesson_stepped)
         self.notes = Notes(self.client, self.guard, self.report_error, lambda: self.room, lambda: self.scene)
         self.share = None if self.share_store is None else SharePanel(
@@ -694,6 +694,7 @@ class Session:
                 self.scene.open_scene = self.open_scene
                 self._offer_own(self.scene)
             self.mode = Mode.PRESENTING
+            self.narrow.end()  # again: a phone's fold begun at connect meanwhile ends here
         lectern.start(self)
         self._show_mode()
         panel.set_pointer(bool(panel.gui_pointer.value))
@@ -736,6 +737,7 @@ class Session:
             self.scene = None
             self.lesson_runner.end()
             self.mode = Mode.FOLLOWING
+            self.narrow.end()  # again: a phone's fold begun at connect meanwhile (`_fit_phone`) ends here
             self.explored = False
             self.came_after_lecture = False
             self._hide_live(False)

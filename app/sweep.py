@@ -16,6 +16,11 @@ and `run_if_due()` once a frame (from its loop, between frames); a pass runs whe
 left since the last one and at least `max(min_interval_s, cost_factor x the last pass's
 duration)` has gone by since it, so the collector takes at most 1/cost_factor of the time
 (a pass over 20 rooms takes some 20 ms on the 2-core machine, one over 80 rooms ~0.3 s).
+
+A departed object handed to `left` is watched (a weak reference): one still alive after a pass
+(a thread of its own was still ending, holding it, while the pass ran) stays owed, and the next
+pass comes when allowed, at most RETRIES times for it: a departure is swept after its last
+holder let go, not only while the pass happened to find it free.
 """
 
 from __future__ import annotations
@@ -23,12 +28,14 @@ from __future__ import annotations
 import gc
 import threading
 import time
+import weakref
 from collections.abc import Callable
 
-__all__ = ["COST_FACTOR", "MIN_INTERVAL_S", "Sweep"]
+__all__ = ["COST_FACTOR", "MIN_INTERVAL_S", "RETRIES", "Sweep"]
 
 MIN_INTERVAL_S = 5.0  # [s] at least this long between two sweeps
 COST_FACTOR = 50.0  # ... and at least this many times the last sweep's duration (<= 2 % of the time)
+RETRIES = 12  # passes owed to a departed object still alive after a pass (then it is a leak, not a race)
 
 
 class Sweep:
@@ -36,7 +43,8 @@ class Sweep:
 
     Attributes:
         passes: sweeps run so far; seconds: their total duration [s]; longest: the longest [s].
-        owed: browsers that left since the last sweep.
+        owed: browsers that left since the last sweep, and departed objects a pass found alive
+            (each up to RETRIES passes).
     """
 
     def __init__(self, min_interval_s: float = MIN_INTERVAL_S, cost_factor: float = COST_FACTOR,
@@ -51,11 +59,15 @@ class Sweep:
         self.longest = 0.0
         self._last_end = -float("inf")  # [clock s] when the last sweep ended
         self._last_took = 0.0  # [s] how long it took
+        self._watched: list[tuple[weakref.ref[object], int]] = []  # (departed object, passes left)
 
-    def left(self) -> None:
-        """A browser left (any thread): its session's cycles are owed a full pass."""
+    def left(self, departed: object | None = None) -> None:
+        """A browser left (any thread): its session's cycles are owed a full pass; `departed`
+        (its session) is watched until a pass finds it freed."""
         with self._lock:
             self.owed += 1
+            if departed is not None:
+                self._watched.append((weakref.ref(departed), RETRIES))
 
     def due(self, now: float) -> bool:
         """Whether a sweep is owed and allowed at `now` [clock s]."""
@@ -69,7 +81,12 @@ class Sweep:
             return False
         with self._lock:
             self.owed = 0
+            watched, self._watched = self._watched, []
         self._collect()
+        alive = [(ref, left - 1) for ref, left in watched if ref() is not None and left > 1]
+        with self._lock:
+            self._watched.extend(alive)
+            self.owed += len(alive)
         end = self._clock()
         self._last_end, self._last_took = end, end - start
         self.passes += 1

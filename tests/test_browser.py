@@ -70,9 +70,8 @@ def open_app(page, app: App, sessions: int = 1, wait: bool = True):
 
 def wait_for_gui(page) -> None:
     page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    toasts = page.locator(".mantine-Notification-closeButton")
-    for i in range(toasts.count()):
-        toasts.nth(i).click(force=True)
+    page.evaluate("""() => document.querySelectorAll('.mantine-Notification-closeButton')
+                           .forEach((button) => button.click())""")  # every toast, none waited for
 
 
 def slider_thumb(page, handle):

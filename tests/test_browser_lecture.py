@@ -71,9 +71,11 @@ def open_page(browser, app: App, timeout: float = 30.0, **context):  # type: ign
 
 
 def close_toasts(page) -> None:  # type: ignore[no-untyped-def]
-    toasts = page.locator(".mantine-Notification-closeButton")
-    for i in range(toasts.count()):
-        toasts.nth(i).click(force=True)
+    """Press the close button of every toast shown now, in one step in the page: a toast that
+    closes by itself meanwhile is not waited for (a click per counted toast waited 30 s for a
+    toast gone, or re-indexed, since the count)."""
+    page.evaluate("""() => document.querySelectorAll('.mantine-Notification-closeButton')
+                           .forEach((button) => button.click())""")
 
 
 def open_folder(page, folder: str, inside: str) -> None:  # type: ignore[no-untyped-def]

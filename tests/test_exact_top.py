@@ -28,6 +28,7 @@ from physics.exact_top import HeavySymmetricTopExact, _sncndn_reduced, steady_pr
 from physics.so3 import rot_x, rot_z
 
 ODE_TOL = 1e-13  # rtol = atol of the DOP853 reference
+FINE_ODE_TOL = 2.3e-14  # the finest rtol SciPy's DOP853 takes (100 eps)
 ATT_TOL = 1e-9  # [rad] attitude error against the reference over tens of seconds
 CONS_TOL = 1e-12  # relative drift of E and p_φ allowed at any time, 0 <= t <= 1e4 s
 
@@ -36,8 +37,9 @@ def euler(phi: float, theta: float, psi: float) -> np.ndarray:
     return Rotation.from_euler("ZXZ", [phi, theta, psi]).as_matrix()
 
 
-def reference_ode(I1, I3, mgl, R0, omega0, t_eval):
-    """DOP853 on the 12-dimensional (R, ω_b) system, at the times t_eval (increasing, from 0)."""
+def reference_ode(I1, I3, mgl, R0, omega0, t_eval, tol=ODE_TOL):
+    """DOP853 on the 12-dimensional (R, ω_b) system, at the times t_eval (increasing, from 0),
+    rtol = atol = `tol`."""
     inv1, inv3, k = 1.0 / I1, 1.0 / I3, (I3 - I1)
 
     def rhs(_t, y):
@@ -55,8 +57,8 @@ def reference_ode(I1, I3, mgl, R0, omega0, t_eval):
         return dR + dw
 
     y0 = np.concatenate([np.asarray(R0, float).ravel(), np.asarray(omega0, float)])
-    sol = solve_ivp(rhs, (0.0, float(t_eval[-1])), y0, method="DOP853", rtol=ODE_TOL,
-                    atol=ODE_TOL, t_eval=t_eval)
+    sol = solve_ivp(rhs, (0.0, float(t_eval[-1])), y0, method="DOP853", rtol=tol,
+                    atol=tol, t_eval=t_eval)
     assert sol.success
     return sol.y[:9].T.reshape(-1, 3, 3), sol.y[9:].T
 
@@ -164,12 +166,20 @@ def tops(draw):
 @settings(max_examples=10, deadline=None)
 @given(tops())
 def test_random_tops_match_ode(case) -> None:
+    """Against the reference at its finest tolerance, within ATT_TOL plus the reference's own
+    error, estimated as its change from ODE_TOL to FINE_ODE_TOL: a top that falls from near the
+    upright amplifies the ODE's rounding (e.g. I1 = I3 = 0.375, mgl = 4, upright, ω = (0, 1e-5,
+    0): the reference moves 2.9e-9 rad between the two tolerances, while the closed form agrees
+    with a 40-digit mpmath pendulum to 1.4e-11 rad)."""
     i1, i3, mgl, R0, w0 = case
     t = np.linspace(0.0, 4.0, 41)
     R, w = HeavySymmetricTopExact(i1, i3, mgl, R0, w0)(t)
-    R_ref, w_ref = reference_ode(i1, i3, mgl, R0, w0, t)
-    assert attitude_error(R, R_ref) <= ATT_TOL
-    np.testing.assert_allclose(w, w_ref, atol=ATT_TOL * (1.0 + float(np.max(np.abs(w0)))))
+    R_ref, w_ref = reference_ode(i1, i3, mgl, R0, w0, t, tol=FINE_ODE_TOL)
+    R_coarse, w_coarse = reference_ode(i1, i3, mgl, R0, w0, t)
+    att_ref_err = attitude_error(R_ref, R_coarse)
+    w_ref_err = float(np.max(np.abs(w_ref - w_coarse)))
+    assert attitude_error(R, R_ref) <= ATT_TOL + att_ref_err
+    np.testing.assert_allclose(w, w_ref, atol=ATT_TOL * (1.0 + float(np.max(np.abs(w0)))) + w_ref_err)
 
 
 @settings(max_examples=80, deadline=None)

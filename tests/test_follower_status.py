@@ -1,8 +1,10 @@
 """The follower's status as a value (`app.hall.follower.FollowerStatus`).
 
-- It crosses workers as data: the bus's hall message carries `to_dict`, msgpack there and back,
-  and the other worker reads it with `from_dict` (checked: a wrong hall, transport mode, type or
-  length is a ValueError, which drops the message) into the same value, shown in the same words.
+- It crosses workers as data: the bus's hall message (`app.cluster.bus.source.hall_message`)
+  carries `to_dict`, encoded as the bus encodes it (`app.cluster.messages`), and the other worker
+  reads it (`app.cluster.bus.follow.copy_hall`, `from_dict`: checked, a wrong hall, transport
+  mode, type or length is a ValueError, which drops the message) into the same value, shown in
+  the same words.
 - A presenter on another worker who stops or leaves is the status's `hall`, not an edit of its
   words: a follower there reads what a follower on the presenter's own worker reads (the head
   says so, the lesson step goes, the time shown stays), also when the presenter was looking back.
@@ -13,9 +15,11 @@ from __future__ import annotations
 from types import SimpleNamespace
 from typing import Any
 
-import msgspec
 import pytest
 
+from app.cluster.bus.follow import copy_hall
+from app.cluster.bus.source import hall_message
+from app.cluster.messages import LIVE_DECODER, HallState, encode
 from app.hall.follower import FollowerStatus, Hall
 from app.kit.core.room import Room
 from app.lectern import Lectern, RemoteShow
@@ -39,10 +43,17 @@ def _room(looking_back: bool) -> Room:
 
 
 def _through_the_bus(status: FollowerStatus) -> FollowerStatus:
-    """`status` as another worker reads it from the bus's hall message (msgpack there and back)."""
-    body = {"k": "hall", "w": "a", "hall": status.hall.value, "title": status.title, "status": status.to_dict()}
-    heard = msgspec.msgpack.decode(msgspec.msgpack.encode(body))
-    return FollowerStatus.from_dict(heard["status"])
+    """`status` as another worker reads it from a hall message (encoded and decoded as the bus does)."""
+    message = LIVE_DECODER.decode(encode(HallState(worker="a", hall=status.hall.value, status=status.to_dict())))
+    assert isinstance(message, HallState)
+    return FollowerStatus.from_dict(message.status)
+
+
+def _hear(source: Lectern, other: Lectern) -> None:
+    """`source`'s hall message (`hall_message`, as its bus sends it) heard by `other` (`copy_hall`)."""
+    message = LIVE_DECODER.decode(encode(hall_message("a", source, source.hall)))
+    assert isinstance(message, HallState) and other.remote is not None
+    copy_hall(other.remote, message)
 
 
 def _lectern_showing(room: Room, *, presenting: bool) -> Lectern:
@@ -52,7 +63,8 @@ def _lectern_showing(room: Room, *, presenting: bool) -> Lectern:
     lectern.live_view = SimpleNamespace(key_numbers=lambda: KEY_NUMBERS)
     lectern._live_room = room
     if presenting:
-        lectern.presenter = SimpleNamespace(lesson_text=lambda: LESSON)  # type: ignore[assignment]
+        lectern.presenter = SimpleNamespace(lesson_text=lambda: LESSON,  # type: ignore[assignment]
+                                            caption_words=lambda: ("", ""))
         lectern.hall = Hall.LIVE
     else:
         lectern.hall = Hall.LEFT
@@ -65,7 +77,10 @@ def test_the_status_crosses_workers_as_the_same_value_and_words(looking_back: bo
     status = source.follower_status()
     assert status.hall is Hall.LIVE and status.title == "Free body" and status.lesson == LESSON
     assert status.transport is not None and status.transport.mode == ("scrubbing" if looking_back else "live")
-    heard = _through_the_bus(status)
+    other = Lectern(server=None)  # type: ignore[arg-type]
+    other.show_remote(RemoteShow(worker="a", title="Free body"))
+    _hear(source, other)
+    heard = other.follower_status()
     assert heard == status, (heard, status)
     assert (heard.markdown(), heard.line()) == (source.status(), source.status_line())
     assert LESSON in heard.markdown() and "Dzhanibekov" in heard.markdown()
@@ -101,8 +116,7 @@ def test_a_presenter_who_left_another_worker_reads_as_on_its_own(looking_back: b
     source = _lectern_showing(room, presenting=True)
     other = Lectern(server=None)  # type: ignore[arg-type]
     other.show_remote(RemoteShow(worker="a", title="Free body"))
-    assert other.remote is not None
-    other.remote.status = _through_the_bus(source.follower_status())
+    _hear(source, other)
     assert other.status() == source.status()  # while live: the same words
     other.remote_ended(left=True)
     left_here = _lectern_showing(room, presenting=False)  # A, once its presenter left

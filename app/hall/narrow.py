@@ -18,6 +18,7 @@ line; the lectern calls it every FOLLOW_PERIOD through the session (`Seat.lectur
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -49,15 +50,22 @@ class NarrowPanel:
         room: the browser's own room (now), for the line.
         copy: the room is a copy of the presenter's (the line says "Your copy", else "Your scene").
         order: where the line and `Details` sit in the panel (viser's `order`).
+        own: the browser has its own room now (not following, not presenting): `start` does
+            nothing otherwise.  A session switching to following or presenting changes its mode
+            first and then calls `end`; start, end and refresh run one at a time, so a fold that
+            began at connect (another thread) ends with the switch and never outlives it.
 
     Attributes:
         on: the narrow layout is in force; expanded: `Details` unfolded the panel.
     """
 
     def __init__(self, client: viser.ClientHandle, guard: Wrap, handles: Callable[[], Sequence[Any]],
-                 room: Callable[[], Room], *, order: float, copy: Callable[[], bool] = lambda: True) -> None:
+                 room: Callable[[], Room], *, order: float, copy: Callable[[], bool] = lambda: True,
+                 own: Callable[[], bool] = lambda: True) -> None:
         gui = client.gui
         self._handles = handles
+        self._own = own
+        self._lock = threading.RLock()
         self._room = room
         self._copy = copy
         self.on = False
@@ -69,29 +77,39 @@ class NarrowPanel:
         self.gui_details.on_click(guard("details", lambda _event: self.set_expanded(not self.expanded)))
 
     def start(self) -> None:
-        """The narrow layout: the panel folded to the line and `Details`."""
-        self.on, self.expanded = True, False
-        self.refresh()
+        """The narrow layout: the panel folded to the line and `Details` (while the browser has
+        its own room)."""
+        with self._lock:
+            if not self._own():
+                return
+            self.on, self.expanded = True, False
+            self.refresh()
 
     def end(self) -> None:
         """Back to the whole panel (what was folded is shown again); the line and button go."""
-        self.on = self.expanded = False
-        self._unfold()
-        for handle in (self.gui_line, self.gui_details):
-            if handle.visible:
-                handle.visible = False
+        with self._lock:
+            self.on = self.expanded = False
+            self._unfold()
+            for handle in (self.gui_line, self.gui_details):
+                if handle.visible:
+                    handle.visible = False
 
     def set_expanded(self, expanded: bool) -> None:
         """`Details` pressed: unfold (True) or fold (False) the panel."""
-        if not self.on:
-            return
-        self.expanded = bool(expanded)
-        self.refresh()
+        with self._lock:
+            if not self.on:
+                return
+            self.expanded = bool(expanded)
+            self.refresh()
 
     def refresh(self) -> None:
         """Fold what should be folded (handles that appeared since included), write the line."""
-        if not self.on:
-            return
+        with self._lock:
+            if self.on:
+                self._fold()
+
+    def _fold(self) -> None:
+        """`refresh` with the layout on (the lock held)."""
         folded = not self.expanded
         current = list(self._handles())
         kept = {id(handle) for handle in current}
