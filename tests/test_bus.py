@@ -479,17 +479,17 @@ def test_the_hall_names_on_the_bus_are_the_halls() -> None:
 
 
 def _remote_seen(show: Any) -> tuple[Any, ...]:
-    return (show.worker, show.hall, show.title, show.status, show.line, show.caption, show.plot)
+    return (show.worker, show.hall, show.title, show.status, show.caption, show.plot)
 
 
 def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: Workers,
                                                                        caplog: pytest.LogCaptureFixture) -> None:
     """The test plays a source (worker "s", its messages put on the channel by hand) that B
     follows.  Garbage, JSON and wrong-typed messages in its name (a hall "stopped" with a number
-    for a title, a camera at NaN, a scene numbered "x", a plot with a script, an unknown kind) and
-    on the requests' channel change nothing on B: its remote show and camera stay; the valid
-    message after them is applied; B's browser goes on following and a newcomer follows.  Each
-    one dropped is said in B's log."""
+    for a title, a hall whose followers' status is not one, a camera at NaN, a scene numbered
+    "x", a plot with a script, an unknown kind) and on the requests' channel change nothing on B:
+    its remote show and camera stay; the valid message after them is applied; B's browser goes
+    on following and a newcomer follows.  Each one dropped is said in B's log."""
     import logging
 
     import redis
@@ -504,13 +504,15 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
     def say(message: Message) -> None:
         client.publish(CHANNEL, encode(message))
 
-    hall = HallState(worker="s", hall="live", title="Free body", status="**Live**: marked", line="marked",
-                     caption=("Head", "words"))
+    from app.hall.follower import FollowerStatus
+
+    status = FollowerStatus(hall=Hall.LIVE, title="Free body", lesson="marked")
+    hall = HallState(worker="s", hall="live", title="Free body", status=status.to_dict(), caption=("Head", "words"))
 
     def heard() -> bool:  # also the source's heartbeat: B's lease on it does not lapse meanwhile
         say(hall)
         remote = b.lectern.remote
-        return remote is not None and remote.status == hall.status and remote.camera is not None
+        return remote is not None and remote.status == status and remote.camera is not None
 
     say(SceneBatch(worker="s", seq=1, full="*", messages=[], buffers=[], shapes=[], title="Free body"))
     say(Camera(worker="s", position=(3.0, 3.0, 3.0), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0), fov=0.8,
@@ -535,6 +537,9 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
         client.publish(CHANNEL, data)
     for data in asks:
         client.publish(ASK, data)
+    wrong_status = pack({"k": "hall", "w": "s", "hall": "stopped", "title": "Evil",  # a hall, not a status in it
+                         "status": {"hall": "left", "title": 5}})
+    client.publish(CHANNEL, wrong_status)
     say(Camera(worker="s", position=(4.0, 4.0, 4.0), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0), fov=0.8,
                aspect=1.5))
     _poll(lambda: remote.camera is not None and remote.camera["position"] == [4.0, 4.0, 4.0],
@@ -545,6 +550,8 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
     assert b.lectern.hall is Hall.LIVE and follower.mode == "following"
     dropped = [r.getMessage() for r in caplog.records if "malformed message" in r.getMessage()]
     assert len(dropped) == len(garbage) + len(asks), dropped
+    refused = [r.getMessage() for r in caplog.records if "a message from s dropped" in r.getMessage()]
+    assert len(refused) == 1 and "title" in refused[0], refused  # the status's check said what it refused
     newcomer, _ = workers.connect("b")
     _poll(lambda: heard() and newcomer.mode == "following", lambda: f"a newcomer on B following: {newcomer.mode}")
 

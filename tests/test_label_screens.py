@@ -210,8 +210,8 @@ def test_the_phones_screen_moves_with_the_camera_the_lectern_sends_it(hall: Lect
 
     def sent() -> bool:
         """A frame of the loop, then whether the phone's camera moved: the lectern hears the turn
-        on viser's callback thread (`Lectern._camera_moved`), maybe only after many frames on a
-        busy machine, and then sends it at its next CAMERA_PERIOD of frames."""
+        on viser's callback thread (`app.lectern.followers.Followers._camera_moved`), maybe only
+        after many frames on a busy machine, and then sends it at its next CAMERA_PERIOD of frames."""
         hall.frames(1)
         return moved()
 

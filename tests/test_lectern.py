@@ -286,13 +286,13 @@ def test_a_refusal_stays_true_the_wait_counts_down_and_tries_agree_in_number() -
 def test_a_followers_status_says_one_time_while_the_presenter_replays() -> None:
     from types import SimpleNamespace
 
-    from app.hall.follower import Hall, status_text
+    from app.hall.follower import FollowerStatus, Hall
     from app.kit.core.room import LIVE, REPLAYING
 
     sim = SimpleNamespace(t=5.86, preset=None)
     room = SimpleNamespace(mode=REPLAYING, shown_t=6.01, live_t=9.5, time_scale=1.0, playing=True, sim=sim,
                            scene=SimpleNamespace(title="Free body"))
-    text = status_text(room, Hall.LIVE)  # type: ignore[arg-type]
+    text = FollowerStatus.of_room(room, Hall.LIVE).markdown()  # type: ignore[arg-type]
     assert text.count("t = ") == 1 and "replaying t = 6.0 s" in text
     room.mode = LIVE
-    assert status_text(room, Hall.LIVE).count("t = ") == 1  # type: ignore[arg-type]
+    assert FollowerStatus.of_room(room, Hall.LIVE).markdown().count("t = ") == 1  # type: ignore[arg-type]

@@ -55,10 +55,12 @@ def kept_by(presenter: Session) -> str:
 
 
 def per_client_entries(app: App) -> dict[str, int]:
-    """Entries the lectern keeps by client id, by structure."""
+    """Entries the lectern's parts keep by client id, by structure."""
     lectern: Any = app.lectern
-    return {name: len(getattr(lectern, name)) for name in
-            ("_followers", "_tries", "_refused", "_hall_wait", "_refusal_watchers", "_called", "_watched")}
+    kept = {"follower_panels": ("_followers", "_watched"),
+            "presenter_lock": ("_tries", "_refused", "_hall_wait", "_refusal_watchers"), "seating": ("_called",)}
+    return {f"{part}.{name}": len(getattr(getattr(lectern, part), name)) for part, names in kept.items()
+            for name in names}
 
 
 def wait_for(predicate: Any, timeout: float, what: str, seen: Any = lambda: None) -> None:

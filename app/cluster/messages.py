@@ -72,13 +72,12 @@ class SceneBatch(Message, tag="scene"):
 
 class HallState(Message, tag="hall"):
     """The hall's state: what the shared screen shows, the scene's title, the followers' status
-    (`status`, its one `line`: opaque text here, rendered by `app.hall.follower`) and the
-    lesson caption (head, words)."""
+    (`status`: `app.hall.follower.FollowerStatus.to_dict`'s plain values, checked where it is
+    read, `FollowerStatus.from_dict`; {} for none said) and the lesson caption (head, words)."""
 
     hall: HallName
     title: str = ""
-    status: str = ""
-    line: str = ""
+    status: dict[str, Any] = field(default_factory=dict)
     caption: tuple[str, str] = ("", "")
 
 

@@ -3,9 +3,13 @@
 This module owns:
 
 - `Hall`: what the shared screen shows (the lectern keeps it; the words follow it).
-- The status words: `status_text` (who presents what: the transport, the scene and preset, the
-  time, the lesson step, the scene's key numbers; or plainly that the presenter stopped or
-  left) and `status_line` (the same in one line, for a narrow screen).
+- `FollowerStatus`: what the followers' panel says, as a value (the hall, the scene and preset,
+  the presenter's `Transport`, the lesson step, the scene's key numbers).  The lectern makes it
+  where the shared screen is (`FollowerStatus.of_room`); `app.cluster.bus` carries it to the
+  other workers as plain values (`to_dict` / `from_dict`, checked); a presenter who stopped or
+  left is its `hall` (`ended`), never an edit of words.  Only the panel that shows it writes it
+  as Markdown (`markdown`: who presents what, or plainly that the presenter stopped or left;
+  `line`: the same in one line, for a narrow screen).
 - `is_narrow`: a phone-like view, whose panel collapses to one line and a `Details` button so
   the body stays in view.
 - `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`, the presenter's
@@ -14,15 +18,16 @@ This module owns:
 
 The panel knows nothing of the lectern or the session: whoever builds it (`Lectern.add_follower`)
 hands it the browser's client, its guard, the actions of its buttons and the browser's own
-folders, which a collapsed panel hides; the lectern writes the status into it (`show_status`).
+folders, which a collapsed panel hides; the lectern hands it the status (`show_status`).
 """
 
 from __future__ import annotations
 
 import enum
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Annotated, Any, Literal, cast
 
+import msgspec
 import viser
 
 from app.hall.caption import Caption
@@ -31,10 +36,14 @@ from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 
-__all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Hall", "ended_head", "ended_line", "is_narrow",
-           "status_line", "status_text", "transport_words", "view_aspect"]
+__all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "FollowerStatus", "Hall", "Transport",
+           "ended_head", "ended_line", "is_narrow", "transport_words", "view_aspect"]
 
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
+MAX_LINE_CHARS = 400  # a title, preset or key number's line in a status read from another worker
+MAX_TEXT_CHARS = 4000  # the lesson step's text in it
+MAX_KEY_NUMBERS = 64  # its key numbers' lines
+TransportMode = Literal["live", "replaying", "scrubbing"]  # `Room.mode` (LIVE, REPLAYING, SCRUBBING)
 
 
 class Hall(enum.StrEnum):
@@ -65,30 +74,120 @@ def is_narrow(camera: Any) -> bool:
     return narrow_size(width, width / view_aspect(camera))
 
 
-def transport_words(room: Room) -> str:
+class Transport(msgspec.Struct, frozen=True, kw_only=True):
+    """What the presenter's transport does (`app.kit.core.room.Room`): the room's `mode` (LIVE,
+    REPLAYING or SCRUBBING), `playing`, the simulation's time `t`, the time shown `shown_t` and
+    the live end `live_t` [s], and `time_scale` (simulated s per wall s)."""
+
+    mode: TransportMode = "live"
+    playing: bool = False
+    t: float = 0.0
+    shown_t: float = 0.0
+    live_t: float = 0.0
+    time_scale: float = 1.0
+
+    @classmethod
+    def of_room(cls, room: Room) -> Transport:
+        """`room`'s transport now."""
+        return cls(mode=cast(TransportMode, room.mode), playing=bool(room.playing), t=float(room.sim.t),
+                   shown_t=float(room.shown_t), live_t=float(room.live_t), time_scale=float(room.time_scale))
+
+
+def transport_words(transport: Transport) -> str:
     """What the presenter's transport is doing, in words (playing, paused, looking back, replaying)."""
-    if room.mode == REPLAYING:
-        return f"⟲ replaying t = {room.shown_t:.1f} s of {room.live_t:.1f} s ({room.time_scale:g}×)"
-    if room.mode == SCRUBBING:
-        return f"⟲ looking back at t = {room.shown_t:.1f} s (live: {room.live_t:.1f} s)"
-    return "▶ playing" if room.playing else "paused"
+    if transport.mode == REPLAYING:
+        return (f"⟲ replaying t = {transport.shown_t:.1f} s of {transport.live_t:.1f} s "
+                f"({transport.time_scale:g}×)")
+    if transport.mode == SCRUBBING:
+        return f"⟲ looking back at t = {transport.shown_t:.1f} s (live: {transport.live_t:.1f} s)"
+    return "▶ playing" if transport.playing else "paused"
 
 
-def status_text(room: Room | None, hall: Hall, lesson: str = "", key_numbers: Sequence[str] = ()) -> str:
-    """The followers' panel text (Markdown): who presents what in `room` (the room on the shared
-    screen, None if there is none), the lesson step `lesson` (or ""), the time (once: while the
-    presenter looks back, the head's), the scene's `key_numbers` (lines)."""
-    if room is None:
-        return "Nobody is presenting."
-    head = "**Presenter:** " + transport_words(room) if hall is Hall.LIVE else ended_head(hall)
-    preset = getattr(room.sim, "preset", None)
-    lines = [head, f"Scene **{room.scene.title}**" + (f" · preset **{preset}**" if preset else "")]
-    if room.mode == LIVE or hall is not Hall.LIVE:  # looking back, the head says the one time shown
-        lines.append(f"t = {room.sim.t:.1f} s · {room.time_scale:g}×")
-    if lesson:
-        lines.append(lesson)
-    lines.extend(key_numbers)
-    return "  \n".join(lines)
+_Line = Annotated[str, msgspec.Meta(max_length=MAX_LINE_CHARS)]
+_Text = Annotated[str, msgspec.Meta(max_length=MAX_TEXT_CHARS)]
+
+
+class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
+    """What the followers' panel says, as data: made where the shared screen is (`of_room`; the
+    lectern), carried across workers as plain values (`to_dict` / `from_dict`, checked), and
+    written as Markdown only by the panel that shows it (`markdown`, `line`).
+
+    Attributes:
+        hall: what the shared screen shows (`Hall`); STOPPED and LEFT say so in the head.
+        title: the scene's title ("": nothing on the shared screen).  preset: its preset or "".
+        transport: the presenter's transport (`Transport`), None before it is known.
+        lesson: the presenter's lesson step ("" for none; shown only while LIVE).
+        key_numbers: the scene's key numbers, one Markdown line each.
+    """
+
+    hall: Hall = Hall.EMPTY
+    title: _Line = ""
+    preset: _Line = ""
+    transport: Transport | None = None
+    lesson: _Text = ""
+    key_numbers: Annotated[tuple[_Line, ...], msgspec.Meta(max_length=MAX_KEY_NUMBERS)] = ()
+
+    @classmethod
+    def of_room(cls, room: Room | None, hall: Hall, lesson: str = "",
+                key_numbers: Sequence[str] = ()) -> FollowerStatus:
+        """The status of `room` (the room on the shared screen, None if there is none) in `hall`;
+        its texts cut to the lengths `from_dict` accepts (a long lesson step is not refused)."""
+        if room is None:
+            return cls(hall=hall)
+        preset = getattr(room.sim, "preset", None)
+        return cls(hall=hall, title=str(room.scene.title)[:MAX_LINE_CHARS],
+                   preset=str(preset)[:MAX_LINE_CHARS] if preset else "", transport=Transport.of_room(room),
+                   lesson=str(lesson)[:MAX_TEXT_CHARS],
+                   key_numbers=tuple(str(line)[:MAX_LINE_CHARS] for line in key_numbers[:MAX_KEY_NUMBERS]))
+
+    def ended(self, hall: Hall) -> FollowerStatus:
+        """The same status once the presenter stopped (`hall` STOPPED) or left (LEFT)."""
+        return self if hall is self.hall else msgspec.structs.replace(self, hall=hall)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values (str, float, bool, lists, dicts) for a bus message."""
+        plain: dict[str, Any] = msgspec.to_builtins(self)
+        return plain
+
+    @classmethod
+    def from_dict(cls, data: Any) -> FollowerStatus:
+        """The status `to_dict` gave, checked (types, a known hall and mode, lengths);
+        ValueError (msgspec.ValidationError) for anything else."""
+        status: FollowerStatus = msgspec.convert(data, cls)
+        return status
+
+    def markdown(self) -> str:
+        """The followers' panel text: who presents what (or plainly that the presenter stopped or
+        left), the scene and preset, the time (once: while the presenter looks back, the head's),
+        the lesson step while live, the scene's key numbers (lines)."""
+        if not self.title:
+            return "Nobody is presenting."
+        live, transport = self.hall is Hall.LIVE, self.transport
+        if not live:
+            head = ended_head(self.hall)
+        else:
+            head = "**Presenter:** " + (transport_words(transport) if transport is not None else "presenting")
+        lines = [head, f"Scene **{self.title}**" + (f" · preset **{self.preset}**" if self.preset else "")]
+        if transport is not None and (transport.mode == LIVE or not live):
+            lines.append(f"t = {transport.t:.1f} s · {transport.time_scale:g}×")
+        if self.lesson and live:
+            lines.append(self.lesson)
+        lines.extend(self.key_numbers)
+        return "  \n".join(lines)
+
+    def line(self) -> str:
+        """The same in one line (Markdown), for a narrow screen."""
+        transport = self.transport
+        if not self.title:
+            return "Nobody is presenting."
+        if self.hall is not Hall.LIVE:
+            return ended_line(self.hall, self.title)
+        if transport is None:
+            return f"**{self.title}**"
+        if transport.mode != LIVE:
+            return f"**⟲ {self.title}** · t = {transport.shown_t:.1f} of {transport.live_t:.1f} s"
+        state = "▶" if transport.playing else "⏸"
+        return f"**{state} {self.title}** · t = {transport.t:.1f} s"
 
 
 def ended_head(hall: Hall) -> str:
@@ -105,18 +204,6 @@ def ended_line(hall: Hall, title: str) -> str:
     """The followers' one line once the presenter stopped or left."""
     word = "stopped" if hall is Hall.STOPPED else "left"
     return f"**Presenter {word}** · last state: {title}"
-
-
-def status_line(room: Room | None, hall: Hall) -> str:
-    """The followers' status in one line (Markdown), for a narrow screen."""
-    if room is None:
-        return "Nobody is presenting."
-    if hall is Hall.LIVE:
-        if room.mode != LIVE:
-            return f"**⟲ {room.scene.title}** · t = {room.shown_t:.1f} of {room.live_t:.1f} s"
-        state = "▶" if room.playing else "⏸"
-        return f"**{state} {room.scene.title}** · t = {room.sim.t:.1f} s"
-    return ended_line(hall, room.scene.title)
 
 
 class Follower:
@@ -205,10 +292,12 @@ class Follower:
             if handle.visible != shown:
                 handle.visible = shown
 
-    def show_status(self, status: str, line: str) -> None:
-        """Write the status (`status_text`) and the one line (`status_line`); unchanged text is not sent."""
-        if self.gui_status.content != status:
-            self.gui_status.content = status
+    def show_status(self, status: FollowerStatus) -> None:
+        """Write `status` as Markdown (`FollowerStatus.markdown`, and `line` for the collapsed
+        panel); unchanged text is not sent."""
+        text, line = status.markdown(), status.line()
+        if self.gui_status.content != text:
+            self.gui_status.content = text
         if self.gui_line.content != line:
             self.gui_line.content = line
 

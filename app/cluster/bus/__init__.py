@@ -18,7 +18,7 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   a gap asks (`ASK`, "resync") and the source publishes its shared scene's whole state (`Replica`:
   the last create and the last value of every node under LIVE_ROOT, kept from the same tap);
   the one that asked removes the nodes the state no longer has and applies it.
-- The hall's state (the followers' status and its one line, the caption, the scene's title) goes
+- The hall's state (the followers' status as data, `FollowerStatus`; the caption, the title) goes
   as a small message every FOLLOW_PERIOD, the presenter's camera (with its aspect, so each
   follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
   moved, and again after a resync (a process that came late has never heard it); a "call_back"

@@ -14,7 +14,7 @@ from app.cluster.bus.shared import SharedScene
 from app.cluster.bus.values import camera_shot, plot_from_message
 from app.cluster.bus.wire import decode_batch
 from app.cluster.messages import CallBack, Camera, HallState, Keep, Live, Plot, Resync, SceneBatch
-from app.hall.follower import Hall
+from app.hall.follower import FollowerStatus, Hall
 from app.lectern import Lectern, RemoteShow
 
 __all__ = ["Following", "Kept"]
@@ -38,10 +38,12 @@ class Kept:
 
 def copy_hall(remote: RemoteShow, message: HallState) -> None:
     """The hall's state heard from the source into `remote` (text bounded as shown).  The
-    followers' status is opaque text here: `app.hall.follower` renders it, `Lectern.status` shows it."""
+    followers' status is data (`FollowerStatus.from_dict`, checked first: one that is not a
+    status raises ValueError and changes nothing; none said keeps the last); the follower's
+    panel writes it as words."""
+    status = FollowerStatus.from_dict(message.status) if message.status else remote.status
     remote.title = message.title[:200]
-    remote.status = message.status[:4000]
-    remote.line = message.line[:400]
+    remote.status = status
     remote.caption = (message.caption[0][:400], message.caption[1][:4000])
 
 

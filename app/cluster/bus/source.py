@@ -44,10 +44,10 @@ __all__ = ["Publisher", "hall_message"]
 
 
 def hall_message(worker: str, lectern: Lectern, hall: Hall, said: bool = True) -> HallState:
-    """The hall's state as the source says it: the followers' status and its one line (opaque
-    text: `Lectern.status`, `Lectern.status_line`; empty when not `said`), the caption, the title."""
+    """The hall's state as the source says it: the followers' status as data
+    (`Lectern.follower_status`; none when not `said`), the caption, the title."""
     return HallState(worker=worker, hall=hall.value, title=lectern.live_title(),
-                     status=lectern.status() if said else "", line=lectern.status_line() if said else "",
+                     status=lectern.follower_status().to_dict() if said else {},
                      caption=lectern.caption() if said else ("", ""))
 
 
