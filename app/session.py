@@ -83,7 +83,7 @@ class Session:
         self.phone = PhoneFit(self)
         self.following = Following(self, self.own_room, self.phone)
         self.presenting = Presenting(self, self.own_room, self.following)
-        self.student = Student(self)
+        self.student = Student(self, self.following)
         with self._busy, client.atomic():  # the first panel leaves at once; clicks wait for it
             self._build(client.gui, scene)
             self._show_first_view()
@@ -436,11 +436,11 @@ class Session:
 
     def answer_from_copy(self) -> None:
         """A State question: leave the presenter with an exact copy of the room to answer from."""
-        self.following.answer_from_copy()
+        self.student.answer_from_copy()
 
     def folded_for_question(self, folded: bool) -> None:
         """While a question waits for this browser's answer, the follower's panel is folded away."""
-        self.following.folded_for_question(folded)
+        self.student.folded_for_question(folded)
 
     def questions_changed(self) -> bool:
         """Show the round as it is now (called by the app loop; `Student.questions_changed`)."""

@@ -113,14 +113,3 @@ class Following:
         browser.show_mode()
         self.phone.fit_explorer(narrow)
         self.own_room.refresh_preset_commands()
-
-    def answer_from_copy(self) -> None:
-        """A State question: leave the presenter with an exact copy of the room to answer from."""
-        if self.showing.mode is Mode.FOLLOWING:
-            self.explore()
-
-    def folded_for_question(self, folded: bool) -> None:
-        """While a question waits for this browser's answer, the follower's panel is folded away."""
-        view = self.showing.view
-        if self.showing.mode is Mode.FOLLOWING and isinstance(view, Follower) and view.folder.visible == folded:
-            view.folder.visible = not folded

@@ -2,7 +2,7 @@
 
 A browser answers the round asked now (`app.ask`) under its anonymous token, never sent and
 never shown; a State question is answered from its own room (a follower leaves with an exact
-copy first: `Following.answer_from_copy`).  The question panel (`app.hall.ask_student`) shows
+copy first: `answer_from_copy`).  The question panel (`app.hall.ask_student`) shows
 the round; the presenter's `Ask the class` folder (`app.hall.ask_presenter`) shows instead
 while this browser presents.
 """
@@ -14,33 +14,39 @@ from typing import Any
 from app.ask import new_token
 from app.ask.judges import read_state
 from app.hall.ask import AnswerPanel
+from app.hall.follower import Follower
 from app.lectern import Mode
+from app.roles.following import Following
 from app.roles.showing import Browser
 
 __all__ = ["Student"]
 
 
 class Student:
-    """A browser's answers and the question shown (module docstring).
+    """A browser's answers and the question shown (module docstring); what its question panel
+    drives (`app.hall.ask_kinds.Student`).
 
     Owned by the browser's session for its life.
 
     Args:
-        browser: the session.
+        browser: the session.  following: the follower's role (a State answer's copy).
 
     Attributes:
+        client: the browser.
         answer_token: this browser's anonymous answers' token, for the browser's life.
     """
 
-    def __init__(self, browser: Browser) -> None:
+    def __init__(self, browser: Browser, following: Following) -> None:
         self.browser = browser
+        self.client = browser.client
         self.showing = browser.showing
+        self.following = following
         self.answer_token = new_token()
 
     def build_question(self, *, order: float) -> AnswerPanel | None:
         """The question panel at `order` (None without a lecture hall)."""
         lectern = self.browser.lectern
-        return None if lectern is None else AnswerPanel(self.browser, self.browser.guard, lectern.rounds, order=order)
+        return None if lectern is None else AnswerPanel(self, self.browser.guard, lectern.rounds, order=order)
 
     def answer(self, value: Any) -> Any:
         """Answer the round the class is asked now with `value` (an option's index, a 3-vector,
@@ -63,6 +69,17 @@ class Student:
         if self.showing.mode is not Mode.OWN:
             raise PermissionError("answer from your own copy: press 'Answer from my copy' first")
         return read_state(self.showing.own_room)
+
+    def answer_from_copy(self) -> None:
+        """A State question: leave the presenter with an exact copy of the room to answer from."""
+        if self.showing.mode is Mode.FOLLOWING:
+            self.following.explore()
+
+    def folded_for_question(self, folded: bool) -> None:
+        """While a question waits for this browser's answer, the follower's panel is folded away."""
+        view = self.showing.view
+        if self.showing.mode is Mode.FOLLOWING and isinstance(view, Follower) and view.folder.visible == folded:
+            view.folder.visible = not folded
 
     def show_questions(self) -> None:
         """The presenter's `Ask the class` folder while presenting; a student's question otherwise."""
