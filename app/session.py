@@ -205,22 +205,10 @@ class Session:
         if not self.closed:
             self.errors.show_load(note)
 
-    def clear_error(self) -> None:
-        """Hide the error message."""
-        self.errors.clear()
-
     # ------------------------------------------------------------------ its own room (app.roles.own_room)
-    def open_scene(self, title: str, prepare: Callable[[Room], None]) -> Room:
-        """A new room of the scene `title`, set up by `prepare`, shown (`OwnRoom.open_scene`)."""
-        return self.own_room.open_scene(title, prepare)
-
-    def show(self, room: Room) -> None:
-        """Leave the current room and show `room` (`OwnRoom.show`)."""
-        self.own_room.show(room)
-
     def watch(self, room: Room) -> None:
         """Show another session's room: this client becomes one more view of its simulation."""
-        self.guard("watch", self.show)(room)
+        self.guard("watch", self.own_room.show)(room)
 
     def select_scene(self, title: str) -> None:
         """Switch to the scene `title` (a key of SCENES), as the dropdown does."""
@@ -262,7 +250,7 @@ class Session:
         if self.mode is Mode.FOLLOWING:
             self.following.leave_for(room)
         else:
-            self.show(room)
+            self.own_room.show(room)
         if self.share is not None:
             self.share.set_camera(camera)
 

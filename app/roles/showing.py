@@ -10,7 +10,6 @@ room; the roles (`app.roles`) switch them together under `switch_lock`.
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
 from typing import Any, Protocol
 
 import viser
@@ -126,8 +125,4 @@ class Browser(Seat, Protocol):
 
     def show_mode(self) -> None:
         """The panel for the browser's mode (after a switch)."""
-        ...
-
-    def open_scene(self, title: str, prepare: Callable[[Room], None]) -> Room:
-        """Show a new room of the scene `title`, set up by `prepare` first; the room."""
         ...
