@@ -43,6 +43,11 @@ class Student:
         self.following = following
         self.answer_token = new_token()
 
+    @property
+    def mode(self) -> Mode:
+        """The browser's mode (`Showing.mode`; a State question's widget reads it)."""
+        return self.showing.mode
+
     def build_question(self, *, order: float) -> AnswerPanel | None:
         """The question panel at `order` (None without a lecture hall)."""
         lectern = self.browser.lectern
