@@ -16,6 +16,7 @@ from app.hall.follower import is_narrow
 from app.hall.narrow import NarrowPanel
 from app.kit.core.common import CameraView, apply_camera
 from app.kit.draw.screen import body_centre, centred_view
+from app.kit.view import SceneView
 from app.lectern import Mode
 from app.roles.showing import Browser
 
@@ -66,8 +67,9 @@ class PhoneFit:
         dropdown, the lesson, the session's own folders and the view's panel."""
         browser = self.browser
         view = browser.showing.view
-        following = browser.showing.mode is Mode.FOLLOWING
-        roots = list(view.gui_roots) if not following and view is not None and hasattr(view, "gui_roots") else []
+        roots: list[Any] = []
+        if isinstance(view, SceneView) and browser.showing.mode is not Mode.FOLLOWING:
+            roots = list(view.gui_roots)
         return [browser.gui_scene, browser.lesson_runner.folder, *browser.own_folders, *roots]
 
     def screen_changed(self) -> None:
