@@ -270,6 +270,7 @@ def serve(max_lifetime: float) -> None:
         server = create_server("127.0.0.1", 0, verbose=False, presenter_code=PRESENTER_CODE)
     except TypeError:  # --baseline: an app from before the lecture hall
         server = create_server("127.0.0.1", 0, verbose=False)
+    print(f"BENCH_APP {Path(app.main.__file__).resolve().parent}", flush=True)  # which tree's app
     print(f"BENCH_PORT {server.port}", flush=True)
     done = threading.Event()
 
@@ -303,12 +304,15 @@ class ServerProcess:
 
     def _read_port(self, timeout: float) -> int:
         self._stats: queue.Queue[tuple[int, float, int, float, int, float, float]] = queue.Queue()
+        self.app_folder: Path | None = None  # the app package the server imported (printed before its port)
         found: list[int] = []
 
         def reader() -> None:
             assert self.process.stdout is not None
             for line in self.process.stdout:  # drained to the end (rich prints the URL panel)
-                if line.startswith("BENCH_PORT "):
+                if line.startswith("BENCH_APP "):
+                    self.app_folder = Path(line[len("BENCH_APP "):].strip())
+                elif line.startswith("BENCH_PORT "):
                     found.append(int(line.split()[1]))
                 elif line.startswith("BENCH_STATS "):
                     _tag, ticks, now, sessions, tick_s, passes, passes_s, longest_s = line.split()

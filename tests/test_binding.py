@@ -175,6 +175,28 @@ def test_nothing_is_written_into_a_slider_while_it_is_moved_nor_just_after() -> 
     assert rig.handle.writes == [1.0] and not rig.binding.editing()
 
 
+def test_a_value_skipped_while_the_user_edits_is_written_once_they_stop_unless_they_sent_a_newer_one() -> None:
+    """A preset applied just after a typed value: the server's write is held back while the hand
+    is on the field and written by the next frame's `flush` once it is off (before: it was
+    dropped, and the box kept the typed value under a simulation that had moved on)."""
+    rig = Rig()
+    rig.handle.receive(1.25)  # typed
+    rig.quiet.write(rig.handle, 0.5)  # a preset, at once
+    rig.quiet.flush()
+    assert rig.handle.writes == [], "written while the user's hand is on the field"
+    rig.clock.advance(HANDS_OFF_S * 1.1)
+    rig.quiet.flush()
+    assert rig.handle.writes == [0.5] and rig.handle.value == 0.5
+    rig.quiet.flush()
+    assert rig.handle.writes == [0.5], "an owed value is written once"
+    rig.handle.receive(1.5)
+    rig.quiet.write(rig.handle, 0.75)  # skipped: the hand is on it ...
+    rig.handle.receive(1.6)  # ... and the user sends a newer value
+    rig.clock.advance(HANDS_OFF_S * 1.1)
+    rig.quiet.flush()
+    assert rig.handle.writes == [0.5] and rig.applied[-1] == 1.6, "an owed value older than the user's was written"
+
+
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), "abc", "1e", None, [1.0], -5.0, 0.0, 1e9])
 def test_not_a_number_or_out_of_range_is_refused(bad: Any) -> None:
     rig = Rig(value=1.5)

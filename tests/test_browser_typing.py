@@ -195,3 +195,32 @@ def test_the_server_busy_note_comes_and_goes_without_moving_a_slider(wait_until,
     app._show_load("")
     page.get_by_text("Server busy").wait_for(state="hidden", timeout=10_000)
     assert still_thumb(page, session.scene.gui_angles[0]) == before
+
+
+def test_a_value_the_server_shows_while_the_boxs_text_is_selected_leaves_the_selection_to_type_over(
+        wait_until, app: App, page) -> None:
+    """The lecturer selects φ's text to type over it; meanwhile the server shows a new φ (a preset
+    applied, as a slider following the motion does once a second): the thumb moves, the box keeps
+    the selected text, and what is typed replaces it (before: the new value replaced the selection
+    and "12" was appended to it: 3012)."""
+    session = open_app(page, app)
+    session.apply_preset("D = 1")
+    view = session.scene  # Euler angles
+    handle = view.gui_angles[0]
+    phi = number_box(page, handle)
+    thumb = page.locator(f'[id="{handle._impl.uuid}"] [role="slider"]')
+    wait_until(lambda: phi.input_value() == "0", timeout=10.0)
+    phi.click()
+    page.keyboard.press("Control+A")
+    assert phi.evaluate("el => el.selectionEnd - el.selectionStart") == 1
+    session.apply_preset("30°, 50°, 20°")
+    wait_until(lambda: thumb.get_attribute("aria-valuenow") == "30", timeout=20.0)
+    held = phi.evaluate("el => [el.value, el.selectionStart, el.selectionEnd]")
+    assert held == ["0", 0, 1], f"the box's selected text was replaced: {held}"
+    page.keyboard.type("12", delay=20)
+    page.keyboard.press("Enter")
+    wait_until(lambda: view.sim.angles_deg[0] == 12.0, timeout=10.0)
+    wait_until(lambda: phi.input_value() == "12", timeout=10.0)
+    page.keyboard.press("Tab")  # the edit is over: the box follows the server again
+    session.apply_preset("D = 1")
+    wait_until(lambda: phi.input_value() == "0", timeout=10.0)

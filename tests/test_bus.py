@@ -221,19 +221,33 @@ def test_the_shared_labels_are_laid_out_for_a_phone_on_another_worker(workers: W
     assert presenter.mode == "presenting"
 
 
+def _screen_read(plain: Any) -> Any:
+    """`plain` as another worker reads it from the audience: a `Screen`, or None (refused)."""
+    from app.cluster.bus.values import screen_from_shape
+    from app.cluster.messages import ScreenShape, decode
+
+    try:
+        return screen_from_shape(decode(msgspec.msgpack.encode(plain), ScreenShape))
+    except msgspec.DecodeError:
+        return None
+
+
 def test_a_screen_from_redis_is_checked() -> None:
-    from app.cluster.bus import _screen_from_list, _screen_to_list
+    from app.cluster.bus.values import screen_shape
+    from app.cluster.messages import encode
     from app.kit.core.common import CameraView
     from app.kit.draw.screen import Screen
 
     view = CameraView((3.0, 3.0, 3.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 50.0)
     screen = Screen(view, 780, 1688, (0.0, 1000.0, 780.0, 1688.0))
-    assert _screen_from_list(msgspec.msgpack.decode(msgspec.msgpack.encode(_screen_to_list(screen)))) == screen
-    good = _screen_to_list(screen)
-    for bad in (None, "x", good[:12], [*good[:9], 0.0, *good[10:]], [*good[:9], 180.0, *good[10:]],
-                [*good[:10], 0, *good[11:]], [*good[:10], 1 << 20, *good[11:]], [float("nan"), *good[1:]],
-                [*good[:12], [0.0, 0.0, "1", 1.0]], [True, *good[1:]], [*good[:3], *good[:3], *good[6:]]):
-        assert _screen_from_list(bad) is None, bad
+    good = msgspec.msgpack.decode(encode(screen_shape(screen)))
+    assert _screen_read(good) == screen
+    assert _screen_read([*good[:6], None]) == Screen(view, 780, 1688, None)
+    for bad in (None, "x", good[:6], [*good[:3], 0.0, *good[4:]], [*good[:3], 180.0, *good[4:]],
+                [*good[:4], 0, *good[5:]], [*good[:4], 1 << 20, *good[5:]], [[float("nan"), 3.0, 3.0], *good[1:]],
+                [*good[:6], [0.0, 0.0, "1", 1.0]], [[True, 3.0, 3.0], *good[1:]], [good[0], good[0], *good[2:]],
+                [*good[:4], 780.5, *good[5:]]):
+        assert _screen_read(bad) is None, bad
 
 
 def test_a_follower_on_another_worker_sees_the_presenters_plot_tab(workers: Workers) -> None:
@@ -268,31 +282,46 @@ def test_a_follower_on_another_worker_sees_the_presenters_plot_tab(workers: Work
     poll_until(lambda: mirror.tab == "", timeout=10.0)  # stopped: the copy goes, as on one process
 
 
+def _plot_read(plain: Any, previous: Any) -> Any:
+    """`plain` (a plot message's dict) as another worker reads it from the bus: (tab, elements), or None (refused)."""
+    from app.cluster.bus.values import plot_from_message
+    from app.cluster.messages import LIVE_DECODER, Plot
+
+    try:
+        message = LIVE_DECODER.decode(msgspec.msgpack.encode({"k": "plot", "w": "a", **plain}))
+    except msgspec.DecodeError:
+        return None
+    assert isinstance(message, Plot)
+    return plot_from_message(message, previous)
+
+
 def test_a_plot_from_redis_is_checked() -> None:
-    from app.cluster.bus import _plot_from_plain, _plot_to_plain
+    from app.cluster.bus.values import plot_message
+    from app.cluster.messages import encode
     from app.hall.room_plot import ChartCopy, MarkdownCopy
 
     x = np.linspace(0.0, 1.0, 5)
     chart = ChartCopy((x, np.sin(x)), series=[{"label": "t"}, {"label": "ω_x", "stroke": "red"}], title="ω")
-    plain = msgspec.msgpack.decode(msgspec.msgpack.encode(_plot_to_plain("Plots", [chart, MarkdownCopy("**E** = 1")])))
-    tab, (got, words) = _plot_from_plain(plain, ("", ()))
+    plain = msgspec.msgpack.decode(encode(plot_message("a", "Plots", [chart, MarkdownCopy("**E** = 1")])))
+    tab, (got, words) = _plot_read(plain, ("", ()))
     assert tab == "Plots" and words == MarkdownCopy("**E** = 1") and got.title == "ω" and got.series == chart.series
     np.testing.assert_array_equal(got.data[1], np.sin(x).astype(np.float32))
-    again = _plot_from_plain(plain, (tab, (got, words)))  # unchanged: the same objects (nothing re-sent)
+    again = _plot_read(plain, (tab, (got, words)))  # unchanged: the same objects (nothing re-sent)
     assert again is not None and again[1][0] is got and again[1][1] is words
-    assert _plot_from_plain({"tab": "", "el": []}, (tab, (got, words))) == ("", ())
+    assert _plot_read({"tab": "", "el": []}, (tab, (got, words))) == ("", ())
     uplot = plain["el"][0]
     for bad in ({"tab": "Setup", "el": plain["el"]}, {"tab": "Plots", "el": []}, {"tab": "Plots", "el": "x"},
                 {"tab": "Plots", "el": [["uplot", {"onclick": "alert(1)"}, uplot[2]]]},
                 {"tab": "Plots", "el": [["uplot", uplot[1], [uplot[2][0], uplot[2][1][:-4]]]]},
                 {"tab": "Plots", "el": [["uplot", uplot[1], [b"abc"]]]},
                 {"tab": "Plots", "el": [["uplot", uplot[1], [b"\0" * 4 * 20_004]]]},
+                {"tab": "Plots", "el": [["uplot", uplot[1], []]]},
                 {"tab": "Plots", "el": [["uplot", {"title": float("nan")}, uplot[2]]]},
                 {"tab": "Plots", "el": [["uplot", {"series": [{"label": "x" * 201}]}, uplot[2]]]},
                 {"tab": "Plots", "el": [["uplot", {"series": [[[[[[[[[[]]]]]]]]]]}, uplot[2]]]},
                 {"tab": "Plots", "el": [["markdown", 3]]}, {"tab": "Plots", "el": [["script", "x"]]},
-                {"tab": "Plots", "el": [["markdown", "x"]] * 17}):
-        assert _plot_from_plain(bad, ("", ())) is None, str(bad)[:120]
+                {"tab": "Plots", "el": [["markdown", "x"]] * 17}, {"tab": 3, "el": []}):
+        assert _plot_read(bad, ("", ())) is None, str(bad)[:120]
 
 
 def test_a_hostile_follower_on_another_worker_changes_nothing(workers: Workers) -> None:
@@ -322,8 +351,9 @@ def test_stopped_left_and_a_worker_ending(workers: Workers) -> None:
     try:
         poll_until(lambda: follower_b.mode == "following" and b.lectern.hall is Hall.LIVE, timeout=10.0)
     except AssertionError:
-        raise AssertionError((follower_b.mode, b.lectern.hall, b.lectern.remote, b.bus._remote_worker,
-                              b.bus._expected, a.bus.source, a.bus.published_batches, presenter.mode)) from None
+        raise AssertionError((follower_b.mode, b.lectern.hall, b.lectern.remote, b.bus.following.remote_worker,
+                              b.bus.following.expected, a.bus.source, a.bus.published_batches,
+                              presenter.mode)) from None
     presenter.guard("test", presenter.stop_presenting)()
     poll_until(lambda: b.lectern.hall is Hall.STOPPED, timeout=10.0)
     assert "stopped" in b.lectern.status().lower()
@@ -343,9 +373,9 @@ def test_stopped_left_and_a_worker_ending(workers: Workers) -> None:
     try:
         poll_until(lambda: follower_c.mode == "following" and c.lectern.hall is Hall.LIVE, timeout=10.0)
     except AssertionError:
-        raise AssertionError((follower_c.mode, c.lectern.hall, c.lectern.remote, c.bus._remote_worker,
-                              c.bus._expected, a.bus.source, a.bus.published_batches, presenter.mode,
-                              a.bus._resync_for, c.bus._asked_at, c.bus.resyncs)) from None
+        raise AssertionError((follower_c.mode, c.lectern.hall, c.lectern.remote, c.bus.following.remote_worker,
+                              c.bus.following.expected, a.bus.source, a.bus.published_batches, presenter.mode,
+                              a.bus.publisher.resync_for, c.bus.following.asked_at, c.bus.resyncs)) from None
     a.bus.source = False  # as if killed: no "left" said
     a.stop()
     del workers.apps["a"]
@@ -437,3 +467,118 @@ def test_explore_on_another_worker_is_the_presenters_room_bit_for_bit(workers: W
     assert_rooms_equal(copy, original, "30 frames on")
     presenter.guard("test", presenter.call_back)()
     poll_until(lambda: follower_b.mode == "following", timeout=20.0)
+
+
+# ---------------------------------------------------------------------- malformed messages (app.cluster.messages)
+def test_the_hall_names_on_the_bus_are_the_halls() -> None:
+    from typing import get_args
+
+    from app.cluster.messages import HallName
+
+    assert set(get_args(HallName)) == {hall.value for hall in Hall}
+
+
+def _remote_seen(show: Any) -> tuple[Any, ...]:
+    return (show.worker, show.hall, show.title, show.status, show.line, show.caption, show.plot)
+
+
+def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: Workers,
+                                                                       caplog: pytest.LogCaptureFixture) -> None:
+    """The test plays a source (worker "s", its messages put on the channel by hand) that B
+    follows.  Garbage, JSON and wrong-typed messages in its name (a hall "stopped" with a number
+    for a title, a camera at NaN, a scene numbered "x", a plot with a script, an unknown kind) and
+    on the requests' channel change nothing on B: its remote show and camera stay; the valid
+    message after them is applied; B's browser goes on following and a newcomer follows.  Each
+    one dropped is said in B's log."""
+    import logging
+
+    import redis
+
+    from app.cluster.bus import ASK, CHANNEL
+    from app.cluster.messages import Camera, HallState, Message, SceneBatch, encode
+
+    b = workers.start("b")
+    follower, _ = workers.connect("b")
+    client = redis.Redis.from_url(workers.url)
+
+    def say(message: Message) -> None:
+        client.publish(CHANNEL, encode(message))
+
+    hall = HallState(worker="s", hall="live", title="Free body", status="**Live**: marked", line="marked",
+                     caption=("Head", "words"))
+
+    def heard() -> bool:  # also the source's heartbeat: B's lease on it does not lapse meanwhile
+        say(hall)
+        remote = b.lectern.remote
+        return remote is not None and remote.status == hall.status and remote.camera is not None
+
+    say(SceneBatch(worker="s", seq=1, full="*", messages=[], buffers=[], shapes=[], title="Free body"))
+    say(Camera(worker="s", position=(3.0, 3.0, 3.0), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0), fov=0.8,
+               aspect=1.5))
+    _poll(heard, lambda: f"B following the test's source; its remote show: {b.lectern.remote}")
+    _poll(lambda: follower.mode == "following", lambda: f"B's browser following; its mode: {follower.mode}")
+    remote = b.lectern.remote
+    before, camera = _remote_seen(remote), dict(remote.camera)
+    pack = msgspec.msgpack.encode
+    caplog.set_level(logging.WARNING, logger="app.cluster.bus")
+    garbage = (b"\xc1", b"not msgpack", b'{"k": "hall", "w": "s", "hall": "stopped"}',
+                 pack({"k": "hall", "w": "s", "hall": "stopped", "title": 5, "status": ["evil"], "line": "x"}),
+                 pack({"k": "hall", "w": "s", "hall": "sideways", "title": "Evil"}),
+                 pack({"k": "camera", "w": "s", "position": [float("nan"), 0.0, 0.0], "look_at": [0.0, 0.0, 0.0],
+                       "up": [0.0, 0.0, 1.0], "fov": 0.8, "aspect": 1.5}),
+                 pack({"k": "scene", "w": "s", "s": "x", "m": [], "b": [], "sh": []}),
+                 pack({"k": "plot", "w": "s", "tab": "Plots", "el": [["script", "alert(1)"]]}),
+                 pack({"k": "keep", "w": "s", "lid": "", "room": "not bytes", "st": 1.0}),
+                 pack({"k": "evil", "w": "s"}), pack({"k": "call_back"}), pack([1, 2, 3]), pack("hall"))
+    asks = (b"\xc1", pack({"k": "explore", "w": "x", "r": 5}), pack({"k": "resync"}))
+    for data in garbage:
+        client.publish(CHANNEL, data)
+    for data in asks:
+        client.publish(ASK, data)
+    say(Camera(worker="s", position=(4.0, 4.0, 4.0), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0), fov=0.8,
+               aspect=1.5))
+    _poll(lambda: remote.camera is not None and remote.camera["position"] == [4.0, 4.0, 4.0],
+          lambda: f"the valid camera after the garbage applied on B; its camera: {remote.camera}")
+    assert b.lectern.remote is remote and _remote_seen(remote) == before, (_remote_seen(remote), before)
+    assert {key: value for key, value in remote.camera.items() if key != "position"} == \
+        {key: value for key, value in camera.items() if key != "position"}
+    assert b.lectern.hall is Hall.LIVE and follower.mode == "following"
+    dropped = [r.getMessage() for r in caplog.records if "malformed message" in r.getMessage()]
+    assert len(dropped) == len(garbage) + len(asks), dropped
+    newcomer, _ = workers.connect("b")
+    _poll(lambda: heard() and newcomer.mode == "following", lambda: f"a newcomer on B following: {newcomer.mode}")
+
+
+def test_malformed_values_under_the_keys_are_dropped(workers: Workers) -> None:
+    """Garbage and wrong-typed entries in the audience hash, the last room's key and the
+    questions' keys are dropped: A's badge still counts B's follower, a question asked on A
+    still reaches B and B's answer is still counted on A."""
+    import redis
+
+    from app.cluster.askbus import ANSWERS_KEY, EARLIER_KEY, ROUND_KEY
+    from app.cluster.bus import AUDIENCE_KEY, LAST_KEY
+
+    a, b = workers.start("a"), workers.start("b")
+    client = redis.Redis.from_url(workers.url)
+    pack = msgspec.msgpack.encode
+    client.hset(AUDIENCE_KEY, "z1", b"\xc1")  # before B's entry: read first
+    client.hset(AUDIENCE_KEY, "z2", pack([1, "x", time.time(), []]))
+    client.hset(AUDIENCE_KEY, "z3", pack([5, 0, time.time(), [["not a screen"]]]))
+    client.set(LAST_KEY, b"\xc1")
+    client.set(ROUND_KEY, pack({"w": "z", "id": "r", "q": {"kind": "choice"}, "n": "one", "open": True}))
+    client.rpush(EARLIER_KEY, b"\xc1", pack([1, 2]))
+    presenter = _present(workers, "a")
+    student, _ = workers.connect("b")
+    _poll(lambda: student.mode == "following", lambda: f"B's browser following: {student.mode}")
+    _poll(lambda: a.lectern.remote_audience() == (1, 0),
+          lambda: f"A's badge counting B's follower and nothing else: {a.lectern.remote_audience()}")
+    presenter.guard("test", presenter.ask)({"kind": "choice", "prompt": "Which axis?", "options": ["1", "2", "3"]})
+    _poll(lambda: student.question.folder.visible, lambda: "the question shown on B")
+    round_id = a.lectern.rounds.current_id
+    client.rpush(ANSWERS_KEY + round_id, b"\xc1", pack(["token"]), pack([5, 1]), pack({"token": "t", "value": 1}))
+    student.answer(2)
+    _poll(lambda: a.lectern.rounds.tally().answered == 1,
+          lambda: f"B's answer counted on A: {a.lectern.rounds.tally()}")
+    assert a.lectern.rounds.tally().counts == (0, 0, 1)
+    assert b.ask_bus._fetch_earlier() == []  # the two malformed entries dropped
+    assert presenter.error_count == 0 and student.error_count == 0, (presenter.last_error, student.last_error)

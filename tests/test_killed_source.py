@@ -128,15 +128,16 @@ def test_explore_and_present_on_b_after_the_presenters_worker_is_killed() -> Non
             return len(drawn) >= 3
 
         _wait(moving, "the top turning on B's browser", lambda: len(drawn), 60.0)
-        _wait(lambda: (b.bus._seen_t or 0.0) > 1.5, "B drawing 1.5 s of the top's motion", lambda: b.bus._seen_t, 60.0)
-        _wait(lambda: b.bus._kept is not None, "a kept copy of A's room on B", lambda: b.bus._kept, 20.0)
+        seen = b.bus.following
+        _wait(lambda: (seen.seen_t or 0.0) > 1.5, "B drawing 1.5 s of the top's motion", lambda: seen.seen_t, 60.0)
+        _wait(lambda: seen.kept is not None, "a kept copy of A's room on B", lambda: seen.kept, 20.0)
         worker.kill()
         worker.wait(10)
         _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that A's presenter left", lambda: b.lectern.hall,
               LEASE_S + 10.0)
         displayed = _body_wxyz(mirror, "/l")
         assert displayed is not None
-        shown_t = b.bus._seen_t
+        shown_t = b.bus.following.seen_t
         assert shown_t is not None
 
         follower.guard("test", follower.explore)()
@@ -227,14 +228,14 @@ def test_with_nothing_of_the_room_kept_explore_gives_a_fresh_room_of_the_scene(m
     from test_bus import Workers, _present
 
     from app.cluster import services
-    from app.cluster.bus import Bus
+    from app.cluster.bus.source import Publisher
     from app.hall.follower import Hall
 
     try:
         url, process = services.start_redis()
     except services.MissingProgram as error:
         pytest.skip(str(error))
-    monkeypatch.setattr(Bus, "_send_keep", lambda self: None)  # no copy of the room ever published
+    monkeypatch.setattr(Publisher, "_send_keep", lambda self: None)  # no copy of the room ever published
     workers = Workers(url)
     try:
         a, b = workers.start("a"), workers.start("b")

@@ -373,7 +373,7 @@ def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens() -> N
             return [name for name in _live_nodes(mirror_b) if name.startswith(POINTER_ROOT + "/")]
 
         poll_until(lambda: markers(), timeout=10.0)
-        assert any(name.startswith(POINTER_ROOT + "/") for name in b.bus._applied.nodes())
+        assert any(name.startswith(POINTER_ROOT + "/") for name in b.bus.shared.applied.nodes())
         a.bus.source = False  # as if killed: no "left" said, no removal sent
         a.stop()
         del workers.apps["a"]

@@ -24,8 +24,9 @@ the worker that asked (`app.ask.hub.Rounds` on each side).
   its presenter's `Download earlier rounds (CSV)` shows) and reads it when that is pressed
   (`Rounds.shared_earlier`).  A worker killed before its poll pushes nothing.
 - Tokens are the server's random per-browser tokens; nothing a browser sends chooses one.
-  Everything read from Redis is msgpack of plain values, checked before use (`question_from_dict`,
-  the round's checks); a bad entry is dropped.
+  Everything read from Redis is one of `app.cluster.messages` (`ShownRound`, `SentAnswer`,
+  `EarlierRound`: msgpack), decoded with its type, then checked (`question_from_dict`, the
+  round's checks); a malformed entry is dropped with a log line and changes nothing.
 
 The app loop calls `tick(dt)` once a frame; `close()` at the end.  No viser here.
 """
@@ -35,26 +36,26 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
-from typing import Any
 
-import msgspec.msgpack
+import msgspec
 
 from app.ask.hub import MAX_EARLIER, Rounds, Shown
 from app.ask.questions import question_from_dict, question_to_dict
 from app.ask.round import Refused
 from app.cluster import KEY_PREFIX, connect
+from app.cluster.messages import EarlierRound, SentAnswer, ShownRound, decode, encode
 
 __all__ = ["ANSWERS_KEY", "EARLIER_KEY", "POLL_S", "REFRESH_S", "ROUND_KEY", "ROUND_LIVE_S", "AskBus"]
 
 logger = logging.getLogger(__name__)
 
-ROUND_KEY = KEY_PREFIX + "ask:round"  # msgpack: the source's round as every browser sees it
-ANSWERS_KEY = KEY_PREFIX + "ask:answers:"  # + round id: a list of msgpack [token, value]
+ROUND_KEY = KEY_PREFIX + "ask:round"  # a `ShownRound`: the source's round as every browser sees it
+ANSWERS_KEY = KEY_PREFIX + "ask:answers:"  # + round id: a list of `SentAnswer` [token, value]
 POLL_S = 0.1  # [s] every worker reads the round, the source pops the answers, this often
 REFRESH_S = 2.0  # [s] the source rewrites the round at least this often
 ROUND_LIVE_S = 3 * REFRESH_S  # [s] the round's key lapses this long after the source's last write
 ANSWERS_TTL_S = 60.0  # [s] an answers' list no source pops lapses this long after its last answer
-EARLIER_KEY = KEY_PREFIX + "ask:earlier"  # a list of msgpack [round id, CSV section]: the rounds that ended
+EARLIER_KEY = KEY_PREFIX + "ask:earlier"  # a list of `EarlierRound` [round id, CSV section]: the rounds that ended
 EARLIER_TTL_S = 12 * 3600  # [s] the list lapses this long after its last push
 MAX_SECTION_BYTES = 8 * 1024 * 1024  # a section read back longer than this is dropped
 MAX_POP = 5000  # answers the source takes in one poll
@@ -62,29 +63,22 @@ MAX_ENTRY_BYTES = 8192
 
 
 def encode_shown(shown: Shown, worker: str) -> bytes:
-    return msgspec.msgpack.encode({"w": worker, "id": shown.id, "q": question_to_dict(shown.question),
-                                   "n": shown.number, "open": shown.open, "revealed": shown.revealed,
-                                   "answered": shown.answered, "o": shown.owner})
+    """ROUND_KEY's bytes: `shown` as a `ShownRound` of `worker`."""
+    return encode(ShownRound(worker=worker, id=shown.id, question=question_to_dict(shown.question),
+                             number=shown.number, open=shown.open, revealed=shown.revealed,
+                             answered=shown.answered, owner=shown.owner))
 
 
-def decode_shown(data: Any) -> tuple[str, Shown]:
+def decode_shown(data: object) -> tuple[str, Shown]:
     """(worker, Shown) from ROUND_KEY's bytes; ValueError for anything not one."""
     if not isinstance(data, bytes) or len(data) > 64 * 1024:
         raise ValueError("not a round")
     try:
-        body = msgspec.msgpack.decode(data)
-    except msgspec.DecodeError:
-        raise ValueError("undecodable round") from None
-    if not isinstance(body, dict):
-        raise ValueError("not a round")
-    worker, rid, number = body.get("w"), body.get("id"), body.get("n")
-    if not (isinstance(worker, str) and isinstance(rid, str) and 0 < len(rid) <= 64 and isinstance(number, int)
-            and not isinstance(number, bool) and isinstance(body.get("open"), bool)
-            and isinstance(body.get("revealed"), bool) and isinstance(body.get("answered", 0), int)
-            and isinstance(body.get("o", ""), str) and len(body.get("o", "")) <= 200):
-        raise ValueError("a round with missing fields")
-    return worker, Shown(question_from_dict(body.get("q")), number, body["open"], body["revealed"], rid,
-                         int(body.get("answered", 0)), body.get("o", ""))
+        body = decode(data, ShownRound)
+    except msgspec.DecodeError as error:
+        raise ValueError(f"a malformed round: {error}") from None
+    return body.worker, Shown(question_from_dict(body.question), body.number, body.open, body.revealed, body.id,
+                              body.answered, body.owner)
 
 
 class AskBus:
@@ -104,7 +98,8 @@ class AskBus:
         self.redis = connect(url)
         self.clock = clock
         self._since = POLL_S  # the first tick polls
-        self._written: tuple[Any, ...] | None = None  # what the source last wrote, and when
+        # what the source last wrote (id, number, open, revealed, answered), and when
+        self._written: tuple[str, int, bool, bool, int] | None = None
         self._written_at = -float("inf")
         self.taken = 0  # answers taken from other workers (the source's count)
         self._pushed: set[str] = set()  # ids of this worker's ended rounds pushed onto EARLIER_KEY
@@ -112,9 +107,9 @@ class AskBus:
         rounds.forward = self._forward
         rounds.shared_earlier = self._fetch_earlier
 
-    def _forward(self, round_id: str, token: str, value: Any) -> None:
+    def _forward(self, round_id: str, token: str, value: object) -> None:
         key = ANSWERS_KEY + round_id
-        data = msgspec.msgpack.encode([token, list(value) if isinstance(value, tuple) else value])
+        data = encode(SentAnswer(token, list(value) if isinstance(value, tuple) else value))
         pipe = self.redis.pipeline(transaction=False)
         pipe.rpush(key, data)
         pipe.expire(key, int(ANSWERS_TTL_S))
@@ -147,7 +142,7 @@ class AskBus:
             return
         pipe = self.redis.pipeline(transaction=False)
         for one in fresh:
-            pipe.rpush(EARLIER_KEY, msgspec.msgpack.encode([one.id, one.section()]))
+            pipe.rpush(EARLIER_KEY, encode(EarlierRound(one.id, one.section())))
         pipe.ltrim(EARLIER_KEY, -MAX_EARLIER, -1)
         pipe.expire(EARLIER_KEY, EARLIER_TTL_S)
         pipe.execute()
@@ -160,10 +155,8 @@ class AskBus:
             try:
                 if not isinstance(data, bytes) or len(data) > MAX_SECTION_BYTES:
                     raise ValueError("too long")
-                body = msgspec.msgpack.decode(data)
-                if not (isinstance(body, list) and len(body) == 2 and all(isinstance(x, str) for x in body)):
-                    raise ValueError("not [id, section]")
-                found.append((body[0], body[1]))
+                earlier = decode(data, EarlierRound)
+                found.append((earlier.id, earlier.section))
             except (ValueError, msgspec.DecodeError) as error:
                 logger.warning("ask bus: an earlier round dropped: %s", error)
         return found
@@ -227,10 +220,8 @@ class AskBus:
             try:
                 if not isinstance(data, bytes) or len(data) > MAX_ENTRY_BYTES:
                     raise ValueError("too long")
-                body = msgspec.msgpack.decode(data)
-                if not (isinstance(body, list) and len(body) == 2 and isinstance(body[0], str)):
-                    raise ValueError("not [token, value]")
-                round_.answer(body[0], body[1])
+                answer = decode(data, SentAnswer)
+                round_.answer(answer.token, answer.value)
                 self.taken += 1
             except Refused:
                 continue  # the round's rules: too fast, closed, full

@@ -452,6 +452,9 @@ class Room:
                 return
             try:
                 view.frame(dt)
+                quiet = getattr(view, "quiet", None)
+                if quiet is not None:
+                    quiet.flush()  # values a user's edit held back from its fields
                 timeline = view.timeline
                 if timeline is not None:
                     timeline.frame(dt)

@@ -16,10 +16,13 @@ The two sides split the work where each thing is known:
   (`Number(text)`, so `1e-3` and `-0.8` are understood) is handed to the box as plain decimals
   in one input event, and the box sends it once.  Text that is not a number goes back to the
   value in force; keys that cannot be part of a number are not typed at all; Escape undoes the
-  edit.  While its user types, nothing the server sends is written into that box (it is shown
-  after the commit).  The slider's clamp-on-blur is skipped: an out-of-range value reaches the
-  server, which says why it is refused.  Thumb drags, arrow keys on a thumb and the number
-  boxes' step buttons are not touched: they send complete values.
+  edit.  While its user types, or has selected its text to type over it, nothing the server
+  sends is written into that box (it is shown after the commit, or when the box loses focus):
+  a slider following the motion would otherwise replace the selection, and the keys typed next
+  would be appended to the new value ("5.03" + "999" taken as 5.03999 s).  The slider's
+  clamp-on-blur is skipped: an out-of-range value reaches the server, which says why it is
+  refused.  Thumb drags, arrow keys on a thumb and the number boxes' step buttons are not
+  touched: they send complete values.
 * **On the server**, `bind(...)` gives a handle one callback (instead of a hand-written one per
   control): every update is applied when it arrives, so the next frame draws it.  A value is
   parsed and checked (`check`: a `SliderSpec`'s range, or a function that raises `Refused`),
@@ -253,6 +256,7 @@ class Binding:
             return  # the server itself is showing a value on the control
         if getattr(event, "client", None) is not None:
             self._last_update = self.clock.now()
+            self._quiet.forget(self.handle)  # a value the server skipped meanwhile is older than this one
         self.decide(self.handle.value)
 
     def decide(self, value: Any) -> None:
@@ -351,14 +355,20 @@ TYPING_GUARD_JS = """
       configurable: true,
       enumerable: own.enumerable,
       get() { return own.get.call(el); },
-      set(v) { if (s.dirty) { s.wanted = v; } else { own.set.call(el, v); } },
+      set(v) { if (s.dirty || (!committing && selecting(el))) { s.wanted = v; } else { own.set.call(el, v); } },
     });
     return s;
   }
+  function selecting(el) {  // its user has selected text in it to type over
+    return document.activeElement === el && el.selectionStart !== el.selectionEnd;
+  }
   function begin(el) {
     const s = stateOf(el);
-    if (!s.dirty) { s.shown = proto.get.call(el); s.wanted = null; s.dirty = true; }
+    if (!s.dirty) { s.shown = proto.get.call(el); s.dirty = true; }  // a value held while selected stays wanted
     return s;
+  }
+  function flush(el, s) {  // a value held while its text was selected, shown once the edit is over
+    if (!s.dirty && s.wanted !== null) { const v = s.wanted; s.wanted = null; s.own.set.call(el, v); }
   }
   function revert(el, s) {
     s.dirty = false;
@@ -424,10 +434,12 @@ TYPING_GUARD_JS = """
     }, PAUSE_MS);
   }, true);
   window.addEventListener("change", (e) => { if (box(e)) e.stopImmediatePropagation(); }, true);
+  window.addEventListener("focusin", (e) => { const el = box(e); if (el) stateOf(el); }, true);
   window.addEventListener("focusout", (e) => {
     const el = box(e);
     if (!el) return;
     commit(el);
+    flush(el, states.get(el));
     e.stopImmediatePropagation();
   }, true);
 })();

@@ -69,12 +69,15 @@ class Quiet:
     `active` is true only on the thread that writes: a browser's update handled meanwhile on
     viser's thread pool still acts.
     A bound control (`app.kit.panel.binding`) registers a guard: while it says its user is editing,
-    quiet writes skip that field (unless forced: a refusal putting the value in force back).
+    quiet writes skip that field (unless forced: a refusal putting the value in force back); the
+    last value skipped is owed to the field and written by `flush` (each frame) once its user
+    has stopped, so a preset applied just after a typed value still reaches the box.
     """
 
     def __init__(self) -> None:
         self._writers: set[int] = set()  # the threads inside `write`
         self._guards: dict[int, Callable[[], bool]] = {}
+        self._owed: dict[int, tuple[Any, Any]] = {}  # id(handle) -> (handle, the last value skipped)
 
     @property
     def active(self) -> bool:
@@ -92,7 +95,11 @@ class Quiet:
     def write(self, handle: Any, value: Any, force: bool = False) -> None:
         """`handle.value = value` (only if it differs, and not while its user edits it unless
         `force`), callbacks silenced."""
-        if handle.value == value or (not force and self.editing(handle)):
+        if not force and self.editing(handle):
+            self._owed[id(handle)] = (handle, value)
+            return
+        self._owed.pop(id(handle), None)
+        if handle.value == value:
             return
         thread = threading.get_ident()
         outer = thread in self._writers
@@ -104,6 +111,17 @@ class Quiet:
             _writes.depth -= 1
             if not outer:
                 self._writers.discard(thread)
+
+
+    def forget(self, handle: Any) -> None:
+        """Drop the value owed to `handle` (its user sent a value: what was skipped is older)."""
+        self._owed.pop(id(handle), None)
+
+    def flush(self) -> None:
+        """Write the values owed to fields whose users have stopped editing them."""
+        for handle, value in list(self._owed.values()):
+            if not self.editing(handle):
+                self.write(handle, value)
 
 
 class MessageLine:
