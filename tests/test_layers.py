@@ -4,8 +4,9 @@ function level and under TYPE_CHECKING):
 - no import cycle anywhere in `app/` or `physics/`;
 - `physics` never imports `app` (nor viser);
 - the app stacks kit ← scenes ← the follower's panel ← lectern ← the session's other parts
-  (app.hall) ← session ← main: a layer imports only layers below it, and a scene never imports
-  another scene (the modules of one scene's package, `app.scenes.<scene>.*`, import each other);
+  (app.hall) ← the browser's roles (app.roles) ← session ← main: a layer imports only layers
+  below it, and a scene never imports another scene (the modules of one scene's package,
+  `app.scenes.<scene>.*`, import each other);
 - the kit's rooms stack core ← panel, draw (neither imports the other) ← view ← rigid;
 - a scene's simulation and readouts (`app.scenes.<scene>.simulation`, `.readouts`), the rigid
   body's simulation and texts, and the kit's core but its draw target import no viser, neither
@@ -35,7 +36,8 @@ LAYERS = {
     "app.hall.caption": 2.8, "app.hall.room_plot": 2.8, "app.hall.follower": 3,
     "app.cluster.askbus": 0.6,  # questions across processes: the model and Redis
     "app.lectern": 4, "app.cluster.bus": 4.5,  # the bus: what followers on another process see
-    "app.hall": 5, "app.session": 6, "app.main": 7, "app.notebook": 7.5,
+    "app.hall": 5, "app.roles": 5.5,  # the browser's roles (own room, following, presenting, student)
+    "app.session": 6, "app.main": 7, "app.notebook": 7.5,
     "app.__main__": 8, "app": 8,
 }
 

@@ -114,14 +114,14 @@ def test_explore_on_my_own_forks_the_state_and_follow_presenter_comes_back(hall:
     assert student.simulation.t == t_live > 0.0 and student.scene.title == "Heavy top"
     assert student.room.playing and student.simulation.preset == "Loop"
     assert len(student.simulation.traces["tip"]) == len(presenter.simulation.traces["tip"]) > 1
-    assert student._shadow is not None  # the shared scene is hidden in this browser
+    assert student.showing.shadow is not None  # the shared scene is hidden in this browser
     hall.frames(10)
     assert student.simulation.t > t_live and presenter.room.ticks == 30
     np.testing.assert_array_equal(student.simulation.state.R_space_body, presenter.simulation.state.R_space_body)
     presenter.select_scene("Euler angles")  # a new scene goes live; the explorer stays put
     assert student.mode == "own" and student.scene.title == "Heavy top"
     student.follow()
-    assert student.mode == "following" and student.room is presenter.room and student._shadow is None
+    assert student.mode == "following" and student.room is presenter.room and student.showing.shadow is None
     hall.frames(40)
     assert "Euler angles" in student.scene.gui_status.content
     student.explore()  # the live scene now, never the student's earlier room
@@ -171,7 +171,7 @@ def test_stop_presenting_keeps_the_room_in_the_presenters_browser(hall: Hall) ->
     hall.frames(1)
     presenter.stop_presenting()
     assert presenter.mode == "own" and hall.app.lectern.presenter is None
-    assert presenter.scene.root == "/e" and presenter._shadow is not None
+    assert presenter.scene.root == "/e" and presenter.showing.shadow is not None
     assert follower.mode == "following"  # the last state stays on the followers' screens
     assert presenter.gui_present.visible and not presenter.gui_stop.visible
     assert not presenter.gui_follow.visible  # nobody presents: nothing to follow

@@ -76,7 +76,7 @@ def test_a_newcomer_after_the_lecture_has_its_own_room_and_the_last_one_a_click_
     assert hall.app.lectern.followers.keys() == {follower.client_id}
     assert newcomer.room is not last and newcomer.room.scene.title == DEFAULT_SCENE
     assert newcomer.gui_scene.visible and newcomer.gui_scene.value == DEFAULT_SCENE
-    assert newcomer._shadow is not None  # the shared (last) scene is hidden in this browser
+    assert newcomer.showing.shadow is not None  # the shared (last) scene is hidden in this browser
     assert newcomer.room.sim.t == 0.0
     newcomer.play()
     hall.frames(10)
