@@ -10,7 +10,7 @@ From the bottom up (`tests/test_layers.py` enforces the order):
   labels, screen projection), `view` (`SceneView`), `rigid` (the rigid body's simulation, view,
   texts and parts); its docstring is the recipe for a new scene;
 - `app.scenes`: one module or package per scene, and the registry the Scene dropdown lists;
-- `app.lessons`, `app.export`, `app.hall.follower`, `app.lectern` (the lecture hall's lock),
+- `app.lessons`, `app.export`, `app.lecture.follower`, `app.lecture.lectern` (the lecture hall's lock),
   `app.hall` (projector layout, lesson runner, notes, lecture panel);
 - `app.session` (one `Session` per browser), `app.main` (the server, its loop, the command line).
 """

@@ -2,7 +2,7 @@
 
     python -m app [--host 127.0.0.1] [--port 8080]
     rigid-body-lab [--host ...] [--port ...]
-    rigid-body-lab --workers N [--redis URL] ...   # N processes behind nginx (`app.cluster.launch`)
+    rigid-body-lab --workers N [--redis URL] ...   # N processes behind nginx (`app.launch`)
 
 The server binds to loopback by default (viser's own default is 0.0.0.0, with no
 authentication); pass `--host 0.0.0.0` deliberately to show it on a lecture-room network.
@@ -29,11 +29,11 @@ from typing import Any
 import viser
 
 from app.backpressure import FramePacer, PacerStats
-from app.cluster.gate import Gate, guess_chance, normalize_code
 from app.export import export_main
 from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
-from app.lectern import Broadcast, Lectern, new_code
+from app.lecture.gate import Gate, guess_chance, normalize_code
+from app.lecture.lectern import Broadcast, Lectern, new_code
 from app.lessons import LessonError, lessons
 from app.own import OwnLibrary
 from app.scenes import SCENES, check_presets
@@ -122,7 +122,7 @@ class App:
         self._owed: dict[int, float] = {}  # id(view) -> wall time [s] it has not drawn yet
         # app.wire: the shared scene's (key None) and each browser's
         self._wires: dict[int | None, Wire | None] = {None: Wire.attach(server)}
-        # One lecture across processes (`app.cluster.bus`), after the shared scene's wire: None on one process
+        # One lecture across processes (`app.lecture.bus`), after the shared scene's wire: None on one process
         self.bus: Any = bus_factory(server, self.lectern) if bus_factory is not None else None
         self._ask_version, self._since_ask = -1, 0.0
         self._ask_pending: set[int] = set()  # client ids whose question was not refreshed (busy then)
@@ -353,8 +353,8 @@ def create_server(
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
     projector: every browser starts in the projector layout (large text, narrow panel).
     redis_url, worker_id: this app is the worker `worker_id` of a lecture on several processes
-    (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.cluster.gate.RedisGate`), and
-    what followers on other processes see through it (`app.cluster.bus.Bus`).
+    (`app.cluster`): the presenter lock in Redis at `redis_url` (`app.lecture.gate.RedisGate`), and
+    what followers on other processes see through it (`app.lecture.bus.Bus`).
     None (both): one process, as always, importing no redis.
     data_dir: the folder of what users keep (own presets and lessons, `app.own`; None: the
     platform's default, `app.userdata.default_data_dir()`), made when something is first saved.
@@ -368,7 +368,7 @@ def create_server(
     lessons()  # a broken lesson file: LessonError naming the file and the step
     gate: Gate | None = None
     if redis_url is not None:
-        from app.cluster.gate import RedisGate  # noqa: PLC0415 - imports redis: only for several processes
+        from app.lecture.gate import RedisGate  # noqa: PLC0415 - imports redis: only for several processes
 
         gate = RedisGate(redis_url, worker_id or "w1", presenter_code or new_code())
     server = viser.ViserServer(host=host, port=port, verbose=verbose)
@@ -379,7 +379,7 @@ def create_server(
     folder = Path(data_dir).expanduser() if data_dir else default_data_dir()
     bus_factory = None
     if redis_url is not None:
-        from app.cluster.bus import Bus  # noqa: PLC0415 - a one-process app imports no redis
+        from app.lecture.bus import Bus  # noqa: PLC0415 - a one-process app imports no redis
 
         url, worker = redis_url, worker_id or "w1"
 
@@ -471,7 +471,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         print("rigid-body-lab: the presenter code is empty", file=sys.stderr)
         raise SystemExit(2)
     if args.workers is not None:
-        from app.cluster.launch import launch_main  # noqa: PLC0415 - the launcher: only for --workers
+        from app.launch import launch_main  # noqa: PLC0415 - the launcher: only for --workers
 
         raise SystemExit(launch_main(args))
     worker = args.redis is not None

@@ -3,7 +3,7 @@
 A session shows one room (`app.kit.core.room.Room`: a simulation, its transport state and the
 views watching it) through one view built for its client (`app.roles.showing.ShownView`): its
 own room's view, its room live on the shared screen while it presents, or the follower's panel
-while it follows a presenter (`app.lectern`).
+while it follows a presenter (`app.lecture.lectern`).
 
 The session owns the guard, the panel's parts (`app.hall`: the projector layout, the lesson,
 notes, sharing, the Lecture folder and live bar, a narrow explorer's fold, Ask the class, the
@@ -37,7 +37,7 @@ from app.hall.own_panel import OwnPanel
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.hall.share import Camera, SharePanel
 from app.kit.core.room import Room
-from app.lectern import Lectern, Mode
+from app.lecture.lectern import Lectern, Mode
 from app.lessons import Lesson
 from app.own import OwnLibrary
 from app.roles.following import Following
@@ -127,7 +127,7 @@ class Session:
                                              *(() if self.share is None else (self.share.folder,)),
                                              *(() if self.lecture is None else (self.lecture.folder,)),
                                              *(() if self.own_panel is None else (self.own_panel.folder,)))
-        """The folders a collapsed follower's panel hides (`app.lectern.Seat`)."""
+        """The folders a collapsed follower's panel hides (`app.lecture.lectern.Seat`)."""
 
     def _show_first_view(self) -> None:
         """Follow a presenter, or its own room (`OwnRoom.first_view`); the round asked now; a phone's fold."""

@@ -12,7 +12,7 @@ nothing (the hall's limit, "someone else is presenting").  Then the attack stops
 lecturer's browser, which has the code, tries it once a second until it presents.
 
 Prints: wrong codes evaluated per minute, the chance that a guesser at that rate presents in a
-90-minute lecture against a random code (`app.cluster.gate.guess_chance`), and the seconds the
+90-minute lecture against a random code (`app.lecture.gate.guess_chance`), and the seconds the
 lecturer waited after the attack.
 """
 
@@ -31,8 +31,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from app.cluster.gate import guess_chance, new_code  # noqa: E402
 from app.cluster.services import free_port  # noqa: E402
+from app.lecture.gate import guess_chance, new_code  # noqa: E402
 from benchmarks.ws_client import AsyncViserClient  # noqa: E402
 
 ANSWER_S = 2.0  # [s] an answer that does not come in this long: the words did not change

@@ -1,6 +1,6 @@
 """A lecture on several processes for tests, with the real parts: redis-server and nginx on free
 ports, N app workers (`create_server(..., redis_url=, worker_id=)`) in this process, so a test
-reads their state, behind nginx's `least_conn` (`app.cluster.launch.nginx_config`).
+reads their state, behind nginx's `least_conn` (`app.launch.nginx_config`).
 
     from cluster import Cluster, cluster_fixture
     cluster = cluster_fixture(workers=2)          # a module-scoped fixture named `cluster`
@@ -25,8 +25,8 @@ from typing import Any
 import pytest
 
 from app.cluster import KEY_PREFIX, connect
-from app.cluster.launch import start_nginx
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process
+from app.launch import start_nginx
 
 __all__ = ["CODE", "Cluster", "cluster_fixture", "missing_parts"]
 

@@ -1,4 +1,4 @@
-"""One lecture on two workers (app.cluster.bus), in Debian's Chromium, through the pages only:
+"""One lecture on two workers (app.lecture.bus), in Debian's Chromium, through the pages only:
 a presenter's page on worker A, a laptop follower's page on worker B (one real redis-server,
 both workers in this process, their loops running).
 

@@ -5,7 +5,7 @@ The presenter ticks `Projector`, starts the §6 lesson and goes to its third ste
 change sign in the Plots tab") with the → key.  Then:
 
 - every page shows the step's words in the caption band (read back from the DOM), on the
-  projector at PROJECTOR_CAPTION_PX (>= 1/30 of a 768 px screen; app.hall.caption says why),
+  projector at PROJECTOR_CAPTION_PX (>= 1/30 of a 768 px screen; app.lecture.caption says why),
   and the band covers none of the body's projected points (each browser's own camera);
 - the laptop follower sees the presenter's Plots tab, read only, and its chart moves while the
   presenter plays (two screenshots of it differ); it unticks its own `Caption`: its band goes,
@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, open_page, project
 
-from app.hall.caption import CAPTION_CLASS, PROJECTOR_CAPTION_PX
+from app.lecture.caption import CAPTION_CLASS, PROJECTOR_CAPTION_PX
 from app.main import App
 
 pytestmark = pytest.mark.browser

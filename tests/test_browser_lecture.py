@@ -217,7 +217,7 @@ def _magenta_share(png_path, x: float, y: float, half: int = 45) -> float:  # ty
 
 def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser, hall_app: App, wait_until,
                                                                         tmp_path) -> None:
-    from app.lectern import LIVE_ROOT
+    from app.lecture.lectern import LIVE_ROOT
 
     app = hall_app
 

@@ -31,7 +31,7 @@ from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, proj
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
-import app.lectern
+import app.lecture.lectern
 from app.main import App
 
 pytestmark = pytest.mark.browser
@@ -168,7 +168,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
     assert laptop.mode == "own"
     stay.tap()
     wait_until(lambda: hall.lectern.call_back_left(phone_session) is None, timeout=15.0)
-    offset[0] = app.lectern.CALL_BACK_SECONDS
+    offset[0] = app.lecture.lectern.CALL_BACK_SECONDS
     wait_until(lambda: laptop.mode == "following", timeout=15.0)
     ticks = hall.tick_count
     wait_until(lambda: hall.tick_count > ticks + 2, timeout=10.0)  # the frame that moved the laptop is over

@@ -18,7 +18,7 @@ from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, text
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
-from app.hall.follower import Hall
+from app.lecture.follower import Hall
 from app.main import App
 from app.scenes import DEFAULT_SCENE
 

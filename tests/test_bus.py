@@ -1,4 +1,4 @@
-"""One lecture across processes (app.cluster.bus), with a real redis-server and two (or three)
+"""One lecture across processes (app.lecture.bus), with a real redis-server and two (or three)
 in-process workers, each a whole app (`create_server(redis_url=..., worker_id=...)`, its loop
 running): a presenter on worker A, followers on A and on B.
 
@@ -30,10 +30,10 @@ from test_trust import attack, fingerprint
 from test_wire import SceneMirror, _array, _settled
 
 from app.cluster import services
-from app.cluster.bus import BusError, cull, decode_batch, encode_batch
-from app.hall.follower import Hall
 from app.kit.draw.screen import screen_of
-from app.lectern import LIVE_ROOT
+from app.lecture.bus import BusError, cull, decode_batch, encode_batch
+from app.lecture.follower import Hall
+from app.lecture.lectern import LIVE_ROOT
 from app.main import App, create_server
 from benchmarks.ws_client import ViserClient
 
@@ -223,8 +223,8 @@ def test_the_shared_labels_are_laid_out_for_a_phone_on_another_worker(workers: W
 
 def _screen_read(plain: Any) -> Any:
     """`plain` as another worker reads it from the audience: a `Screen`, or None (refused)."""
-    from app.cluster.bus.values import screen_from_shape
     from app.cluster.messages import ScreenShape, decode
+    from app.lecture.bus.values import screen_from_shape
 
     try:
         return screen_from_shape(decode(msgspec.msgpack.encode(plain), ScreenShape))
@@ -233,10 +233,10 @@ def _screen_read(plain: Any) -> Any:
 
 
 def test_a_screen_from_redis_is_checked() -> None:
-    from app.cluster.bus.values import screen_shape
     from app.cluster.messages import encode
     from app.kit.core.common import CameraView
     from app.kit.draw.screen import Screen
+    from app.lecture.bus.values import screen_shape
 
     view = CameraView((3.0, 3.0, 3.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 50.0)
     screen = Screen(view, 780, 1688, (0.0, 1000.0, 780.0, 1688.0))
@@ -284,8 +284,8 @@ def test_a_follower_on_another_worker_sees_the_presenters_plot_tab(workers: Work
 
 def _plot_read(plain: Any, previous: Any) -> Any:
     """`plain` (a plot message's dict) as another worker reads it from the bus: (tab, elements), or None (refused)."""
-    from app.cluster.bus.values import plot_from_message
     from app.cluster.messages import LIVE_DECODER, Plot
+    from app.lecture.bus.values import plot_from_message
 
     try:
         message = LIVE_DECODER.decode(msgspec.msgpack.encode({"k": "plot", "w": "a", **plain}))
@@ -296,9 +296,9 @@ def _plot_read(plain: Any, previous: Any) -> Any:
 
 
 def test_a_plot_from_redis_is_checked() -> None:
-    from app.cluster.bus.values import plot_message
     from app.cluster.messages import encode
-    from app.hall.room_plot import ChartCopy, MarkdownCopy
+    from app.lecture.bus.values import plot_message
+    from app.lecture.room_plot import ChartCopy, MarkdownCopy
 
     x = np.linspace(0.0, 1.0, 5)
     chart = ChartCopy((x, np.sin(x)), series=[{"label": "t"}, {"label": "ω_x", "stroke": "red"}], title="ω")
@@ -439,9 +439,9 @@ def test_bus_messages_are_checked() -> None:
 def test_explore_on_another_worker_is_the_presenters_room_bit_for_bit(workers: Workers,
                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
     pytest.importorskip("app.codec")
-    import app.lectern
+    import app.lecture.lectern
 
-    monkeypatch.setattr(app.lectern, "CALL_BACK_SECONDS", 0.5)  # the countdown's length is not the claim
+    monkeypatch.setattr(app.lecture.lectern, "CALL_BACK_SECONDS", 0.5)  # the countdown's length is not the claim
     workers.start("a")
     b = workers.start("b")
     presenter = _present(workers, "a", "Free body")
@@ -494,8 +494,8 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
 
     import redis
 
-    from app.cluster.bus import ASK, CHANNEL
     from app.cluster.messages import Camera, HallState, Message, SceneBatch, encode
+    from app.lecture.bus import ASK, CHANNEL
 
     b = workers.start("b")
     follower, _ = workers.connect("b")
@@ -504,7 +504,7 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
     def say(message: Message) -> None:
         client.publish(CHANNEL, encode(message))
 
-    from app.hall.follower import FollowerStatus
+    from app.lecture.follower import FollowerStatus
 
     status = FollowerStatus(hall=Hall.LIVE, title="Free body", lesson="marked")
     hall = HallState(worker="s", hall="live", title="Free body", status=status.to_dict(), caption=("Head", "words"))
@@ -522,7 +522,7 @@ def test_a_malformed_message_on_the_bus_is_dropped_and_changes_nothing(workers: 
     remote = b.lectern.remote
     before, camera = _remote_seen(remote), dict(remote.camera)
     pack = msgspec.msgpack.encode
-    caplog.set_level(logging.WARNING, logger="app.cluster.bus")
+    caplog.set_level(logging.WARNING, logger="app.lecture.bus")
     garbage = (b"\xc1", b"not msgpack", b'{"k": "hall", "w": "s", "hall": "stopped"}',
                  pack({"k": "hall", "w": "s", "hall": "stopped", "title": 5, "status": ["evil"], "line": "x"}),
                  pack({"k": "hall", "w": "s", "hall": "sideways", "title": "Evil"}),
@@ -563,7 +563,7 @@ def test_malformed_values_under_the_keys_are_dropped(workers: Workers) -> None:
     import redis
 
     from app.cluster.askbus import ANSWERS_KEY, EARLIER_KEY, ROUND_KEY
-    from app.cluster.bus import AUDIENCE_KEY, LAST_KEY
+    from app.lecture.bus import AUDIENCE_KEY, LAST_KEY
 
     a, b = workers.start("a"), workers.start("b")
     client = redis.Redis.from_url(workers.url)

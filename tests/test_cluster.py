@@ -14,7 +14,7 @@ from typing import Any
 from cluster import CODE, Cluster, cluster_fixture
 from conftest import poll_until
 
-from app.cluster.gate import RedisGate
+from app.lecture.gate import RedisGate
 
 cluster = cluster_fixture(workers=2)
 

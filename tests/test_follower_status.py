@@ -1,8 +1,8 @@
-"""The follower's status as a value (`app.hall.follower.FollowerStatus`).
+"""The follower's status as a value (`app.lecture.follower.FollowerStatus`).
 
-- It crosses workers as data: the bus's hall message (`app.cluster.bus.source.hall_message`)
+- It crosses workers as data: the bus's hall message (`app.lecture.bus.source.hall_message`)
   carries `to_dict`, encoded as the bus encodes it (`app.cluster.messages`), and the other worker
-  reads it (`app.cluster.bus.follow.copy_hall`, `from_dict`: checked, a wrong hall, transport
+  reads it (`app.lecture.bus.follow.copy_hall`, `from_dict`: checked, a wrong hall, transport
   mode, type or length is a ValueError, which drops the message) into the same value, shown in
   the same words.
 - A presenter on another worker who stops or leaves is the status's `hall`, not an edit of its
@@ -17,12 +17,12 @@ from typing import Any
 
 import pytest
 
-from app.cluster.bus.follow import copy_hall
-from app.cluster.bus.source import hall_message
 from app.cluster.messages import LIVE_DECODER, HallState, encode
-from app.hall.follower import FollowerStatus, Hall
 from app.kit.core.room import Room
-from app.lectern import Lectern, RemoteShow
+from app.lecture.bus.follow import copy_hall
+from app.lecture.bus.source import hall_message
+from app.lecture.follower import FollowerStatus, Hall
+from app.lecture.lectern import Lectern, RemoteShow
 from app.scenes import SCENES
 
 LESSON = "**Step 3/7** · the tennis-racket flip"

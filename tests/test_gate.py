@@ -1,4 +1,4 @@
-"""The presenter lock nobody guesses (`app.cluster.gate`), in one process (`LocalGate`, through
+"""The presenter lock nobody guesses (`app.lecture.gate`), in one process (`LocalGate`, through
 the `Lectern` as the app uses it) and in Redis (`RedisGate`, a real redis-server on a free port):
 the chance a limited guesser has, one answer for every code while someone presents, wrong codes
 limited over all browsers, the lecturer in within a minute of an attack, a lease that lapses
@@ -13,7 +13,8 @@ from typing import Any
 import pytest
 from cluster import missing_parts
 
-from app.cluster.gate import (
+from app.cluster.services import start_redis, stop_process
+from app.lecture.gate import (
     LEASE_S,
     MAX_WRONG,
     WINDOW_S,
@@ -24,8 +25,7 @@ from app.cluster.gate import (
     guess_chance,
     new_code,
 )
-from app.cluster.services import start_redis, stop_process
-from app.lectern import MAX_TRIES, Lectern
+from app.lecture.lectern import MAX_TRIES, Lectern
 
 CODE = "4821 0937"
 BUSY = "Someone else is presenting; they must stop first."

@@ -32,7 +32,7 @@ from scipy.optimize import brentq
 from app.hall.projector import projector_view
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import project
-from app.lectern import fitted_camera
+from app.lecture.lectern import fitted_camera
 from app.scenes import SCENES
 from app.scenes.moving_frame import MovingFrameSetup, MovingFrameSimulation, MovingFrameView
 from physics.moving_frames import space_from_body

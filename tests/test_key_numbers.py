@@ -11,7 +11,7 @@ while t ran on.
   and they change over time while the sliders stand still.
 - Constrained particles (its own key numbers, `readouts.key_numbers_text`), playing on the
   Readout tab: θ, φ and their rates are the integrator's q, q̇ in degrees, and move.
-- Across workers (app.cluster.bus ships `Lectern.follower_status()`, whose words are `status()`): the status a
+- Across workers (app.lecture.bus ships `Lectern.follower_status()`, whose words are `status()`): the status a
   worker would ship carries moving numbers while the presenter's sliders are stale, and with two
   workers on one Redis, the status the other worker's followers read moves with t.
 """
@@ -180,7 +180,7 @@ def test_constrained_key_numbers_follow_q_with_another_tab_open(manual) -> None:
 
 
 def test_the_status_a_worker_ships_carries_moving_numbers_while_the_sliders_are_stale(lecture_hall) -> None:
-    """`Lectern.status()` is the words of what app.cluster.bus ships to the other workers'
+    """`Lectern.status()` is the words of what app.lecture.bus ships to the other workers'
     followers (`Lectern.follower_status`, in its "hall" message): with the presenter on the
     Energy tab of a playing heavy top, and its slider widgets stale, the shipped φ moves with t
     and matches the state."""

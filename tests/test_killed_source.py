@@ -81,8 +81,8 @@ def test_explore_and_present_on_b_after_the_presenters_worker_is_killed() -> Non
     from test_wire import SceneMirror
 
     from app.cluster import services
-    from app.cluster.gate import LEASE_S
-    from app.hall.follower import Hall
+    from app.lecture.follower import Hall
+    from app.lecture.gate import LEASE_S
     from app.main import create_server
     from benchmarks.ws_client import ViserClient
 
@@ -181,8 +181,8 @@ def test_only_the_last_lectures_room_is_offered_after_its_worker_died() -> None:
     from test_bus import Workers, _present
 
     from app.cluster import services
-    from app.cluster.bus import LAST_KEY
-    from app.hall.follower import Hall
+    from app.lecture.bus import LAST_KEY
+    from app.lecture.follower import Hall
 
     try:
         url, process = services.start_redis()
@@ -228,8 +228,8 @@ def test_with_nothing_of_the_room_kept_explore_gives_a_fresh_room_of_the_scene(m
     from test_bus import Workers, _present
 
     from app.cluster import services
-    from app.cluster.bus.source import Publisher
-    from app.hall.follower import Hall
+    from app.lecture.bus.source import Publisher
+    from app.lecture.follower import Hall
 
     try:
         url, process = services.start_redis()

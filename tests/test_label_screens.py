@@ -148,8 +148,8 @@ def hall() -> Iterator[LectureHall]:
 def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
     from conftest import poll_until
 
-    from app.hall.follower import view_aspect
-    from app.lectern import fitted_camera
+    from app.lecture.follower import view_aspect
+    from app.lecture.lectern import fitted_camera
 
     presenter, presenter_client = hall.join_with_client()
     _window(presenter_client, *DESKTOP[:2])
@@ -210,7 +210,7 @@ def test_the_phones_screen_moves_with_the_camera_the_lectern_sends_it(hall: Lect
 
     def sent() -> bool:
         """A frame of the loop, then whether the phone's camera moved: the lectern hears the turn
-        on viser's callback thread (`app.lectern.followers.Followers._camera_moved`), maybe only
+        on viser's callback thread (`app.lecture.lectern.followers.Followers._camera_moved`), maybe only
         after many frames on a busy machine, and then sends it at its next CAMERA_PERIOD of frames."""
         hall.frames(1)
         return moved()

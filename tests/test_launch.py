@@ -21,8 +21,8 @@ from cluster import missing_parts
 from conftest import poll_until
 
 from app.cluster import services
-from app.cluster.launch import launch_main, nginx_config
 from app.cluster.services import free_port
+from app.launch import launch_main, nginx_config
 from app.main import main as app_main
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -3,10 +3,13 @@ function level and under TYPE_CHECKING):
 
 - no import cycle anywhere in `app/` or `physics/`;
 - `physics` never imports `app` (nor viser);
-- the app stacks kit ← scenes ← the follower's panel ← lectern ← the session's other parts
-  (app.hall) ← the browser's roles (app.roles) ← session ← main: a layer imports only layers
-  below it, and a scene never imports another scene (the modules of one scene's package,
-  `app.scenes.<scene>.*`, import each other);
+- the app stacks ask ← cluster ← kit ← scenes ← the lecture (app.lecture: gate, caption, room
+  plot ← the follower's panel ← lectern ← bus) ← the session's panels (app.hall) ← the browser's
+  roles (app.roles) ← session ← main: a layer imports only layers below it, and a scene never
+  imports another scene (the modules of one scene's package, `app.scenes.<scene>.*`, import
+  each other);
+- folders match the layers: each folder of `app/` (FOLDERS) holds one band of layers, and an
+  import between two folders runs down only (no arrow back up to a folder above);
 - the kit's rooms stack core ← panel, draw (neither imports the other) ← view ← rigid;
 - a scene's simulation and readouts (`app.scenes.<scene>.simulation`, `.readouts`), the rigid
   body's simulation and texts, and the kit's core but its draw target import no viser, neither
@@ -25,21 +28,25 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
     "app.data": 0, "app.userdata": 0, "app.sweep": 0,
-    "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0, "app.cluster": 0,
+    "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0,
     "app.ask": 0.5,  # questions to the class: the model (no viser)
+    "app.cluster": 0.6,  # Redis, its typed messages, questions across processes, child processes
     # the kit's rooms: core <- panel, draw (neither imports the other) <- view <- rigid
     "app.kit": 1.0, "app.kit.core": 1.0, "app.kit.panel": 1.2, "app.kit.draw": 1.2, "app.kit.view": 1.4,
     "app.kit.rigid": 1.6,
     "app.scenes": 2, "app.theme": 2,
     "app.codec": 2.5,  # a room as bytes: imports the scenes registry
     "app.lessons": 3, "app.own": 3.5, "app.export": 3,
-    "app.hall.caption": 2.8, "app.hall.room_plot": 2.8, "app.hall.follower": 3,
-    "app.cluster.askbus": 0.6,  # questions across processes: the model and Redis
-    "app.lectern": 4, "app.cluster.bus": 4.5,  # the bus: what followers on another process see
+    # the lecture: gate, caption, room plot <- the follower's panel <- lectern <- bus
+    "app.lecture": 4, "app.lecture.gate": 3.7, "app.lecture.caption": 3.8, "app.lecture.room_plot": 3.8,
+    "app.lecture.follower": 3.9, "app.lecture.lectern": 4, "app.lecture.bus": 4.5,
+    "app.launch": 4.8,  # the workers behind nginx: Redis, the gate's code
     "app.hall": 5, "app.roles": 5.5,  # the browser's roles (own room, following, presenting, student)
     "app.session": 6, "app.main": 7, "app.notebook": 7.5,
     "app.__main__": 8, "app": 8,
 }
+FOLDERS = ("app.ask", "app.cluster", "app.kit", "app.scenes", "app.lecture", "app.hall", "app.roles")
+"""The app's folders: each one a band of layers of its own, imported only from folders above it."""
 
 
 def _modules() -> dict[str, Path]:
@@ -165,6 +172,19 @@ def test_app_layers_stack_and_no_scene_imports_another() -> None:
             elif there[1] > here[1] or (there[1] == here[1] and there[0] != here[0]):
                 wrong.append(f"{name} (layer {here[0]}) imports {dep} (layer {there[0]})")
     assert not wrong, "\n".join(sorted(wrong))
+
+
+def test_folders_match_the_layers() -> None:
+    """Each folder's layers form a band of their own: with every import running down
+    (`test_app_layers_stack...`), no import runs from a folder back up to one above it."""
+    bands = {f: sorted(LAYERS[p] for p in LAYERS if p == f or p.startswith(f + ".")) for f in FOLDERS}
+    ordered = sorted(FOLDERS, key=lambda f: bands[f][0])
+    for low, high in zip(ordered, ordered[1:]):
+        assert bands[low][-1] < bands[high][0], f"the layers of {low} {bands[low]} and {high} {bands[high]} overlap"
+    outside = {p: layer for p, layer in LAYERS.items() if not any(p == f or p.startswith(f + ".") for f in FOLDERS)}
+    for f in FOLDERS:
+        inside = [p for p, layer in outside.items() if bands[f][0] < layer < bands[f][-1]]
+        assert not inside, f"{inside} lie within the band of {f} {bands[f]}"
 
 
 def test_the_layer_table_covers_every_app_module() -> None:

@@ -11,9 +11,9 @@ import pytest
 from conftest import LectureHall, poll_until
 from scipy.spatial.transform import Rotation
 
-from app.hall.follower import Follower
 from app.kit.draw.widgets import POSE_QUANTUM
-from app.lectern import LIVE_ROOT, MAX_TRIES, Lectern
+from app.lecture.follower import Follower
+from app.lecture.lectern import LIVE_ROOT, MAX_TRIES, Lectern
 from app.main import App
 
 DT = 1.0 / 60.0
@@ -210,7 +210,7 @@ def test_the_app_prints_the_presenter_code_and_takes_it_from_the_command_line(
 
 def test_random_codes_differ() -> None:
     codes = {Lectern(server=None).code for _ in range(20)}  # type: ignore[arg-type]
-    # eight digits in two groups of four: 1e8 codes (app.cluster.gate.guess_chance)
+    # eight digits in two groups of four: 1e8 codes (app.lecture.gate.guess_chance)
     assert len(codes) > 15 and all(len(c) == 9 and c[4] == " " and (c[:4] + c[5:]).isdigit() for c in codes)
 
 
@@ -286,8 +286,8 @@ def test_a_refusal_stays_true_the_wait_counts_down_and_tries_agree_in_number() -
 def test_a_followers_status_says_one_time_while_the_presenter_replays() -> None:
     from types import SimpleNamespace
 
-    from app.hall.follower import FollowerStatus, Hall
     from app.kit.core.room import LIVE, REPLAYING
+    from app.lecture.follower import FollowerStatus, Hall
 
     sim = SimpleNamespace(t=5.86, preset=None)
     room = SimpleNamespace(mode=REPLAYING, shown_t=6.01, live_t=9.5, time_scale=1.0, playing=True, sim=sim,

@@ -50,7 +50,7 @@ def test_no_lesson_asks_a_follower_for_a_control_it_lacks() -> None:
         presenter.present(CODE)
         hall.frames(2)
         assert follower.mode == "following"
-        mine = follower.scene  # the follower's panel (`app.hall.follower.Follower`)
+        mine = follower.scene  # the follower's panel (`app.lecture.follower.Follower`)
         follower_labels = {_name(h.label) for h in (mine.gui_follow_camera, mine.gui_explore, mine.gui_caption,
                                                      mine.gui_details)}
         problems: list[str] = []

@@ -13,7 +13,7 @@ from typing import Any
 
 import pytest
 
-from app.lectern import Mode
+from app.lecture.lectern import Mode
 from app.main import App, create_server, tune_collector
 from app.session import Session
 from app.sweep import RETRIES, Sweep

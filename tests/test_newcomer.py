@@ -14,9 +14,9 @@ import pytest
 from conftest import LectureHall, RawClient, poll_until
 from test_bus import Workers, _present, redis_url, workers  # noqa: F401 - the fixtures across workers
 
-from app.hall.follower import Follower
 from app.hall.lecture_panel import LAST_ROOM_LABEL
-from app.lectern import Mode
+from app.lecture.follower import Follower
+from app.lecture.lectern import Mode
 from app.scenes import DEFAULT_SCENE
 
 CODE = "313131"
@@ -141,7 +141,7 @@ def test_the_last_room_is_refused_while_someone_presents(hall: Hall) -> None:
     assert follower.mode == Mode.FOLLOWING
 
 
-# ---------------------------------------------------------------------- across workers (app.cluster.bus)
+# ---------------------------------------------------------------------- across workers (app.lecture.bus)
 @pytest.mark.parametrize("how", ["stopped", "left"])
 def test_a_newcomer_on_another_worker_after_the_lecture_has_its_own_room(workers: Workers, how: str  # noqa: F811
                                                                           ) -> None:
@@ -151,7 +151,7 @@ def test_a_newcomer_on_another_worker_after_the_lecture_has_its_own_room(workers
     pytest.importorskip("app.codec")
     from test_codec import assert_rooms_equal
 
-    from app.hall.follower import Hall as HallState
+    from app.lecture.follower import Hall as HallState
 
     a, b = workers.start("a"), workers.start("b")
     presenter = _present(workers, "a", "Heavy top")

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from conftest import RawClient, poll_until
 
-from app.lectern import LIVE_ROOT, POINTER_SECONDS, pointed_at
+from app.lecture.lectern import LIVE_ROOT, POINTER_SECONDS, pointed_at
 from app.main import create_server
 
 CODE = "112358"

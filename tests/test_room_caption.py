@@ -1,5 +1,5 @@
 """The room reads the lecture: the lesson caption and the presenter's open plot reach every
-follower (app.hall.caption, app.hall.room_plot), the presenter's `Caption` checkbox decides for
+follower (app.lecture.caption, app.lecture.room_plot), the presenter's `Caption` checkbox decides for
 the room, a follower's only for its own screen, and nothing a hostile follower sends on a raw
 websocket changes the presenter's room, its plot tab or its caption.  The app's loop does not
 run: the test ticks (`LectureHall.frames`)."""
@@ -12,9 +12,9 @@ import numpy as np
 from conftest import LectureHall, poll_until
 from test_trust import attack, fingerprint
 
-from app.hall.caption import CAPTION_CLASS
-from app.hall.room_plot import MIRROR_PERIOD
-from app.lectern import FOLLOW_PERIOD
+from app.lecture.caption import CAPTION_CLASS
+from app.lecture.lectern import FOLLOW_PERIOD
+from app.lecture.room_plot import MIRROR_PERIOD
 from benchmarks.ws_client import ViserClient
 
 CODE = "135790"

@@ -277,7 +277,7 @@ def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed() -> None:
 
     from app.cluster import services
     from app.cluster.askbus import ROUND_KEY, ROUND_LIVE_S
-    from app.cluster.gate import LEASE_S
+    from app.lecture.gate import LEASE_S
     from app.main import create_server
     from benchmarks.ws_client import ViserClient
 
@@ -353,8 +353,8 @@ def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens() -> N
     from test_bus import Workers, _live_nodes, _present
 
     from app.cluster import services
-    from app.hall.follower import Hall
-    from app.lectern import POINTER_ROOT
+    from app.lecture.follower import Hall
+    from app.lecture.lectern import POINTER_ROOT
 
     try:
         url, process = services.start_redis()
@@ -392,7 +392,7 @@ def test_the_presenters_caption_plot_lesson_and_pointer_leave_the_followers(end:
     ends when it stops or closes its tab (the room itself stays, paused, with a note)."""
     from conftest import LectureHall, poll_until
 
-    from app.lectern import FOLLOW_PERIOD, POINTER_ROOT
+    from app.lecture.lectern import FOLLOW_PERIOD, POINTER_ROOT
 
     frames = int(round(FOLLOW_PERIOD * 60)) + 2
     hall = LectureHall(CODE)

@@ -8,8 +8,8 @@ import inspect
 import typing
 from pathlib import Path
 
-from app.hall.follower import Follower
 from app.kit.view import SceneView
+from app.lecture.follower import Follower
 from app.session import Session
 
 ROOT = Path(__file__).resolve().parents[1]

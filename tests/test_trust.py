@@ -29,7 +29,7 @@ import pytest
 from conftest import LectureHall, RawClient, poll_until
 
 from app.kit.draw.screen import project_one, screen_of
-from app.lectern import BODY_WIDTH_SHARE, NARROW_MARGIN, fitted_camera
+from app.lecture.lectern import BODY_WIDTH_SHARE, NARROW_MARGIN, fitted_camera
 from app.scenes import SCENES
 from benchmarks.ws_client import ViserClient
 
@@ -371,7 +371,7 @@ def test_a_hostile_browser_cannot_press_the_presenters_lecture_buttons(hall: Hal
 
 
 def test_call_back_brings_back_every_explorer_but_the_one_who_stays(hall: Hall, monkeypatch: Any) -> None:
-    from app.lectern import CALL_BACK_SECONDS
+    from app.lecture.lectern import CALL_BACK_SECONDS
 
     presenter = _presenter_for(hall, "Free body")
     leaver, _ = hall.join()

@@ -18,7 +18,7 @@ import pytest
 from conftest import poll_until
 from viser import _messages
 
-from app.lectern import LIVE_ROOT
+from app.lecture.lectern import LIVE_ROOT
 from app.wire import Wire, encode, websocket_frame
 from benchmarks.ws_client import decode_frame, resolve_binary
 

@@ -1,6 +1,6 @@
 """The app's questions to the class: the current round, and what every browser is asked.
 
-`Rounds` is one per app (`app.lectern.Lectern.rounds`, also `App.rounds`).  On the process whose
+`Rounds` is one per app (`app.lecture.lectern.Lectern.rounds`, also `App.rounds`).  On the process whose
 presenter asked, it holds the round itself (`current`, a `app.ask.round.Round`: the answers, the
 tally, the CSV).  On another process of a lecture on several (`app.cluster.askbus`), it holds
 what that round looks like from outside (`remote`, a `Shown`): the question, its number, open or
@@ -13,7 +13,7 @@ Every browser's panel reads `shown()` (a `Shown`, or None for no question) and i
 `answers_version` whenever an answer arrives (the presenter's counts).
 
 **A round belongs to the presenter who asked it** (`owner`, the gate's holder string
-"<worker>:<client>", set by `app.lectern.Lectern` through `begin`).  When that presenter stops
+"<worker>:<client>", set by `app.lecture.lectern.Lectern` through `begin`).  When that presenter stops
 or leaves, the lectern calls `end`: the round closes and leaves every panel, and is kept, with
 its answers, in `earlier` (`Ended`: the lecture it belonged to, why it ended), which the next
 presenter may download (`earlier_csv`), never shown to anyone.  A round seen from another
@@ -146,7 +146,7 @@ class Rounds:
 
     def end(self, why: str = "new question") -> None:
         """No question any more (the presenter's `New question`; the presenter stopped or left:
-        `app.lectern.Lectern.release`): the round closes, leaves every panel and is kept, with its
+        `app.lecture.lectern.Lectern.release`): the round closes, leaves every panel and is kept, with its
         answers, in `earlier`.  `why` is said in `earlier_csv`."""
         with self._lock:
             round_ = self.current

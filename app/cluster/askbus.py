@@ -7,10 +7,10 @@ the worker that asked (`app.ask.hub.Rounds` on each side).
   TTL of ROUND_LIVE_S (a few REFRESH_S); every worker reads it every POLL_S and shows it to its
   browsers (`Rounds.set_remote`).  A round asked later on another worker replaces the source's own.
 - **A round ends with its presenter.**  The source deletes the key when its round ends (its
-  presenter stopped or left: `app.lectern.Lectern.release` ends it).  A worker that dies stops
+  presenter stopped or left: `app.lecture.lectern.Lectern.release` ends it).  A worker that dies stops
   writing: the key lapses within ROUND_LIVE_S.  Sooner still, a worker shows another's round only
   while the round's owner holds the presenter lock (`presenter`, the gate's `presenter()`; its
-  lease lapses within `app.cluster.gate.LEASE_S` of a dead worker's last renewal).  Nothing
+  lease lapses within `app.lecture.gate.LEASE_S` of a dead worker's last renewal).  Nothing
   another worker or a browser sends renews the key: answers only go onto the answers' list.
 - The answers: a browser on another worker answers there (checked against the question and
   limited in rate per browser by its `Rounds`), which pushes [token, value] onto the list
@@ -86,7 +86,7 @@ class AskBus:
 
     Args:
         rounds: the worker's `Rounds` (its `forward` is set here).  url: Redis.  worker_id: this worker.
-        presenter: () -> the presenter lock's holder now, or None (`app.cluster.gate.Gate.presenter`);
+        presenter: () -> the presenter lock's holder now, or None (`app.lecture.gate.Gate.presenter`);
             another worker's round is shown only while its owner holds it.  None: not checked.
     """
 

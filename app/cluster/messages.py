@@ -6,7 +6,7 @@ anything else raises `msgspec.DecodeError` (a `msgspec.ValidationError` for a wr
 reader drops it with a log line and changes nothing.  The short wire names (`"w"`, `"k"`, ...)
 are kept from the dicts these replaced.
 
-- The lecture bus (`app.cluster.bus`): on CHANNEL, the source's `SceneBatch`, `HallState`,
+- The lecture bus (`app.lecture.bus`): on CHANNEL, the source's `SceneBatch`, `HallState`,
   `Camera`, `Plot`, `CallBack`, `RoomAnswer`, `Keep` (the union `Live`); on ASK, any process's
   `Resync` and `Explore` (the union `Ask`); tagged by "k", each with its sender's worker id "w".
   Under keys: each worker's `Audience` (with its followers' `ScreenShape`s) and the `LastRoom`.
@@ -14,8 +14,8 @@ are kept from the dicts these replaced.
   `EarlierRound`.
 
 What a value means beyond its type (a viser message's dict, a chart's properties, a question's
-dict, an answer) is checked where it is used (`app.cluster.bus.wire.decode_batch`,
-`app.cluster.bus.values`, `app.ask.questions.question_from_dict`, the round's checks).
+dict, an answer) is checked where it is used (`app.lecture.bus.wire.decode_batch`,
+`app.lecture.bus.values`, `app.ask.questions.question_from_dict`, the round's checks).
 No project imports here (the lowest layer).
 """
 
@@ -38,7 +38,7 @@ RequestId = Annotated[str, Meta(min_length=1, max_length=64)]
 Pixels = Annotated[int, Meta(gt=0, le=16384)]
 Count = Annotated[int, Meta(ge=0)]
 HallName = Literal["empty", "live", "stopped", "left"]
-"""`app.hall.follower.Hall`'s values (tests/test_bus.py checks they are the same)."""
+"""`app.lecture.follower.Hall`'s values (tests/test_bus.py checks they are the same)."""
 MAX_PLOT_ELEMENTS = 16  # a plot tab's elements, carried
 MAX_PLOT_COLUMNS = 16  # a chart's columns (x and its series)
 MAX_MARKDOWN = 20_000  # characters of a plot tab's Markdown
@@ -72,7 +72,7 @@ class SceneBatch(Message, tag="scene"):
 
 class HallState(Message, tag="hall"):
     """The hall's state: what the shared screen shows, the scene's title, the followers' status
-    (`status`: `app.hall.follower.FollowerStatus.to_dict`'s plain values, checked where it is
+    (`status`: `app.lecture.follower.FollowerStatus.to_dict`'s plain values, checked where it is
     read, `FollowerStatus.from_dict`; {} for none said) and the lesson caption (head, words)."""
 
     hall: HallName
@@ -99,7 +99,7 @@ class Markdown(Struct, tag="markdown", array_like=True):
 
 class Chart(Struct, tag="uplot", array_like=True):
     """A plot tab's uPlot chart: ["uplot", {property: plain value}, [float32 column bytes]]
-    (the properties' names and values checked by `app.cluster.bus.values.plot_from_message`)."""
+    (the properties' names and values checked by `app.lecture.bus.values.plot_from_message`)."""
 
     props: dict[str, Any]
     columns: Annotated[list[bytes], Meta(min_length=1, max_length=MAX_PLOT_COLUMNS)]

@@ -1,6 +1,6 @@
 """The parts of one browser's session (`app.session.Session`), one module per concern:
 
-- `app.hall.follower`: a following browser's panel (`Follower`) and the status words it shows;
+- `app.lecture.follower`: a following browser's panel (`Follower`) and the status words it shows;
   built by the lectern, below it.
 - `app.hall.projector`: the projector layout (large text, a docked panel, large 3D labels).
 - `app.hall.lesson_runner`: the Lesson folder and the running lesson's steps.

@@ -33,9 +33,9 @@ from typing import Any, Protocol
 
 import viser
 
-from app.hall.follower import Hall
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
-from app.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
+from app.lecture.follower import Hall
+from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 
 __all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "LIVE_BAR_CLASS", "LIVE_BAR_CSS", "STAY_LABEL",
            "LecturePanel", "Lecturer", "call_text", "ended_text", "live_badge"]

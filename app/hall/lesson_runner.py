@@ -2,7 +2,7 @@
 
 This module owns `LessonRunner`: the folder (the lesson dropdown, Back / Next, the step's
 text, the `Caption` checkbox), the step's caption over the browser's 3D view
-(`app.hall.caption`; while the browser presents, the checkbox decides for every follower too),
+(`app.lecture.caption`; while the browser presents, the checkbox decides for every follower too),
 the → / ← keys, the running lesson and its step, and applying a step to the browser's
 stage (`Stage`: the scene, the preset, the toggles, the tab, the integrator, the camera, play
 or pause).  A scene chosen by hand ends the lesson (`scene_changed`).
@@ -15,9 +15,9 @@ from typing import Any, Protocol
 
 import viser
 
-from app.hall.caption import Caption
 from app.kit.core.common import Wrap, apply_camera
 from app.kit.core.room import Room
+from app.lecture.caption import Caption
 from app.lessons import Lesson, lessons
 
 __all__ = ["NO_LESSON", "LessonRunner", "Stage"]

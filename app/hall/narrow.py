@@ -1,6 +1,6 @@
 """An explorer's panel on a narrow screen: one status line and `Details` (`NarrowPanel`).
 
-A phone that follows the presenter sees one status line and `Details` (`app.hall.follower`),
+A phone that follows the presenter sees one status line and `Details` (`app.lecture.follower`),
 so the body stays in view.  A phone that opens the app with nobody presenting gets this layout
 from its first frame (the session starts it while it builds the panel), with "Your scene" in
 the line.  When a follower presses `Explore on my own` it keeps that layout: its own

@@ -1,7 +1,7 @@
 """The projector layout of one browser: the `Projector` checkbox and what it changes.
 
 This module owns the layout (`ProjectorLayout`): panel text >= 18 px (PROJECTOR_CSS), the
-lesson's caption at PROJECTOR_CAPTION_PX (`app.hall.caption`), a narrow panel docked on the
+lesson's caption at PROJECTOR_CAPTION_PX (`app.lecture.caption`), a narrow panel docked on the
 right, 3D labels PROJECTOR_LABEL_SCALE times larger, and the scene's camera view moved for the
 narrow panel (`projector_view`); off, a narrow screen's camera centres the body above its bottom
 sheet (`app.kit.draw.screen.narrow_view`).  A follower's browser takes the panel part only: the shared
@@ -15,9 +15,9 @@ from typing import Any
 
 import viser
 
-from app.hall.caption import CAPTION_PROJECTOR_RULES
 from app.kit.core.common import CameraView, Wrap, apply_camera
 from app.kit.draw.screen import narrow_size, narrow_view
+from app.lecture.caption import CAPTION_PROJECTOR_RULES
 from app.viser_internals import scene_nodes
 
 __all__ = ["BRAND_COLOR", "PROJECTOR_CSS", "PROJECTOR_LABEL_SCALE", "ProjectorLayout", "projector_view"]

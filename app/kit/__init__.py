@@ -64,7 +64,7 @@ The recipe for a new scene:
    - where it draws: `self.client` is a `DrawTarget` (`app.kit.core.target`); interactive handles
      (transform gizmos, clickable nodes) go into `self.controls` only, the scene of the one
      browser that controls the room, or None (a recording): never into `self.client.scene`,
-     which may be the lecture hall's shared scene (the rule of `app.lectern`);
+     which may be the lecture hall's shared scene (the rule of `app.lecture.lectern`);
    - the panel's head: `self.build_head(intro, ...)` (intro, message line, transport); a scene
      whose simulation has `snapshot`/`restore` gets the replay's `Timeline` under it.
 

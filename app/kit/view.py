@@ -45,7 +45,7 @@ __all__ = ["PLOT_TABS", "SceneView", "nth"]
 
 PLOT_TABS = ("Plots", "Energy", "Lagrange")
 """The panel tabs whose contents a presenter's followers see too, read only, while the presenter
-has one open (`SceneView.room_plot`, `app.hall.room_plot`)."""
+has one open (`SceneView.room_plot`, `app.lecture.room_plot`)."""
 
 _PRESETS: dict[type, tuple[Preset, ...]] = {}
 
@@ -116,7 +116,7 @@ class SceneView:
         # Interactive handles (gizmos, click handlers) go here and nowhere else: the scene of
         # the one browser that controls the room, or None (app.kit.core.target).
         self.controls = target.controls
-        # A presenter's view draws into the shared scene under a prefix (app.lectern.Broadcast).
+        # A presenter's view draws into the shared scene under a prefix (app.lecture.lectern.Broadcast).
         self.root = target.root_prefix + type(self).root
         self.room = room
         self.sim: Any = room.sim
@@ -372,7 +372,7 @@ class SceneView:
     def room_plot(self) -> tuple[str, list[Any]]:
         """(tab, elements): the plot tab this view's browser has open (one of PLOT_TABS) and the
         panel elements it shows (uPlot charts and Markdown, in order), which a presenter's
-        followers see copied (`app.hall.room_plot.PlotMirror`); ("", []) when no plot tab is open."""
+        followers see copied (`app.lecture.room_plot.PlotMirror`); ("", []) when no plot tab is open."""
         tabs = self.tabs
         if tabs is None or tabs.shown not in PLOT_TABS:
             return "", []

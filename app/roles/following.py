@@ -1,7 +1,7 @@
 """Following the presenter and leaving to explore a copy (`Following`, the follower's role).
 
 A following browser shows the shared scene (drawn by the presenter's view) and a read-only
-panel, `app.hall.follower.Follower`, which the lectern builds (`Lectern.add_follower`); its own
+panel, `app.lecture.follower.Follower`, which the lectern builds (`Lectern.add_follower`); its own
 room goes.  `Explore on my own` leaves with an exact copy of what the shared screen shows now
 (`Room.fork`), seen from where it looked; a narrow screen keeps the phone layout
 (`app.roles.phone`).  A browser with its own room that has not chosen to explore follows a new
@@ -10,9 +10,9 @@ presenter (`by_default`).
 
 from __future__ import annotations
 
-from app.hall.follower import Follower
 from app.kit.core.room import Room
-from app.lectern import Lectern, Mode
+from app.lecture.follower import Follower
+from app.lecture.lectern import Lectern, Mode
 from app.roles.own_room import OwnRoom
 from app.roles.phone import PhoneFit
 from app.roles.showing import Browser
@@ -84,7 +84,7 @@ class Following:
         scene, state, time, traces, plots and replay history, playing if it plays: `Room.fork`);
         the copy's note ("" for an exact copy), also said in the view's message line: a
         presenter's process that died leaves the last state its room was seen in here, or only
-        its scene (`app.cluster.bus.Bus.fetch_room_noted`).  Nothing while not following."""
+        its scene (`app.lecture.bus.Bus.fetch_room_noted`).  Nothing while not following."""
         lectern = self.browser.lectern
         if lectern is None or self.showing.mode is not Mode.FOLLOWING:
             return ""

@@ -15,7 +15,7 @@ from typing import Any, cast
 
 from app.kit.core.room import Room
 from app.kit.view import SceneView
-from app.lectern import Mode
+from app.lecture.lectern import Mode
 from app.roles.showing import FOLLOWING_REFUSAL, Browser
 from app.scenes import SCENES
 

@@ -1,7 +1,7 @@
 """A narrow screen (a phone) with its own room: the folded panel and the camera (`PhoneFit`).
 
 The folded panel itself is `app.hall.narrow.NarrowPanel` (one status line and `Details`); a
-following phone has the follower's own narrow layout (`app.hall.follower.Follower`).  This role
+following phone has the follower's own narrow layout (`app.lecture.follower.Follower`).  This role
 says when the fold starts (at connect, and when a follower leaves to explore), what it folds,
 and where a narrow explorer's camera looks from (the body centred above the bottom sheet).
 """
@@ -12,12 +12,12 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from app.hall.follower import is_narrow
 from app.hall.narrow import NarrowPanel
 from app.kit.core.common import CameraView, apply_camera
 from app.kit.draw.screen import body_centre, centred_view
 from app.kit.view import SceneView
-from app.lectern import Mode
+from app.lecture.follower import is_narrow
+from app.lecture.lectern import Mode
 from app.roles.showing import Browser
 
 __all__ = ["PhoneFit"]
@@ -44,7 +44,7 @@ class PhoneFit:
                            copy=copy, own=lambda: browser.showing.mode is Mode.OWN)
 
     def narrow_now(self) -> bool:
-        """The browser's view is phone-like now (`app.hall.follower.is_narrow`)."""
+        """The browser's view is phone-like now (`app.lecture.follower.is_narrow`)."""
         return is_narrow(self.browser.client.camera)
 
     def fit_at_connect(self) -> None:

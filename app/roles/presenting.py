@@ -18,7 +18,7 @@ from app.ask.state_tally import gallery_entries
 from app.hall.ask import AskPanel
 from app.hall.lecture_panel import LecturePanel
 from app.kit.core.room import Room
-from app.lectern import Lectern, Mode
+from app.lecture.lectern import Lectern, Mode
 from app.roles.following import Following
 from app.roles.own_room import OwnRoom
 from app.roles.showing import Browser

@@ -2,7 +2,7 @@
 
 A browser shows one room through one thing built for its client (`ShownView`): a scene view
 (`app.kit.view.SceneView`) of its own room, or of its room live on the shared screen while it
-presents; or, while it follows, the follower's panel (`app.hall.follower.Follower`), the shared
+presents; or, while it follows, the follower's panel (`app.lecture.follower.Follower`), the shared
 scene drawn by the presenter's view.  `Showing` holds the mode, that view and the browser's own
 room; the roles (`app.roles`) switch them together under `switch_lock`.
 """
@@ -15,7 +15,6 @@ from typing import Any, Protocol
 import viser
 
 from app.hall.ask import AnswerPanel, AskPanel
-from app.hall.follower import Follower
 from app.hall.lecture_panel import LecturePanel
 from app.hall.lesson_runner import LessonRunner
 from app.hall.narrow import NarrowPanel
@@ -23,7 +22,8 @@ from app.hall.own_panel import OwnPanel
 from app.hall.projector import ProjectorLayout
 from app.kit.core.room import Room
 from app.kit.view import SceneView
-from app.lectern import LIVE_ROOT, Lectern, Mode, Seat
+from app.lecture.follower import Follower
+from app.lecture.lectern import LIVE_ROOT, Lectern, Mode, Seat
 from app.own import OwnLibrary
 
 __all__ = ["Browser", "ShownView", "Showing"]
@@ -42,7 +42,7 @@ class Showing:
         client: the browser.  lectern: the app's lecture hall, or None.  room: its first own room.
 
     Attributes:
-        mode: own room, presenting or following (`app.lectern.Mode`).
+        mode: own room, presenting or following (`app.lecture.lectern.Mode`).
         view: the view shown (`ShownView`); None before the first is built and, within a
             switch to following, until the follower's panel is.
         own_room: the browser's own room: shown while OWN, live while PRESENTING, kept unseen

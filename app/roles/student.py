@@ -14,8 +14,8 @@ from typing import Any
 from app.ask import new_token
 from app.ask.judges import read_state
 from app.hall.ask import AnswerPanel
-from app.hall.follower import Follower
-from app.lectern import Mode
+from app.lecture.follower import Follower
+from app.lecture.lectern import Mode
 from app.roles.following import Following
 from app.roles.showing import Browser
 

@@ -13,7 +13,7 @@ A view (`app.kit.view.SceneView`) draws to a `DrawTarget`:
 - `camera`: the controlling browser's camera (None for a recorder).
 
 `ClientTarget` is one browser (all four are its own).  The lecture hall's presenter target
-(`app.lectern.Broadcast`) draws the 3D into the shared scene and keeps the panel and the
+(`app.lecture.lectern.Broadcast`) draws the 3D into the shared scene and keeps the panel and the
 controls in the presenter's browser.  The exporter's recorder has no controls.
 """
 

@@ -24,7 +24,7 @@ panel sits (PROJECTOR_PANEL_GAP_PX: the docked projector panel).
 
 Who writes it: `app.hall.lesson_runner.LessonRunner` in the browser running a lesson (its
 `Caption` checkbox; for a presenter it decides for the room), and the lectern in every
-follower's (`app.hall.follower.Follower`, whose own `Caption` checkbox hides it there).
+follower's (`app.lecture.follower.Follower`, whose own `Caption` checkbox hides it there).
 """
 
 from __future__ import annotations

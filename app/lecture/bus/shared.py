@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from app.cluster.bus.wire import Replica, SceneMessage, removal
-from app.lectern import LIVE_ROOT, POINTER_ROOT
+from app.lecture.bus.wire import Replica, SceneMessage, removal
+from app.lecture.lectern import LIVE_ROOT, POINTER_ROOT
 
 __all__ = ["SharedScene"]
 

@@ -9,7 +9,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from app.kit.core.room import Room
-from app.lectern import LIVE_ROOT
+from app.lecture.lectern import LIVE_ROOT
 from app.viser_internals import message_from_dict
 
 __all__ = ["ALLOWED", "BusError", "Replica", "SceneMessage", "codec", "cull", "decode_batch", "encode_batch",

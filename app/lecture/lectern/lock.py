@@ -1,6 +1,6 @@
 """The presenter lock as a browser meets it: the code, the refusals and their words, the lease.
 
-`PresenterLock` asks the gate (`app.cluster.gate`: `LocalGate` in one process, `RedisGate`
+`PresenterLock` asks the gate (`app.lecture.gate`: `LocalGate` in one process, `RedisGate`
 across `--workers`; one set of rules) who presents and whether a code is right, limits a
 browser's wrong codes (MAX_TRIES in TRIES_WINDOW), keeps each browser's last refusal true while
 it is shown (`refusal_now`, `watch_refusal`) and renews the presenter's lease from the app loop
@@ -17,8 +17,8 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from app.cluster.gate import RENEW_PERIOD, Gate, GateUnavailable, Verdict
-from app.lectern.seat import FOLLOW_PERIOD, Seat, Stage
+from app.lecture.gate import RENEW_PERIOD, Gate, GateUnavailable, Verdict
+from app.lecture.lectern.seat import FOLLOW_PERIOD, Seat, Stage
 
 __all__ = ["DOWN_NOTE_SECONDS", "MAX_TRIES", "TRIES_WINDOW", "PresenterLock"]
 
@@ -33,7 +33,7 @@ class PresenterLock:
     """Who may present: the gate's lock and code, each browser's refusals, the presenter's lease.
 
     Args:
-        gate: the presenter lock and the code (`app.cluster.gate`).
+        gate: the presenter lock and the code (`app.lecture.gate`).
         stage: the lectern (who presents now).
         clock: the lectern's clock [s] (read at each call: a test moves it).
         lock: the lectern's lock (the refusals change under it).

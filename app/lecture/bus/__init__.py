@@ -23,7 +23,7 @@ for the lecture) and makes a remote follower's scene the same messages a local f
   follower's view is framed for its screen as on one process) at most every CAMERA_PERIOD when it
   moved, and again after a resync (a process that came late has never heard it); a "call_back"
   when the presenter calls everyone back.  Another process shows it as a
-  `app.lectern.RemoteShow` (its `Lectern` then has a live show without a local room).
+  `app.lecture.lectern.RemoteShow` (its `Lectern` then has a live show without a local room).
 - The presenter's open plot tab (`Lectern.room_plot`: uPlot charts as float32 columns and their
   properties, Markdown) goes when it changed, at most every MIRROR_PERIOD and at least every
   PLOT_RESEND_S; another process's followers see it copied as on one process (`RemoteShow.plot`).
@@ -67,10 +67,10 @@ Explore here of its room), `audience` (`AudienceBoard`), `wire` (scene messages 
 
 from __future__ import annotations
 
-from app.cluster.bus.core import Bus
-from app.cluster.bus.follow import Kept
-from app.cluster.bus.link import ASK, AUDIENCE_KEY, CHANNEL, LAST_KEY, LEASE_S
-from app.cluster.bus.wire import ALLOWED, BusError, Replica, cull, decode_batch, encode_batch
+from app.lecture.bus.core import Bus
+from app.lecture.bus.follow import Kept
+from app.lecture.bus.link import ASK, AUDIENCE_KEY, CHANNEL, LAST_KEY, LEASE_S
+from app.lecture.bus.wire import ALLOWED, BusError, Replica, cull, decode_batch, encode_batch
 
 __all__ = ["ALLOWED", "ASK", "AUDIENCE_KEY", "CHANNEL", "LAST_KEY", "LEASE_S", "Bus", "BusError", "Kept", "Replica",
            "cull", "decode_batch", "encode_batch"]

@@ -8,7 +8,7 @@ same words, sent when the presenter's change.
 
 Read only by construction: the copies are the follower's own panel elements with no callback
 (a uPlot chart and a Markdown element take no input), made from the presenter's handles by
-reading them; nothing flows back.  The lectern (`app.lectern.Lectern.refresh_followers`) calls
+reading them; nothing flows back.  The lectern (`app.lecture.lectern.Lectern.refresh_followers`) calls
 `PlotMirror.show` every FOLLOW_PERIOD with the same source handles for every follower; a copy
 is sent only when its source's value object changed (viser keeps the object it was last given,
 so `is` tells), at most every MIRROR_PERIOD, as float32 (what a chart's pixels need), and only
@@ -39,7 +39,7 @@ UPLOT_PROPS = ("series", "scales", "title", "height", "axes", "legend")
 
 @dataclasses.dataclass(frozen=True)
 class ChartCopy:
-    """A uPlot chart read from another process (`app.cluster.bus`): `PlotMirror` copies it as
+    """A uPlot chart read from another process (`app.lecture.bus`): `PlotMirror` copies it as
     it copies a `viser.GuiUplotHandle` (the UPLOT_PROPS as attributes, `data` its columns)."""
 
     data: tuple[np.ndarray, ...]

@@ -1,4 +1,4 @@
-"""The following browsers: their panels (`app.hall.follower.Follower`), what is written into
+"""The following browsers: their panels (`app.lecture.follower.Follower`), what is written into
 them (the status as a `FollowerStatus`, the caption, the presenter's open plot), the presenter's
 camera fitted to each one's screen, and the kinds of follower's screen the shared labels are
 laid out for.  What the shared screen shows is the lectern's (`Stage`); this part reads it."""
@@ -11,11 +11,11 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
-from app.hall.follower import Follower, FollowerStatus, Hall, view_aspect
 from app.kit.draw.labels import Screen
 from app.kit.draw.screen import screen_of
-from app.lectern.broadcast import fitted_camera
-from app.lectern.seat import Seat, Stage
+from app.lecture.follower import Follower, FollowerStatus, Hall, view_aspect
+from app.lecture.lectern.broadcast import fitted_camera
+from app.lecture.lectern.seat import Seat, Stage
 
 __all__ = ["CAMERA_PERIOD", "FOLLOWER_SCREENS_PERIOD", "MAX_LABEL_SCREENS", "Followers"]
 

@@ -8,20 +8,6 @@ import secrets
 import time
 from typing import Any, Literal
 
-from app.cluster.bus.link import (
-    CHANNEL,
-    KEEP_PERIOD_S,
-    KEEP_RESEND_S,
-    LAST_KEY,
-    LAST_TTL_S,
-    PLOT_RESEND_S,
-    ROOM_KEY,
-    ROOM_TTL_MS,
-    Link,
-    logger,
-)
-from app.cluster.bus.values import element_value, plot_message
-from app.cluster.bus.wire import Replica, SceneMessage, codec, cull, encode_batch
 from app.cluster.messages import (
     Ask,
     CallBack,
@@ -35,10 +21,24 @@ from app.cluster.messages import (
     SceneBatch,
     encode,
 )
-from app.hall.follower import Hall, view_aspect
-from app.hall.room_plot import MIRROR_PERIOD
 from app.kit.core.room import LIVE, Room
-from app.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, Lectern
+from app.lecture.bus.link import (
+    CHANNEL,
+    KEEP_PERIOD_S,
+    KEEP_RESEND_S,
+    LAST_KEY,
+    LAST_TTL_S,
+    PLOT_RESEND_S,
+    ROOM_KEY,
+    ROOM_TTL_MS,
+    Link,
+    logger,
+)
+from app.lecture.bus.values import element_value, plot_message
+from app.lecture.bus.wire import Replica, SceneMessage, codec, cull, encode_batch
+from app.lecture.follower import Hall, view_aspect
+from app.lecture.lectern import CAMERA_PERIOD, FOLLOW_PERIOD, Lectern
+from app.lecture.room_plot import MIRROR_PERIOD
 
 __all__ = ["Publisher", "hall_message"]
 

@@ -15,7 +15,7 @@ answer alike):
    codes are evaluated in any sliding WINDOW_S (`Answer.WAIT` for the others, not evaluated
    either).  A code is counted before it is compared (atomically, in Redis by a Lua script), so
    no race lets more through; a right code takes its count back.  The lecture's per-browser
-   limit (`app.lectern.MAX_TRIES`) comes on top.
+   limit (`app.lecture.lectern.MAX_TRIES`) comes on top.
 4. So a guesser has at most MAX_WRONG * 90 evaluations in a 90-minute lecture, and against a
    random code of CODE_DIGITS digits the chance to present is at most
    `guess_chance(90)` = 60 * 90 / 1e8 = 5.4e-5 (<= 1e-4).  When the attack stops, the

@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 
 from app.cluster.messages import Camera, Chart, Markdown, Plot, ScreenShape
-from app.hall.room_plot import UPLOT_PROPS, ChartCopy, MarkdownCopy, is_chart
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import Screen
 from app.kit.view import PLOT_TABS
+from app.lecture.room_plot import UPLOT_PROPS, ChartCopy, MarkdownCopy, is_chart
 
 __all__ = ["camera_shot", "element_value", "plot_from_message", "plot_message", "screen_from_shape", "screen_shape"]
 
@@ -20,7 +20,7 @@ MAX_DEPTH = 8  # nesting of a chart's properties
 MAX_PLOT_SAMPLES = 20_000  # a column's samples
 MAX_PLOT_PROP_VALUES = 2_000  # the plain values in a chart's properties (its series, scales, axes ...)
 PlotCopy = tuple[str, tuple[Any, ...]]
-"""(tab, elements: `ChartCopy` / `MarkdownCopy`) as `app.lectern.RemoteShow.plot` holds it."""
+"""(tab, elements: `ChartCopy` / `MarkdownCopy`) as `app.lecture.lectern.RemoteShow.plot` holds it."""
 
 
 def camera_shot(message: Camera) -> dict[str, Any]:

@@ -1,6 +1,6 @@
 """`Following`: this process's followers follow a presenter on another process (the source):
 its scene batches in order (a resync when out of step), its hall, camera, plot tab and kept
-room copied into `app.lectern.RemoteShow`, and its end (said, or its lease lapsed)."""
+room copied into `app.lecture.lectern.RemoteShow`, and its end (said, or its lease lapsed)."""
 
 from __future__ import annotations
 
@@ -9,13 +9,13 @@ import dataclasses
 import time
 from collections.abc import Callable
 
-from app.cluster.bus.link import ASK, LEASE_S, RESYNC_PERIOD_S, Link, logger
-from app.cluster.bus.shared import SharedScene
-from app.cluster.bus.values import camera_shot, plot_from_message
-from app.cluster.bus.wire import decode_batch
 from app.cluster.messages import CallBack, Camera, HallState, Keep, Live, Plot, Resync, SceneBatch
-from app.hall.follower import FollowerStatus, Hall
-from app.lectern import Lectern, RemoteShow
+from app.lecture.bus.link import ASK, LEASE_S, RESYNC_PERIOD_S, Link, logger
+from app.lecture.bus.shared import SharedScene
+from app.lecture.bus.values import camera_shot, plot_from_message
+from app.lecture.bus.wire import decode_batch
+from app.lecture.follower import FollowerStatus, Hall
+from app.lecture.lectern import Lectern, RemoteShow
 
 __all__ = ["Following", "Kept"]
 

@@ -16,7 +16,7 @@ the children have PR_SET_PDEATHSIG on Linux):
   timeouts, `daemon off` and its pid, logs and temporary files in the run's folder (no root).
   viser serves the page, its assets and the websocket on one port and path: one `location /`.
 
-The code is made once (`app.cluster.gate.new_code`, unless `--presenter-code`) and printed once.
+The code is made once (`app.lecture.gate.new_code`, unless `--presenter-code`) and printed once.
 A worker that ends is reported with the end of its log; the others go on (nginx sends new
 browsers to those that answer).  nginx or Redis ending stops everything.  A missing nginx or
 redis-server is said at start with the command that installs it.
@@ -41,8 +41,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from app.cluster.gate import new_code
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process, wait_for_port
+from app.lecture.gate import new_code
 
 __all__ = ["WORKER_START_S", "Launch", "check_port_free", "launch_main", "nginx_config", "start_nginx",
            "start_worker"]

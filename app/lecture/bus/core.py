@@ -10,16 +10,16 @@ import time
 import msgspec
 import viser
 
-from app.cluster.bus.audience import AudienceBoard
-from app.cluster.bus.follow import Following
-from app.cluster.bus.link import ASK, CHANNEL, MAX_MESSAGE_BYTES, Link, logger
-from app.cluster.bus.rooms import RemoteRooms
-from app.cluster.bus.shared import SharedScene
-from app.cluster.bus.source import Publisher
-from app.cluster.bus.wire import BusError, SceneMessage, tappable
 from app.cluster.messages import ASK_DECODER, LIVE_DECODER, Ask, Explore, Live, Resync, RoomAnswer, SceneBatch
 from app.kit.core.room import Room
-from app.lectern import Lectern
+from app.lecture.bus.audience import AudienceBoard
+from app.lecture.bus.follow import Following
+from app.lecture.bus.link import ASK, CHANNEL, MAX_MESSAGE_BYTES, Link, logger
+from app.lecture.bus.rooms import RemoteRooms
+from app.lecture.bus.shared import SharedScene
+from app.lecture.bus.source import Publisher
+from app.lecture.bus.wire import BusError, SceneMessage, tappable
+from app.lecture.lectern import Lectern
 from app.viser_internals import divert_queue, interface_of
 
 __all__ = ["Bus"]

@@ -20,36 +20,36 @@
    the presenter's numbers (tests/test_browser_lecture.py).
 
 **The parts** (`Lectern` keeps who presents and what the shared screen shows, and the methods
-other code calls; each part reads that state through `app.lectern.seat.Stage`):
+other code calls; each part reads that state through `app.lecture.lectern.seat.Stage`):
 
-- `app.lectern.lock.PresenterLock`: the code, the refusals and their words, the lease.
-- `app.lectern.followers.Followers`: the following browsers' panels and what is written into
-  them (the status as an `app.hall.follower.FollowerStatus`, the caption, the plot), the
+- `app.lecture.lectern.lock.PresenterLock`: the code, the refusals and their words, the lease.
+- `app.lecture.lectern.followers.Followers`: the following browsers' panels and what is written into
+  them (the status as an `app.lecture.follower.FollowerStatus`, the caption, the plot), the
   presenter's camera fitted to each screen, the kinds of follower's screen for the labels.
-- `app.lectern.seating.Seating`: the seats the app loop moves (a new presenter's pull, a call
+- `app.lecture.lectern.seating.Seating`: the seats the app loop moves (a new presenter's pull, a call
   back that ran out) and the lecture's part of the panels that do not follow.
-- `app.lectern.broadcast`: the presenter's draw target into the shared scene, the pointer.
-- `app.lectern.seat`: `Seat`, `Mode`, `RemoteShow` (another worker's show), `Stage`.
+- `app.lecture.lectern.broadcast`: the presenter's draw target into the shared scene, the pointer.
+- `app.lecture.lectern.seat`: `Seat`, `Mode`, `RemoteShow` (another worker's show), `Stage`.
 
 The rest:
 
-- **The lock.**  `Lectern` asks its gate (`app.cluster.gate`: `LocalGate` in one process,
+- **The lock.**  `Lectern` asks its gate (`app.lecture.gate`: `LocalGate` in one process,
   `RedisGate` across `--workers`; one set of rules) who presents and whether a code is right.
   The code (`python -m app --presenter-code CODE`, or a random one of eight digits in two
   groups, printed at start) is typed into `Presenter code` with or without its spaces or dashes;
   `Present` makes the browser the presenter.  While someone presents, every code gets the same
   answer, "Someone else is presenting", and is not evaluated; wrong codes are limited per
   browser (MAX_TRIES a minute) and over all browsers and processes together
-  (`app.cluster.gate.MAX_WRONG` a sliding minute; the others wait, not evaluated): a script has
+  (`app.lecture.gate.MAX_WRONG` a sliding minute; the others wait, not evaluated): a script has
   <= 1e-4 chance in a 90-minute lecture, and when it stops the lecturer gets in within a
   minute.  Every refusal stays true while shown (`refusal_now`: a wait counts down and goes,
   "someone else is presenting" goes when they stop); `Stop presenting` or a disconnect releases
   the lock; the presenting process renews it from its loop (`tick`), so a process that dies
-  frees it within `app.cluster.gate.LEASE_S`.
+  frees it within `app.lecture.gate.LEASE_S`.
 - **One simulation, drawn once for everyone.**  The presenter's view draws into the shared scene
   (under LIVE_ROOT): the room advances and draws once per frame however many browsers follow.
 - **Followers.**  Every other browser follows by default: it shows the shared scene and a small
-  panel (`app.hall.follower.Follower`, built and written by `Followers`): who presents what
+  panel (`app.lecture.follower.Follower`, built and written by `Followers`): who presents what
   (scene, preset, lesson step, time, the scene's key numbers: a `FollowerStatus`, written as
   Markdown by the panel), or plainly that the presenter stopped or left; the lesson step's
   caption over the 3D view and the presenter's open plot tab, read only (`caption`,
@@ -86,8 +86,8 @@ process's presenter whose process dies without a word.
 
 Each piece, as *owner* → *what ends it*:
 
-- **presenter lock** (`app.cluster.gate`): the presenter → stop, tab closed: `release` frees it;
-  worker killed: its lease lapses within `app.cluster.gate.LEASE_S`.
+- **presenter lock** (`app.lecture.gate`): the presenter → stop, tab closed: `release` frees it;
+  worker killed: its lease lapses within `app.lecture.gate.LEASE_S`.
 - **question round** (`Rounds.current`, `app.ask.hub`; ROUND_KEY, `app.cluster.askbus`): the
   presenter who asked it (`Rounds.begin` in `start`; `Shown.owner`) → stop, tab closed, lock
   lost: `release` calls `Rounds.end_lecture`: the round closes, leaves every panel, answers are
@@ -103,13 +103,13 @@ Each piece, as *owner* → *what ends it*:
   own scene, /ask and /ask/gallery): the presenter's browser and its round → hidden when the
   round ends (`AskPanel.refresh`) or the browser stops presenting (`set_shown(False)`); tab
   closed: viser drops the browser's nodes.
-- **caption** (`caption`, from `Seat.caption_words`; `app.hall.caption`): the presenter →
+- **caption** (`caption`, from `Seat.caption_words`; `app.lecture.caption`): the presenter →
   ("", "") once `presenter` is None or the hall is not LIVE, cleared on every follower by
   `release`'s `refresh_followers`; worker killed: the bus's `remote_ended` (hall LEFT).
 - **pointer markers** (`Pointer`, shared scene, POINTER_ROOT): the presenter → fade within
-  POINTER_SECONDS; `release` clears them; worker killed: `app.cluster.bus.Bus._drop_pointer`
+  POINTER_SECONDS; `release` clears them; worker killed: `app.lecture.bus.Bus._drop_pointer`
   removes them when the bus takes it that the presenter left.
-- **shared plot** (`room_plot`, `app.hall.room_plot`): the presenter's open plot tab → ("", [])
+- **shared plot** (`room_plot`, `app.lecture.room_plot`): the presenter's open plot tab → ("", [])
   once `presenter` is None or the remote hall is not LIVE: cleared on every follower.
 - **lesson step** (`Seat.lesson_text` in `FollowerStatus.lesson`): the presenter's session → not
   in the followers' status once `presenter` is None or the hall is not LIVE (`markdown` shows
@@ -126,7 +126,7 @@ Each piece, as *owner* → *what ends it*:
   with a note, until the next presenter (`make_live_view` → `_forget_live_view`) or another
   process's (`show_remote`); worker killed: the bus's replica stays the same way, and `Explore`
   (`live_copy_noted`) copies the last state the bus kept of it, or its scene, saying so.
-- **the room a lecture left** (LAST_KEY, `app.cluster.bus`): the lecture (its presenter's start,
+- **the room a lecture left** (LAST_KEY, `app.lecture.bus`): the lecture (its presenter's start,
   `Bus.lecture_id`) → offered only to that lecture's followers and newcomers; the next lecture's
   room replaces it; the key lapses after `LAST_TTL_S`.
 """
@@ -143,13 +143,13 @@ import numpy as np
 import viser
 
 from app.ask import Rounds
-from app.cluster.gate import Gate, LocalGate
-from app.cluster.gate import new_code as new_gate_code
-from app.hall.follower import Follower, FollowerStatus, Hall
 from app.kit.core.room import Room
 from app.kit.draw.labels import Screen
 from app.kit.draw.screen import BODY_WIDTH_SHARE, NARROW_MARGIN
-from app.lectern.broadcast import (
+from app.lecture.follower import Follower, FollowerStatus, Hall
+from app.lecture.gate import Gate, LocalGate
+from app.lecture.gate import new_code as new_gate_code
+from app.lecture.lectern.broadcast import (
     LIVE_ROOT,
     POINTER_LABEL_CHARS,
     POINTER_ROOT,
@@ -159,10 +159,10 @@ from app.lectern.broadcast import (
     fitted_camera,
     pointed_at,
 )
-from app.lectern.followers import CAMERA_PERIOD, MAX_LABEL_SCREENS, Followers
-from app.lectern.lock import MAX_TRIES, PresenterLock
-from app.lectern.seat import FOLLOW_PERIOD, Mode, RemoteShow, Seat
-from app.lectern.seating import Seating
+from app.lecture.lectern.followers import CAMERA_PERIOD, MAX_LABEL_SCREENS, Followers
+from app.lecture.lectern.lock import MAX_TRIES, PresenterLock
+from app.lecture.lectern.seat import FOLLOW_PERIOD, Mode, RemoteShow, Seat
+from app.lecture.lectern.seating import Seating
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_LABEL_SCREENS",
            "MAX_TRIES", "NARROW_MARGIN", "POINTER_ROOT", "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer",
@@ -175,7 +175,7 @@ CALL_BACK_SECONDS = 10.0  # [s] an explorer called back has to press Stay before
 
 def new_code() -> str:
     """A random presenter code: eight digits in two groups ("4821 0937"), easy to read out in a
-    lecture hall and long enough not to be guessed (`app.cluster.gate.new_code`)."""
+    lecture hall and long enough not to be guessed (`app.lecture.gate.new_code`)."""
     return new_gate_code()
 
 
@@ -186,11 +186,11 @@ class Lectern:
 
     Who presents (`presenter`), the hall (`hall`), the live view and room, and another
     process's show (`remote`) change only in `start`, `release`, `make_live_view`,
-    `show_remote` and `remote_ended`; the parts read them (`app.lectern.seat.Stage`).
+    `show_remote` and `remote_ended`; the parts read them (`app.lecture.lectern.seat.Stage`).
 
     Attributes:
         code: the presenter code.  presenter: the presenting seat, or None.
-        hall: what the shared screen shows (`app.hall.follower.Hall`).
+        hall: what the shared screen shows (`app.lecture.follower.Hall`).
         live_view: the view drawing the shared scene (kept after the presenter stops or leaves,
             its nodes the followers' last state, until a new presenter starts).
     """
@@ -198,9 +198,8 @@ class Lectern:
     def __init__(self, server: viser.ViserServer, code: str | None = None,
                  clock: Callable[[], float] = time.monotonic, gate: Gate | None = None) -> None:
         self.server = server
-        self.gate: Gate = gate if gate is not None else LocalGate(code if code else new_code(), clock)
-        """The presenter lock and the code (`app.cluster.gate`)."""
-        self.code = self.gate.code
+        gate = gate if gate is not None else LocalGate(code if code else new_code(), clock)
+        self.code = gate.code
         self.presenter: Seat | None = None
         self.hall = Hall.EMPTY
         self.live_view: Any = None
@@ -213,7 +212,7 @@ class Lectern:
         """The class's questions (`app.ask.hub`): the current round, asked by the presenter."""
         self.seats: Callable[[], list[Seat]] = lambda: []
         """Set by the app: its open sessions."""
-        # One lecture across processes (`app.cluster.bus` sets these; unused on one process):
+        # One lecture across processes (`app.lecture.bus` sets these; unused on one process):
         self.remote: RemoteShow | None = None
         """A presenter on another process, shown here (None: the shared screen is this process's)."""
         self.events: list[Callable[[str], None]] = []
@@ -231,14 +230,23 @@ class Lectern:
         self.remote_screens: Callable[[], list[Screen]] = lambda: []
         """The kinds of follower's screen on the other processes (`label_screens` adds them)."""
         clock_now = lambda: self._clock()  # noqa: E731 - read at each call: a test moves the lectern's clock
-        self.presenter_lock = PresenterLock(self.gate, self, clock_now, self._lock)
-        """The code, the refusals, the presenter's lease (`app.lectern.lock`)."""
+        self.presenter_lock = PresenterLock(gate, self, clock_now, self._lock)
+        """The code, the refusals, the presenter's lease (`app.lecture.lectern.lock`)."""
         self.follower_panels = Followers(self)
-        """The following browsers' panels and what they show (`app.lectern.followers`)."""
+        """The following browsers' panels and what they show (`app.lecture.lectern.followers`)."""
         self.seating = Seating(self, clock_now, self._lock)
-        """The seats the loop moves and refreshes, the explorers called back (`app.lectern.seating`)."""
+        """The seats the loop moves and refreshes, the explorers called back (`app.lecture.lectern.seating`)."""
 
     # ------------------------------------------------------------------ presenting
+
+    @property
+    def gate(self) -> Gate:
+        """The presenter lock and the code (`app.lecture.gate`), the one the lock part asks."""
+        return self.presenter_lock.gate
+
+    @gate.setter
+    def gate(self, gate: Gate) -> None:
+        self.presenter_lock.gate = gate
     def try_code(self, seat: Any, code: str) -> str | None:
         """None if `seat` may present with `code`, else the refusal (`PresenterLock.try_code`)."""
         return self.presenter_lock.try_code(seat, code)

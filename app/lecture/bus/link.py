@@ -10,7 +10,7 @@ from app.cluster.messages import Message, encode
 
 __all__ = ["ASK", "AUDIENCE_KEY", "CHANNEL", "LAST_KEY", "LEASE_S", "Link"]
 
-logger = logging.getLogger("app.cluster.bus")
+logger = logging.getLogger("app.lecture.bus")
 
 CHANNEL = KEY_PREFIX + "live"  # the source to every process: scene batches, the hall, camera, call back, rooms
 ASK = KEY_PREFIX + "ask"  # any process to the source: "resync", "explore"

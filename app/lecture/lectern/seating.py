@@ -8,7 +8,7 @@ import logging
 import threading
 from collections.abc import Callable, Iterable
 
-from app.lectern.seat import Mode, Seat, Stage
+from app.lecture.lectern.seat import Mode, Seat, Stage
 
 __all__ = ["Seating"]
 

@@ -10,9 +10,9 @@ from typing import Any, Protocol
 
 import viser
 
-from app.hall.follower import FollowerStatus, Hall
 from app.kit.core.room import Room
 from app.kit.draw.labels import Screen
+from app.lecture.follower import FollowerStatus, Hall
 
 __all__ = ["FOLLOW_PERIOD", "Mode", "RemoteShow", "Seat", "Stage"]
 
@@ -72,14 +72,14 @@ class Seat(Protocol):
         ...
 
     def caption_words(self) -> tuple[str, str]:
-        """(head, words) of the presenter's lesson caption; ("", "") for none (`app.hall.caption`)."""
+        """(head, words) of the presenter's lesson caption; ("", "") for none (`app.lecture.caption`)."""
         ...
 
 
 @dataclasses.dataclass
 class RemoteShow:
     """What a presenter on another process shows, as this process's followers see it
-    (`app.cluster.bus` writes it; the shared scene's nodes come through the bus too).
+    (`app.lecture.bus` writes it; the shared scene's nodes come through the bus too).
 
     Attributes:
         worker: the presenting process's worker id.  hall: LIVE, STOPPED or LEFT (the lectern's:
@@ -89,7 +89,7 @@ class RemoteShow:
             hall follows `hall`); before the first one comes, the title alone.
         caption: (head, words) of the lesson caption.
         plot: (tab, elements) of the presenter's open plot tab (`Lectern.room_plot`; elements
-            `app.hall.room_plot.ChartCopy` / `MarkdownCopy`), ("", ()) for none.
+            `app.lecture.room_plot.ChartCopy` / `MarkdownCopy`), ("", ()) for none.
         camera: the presenter's camera (position, look_at, up [scene units], fov [rad], aspect
             [width / height]) or None before it is known.
     """
@@ -113,7 +113,7 @@ class RemoteShow:
 
 
 class Stage(Protocol):
-    """What the lectern's parts read of it (`app.lectern.Lectern` is one): who presents, what the
+    """What the lectern's parts read of it (`app.lecture.lectern.Lectern` is one): who presents, what the
     shared screen shows, and the browsers."""
 
     presenter: Seat | None

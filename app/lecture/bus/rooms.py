@@ -9,8 +9,10 @@ import time
 
 import msgspec
 
-from app.cluster.bus.follow import Following
-from app.cluster.bus.link import (
+from app.cluster.messages import Explore, LastRoom, RoomAnswer, decode
+from app.kit.core.room import LIVE, Room
+from app.lecture.bus.follow import Following
+from app.lecture.bus.link import (
     ASK,
     CATCH_UP_FRAME_S,
     EXPLORE_TIMEOUT_S,
@@ -20,11 +22,9 @@ from app.cluster.bus.link import (
     Link,
     logger,
 )
-from app.cluster.bus.wire import DecodeRoom, codec
-from app.cluster.messages import Explore, LastRoom, RoomAnswer, decode
-from app.hall.follower import Hall
-from app.kit.core.room import LIVE, Room
-from app.lectern import Lectern
+from app.lecture.bus.wire import DecodeRoom, codec
+from app.lecture.follower import Hall
+from app.lecture.lectern import Lectern
 from app.scenes import SCENES
 
 __all__ = ["RemoteRooms"]

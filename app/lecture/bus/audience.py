@@ -8,11 +8,11 @@ import time
 
 import msgspec
 
-from app.cluster.bus.link import AUDIENCE_KEY, LEASE_S, Link, logger
-from app.cluster.bus.values import screen_from_shape, screen_shape
 from app.cluster.messages import Audience, decode, encode
 from app.kit.draw.screen import Screen
-from app.lectern import FOLLOW_PERIOD, MAX_LABEL_SCREENS, Lectern
+from app.lecture.bus.link import AUDIENCE_KEY, LEASE_S, Link, logger
+from app.lecture.bus.values import screen_from_shape, screen_shape
+from app.lecture.lectern import FOLLOW_PERIOD, MAX_LABEL_SCREENS, Lectern
 
 __all__ = ["AudienceBoard"]
 

@@ -5,7 +5,7 @@ This module owns:
 - `Hall`: what the shared screen shows (the lectern keeps it; the words follow it).
 - `FollowerStatus`: what the followers' panel says, as a value (the hall, the scene and preset,
   the presenter's `Transport`, the lesson step, the scene's key numbers).  The lectern makes it
-  where the shared screen is (`FollowerStatus.of_room`); `app.cluster.bus` carries it to the
+  where the shared screen is (`FollowerStatus.of_room`); `app.lecture.bus` carries it to the
   other workers as plain values (`to_dict` / `from_dict`, checked); a presenter who stopped or
   left is its `hall` (`ended`), never an edit of words.  Only the panel that shows it writes it
   as Markdown (`markdown`: who presents what, or plainly that the presenter stopped or left;
@@ -13,8 +13,8 @@ This module owns:
 - `is_narrow`: a phone-like view, whose panel collapses to one line and a `Details` button so
   the body stays in view.
 - `Follower`: the panel itself: the status, `Follow camera`, `Explore on my own`, the presenter's
-  lesson caption over the 3D view (`app.hall.caption`; its `Caption` checkbox hides it on this
-  screen) and the presenter's open plot, read only (`app.hall.room_plot`).
+  lesson caption over the 3D view (`app.lecture.caption`; its `Caption` checkbox hides it on this
+  screen) and the presenter's open plot, read only (`app.lecture.room_plot`).
 
 The panel knows nothing of the lectern or the session: whoever builds it (`Lectern.add_follower`)
 hands it the browser's client, its guard, the actions of its buttons and the browser's own
@@ -30,11 +30,11 @@ from typing import Annotated, Any, Literal, cast
 import msgspec
 import viser
 
-from app.hall.caption import Caption
-from app.hall.room_plot import PlotMirror
 from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
+from app.lecture.caption import Caption
+from app.lecture.room_plot import PlotMirror
 
 __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "FollowerStatus", "Hall", "Transport",
            "ended_head", "ended_line", "is_narrow", "transport_words", "view_aspect"]
