@@ -172,6 +172,14 @@ class Method:
     reference: bool = False
     start: StartStepper | None = None
 
+    def __post_init__(self) -> None:
+        for part in (self.run, self.start):
+            name = getattr(part, "__qualname__", "")
+            if part is not None and ("<" in name or "." in name):
+                raise TypeError(f"method {self.name!r}: {name} must be a function defined at the top level of "
+                                "its module (a room saved as bytes names it; the codec refuses a lambda or a "
+                                "nested function)")
+
     def stepper(self, model: Model, state: State, origin: State | None = None) -> Stepper:
         """A Stepper for `model` at `state`; origin: the run's start (default: state).
         ValueError if the method does not apply to the model or cannot start from `state`."""

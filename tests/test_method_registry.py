@@ -178,9 +178,11 @@ def test_each_rigid_scenes_menu_is_the_registrys_names_for_its_body(manual) -> N
 
 
 def test_a_method_added_to_the_registry_is_in_the_menu_and_steps(manual, monkeypatch) -> None:
-    """Adding a method is one entry: here a toy one (DOP853 under another name)."""
-    toy = Method("toy", "scipy DOP853 under another name, for this test", lambda model: True,
-                 lambda m, s, t: integrate_dop853(m, s, t))
+    """Adding a method is one entry: here a toy one (DOP853 under another name); its run must be
+    a top-level function (a lambda is refused with the reason)."""
+    with pytest.raises(TypeError, match="must be a function defined at the top level"):
+        Method("toy", "a lambda", lambda model: True, lambda m, s, t: integrate_dop853(m, s, t))
+    toy = Method("toy", "scipy DOP853 under another name, for this test", lambda model: True, integrate_dop853)
     monkeypatch.setitem(methods(), "toy", toy)
     manual.session.select_scene("Heavy top")
     scene = manual.session.scene
