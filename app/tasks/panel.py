@@ -32,7 +32,6 @@ from typing import Any
 import viser
 
 from app.ask.questions import Question
-from app.ask.round import RateLimit
 from app.cluster.gate import code_matches
 from app.hall.ask_kinds import direction_of
 from app.kit.panel.download import save_download
@@ -64,7 +63,6 @@ CSV_LABEL = "Download results (CSV)"
 CLOSE_LABEL = "Close the task"
 EXTEND_LABEL = "Extend"
 ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", "unlimited")
-WRONG_CODES = RateLimit(20, 60.0)  # wrong lecturer's codes this process evaluates in any minute (all browsers)
 
 
 def table_text(task: Task, submissions: list[Submission], now: float) -> str:
@@ -377,11 +375,12 @@ class TaskPanel:
         except TaskCodeError as error:
             self._say(str(error))
             return None
+        if not self.store.lecturer_codes.allow("hall"):  # counted before it is compared: no guess slips through
+            self._say("Too many lecturer's codes were tried on this app: wait a minute.")
+            return None
         if not isinstance(presenter_code, str) or len(presenter_code) > 64 or not code_matches(
                 presenter_code, lectern.code):
-            allowed = WRONG_CODES.allow("hall")
-            self._say("Wrong lecturer's code: the presenter code is wanted." if allowed else
-                      "Too many wrong codes on this app: wait a minute.")
+            self._say("Wrong lecturer's code: the presenter code is wanted.")
             return None
         self.lecturer_task = task
         self.gui_lecturer_code.value = ""

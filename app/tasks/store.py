@@ -48,6 +48,7 @@ __all__ = ["RATE", "RATE_WINDOW_S", "TASKS_FILE", "SqliteTaskStore", "TaskRules"
 
 TASKS_FILE = "tasks.sqlite3"  # the SQLite store's file in the data folder
 RATE = 5  # submissions a browser may make ...
+LECTURER_CODES = 20  # lecturer's codes compared a minute, all browsers of a process together
 RATE_WINDOW_S = 10.0  # [s] ... in any window this long (more are refused, not counted)
 
 
@@ -67,6 +68,8 @@ class TaskRules:
         self.clock = clock
         self.rate = rate or RateLimit(RATE, RATE_WINDOW_S, clock=time.monotonic)
         self.listeners: list[Callable[[str], None]] = []
+        self.lecturer_codes = RateLimit(LECTURER_CODES, 60.0, clock=time.monotonic)
+        """Lecturer's codes (the presenter code, `app.tasks.panel`) this process compares in any minute."""
         self._lock = threading.RLock()
 
     # -------------------------------------------------------------- primitives (a store's)

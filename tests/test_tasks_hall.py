@@ -1,0 +1,155 @@
+"""Tasks in the app (issue 37), with raw websocket clients: a hostile client cannot read or
+change another student's submission or the task, and a task and its submissions survive a
+restart of the app on its data folder."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from conftest import RawClient, poll_until
+
+from app.main import App, create_server
+
+CODE = "13572468"
+DEADLINE_S = 30.0  # a busy machine
+
+
+def _click(client: RawClient, handle: Any) -> None:
+    from viser import _messages
+
+    client.send(_messages.GuiUpdateMessage(handle._impl.uuid, {"value": True}))
+
+
+def _typed(client: RawClient, handle: Any, value: Any) -> None:
+    client.set_value(handle, value)
+    poll_until(lambda: handle.value == value, timeout=DEADLINE_S)
+
+
+def _new_session(app: App, client_factory: Any = RawClient) -> tuple[Any, Any]:
+    before = set(app.sessions)
+    client = client_factory(app.port)
+    session = poll_until(lambda: next((s for cid, s in dict(app.sessions).items() if cid not in before), None),
+                         timeout=DEADLINE_S)
+    return client, session
+
+
+def _make_task(app: App, lecturer: Any, **form: Any) -> Any:
+    """The presenter fills the Ask form with a number question and makes a task (server side)."""
+    with lecturer.lock:
+        lecturer.present(CODE)
+    ask, panel = lecturer.ask_panel, lecturer.task_panel
+    ask.gui_kind.value = "Number"
+    ask.gui_prompt.value = "The flip period of the book?"
+    number = ask.forms["number"]
+    number.gui_value.value, number.gui_unit.value, number.gui_tolerance.value = "2.5", "s", "0.2"
+    panel.gui_attempts.value = form.get("attempts", "1")
+    with lecturer.lock:
+        return panel.make_from_form()
+
+
+def _submit(client: RawClient, session: Any, code: str, name: str, value: float) -> str:
+    """Through the raw client: the code, Open the task, the name, the number, Submit; the words
+    said after it (the verdict, or the refusal)."""
+    panel = session.task_panel
+    _typed(client, panel.gui_code, code)
+    _click(client, panel.gui_open)
+    poll_until(lambda: panel.task is not None and panel.gui_submit.visible, timeout=DEADLINE_S)
+    if panel.gui_name.visible:
+        _typed(client, panel.gui_name, name)
+    _typed(client, panel.gui_value, value)
+    before = (panel.gui_verdict.content, panel.gui_note.content)
+    _click(client, panel.gui_submit)
+    poll_until(lambda: (panel.gui_verdict.content, panel.gui_note.content) != before, timeout=DEADLINE_S)
+    with session.lock:
+        pass
+    return panel.gui_note.content or panel.gui_verdict.content
+
+
+@pytest.fixture
+def hall(tmp_path: Path) -> Iterator[App]:
+    running = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, data_dir=tmp_path)
+    try:
+        yield running
+    finally:
+        running.stop()
+
+
+def test_a_hostile_client_cannot_read_or_change_another_students_submission(hall: App) -> None:
+    app = hall
+    clients = []
+    try:
+        lecturer_client, lecturer = _new_session(app)
+        ann_client, ann = _new_session(app)
+        bad_client, bad = _new_session(app)
+        clients += [lecturer_client, ann_client, bad_client]
+        task = _make_task(app, lecturer, attempts="2")
+        words = _submit(ann_client, ann, task.shown_code, "Ann Lee", 2.6)
+        assert "2.6 s: right" in words and "Receipt" in words, words
+        kept = app.task_store.submissions(task.code)
+        assert len(kept) == 1
+        # The hostile client: Ann's name, then hidden buttons, wrong codes, junk values.
+        words = _submit(bad_client, bad, task.shown_code.replace("-", " ").lower(), "ann lee", 9.0)
+        assert "already answers this task from another browser" in words, words
+        panel = bad.task_panel
+        for handle in (panel.gui_csv, panel.gui_close, panel.gui_extend, panel.gui_make, panel.gui_add):
+            _click(bad_client, handle)
+        for value in ("x" * 100_000, "\x00", None, 12345678, [CODE]):
+            bad_client.set_value(panel.gui_lecturer_code, value)
+            _click(bad_client, panel.gui_lecturer)
+        for guess in range(40):
+            bad_client.set_value(panel.gui_lecturer_code, f"{guess:08d}")
+            _click(bad_client, panel.gui_lecturer)
+        bad_client.set_value(panel.gui_extend_hours, 1e9)
+        _click(bad_client, panel.gui_extend)
+        # six refusals said (five hidden buttons, Extend again), the guesses' note
+        poll_until(lambda: bad.error_count >= 6 and "lecturer's code" in panel.gui_note.content, timeout=DEADLINE_S)
+        with bad.lock:
+            pass
+        assert "only the lecturer" in str(bad.last_error), bad.last_error
+        assert app.task_store.submissions(task.code) == kept  # Ann's, unchanged; nothing of the client's
+        assert app.task_store.task(task.code) == task  # not closed, not extended
+        assert panel.lecturer_task is None and not panel.gui_table.visible and panel.gui_table.content == ""
+        shown = " ".join(h.content for h in (panel.gui_verdict, panel.gui_note, panel.gui_about, panel.gui_table))
+        assert "Ann" not in shown and "2.6" not in shown, shown  # nothing of Ann's reached it
+        assert app.task_store.mine(task.code, bad.answer_token) == []
+        assert lecturer.task_panel.made == task and ann.task_panel.gui_verdict.content.count("Receipt") == 1
+    finally:
+        for client in clients:
+            client.close()
+
+
+def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
+    first = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, data_dir=tmp_path)
+    clients = []
+    try:
+        lecturer_client, lecturer = _new_session(first)
+        ann_client, ann = _new_session(first)
+        clients += [lecturer_client, ann_client]
+        task = _make_task(first, lecturer)
+        assert "2.4 s: right" in _submit(ann_client, ann, task.code, "Ann", 2.4)
+    finally:
+        for client in clients:
+            client.close()
+        first.stop()
+    second = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, data_dir=tmp_path)
+    clients = []
+    try:
+        bea_client, bea = _new_session(second)
+        teacher_client, teacher = _new_session(second)
+        clients += [bea_client, teacher_client]
+        assert "3 s: wrong" in _submit(bea_client, bea, task.code, "Bea", 3.0)  # after the restart
+        panel = teacher.task_panel
+        _typed(teacher_client, panel.gui_code, task.shown_code)
+        _typed(teacher_client, panel.gui_lecturer_code, CODE)
+        _click(teacher_client, panel.gui_lecturer)
+        poll_until(lambda: "| Bea |" in panel.gui_table.content, timeout=DEADLINE_S)
+        table = panel.gui_table.content
+        assert "| Ann | – | 1 | 1.00 | 2.4 s: right |" in table and "| Bea | – | 1 | 0.00 | 3 s: wrong |" in table, table
+        assert teacher.error_count == 0 and bea.error_count == 0, (teacher.last_error, bea.last_error)
+    finally:
+        for client in clients:
+            client.close()
+        second.stop()
