@@ -235,7 +235,7 @@ class TaskPanel:
         self.worksheet = []
         self.made = task
         self._said_made(f"Task code **{task.shown_code}** · due {iso_time(task.due)} · {task.policy.words()}: "
-                        f"students type it in *{TASK_FOLDER}* → *Task code*.")
+                        f"students type it in the {TASK_FOLDER} folder and open it.")
         return task
 
     def _said_made(self, text: str) -> None:
