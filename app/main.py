@@ -40,9 +40,9 @@ from app.scenes import SCENES, check_presets
 from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.sharestore import ShareStore, open_share_store
+from app.sweep import Sweep
 from app.tasks.panel import attach_tasks
 from app.tasks.store import TaskRules, open_task_store
-from app.sweep import Sweep
 from app.theme import configure_scene
 from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals

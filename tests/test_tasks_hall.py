@@ -147,7 +147,8 @@ def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
         _click(teacher_client, panel.gui_lecturer)
         poll_until(lambda: "| Bea |" in panel.gui_table.content, timeout=DEADLINE_S)
         table = panel.gui_table.content
-        assert "| Ann | – | 1 | 1.00 | 2.4 s: right |" in table and "| Bea | – | 1 | 0.00 | 3 s: wrong |" in table, table
+        assert "| Ann | – | 1 | 1.00 | 2.4 s: right |" in table, table
+        assert "| Bea | – | 1 | 0.00 | 3 s: wrong |" in table, table
         assert teacher.error_count == 0 and bea.error_count == 0, (teacher.last_error, bea.last_error)
     finally:
         for client in clients:

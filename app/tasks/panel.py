@@ -27,6 +27,7 @@ import math
 import time
 import weakref
 from collections.abc import Callable
+from datetime import UTC, datetime
 from typing import Any
 
 import viser
@@ -77,12 +78,18 @@ def table_text(task: Task, submissions: list[Submission], now: float) -> str:
             f"{len(rows)} student{'' if len(rows) == 1 else 's'}, {len(submissions)} submissions{mean}")
     if not rows:
         return head + "  \nno submissions yet"
-    lines = [head, "", "| Name | Number | Attempts | Score | Verdict | Last submitted |", "|---|---|---|---|---|---|"]
+    lines = [head, "", "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |",
+             "|---|---|---|---|---|---|"]
     for r in rows:
         score = "–" if r.score is None else f"{r.score:.2f}"
         lines.append(f"| {_cell(r.name) or '–'} | {_cell(r.number) or '–'} | {r.attempts} | {score} | "
-                     f"{_cell(r.verdict)} | {iso_time(r.last_submitted)} |")
+                     f"{_cell(r.verdict)} | {short_time(r.last_submitted)} |")
     return "\n".join(lines)
+
+
+def short_time(seconds: float) -> str:
+    """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column."""
+    return datetime.fromtimestamp(seconds, UTC).strftime("%d %b %H:%M")
 
 
 def _cell(text: str) -> str:
@@ -159,7 +166,7 @@ class TaskPanel:
                                               hint="one row a student: name, number, score 0-1, attempts, "
                                                    "last submitted, verdict")
                 self.gui_extend_hours = gui.add_number("New due in [h]", 24.0, min=0.01, step=0.01, visible=False,
-                                                       hint="Extend: the task is due this many hours from now, open again")
+                                                       hint="Extend: due this many hours from now, open again")
                 self.gui_extend = gui.add_button(EXTEND_LABEL, visible=False)
                 self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint="no more submissions")
             self.gui_open.on_click(guard("open the task", lambda _e: self.open(self.gui_code.value)))
