@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import io
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +23,7 @@ from app.tasks.model import (
     normalize_task_code,
     verdict,
 )
-from app.tasks.store import RATE, SqliteTaskStore
+from app.tasks.store import RATE, SqliteTaskStore, TaskRules
 
 NUMBER = {"kind": "number", "prompt": "The flip period?", "value": 2.5, "unit": "s", "tolerance": 0.2}
 CHOICE = {"kind": "choice", "prompt": "Which axis is unstable?", "options": ["smallest", "middle", "largest"],
@@ -51,8 +52,31 @@ class Tick:
         return self.t
 
 
-def store_at(tmp_path: Path, clock: Clock, tick: Tick | None = None) -> SqliteTaskStore:
-    return SqliteTaskStore(tmp_path / "tasks.sqlite3", clock=clock, rate=RateLimit(RATE, 10.0, clock=tick or Tick()))
+@pytest.fixture(scope="module")
+def redis_url() -> Iterator[str]:
+    """A redis-server of this module's own (in memory)."""
+    from app.cluster import services
+
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    yield url
+    services.stop_process(process)
+
+
+@pytest.fixture(params=["sqlite", "redis"])
+def store_at(request: pytest.FixtureRequest, tmp_path: Path) -> Callable[..., TaskRules]:
+    """(clock, tick=None) -> a store (SQLite in tmp_path, or Redis) on the same data each time (a reopen)."""
+    def opener(clock: Clock, tick: Tick | None = None) -> TaskRules:
+        rate = RateLimit(RATE, 10.0, clock=tick or Tick())
+        if request.param == "sqlite":
+            return SqliteTaskStore(tmp_path / "tasks.sqlite3", clock=clock, rate=rate)
+        from app.tasks.redis_store import RedisTaskStore
+
+        return RedisTaskStore(request.getfixturevalue("redis_url"), clock=clock, rate=rate)
+
+    return opener
 
 
 @pytest.fixture
@@ -61,8 +85,8 @@ def clock() -> Clock:
 
 
 @pytest.fixture
-def store(tmp_path: Path, clock: Clock) -> Any:
-    s = store_at(tmp_path, clock)
+def store(store_at: Callable[..., TaskRules], clock: Clock) -> Iterator[TaskRules]:
+    s = store_at(clock)
     yield s
     s.close()
 
@@ -121,7 +145,7 @@ def test_a_policy_is_checked() -> None:
 
 
 # ---------------------------------------------------------------------- the store's rules
-def test_one_attempt_is_one_and_a_second_is_refused_saying_so(store: SqliteTaskStore, clock: Clock) -> None:
+def test_one_attempt_is_one_and_a_second_is_refused_saying_so(store: TaskRules, clock: Clock) -> None:
     task = store.create(NUMBER, due=T0 + HOUR, attempts=1)
     first = store.submit(task.shown_code.lower(), "tok-a", "Ann", "", 0, 2.4)
     assert first.score == 1.0 and first.words == "2.4 s: right" and first.attempt == 1
@@ -130,8 +154,8 @@ def test_one_attempt_is_one_and_a_second_is_refused_saying_so(store: SqliteTaskS
     assert [s.receipt for s in store.submissions(task.code)] == [first.receipt]
 
 
-def test_n_attempts_best_or_last_counts(tmp_path: Path, clock: Clock) -> None:
-    store = store_at(tmp_path, clock)
+def test_n_attempts_best_or_last_counts(store_at: Callable[..., TaskRules], clock: Clock) -> None:
+    store = store_at(clock)
     best = store.create(NUMBER, due=T0 + HOUR, attempts=3, counts="best")
     last = store.create(NUMBER, due=T0 + HOUR, attempts=3, counts="last")
     for task in (best, last):
@@ -147,9 +171,9 @@ def test_n_attempts_best_or_last_counts(tmp_path: Path, clock: Clock) -> None:
     store.close()
 
 
-def test_unlimited_attempts_are_limited_only_by_the_rate(tmp_path: Path, clock: Clock) -> None:
+def test_unlimited_attempts_are_limited_only_by_the_rate(store_at: Callable[..., TaskRules], clock: Clock) -> None:
     tick = Tick()
-    store = store_at(tmp_path, clock, tick)
+    store = store_at(clock, tick)
     task = store.create(NUMBER, due=T0 + HOUR, attempts=None)
     for _ in range(3 * RATE):
         tick.t += 10.0 / RATE + 0.01  # at the allowed pace: every one is kept
@@ -159,9 +183,9 @@ def test_unlimited_attempts_are_limited_only_by_the_rate(tmp_path: Path, clock: 
 
 
 def test_ten_thousand_submissions_from_one_socket_count_once_per_allowed_attempt(
-        tmp_path: Path, clock: Clock) -> None:
+        store_at: Callable[..., TaskRules], clock: Clock) -> None:
     tick = Tick()
-    store = store_at(tmp_path, clock, tick)
+    store = store_at(clock, tick)
     limited = store.create(NUMBER, due=T0 + HOUR, attempts=2)
     unlimited = store.create(NUMBER, due=T0 + HOUR, attempts=None)
     refusals: dict[str, int] = {}
@@ -179,7 +203,7 @@ def test_ten_thousand_submissions_from_one_socket_count_once_per_allowed_attempt
     store.close()
 
 
-def test_a_submission_after_the_due_time_is_refused_with_a_clear_message(store: SqliteTaskStore,
+def test_a_submission_after_the_due_time_is_refused_with_a_clear_message(store: TaskRules,
                                                                        clock: Clock) -> None:
     task = store.create(NUMBER, due=T0 + HOUR)
     clock.t = T0 + HOUR
@@ -193,7 +217,7 @@ def test_a_submission_after_the_due_time_is_refused_with_a_clear_message(store: 
         store.submit(task.code, "tok-b", "Bea", "", 0, 2.5)
 
 
-def test_a_wrong_or_expired_code_opens_nothing(store: SqliteTaskStore, clock: Clock) -> None:
+def test_a_wrong_or_expired_code_opens_nothing(store: TaskRules, clock: Clock) -> None:
     task = store.create(NUMBER, due=T0 + HOUR, expire_after_s=24 * HOUR)
     with pytest.raises(TaskCodeError, match="No task has the code"):
         store.task("ZZZZ-ZZZZ" if task.code != "ZZZZZZZZ" else "YYYY-YYYY")
@@ -204,7 +228,7 @@ def test_a_wrong_or_expired_code_opens_nothing(store: SqliteTaskStore, clock: Cl
         store.submit(task.code, "tok-a", "Ann", "", 0, 2.5)
 
 
-def test_bad_answers_and_questions_change_nothing(store: SqliteTaskStore) -> None:
+def test_bad_answers_and_questions_change_nothing(store: TaskRules) -> None:
     task = store.create([NUMBER, CHOICE], due=T0 + HOUR, attempts=1)
     for question, value, words in ((0, float("nan"), "Not an answer"), (0, "2.5", "Not an answer"),
                                    (1, 7, "Not an answer"), (2, 1, "question: 1 to 2"),
@@ -214,7 +238,7 @@ def test_bad_answers_and_questions_change_nothing(store: SqliteTaskStore) -> Non
     assert store.submissions(task.code) == [] and store.student(task.code, "tok-a") is None
 
 
-def test_a_name_is_given_once_per_task_and_another_browser_cannot_take_it(store: SqliteTaskStore) -> None:
+def test_a_name_is_given_once_per_task_and_another_browser_cannot_take_it(store: TaskRules) -> None:
     task = store.create(NUMBER, due=T0 + HOUR, attempts=None)
     store.submit(task.code, "tok-a", "Ann", "", 0, 9.0)
     # the same browser keeps its name whatever it types later
@@ -226,7 +250,7 @@ def test_a_name_is_given_once_per_task_and_another_browser_cannot_take_it(store:
     assert [s.value for s in store.mine(task.code, "tok-a")] == [9.0, 2.5]
 
 
-def test_a_receipt_shows_its_submission_later(store: SqliteTaskStore) -> None:
+def test_a_receipt_shows_its_submission_later(store: TaskRules) -> None:
     task = store.create(NUMBER, due=T0 + HOUR)
     submission = store.submit(task.code, "tok-a", "", "s1234", 0, 2.5)
     shown = submission.receipt[:4].lower() + " - " + submission.receipt[4:]
@@ -235,7 +259,7 @@ def test_a_receipt_shows_its_submission_later(store: SqliteTaskStore) -> None:
         store.receipt("xyz")
 
 
-def test_the_gradebook_csv_has_one_row_a_student(store: SqliteTaskStore, clock: Clock) -> None:
+def test_the_gradebook_csv_has_one_row_a_student(store: TaskRules, clock: Clock) -> None:
     task = store.create([NUMBER, CHOICE], due=T0 + HOUR, attempts=2, counts="best")
     clock.t += 60
     store.submit(task.code, "tok-a", "Ann Lee", "s1", 0, 2.5)
@@ -254,12 +278,12 @@ def test_the_gradebook_csv_has_one_row_a_student(store: SqliteTaskStore, clock: 
     assert len(rows) == 3
 
 
-def test_tasks_and_submissions_survive_a_reopen(tmp_path: Path, clock: Clock) -> None:
-    before = store_at(tmp_path, clock)
+def test_tasks_and_submissions_survive_a_reopen(store_at: Callable[..., TaskRules], clock: Clock) -> None:
+    before = store_at(clock)
     task = before.create([NUMBER, CHOICE], due=T0 + HOUR, attempts=1, scene="Heavy top", words="Do it at home.")
     kept = before.submit(task.code, "tok-a", "Ann", "", 0, 2.5)
     before.close()
-    after = store_at(tmp_path, clock)  # a restart
+    after = store_at(clock)  # a restart
     assert after.task(task.code) == task
     assert after.submissions(task.code) == [kept] and after.receipt(kept.receipt) == kept
     with pytest.raises(TaskRefused, match="used your 1 attempt at question 1"):
@@ -268,7 +292,7 @@ def test_tasks_and_submissions_survive_a_reopen(tmp_path: Path, clock: Clock) ->
     after.close()
 
 
-def test_a_bad_task_is_refused_naming_what(store: SqliteTaskStore) -> None:
+def test_a_bad_task_is_refused_naming_what(store: TaskRules) -> None:
     with pytest.raises(TaskRefused, match="due: the due time has passed"):
         store.create(NUMBER, due=T0 - 1)
     with pytest.raises(ValueError, match="prompt"):
