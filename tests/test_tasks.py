@@ -301,3 +301,32 @@ def test_a_bad_task_is_refused_naming_what(store: TaskRules) -> None:
         store.create([], due=T0 + HOUR)
     with pytest.raises(TaskRefused, match="words: at most"):
         store.create(NUMBER, due=T0 + HOUR, words="w" * 10_000)
+
+
+def test_the_apps_own_redis_keeps_tasks_across_its_restart(tmp_path: Path, clock: Clock) -> None:
+    """`--workers` starts redis-server with its append-only file in the data folder: a task and
+    its submissions are there after redis-server itself restarted."""
+    from app.cluster import services
+    from app.tasks.redis_store import RedisTaskStore
+
+    try:
+        url, process = services.start_redis(keep_in=tmp_path / "redis")
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    try:
+        store = RedisTaskStore(url, clock=clock)
+        task = store.create([NUMBER, CHOICE], due=T0 + HOUR, attempts=1)
+        kept = store.submit(task.code, "tok-a", "Ann", "", 1, 1)
+        store.close()
+    finally:
+        services.stop_process(process)
+    assert any((tmp_path / "redis").rglob("*.aof")), "no append-only file"
+    url, process = services.start_redis(keep_in=tmp_path / "redis")
+    try:
+        store = RedisTaskStore(url, clock=clock)
+        assert store.task(task.code) == task and store.submissions(task.code) == [kept]
+        with pytest.raises(TaskRefused, match="used your 1 attempt at question 2"):
+            store.submit(task.code, "tok-a", "Ann", "", 1, 1)
+        store.close()
+    finally:
+        services.stop_process(process)
