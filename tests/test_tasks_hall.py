@@ -154,3 +154,96 @@ def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
         for client in clients:
             client.close()
         second.stop()
+
+
+WORKSHEET = "Worksheet on the memo (a task for home: one rotation, the flip, a top that loops)"
+
+
+def _state_submit(client: RawClient, session: Any, expected: str) -> str:
+    """Press Submit (the state of the student's room) through the raw client; wait for `expected`."""
+    panel = session.task_panel
+    _click(client, panel.gui_submit)
+    try:
+        poll_until(lambda: expected in panel.gui_verdict.content or expected in panel.gui_note.content,
+                   timeout=DEADLINE_S)
+    except AssertionError:
+        raise AssertionError(f"waited for {expected!r}; the verdict said {panel.gui_verdict.content!r}, the note "
+                             f"{panel.gui_note.content!r}, the last error {session.last_error!r}") from None
+    return panel.gui_verdict.content
+
+
+def test_a_worksheet_from_a_lesson_done_on_the_other_worker_shows_in_the_lecturers_table(tmp_path: Path) -> None:
+    from app.cluster import services
+
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    apps: list[App] = []
+    clients: list[RawClient] = []
+    try:
+        for worker in ("w1", "w2"):
+            apps.append(create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=url,
+                                      worker_id=worker, data_dir=tmp_path / worker))
+        lecturer_client, lecturer = _new_session(apps[0])
+        student_client, student = _new_session(apps[1])
+        clients += [lecturer_client, student_client]
+        with lecturer.lock:
+            lecturer.present(CODE)
+            lecturer.start_lesson(WORKSHEET)
+        panel = lecturer.task_panel
+        for step in range(3):  # each step's question, in its scene, joins the worksheet
+            with lecturer.lock:
+                if step:
+                    lecturer.next_step(1)
+                panel.add_to_worksheet()
+        panel.gui_attempts.value = "2"
+        with lecturer.lock:
+            task = panel.make_from_form()
+        assert [q.judge for q in task.questions] == ["attitude", "axis_stays", "top_motion"]
+        assert [p[0] for p in task.places] == ["Euler angles", "Free body", "Heavy top"]
+        assert task.places[1][1] == "Dzhanibekov"
+        mine = student.task_panel
+        _typed(student_client, mine.gui_code, task.shown_code)
+        _click(student_client, mine.gui_open)
+        poll_until(lambda: mine.task is not None and student.room.scene.title == "Euler angles", timeout=DEADLINE_S)
+        _typed(student_client, mine.gui_name, "Cem")
+        first = _state_submit(student_client, student, "not what was asked")  # D = 1 is no 90° turn about x
+        assert "90.0° from the target" in first, first
+        _click(student_client, mine.gui_next)
+        poll_until(lambda: student.room.scene.title == "Free body", timeout=DEADLINE_S)
+        second = _state_submit(student_client, student, "✓ as asked")  # the Dzhanibekov start flips
+        _click(student_client, mine.gui_next)
+        poll_until(lambda: student.room.scene.title == "Heavy top", timeout=DEADLINE_S)
+        _state_submit(student_client, student, "not what was asked")  # steady precession
+        with student.lock:
+            student.apply_preset("Loop")
+        third = _state_submit(student_client, student, "✓ as asked")
+        assert "no attempts left" in third, third
+        lecturer_panel = lecturer.task_panel
+        _typed(lecturer_client, lecturer_panel.gui_code, task.shown_code)
+        _typed(lecturer_client, lecturer_panel.gui_lecturer_code, CODE)
+        _click(lecturer_client, lecturer_panel.gui_lecturer)
+        poll_until(lambda: "| Cem |" in lecturer_panel.gui_table.content, timeout=DEADLINE_S)
+        table = lecturer_panel.gui_table.content
+        assert "| Cem | – | 2 | 0.67 |" in table and "Q3: loops — " in table, table
+        assert "draws loops. ✓ as asked" in table, table
+        # another student on the other worker, seen by the lecturer's open table (polled across processes)
+        dana_client, dana = _new_session(apps[1])
+        clients.append(dana_client)
+        _typed(dana_client, dana.task_panel.gui_code, task.shown_code)
+        _click(dana_client, dana.task_panel.gui_open)
+        poll_until(lambda: dana.task_panel.task is not None and dana.room.scene.title == "Euler angles",
+                   timeout=DEADLINE_S)
+        _typed(dana_client, dana.task_panel.gui_student_number, "s77")
+        _state_submit(dana_client, dana, "not what was asked")
+        poll_until(lambda: "| – | s77 | 1 | 0.00 |" in lecturer_panel.gui_table.content, timeout=DEADLINE_S)
+        print(lecturer_panel.gui_table.content, "\n", first, "\n", second, "\n", third, sep="")
+        for session in (lecturer, student, dana):
+            assert session.error_count == 0, session.last_error
+    finally:
+        for client in clients:
+            client.close()
+        for app in apps:
+            app.stop()
+        services.stop_process(process)

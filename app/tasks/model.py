@@ -131,6 +131,13 @@ class Task:
     words: str = ""
     closed: bool = False
     expire_after_s: float = DEFAULT_EXPIRE_AFTER_S
+    places: tuple[tuple[str | None, str | None], ...] = ()
+    """(scene, preset) per question of a worksheet made of lesson steps in several scenes; () the
+    task's `scene` and `preset` for every question."""
+
+    def place(self, index: int) -> tuple[str | None, str | None]:
+        """(scene, preset) the student's room opens with for question `index`."""
+        return self.places[index] if index < len(self.places) else (self.scene, self.preset)
 
     @property
     def shown_code(self) -> str:
@@ -156,7 +163,7 @@ class Task:
         return {"code": self.code, "questions": [question_to_dict(q) for q in self.questions], "due": self.due,
                 "created": self.created, "attempts": self.policy.attempts, "counts": self.policy.counts,
                 "scene": self.scene, "preset": self.preset, "words": self.words, "closed": self.closed,
-                "expire_after_s": self.expire_after_s}
+                "expire_after_s": self.expire_after_s, "places": [list(p) for p in self.places]}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Task:
@@ -164,13 +171,15 @@ class Task:
                    due=float(d["due"]), created=float(d["created"]),
                    policy=Policy(d.get("attempts"), str(d.get("counts", "best"))), scene=d.get("scene"),
                    preset=d.get("preset"), words=str(d.get("words", "")), closed=bool(d.get("closed", False)),
-                   expire_after_s=float(d.get("expire_after_s", DEFAULT_EXPIRE_AFTER_S)))
+                   expire_after_s=float(d.get("expire_after_s", DEFAULT_EXPIRE_AFTER_S)),
+                   places=tuple((p[0], p[1]) for p in d.get("places", ())))
 
 
 def make_task(code: str, questions: Any, *, due: float, now: float, attempts: int | None = 1,
               counts: str = "best", scene: str | None = None, preset: str | None = None, words: str = "",
-              expire_after_s: float = DEFAULT_EXPIRE_AFTER_S) -> Task:
-    """A checked task; `questions` a question, its dict, or a list of them (a worksheet).
+              expire_after_s: float = DEFAULT_EXPIRE_AFTER_S, places: Any = ()) -> Task:
+    """A checked task; `questions` a question, its dict, or a list of them (a worksheet);
+    `places` () or (scene, preset) per question.
     TaskRefused (or ValueError from a question) naming what is wrong."""
     items = list(questions) if isinstance(questions, list | tuple) else [questions]
     if not 1 <= len(items) <= MAX_QUESTIONS:
@@ -184,7 +193,13 @@ def make_task(code: str, questions: Any, *, due: float, now: float, attempts: in
         raise TaskRefused(f"due: at most {MAX_DUE_AHEAD_S / 86400:.0f} days ahead")
     if not math.isfinite(expire_after_s) or expire_after_s <= 0:
         raise TaskRefused("expire_after_s: a positive number of seconds wanted")
-    return Task(code=code, questions=checked, due=float(due), created=float(now), policy=Policy(attempts, counts),
+    given = tuple(places or ())
+    if given and len(given) != len(checked):
+        raise TaskRefused(f"places: one (scene, preset) per question wanted, got {len(given)} for {len(checked)}")
+    cleaned = tuple((_clean_text(scene_, "scene", MAX_SCENE_CHARS) or None,
+                     _clean_text(preset_, "preset", MAX_SCENE_CHARS) or None) for scene_, preset_ in given)
+    return Task(code=code, questions=checked, places=cleaned, due=float(due), created=float(now),
+                policy=Policy(attempts, counts),
                 scene=_clean_text(scene, "scene", MAX_SCENE_CHARS) or None,
                 preset=_clean_text(preset, "preset", MAX_SCENE_CHARS) or None,
                 words=_clean_text(words, "words", MAX_WORDS_CHARS, allow_newlines=True),
@@ -270,7 +285,7 @@ def verdict(question: Question, value: Any) -> tuple[float | None, str]:
             return None, "your state was collected (not judged)"
         if judged.good is None:
             return None, judged.words
-        return (1.0, f"{judged.words}: as asked") if judged.good else (0.0, f"{judged.words}: not what was asked")
+        return (1.0, f"{judged.words} ✓ as asked") if judged.good else (0.0, f"{judged.words} ✗ not what was asked")
     mine = _bold_free(question.answer_words(value))
     if kind == "choice":
         correct = getattr(question, "correct", None)

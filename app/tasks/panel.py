@@ -24,6 +24,7 @@ is said in the folder and changes nothing.
 from __future__ import annotations
 
 import math
+import threading
 import time
 import weakref
 from collections.abc import Callable
@@ -63,6 +64,7 @@ ADD_LABEL = "Add to the worksheet"
 CSV_LABEL = "Download results (CSV)"
 CLOSE_LABEL = "Close the task"
 EXTEND_LABEL = "Extend"
+POLL_S = 2.0  # [s] the lecturer's open table is written again this often (other processes' submissions)
 ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", "unlimited")
 
 
@@ -129,7 +131,10 @@ class TaskPanel:
         self.question = 0
         self.lecturer_task: Task | None = None
         self.made: Task | None = None
-        self.worksheet: list[Question] = []
+        self.worksheet: list[tuple[Question, str | None, str | None]] = []
+        """The questions added for the next task made here, each with the scene and preset shown then."""
+        self.opened_place: tuple[str | None, str | None] | None = None  # the place the student's room opened
+        self._polling = False
         client: viser.ClientHandle = session.client
         self.client = client
         guard = session.guard
@@ -224,7 +229,8 @@ class TaskPanel:
         assert self.ask is not None
         if len(self.worksheet) >= MAX_QUESTIONS:
             raise TaskRefused(f"a worksheet has at most {MAX_QUESTIONS} questions")
-        self.worksheet.append(self.ask.form_question())
+        scene, preset = self._place_now()
+        self.worksheet.append((self.ask.form_question(), scene, preset))
         self._said_made(f"{len(self.worksheet)} question{'s' if len(self.worksheet) > 1 else ''} in the worksheet; "
                         f"*{MAKE_LABEL}* makes the task of them.")
 
@@ -233,17 +239,23 @@ class TaskPanel:
         and preset shown, due `Due in [h]` from now: a task; its code said under the button."""
         self._presenting()
         assert self.ask is not None
-        questions = list(self.worksheet) or [self.ask.form_question()]
+        entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
         attempts = None if self.gui_attempts.value == "unlimited" else int(str(self.gui_attempts.value))
-        room = self.session.room
-        task = self.store.create(questions, due=self.clock() + 3600.0 * _hours(self.gui_due.value), attempts=attempts,
-                                 counts=str(self.gui_counts.value), scene=room.scene.title,
-                                 preset=getattr(room.sim, "preset", None), words=str(self.gui_words.value))
+        task = self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * _hours(self.gui_due.value),
+                                 attempts=attempts, counts=str(self.gui_counts.value), scene=entries[0][1],
+                                 preset=entries[0][2], words=str(self.gui_words.value),
+                                 places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
         self.worksheet = []
         self.made = task
         self._said_made(f"Task code **{task.shown_code}** · due {iso_time(task.due)} · {task.policy.words()}: "
                         f"students type it in the {TASK_FOLDER} folder and open it.")
         return task
+
+    def _place_now(self) -> tuple[str | None, str | None]:
+        """(scene, preset) of the room shown now."""
+        room = self.session.room
+        preset = getattr(room.sim, "preset", None)
+        return room.scene.title, preset if isinstance(preset, str) else None
 
     def _said_made(self, text: str) -> None:
         self.gui_made.content = text
@@ -268,25 +280,35 @@ class TaskPanel:
             return None
         if getattr(session, "mode", None) == "following":
             session.explore()  # the student's own room, a copy of the shared one first
-        note = ""
-        from app.session import SCENES  # noqa: PLC0415 - the panel is built by the session's module's app
-
-        if task.scene in SCENES:
-            def prepare(room: Any) -> None:
-                nonlocal note
-                if task.preset:
-                    try:
-                        session.start_preset(room, task.preset)
-                    except (ValueError, KeyError, LookupError) as error:
-                        note = f" (its preset is not on this app: {error})"
-
-            session.open_scene(task.scene, prepare)
+        self.opened_place = None
         self.task = task
         self.lecturer_task = None
         self._show_lecturer(False)
-        self._say(note.strip())
+        self._say("")
         self.show_question(0)
         return task
+
+    def _open_place(self, task: Task, index: int) -> None:
+        """The student's own room opened with question `index`'s scene and preset (once per place)."""
+        place = task.place(index)
+        if place == self.opened_place:
+            return
+        self.opened_place = place
+        scene, preset = place
+        from app.session import SCENES  # noqa: PLC0415 - the scenes of the app that built this panel
+
+        if scene not in SCENES:
+            return
+        session = self.session
+
+        def prepare(room: Any) -> None:
+            if preset:
+                try:
+                    session.start_preset(room, preset)
+                except (ValueError, KeyError, LookupError) as error:
+                    self._say(f"(the preset {preset!r} is not on this app: {error})")
+
+        session.open_scene(scene, prepare)
 
     def show_question(self, index: int) -> None:
         """Show question `index` (0-based) of the task opened, its widget and my last verdict."""
@@ -295,6 +317,7 @@ class TaskPanel:
             raise LookupError("open a task first")
         index = max(0, min(len(task.questions) - 1, int(index)))
         self.question = index
+        self._open_place(task, index)
         question = task.questions[index]
         many = len(task.questions) > 1
         state = "" if task.open_now(self.clock()) else " · **no longer open**"
@@ -394,7 +417,32 @@ class TaskPanel:
         self._say("")
         self._show_lecturer(True)
         self.refresh_table()
+        self._start_polling()
         return task
+
+    def _start_polling(self) -> None:
+        """While the table is open, it is written again every POLL_S (submissions made on other
+        processes; this process's own call `_store_changed` at once)."""
+        if self._polling:
+            return
+        self._polling = True
+        panel = weakref.ref(self)
+
+        def poll() -> None:
+            while True:
+                time.sleep(POLL_S)
+                me = panel()
+                if me is None or me.session.closed or me.lecturer_task is None:
+                    if me is not None:
+                        me._polling = False
+                    return
+                try:
+                    me.refresh_table()
+                except Exception:  # noqa: BLE001 - the store is gone (the app stops): the next poll ends it
+                    pass
+                del me
+
+        threading.Thread(target=poll, name="task-table", daemon=True).start()
 
     def _show_lecturer(self, shown: bool) -> None:
         for handle in (self.gui_table, self.gui_csv, self.gui_extend_hours, self.gui_extend, self.gui_close):

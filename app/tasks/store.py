@@ -116,12 +116,12 @@ class TaskRules:
 
     def create(self, questions: Any, *, due: float, attempts: int | None = 1, counts: str = "best",
                scene: str | None = None, preset: str | None = None, words: str = "",
-               expire_after_s: float = DEFAULT_EXPIRE_AFTER_S) -> Task:
+               expire_after_s: float = DEFAULT_EXPIRE_AFTER_S, places: Any = ()) -> Task:
         """A new task (model.make_task's checks) under a new code."""
         now = self.clock()
         while True:
             task = make_task(new_code(), questions, due=due, now=now, attempts=attempts, counts=counts, scene=scene,
-                             preset=preset, words=words, expire_after_s=expire_after_s)
+                             preset=preset, words=words, expire_after_s=expire_after_s, places=places)
             if self._insert_task(task):
                 return task
 
@@ -163,7 +163,10 @@ class TaskRules:
         if not self.rate.allow(token_hash(token)):
             raise TaskRefused(f"Too many submissions from this browser: at most {RATE} in {RATE_WINDOW_S:g} s. "
                               "Wait a moment and submit again.")
-        score, words = verdict(asked, checked)
+        try:
+            score, words = verdict(asked, checked)
+        except ValueError as error:  # a judge that cannot judge this state (another scene's body)
+            raise TaskRefused(f"Not judged: {error}") from None
         with self._lock:
             student = self._bind(task.code, token, student)
             while True:
