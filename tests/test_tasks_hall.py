@@ -4,6 +4,7 @@ restart of the app on its data folder."""
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -149,6 +150,13 @@ def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
         table = panel.gui_table.content
         assert "| Ann | – | 1 | 1.00 | 2.4 s: right |" in table, table
         assert "| Bea | – | 1 | 0.00 | 3 s: wrong |" in table, table
+        # a week and a day later (the store's wall clock moved): one too late is refused, nothing kept
+        second.task_store.clock = lambda: time.time() + 8 * 24 * 3600.0
+        cem_client, cem = _new_session(second)
+        clients.append(cem_client)
+        late = _submit(cem_client, cem, task.shown_code, "Cem", 2.5)
+        assert "a submission after the due time is not accepted" in late, late
+        assert len(second.task_store.submissions(task.code)) == 2
         assert teacher.error_count == 0 and bea.error_count == 0, (teacher.last_error, bea.last_error)
     finally:
         for client in clients:
