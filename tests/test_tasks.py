@@ -330,3 +330,21 @@ def test_the_apps_own_redis_keeps_tasks_across_its_restart(tmp_path: Path, clock
         store.close()
     finally:
         services.stop_process(process)
+
+
+def test_the_lecturers_tally_counts_each_students_counted_answer_once(store: TaskRules, clock: Clock) -> None:
+    from app.tasks.panel import table_text, tallies_text
+
+    task = store.create([CHOICE, NUMBER], due=T0 + HOUR, attempts=3, counts="best")
+    for token, name, answers in (("tok-a", "Ann", (0, 1)), ("tok-b", "Bea", (2,))):
+        for option in answers:
+            clock.t += 1.0
+            store.submit(task.code, token, name, "", 0, option)
+    text = tallies_text(task, store.submissions(task.code))
+    lines = text.split("  \n")
+    assert lines[0] == "**Q1** · 2 answered · 1 right", text  # Ann's best (option 2), Bea's (option 3)
+    assert lines[1].startswith("1. smallest") and "**0**" in lines[2] and "**1**" in lines[4] and "**1**" in lines[6]
+    assert lines[-1] == "**Q2** · 0 answered · 0 right", text
+    table = table_text(task, store.submissions(task.code), clock())
+    assert "2 students, 3 submissions · mean score 0.25" in table, table  # (1 + 0) / 2 and (0 + 0) / 2
+    assert "| Ann | – | 2 | 0.50 | Q1: 2. middle: right; Q2: not answered |" in table, table

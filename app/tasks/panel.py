@@ -34,6 +34,7 @@ from typing import Any
 import viser
 
 from app.ask.questions import Question
+from app.ask.round import Tally
 from app.cluster.gate import code_matches
 from app.hall.ask_kinds import direction_of
 from app.kit.panel.download import save_download
@@ -44,8 +45,10 @@ from app.tasks.model import (
     Task,
     TaskCodeError,
     TaskRefused,
+    counted,
     gradebook_csv,
     gradebook_rows,
+    is_judged,
     iso_time,
 )
 from app.tasks.store import TaskRules
@@ -87,6 +90,28 @@ def table_text(task: Task, submissions: list[Submission], now: float) -> str:
         lines.append(f"| {_cell(r.name) or '–'} | {_cell(r.number) or '–'} | {r.attempts} | {score} | "
                      f"{_cell(r.verdict)} | {short_time(r.last_submitted)} |")
     return "\n".join(lines)
+
+
+def tallies_text(task: Task, submissions: list[Submission]) -> str:
+    """Per question, the counted answers (one a student: `model.counted`) in words: how many
+    answered and were right, and a choice's bars or a number's histogram (`QuestionKind.tally_text`,
+    the right answer marked) as `Ask the class` shows them."""
+    by_student: dict[str, list[Submission]] = {}
+    for s in submissions:
+        by_student.setdefault(s.student.key, []).append(s)
+    lines = []
+    for index, question in enumerate(task.questions):
+        chosen = [c for subs in by_student.values()
+                  if (c := counted([s for s in subs if s.question == index], task.policy.counts)) is not None]
+        right = sum(1 for c in chosen if c.score == 1.0)
+        line = f"**Q{index + 1}** · {len(chosen)} answered" + (f" · {right} right" if is_judged(question) else "")
+        if chosen and question.kind in ("choice", "number"):
+            values = [c.value for c in chosen]
+            tally = Tally(1, question, task.open_now(time.time()), len(chosen),
+                          **question.tally_fields(values, [None] * len(values)))
+            line += "  \n" + question.tally_text(tally, revealed=True)
+        lines.append(line)
+    return "  \n".join(lines)
 
 
 def short_time(seconds: float) -> str:
@@ -457,7 +482,8 @@ class TaskPanel:
         """The live table written again (the lecturer's); its text."""
         task = self.store.task(self._lecturers().code)
         self.lecturer_task = task
-        text = table_text(task, self.store.submissions(task.code), self.clock())
+        submissions = self.store.submissions(task.code)
+        text = table_text(task, submissions, self.clock()) + "\n\n" + tallies_text(task, submissions)
         if self.gui_table.content != text:
             self.gui_table.content = text
         return text
