@@ -136,3 +136,67 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     assert rows[2].startswith(",s2041,1.000,2,") and rows[2].endswith(",2.45 s: right"), rows
     for session in (presenter, ann, bea):
         assert session.error_count == 0, session.last_error
+
+
+WORKSHEET = "Worksheet on the memo (a task for home: one rotation, the flip, a top that loops)"
+
+
+def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(browser, hall_app: App,  # noqa: F811
+                                                                             wait_until) -> None:
+    app = hall_app
+    projector, presenter = open_page(browser, app, timeout=90.0, viewport={"width": 1280, "height": 900})
+    presenter.present(CODE)
+    close_toasts(projector)
+    ask = presenter.ask_panel
+    projector.get_by_text("Lesson", exact=True).first.click()
+    _choose(projector, presenter.lesson_runner.gui_lesson, WORKSHEET)
+    wait_until(lambda: presenter.lesson is not None, timeout=30.0)
+    with presenter.lock:  # the lesson's start has ended
+        pass
+    for k, start in enumerate(("One rotation", "The flip", "A heavy top that loops")):
+        if k > 0 or presenter.lesson_step < 0:
+            _button(projector, "Next ▶").click()
+        wait_until(lambda start=start: str(ask.gui_prompt.value).startswith(start), timeout=30.0)
+        _button(projector, "Add to the worksheet").click()
+        projector.get_by_text(f"{k + 1} question", exact=False).first.wait_for(timeout=WAIT_MS)
+    _choose(projector, presenter.task_panel.gui_attempts, "unlimited")
+    wait_until(lambda: presenter.task_panel.gui_attempts.value == "unlimited", timeout=20.0)
+    _button(projector, "Make a task").click()
+    projector.get_by_text("Task code", exact=False).first.wait_for(timeout=WAIT_MS)
+    made = re.search(r"Task code ([0-9A-Z]{4}-[0-9A-Z]{4})", projector.locator("body").inner_text())
+    assert made is not None, "no task code on the presenter's page"
+    code = made.group(1)
+    task = app.task_store.task(code)
+    assert [q.judge for q in task.questions] == ["attitude", "axis_stays", "top_motion"]
+
+    laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
+    close_toasts(laptop)
+    _open_task_folder(laptop)
+    _type_into(laptop, "Task code", code)
+    _button(laptop, "Open the task").click()
+    laptop.get_by_text("Question 1 of 3", exact=False).first.wait_for(timeout=WAIT_MS)
+    _type_into(laptop, "Your name", "Cem")
+    submit = "Submit the state of my room"
+    for k, expected in enumerate(("✗ not what was asked", "✓ as asked", "✗ not what was asked")):
+        if k:
+            _button(laptop, "Next question").click()
+            laptop.get_by_text(f"Question {k + 1} of 3", exact=False).first.wait_for(timeout=WAIT_MS)
+            wait_until(lambda k=k: cem.room.scene.title == task.places[k][0], timeout=30.0)
+        _button(laptop, submit).click()
+        wait_until(lambda k=k: len([s for s in app.task_store.mine(code, cem.answer_token) if s.question == k]) == 1,
+                   timeout=30.0)
+        laptop.get_by_text(expected, exact=False).first.wait_for(timeout=WAIT_MS)
+
+    _open_task_folder(projector)
+    _type_into(projector, "Task code", code)
+    _type_into(projector, "Lecturer's code", CODE)
+    _button(projector, "Open as lecturer").click()
+    projector.get_by_text("1 student", exact=False).first.wait_for(timeout=WAIT_MS)
+    table = presenter.task_panel.gui_table.content
+    assert "| Cem | – | 1 | 0.33 | Q1: 90.0° from the target ✗ not what was asked; Q2: flips" in table, table
+    assert "**Q2** · 1 answered · 1 right" in table, table
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    projector.screenshot(path=str(SHOTS / "worksheet-lecturer.png"))
+    laptop.screenshot(path=str(SHOTS / "worksheet-student.png"))
+    for session in (presenter, cem):
+        assert session.error_count == 0, session.last_error
