@@ -347,4 +347,4 @@ def test_the_lecturers_tally_counts_each_students_counted_answer_once(store: Tas
     assert lines[-1] == "**Q2** · 0 answered · 0 right", text
     table = table_text(task, store.submissions(task.code), clock())
     assert "2 students, 3 submissions · mean score 0.25" in table, table  # (1 + 0) / 2 and (0 + 0) / 2
-    assert "| Ann | – | 2 | 0.50 | Q1: 2. middle: right; Q2: not answered |" in table, table
+    assert "| Ann | – | 2 | 0.50 | 1 ✓ · 2 – |" in table, table

@@ -335,6 +335,8 @@ class GradebookRow:
     attempts: int
     last_submitted: float
     verdict: str
+    scores: tuple[float | None, ...] = ()  # the counted score per question (None: not judged or not answered)
+    answered: tuple[bool, ...] = ()  # per question
 
 
 def gradebook_rows(task: Task, submissions: Iterable[Submission]) -> list[GradebookRow]:
@@ -361,7 +363,8 @@ def gradebook_rows(task: Task, submissions: Iterable[Submission]) -> list[Gradeb
         judged = [s for s in scores if s is not None]
         score = sum(judged) / len(judged) if judged else None
         rows.append(GradebookRow(student.name, student.number, score, attempts, max(s.at for s in subs),
-                                 "; ".join(words)))
+                                 "; ".join(words), tuple(scores), tuple(
+                                     any(s.question == k for s in subs) for k in range(len(task.questions)))))
     return rows
 
 

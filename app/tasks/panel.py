@@ -41,6 +41,7 @@ from app.kit.panel.download import save_download
 from app.sharestore import EXAMPLE, format_code
 from app.tasks.model import (
     MAX_QUESTIONS,
+    GradebookRow,
     Submission,
     Task,
     TaskCodeError,
@@ -88,7 +89,7 @@ def table_text(task: Task, submissions: list[Submission], now: float) -> str:
     for r in rows:
         score = "–" if r.score is None else f"{r.score:.2f}"
         lines.append(f"| {_cell(r.name) or '–'} | {_cell(r.number) or '–'} | {r.attempts} | {score} | "
-                     f"{_cell(r.verdict)} | {short_time(r.last_submitted)} |")
+                     f"{_cell(_verdict_cell(r))} | {short_time(r.last_submitted)} |")
     return "\n".join(lines)
 
 
@@ -117,6 +118,18 @@ def tallies_text(task: Task, submissions: list[Submission]) -> str:
 def short_time(seconds: float) -> str:
     """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column."""
     return datetime.fromtimestamp(seconds, UTC).strftime("%d %b %H:%M")
+
+
+def _verdict_cell(row: GradebookRow) -> str:
+    """The table's verdict: the words for one question; for a worksheet a mark a question
+    ("1 ✓ · 2 ✗ · 3 –": right, wrong, not answered; "·" answered, not judged), the words in the CSV."""
+    if len(row.scores) <= 1:
+        return row.verdict
+    marks = []
+    for k, (score, answered) in enumerate(zip(row.scores, row.answered, strict=True)):
+        mark = "–" if not answered else "✓" if score == 1.0 else "✗" if score == 0.0 else "·"
+        marks.append(f"{k + 1} {mark}")
+    return " · ".join(marks)
 
 
 def _cell(text: str) -> str:
