@@ -255,3 +255,20 @@ def test_a_worksheet_from_a_lesson_done_on_the_other_worker_shows_in_the_lecture
         for app in apps:
             app.stop()
         services.stop_process(process)
+
+
+def test_make_a_task_is_part_of_the_ask_form_hidden_while_a_round_runs(hall: App) -> None:
+    client, lecturer = _new_session(hall)
+    try:
+        with lecturer.lock:
+            lecturer.present(CODE)
+        panel = lecturer.task_panel
+        poll_until(lambda: panel.gui_make.visible and panel.gui_due.visible, timeout=DEADLINE_S)
+        lecturer.ask({"kind": "choice", "prompt": "Which?", "options": ["a", "b"]})
+        poll_until(lambda: not panel.gui_make.visible and not panel.gui_attempts.visible, timeout=DEADLINE_S)
+        with lecturer.lock:
+            hall.lectern.rounds.end()
+            lecturer.ask_panel.refresh()
+        poll_until(lambda: panel.gui_make.visible and panel.gui_words.visible, timeout=DEADLINE_S)
+    finally:
+        client.close()

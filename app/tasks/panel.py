@@ -253,6 +253,8 @@ class TaskPanel:
             self.gui_make = gui.add_button(MAKE_LABEL, icon=viser.Icon.CLIPBOARD_LIST, order=base + 0.16,
                                            hint="a task code the students use at home, in their own room")
             self.gui_made = gui.add_markdown("", visible=False, order=base + 0.17)
+        ask.form_extras = (self.gui_due, self.gui_attempts, self.gui_counts, self.gui_words, self.gui_add,
+                           self.gui_make)  # shown with the form, hidden while a round runs
         self.gui_add.on_click(guard("add to the worksheet", lambda _e: self.add_to_worksheet()))
         self.gui_make.on_click(guard("make a task", lambda _e: self.make_from_form()))
 
