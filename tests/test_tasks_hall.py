@@ -95,7 +95,8 @@ def test_a_hostile_client_cannot_read_or_change_another_students_submission(hall
         words = _submit(bad_client, bad, task.shown_code.replace("-", " ").lower(), "ann lee", 9.0)
         assert "already answers this task from another browser" in words, words
         panel = bad.task_panel
-        for handle in (panel.gui_csv, panel.gui_close, panel.gui_extend, panel.gui_make, panel.gui_add):
+        for handle in (panel.gui_csv, panel.gui_close, panel.gui_extend, panel.gui_make, panel.gui_add,
+                       panel.gui_check):
             _click(bad_client, handle)
         for value in ("x" * 100_000, "\x00", None, 12345678, [CODE]):
             bad_client.set_value(panel.gui_lecturer_code, value)
@@ -105,15 +106,18 @@ def test_a_hostile_client_cannot_read_or_change_another_students_submission(hall
             _click(bad_client, panel.gui_lecturer)
         bad_client.set_value(panel.gui_extend_hours, 1e9)
         _click(bad_client, panel.gui_extend)
-        # six refusals said (five hidden buttons, Extend again), the guesses' note
-        poll_until(lambda: bad.error_count >= 6 and "lecturer's code" in panel.gui_note.content, timeout=DEADLINE_S)
+        bad_client.set_value(panel.gui_receipt, kept[0].receipt)
+        _click(bad_client, panel.gui_check)
+        # eight refusals said (six hidden buttons, Extend again, Check a receipt), the guesses' note
+        poll_until(lambda: bad.error_count >= 8 and "lecturer's code" in panel.gui_note.content, timeout=DEADLINE_S)
         with bad.lock:
             pass
         assert "only the lecturer" in str(bad.last_error), bad.last_error
         assert app.task_store.submissions(task.code) == kept  # Ann's, unchanged; nothing of the client's
         assert app.task_store.task(task.code) == task  # not closed, not extended
         assert panel.lecturer_task is None and not panel.gui_table.visible and panel.gui_table.content == ""
-        shown = " ".join(h.content for h in (panel.gui_verdict, panel.gui_note, panel.gui_about, panel.gui_table))
+        shown = " ".join(h.content for h in (panel.gui_verdict, panel.gui_note, panel.gui_about, panel.gui_table,
+                                             panel.gui_receipt_note))
         assert "Ann" not in shown and "2.6" not in shown, shown  # nothing of Ann's reached it
         assert app.task_store.mine(task.code, bad.answer_token) == []
         assert lecturer.task_panel.made == task and ann.task_panel.gui_verdict.content.count("Receipt") == 1
@@ -150,6 +154,12 @@ def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
         table = panel.gui_table.content
         assert "| Ann | – | 1 | 1.00 | 2.4 s: right |" in table, table
         assert "| Bea | – | 1 | 0.00 | 3 s: wrong |" in table, table
+        # a student shows the receipt of their submission made before the restart
+        ann_receipt = second.task_store.submissions(task.code)[0].receipt
+        _typed(teacher_client, panel.gui_receipt, ann_receipt.lower())
+        _click(teacher_client, panel.gui_check)
+        poll_until(lambda: "Ann, question 1, attempt 1: 2.4 s: right" in panel.gui_receipt_note.content,
+                   timeout=DEADLINE_S)
         # a week and a day later (the store's wall clock moved): one too late is refused, nothing kept
         second.task_store.clock = lambda: time.time() + 8 * 24 * 3600.0
         cem_client, cem = _new_session(second)

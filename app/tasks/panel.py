@@ -55,7 +55,7 @@ from app.tasks.model import (
 from app.tasks.store import TaskRules
 
 __all__ = ["ADD_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EXTEND_LABEL", "LECTURER_LABEL", "MAKE_LABEL", "OPEN_LABEL",
-           "SUBMIT_LABEL", "TASK_FOLDER", "TaskPanel", "attach_tasks", "table_text"]
+           "RECEIPT_LABEL", "SUBMIT_LABEL", "TASK_FOLDER", "TaskPanel", "attach_tasks", "table_text", "tallies_text"]
 
 TASK_FOLDER = "Task"
 OPEN_LABEL = "Open the task"
@@ -68,6 +68,7 @@ ADD_LABEL = "Add to the worksheet"
 CSV_LABEL = "Download results (CSV)"
 CLOSE_LABEL = "Close the task"
 EXTEND_LABEL = "Extend"
+RECEIPT_LABEL = "Check a receipt"
 POLL_S = 2.0  # [s] the lecturer's open table is written again this often (other processes' submissions)
 ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", "unlimited")
 
@@ -212,6 +213,10 @@ class TaskPanel:
                                                        hint="Extend: due this many hours from now, open again")
                 self.gui_extend = gui.add_button(EXTEND_LABEL, visible=False)
                 self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint="no more submissions")
+                self.gui_receipt = gui.add_text("Receipt", "", visible=False,
+                                                hint="a receipt code a student shows: the submission it stands for")
+                self.gui_check = gui.add_button(RECEIPT_LABEL, visible=False)
+                self.gui_receipt_note = gui.add_markdown("", visible=False)
             self.gui_open.on_click(guard("open the task", lambda _e: self.open(self.gui_code.value)))
             self.gui_submit.on_click(guard("submit", lambda _e: self.submit()))
             self.gui_next.on_click(guard("next question", lambda _e: self.show_question(self.question + 1)))
@@ -220,6 +225,7 @@ class TaskPanel:
                 self.gui_code.value, self.gui_lecturer_code.value)))
             self.gui_csv.on_click(guard("download results", lambda _e: self.download()))
             self.gui_close.on_click(guard("close the task", lambda _e: self.close_task()))
+            self.gui_check.on_click(guard("check a receipt", lambda _e: self.check_receipt(self.gui_receipt.value)))
             self.gui_extend.on_click(guard("extend the task", lambda _e: self.extend(self.gui_extend_hours.value)))
             self._build_maker(gui, guard)
         changed = weakref.WeakMethod(self._store_changed)  # the store does not keep a closed browser's panel
@@ -485,7 +491,8 @@ class TaskPanel:
         threading.Thread(target=poll, name="task-table", daemon=True).start()
 
     def _show_lecturer(self, shown: bool) -> None:
-        for handle in (self.gui_table, self.gui_csv, self.gui_extend_hours, self.gui_extend, self.gui_close):
+        for handle in (self.gui_table, self.gui_csv, self.gui_extend_hours, self.gui_extend, self.gui_close,
+                       self.gui_receipt, self.gui_check):
             handle.visible = shown
 
     def _lecturers(self) -> Task:
@@ -507,6 +514,25 @@ class TaskPanel:
         task = self.store.task(self._lecturers().code)
         save_download(self.client, f"task-{task.shown_code}-results.csv",
                       gradebook_csv(task, self.store.submissions(task.code)))
+
+    def check_receipt(self, text: Any) -> str:
+        """The submission a receipt code stands for, said under it (the lecturer's, of the task
+        opened: another task's receipt is not shown); its words."""
+        task = self._lecturers()
+        try:
+            found = self.store.receipt(text)
+        except TaskCodeError as error:
+            words = str(error)
+        else:
+            if found.task != task.code:
+                words = f"The receipt {format_code(found.receipt)} is not of the task {task.shown_code}."
+            else:
+                who = " ".join(part for part in (found.student.name, found.student.number) if part)
+                words = (f"Receipt **{format_code(found.receipt)}**: {_cell(who)}, question {found.question + 1}, "
+                         f"attempt {found.attempt}: {_cell(found.words)} · submitted {iso_time(found.at)}")
+        self.gui_receipt_note.content = words
+        self.gui_receipt_note.visible = True
+        return words
 
     def close_task(self) -> None:
         self.store.close_task(self._lecturers().code)
