@@ -348,3 +348,20 @@ def test_the_lecturers_tally_counts_each_students_counted_answer_once(store: Tas
     table = table_text(task, store.submissions(task.code), clock())
     assert "2 students, 3 submissions · mean score 0.25" in table, table  # (1 + 0) / 2 and (0 + 0) / 2
     assert "| Ann | – | 2 | 0.50 | 1 ✓ · 2 – |" in table, table
+
+
+def test_a_student_goes_on_from_another_browser_with_a_receipt(store: TaskRules) -> None:
+    task = store.create([NUMBER, CHOICE], due=T0 + HOUR, attempts=1)
+    other = store.create(NUMBER, due=T0 + HOUR)
+    first = store.submit(task.code, "tok-laptop", "Ann", "", 0, 2.5)
+    elsewhere = store.submit(other.code, "tok-x", "Zed", "", 0, 2.5)
+    for bad in ("ZZZZ-ZZZZ", elsewhere.receipt, "nonsense!"):
+        with pytest.raises(TaskRefused, match="not one of this task's"):
+            store.submit(task.code, "tok-phone", "Ann", "", 1, 1, receipt=bad)
+    with pytest.raises(TaskRefused, match="already answers this task from another browser"):
+        store.submit(task.code, "tok-phone", "Ann", "", 1, 1)
+    later = store.submit(task.code, "tok-phone", "", "", 1, 1, receipt=first.receipt.lower())  # after a restart, say
+    assert later.student == first.student and store.student(task.code, "tok-phone") == first.student
+    with pytest.raises(TaskRefused, match="used your 1 attempt at question 1"):
+        store.submit(task.code, "tok-phone", "", "", 0, 2.5)  # the attempts are the student's, not the browser's
+    assert [s.receipt for s in store.mine(task.code, "tok-laptop")] == [first.receipt, later.receipt]

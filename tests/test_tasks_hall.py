@@ -51,7 +51,7 @@ def _make_task(app: App, lecturer: Any, **form: Any) -> Any:
         return panel.make_from_form()
 
 
-def _submit(client: RawClient, session: Any, code: str, name: str, value: float) -> str:
+def _submit(client: RawClient, session: Any, code: str, name: str, value: float, receipt: str = "") -> str:
     """Through the raw client: the code, Open the task, the name, the number, Submit; the words
     said after it (the verdict, or the refusal)."""
     panel = session.task_panel
@@ -60,6 +60,8 @@ def _submit(client: RawClient, session: Any, code: str, name: str, value: float)
     poll_until(lambda: panel.task is not None and panel.gui_submit.visible, timeout=DEADLINE_S)
     if panel.gui_name.visible:
         _typed(client, panel.gui_name, name)
+    if receipt:
+        _typed(client, panel.gui_my_receipt, receipt)
     _typed(client, panel.gui_value, value)
     before = (panel.gui_verdict.content, panel.gui_note.content)
     _click(client, panel.gui_submit)
@@ -160,6 +162,12 @@ def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
         _click(teacher_client, panel.gui_check)
         poll_until(lambda: "Ann, question 1, attempt 1: 2.4 s: right" in panel.gui_receipt_note.content,
                    timeout=DEADLINE_S)
+        # Ann goes on in a new browser after the restart, with her receipt: she is Ann (her attempt is used)
+        ann2_client, ann2 = _new_session(second)
+        clients.append(ann2_client)
+        again = _submit(ann2_client, ann2, task.shown_code, "", 2.5, receipt=ann_receipt)
+        assert "You have used your 1 attempt" in again, again
+        assert second.task_store.student(task.code, ann2.answer_token).name == "Ann"
         # a week and a day later (the store's wall clock moved): one too late is refused, nothing kept
         second.task_store.clock = lambda: time.time() + 8 * 24 * 3600.0
         cem_client, cem = _new_session(second)

@@ -191,6 +191,8 @@ class TaskPanel:
                 self.gui_name = gui.add_text("Your name", "", visible=False, hint="given once per task")
                 self.gui_student_number = gui.add_text("Student number", "", visible=False,
                                                        hint="or your name, or both")
+                self.gui_my_receipt = gui.add_text("Your receipt", "", visible=False,
+                                                   hint="to go on from another browser: a receipt of yours")
                 self.gui_choice = gui.add_dropdown("Your option", ("-",), visible=False)
                 self.gui_value = gui.add_number("Your number", 0.0, step=0.0001, visible=False)
                 self.gui_azimuth = gui.add_slider("Azimuth [deg]", min=-180.0, max=180.0, step=1.0,
@@ -373,7 +375,7 @@ class TaskPanel:
         self.gui_about.visible = True
         token = self.session.answer_token
         student = self.store.student(task.code, token)
-        for handle in (self.gui_name, self.gui_student_number):
+        for handle in (self.gui_name, self.gui_student_number, self.gui_my_receipt):
             handle.visible = student is None
         kind = question.kind
         if kind == "choice":
@@ -430,7 +432,8 @@ class TaskPanel:
         question = task.questions[self.question]
         try:
             submission = self.store.submit(task.code, self.session.answer_token, self.gui_name.value,
-                                           self.gui_student_number.value, self.question, self._answer(question))
+                                           self.gui_student_number.value, self.question, self._answer(question),
+                                           receipt=self.gui_my_receipt.value)
         except (TaskRefused, TaskCodeError, PermissionError) as error:
             self._say(str(error))
             return None

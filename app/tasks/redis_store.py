@@ -82,7 +82,7 @@ class RedisTaskStore(TaskRules):
         body = json.dumps({"key": student.key, "name": student.name, "number": student.number})
         if not self._redis.hsetnx(self._key(code, "students"), student.key, body):
             raise TaskRefused(f"{student.number or student.name} already answers this task from another browser: "
-                              "continue there (or ask your lecturer).")
+                              "go on there, or type a receipt of yours in Your receipt.")
         if not self._redis.hsetnx(self._key(code, "tokens"), token_hash(token), student.key):
             self._redis.hdel(self._key(code, "students"), student.key)  # this browser bound itself meanwhile
             found = self._student(code, token)
@@ -93,6 +93,9 @@ class RedisTaskStore(TaskRules):
         if task is not None:
             self._expire_all(code, task.expires)
         return student
+
+    def _bind_more(self, code: str, token: str, student: Student) -> None:
+        self._redis.hsetnx(self._key(code, "tokens"), token_hash(token), student.key)
 
     def _attempts(self, code: str, key: str, question: int) -> int:
         return int(self._redis.hget(self._key(code, "counts"), f"{key}|{question}") or 0)

@@ -69,6 +69,7 @@ class TaskRules:
         self.rate = rate or RateLimit(RATE, RATE_WINDOW_S, clock=time.monotonic)
         self.listeners: list[Callable[[str], None]] = []
         self.lecturer_codes = RateLimit(LECTURER_CODES, 60.0, clock=time.monotonic)
+        self.receipt_tries = RateLimit(LECTURER_CODES, 60.0, clock=time.monotonic)  # receipts shown to go on
         """Lecturer's codes (the presenter code, `app.tasks.panel`) this process compares in any minute."""
         self._lock = threading.RLock()
 
@@ -88,6 +89,10 @@ class TaskRules:
     def _bind(self, code: str, token: str, student: Student) -> Student:
         """The student `token` answers `code` as (binding `student` to it if it has none);
         TaskRefused if the token has another or the student another token."""
+        raise NotImplementedError
+
+    def _bind_more(self, code: str, token: str, student: Student) -> None:
+        """One more browser (`token`) answers `code` as `student` (who showed a receipt)."""
         raise NotImplementedError
 
     def _attempts(self, code: str, key: str, question: int) -> int:
@@ -140,15 +145,20 @@ class TaskRules:
         """Who the browser of `token` answers the task as (None: nobody yet)."""
         return self._student(self.task(text).code, token)
 
-    def submit(self, text: Any, token: str, name: Any, number: Any, question: Any, value: Any) -> Submission:
+    def submit(self, text: Any, token: str, name: Any, number: Any, question: Any, value: Any,
+               receipt: Any = None) -> Submission:
         """Keep a student's answer to question `question` (0-based) of the task with code `text`,
-        from the browser of `token`: its submission (with its verdict and receipt).  TaskRefused
-        or TaskCodeError with the reason otherwise (nothing is kept)."""
+        from the browser of `token`: its submission (with its verdict and receipt).  A browser
+        new to the task answers as `name` / `number`, or, showing a `receipt` of this task, as
+        the student it belongs to (who goes on from another browser).  TaskRefused or
+        TaskCodeError with the reason otherwise (nothing is kept)."""
         task = self.task(text)
         task.check_open(self.clock())
         if not isinstance(token, str) or not token:
             raise TaskRefused("this browser has no token")
         bound = self._student(task.code, token)
+        if bound is None and isinstance(receipt, str) and receipt.strip():
+            bound = self._continue_with(task, token, receipt)
         student = check_student(name, number) if bound is None else bound
         if isinstance(question, bool) or not isinstance(question, int) or not 0 <= question < len(task.questions):
             raise TaskRefused(f"question: 1 to {len(task.questions)} wanted")
@@ -179,6 +189,21 @@ class TaskRules:
                     break
         self._changed(task.code)
         return submission
+
+    def _continue_with(self, task: Task, token: str, receipt: str) -> Student:
+        """The student a receipt of `task` belongs to, now answering from `token`'s browser too;
+        TaskRefused for another task's receipt, none, or too many tried on this process."""
+        if not self.receipt_tries.allow("hall"):
+            raise TaskRefused("Too many receipts were tried on this app: wait a minute.")
+        try:
+            found = self._receipt(normalize_task_code(receipt))
+        except TaskCodeError:
+            found = None
+        if found is None or found.task != task.code:
+            raise TaskRefused("That receipt is not one of this task's: check it (or give your name).")
+        with self._lock:
+            self._bind_more(task.code, token, found.student)
+        return found.student
 
     @staticmethod
     def _used_up(allowed: int, question: int, questions: int) -> TaskRefused:
@@ -256,7 +281,9 @@ class SqliteTaskStore(TaskRules):
                 " name TEXT NOT NULL, number TEXT NOT NULL, PRIMARY KEY (task, key), UNIQUE (task, token));"
                 "CREATE TABLE IF NOT EXISTS submissions (receipt TEXT PRIMARY KEY, task TEXT NOT NULL,"
                 " key TEXT NOT NULL, question INTEGER NOT NULL, attempt INTEGER NOT NULL, body TEXT NOT NULL,"
-                " UNIQUE (task, key, question, attempt));")
+                " UNIQUE (task, key, question, attempt));"
+                "CREATE TABLE IF NOT EXISTS more_tokens (task TEXT NOT NULL, token TEXT NOT NULL, key TEXT NOT NULL,"
+                " PRIMARY KEY (task, token));")
             db.commit()
             self._connection = db
         return self._connection
@@ -265,7 +292,7 @@ class SqliteTaskStore(TaskRules):
         with self._lock:
             db = self._db()
             for (code,) in db.execute("SELECT code FROM tasks WHERE expires <= ?", (self.clock(),)).fetchall():
-                for table in ("submissions", "students"):
+                for table in ("submissions", "students", "more_tokens"):
                     db.execute(f"DELETE FROM {table} WHERE task = ?", (code,))  # noqa: S608 - fixed names
                 db.execute("DELETE FROM tasks WHERE code = ?", (code,))
             try:
@@ -289,8 +316,13 @@ class SqliteTaskStore(TaskRules):
 
     def _student(self, code: str, token: str) -> Student | None:
         with self._lock:
-            row = self._db().execute("SELECT key, name, number FROM students WHERE task = ? AND token = ?",
-                                     (code, token_hash(token))).fetchone()
+            db = self._db()
+            row = db.execute("SELECT key, name, number FROM students WHERE task = ? AND token = ?",
+                             (code, token_hash(token))).fetchone()
+            if row is None:
+                row = db.execute("SELECT s.key, s.name, s.number FROM more_tokens t JOIN students s ON s.task = t.task "
+                                 "AND s.key = t.key WHERE t.task = ? AND t.token = ?",
+                                 (code, token_hash(token))).fetchone()
         return None if row is None else Student(*row)
 
     def _bind(self, code: str, token: str, student: Student) -> Student:
@@ -302,11 +334,17 @@ class SqliteTaskStore(TaskRules):
             other = db.execute("SELECT 1 FROM students WHERE task = ? AND key = ?", (code, student.key)).fetchone()
             if other is not None:
                 raise TaskRefused(f"{student.number or student.name} already answers this task from another browser: "
-                                  "continue there (or ask your lecturer).")
+                                  "go on there, or type a receipt of yours in Your receipt.")
             db.execute("INSERT INTO students VALUES (?, ?, ?, ?, ?)",
                        (code, student.key, token_hash(token), student.name, student.number))
             db.commit()
             return student
+
+    def _bind_more(self, code: str, token: str, student: Student) -> None:
+        with self._lock:
+            db = self._db()
+            db.execute("INSERT OR IGNORE INTO more_tokens VALUES (?, ?, ?)", (code, token_hash(token), student.key))
+            db.commit()
 
     def _attempts(self, code: str, key: str, question: int) -> int:
         with self._lock:
