@@ -356,7 +356,10 @@ class TaskPanel:
                 except (ValueError, KeyError, LookupError) as error:
                     self._say(f"(the preset {preset!r} is not on this app: {error})")
 
-        session.open_scene(scene, prepare)
+        opener = getattr(session, "open_scene", None)  # the session's, or its own room role's (app.roles)
+        if opener is None:
+            opener = session.own_room.open_scene
+        opener(scene, prepare)
 
     def show_question(self, index: int) -> None:
         """Show question `index` (0-based) of the task opened, its widget and my last verdict."""
