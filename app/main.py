@@ -42,7 +42,8 @@ from app.session import Session
 from app.sharestore import ShareStore, open_share_store
 from app.sweep import Sweep
 from app.tasks.panel import attach_tasks
-from app.tasks.store import TaskRules, open_task_store
+from app.tasks.store import TaskRules
+from app.tasks.stores import open_task_store
 from app.theme import configure_scene
 from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals

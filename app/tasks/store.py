@@ -9,6 +9,8 @@ codes (`app.sharestore`):
   it survives a restart; the file is opened at first use.
 - `RedisTaskStore(url)` (`app.tasks.redis_store`): Redis, for an app on several processes.
 
+`app.tasks.stores.open_task_store` opens the one the app runs with.
+
 A browser is known by its session's anonymous token (`app.session.Session.answer_token`, never
 sent to a browser); only its hash is kept.  What a browser can read of a task is its own
 submissions (`mine`); `submissions`, `close` and `extend` are the lecturer's (the panel checks
@@ -44,7 +46,7 @@ from app.tasks.model import (
     verdict,
 )
 
-__all__ = ["RATE", "RATE_WINDOW_S", "TASKS_FILE", "SqliteTaskStore", "TaskRules", "open_task_store", "token_hash"]
+__all__ = ["RATE", "RATE_WINDOW_S", "TASKS_FILE", "SqliteTaskStore", "TaskRules", "token_hash"]
 
 TASKS_FILE = "tasks.sqlite3"  # the SQLite store's file in the data folder
 RATE = 5  # submissions a browser may make ...
@@ -252,15 +254,6 @@ class TaskRules:
         self._save_task(extended)
         self._changed(task.code)
         return extended
-
-
-def open_task_store(data_dir: str | Path, redis_url: str | None = None) -> TaskRules:
-    """The app's task store: Redis at `redis_url` on several processes, else SQLite in `data_dir`."""
-    if redis_url:
-        from app.tasks.redis_store import RedisTaskStore  # noqa: PLC0415 - only several processes import redis
-
-        return RedisTaskStore(redis_url)
-    return SqliteTaskStore(Path(data_dir) / TASKS_FILE)
 
 
 class SqliteTaskStore(TaskRules):
