@@ -5,7 +5,8 @@
 What it starts, each a child process it stops again (Ctrl-C, SIGTERM, or when it dies itself:
 the children have PR_SET_PDEATHSIG on Linux):
 
-- redis-server on a free local port, bound to 127.0.0.1, in memory only, with a random password
+- redis-server on a free local port, bound to 127.0.0.1, with a random password, its append-only
+  file in the data folder's `redis/` (tasks and submissions survive a restart, `app.tasks`)
   (`app.cluster.services.start_redis`), unless `--redis URL` names one;
 - N workers, `python -m app --host 127.0.0.1 --port Pk --worker-id wk [--projector]`, on free
   local ports; the Redis URL (with its password) and the one presenter code reach them in the
@@ -43,12 +44,14 @@ from typing import Any
 
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process, wait_for_port
 from app.lecture.gate import new_code
+from app.userdata import default_data_dir
 
 __all__ = ["WORKER_START_S", "Launch", "check_port_free", "launch_main", "nginx_config", "start_nginx",
            "start_worker"]
 
 WORKER_START_S = 90.0  # [s] a worker has this long to listen (imports and presets on a busy machine)
 POLL_S = 0.5  # [s] the launcher looks at its children this often
+REDIS_FOLDER = "redis"  # the app's own redis-server's append-only file, in the data folder
 REDIS_ENV, CODE_ENV = "RBL_REDIS_URL", "RBL_PRESENTER_CODE"  # as `app.main` reads them
 _WORKER_LINE = re.compile(r"worker (\S+) on http://[^\s:]+:(\d+)")
 
@@ -196,7 +199,8 @@ class Launch:
         check_port_free(host, port)
         if redis_url is None:
             require("redis-server")
-            self.redis_url, self.redis = start_redis(password=secrets.token_urlsafe(24))
+            kept = Path(data_dir).expanduser() if data_dir else default_data_dir()  # tasks survive a restart
+            self.redis_url, self.redis = start_redis(password=secrets.token_urlsafe(24), keep_in=kept / REDIS_FOLDER)
         else:
             self.redis_url = redis_url
         for k in range(1, workers + 1):

@@ -41,6 +41,9 @@ from app.scenes.euler_angles import VIEW as EULER_VIEW
 from app.session import Session
 from app.sharestore import ShareStore, open_share_store
 from app.sweep import Sweep
+from app.tasks.panel import attach_tasks
+from app.tasks.store import TaskRules
+from app.tasks.stores import open_task_store
 from app.theme import configure_scene
 from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals
@@ -116,6 +119,7 @@ class App:
         self.own = own  # the lecturer's own presets and lessons (app.own), or None
         self.share_store = share_store
         """Where `Share` keeps its codes (`app.sharestore`); None: no Share folder."""
+        self.task_store: TaskRules | None = None  # tasks between lectures (`app.tasks`); None: no Task folder
         self._session_factory = session_factory or self._new_session
         self._sessions_lock = threading.Lock()
         self._sessions_changed = threading.Condition(self._sessions_lock)
@@ -140,6 +144,8 @@ class App:
     # ------------------------------------------------------------------ sessions
     def _new_session(self, client: viser.ClientHandle) -> Session:
         session = Session(client, lectern=self.lectern, own=self.own, share_store=self.share_store)
+        if self.task_store is not None:
+            attach_tasks(session, self.task_store)  # the Task folder and Make a task (app.tasks, issue 37)
         if self.projector:
             session.guard("projector", session.set_projector)(True)
         return session
@@ -336,6 +342,8 @@ class App:
             self.ask_bus.close()
             self.ask_bus = None
         self.lectern.close()  # the presenter lock, if this process holds it
+        if self.task_store is not None:
+            self.task_store.close()
         self.server.stop()
 
     @property
@@ -388,6 +396,7 @@ def create_server(
 
     app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own,
               share_store=open_share_store(folder, redis_url), bus_factory=bus_factory)
+    app.task_store = open_task_store(folder, redis_url)
     if redis_url is not None:
         from app.cluster.askbus import AskBus  # noqa: PLC0415 - a one-process app imports no redis
 

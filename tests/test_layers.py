@@ -41,11 +41,12 @@ LAYERS = {
     "app.lecture": 4, "app.lecture.gate": 3.7, "app.lecture.caption": 3.8, "app.lecture.room_plot": 3.8,
     "app.lecture.follower": 3.9, "app.lecture.lectern": 4, "app.lecture.bus": 4.5,
     "app.launch": 4.8,  # the workers behind nginx: Redis, the gate's code
-    "app.hall": 5, "app.roles": 5.5,  # the browser's roles (own room, following, presenting, student)
+    "app.hall": 5, "app.tasks": 5.2,  # tasks between lectures: model and stores, their panels
+    "app.roles": 5.5,  # the browser's roles (own room, following, presenting, student)
     "app.session": 6, "app.main": 7, "app.notebook": 7.5,
     "app.__main__": 8, "app": 8,
 }
-FOLDERS = ("app.ask", "app.cluster", "app.kit", "app.scenes", "app.lecture", "app.hall", "app.roles")
+FOLDERS = ("app.ask", "app.cluster", "app.kit", "app.scenes", "app.lecture", "app.hall", "app.tasks", "app.roles")
 """The app's folders: each one a band of layers of its own, imported only from folders above it."""
 
 

@@ -51,15 +51,21 @@ def wait_for_port(port: int, host: str = "127.0.0.1", timeout: float = 10.0,
     raise RuntimeError(f"nothing listens on {host}:{port} after {timeout} s")
 
 
-def start_redis(port: int | None = None, password: str | None = None, bind: str = "127.0.0.1"
-                ) -> tuple[str, subprocess.Popen[bytes]]:
-    """Start redis-server on `bind:port` (a free port if None), in memory only (no dump file), and
-    return (its URL, the process).  MissingProgram if redis-server is not installed."""
+def start_redis(port: int | None = None, password: str | None = None, bind: str = "127.0.0.1",
+                keep_in: str | os.PathLike[str] | None = None) -> tuple[str, subprocess.Popen[bytes]]:
+    """Start redis-server on `bind:port` (a free port if None) and return (its URL, the process).
+    In memory only (no dump file), or, with `keep_in` (a folder, made if missing and kept), with
+    its append-only file there: what it holds (tasks, `app.tasks`) survives a restart.
+    MissingProgram if redis-server is not installed."""
     program = require("redis-server")
     port = port or free_port(bind)
-    folder = tempfile.mkdtemp(prefix=REDIS_FOLDER_PREFIX)
-    args = [program, "--port", str(port), "--bind", bind, "--save", "", "--appendonly", "no",
-            "--dir", folder, "--loglevel", "warning"]
+    if keep_in is not None:
+        os.makedirs(keep_in, exist_ok=True)
+        folder, appendonly = os.fspath(keep_in), "yes"
+    else:
+        folder, appendonly = tempfile.mkdtemp(prefix=REDIS_FOLDER_PREFIX), "no"
+    args = [program, "--port", str(port), "--bind", bind, "--save", "", "--appendonly", appendonly,
+            "--appendfsync", "everysec", "--dir", folder, "--loglevel", "warning"]
     if password:
         args += ["--requirepass", password]
     process = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)

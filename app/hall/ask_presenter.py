@@ -89,6 +89,7 @@ class AskPanel:
         self.audience = audience
         self.scene_title = scene_title
         self.drawn: tuple[Any, ...] = ()  # what the panel last showed (refresh writes only on change)
+        self.form_extras: tuple[Any, ...] = ()  # more of the form, shown with it (`Make a task`: app.tasks.panel)
         gui: Any = client.gui
         self.folder = gui.add_folder(ASK_LABEL, order=order, visible=False)
         with self.folder:
@@ -226,7 +227,7 @@ class AskPanel:
             return
         self.drawn = key
         asking = round_ is None
-        for handle in (self.gui_kind, self.gui_prompt, self.gui_ask):
+        for handle in (self.gui_kind, self.gui_prompt, self.gui_ask, *self.form_extras):
             show_if_changed(handle, asking)
         if asking:
             self._kind_shown()

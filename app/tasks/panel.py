@@ -1,0 +1,554 @@
+"""Tasks in the panel: the `Task` folder every browser has (a student's and a lecturer's way in)
+and `Make a task` in the presenter's `Ask the class` form (`attach_tasks` builds both for a
+session; `app.main` calls it for every new browser).
+
+- A student types the code in `Task code` and presses `Open the task`: their own room opens with
+  the task's scene and preset (a follower leaves the presenter with a copy first), the folder
+  shows the lecturer's words, the due time, the attempts and the question (`Next question` and
+  `Previous question` walk a worksheet); they give a name or student number (once per task),
+  answer (a number, an option, a direction, or the state of their room) and press `Submit`: the
+  verdict, the attempt and the receipt code are said under it.
+- The presenter fills the Ask form as for the class, sets `Due in [h]`, `Attempts` and `Counts`
+  and presses `Make a task` (or first `Add to the worksheet` for each question of a worksheet):
+  the task code is shown.
+- The lecturer types the task code and the presenter code (`Lecturer's code`) and presses
+  `Open as lecturer`: the live table (one row a student), `Download results (CSV)`, `Close the
+  task` and `Extend` (the due time `Due in [h]` from now).
+
+Every action checks who may do it on the server (a hostile page can press hidden buttons and
+send any value): a student reads only their own submissions, the lecturer's buttons need the
+presenter code checked in this browser, `Make a task` needs this browser to present.  A refusal
+is said in the folder and changes nothing.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+import weakref
+from collections.abc import Callable
+from datetime import UTC, datetime
+from typing import Any
+
+import viser
+
+from app.ask.questions import Question
+from app.ask.round import Tally
+from app.hall.ask_kinds import direction_of
+from app.kit.panel.download import save_download
+from app.lecture.gate import code_matches
+from app.sharestore import EXAMPLE, format_code
+from app.tasks.model import (
+    MAX_QUESTIONS,
+    GradebookRow,
+    Submission,
+    Task,
+    TaskCodeError,
+    TaskRefused,
+    counted,
+    gradebook_csv,
+    gradebook_rows,
+    is_judged,
+    iso_time,
+)
+from app.tasks.store import TaskRules
+
+__all__ = ["ADD_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EXTEND_LABEL", "LECTURER_LABEL", "MAKE_LABEL", "OPEN_LABEL",
+           "RECEIPT_LABEL", "SUBMIT_LABEL", "TASK_FOLDER", "TaskPanel", "attach_tasks", "table_text", "tallies_text"]
+
+TASK_FOLDER = "Task"
+OPEN_LABEL = "Open the task"
+LECTURER_LABEL = "Open as lecturer"
+SUBMIT_LABEL = "Submit"
+NEXT_LABEL = "Next question"
+PREVIOUS_LABEL = "Previous question"
+MAKE_LABEL = "Make a task"
+ADD_LABEL = "Add to the worksheet"
+CSV_LABEL = "Download results (CSV)"
+CLOSE_LABEL = "Close the task"
+EXTEND_LABEL = "Extend"
+RECEIPT_LABEL = "Check a receipt"
+POLL_S = 2.0  # [s] the lecturer's open table is written again this often (other processes' submissions)
+ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", "unlimited")
+
+
+def table_text(task: Task, submissions: list[Submission], now: float) -> str:
+    """The lecturer's live table (Markdown): a line about the task, then one row a student
+    (name, number, attempts, score, verdict, when)."""
+    rows = gradebook_rows(task, submissions)
+    state = "closed" if task.closed else "open" if now < task.due else "past its due time"
+    judged = [r.score for r in rows if r.score is not None]
+    mean = f" · mean score {sum(judged) / len(judged):.2f}" if judged else ""
+    head = (f"**Task {task.shown_code}** · {len(task.questions)} question{'s' if len(task.questions) > 1 else ''} · "
+            f"due {iso_time(task.due)} · {state} · {task.policy.words()}  \n"
+            f"{len(rows)} student{'' if len(rows) == 1 else 's'}, {len(submissions)} submissions{mean}")
+    if not rows:
+        return head + "  \nno submissions yet"
+    lines = [head, "", "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        score = "–" if r.score is None else f"{r.score:.2f}"
+        lines.append(f"| {_cell(r.name) or '–'} | {_cell(r.number) or '–'} | {r.attempts} | {score} | "
+                     f"{_cell(_verdict_cell(r))} | {short_time(r.last_submitted)} |")
+    return "\n".join(lines)
+
+
+def tallies_text(task: Task, submissions: list[Submission]) -> str:
+    """Per question, the counted answers (one a student: `model.counted`) in words: how many
+    answered and were right, and a choice's bars or a number's histogram (`QuestionKind.tally_text`,
+    the right answer marked) as `Ask the class` shows them."""
+    by_student: dict[str, list[Submission]] = {}
+    for s in submissions:
+        by_student.setdefault(s.student.key, []).append(s)
+    lines = []
+    for index, question in enumerate(task.questions):
+        chosen = [c for subs in by_student.values()
+                  if (c := counted([s for s in subs if s.question == index], task.policy.counts)) is not None]
+        right = sum(1 for c in chosen if c.score == 1.0)
+        line = f"**Q{index + 1}** · {len(chosen)} answered" + (f" · {right} right" if is_judged(question) else "")
+        if chosen and question.kind in ("choice", "number"):
+            values = [c.value for c in chosen]
+            tally = Tally(1, question, task.open_now(time.time()), len(chosen),
+                          **question.tally_fields(values, [None] * len(values)))
+            line += "  \n" + question.tally_text(tally, revealed=True)
+        lines.append(line)
+    return "  \n".join(lines)
+
+
+def short_time(seconds: float) -> str:
+    """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column."""
+    return datetime.fromtimestamp(seconds, UTC).strftime("%d %b %H:%M")
+
+
+def _verdict_cell(row: GradebookRow) -> str:
+    """The table's verdict: the words for one question; for a worksheet a mark a question
+    ("1 ✓ · 2 ✗ · 3 –": right, wrong, not answered; "·" answered, not judged), the words in the CSV."""
+    if len(row.scores) <= 1:
+        return row.verdict
+    marks = []
+    for k, (score, answered) in enumerate(zip(row.scores, row.answered, strict=True)):
+        mark = "–" if not answered else "✓" if score == 1.0 else "✗" if score == 0.0 else "·"
+        marks.append(f"{k + 1} {mark}")
+    return " · ".join(marks)
+
+
+def _cell(text: str) -> str:
+    """A student's words in a Markdown table cell (no pipes, no markup)."""
+    return "".join(" " if c in "|\\`*_[]<>#" else c for c in text)
+
+
+def _hours(value: Any) -> float:
+    hours = float(value)
+    if not math.isfinite(hours) or not 0.0 < hours <= 24 * 400:
+        raise TaskRefused("Due in [h]: a number of hours, more than 0 and at most 9600")
+    return hours
+
+
+def attach_tasks(session: Any, store: TaskRules) -> TaskPanel:
+    """Build the `Task` folder (after `Share`) and `Make a task` (in the Ask form) for `session`
+    (an `app.session.Session`); kept as `session.task_panel`."""
+    panel = TaskPanel(session, store)
+    session.task_panel = panel
+    return panel
+
+
+class TaskPanel:
+    """One browser's tasks: the `Task` folder and, for a presenter, `Make a task` (module docstring).
+
+    Attributes:
+        task: the task opened as a student (or None); question: its question shown (0-based).
+        lecturer_task: the task opened as lecturer (or None).  made: the last task made here.
+        worksheet: the questions added for the next task made here.
+    """
+
+    def __init__(self, session: Any, store: TaskRules, clock: Callable[[], float] = time.time) -> None:
+        self.session = session
+        self.store = store
+        self.clock = clock
+        self.task: Task | None = None
+        self.question = 0
+        self.lecturer_task: Task | None = None
+        self.made: Task | None = None
+        self.worksheet: list[tuple[Question, str | None, str | None]] = []
+        """The questions added for the next task made here, each with the scene and preset shown then."""
+        self.opened_place: tuple[str | None, str | None] | None = None  # the place the student's room opened
+        self._polling = False
+        client: viser.ClientHandle = session.client
+        self.client = client
+        guard = session.guard
+        gui: Any = client.gui
+        share = getattr(session, "share", None)
+        order = None if share is None else float(share.folder.order) + 0.5
+        with client.atomic():
+            self.folder = gui.add_folder(TASK_FOLDER, order=order, expand_by_default=False)
+            with self.folder:
+                self.gui_code = gui.add_text("Task code", "", hint=f"the code your lecturer gave, like {EXAMPLE}")
+                self.gui_open = gui.add_button(OPEN_LABEL, icon=viser.Icon.SCHOOL,
+                                               hint="the task's scene opens in your own room with its question")
+                self.gui_note = gui.add_markdown("", visible=False)
+                self.gui_about = gui.add_markdown("", visible=False)
+                self.gui_name = gui.add_text("Your name", "", visible=False, hint="given once per task")
+                self.gui_student_number = gui.add_text("Student number", "", visible=False,
+                                                       hint="or your name, or both")
+                self.gui_my_receipt = gui.add_text("Your receipt", "", visible=False,
+                                                   hint="to go on from another browser: a receipt of yours")
+                self.gui_choice = gui.add_dropdown("Your option", ("-",), visible=False)
+                self.gui_value = gui.add_number("Your number", 0.0, step=0.0001, visible=False)
+                self.gui_azimuth = gui.add_slider("Azimuth [deg]", min=-180.0, max=180.0, step=1.0,
+                                                  initial_value=0.0, visible=False)
+                self.gui_elevation = gui.add_slider("Elevation [deg]", min=-90.0, max=90.0, step=1.0,
+                                                    initial_value=45.0, visible=False)
+                self.gui_submit = gui.add_button(SUBMIT_LABEL, icon=viser.Icon.SEND, visible=False,
+                                                 hint="your answer is judged and kept; a receipt code is shown")
+                self.gui_verdict = gui.add_markdown("", visible=False)
+                self.gui_previous = gui.add_button(PREVIOUS_LABEL, visible=False)
+                self.gui_next = gui.add_button(NEXT_LABEL, visible=False)
+                self.gui_lecturer_code = gui.add_text("Lecturer's code", "", hint="the presenter code: the lecturer "
+                                                      "sees every submission of the task")
+                self.gui_lecturer = gui.add_button(LECTURER_LABEL, icon=viser.Icon.TABLE)
+                self.gui_table = gui.add_markdown("", visible=False)
+                self.gui_csv = gui.add_button(CSV_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
+                                              hint="one row a student: name, number, score 0-1, attempts, "
+                                                   "last submitted, verdict")
+                self.gui_extend_hours = gui.add_number("New due in [h]", 24.0, min=0.01, step=0.01, visible=False,
+                                                       hint="Extend: due this many hours from now, open again")
+                self.gui_extend = gui.add_button(EXTEND_LABEL, visible=False)
+                self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint="no more submissions")
+                self.gui_receipt = gui.add_text("Receipt", "", visible=False,
+                                                hint="a receipt code a student shows: the submission it stands for")
+                self.gui_check = gui.add_button(RECEIPT_LABEL, visible=False)
+                self.gui_receipt_note = gui.add_markdown("", visible=False)
+            self.gui_open.on_click(guard("open the task", lambda _e: self.open(self.gui_code.value)))
+            self.gui_submit.on_click(guard("submit", lambda _e: self.submit()))
+            self.gui_next.on_click(guard("next question", lambda _e: self.show_question(self.question + 1)))
+            self.gui_previous.on_click(guard("previous question", lambda _e: self.show_question(self.question - 1)))
+            self.gui_lecturer.on_click(guard("open as lecturer", lambda _e: self.open_as_lecturer(
+                self.gui_code.value, self.gui_lecturer_code.value)))
+            self.gui_csv.on_click(guard("download results", lambda _e: self.download()))
+            self.gui_close.on_click(guard("close the task", lambda _e: self.close_task()))
+            self.gui_check.on_click(guard("check a receipt", lambda _e: self.check_receipt(self.gui_receipt.value)))
+            self.gui_extend.on_click(guard("extend the task", lambda _e: self.extend(self.gui_extend_hours.value)))
+            self._build_maker(gui, guard)
+        changed = weakref.WeakMethod(self._store_changed)  # the store does not keep a closed browser's panel
+
+        def listener(code: str) -> None:
+            method = changed()
+            if method is None:
+                store.listeners.remove(listener)
+            else:
+                method(code)
+
+        store.listeners.append(listener)
+
+    # ------------------------------------------------------------------ the presenter's `Make a task`
+    def _build_maker(self, gui: Any, guard: Any) -> None:
+        ask = getattr(self.session, "ask_panel", None)
+        self.ask = ask
+        if ask is None:
+            return
+        base = float(ask.gui_ask.order)
+        with ask.folder:
+            self.gui_due = gui.add_number("Due in [h]", 168.0, min=0.01, step=0.01, order=base + 0.11,
+                                          hint="a task: the students answer at home until then")
+            self.gui_attempts = gui.add_dropdown("Attempts", ATTEMPT_CHOICES, initial_value="1", order=base + 0.12)
+            self.gui_counts = gui.add_dropdown("Counts", ("best", "last"), initial_value="best", order=base + 0.13,
+                                               hint="which attempt counts for the grade")
+            self.gui_words = gui.add_text("Words for the task", "", order=base + 0.14,
+                                          hint="what the students read with the question")
+            self.gui_add = gui.add_button(ADD_LABEL, order=base + 0.15,
+                                          hint="this question, then the next: one task of several questions")
+            self.gui_make = gui.add_button(MAKE_LABEL, icon=viser.Icon.CLIPBOARD_LIST, order=base + 0.16,
+                                           hint="a task code the students use at home, in their own room")
+            self.gui_made = gui.add_markdown("", visible=False, order=base + 0.17)
+        ask.form_extras = (self.gui_due, self.gui_attempts, self.gui_counts, self.gui_words, self.gui_add,
+                           self.gui_make)  # shown with the form, hidden while a round runs
+        self.gui_add.on_click(guard("add to the worksheet", lambda _e: self.add_to_worksheet()))
+        self.gui_make.on_click(guard("make a task", lambda _e: self.make_from_form()))
+
+    def _presenting(self) -> None:
+        ask = self.ask
+        if ask is None or not ask.presenting():
+            raise PermissionError("only the presenter can make a task")
+
+    def add_to_worksheet(self) -> None:
+        """The Ask form's question joins the worksheet of the next task made here."""
+        self._presenting()
+        assert self.ask is not None
+        if len(self.worksheet) >= MAX_QUESTIONS:
+            raise TaskRefused(f"a worksheet has at most {MAX_QUESTIONS} questions")
+        scene, preset = self._place_now()
+        self.worksheet.append((self.ask.form_question(), scene, preset))
+        self._said_made(f"{len(self.worksheet)} question{'s' if len(self.worksheet) > 1 else ''} in the worksheet; "
+                        f"*{MAKE_LABEL}* makes the task of them.")
+
+    def make_from_form(self) -> Task:
+        """`Make a task`: the worksheet's questions (or the Ask form's question alone), the scene
+        and preset shown, due `Due in [h]` from now: a task; its code said under the button."""
+        self._presenting()
+        assert self.ask is not None
+        entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
+        attempts = None if self.gui_attempts.value == "unlimited" else int(str(self.gui_attempts.value))
+        task = self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * _hours(self.gui_due.value),
+                                 attempts=attempts, counts=str(self.gui_counts.value), scene=entries[0][1],
+                                 preset=entries[0][2], words=str(self.gui_words.value),
+                                 places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
+        self.worksheet = []
+        self.made = task
+        self._said_made(f"Task code **{task.shown_code}** · due {iso_time(task.due)} · {task.policy.words()}: "
+                        f"students type it in the {TASK_FOLDER} folder and open it.")
+        return task
+
+    def _place_now(self) -> tuple[str | None, str | None]:
+        """(scene, preset) of the room shown now."""
+        room = self.session.room
+        preset = getattr(room.sim, "preset", None)
+        return room.scene.title, preset if isinstance(preset, str) else None
+
+    def _said_made(self, text: str) -> None:
+        self.gui_made.content = text
+        self.gui_made.visible = True
+
+    # ------------------------------------------------------------------ the student's side
+    def _say(self, text: str) -> None:
+        self.gui_note.content = text
+        self.gui_note.visible = bool(text)
+
+    def open(self, text: Any) -> Task | None:
+        """Open the task of the code typed as a student: its scene in this browser's own room, its
+        first question.  A code that opens nothing is said (None)."""
+        try:
+            task = self.store.task(text)
+        except TaskCodeError as error:
+            self._say(str(error))
+            return None
+        session = self.session
+        if getattr(session, "mode", None) == "presenting":
+            self._say("A presenter's screen is the class's: stop presenting to do a task.")
+            return None
+        if getattr(session, "mode", None) == "following":
+            session.explore()  # the student's own room, a copy of the shared one first
+        self.opened_place = None
+        self.task = task
+        self.lecturer_task = None
+        self._show_lecturer(False)
+        self._say("")
+        self.show_question(0)
+        return task
+
+    def _open_place(self, task: Task, index: int) -> None:
+        """The student's own room opened with question `index`'s scene and preset (once per place)."""
+        place = task.place(index)
+        if place == self.opened_place:
+            return
+        self.opened_place = place
+        scene, preset = place
+        from app.session import SCENES  # noqa: PLC0415 - the scenes of the app that built this panel
+
+        if scene not in SCENES:
+            return
+        session = self.session
+
+        def prepare(room: Any) -> None:
+            if preset:
+                try:
+                    session.start_preset(room, preset)
+                except (ValueError, KeyError, LookupError) as error:
+                    self._say(f"(the preset {preset!r} is not on this app: {error})")
+
+        opener = getattr(session, "open_scene", None)  # the session's, or its own room role's (app.roles)
+        if opener is None:
+            opener = session.own_room.open_scene
+        opener(scene, prepare)
+
+    def show_question(self, index: int) -> None:
+        """Show question `index` (0-based) of the task opened, its widget and my last verdict."""
+        task = self.task
+        if task is None:
+            raise LookupError("open a task first")
+        index = max(0, min(len(task.questions) - 1, int(index)))
+        self.question = index
+        self._open_place(task, index)
+        question = task.questions[index]
+        many = len(task.questions) > 1
+        state = "" if task.open_now(self.clock()) else " · **no longer open**"
+        words = f"{task.words}  \n" if task.words else ""
+        self.gui_about.content = (f"{words}**{f'Question {index + 1} of {len(task.questions)}: ' if many else ''}"
+                                  f"{question.prompt}**  \nDue {iso_time(task.due)} · {task.policy.words()}{state}")
+        self.gui_about.visible = True
+        token = self.session.answer_token
+        student = self.store.student(task.code, token)
+        for handle in (self.gui_name, self.gui_student_number, self.gui_my_receipt):
+            handle.visible = student is None
+        kind = question.kind
+        if kind == "choice":
+            options = tuple(f"{k + 1}. {o}" for k, o in enumerate(getattr(question, "options", ())))
+            self.gui_choice.options = options
+            self.gui_choice.value = options[0]
+        if kind == "number":
+            unit = getattr(question, "unit", "")
+            self.gui_value.label = f"Your number [{unit}]" if unit else "Your number"
+        self.gui_choice.visible = kind == "choice"
+        self.gui_value.visible = kind == "number"
+        self.gui_azimuth.visible = self.gui_elevation.visible = kind == "direction"
+        self.gui_submit.label = "Submit the state of my room" if kind == "state" else SUBMIT_LABEL
+        self.gui_submit.visible = True
+        self.gui_previous.visible = many and index > 0
+        self.gui_next.visible = many and index < len(task.questions) - 1
+        mine = [s for s in self.store.mine(task.code, token) if s.question == index]
+        self._show_verdict(task, mine[-1] if mine else None, len(mine), student.name or student.number
+                           if student is not None else "")
+
+    def _show_verdict(self, task: Task, last: Submission | None, used: int, who: str) -> None:
+        allowed = task.policy.attempts
+        if last is None:
+            text = f"Answering as **{who}**." if who else ""
+        else:
+            left = ("you may try again" if allowed is None else
+                    f"{allowed - used} attempt{'s' if allowed - used != 1 else ''} left" if used < allowed
+                    else "no attempts left")
+            text = (f"Your attempt {last.attempt} ({who}): **{last.words}** · {left}  \n"
+                    f"Receipt **{format_code(last.receipt)}** · submitted {iso_time(last.at)}")
+        self.gui_verdict.content = text
+        self.gui_verdict.visible = bool(text)
+
+    def _answer(self, question: Question) -> Any:
+        """This browser's answer to `question` as its widget holds it."""
+        kind = question.kind
+        if kind == "choice":
+            value = str(self.gui_choice.value)
+            options = [f"{k + 1}. {o}" for k, o in enumerate(getattr(question, "options", ()))]
+            return options.index(value) if value in options else value
+        if kind == "number":
+            return self.gui_value.value
+        if kind == "direction":
+            return direction_of(float(self.gui_azimuth.value), float(self.gui_elevation.value))
+        return self.session.state_answer()
+
+    def submit(self) -> Submission | None:
+        """`Submit`: the answer shown, judged and kept (its verdict and receipt said), or the
+        refusal said (None) and nothing kept."""
+        task = self.task
+        if task is None:
+            self._say("Open a task first: type its code and press *Open the task*.")
+            return None
+        question = task.questions[self.question]
+        try:
+            submission = self.store.submit(task.code, self.session.answer_token, self.gui_name.value,
+                                           self.gui_student_number.value, self.question, self._answer(question),
+                                           receipt=self.gui_my_receipt.value)
+        except (TaskRefused, TaskCodeError, PermissionError) as error:
+            self._say(str(error))
+            return None
+        self._say("")
+        self.show_question(self.question)
+        return submission
+
+    # ------------------------------------------------------------------ the lecturer's side
+    def open_as_lecturer(self, code_text: Any, presenter_code: Any) -> Task | None:
+        """The task of `code_text` opened as its lecturer (the presenter code checked): its live
+        table and its buttons.  A wrong code is said (None); wrong codes are limited per minute."""
+        lectern = getattr(self.session, "lectern", None)
+        if lectern is None:
+            self._say("This app has no presenter code: nobody may open a task as lecturer.")
+            return None
+        try:
+            task = self.store.task(code_text)
+        except TaskCodeError as error:
+            self._say(str(error))
+            return None
+        if not self.store.lecturer_codes.allow("hall"):  # counted before it is compared: no guess slips through
+            self._say("Too many lecturer's codes were tried on this app: wait a minute.")
+            return None
+        if not isinstance(presenter_code, str) or len(presenter_code) > 64 or not code_matches(
+                presenter_code, lectern.code):
+            self._say("Wrong lecturer's code: the presenter code is wanted.")
+            return None
+        self.lecturer_task = task
+        self.gui_lecturer_code.value = ""
+        self._say("")
+        self._show_lecturer(True)
+        self.refresh_table()
+        self._start_polling()
+        return task
+
+    def _start_polling(self) -> None:
+        """While the table is open, it is written again every POLL_S (submissions made on other
+        processes; this process's own call `_store_changed` at once)."""
+        if self._polling:
+            return
+        self._polling = True
+        panel = weakref.ref(self)
+
+        def poll() -> None:
+            while True:
+                time.sleep(POLL_S)
+                me = panel()
+                if me is None or me.session.closed or me.lecturer_task is None:
+                    if me is not None:
+                        me._polling = False
+                    return
+                try:
+                    me.refresh_table()
+                except Exception:  # noqa: BLE001 - the store is gone (the app stops): the next poll ends it
+                    pass
+                del me
+
+        threading.Thread(target=poll, name="task-table", daemon=True).start()
+
+    def _show_lecturer(self, shown: bool) -> None:
+        for handle in (self.gui_table, self.gui_csv, self.gui_extend_hours, self.gui_extend, self.gui_close,
+                       self.gui_receipt, self.gui_check):
+            handle.visible = shown
+
+    def _lecturers(self) -> Task:
+        if self.lecturer_task is None:
+            raise PermissionError("only the lecturer, with the presenter code, can see or change a task")
+        return self.lecturer_task
+
+    def refresh_table(self) -> str:
+        """The live table written again (the lecturer's); its text."""
+        task = self.store.task(self._lecturers().code)
+        self.lecturer_task = task
+        submissions = self.store.submissions(task.code)
+        text = table_text(task, submissions, self.clock()) + "\n\n" + tallies_text(task, submissions)
+        if self.gui_table.content != text:
+            self.gui_table.content = text
+        return text
+
+    def download(self) -> None:
+        task = self.store.task(self._lecturers().code)
+        save_download(self.client, f"task-{task.shown_code}-results.csv",
+                      gradebook_csv(task, self.store.submissions(task.code)))
+
+    def check_receipt(self, text: Any) -> str:
+        """The submission a receipt code stands for, said under it (the lecturer's, of the task
+        opened: another task's receipt is not shown); its words."""
+        task = self._lecturers()
+        try:
+            found = self.store.receipt(text)
+        except TaskCodeError as error:
+            words = str(error)
+        else:
+            if found.task != task.code:
+                words = f"The receipt {format_code(found.receipt)} is not of the task {task.shown_code}."
+            else:
+                who = " ".join(part for part in (found.student.name, found.student.number) if part)
+                words = (f"Receipt **{format_code(found.receipt)}**: {_cell(who)}, question {found.question + 1}, "
+                         f"attempt {found.attempt}: {_cell(found.words)} · submitted {iso_time(found.at)}")
+        self.gui_receipt_note.content = words
+        self.gui_receipt_note.visible = True
+        return words
+
+    def close_task(self) -> None:
+        self.store.close_task(self._lecturers().code)
+        self.refresh_table()
+
+    def extend(self, hours: Any) -> None:
+        self.store.extend(self._lecturers().code, self.clock() + 3600.0 * _hours(hours))
+        self.refresh_table()
+
+    def _store_changed(self, code: str) -> None:
+        """A task changed in this process: the lecturer's table of it is written again."""
+        if self.lecturer_task is not None and self.lecturer_task.code == code and not self.session.closed:
+            self.refresh_table()
