@@ -38,6 +38,7 @@ from app.ask.round import Tally
 from app.hall.ask_kinds import direction_of
 from app.kit.panel.download import save_download
 from app.lecture.gate import code_matches
+from app.scenes import SCENES
 from app.sharestore import EXAMPLE, format_code
 from app.tasks.model import (
     MAX_QUESTIONS,
@@ -343,8 +344,6 @@ class TaskPanel:
             return
         self.opened_place = place
         scene, preset = place
-        from app.session import SCENES  # noqa: PLC0415 - the scenes of the app that built this panel
-
         if scene not in SCENES:
             return
         session = self.session
