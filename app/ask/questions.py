@@ -35,8 +35,8 @@ from app.ask.tally_text import TallyView as Tally
 if TYPE_CHECKING:
     from app.ask.judges import Judged
 
-__all__ = ["KINDS", "MAX_NUMBER", "MAX_OPTIONS", "MAX_OPTION_CHARS", "MAX_PROMPT_CHARS", "MIN_OPTIONS", "Choice",
-           "Direction", "Number", "Question", "QuestionKind", "State", "finite_number", "question_from_dict",
+__all__ = ["DIRECTION_RIGHT_DEG", "KINDS", "MAX_NUMBER", "MAX_OPTIONS", "MAX_OPTION_CHARS", "MAX_PROMPT_CHARS",
+           "MIN_OPTIONS", "Choice", "Direction", "Number", "Question", "QuestionKind", "State", "finite_number", "question_from_dict",
            "question_to_dict", "unit_vector"]
 
 MIN_OPTIONS = 2
@@ -64,6 +64,14 @@ def finite_number(value: Any, where: str = "answer") -> float:
     if abs(number) > MAX_NUMBER:
         raise ValueError(f"{where}: a number of size at most {MAX_NUMBER:g} wanted, got {number:g}")
     return number
+
+
+DIRECTION_RIGHT_DEG = 15.0  # [deg] a direction answer within this of the true one is right (a task's score)
+
+
+def _plain(words: str) -> str:
+    """Markdown answer words without their bold marks."""
+    return words.replace("**", "")
 
 
 class QuestionKind(Protocol):
@@ -113,6 +121,11 @@ class QuestionKind(Protocol):
 
     def answer_words(self, value: Any) -> str:
         """A student's own answer in words (Markdown)."""
+        ...
+
+    def verdict(self, value: Any) -> tuple[float | None, str]:
+        """(score, words) of a checked answer, as a task's judge says it: 1.0 right, 0.0 wrong,
+        None not judged (no right answer: collected); plain words ("2.4 s: right")."""
         ...
 
 
@@ -236,6 +249,12 @@ class Choice:
     def answer_words(self, value: Any) -> str:
         return f"**{value + 1}. {self.options[value]}**"
 
+    def verdict(self, value: Any) -> tuple[float | None, str]:
+        mine = _plain(self.answer_words(value))
+        if self.correct is None:
+            return None, f"{mine} (collected)"
+        return (1.0, f"{mine}: right") if value == self.correct else (0.0, f"{mine}: wrong")
+
 
 @dataclass(frozen=True)
 class Direction:
@@ -292,6 +311,14 @@ class Direction:
         azimuth = math.degrees(math.atan2(y, x))
         elevation = math.degrees(math.asin(max(-1.0, min(1.0, z))))
         return f"**azimuth {azimuth:.0f}°, elevation {elevation:.0f}°**"
+
+    def verdict(self, value: Any) -> tuple[float | None, str]:
+        if self.truth is None:
+            return None, f"{_plain(self.answer_words(value))} (collected)"
+        cosine = max(-1.0, min(1.0, sum(a * b for a, b in zip(value, self.truth, strict=True))))
+        angle_deg = math.degrees(math.acos(cosine))
+        good = angle_deg <= DIRECTION_RIGHT_DEG
+        return (1.0 if good else 0.0), f"{angle_deg:.0f}° from the true direction: {'right' if good else 'wrong'}"
 
 
 @dataclass(frozen=True)
@@ -381,6 +408,14 @@ class State:
             return "**your state**"
         mark = "" if judged.good is None else " ✓ as asked" if judged.good else " ✗ not what was asked"
         return f"**{judged.words}**{mark}"
+
+    def verdict(self, value: Any) -> tuple[float | None, str]:
+        judged = self.judged(value)
+        if judged is None:
+            return None, "your state was collected (not judged)"
+        if judged.good is None:
+            return None, judged.words
+        return (1.0, f"{judged.words} ✓ as asked") if judged.good else (0.0, f"{judged.words} ✗ not what was asked")
 
 
 @dataclass(frozen=True)
@@ -491,6 +526,12 @@ class Number:
 
     def answer_words(self, value: Any) -> str:
         return f"**{self.with_unit(value)}**"
+
+    def verdict(self, value: Any) -> tuple[float | None, str]:
+        mine, right = _plain(self.answer_words(value)), self.right(value)
+        if right is None:
+            return None, f"{mine} (collected)"
+        return (1.0, f"{mine}: right") if right else (0.0, f"{mine}: wrong")
 
 
 Question = Choice | Direction | State | Number

@@ -45,7 +45,6 @@ MAX_STUDENT_NUMBER_CHARS = 32
 MAX_SCENE_CHARS = 80
 DEFAULT_EXPIRE_AFTER_S = 180 * 24 * 3600.0  # [s] a task is kept half a year after it is due
 MAX_DUE_AHEAD_S = 400 * 24 * 3600.0  # [s] a due time at most this far ahead
-DIRECTION_RIGHT_DEG = 15.0  # a direction within this of the true one is right
 GRADEBOOK_COLUMNS = ("name", "number", "score", "attempts", "last_submitted", "verdict")
 
 
@@ -271,41 +270,11 @@ def _plain(value: Any) -> Any:
         return str(value)
 
 
-def _bold_free(text: str) -> str:
-    return text.replace("**", "")
-
-
 def verdict(question: Question, value: Any) -> tuple[float | None, str]:
     """(score, words) of a checked answer: score 1.0 right, 0.0 wrong, None not judged (a
-    question without a right answer); words as the judge words them ("2.4 s: right")."""
-    kind = question.kind
-    if kind == "state":
-        judged = question.judged(value)
-        if judged is None:
-            return None, "your state was collected (not judged)"
-        if judged.good is None:
-            return None, judged.words
-        return (1.0, f"{judged.words} ✓ as asked") if judged.good else (0.0, f"{judged.words} ✗ not what was asked")
-    mine = _bold_free(question.answer_words(value))
-    if kind == "choice":
-        correct = getattr(question, "correct", None)
-        if correct is None:
-            return None, f"{mine} (collected)"
-        return (1.0, f"{mine}: right") if value == correct else (0.0, f"{mine}: wrong")
-    if kind == "number":
-        right = question.right(value)  # type: ignore[union-attr]
-        if right is None:
-            return None, f"{mine} (collected)"
-        return (1.0, f"{mine}: right") if right else (0.0, f"{mine}: wrong")
-    if kind == "direction":
-        truth = getattr(question, "truth", None)
-        if truth is None:
-            return None, f"{mine} (collected)"
-        cosine = max(-1.0, min(1.0, sum(a * b for a, b in zip(value, truth, strict=True))))
-        angle_deg = math.degrees(math.acos(cosine))
-        good = angle_deg <= DIRECTION_RIGHT_DEG
-        return (1.0 if good else 0.0), f"{angle_deg:.0f}° from the true direction: {'right' if good else 'wrong'}"
-    return None, mine
+    question without a right answer); words as the judge words them ("2.4 s: right").  Each
+    kind says it (`QuestionKind.verdict`)."""
+    return question.verdict(value)
 
 
 def is_judged(question: Question) -> bool:
