@@ -36,8 +36,8 @@ if TYPE_CHECKING:
     from app.ask.judges import Judged
 
 __all__ = ["DIRECTION_RIGHT_DEG", "KINDS", "MAX_NUMBER", "MAX_OPTIONS", "MAX_OPTION_CHARS", "MAX_PROMPT_CHARS",
-           "MIN_OPTIONS", "Choice", "Direction", "Number", "Question", "QuestionKind", "State", "finite_number", "question_from_dict",
-           "question_to_dict", "unit_vector"]
+           "MIN_OPTIONS", "Choice", "Direction", "Number", "Question", "QuestionKind", "State", "finite_number",
+           "question_from_dict", "question_to_dict", "unit_vector"]
 
 MIN_OPTIONS = 2
 MAX_OPTIONS = 6
