@@ -96,14 +96,47 @@ def text_input(page, label: str):  # type: ignore[no-untyped-def]
     return row.locator("input").first
 
 
+def button(page, name: str):  # type: ignore[no-untyped-def]
+    """The page's button named exactly `name`."""
+    return page.get_by_role("button", name=name, exact=True)
+
+
+def type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
+    """Type `text` into the page's emptied text field labelled `label`, then Enter."""
+    field = text_input(page, label)
+    field.click()
+    field.fill("")
+    page.keyboard.type(text, delay=5)
+    field.press("Enter")
+
+
+def present_in_page(page, session, timeout: float = 30.0) -> None:  # type: ignore[no-untyped-def]
+    """Type CODE into the page's `Presenter code` and press Present; waits until `session` presents."""
+    open_folder(page, "Lecture", "Presenter code")
+    text_input(page, "Presenter code").click()
+    page.keyboard.type(CODE, delay=30)
+    button(page, "Present").click()
+    poll_until(lambda: session.mode == "presenting", timeout, 0.05, what="the page's session presenting",
+               seen=lambda: (session.mode, session.last_error))
+
+
+def play_and_present(page, session, title: str) -> None:  # type: ignore[no-untyped-def]
+    """In the page (its first scene drawn, its toasts closed): choose the scene `title`, press
+    Play, then present (`present_in_page`)."""
+    page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
+    close_toasts(page)
+    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
+    page.get_by_role("option", name=title).click()
+    poll_until(lambda: session.scene.title == title, 15.0, 0.05, what=f"the scene {title!r} chosen",
+               seen=lambda: session.scene.title)
+    button(page, "Play").click()
+    present_in_page(page, session)
+
+
 def present_and_follow(browser, app: App, presenter_page, presenter, wait_until):  # type: ignore[no-untyped-def]
     """The presenter types the code and presents, through its page; a laptop follower joins and
     sees the shared scene.  (follower page, follower session)."""
-    open_folder(presenter_page, "Lecture", "Presenter code")
-    text_input(presenter_page, "Presenter code").click()
-    presenter_page.keyboard.type(CODE, delay=30)
-    presenter_page.get_by_role("button", name="Present").click()
-    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
+    present_in_page(presenter_page, presenter)
     follower_page, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
     wait_until(lambda: follower.mode == "following", timeout=15.0)
     follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, project, text_input  # noqa: F401
+from test_browser_lecture import close_toasts, hall_app, play_and_present, project  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
@@ -76,17 +76,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
                                                             monkeypatch, tmp_path) -> None:
     hall = hall_app
     presenter_page, presenter = open_page(browser, hall, viewport={"width": 1024, "height": 768})
-    presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    close_toasts(presenter_page)
-    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
-    presenter_page.get_by_role("option", name="Heavy top").click()
-    wait_until(lambda: presenter.scene.title == "Heavy top", timeout=15.0)
-    presenter_page.get_by_role("button", name="Play", exact=True).click()
-    open_folder(presenter_page, "Lecture", "Presenter code")
-    text_input(presenter_page, "Presenter code").click()
-    presenter_page.keyboard.type(CODE, delay=30)
-    presenter_page.get_by_role("button", name="Present").click()
-    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
+    play_and_present(presenter_page, presenter, "Heavy top")
 
     # 1. The projector layout keeps the lecture's controls and the badge in view.
     presenter_page.get_by_text("Projector", exact=True).first.click()
