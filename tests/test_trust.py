@@ -69,10 +69,7 @@ def fingerprint(obj: Any, depth: int = 0) -> Any:
 
 
 class Hall(LectureHall):
-    """The lecture hall with this file's code; `join` gives (session, client)."""
-
-    def __init__(self) -> None:
-        super().__init__(CODE)
+    """The lecture hall; `join` gives (session, client)."""
 
     def join(self, client_factory: Any = RawClient) -> Any:  # type: ignore[override]
         return self.join_with_client(client_factory)
