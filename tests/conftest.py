@@ -8,8 +8,11 @@ a hint (`apt-get install chromium`), except under CI=true, where that is a failu
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
+import subprocess
+import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -24,17 +27,21 @@ if TYPE_CHECKING:  # imported lazily below, so the physics tests never load vise
     from app.main import App
 
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS, INSTALL_HINT  # noqa: E402
+from scripts.flake_hunt import browser_marked  # noqa: E402 - the browser tests of a module, read from its source
 
 
-def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01) -> Any:
-    """Poll `predicate` until it returns a truthy value; that value, or AssertionError."""
+def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01, *,
+               what: str = "condition", seen: Callable[[], Any] | None = None) -> Any:
+    """Poll `predicate` until it returns a truthy value; that value, or AssertionError naming
+    `what` was waited for and, if `seen` is given, what `seen()` returned at the deadline."""
     deadline = time.monotonic() + timeout
     while True:
         value = predicate()
         if value:
             return value
         if time.monotonic() > deadline:
-            raise AssertionError(f"condition not met within {timeout} s")
+            saw = "" if seen is None else f"; saw {seen()!r}"
+            raise AssertionError(f"{what} not met within {timeout} s{saw}"[:2000])
         time.sleep(interval)
 
 
@@ -54,23 +61,6 @@ def scenes_without_an_entry(table: Any, name: str) -> str:
 BROWSER_GROUP = "browser"
 
 
-def _browser_tests(module: Path) -> bool | set[str]:
-    """The browser tests of a test module, read from its source: True if the whole module is
-    marked (`pytestmark = pytest.mark.browser`), else the names of its test functions that carry
-    `@pytest.mark.browser`."""
-    import ast
-
-    tree = ast.parse(module.read_text(encoding="utf-8"))
-    marked: set[str] = set()
-    for node in tree.body:
-        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "pytestmark" for t in node.targets):
-            if "mark.browser" in ast.unparse(node.value):
-                return True
-        if isinstance(node, ast.FunctionDef) and any("mark.browser" in ast.unparse(d) for d in node.decorator_list):
-            marked.add(node.name)
-    return marked
-
-
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """The suite on 2 processes (pyproject's addopts: `-n 2 --dist loadgroup`): xdist's scope
     scheduling with these groups, each run by one process in collection order:
@@ -81,24 +71,35 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
       workers, a Redis) starts once.
 
     The groups are read from the nodeids (the `xdist_group` mark is not used: xdist 3.8 renames
-    nodeids for it, which pytest 9 ignores)."""
+    nodeids for it, which pytest 9 ignores).
+
+    RBL_BROWSER_GROUPS=N (default 1) splits the browser tests into N groups, module by module in
+    turn, so that N processes each run a Chromium at once (the browser group alone is most of the
+    suite's time: ~600-800 s of the 600-870 s of the CI runs of 2026-11-27/28)."""
     if config.getvalue("dist") != "loadgroup":
         return None
+    browser_groups = max(1, int(os.environ.get("RBL_BROWSER_GROUPS", "1")))
+    browser_modules: list[str] = []
     from xdist.scheduler import LoadScopeScheduling
 
     config.option.loadscopereorder = False  # collection order: the browser group starts early
     root = config.rootpath
-    cache: dict[str, bool | set[str]] = {}
+    cache: dict[str, bool | list[str]] = {}
 
     class ModulesAndTheBrowser(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
             module, _, rest = nodeid.partition("::")
             if module not in cache:
                 path = root / module
-                cache[module] = _browser_tests(path) if path.suffix == ".py" and path.exists() else set()
+                cache[module] = browser_marked(path) if path.suffix == ".py" and path.exists() else []
             browser = cache[module]
             name = rest.split("[", 1)[0].split("::")[-1]
-            return BROWSER_GROUP if browser is True or name in browser else module  # type: ignore[operator]
+            if not (browser is True or name in browser):  # type: ignore[operator]
+                return module
+            if module not in browser_modules:
+                browser_modules.append(module)
+            part = browser_modules.index(module) % browser_groups
+            return BROWSER_GROUP if part == 0 else f"{BROWSER_GROUP}-{part}"
 
     return ModulesAndTheBrowser(config, log)
 
@@ -304,12 +305,7 @@ class LectureHall:
     def join_with_client(self, client_factory: Callable[[int], Any] = RawClient) -> tuple[Any, Any]:
         """Connect one more browser (a RawClient, or what `client_factory(port)` makes): (its
         session, the client)."""
-        before = set(self.app.sessions)
-        client = client_factory(self.app.port)
-        self.clients.append(client)
-        sessions = self.app.wait_for_sessions(len(before) + 1)
-        (session,) = (s for cid, s in sessions.items() if cid not in before)
-        return session, client
+        return join(self.app, self.clients, client_factory, timeout=10.0)
 
     def join(self) -> Any:
         """Connect one more raw browser; its session."""
@@ -322,10 +318,134 @@ class LectureHall:
                 room.tick(dt)
             self.app.lectern.tick(dt)
 
+    def leave(self, since: int = 0) -> None:
+        """The clients that joined after the first `since` close; once no session and no presenter
+        remain, the question round ends and the earlier rounds are forgotten (the next test's hall)."""
+        app = self.app
+        for client in self.clients[since:]:
+            client.close()
+        del self.clients[since:]
+        poll_until(lambda: not app.sessions and app.lectern.presenter is None, timeout=20.0,
+                   what="every browser gone and no presenter", seen=lambda: (list(app.sessions), app.lectern.presenter))
+        app.rounds.end()
+        app.rounds.earlier.clear()
+
     def close(self) -> None:
         for client in self.clients:
             client.close()
         self.app.stop()
+
+
+def hall_fixture(code: str, hall_class: type[LectureHall] = LectureHall) -> Any:
+    """A pytest fixture, to assign to the name the tests ask for (`hall = hall_fixture(CODE)`):
+    a fresh `hall_class(code)` for each test, closed after it."""
+
+    @pytest.fixture
+    def fresh_hall() -> Iterator[LectureHall]:
+        with contextlib.closing(hall_class(code)) as running:
+            yield running
+
+    return fresh_hall
+
+
+def shared_hall_fixtures(code: str) -> tuple[Any, Any]:
+    """Two pytest fixtures, to assign to their names (`_one_hall, hall = shared_hall_fixtures(CODE)`):
+    `_one_hall`, one LectureHall with `code` for the module (its start is the slow part), and
+    `hall`, that hall for one test, whose browsers leave after it (`LectureHall.leave`)."""
+
+    @pytest.fixture(scope="module")
+    def _one_hall() -> Iterator[LectureHall]:
+        with contextlib.closing(LectureHall(code)) as running:
+            yield running
+
+    @pytest.fixture
+    def hall(_one_hall: LectureHall) -> Iterator[LectureHall]:
+        before = len(_one_hall.clients)
+        yield _one_hall
+        _one_hall.leave(since=before)
+
+    return _one_hall, hall
+
+
+def join(app: App, clients: list[Any], factory: Callable[[int], Any] = RawClient,
+         timeout: float = 20.0) -> tuple[Any, Any]:
+    """One more browser stand-in made by `factory(port)` on `app`, appended to `clients`: (its
+    session, the client)."""
+    before = set(app.sessions)
+    client = factory(app.port)
+    clients.append(client)
+    sessions = app.wait_for_sessions(len(before) + 1, timeout=timeout)
+    (session,) = (s for cid, s in sessions.items() if cid not in before)
+    return session, client
+
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+class WorkerProcess:
+    """A real worker, `python -m app --redis URL --worker-id ID --presenter-code CODE`, on a free
+    port of 127.0.0.1, its output in a file under /tmp; started and awaited ("worker ID on" said)
+    on entering, killed (if alive) and its file removed on leaving."""
+
+    def __init__(self, url: str, code: str, worker_id: str = "w1", start_timeout: float = 120.0) -> None:
+        from app.cluster import services
+
+        self.worker_id = worker_id
+        self.port = services.free_port()
+        self._start_timeout = start_timeout
+        self._out = Path("/tmp") / f"rbl-worker-{worker_id}-{self.port}-{os.getpid()}.out"
+        self._command = [sys.executable, "-m", "app", "--host", "127.0.0.1", "--port", str(self.port),
+                         "--redis", url, "--worker-id", worker_id, "--presenter-code", code]
+        self.process: subprocess.Popen[bytes] | None = None
+
+    def output(self) -> str:
+        """What the worker printed so far."""
+        return self._out.read_text(errors="replace") if self._out.exists() else ""
+
+    def __enter__(self) -> WorkerProcess:
+        with self._out.open("wb") as out:
+            self.process = subprocess.Popen(self._command, cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
+        try:
+            said = f"worker {self.worker_id} on"
+            poll_until(lambda: said in self.output() or self.process.poll() is not None,  # type: ignore[union-attr]
+                       self._start_timeout, 0.2, what=f"worker {self.worker_id} to start",
+                       seen=lambda: self.output()[-500:])
+            assert self.process.poll() is None, self.output()
+        except BaseException:
+            self.__exit__(None, None, None)
+            raise
+        return self
+
+    def kill(self) -> None:
+        """SIGKILL the worker (no word said to anyone) and reap it."""
+        assert self.process is not None
+        self.process.kill()
+        self.process.wait(10)
+
+    def __exit__(self, *exc: object) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.kill()
+        self._out.unlink(missing_ok=True)
+
+
+def lecturer_presenting(port: int, code: str, scene: str | None = None) -> Any:
+    """A websocket lecturer (`benchmarks.ws_client.ViserClient`) on `port` that chose `scene` (if
+    given), typed `code` and pressed Present, awaited until its `Stop presenting` shows."""
+    from benchmarks.ws_client import ViserClient
+
+    lecturer = ViserClient(port)
+    try:
+        lecturer.wait_for_label("Presenter code", timeout=60.0)
+        if scene is not None:
+            lecturer.set_value("Scene", scene, "Dropdown")
+        lecturer.set_value("Presenter code", code)
+        lecturer.click("Present")
+        lecturer.state.wait_for(lambda: (b := lecturer.state.find_gui("Stop presenting", "Button")) is not None
+                                and b.props.get("visible", True), timeout=30.0)
+    except BaseException:
+        lecturer.close()
+        raise
+    return lecturer
 
 
 def world_rotation(handle: Any) -> Any:

@@ -9,6 +9,8 @@ import time
 from typing import Any
 
 import pytest
+from conftest import RawClient, poll_until, shared_hall_fixtures
+from test_bus import Workers, redis_url, workers_fixture
 
 from app.ask import Choice, Direction, Refused, Round, State, new_token, question_from_dict, question_to_dict
 from app.ask.round import RATE
@@ -24,6 +26,7 @@ class Clock:
 
 CHOICE = {"kind": "choice", "prompt": "Which axis is stable?", "options": ["1", "2", "3"], "correct": 0}
 DIRECTION = {"kind": "direction", "prompt": "Where does ω point?", "truth": [0, 0, 2]}
+__all__ = ["redis_url"]  # a fixture, for pytest
 
 
 @pytest.mark.parametrize("bad, words", [
@@ -187,31 +190,8 @@ def test_the_apps_rounds_ask_close_vote_again_and_forward_remote_answers() -> No
 HALL_CODE = "864213"
 
 
-@pytest.fixture(scope="module")
-def _one_hall():  # type: ignore[no-untyped-def]
-    from conftest import LectureHall
-
-    running = LectureHall(HALL_CODE)
-    try:
-        yield running
-    finally:
-        running.close()
-
-
-@pytest.fixture
-def hall(_one_hall):  # type: ignore[no-untyped-def]
-    """One app for this file's tests (its start is the slow part); each test's browsers leave
-    after it, its presenter with them, its question ends."""
-    from conftest import poll_until
-
-    before = len(_one_hall.clients)
-    yield _one_hall
-    app = _one_hall.app
-    for client in _one_hall.clients[before:]:
-        client.close()
-    del _one_hall.clients[before:]
-    poll_until(lambda: not app.sessions and app.lectern.presenter is None, timeout=20.0)
-    app.rounds.end()
+_one_hall, hall = shared_hall_fixtures(HALL_CODE)  # one app for this file's tests (its start is the slow part)
+workers = workers_fixture(HALL_CODE)  # the apps across workers, on one redis-server for the module (`redis_url`)
 
 
 def _frames(hall: Any, count: int = 2) -> None:
@@ -282,60 +262,36 @@ def test_a_lesson_steps_question_fills_the_presenters_form(hall: Any) -> None:
 
 
 # ---------------------------------------------------------------------- across processes (app.cluster.askbus)
-def test_the_tally_is_the_same_whichever_worker_the_students_are_on() -> None:
+def test_the_tally_is_the_same_whichever_worker_the_students_are_on(workers: Workers) -> None:
     """Two in-process workers on a real redis-server: a presenter and a student on w1, two
     students on w2 (one answering by pressing its option in its panel); the tally on w1 counts
     all three, once each; closing the round closes it on w2."""
-    from conftest import RawClient, poll_until
     from viser import _messages
 
-    from app.cluster import services
-    from app.main import create_server
+    apps = [workers.start("w1"), workers.start("w2")]
 
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    apps: list[Any] = []
-    clients: list[Any] = []
-    try:
-        for worker in ("w1", "w2"):
-            apps.append(create_server("127.0.0.1", 0, verbose=False, presenter_code=HALL_CODE, redis_url=url,
-                                      worker_id=worker))
+    def join(worker: str) -> tuple[Any, Any]:
+        return workers.connect(worker, RawClient)
 
-        def join(app: Any) -> tuple[Any, Any]:
-            before = set(app.sessions)
-            client = RawClient(app.port)
-            clients.append(client)
-            sessions = app.wait_for_sessions(len(before) + 1, timeout=20.0)
-            (session,) = (s for cid, s in sessions.items() if cid not in before)
-            return session, client
-
-        presenter, _ = join(apps[0])
-        presenter.present(HALL_CODE)
-        (a, _), (b, b_client), (c, _) = join(apps[0]), join(apps[1]), join(apps[1])
-        presenter.ask(CHOICE)
-        poll_until(lambda: b.question.folder.visible and c.question.folder.visible, timeout=10.0)
-        a.answer(0)
-        b_client.send(_messages.GuiUpdateMessage(b.question.gui_options[2]._impl.uuid, {"value": True}))
-        poll_until(lambda: b.my_answer() == 2, timeout=10.0)
-        c.answer(1)
-        c.answer(2)  # changes its mind: counted once, the last
-        poll_until(lambda: apps[0].rounds.tally().answered == 3, timeout=10.0)
-        time.sleep(3 * 0.1)  # three more polls: nothing more arrives
-        assert apps[0].rounds.tally().counts == (1, 0, 2)
-        poll_until(lambda: "3 of 3 answered" in presenter.ask_panel.gui_count.content, timeout=5.0)
-        presenter.close_round()
-        poll_until(lambda: "closed" in b.question.gui_prompt.content, timeout=10.0)
-        with pytest.raises(Refused, match="closed"):
-            c.answer(0)
-        assert b.error_count == 0 and presenter.error_count == 0, (b.last_error, presenter.last_error)
-    finally:
-        for client in clients:
-            client.close()
-        for app in apps:
-            app.stop()
-        services.stop_process(process)
+    presenter, _ = join("w1")
+    presenter.present(HALL_CODE)
+    (a, _), (b, b_client), (c, _) = join("w1"), join("w2"), join("w2")
+    presenter.ask(CHOICE)
+    poll_until(lambda: b.question.folder.visible and c.question.folder.visible, timeout=10.0)
+    a.answer(0)
+    b_client.send(_messages.GuiUpdateMessage(b.question.gui_options[2]._impl.uuid, {"value": True}))
+    poll_until(lambda: b.my_answer() == 2, timeout=10.0)
+    c.answer(1)
+    c.answer(2)  # changes its mind: counted once, the last
+    poll_until(lambda: apps[0].rounds.tally().answered == 3, timeout=10.0)
+    time.sleep(3 * 0.1)  # three more polls: nothing more arrives
+    assert apps[0].rounds.tally().counts == (1, 0, 2)
+    poll_until(lambda: "3 of 3 answered" in presenter.ask_panel.gui_count.content, timeout=5.0)
+    presenter.close_round()
+    poll_until(lambda: "closed" in b.question.gui_prompt.content, timeout=10.0)
+    with pytest.raises(Refused, match="closed"):
+        c.answer(0)
+    assert b.error_count == 0 and presenter.error_count == 0, (b.last_error, presenter.last_error)
 
 
 def test_a_state_question_is_answered_from_the_students_own_copy(hall: Any) -> None:

@@ -10,20 +10,16 @@ import time
 from typing import Any
 
 import pytest
+from conftest import RawClient, hall_fixture, poll_until
+from test_ask import Clock
+from test_bus import Workers, redis_url, workers_fixture
 
 from app.ask import Refused, Round, question_from_dict, question_to_dict
 from app.ask.questions import KINDS, Number
 
 FLIP = {"kind": "number", "prompt": "The flip period?", "value": 2.5, "unit": "s", "tolerance": 0.2}
 HALL_CODE = "864299"
-
-
-class Clock:
-    def __init__(self) -> None:
-        self.t = 100.0
-
-    def __call__(self) -> float:
-        return self.t
+__all__ = ["redis_url"]  # a fixture, for pytest
 
 
 def test_a_number_question_round_trips_through_its_dict_and_is_registered() -> None:
@@ -115,15 +111,8 @@ def test_every_kind_is_registered_once_with_its_panels() -> None:
 
 
 # ---------------------------------------------------------------------- the app: the presenter's form, the panels
-@pytest.fixture(scope="module")
-def hall() -> Any:
-    from conftest import LectureHall
-
-    running = LectureHall(HALL_CODE)
-    try:
-        yield running
-    finally:
-        running.close()
+hall = hall_fixture(HALL_CODE)
+workers = workers_fixture(HALL_CODE)  # the apps across workers, on one redis-server for the module (`redis_url`)
 
 
 def _frames_until(hall: Any, predicate: Any, timeout: float = 20.0) -> None:
@@ -181,48 +170,24 @@ def test_the_presenter_asks_a_number_two_students_answer_and_the_tally_and_csv_a
 
 
 # ---------------------------------------------------------------------- across processes (app.cluster.askbus)
-def test_a_number_answer_on_worker_b_reaches_the_tally_on_worker_a() -> None:
-    from conftest import RawClient, poll_until
+def test_a_number_answer_on_worker_b_reaches_the_tally_on_worker_a(workers: Workers) -> None:
+    apps = [workers.start("w1"), workers.start("w2")]
 
-    from app.cluster import services
-    from app.main import create_server
+    def join(worker: str) -> Any:
+        return workers.connect(worker, RawClient)[0]
 
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    apps: list[Any] = []
-    clients: list[Any] = []
-    try:
-        for worker in ("w1", "w2"):
-            apps.append(create_server("127.0.0.1", 0, verbose=False, presenter_code=HALL_CODE, redis_url=url,
-                                      worker_id=worker))
-
-        def join(app: Any) -> Any:
-            before = set(app.sessions)
-            clients.append(RawClient(app.port))
-            sessions = app.wait_for_sessions(len(before) + 1, timeout=20.0)
-            (session,) = (s for cid, s in sessions.items() if cid not in before)
-            return session
-
-        presenter = join(apps[0])
-        presenter.present(HALL_CODE)
-        a, b = join(apps[0]), join(apps[1])
-        presenter.ask(FLIP)
-        poll_until(lambda: b.question.gui_number.visible, timeout=15.0)
-        shown = apps[1].rounds.shown()
-        assert shown is not None and shown.question == question_from_dict(FLIP)  # came over the bus whole
-        a.answer(2.45)
-        b.answer(2.9)
-        with pytest.raises(Refused, match="finite"):
-            b.answer(float("nan"))
-        poll_until(lambda: apps[0].rounds.tally().answered == 2, timeout=15.0)
-        time.sleep(0.3)  # three more polls: nothing more arrives
-        assert sorted(apps[0].rounds.tally().values) == [2.45, 2.9]
-        assert b.error_count == 0 and presenter.error_count == 0, (b.last_error, presenter.last_error)
-    finally:
-        for client in clients:
-            client.close()
-        for app in apps:
-            app.stop()
-        services.stop_process(process)
+    presenter = join("w1")
+    presenter.present(HALL_CODE)
+    a, b = join("w1"), join("w2")
+    presenter.ask(FLIP)
+    poll_until(lambda: b.question.gui_number.visible, timeout=15.0)
+    shown = apps[1].rounds.shown()
+    assert shown is not None and shown.question == question_from_dict(FLIP)  # came over the bus whole
+    a.answer(2.45)
+    b.answer(2.9)
+    with pytest.raises(Refused, match="finite"):
+        b.answer(float("nan"))
+    poll_until(lambda: apps[0].rounds.tally().answered == 2, timeout=15.0)
+    time.sleep(0.3)  # three more polls: nothing more arrives
+    assert sorted(apps[0].rounds.tally().values) == [2.45, 2.9]
+    assert b.error_count == 0 and presenter.error_count == 0, (b.last_error, presenter.last_error)

@@ -47,6 +47,25 @@ def picture_changes(page, before: bytes, clip: dict = SCENE_CLIP, timeout: float
     return poll_until(fraction, timeout=timeout, interval=0.2)
 
 
+def still_picture(page, clip: dict = SCENE_CLIP, timeout: float = 30.0) -> bytes:
+    """A screenshot of `clip` once the picture holds still (the nodes have faded in): one that
+    differs from the one before it (0.2 s earlier) in under MIN_CHANGED_FRACTION / 5 of its
+    pixels (AssertionError after `timeout` [s], naming the last difference)."""
+    from conftest import poll_until
+
+    shots = [page.screenshot(clip=clip, timeout=60_000)]
+    changes: list[float] = []
+
+    def still() -> bytes | None:
+        time.sleep(0.2)  # the interval between the two pictures compared
+        shots.append(page.screenshot(clip=clip, timeout=60_000))
+        changes.append(changed_fraction(shots[-2], shots[-1]))
+        return shots[-1] if changes[-1] < MIN_CHANGED_FRACTION / 5 else None
+
+    return poll_until(still, timeout, 0.0, what="a still picture (two screenshots alike)",
+                      seen=lambda: f"changed fractions {changes[-5:]}")
+
+
 def app_url(page, port: int) -> str:
     """The address of the server on `port` with the page's own device pixel ratio pinned (viser's `fixedDpr`).
 
@@ -82,11 +101,10 @@ def slider_thumb(page, handle):
 def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until, app: App, page) -> None:
     session = open_app(page, app)
     scene = session.scene
-    time.sleep(1.5)  # nodes fade in
-    before = page.screenshot(clip=SCENE_CLIP)
-    time.sleep(0.5)
+    before = still_picture(page)  # nodes faded in
+    time.sleep(0.5)  # control: half a second later a still scene renders the same
     unchanged = changed_fraction(before, page.screenshot(clip=SCENE_CLIP))
-    assert unchanged < MIN_CHANGED_FRACTION / 5  # control: a still scene renders the same
+    assert unchanged < MIN_CHANGED_FRACTION / 5
 
     # The slider root's id is the GUI uuid; its <label for=...> carries the text.
     uuid = page.locator("label", has_text=re.compile(r"^θ")).first.get_attribute("for")

@@ -14,25 +14,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_page, text_input  # noqa: F401 - hall_app: a fixture
+from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, type_into  # noqa: F401 - a fixture
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
 
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
-
-
-def _type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
-    field = text_input(page, label)
-    field.click()
-    field.fill("")
-    page.keyboard.type(text, delay=5)
-    field.press("Enter")
-
-
-def _button(page, name: str):  # type: ignore[no-untyped-def]
-    return page.get_by_role("button", name=name, exact=True)
 
 
 def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hall_app: App,  # noqa: F811
@@ -48,57 +36,57 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     close_toasts(projector)
 
     # A choice, typed and asked in the presenter's page.
-    _type_into(projector, "Question", "The book spins about y′. What does it do?")
-    _type_into(projector, "Options", "spins steadily | wobbles | flips again and again")
-    _button(projector, "Ask the class").click()
+    type_into(projector, "Question", "The book spins about y′. What does it do?")
+    type_into(projector, "Options", "spins steadily | wobbles | flips again and again")
+    button(projector, "Ask the class").click()
     wait_until(lambda: app.rounds.current is not None, timeout=10.0)
     for (page, _), option in zip(students, ("1. spins steadily", "3. flips again and again",
                                             "3. flips again and again"), strict=True):
-        _button(page, option).wait_for(timeout=20_000)
+        button(page, option).wait_for(timeout=20_000)
         close_toasts(page)
-    _button(students[0][0], "1. spins steadily").click()
-    _button(students[1][0], "3. flips again and again").click()
-    _button(students[2][0], "3. flips again and again").tap()
+    button(students[0][0], "1. spins steadily").click()
+    button(students[1][0], "3. flips again and again").click()
+    button(students[2][0], "3. flips again and again").tap()
     projector.get_by_text("3 of 3 answered", exact=False).wait_for(timeout=15_000)
     assert app.rounds.tally().counts == (1, 0, 2)
     assert "█" in projector.locator("body").inner_text()  # the histogram's bars
     students[2][0].get_by_text("Your answer:", exact=False).wait_for(timeout=10_000)  # the phone sees its answer
 
     # Vote again: the first round stays beside the second; a student changes its mind.
-    _button(projector, "Vote again").click()
-    _button(students[0][0], "3. flips again and again").wait_for(timeout=15_000)
-    _button(students[0][0], "3. flips again and again").click()
-    _button(students[2][0], "3. flips again and again").tap()
+    button(projector, "Vote again").click()
+    button(students[0][0], "3. flips again and again").wait_for(timeout=15_000)
+    button(students[0][0], "3. flips again and again").click()
+    button(students[2][0], "3. flips again and again").tap()
     projector.get_by_text("2 of 3 answered", exact=False).wait_for(timeout=15_000)
     projector.get_by_text("round 1: 2", exact=False).first.wait_for(timeout=10_000)
     tally = app.rounds.tally()
     assert tally.counts == (0, 0, 2) and tally.previous is not None and tally.previous.counts == (1, 0, 2)
 
     # A direction: the students turn their arrows with the sliders and send them.
-    _button(projector, "New question").click()
+    button(projector, "New question").click()
     projector.locator(f'[id="{presenter.ask_panel.gui_kind._impl.uuid}"]').click()
     projector.get_by_role("option", name="Direction").click()
-    _type_into(projector, "Question", "Where will ω point at t = 5 s?")
-    _type_into(projector, "True direction", "0.287, -0.008, 0.958")
-    _button(projector, "Ask the class").click()
+    type_into(projector, "Question", "Where will ω point at t = 5 s?")
+    type_into(projector, "True direction", "0.287, -0.008, 0.958")
+    button(projector, "Ask the class").click()
     for page, _ in students:
-        _button(page, "Send my direction").wait_for(timeout=20_000)
+        button(page, "Send my direction").wait_for(timeout=20_000)
     laptop, laptop_student = students[0]
     thumb = laptop.locator(f'[id="{laptop_student.question.gui_elevation._impl.uuid}"] [role="slider"]')
     thumb.focus()
     for _ in range(40):  # 45° + 40 × 1° = 85°: nearly straight up
         laptop.keyboard.press("ArrowRight")
     wait_until(lambda: laptop_student.question.gui_elevation.value == 85.0, timeout=10.0)
-    _button(laptop, "Send my direction").click()
-    _button(students[1][0], "Send my direction").click()  # as it was: azimuth 0°, elevation 45°
+    button(laptop, "Send my direction").click()
+    button(students[1][0], "Send my direction").click()  # as it was: azimuth 0°, elevation 45°
     phone, phone_student = students[2]
     track = phone.locator(f'[id="{phone_student.question.gui_azimuth._impl.uuid}"]').bounding_box()
     assert track is not None
     phone.touchscreen.tap(track["x"] + 0.25 * track["width"], track["y"] + 0.5 * track["height"])
     wait_until(lambda: phone_student.question.gui_azimuth.value < -45.0, timeout=10.0)
-    _button(phone, "Send my direction").tap()
+    button(phone, "Send my direction").tap()
     projector.get_by_text("3 tips on the sphere", exact=False).wait_for(timeout=15_000)
-    _button(projector, "Reveal the answer").click()
+    button(projector, "Reveal the answer").click()
     projector.get_by_text("within 15° of the true direction", exact=False).wait_for(timeout=10_000)
     tips = presenter.ask_panel._sphere[1]
     assert tips.visible and np.asarray(tips.points).shape == (3, 3)

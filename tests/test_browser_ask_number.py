@@ -8,23 +8,11 @@ check."""
 from __future__ import annotations
 
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_page, text_input  # noqa: F401 - hall_app: a fixture
+from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, text_input, type_into  # noqa: F401
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
-
-
-def _type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
-    field = text_input(page, label)
-    field.click()
-    field.fill("")
-    page.keyboard.type(text, delay=5)
-    field.press("Enter")
-
-
-def _button(page, name: str):  # type: ignore[no-untyped-def]
-    return page.get_by_role("button", name=name, exact=True)
 
 
 def test_a_class_answers_a_number_with_its_unit_through_its_pages(browser, hall_app: App,  # noqa: F811
@@ -39,15 +27,15 @@ def test_a_class_answers_a_number_with_its_unit_through_its_pages(browser, hall_
     projector.locator(f'[id="{presenter.ask_panel.gui_kind._impl.uuid}"]').click()
     projector.get_by_role("option", name="Number").click()
     wait_until(lambda: presenter.ask_panel.forms["number"].gui_unit.visible, timeout=10.0)
-    _type_into(projector, "Question", "The book flips: its flip period?")
-    _type_into(projector, "Right value", "2.5")
-    _type_into(projector, "Unit", "s")
-    _type_into(projector, "Tolerance", "0.2")
+    type_into(projector, "Question", "The book flips: its flip period?")
+    type_into(projector, "Right value", "2.5")
+    type_into(projector, "Unit", "s")
+    type_into(projector, "Tolerance", "0.2")
     wait_until(lambda: presenter.ask_panel.forms["number"].gui_tolerance.value == "0.2", timeout=10.0)
-    _button(projector, "Ask the class").click()
+    button(projector, "Ask the class").click()
     wait_until(lambda: app.rounds.current is not None, timeout=10.0)
     for (page, _), typed in zip(students, ("2.6", "3.1"), strict=True):
-        _button(page, "Send my number").wait_for(timeout=20_000)
+        button(page, "Send my number").wait_for(timeout=20_000)
         close_toasts(page)
         box = text_input(page, "Your answer [s]")
         box.click()
@@ -56,12 +44,12 @@ def test_a_class_answers_a_number_with_its_unit_through_its_pages(browser, hall_
         box.press("Enter")
     for (page, session), value in zip(students, (2.6, 3.1), strict=True):
         wait_until(lambda session=session, value=value: session.question.gui_number.value == value, timeout=10.0)
-        _button(page, "Send my number").click()
+        button(page, "Send my number").click()
     projector.get_by_text("2 of 2 answered", exact=False).wait_for(timeout=15_000)
     assert sorted(app.rounds.tally().values) == [2.6, 3.1]
     students[0][0].get_by_text("Your answer: 2.6 s", exact=False).wait_for(timeout=10_000)
     assert "█" in projector.locator("body").inner_text()  # the histogram's bars
-    _button(projector, "Reveal the answer").click()
+    button(projector, "Reveal the answer").click()
     projector.get_by_text("1 of 2", exact=False).first.wait_for(timeout=10_000)
     for _, session in [(projector, presenter), *students]:
         assert session.error_count == 0, session.last_error

@@ -8,7 +8,7 @@ follower (390×844, touch) and a laptop follower (1280×800).
 2. The phone follows, opens `Details` and explores: it keeps the phone layout (the camera it
    had, one line, `Details`): the body's projected points are body pixels, no panel over them;
    "Lecture on" and `Follow presenter` sit at the top of its panel.
-3. The laptop follows and explores: "Lecture on" tops its panel, and it types a time 10 s back
+3. The laptop follows and explores: "Lecture on" tops its panel, and it types a time SCRUB_BACK_S (4 s) back
    into the `Timeline [s]`: its copy carries the replay history.
 4. `Call everyone back`: the phone presses `Stay` and keeps exploring; the laptop, which does
    not, follows again when the countdown ends (the lectern's clock is moved on by the test).
@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, project, text_input  # noqa: F401
+from test_browser_lecture import close_toasts, hall_app, play_and_present, project  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
@@ -38,6 +38,7 @@ pytestmark = pytest.mark.browser
 
 SHOTS = os.environ.get("LIVE_SCREENSHOTS")
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
+SCRUB_BACK_S = 4.0  # [s] the laptop types a time this far back (a property: any time in the history scrubs there)
 
 
 def open_page(browser, hall: App, **context):  # type: ignore[no-untyped-def]
@@ -76,17 +77,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
                                                             monkeypatch, tmp_path) -> None:
     hall = hall_app
     presenter_page, presenter = open_page(browser, hall, viewport={"width": 1024, "height": 768})
-    presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    close_toasts(presenter_page)
-    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
-    presenter_page.get_by_role("option", name="Heavy top").click()
-    wait_until(lambda: presenter.scene.title == "Heavy top", timeout=15.0)
-    presenter_page.get_by_role("button", name="Play", exact=True).click()
-    open_folder(presenter_page, "Lecture", "Presenter code")
-    text_input(presenter_page, "Presenter code").click()
-    presenter_page.keyboard.type(CODE, delay=30)
-    presenter_page.get_by_role("button", name="Present").click()
-    wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
+    play_and_present(presenter_page, presenter, "Heavy top")
 
     # 1. The projector layout keeps the lecture's controls and the badge in view.
     presenter_page.get_by_text("Projector", exact=True).first.click()
@@ -102,7 +93,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
     phone, phone_session = open_page(browser, hall, **PHONE)
     wait_until(lambda: phone_session.mode == "following" and phone_session.scene.narrow, timeout=30.0)
     badge(presenter_page, 1, 0)
-    wait_until(lambda: presenter.room.sim.t > 12.0, timeout=60.0)  # a history to look back on
+    wait_until(lambda: presenter.room.sim.t > SCRUB_BACK_S + 1.0, timeout=60.0)  # a history to look back on
     presenter_page.get_by_role("button", name="Pause", exact=True).click()  # still bodies: projected = drawn
     wait_until(lambda: not presenter.room.playing, timeout=10.0)
     close_toasts(phone)
@@ -150,7 +141,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
         play.wait_for(state="visible", timeout=30_000)
         assert top.bounding_box()["y"] < play.bounding_box()["y"], "Lecture on is not at the top of the panel"
         room = laptop.room
-        t_back = room.live_t - 10.0
+        t_back = room.live_t - SCRUB_BACK_S
         box = number_box(laptop_page, laptop.scene.timeline.gui_slider)
         box.fill(f"{t_back:.2f}")
         box.press("Enter")

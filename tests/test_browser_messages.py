@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 from PIL import Image
 from playwright.sync_api import Error as PlaywrightError
-from test_browser import open_app, slider_thumb
+from test_browser import open_app, slider_thumb, still_picture
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input  # noqa: F401
 from test_browser_typing import binding_of, number_box, type_into
 
@@ -123,7 +123,7 @@ def test_screenshot_and_record_download_with_whole_names_and_no_gizmo(wait_until
     view = session.scene
     gizmo = view.hand.gizmos["omega"]
     wait_until(lambda: gizmo.visible, timeout=10.0)
-    time.sleep(1.5)  # nodes fade in
+    still_picture(page)  # nodes faded in
     page.get_by_text("For the notes", exact=True).first.click()
     shot = page.get_by_role("button", name="Screenshot")
     def server_side() -> str:

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, text_input  # noqa: F401
+from test_browser_lecture import close_toasts, hall_app, play_and_present  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
 
@@ -54,18 +54,7 @@ def test_a_visitor_after_the_lecture_lands_in_its_own_room_and_opens_the_last_on
                                                                                   wait_until) -> None:
     hall = hall_app
     presenter_page, presenter = open_page(browser, hall, **LAPTOP)
-    presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    close_toasts(presenter_page)
-    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
-    presenter_page.get_by_role("option", name="Heavy top").click()
-    wait_until(lambda: presenter.scene.title == "Heavy top", timeout=15.0)
-    presenter_page.get_by_role("button", name="Play", exact=True).click()
-    open_folder(presenter_page, "Lecture", "Presenter code")
-    text_input(presenter_page, "Presenter code").click()
-    presenter_page.keyboard.type(CODE, delay=30)
-    presenter_page.get_by_role("button", name="Present").click()
-    waited(wait_until, "the presenter presenting", lambda: presenter.mode == "presenting",
-           lambda: (presenter.mode, presenter.last_error), 30.0)
+    play_and_present(presenter_page, presenter, "Heavy top")
     waited(wait_until, "the presenter's t > 1 s", lambda: presenter.room.sim.t > 1.0,
            lambda: (presenter.room.sim.t, presenter.room.playing), 120.0)
     presenter_page.close()  # the presenter closes its tab

@@ -4,25 +4,36 @@ One test (a browser test costs ~10-20 s on 2 cores), acting through the page onl
 `Single rotation` checkbox is clicked, the scene changes (clipped screenshots differ) and the
 readout appears; the `half turn` preset is clicked and the θ slider dragged with the mouse
 through half turns (Φ = 180° throughout) without the drawn axis flipping; `D = 1` (Φ = 0) says
-the axis is undefined.  Screenshots (generic mid-animation, half turn, Φ = 0) are written to the
-test's tmp_path (`--basetemp` keeps them) for a person to look at.
+the axis is undefined.  ROTATION_SCREENSHOTS=<folder>: screenshots (generic mid-animation, half
+turn, Φ = 0) are written there for a person to look at.
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
-from test_browser import SCENE_CLIP, changed_fraction, open_app, slider_thumb
+from test_browser import open_app, picture_changes, slider_thumb, still_picture
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
 
 MIN_CHANGED_FRACTION = 0.005  # the axis, the arc and the outlines: far more than 0.5 % of pixels
+SHOTS = os.environ.get("ROTATION_SCREENSHOTS")
+
+
+def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
+    """The page as `name` under ROTATION_SCREENSHOTS (if set), once its picture holds still."""
+    if SHOTS:
+        still_picture(page)
+        Path(SHOTS).mkdir(parents=True, exist_ok=True)
+        (Path(SHOTS) / name).write_bytes(page.screenshot(timeout=60_000))
 
 
 def drawn_axis(view) -> np.ndarray:  # type: ignore[no-untyped-def]
@@ -30,21 +41,18 @@ def drawn_axis(view) -> np.ndarray:  # type: ignore[no-untyped-def]
     return (head - tail) / np.linalg.norm(head - tail)
 
 
-def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until, app: App, page, tmp_path) -> None:
+def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until, app: App, page) -> None:
     session = open_app(page, app)
     scene = session.scene
-    time.sleep(1.5)  # nodes fade in
-    before = page.screenshot(clip=SCENE_CLIP)
+    before = still_picture(page)  # nodes faded in
 
     # The checkbox, clicked: the axis, the arc and the animation appear; the readout too.
     page.locator(f'[id="{scene.single_rotation.gui_toggle._impl.uuid}"]').click()
     wait_until(lambda: scene.single_rotation.gui_toggle.value and scene.single_rotation.axis.visible, timeout=10.0)
     page.get_by_text("A = Φ hat(d), D = exp(A)").first.wait_for(timeout=10_000)
     page.mouse.move(5, 5)  # away from the checkbox: its hint closes
-    time.sleep(1.5)  # mid-animation (ANIMATION_SECONDS = 4)
-    animating = page.screenshot(clip=SCENE_CLIP)
-    (tmp_path / "single_rotation_generic.png").write_bytes(page.screenshot())
-    assert changed_fraction(before, animating) > MIN_CHANGED_FRACTION
+    assert picture_changes(page, before) > MIN_CHANGED_FRACTION  # the axis, the arc, the animation (4 s)
+    shot(page, "single_rotation_generic.png")
     assert "Φ = 69.55°" in scene.single_rotation.readout.handle.content  # SciPy: |rotvec| of ZXZ (30°, 50°, 20°)
 
     # The half turn preset, then θ dragged with the mouse: Φ stays 180°, d never flips.
@@ -71,14 +79,12 @@ def test_single_rotation_toggle_drag_through_half_turns_and_phi_zero(wait_until,
     assert min(steps) > 0.0, steps  # the sign of d is kept while θ moves through half turns
     expected = np.array([0.0, -math.sin(math.radians(theta / 2)), math.cos(math.radians(theta / 2))])
     assert abs(float(axes[-1] @ expected)) > 1.0 - 1e-6  # the half turn's axis (up to its sign)
-    time.sleep(1.0)
-    (tmp_path / "single_rotation_half_turn.png").write_bytes(page.screenshot())
+    shot(page, "single_rotation_half_turn.png")
 
     # Φ = 0: no axis, and the readout says so.
     page.get_by_role("button", name="D = 1").click()
     page.get_by_text("d undefined").first.wait_for(timeout=10_000)
     wait_until(lambda: not scene.single_rotation.axis.visible, timeout=10.0)
-    time.sleep(1.0)
-    (tmp_path / "single_rotation_phi_zero.png").write_bytes(page.screenshot())
-    print(f"θ dragged to {theta}°; screenshots in {tmp_path}")
+    shot(page, "single_rotation_phi_zero.png")
+    print(f"θ dragged to {theta}°")
     assert session.last_error is None, session.last_error

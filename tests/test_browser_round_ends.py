@@ -19,7 +19,7 @@ import os
 from pathlib import Path
 
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input  # noqa: F401
+from test_browser_lecture import button, close_toasts, hall_app, open_page, present_in_page, text_input, type_into  # noqa: F401
 
 from app.main import App
 
@@ -35,32 +35,11 @@ def _shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
         page.screenshot(path=str(Path(SHOTS) / name), timeout=60_000)
 
 
-def _type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
-    field = text_input(page, label)
-    field.click()
-    field.fill("")
-    page.keyboard.type(text, delay=5)
-    field.press("Enter")
-
-
-def _button(page, name: str):  # type: ignore[no-untyped-def]
-    return page.get_by_role("button", name=name, exact=True)
-
-
-def _present(page, session, wait_until) -> None:  # type: ignore[no-untyped-def]
-    """Type the code and press Present, in the page."""
-    open_folder(page, "Lecture", "Presenter code")
-    text_input(page, "Presenter code").click()
-    page.keyboard.type(CODE, delay=30)
-    _button(page, "Present").click()
-    wait_until(lambda: session.mode == "presenting", timeout=15.0)
-
-
-def _download(page, button) -> tuple[str, str]:  # type: ignore[no-untyped-def]
-    """(name, text) of the download that clicking `button` starts: the browser saves it at
+def _download(page, control) -> tuple[str, str]:  # type: ignore[no-untyped-def]
+    """(name, text) of the download that clicking `control` starts: the browser saves it at
     once (a toast's link is never clicked)."""
     with page.expect_download(timeout=30_000) as info:
-        button.click()
+        control.click()
     done = info.value
     return done.suggested_filename, Path(done.path()).read_text(encoding="utf-8")
 
@@ -68,32 +47,32 @@ def _download(page, button) -> tuple[str, str]:  # type: ignore[no-untyped-def]
 def test_a_round_ends_when_its_presenter_closes_the_tab(browser, hall_app: App, wait_until) -> None:  # noqa: F811
     app = hall_app
     lecturer, presenter = open_page(browser, app, timeout=90.0, **LAPTOP)
-    _present(lecturer, presenter, wait_until)
+    present_in_page(lecturer, presenter)
     student_page, student = open_page(browser, app, timeout=90.0, **LAPTOP)
     wait_until(lambda: student.mode == "following", timeout=20.0)
     close_toasts(lecturer)
 
-    _type_into(lecturer, "Question", "The book spins about y′. What does it do?")
-    _type_into(lecturer, "Options", "spins steadily | wobbles | flips")
-    _button(lecturer, "Ask the class").click()
-    option = _button(student_page, "3. flips")
+    type_into(lecturer, "Question", "The book spins about y′. What does it do?")
+    type_into(lecturer, "Options", "spins steadily | wobbles | flips")
+    button(lecturer, "Ask the class").click()
+    option = button(student_page, "3. flips")
     option.wait_for(timeout=20_000)
     option.click()
     lecturer.get_by_text("1 of 1 answered", exact=False).wait_for(timeout=15_000)
     close_toasts(lecturer)
-    name, text = _download(lecturer, _button(lecturer, "Download answers (CSV)"))
+    name, text = _download(lecturer, button(lecturer, "Download answers (CSV)"))
     assert name == "answers-round-1.csv" and "flips" in text, (name, text)
     _shot(lecturer, "download_answers.png")  # saved: no toast with a link
 
     lecturer.context.close()  # the presenter closes its tab without `Close the round`
     wait_until(lambda: presenter.closed and app.lectern.presenter is None, timeout=20.0)
     student_page.get_by_text("Question 1", exact=False).first.wait_for(state="hidden", timeout=20_000)
-    assert not _button(student_page, "3. flips").is_visible()
+    assert not button(student_page, "3. flips").is_visible()
     _shot(student_page, "student_after_leave.png")
 
     newcomer_page, newcomer = open_page(browser, app, timeout=90.0, **LAPTOP)
     scene = newcomer_page.locator(f'[id="{newcomer.gui_scene._impl.uuid}"]')
-    explore = _button(newcomer_page, "Explore on my own")
+    explore = button(newcomer_page, "Explore on my own")
     try:
         explore.wait_for(timeout=5_000)  # a newcomer that follows the frozen room: one click to its own
         explore.click()
@@ -105,13 +84,13 @@ def test_a_round_ends_when_its_presenter_closes_the_tab(browser, hall_app: App, 
     _shot(newcomer_page, "newcomer.png")
 
     next_page, successor = open_page(browser, app, timeout=90.0, **LAPTOP)
-    _present(next_page, successor, wait_until)
-    _button(next_page, "Ask the class").wait_for(timeout=20_000)
+    present_in_page(next_page, successor)
+    button(next_page, "Ask the class").wait_for(timeout=20_000)
     text_input(next_page, "Question").wait_for(timeout=10_000)
     assert not next_page.get_by_text("Round 1", exact=False).first.is_visible(), "the old round on the new presenter"
-    assert not _button(next_page, "Close the round").is_visible()
+    assert not button(next_page, "Close the round").is_visible()
     close_toasts(next_page)
-    earlier = _button(next_page, "Download earlier rounds (CSV)")
+    earlier = button(next_page, "Download earlier rounds (CSV)")
     earlier.wait_for(timeout=10_000)
     _shot(next_page, "next_presenter.png")
     name, text = _download(next_page, earlier)

@@ -18,6 +18,7 @@ running): a presenter on worker A, followers on A and on B.
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Iterator
 from typing import Any
@@ -25,7 +26,7 @@ from typing import Any
 import msgspec
 import numpy as np
 import pytest
-from conftest import poll_until
+from conftest import join, poll_until
 from test_trust import attack, fingerprint
 from test_wire import SceneMirror, _array, _settled
 
@@ -69,10 +70,12 @@ class SharedMirror(SceneMirror):
 
 
 class Workers:
-    """Apps on one Redis, each a worker; browser stand-ins connected to them; all closed at the end."""
+    """Apps on one Redis (flushed: a fresh lecture), each a worker with presenter code `code`;
+    browser stand-ins connected to them; all closed at the end."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(self, url: str, code: str = CODE) -> None:
         self.url = url
+        self.code = code
         self.apps: dict[str, App] = {}
         self.clients: list[Any] = []
         import redis
@@ -80,19 +83,14 @@ class Workers:
         redis.Redis.from_url(url).flushall()  # a fresh lecture (the lock, the audience)
 
     def start(self, worker: str) -> App:
-        app = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=self.url, worker_id=worker)
+        app = create_server("127.0.0.1", 0, verbose=False, presenter_code=self.code, redis_url=self.url,
+                            worker_id=worker)
         self.apps[worker] = app
         return app
 
     def connect(self, worker: str, factory: Any = SharedMirror) -> tuple[Any, Any]:
         """A browser stand-in on `worker`: (its session, the client)."""
-        app = self.apps[worker]
-        before = set(app.sessions)
-        client = factory(app.port)
-        self.clients.append(client)
-        sessions = app.wait_for_sessions(len(before) + 1, timeout=60.0)  # a websocket handshake on a busy machine
-        (session,) = (s for cid, s in sessions.items() if cid not in before)
-        return session, client
+        return join(self.apps[worker], self.clients, factory, timeout=60.0)  # a websocket handshake on a busy machine
 
     def close(self) -> None:
         for client in self.clients:
@@ -101,19 +99,26 @@ class Workers:
             app.stop()
 
 
-@pytest.fixture
-def workers(redis_url: str) -> Iterator[Workers]:
-    running = Workers(redis_url)
-    try:
-        yield running
-    finally:
-        running.close()
+def workers_fixture(code: str = CODE) -> Any:
+    """A pytest fixture, to assign to the name the tests ask for (`workers = workers_fixture(CODE)`;
+    it needs the `redis_url` fixture imported beside it): fresh `Workers` with presenter code
+    `code` for each test, closed after it."""
+
+    @pytest.fixture
+    def fresh_workers(redis_url: str) -> Iterator[Workers]:
+        with contextlib.closing(Workers(redis_url, code)) as running:
+            yield running
+
+    return fresh_workers
+
+
+workers = workers_fixture(CODE)
 
 
 def _present(workers: Workers, worker: str, title: str = "Free body") -> Any:
     presenter, _ = workers.connect(worker)
     presenter.guard("test", presenter.select_scene)(title)
-    presenter.guard("test", presenter.present)(CODE)
+    presenter.guard("test", presenter.present)(workers.code)
     assert presenter.mode == "presenting", presenter.last_error
     return presenter
 

@@ -14,44 +14,28 @@ the room on the shared screen belongs to the lecture, not to the process that dr
 
 from __future__ import annotations
 
-import subprocess
-import sys
-import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from conftest import WorkerProcess, lecturer_presenting, poll_until
+from test_bus import Workers, redis_url, workers_fixture
+
+__all__ = ["redis_url"]  # a fixture, for pytest
 
 CODE = "97531864"
-ROOT = Path(__file__).resolve().parent.parent
 TURN_TOLERANCE_RAD = 5e-3
 """The copy's body against the body B's browser displayed last: the drawn poses are quantized
 (`app.kit.draw.widgets.POSE_QUANTUM`, ~5e-4 rad) and the kept copy (at most a second old) is
 advanced to the last time drawn in frames of 1/60 s, not the presenter's own frames."""
 BODY = ("/top/tilt", "/top/tilt/b")  # Heavy top's body: the tilt frame, then the body's spin about its axis
+workers = workers_fixture(CODE)  # in-process workers on one redis-server for the module (`redis_url`)
 
 
 def _wait(predicate: Callable[[], Any], what: str, seen: Callable[[], Any], timeout: float = 30.0) -> Any:
     """Poll `predicate` until truthy (its value); AssertionError naming `what` and what was `seen`."""
-    deadline = time.monotonic() + timeout
-    while True:
-        value = predicate()
-        if value:
-            return value
-        if time.monotonic() > deadline:
-            raise AssertionError(f"not within {timeout} s: {what}; saw {seen()!r}"[:2000])
-        time.sleep(0.02)
-
-
-def _join(app: Any, factory: Any) -> tuple[Any, Any]:
-    """A browser stand-in made by `factory(port)` on `app`: (its session, the client)."""
-    before = set(app.sessions)
-    client = factory(app.port)
-    sessions = app.wait_for_sessions(len(before) + 1, timeout=60.0)
-    (session,) = (s for cid, s in sessions.items() if cid not in before)
-    return session, client
+    return poll_until(predicate, timeout, 0.02, what=what, seen=seen)
 
 
 def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -77,43 +61,18 @@ def _turn_rad(a: np.ndarray, b: np.ndarray) -> float:
     return float(2.0 * np.arccos(min(1.0, abs(float(np.dot(a, b))))))
 
 
-def test_explore_and_present_on_b_after_the_presenters_worker_is_killed() -> None:
+def test_explore_and_present_on_b_after_the_presenters_worker_is_killed(workers: Workers) -> None:
     from test_wire import SceneMirror
 
-    from app.cluster import services
     from app.lecture.follower import Hall
     from app.lecture.gate import LEASE_S
-    from app.main import create_server
-    from benchmarks.ws_client import ViserClient
 
-    try:
-        url, redis_process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    port = services.free_port()
-    out = open(Path("/tmp") / f"rbl-killed-source-{port}.out", "w+b")  # noqa: SIM115
-    worker = subprocess.Popen([sys.executable, "-m", "app", "--host", "127.0.0.1", "--port", str(port),
-                               "--redis", url, "--worker-id", "w1", "--presenter-code", CODE],
-                              cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
-    apps: list[Any] = []
-    clients: list[Any] = []
-    try:
-        _wait(lambda: b"worker w1 on" in Path(out.name).read_bytes() or worker.poll() is not None,
-              "worker w1 to start", lambda: Path(out.name).read_text(errors="replace")[-500:], 120.0)
-        assert worker.poll() is None, Path(out.name).read_text(errors="replace")
-        b = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=url, worker_id="w2")
-        apps.append(b)
-        follower, mirror = _join(b, SceneMirror)
-        successor, successor_client = _join(b, SceneMirror)
-        clients += [mirror, successor_client]
-        lecturer = ViserClient(port)
-        clients.append(lecturer)
-        lecturer.wait_for_label("Presenter code", timeout=60.0)
-        lecturer.set_value("Scene", "Heavy top", "Dropdown")
-        lecturer.set_value("Presenter code", CODE)
-        lecturer.click("Present")
-        lecturer.state.wait_for(lambda: (s := lecturer.state.find_gui("Stop presenting", "Button")) is not None
-                                and s.props.get("visible", True), timeout=30.0)
+    with WorkerProcess(workers.url, CODE, "w1") as w1:
+        b = workers.start("w2")
+        follower, mirror = workers.connect("w2", SceneMirror)
+        successor, _ = workers.connect("w2", SceneMirror)
+        lecturer = lecturer_presenting(w1.port, CODE, scene="Heavy top")
+        workers.clients.append(lecturer)
         lecturer.click("Play")
         _wait(lambda: follower.mode == "following" and successor.mode == "following" and b.lectern.hall is Hall.LIVE
               and b.lectern.live_title() == "Heavy top",
@@ -131,8 +90,7 @@ def test_explore_and_present_on_b_after_the_presenters_worker_is_killed() -> Non
         seen = b.bus.following
         _wait(lambda: (seen.seen_t or 0.0) > 1.5, "B drawing 1.5 s of the top's motion", lambda: seen.seen_t, 60.0)
         _wait(lambda: seen.kept is not None, "a kept copy of A's room on B", lambda: seen.kept, 20.0)
-        worker.kill()
-        worker.wait(10)
+        w1.kill()
         _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that A's presenter left", lambda: b.lectern.hall,
               LEASE_S + 10.0)
         displayed = _body_wxyz(mirror, "/l")
@@ -163,95 +121,65 @@ def test_explore_and_present_on_b_after_the_presenters_worker_is_killed() -> Non
         assert b.lectern.live_room is successor.room and successor.room.scene.title == "Heavy top"
         assert abs(successor.room.shown_t - shown_t) < 1e-6
         assert "presenter's worker is gone" in successor.scene.message.text
-    finally:
-        for client in clients:
-            client.close()
-        if worker.poll() is None:
-            worker.kill()
-            worker.wait(10)
-        for app in apps:
-            app.stop()
-        services.stop_process(redis_process)
-        out.close()
-        Path(out.name).unlink(missing_ok=True)
 
 
-def test_only_the_last_lectures_room_is_offered_after_its_worker_died() -> None:
+def test_only_the_last_lectures_room_is_offered_after_its_worker_died(workers: Workers) -> None:
     from conftest import RawClient
-    from test_bus import Workers, _present
+    from test_bus import _present
 
-    from app.cluster import services
     from app.lecture.bus import LAST_KEY
     from app.lecture.follower import Hall
 
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    workers = Workers(url)
-    try:
-        a, b = workers.start("a"), workers.start("b")
-        first = _present(workers, "a", "Heavy top")
-        _wait(lambda: b.lectern.hall is Hall.LIVE and b.lectern.live_title() == "Heavy top",
-              "B showing the first lecture", lambda: (b.lectern.hall, b.lectern.live_title()))
-        first.guard("test", first.stop_presenting)()
-        _wait(lambda: b.lectern.hall is Hall.STOPPED, "B hearing the first lecture stop", lambda: b.lectern.hall)
-        _wait(lambda: a.bus.redis.get(LAST_KEY) is not None, "the first lecture's room kept in Redis",
-              lambda: None, 10.0)
-        second = _present(workers, "a", "Free body")
-        _wait(lambda: b.lectern.hall is Hall.LIVE and b.lectern.live_title() == "Free body",
-              "B showing the second lecture", lambda: (b.lectern.hall, b.lectern.live_title()))
-        assert second.mode == "presenting"
-        a.bus.source = False  # as if killed: no "left" said, no room kept in Redis
-        a.stop()
-        del workers.apps["a"]
-        _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that the second presenter left",
-              lambda: b.lectern.hall, 15.0)
-        newcomer, _ = workers.connect("b", RawClient)
-        assert newcomer.came_after_lecture and newcomer.mode == "own"
-        assert newcomer.lecture.gui_ended.visible and "Free body" in newcomer.lecture.gui_ended.content
-        newcomer.guard("test", newcomer.select_scene)("Poinsot")
-        newcomer.guard("test", newcomer.open_last_lecture)()
-        assert newcomer.error_count == 0, newcomer.last_error
-        assert newcomer.room.scene.title == "Free body", \
-            f"the last lecture was on Free body; opened {newcomer.room.scene.title} (an older lecture's room)"
-        assert "presenter's worker is gone" in newcomer.scene.message.text, newcomer.scene.message.text
-    finally:
-        workers.close()
-        services.stop_process(process)
+    a, b = workers.start("a"), workers.start("b")
+    first = _present(workers, "a", "Heavy top")
+    _wait(lambda: b.lectern.hall is Hall.LIVE and b.lectern.live_title() == "Heavy top",
+          "B showing the first lecture", lambda: (b.lectern.hall, b.lectern.live_title()))
+    first.guard("test", first.stop_presenting)()
+    _wait(lambda: b.lectern.hall is Hall.STOPPED, "B hearing the first lecture stop", lambda: b.lectern.hall)
+    _wait(lambda: a.bus.redis.get(LAST_KEY) is not None, "the first lecture's room kept in Redis",
+          lambda: None, 10.0)
+    second = _present(workers, "a", "Free body")
+    _wait(lambda: b.lectern.hall is Hall.LIVE and b.lectern.live_title() == "Free body",
+          "B showing the second lecture", lambda: (b.lectern.hall, b.lectern.live_title()))
+    assert second.mode == "presenting"
+    a.bus.source = False  # as if killed: no "left" said, no room kept in Redis
+    a.stop()
+    del workers.apps["a"]
+    _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that the second presenter left",
+          lambda: b.lectern.hall, 15.0)
+    newcomer, _ = workers.connect("b", RawClient)
+    assert newcomer.came_after_lecture and newcomer.mode == "own"
+    assert newcomer.lecture.gui_ended.visible and "Free body" in newcomer.lecture.gui_ended.content
+    newcomer.guard("test", newcomer.select_scene)("Poinsot")
+    newcomer.guard("test", newcomer.open_last_lecture)()
+    assert newcomer.error_count == 0, newcomer.last_error
+    assert newcomer.room.scene.title == "Free body", \
+        f"the last lecture was on Free body; opened {newcomer.room.scene.title} (an older lecture's room)"
+    assert "presenter's worker is gone" in newcomer.scene.message.text, newcomer.scene.message.text
 
 
-def test_with_nothing_of_the_room_kept_explore_gives_a_fresh_room_of_the_scene(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_with_nothing_of_the_room_kept_explore_gives_a_fresh_room_of_the_scene(
+        monkeypatch: pytest.MonkeyPatch, workers: Workers) -> None:
     """The last resort: a killed source whose room never reached B (no copy kept, none in Redis):
     Explore on B still leaves the frozen screen, with a fresh room of the same scene and a line
     saying only the scene could be kept."""
-    from test_bus import Workers, _present
+    from test_bus import _present
 
-    from app.cluster import services
     from app.lecture.bus.source import Publisher
     from app.lecture.follower import Hall
 
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
     monkeypatch.setattr(Publisher, "_send_keep", lambda self: None)  # no copy of the room ever published
-    workers = Workers(url)
-    try:
-        a, b = workers.start("a"), workers.start("b")
-        _present(workers, "a", "Poinsot")
-        follower, _ = workers.connect("b")
-        _wait(lambda: follower.mode == "following" and b.lectern.live_title() == "Poinsot",
-              "B's browser following the Poinsot lecture", lambda: (follower.mode, b.lectern.live_title()))
-        a.bus.source = False  # as if killed
-        a.stop()
-        del workers.apps["a"]
-        _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that the presenter left", lambda: b.lectern.hall, 15.0)
-        follower.guard("test", follower.explore)()
-        assert follower.mode == "own" and follower.error_count == 0, follower.last_error
-        assert follower.room.scene.title == "Poinsot" and follower.room.shown_t == 0.0
-        note = follower.scene.message.text
-        assert "presenter's worker is gone" in note and "only the scene" in note, note
-    finally:
-        workers.close()
-        services.stop_process(process)
+    a, b = workers.start("a"), workers.start("b")
+    _present(workers, "a", "Poinsot")
+    follower, _ = workers.connect("b")
+    _wait(lambda: follower.mode == "following" and b.lectern.live_title() == "Poinsot",
+          "B's browser following the Poinsot lecture", lambda: (follower.mode, b.lectern.live_title()))
+    a.bus.source = False  # as if killed
+    a.stop()
+    del workers.apps["a"]
+    _wait(lambda: b.lectern.hall is Hall.LEFT, "B taking it that the presenter left", lambda: b.lectern.hall, 15.0)
+    follower.guard("test", follower.explore)()
+    assert follower.mode == "own" and follower.error_count == 0, follower.last_error
+    assert follower.room.scene.title == "Poinsot" and follower.room.shown_t == 0.0
+    note = follower.scene.message.text
+    assert "presenter's worker is gone" in note and "only the scene" in note, note

@@ -4,11 +4,10 @@ the tests tick the rooms by hand."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import numpy as np
 import pytest
-from conftest import LectureHall, poll_until
+from conftest import LectureHall as Hall
+from conftest import hall_fixture, poll_until
 from scipy.spatial.transform import Rotation
 
 from app.kit.draw.widgets import POSE_QUANTUM
@@ -20,18 +19,7 @@ DT = 1.0 / 60.0
 CODE = "424242"
 
 
-class Hall(LectureHall):
-    def __init__(self) -> None:
-        super().__init__(CODE)
-
-
-@pytest.fixture
-def hall() -> Iterator[Hall]:
-    running = Hall()
-    try:
-        yield running
-    finally:
-        running.close()
+hall = hall_fixture(CODE)
 
 
 def _pose(node) -> np.ndarray:  # type: ignore[no-untyped-def]

@@ -6,12 +6,12 @@ Real websocket clients (`RawClient`), the app's loop not running: the tests tick
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 import pytest
-from conftest import LectureHall, RawClient, poll_until
+from conftest import LectureHall as Hall
+from conftest import RawClient, hall_fixture, poll_until
 from test_bus import Workers, _present, redis_url, workers  # noqa: F401 - the fixtures across workers
 
 from app.hall.lecture_panel import LAST_ROOM_LABEL
@@ -22,18 +22,7 @@ from app.scenes import DEFAULT_SCENE
 CODE = "313131"
 
 
-class Hall(LectureHall):
-    def __init__(self) -> None:
-        super().__init__(CODE)
-
-
-@pytest.fixture
-def hall() -> Iterator[Hall]:
-    running = Hall()
-    try:
-        yield running
-    finally:
-        running.close()
+hall = hall_fixture(CODE)
 
 
 def _state(room: Any) -> tuple[float, np.ndarray, np.ndarray]:

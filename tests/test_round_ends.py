@@ -12,47 +12,24 @@ from __future__ import annotations
 
 import csv
 import io
-import subprocess
-import sys
 import time
-from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import RawClient, WorkerProcess, lecturer_presenting, shared_hall_fixtures
+from test_bus import Workers, redis_url, workers_fixture
 
 from app.ask import Refused
+
+__all__ = ["redis_url"]  # a fixture, for pytest
 
 CODE = "975310"
 DIRECTION = {"kind": "direction", "prompt": "Where does L point?", "truth": [0, 0, 1]}
 CHOICE = {"kind": "choice", "prompt": "Which axis is stable?", "options": ["x", "y", "z"], "correct": 0}
-ROOT = Path(__file__).resolve().parent.parent
 
 
-@pytest.fixture(scope="module")
-def _one_hall():  # type: ignore[no-untyped-def]
-    from conftest import LectureHall
-
-    running = LectureHall(CODE)
-    try:
-        yield running
-    finally:
-        running.close()
-
-
-@pytest.fixture
-def hall(_one_hall):  # type: ignore[no-untyped-def]
-    """One app for this file's one-process tests; each test's browsers leave after it."""
-    from conftest import poll_until
-
-    before = len(_one_hall.clients)
-    yield _one_hall
-    app = _one_hall.app
-    for client in _one_hall.clients[before:]:
-        client.close()
-    del _one_hall.clients[before:]
-    poll_until(lambda: not app.sessions and app.lectern.presenter is None, timeout=20.0)
-    app.rounds.end()
-    app.rounds.earlier.clear()
+_one_hall, hall = shared_hall_fixtures(CODE)  # one app for the one-process tests; each test's browsers leave after it
+workers = workers_fixture(CODE)  # the apps across workers, on one redis-server for the module (`redis_url`)
 
 
 def _frames_until(hall: Any, predicate: Any, what: str, timeout: float = 15.0) -> None:
@@ -205,122 +182,77 @@ def test_a_hostile_client_keeps_no_round_alive_after_its_presenter_left(hall: An
 
 
 # ---------------------------------------------------------------------- across workers (app.cluster.askbus)
-def _join(app: Any, clients: list[Any]) -> Any:
-    from conftest import RawClient
-
-    before = set(app.sessions)
-    client = RawClient(app.port)
-    clients.append(client)
-    sessions = app.wait_for_sessions(len(before) + 1, timeout=20.0)
-    (session,) = (s for cid, s in sessions.items() if cid not in before)
-    return session
+def _join(workers: Workers, worker: str) -> Any:
+    """A raw browser's session on `worker`."""
+    return workers.connect(worker, RawClient)[0]
 
 
-def test_a_round_on_another_worker_ends_when_its_presenter_stops() -> None:
+def test_a_round_on_another_worker_ends_when_its_presenter_stops(workers: Workers) -> None:
     from conftest import poll_until
 
-    from app.cluster import services
     from app.cluster.askbus import ROUND_KEY
-    from app.main import create_server
 
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    apps: list[Any] = []
-    clients: list[Any] = []
-    try:
-        for worker in ("w1", "w2"):
-            apps.append(create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=url,
-                                      worker_id=worker))
-        presenter, student = _join(apps[0], clients), _join(apps[1], clients)
-        presenter.present(CODE)
-        presenter.ask(CHOICE)
-        poll_until(lambda: student.question.folder.visible, timeout=10.0)
-        student.answer(2)
-        poll_until(lambda: apps[0].rounds.tally() is not None and apps[0].rounds.tally().answered == 1, timeout=10.0)
-        presenter.stop_presenting()
-        poll_until(lambda: not student.question.folder.visible, timeout=5.0)
-        poll_until(lambda: apps[0].ask_bus.redis.get(ROUND_KEY) is None, timeout=2.0)  # the source deletes it
-        with pytest.raises(Refused):
-            student.answer(1)
-        newcomer = _join(apps[1], clients)
-        newcomer.present(CODE)
-        poll_until(lambda: newcomer.ask_panel.folder.visible, timeout=5.0)
-        assert newcomer.ask_panel.gui_ask.visible and not newcomer.ask_panel.gui_count.visible
-        assert apps[1].rounds.shown() is None
-        (ended,) = apps[0].rounds.earlier
-        assert ended.why == "the presenter stopped" and ended.round_.tally().counts == (0, 0, 1)
-        # the next presenter, on the other worker, downloads the ended round (saved at once)
-        poll_until(lambda: newcomer.ask_panel.gui_earlier.visible, timeout=10.0)
-        sent = _recorded_downloads(newcomer)
-        newcomer.ask_panel.download_earlier()
-        ((name, data, at_once),) = sent
-        text = data.decode("utf-8")
-        assert at_once and "ended: the presenter stopped" in text and "Which axis is stable?" in text, text
-        rows = list(csv.DictReader(line for line in io.StringIO(text) if not line.startswith("#")))
-        assert [row["option"] for row in rows] == ["3"]
-    finally:
-        for client in clients:
-            client.close()
-        for app in apps:
-            app.stop()
-        services.stop_process(process)
+    apps = [workers.start("w1"), workers.start("w2")]
+    presenter, student = _join(workers, "w1"), _join(workers, "w2")
+    presenter.present(CODE)
+    presenter.ask(CHOICE)
+    poll_until(lambda: student.question.folder.visible, timeout=10.0)
+    student.answer(2)
+    poll_until(lambda: apps[0].rounds.tally() is not None and apps[0].rounds.tally().answered == 1, timeout=10.0)
+    presenter.stop_presenting()
+    poll_until(lambda: not student.question.folder.visible, timeout=5.0)
+    poll_until(lambda: apps[0].ask_bus.redis.get(ROUND_KEY) is None, timeout=2.0)  # the source deletes it
+    with pytest.raises(Refused):
+        student.answer(1)
+    newcomer = _join(workers, "w2")
+    newcomer.present(CODE)
+    poll_until(lambda: newcomer.ask_panel.folder.visible, timeout=5.0)
+    assert newcomer.ask_panel.gui_ask.visible and not newcomer.ask_panel.gui_count.visible
+    assert apps[1].rounds.shown() is None
+    (ended,) = apps[0].rounds.earlier
+    assert ended.why == "the presenter stopped" and ended.round_.tally().counts == (0, 0, 1)
+    # the next presenter, on the other worker, downloads the ended round (saved at once)
+    poll_until(lambda: newcomer.ask_panel.gui_earlier.visible, timeout=10.0)
+    sent = _recorded_downloads(newcomer)
+    newcomer.ask_panel.download_earlier()
+    ((name, data, at_once),) = sent
+    text = data.decode("utf-8")
+    assert at_once and "ended: the presenter stopped" in text and "Which axis is stable?" in text, text
+    rows = list(csv.DictReader(line for line in io.StringIO(text) if not line.startswith("#")))
+    assert [row["option"] for row in rows] == ["3"]
 
 
-def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed() -> None:
+def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed(workers: Workers) -> None:
     """w1 is a real worker process (`python -m app --redis URL --worker-id w1`) whose presenter,
     a raw websocket, asks through its panel; w2's student sees the question.  SIGKILL w1: w2's
     student stops seeing it within a few seconds (the presenter lock's lease, the round key's
     TTL), and w2's next presenter gets the form."""
     from conftest import poll_until
 
-    from app.cluster import services
     from app.cluster.askbus import ROUND_KEY, ROUND_LIVE_S
     from app.lecture.gate import LEASE_S
-    from app.main import create_server
-    from benchmarks.ws_client import ViserClient
 
-    try:
-        url, redis_process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    port = services.free_port()
-    out = open(Path("/tmp") / f"rbl-round-ends-{port}.out", "w+b")  # noqa: SIM115
-    worker = subprocess.Popen([sys.executable, "-m", "app", "--host", "127.0.0.1", "--port", str(port),
-                               "--redis", url, "--worker-id", "w1", "--presenter-code", CODE],
-                              cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
-    apps: list[Any] = []
-    clients: list[Any] = []
-    try:
-        poll_until(lambda: b"worker w1 on" in Path(out.name).read_bytes() or worker.poll() is not None, 120.0, 0.2)
-        assert worker.poll() is None, Path(out.name).read_text(errors="replace")
-        apps.append(create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE, redis_url=url, worker_id="w2"))
-        student = _join(apps[0], clients)
-        lecturer = ViserClient(port)
-        clients.append(lecturer)
-        lecturer.wait_for_label("Presenter code", timeout=60.0)
-        lecturer.set_value("Presenter code", CODE)
-        lecturer.click("Present")
-        lecturer.state.wait_for(lambda: (b := lecturer.state.find_gui("Stop presenting", "Button")) is not None
-                                and b.props.get("visible", True), timeout=30.0)
+    with WorkerProcess(workers.url, CODE, "w1") as w1:
+        w2 = workers.start("w2")
+        student = _join(workers, "w2")
+        lecturer = lecturer_presenting(w1.port, CODE)
+        workers.clients.append(lecturer)
         lecturer.set_value("Question", "Which axis is stable?", "Text")
         lecturer.set_value("Options", "x | y | z", "Text")
         lecturer.click("Ask the class")
         poll_until(lambda: student.question.folder.visible, timeout=20.0)
         assert "Which axis is stable?" in student.question.gui_prompt.content
         student.answer(0)
-        successor = _join(apps[0], clients)  # explores before the kill (a killed worker's room cannot be copied)
+        successor = _join(workers, "w2")  # explores before the kill (a killed worker's room cannot be copied)
         poll_until(lambda: successor.mode == "following", timeout=20.0)
         successor.explore()
         assert successor.mode == "own", successor.last_error
-        redis = apps[0].ask_bus.redis
-        worker.kill()
+        redis = w2.ask_bus.redis
+        w1.kill()
         killed = time.monotonic()
-        worker.wait(10)
         poll_until(lambda: not student.question.folder.visible, timeout=3 * ROUND_LIVE_S)
         hidden_after = time.monotonic() - killed
-        assert apps[0].rounds.shown() is None
+        assert w2.rounds.shown() is None
         with pytest.raises(Refused):
             student.answer(1)
         assert hidden_after < LEASE_S + 2.0, f"the killed worker's round showed {hidden_after:.1f} s"
@@ -328,61 +260,40 @@ def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed() -> None:
         gone_after = time.monotonic() - killed
         assert gone_after < ROUND_LIVE_S + 2.0
         print(f"killed worker's round: hidden on w2 after {hidden_after:.2f} s, key gone after {gone_after:.2f} s")
-        poll_until(lambda: apps[0].lectern.gate.presenter() is None, timeout=2 * LEASE_S)
+        poll_until(lambda: w2.lectern.gate.presenter() is None, timeout=2 * LEASE_S)
         successor.present(CODE)
         poll_until(lambda: successor.ask_panel.folder.visible, timeout=5.0)
         assert successor.ask_panel.gui_ask.visible and not successor.ask_panel.gui_count.visible
-    finally:
-        for client in clients:
-            client.close()
-        if worker.poll() is None:
-            worker.kill()
-            worker.wait(10)
-        for app in apps:
-            app.stop()
-        services.stop_process(redis_process)
-        out.close()
-        Path(out.name).unlink(missing_ok=True)
 
 
-def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens() -> None:
+def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens(workers: Workers) -> None:
     """The presenter on a points; b's followers see the marker.  a dies without a word (no
     removal said): once b takes it that the presenter left, the marker leaves b's shared scene
     (the rest stays, the last state)."""
     from conftest import poll_until
-    from test_bus import Workers, _live_nodes, _present
+    from test_bus import _live_nodes, _present
 
-    from app.cluster import services
     from app.lecture.follower import Hall
     from app.lecture.lectern import POINTER_ROOT
 
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    workers = Workers(url)
-    try:
-        a, b = workers.start("a"), workers.start("b")
-        presenter = _present(workers, "a")
-        follower_b, mirror_b = workers.connect("b")
-        poll_until(lambda: follower_b.mode == "following" and b.lectern.hall is Hall.LIVE, timeout=10.0)
-        a.lectern.point(presenter, (0.0, -6.0, 1.0), (0.0, 1.0, 0.0), "here")
-        a.lectern.pointer.tick = lambda _dt: None  # the marker does not fade: a dies before it would
+    a, b = workers.start("a"), workers.start("b")
+    presenter = _present(workers, "a")
+    follower_b, mirror_b = workers.connect("b")
+    poll_until(lambda: follower_b.mode == "following" and b.lectern.hall is Hall.LIVE, timeout=10.0)
+    a.lectern.point(presenter, (0.0, -6.0, 1.0), (0.0, 1.0, 0.0), "here")
+    a.lectern.pointer.tick = lambda _dt: None  # the marker does not fade: a dies before it would
 
-        def markers() -> list[str]:
-            return [name for name in _live_nodes(mirror_b) if name.startswith(POINTER_ROOT + "/")]
+    def markers() -> list[str]:
+        return [name for name in _live_nodes(mirror_b) if name.startswith(POINTER_ROOT + "/")]
 
-        poll_until(lambda: markers(), timeout=10.0)
-        assert any(name.startswith(POINTER_ROOT + "/") for name in b.bus.shared.applied.nodes())
-        a.bus.source = False  # as if killed: no "left" said, no removal sent
-        a.stop()
-        del workers.apps["a"]
-        poll_until(lambda: b.lectern.hall is Hall.LEFT, timeout=10.0)
-        poll_until(lambda: not markers(), timeout=5.0)
-        assert _live_nodes(mirror_b), "the last state stays on b's screens"
-    finally:
-        workers.close()
-        services.stop_process(process)
+    poll_until(lambda: markers(), timeout=10.0)
+    assert any(name.startswith(POINTER_ROOT + "/") for name in b.bus.shared.applied.nodes())
+    a.bus.source = False  # as if killed: no "left" said, no removal sent
+    a.stop()
+    del workers.apps["a"]
+    poll_until(lambda: b.lectern.hall is Hall.LEFT, timeout=10.0)
+    poll_until(lambda: not markers(), timeout=5.0)
+    assert _live_nodes(mirror_b), "the last state stays on b's screens"
 
 
 @pytest.mark.parametrize("end", ["stop", "tab closed"])

@@ -21,12 +21,11 @@ import dataclasses
 import math
 import time
 import uuid as uuidlib
-from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 import pytest
-from conftest import LectureHall, RawClient, poll_until
+from conftest import LectureHall, RawClient, hall_fixture, poll_until
 
 from app.kit.draw.screen import project_one, screen_of
 from app.lecture.lectern import BODY_WIDTH_SHARE, NARROW_MARGIN, fitted_camera
@@ -70,22 +69,13 @@ def fingerprint(obj: Any, depth: int = 0) -> Any:
 
 
 class Hall(LectureHall):
-    """The lecture hall with this file's code; `join` gives (session, client)."""
-
-    def __init__(self) -> None:
-        super().__init__(CODE)
+    """The lecture hall; `join` gives (session, client)."""
 
     def join(self, client_factory: Any = RawClient) -> Any:  # type: ignore[override]
         return self.join_with_client(client_factory)
 
 
-@pytest.fixture
-def hall() -> Iterator[Hall]:
-    running = Hall()
-    try:
-        yield running
-    finally:
-        running.close()
+hall = hall_fixture(CODE, Hall)
 
 
 def _messages_seen(client: ViserClient) -> list[dict[str, Any]]:
