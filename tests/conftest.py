@@ -462,3 +462,19 @@ def world_rotation(handle: Any) -> Any:
         if name in nodes:
             R = _Rotation.from_quat(_np.asarray(nodes[name]._impl.wxyz, dtype=float), scalar_first=True).as_matrix() @ R
     return R
+
+
+@pytest.fixture(scope="module")
+def redis_url() -> Iterator[str]:
+    """A redis-server of the test module's own (in memory, a free port), stopped after it; the
+    module is skipped, with the install command, where redis-server is missing."""
+    from app.cluster import services  # noqa: PLC0415 - only the modules that ask for Redis import it
+
+    try:
+        url, process = services.start_redis()
+    except services.MissingProgram as error:
+        pytest.skip(str(error))
+    try:
+        yield url
+    finally:
+        services.stop_process(process)

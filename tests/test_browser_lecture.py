@@ -91,6 +91,22 @@ def open_folder(page, folder: str, inside: str) -> None:  # type: ignore[no-unty
     raise AssertionError(f"the folder {folder!r} did not open")
 
 
+def open_folder_to(page, folder: str, field: str) -> None:  # type: ignore[no-untyped-def]
+    """Open the folder `folder` until its text field `field` shows: a click on its title only
+    while the field is hidden, then a wait (a second click while it unfolds on a busy machine
+    would fold it again)."""
+    box = text_input(page, field)
+    for _ in range(3):
+        if not box.is_visible():
+            page.get_by_text(folder, exact=True).first.click()
+        try:
+            box.wait_for(state="visible", timeout=20_000)
+            return
+        except Exception:  # noqa: BLE001 - the click landed before the panel was laid out
+            continue
+    raise AssertionError(f"the {folder} folder did not open")
+
+
 def text_input(page, label: str):  # type: ignore[no-untyped-def]
     """viser's text field labelled `label` (its <label for> names no element: the input is the
     one in the label's row)."""

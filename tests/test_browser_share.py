@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from test_browser_lecture import close_toasts, hall_app, open_page, text_input  # noqa: F401
+from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, text_input  # noqa: F401
 
 from app.main import App
 from app.sharestore import DEFAULT_TTL_S
@@ -22,21 +22,6 @@ from tests.test_fork import assert_same
 from tests.test_trust import fingerprint
 
 pytestmark = pytest.mark.browser
-
-
-def _open_share(page) -> None:  # type: ignore[no-untyped-def]
-    """Open the Share folder: one click on its title, then wait (a second click while it is still
-    unfolding on a busy machine would fold it again)."""
-    field = text_input(page, "Shared code")
-    for _ in range(3):
-        if not field.is_visible():
-            page.get_by_text("Share", exact=True).first.click()
-        try:
-            field.wait_for(state="visible", timeout=20_000)
-            return
-        except Exception:  # noqa: BLE001 - the click landed before the panel was laid out
-            continue
-    raise AssertionError("the Share folder did not open")
 
 
 def _open_code(page, text: str) -> None:  # type: ignore[no-untyped-def]
@@ -60,7 +45,7 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
     sharer_page.get_by_role("button", name="Pause", exact=True).click()
     wait_until(lambda: not sharer.room.playing, timeout=10.0)
     close_toasts(sharer_page)
-    _open_share(sharer_page)
+    open_folder_to(sharer_page, "Share", "Shared code")
     sharer_page.get_by_role("button", name="Share", exact=True).click()
     shown = sharer_page.get_by_text(re.compile(r"Code [0-9A-Z]{4}-[0-9A-Z]{4}")).first
     shown.wait_for(timeout=15_000)
@@ -70,7 +55,7 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
 
     other_page, other = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
     close_toasts(other_page)
-    _open_share(other_page)
+    open_folder_to(other_page, "Share", "Shared code")
     before_room, before = other.room, fingerprint(other.room.sim)
 
     _open_code(other_page, "hello")

@@ -11,7 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_page, text_input  # noqa: F401 - hall_app: a fixture
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder_to, open_page, text_input  # noqa: F401 - hall_app: a fixture
 
 from app.main import App
 
@@ -34,21 +34,6 @@ def _button(page, name: str):  # type: ignore[no-untyped-def]
     return page.get_by_role("button", name=name, exact=True)
 
 
-def _open_task_folder(page) -> None:  # type: ignore[no-untyped-def]
-    """Open the Task folder: one click on its title, then wait (a second click while it unfolds
-    on a busy machine would fold it again)."""
-    field = text_input(page, "Task code")
-    for _ in range(3):
-        if not field.is_visible():
-            page.get_by_text("Task", exact=True).first.click()
-        try:
-            field.wait_for(state="visible", timeout=20_000)
-            return
-        except Exception:  # noqa: BLE001 - the click landed before the panel was laid out
-            continue
-    raise AssertionError("the Task folder did not open")
-
-
 def _choose(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
     page.locator(f'[id="{handle._impl.uuid}"]').click()
     page.get_by_role("option", name=option, exact=True).click()
@@ -62,12 +47,26 @@ def _student_submits(page, value: str, expected: str) -> str:  # type: ignore[no
     return page.locator("body").inner_text()
 
 
-def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser, hall_app: App,  # noqa: F811
-                                                                        wait_until) -> None:
-    app = hall_app
+def _presenting(browser, app: App):  # type: ignore[no-untyped-def]
+    """The lecturer's page on a 1280×900 projector, presenting: (page, session)."""
     projector, presenter = open_page(browser, app, timeout=90.0, viewport={"width": 1280, "height": 900})
     presenter.present(CODE)
     close_toasts(projector)
+    return projector, presenter
+
+
+def _open_as_lecturer(page, code: str) -> None:  # type: ignore[no-untyped-def]
+    """The lecturer opens the task `code` with the presenter code, through the Task folder."""
+    open_folder_to(page, "Task", "Task code")
+    _type_into(page, "Task code", code)
+    _type_into(page, "Lecturer's code", CODE)
+    _button(page, "Open as lecturer").click()
+
+
+def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser, hall_app: App,  # noqa: F811
+                                                                        wait_until) -> None:
+    app = hall_app
+    projector, presenter = _presenting(browser, app)
     ask = presenter.ask_panel
     projector.locator(f'[id="{ask.gui_kind._impl.uuid}"]').click()
     projector.get_by_role("option", name="Number").click()
@@ -89,7 +88,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
 
     laptop, ann = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
-    _open_task_folder(laptop)
+    open_folder_to(laptop, "Task", "Task code")
     _type_into(laptop, "Task code", code.lower().replace("-", " "))  # as read aloud
     _button(laptop, "Open the task").click()
     laptop.get_by_text("The book flips: its flip period?", exact=False).first.wait_for(timeout=WAIT_MS)
@@ -103,17 +102,14 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     phone, bea = open_page(browser, app, timeout=90.0, viewport={"width": 390, "height": 844}, is_mobile=True,
                            has_touch=True)
     close_toasts(phone)
-    _open_task_folder(phone)
+    open_folder_to(phone, "Task", "Task code")
     _type_into(phone, "Task code", code)
     _button(phone, "Open the task").click()
     phone.get_by_text("The book flips: its flip period?", exact=False).first.wait_for(timeout=WAIT_MS)
     _type_into(phone, "Student number", "s 2041")
     _student_submits(phone, "4", "4 s: wrong")
 
-    _open_task_folder(projector)
-    _type_into(projector, "Task code", code)
-    _type_into(projector, "Lecturer's code", CODE)
-    _button(projector, "Open as lecturer").click()
+    _open_as_lecturer(projector, code)
     projector.get_by_text("2 students", exact=False).first.wait_for(timeout=WAIT_MS)
     table = presenter.task_panel.gui_table.content
     assert "| Ann Lee | – | 2 | 1.00 | 2.6 s: right |" in table, table
@@ -144,9 +140,7 @@ WORKSHEET = "Worksheet on the memo (a task for home: one rotation, the flip, a t
 def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(browser, hall_app: App,  # noqa: F811
                                                                              wait_until) -> None:
     app = hall_app
-    projector, presenter = open_page(browser, app, timeout=90.0, viewport={"width": 1280, "height": 900})
-    presenter.present(CODE)
-    close_toasts(projector)
+    projector, presenter = _presenting(browser, app)
     ask = presenter.ask_panel
     projector.get_by_text("Lesson", exact=True).first.click()
     _choose(projector, presenter.lesson_runner.gui_lesson, WORKSHEET)
@@ -171,7 +165,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
 
     laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
-    _open_task_folder(laptop)
+    open_folder_to(laptop, "Task", "Task code")
     _type_into(laptop, "Task code", code)
     _button(laptop, "Open the task").click()
     laptop.get_by_text("Question 1 of 3", exact=False).first.wait_for(timeout=WAIT_MS)
@@ -187,10 +181,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
                    timeout=30.0)
         laptop.get_by_text(expected, exact=False).first.wait_for(timeout=WAIT_MS)
 
-    _open_task_folder(projector)
-    _type_into(projector, "Task code", code)
-    _type_into(projector, "Lecturer's code", CODE)
-    _button(projector, "Open as lecturer").click()
+    _open_as_lecturer(projector, code)
     projector.get_by_text("1 student", exact=False).first.wait_for(timeout=WAIT_MS)
     table = presenter.task_panel.gui_table.content
     assert "| Cem | – | 1 | 0.33 | 1 ✗ · 2 ✓ · 3 ✗ |" in table, table

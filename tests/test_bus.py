@@ -30,7 +30,6 @@ from conftest import join, poll_until
 from test_trust import attack, fingerprint
 from test_wire import SceneMirror, _array, _settled
 
-from app.cluster import services
 from app.kit.draw.screen import screen_of
 from app.lecture.bus import BusError, cull, decode_batch, encode_batch
 from app.lecture.follower import Hall
@@ -39,18 +38,6 @@ from app.main import App, create_server
 from benchmarks.ws_client import ViserClient
 
 CODE = "97531864"
-
-
-@pytest.fixture(scope="module")
-def redis_url() -> Iterator[str]:
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    try:
-        yield url
-    finally:
-        services.stop_process(process)
 
 
 class SharedMirror(SceneMirror):

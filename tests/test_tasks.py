@@ -52,19 +52,6 @@ class Tick:
         return self.t
 
 
-@pytest.fixture(scope="module")
-def redis_url() -> Iterator[str]:
-    """A redis-server of this module's own (in memory)."""
-    from app.cluster import services
-
-    try:
-        url, process = services.start_redis()
-    except services.MissingProgram as error:
-        pytest.skip(str(error))
-    yield url
-    services.stop_process(process)
-
-
 @pytest.fixture(params=["sqlite", "redis"])
 def store_at(request: pytest.FixtureRequest, tmp_path: Path) -> Callable[..., TaskRules]:
     """(clock, tick=None) -> a store (SQLite in tmp_path, or Redis) on the same data each time (a reopen)."""

@@ -80,6 +80,16 @@ def hall(tmp_path: Path) -> Iterator[App]:
         running.stop()
 
 
+def _open_as_lecturer(client: RawClient, session: Any, task: Any) -> Any:
+    """`client` opens `task` as its lecturer (the task code and the presenter code typed, the
+    button pressed); its session's task panel."""
+    panel = session.task_panel
+    _typed(client, panel.gui_code, task.shown_code)
+    _typed(client, panel.gui_lecturer_code, CODE)
+    _click(client, panel.gui_lecturer)
+    return panel
+
+
 def test_a_hostile_client_cannot_read_or_change_another_students_submission(hall: App) -> None:
     app = hall
     clients = []
@@ -148,10 +158,7 @@ def test_a_task_and_its_submissions_survive_a_restart(tmp_path: Path) -> None:
         teacher_client, teacher = _new_session(second)
         clients += [bea_client, teacher_client]
         assert "3 s: wrong" in _submit(bea_client, bea, task.code, "Bea", 3.0)  # after the restart
-        panel = teacher.task_panel
-        _typed(teacher_client, panel.gui_code, task.shown_code)
-        _typed(teacher_client, panel.gui_lecturer_code, CODE)
-        _click(teacher_client, panel.gui_lecturer)
+        panel = _open_as_lecturer(teacher_client, teacher, task)
         poll_until(lambda: "| Bea |" in panel.gui_table.content, timeout=DEADLINE_S)
         table = panel.gui_table.content
         assert "| Ann | – | 1 | 1.00 | 2.4 s: right |" in table, table
@@ -246,10 +253,7 @@ def test_a_worksheet_from_a_lesson_done_on_the_other_worker_shows_in_the_lecture
             student.apply_preset("Loop")
         third = _state_submit(student_client, student, "✓ as asked")
         assert "no attempts left" in third, third
-        lecturer_panel = lecturer.task_panel
-        _typed(lecturer_client, lecturer_panel.gui_code, task.shown_code)
-        _typed(lecturer_client, lecturer_panel.gui_lecturer_code, CODE)
-        _click(lecturer_client, lecturer_panel.gui_lecturer)
+        lecturer_panel = _open_as_lecturer(lecturer_client, lecturer, task)
         poll_until(lambda: "| Cem |" in lecturer_panel.gui_table.content, timeout=DEADLINE_S)
         table = lecturer_panel.gui_table.content
         assert "| Cem | – | 2 | 0.67 | 1 ✗ · 2 ✓ · 3 ✓ |" in table, table
