@@ -47,6 +47,13 @@ def _student_submits(page, value: str, expected: str) -> str:  # type: ignore[no
     return page.locator("body").inner_text()
 
 
+def _open_task(page, typed: str) -> None:  # type: ignore[no-untyped-def]
+    """A student types the task code `typed` in the Task folder and opens the task."""
+    open_folder_to(page, "Task", "Task code")
+    _type_into(page, "Task code", typed)
+    _button(page, "Open the task").click()
+
+
 def _presenting(browser, app: App):  # type: ignore[no-untyped-def]
     """The lecturer's page on a 1280×900 projector, presenting: (page, session)."""
     projector, presenter = open_page(browser, app, timeout=90.0, viewport={"width": 1280, "height": 900})
@@ -88,9 +95,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
 
     laptop, ann = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
-    open_folder_to(laptop, "Task", "Task code")
-    _type_into(laptop, "Task code", code.lower().replace("-", " "))  # as read aloud
-    _button(laptop, "Open the task").click()
+    _open_task(laptop, code.lower().replace("-", " "))  # as read aloud
     laptop.get_by_text("The book flips: its flip period?", exact=False).first.wait_for(timeout=WAIT_MS)
     _type_into(laptop, "Your name", "Ann Lee")
     wrong = _student_submits(laptop, "3.1", "3.1 s: wrong")
@@ -102,9 +107,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     phone, bea = open_page(browser, app, timeout=90.0, viewport={"width": 390, "height": 844}, is_mobile=True,
                            has_touch=True)
     close_toasts(phone)
-    open_folder_to(phone, "Task", "Task code")
-    _type_into(phone, "Task code", code)
-    _button(phone, "Open the task").click()
+    _open_task(phone, code)
     phone.get_by_text("The book flips: its flip period?", exact=False).first.wait_for(timeout=WAIT_MS)
     _type_into(phone, "Student number", "s 2041")
     _student_submits(phone, "4", "4 s: wrong")
@@ -165,9 +168,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
 
     laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
-    open_folder_to(laptop, "Task", "Task code")
-    _type_into(laptop, "Task code", code)
-    _button(laptop, "Open the task").click()
+    _open_task(laptop, code)
     laptop.get_by_text("Question 1 of 3", exact=False).first.wait_for(timeout=WAIT_MS)
     _type_into(laptop, "Your name", "Cem")
     submit = "Submit the state of my room"
