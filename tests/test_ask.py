@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 from conftest import RawClient, poll_until, shared_hall_fixtures
-from test_bus import Workers, redis_url, workers_fixture
+from test_bus import Workers, workers_fixture
 
 from app.ask import Choice, Direction, Refused, Round, State, new_token, question_from_dict, question_to_dict
 from app.ask.round import RATE
@@ -26,7 +26,6 @@ class Clock:
 
 CHOICE = {"kind": "choice", "prompt": "Which axis is stable?", "options": ["1", "2", "3"], "correct": 0}
 DIRECTION = {"kind": "direction", "prompt": "Where does ω point?", "truth": [0, 0, 2]}
-__all__ = ["redis_url"]  # a fixture, for pytest
 
 
 @pytest.mark.parametrize("bad, words", [
@@ -316,4 +315,6 @@ def test_a_state_question_is_answered_from_the_students_own_copy(hall: Any) -> N
     client.send(_messages.GuiUpdateMessage(panel.gui_send_state._impl.uuid, {"value": True}))  # Send my state
     poll_until(lambda: hall.app.rounds.tally().answered == 1, timeout=10.0)
     assert "t" in hall.app.rounds.mine(student.answer_token)
-    assert "your state" in panel.gui_mine.content and student.error_count == 0, student.last_error
+    poll_until(lambda: "your state" in panel.gui_mine.content, timeout=10.0,  # the panel shows it after the tally
+               what="the student's panel saying 'your state'", seen=lambda: panel.gui_mine.content)
+    assert student.error_count == 0, student.last_error

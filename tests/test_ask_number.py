@@ -12,14 +12,13 @@ from typing import Any
 import pytest
 from conftest import RawClient, hall_fixture, poll_until
 from test_ask import Clock
-from test_bus import Workers, redis_url, workers_fixture
+from test_bus import Workers, workers_fixture
 
 from app.ask import Refused, Round, question_from_dict, question_to_dict
 from app.ask.questions import KINDS, Number
 
 FLIP = {"kind": "number", "prompt": "The flip period?", "value": 2.5, "unit": "s", "tolerance": 0.2}
 HALL_CODE = "864299"
-__all__ = ["redis_url"]  # a fixture, for pytest
 
 
 def test_a_number_question_round_trips_through_its_dict_and_is_registered() -> None:

@@ -27,14 +27,14 @@ import pytest
 import viser
 from conftest import poll_until
 from test_bus import _present as present_on
-from test_bus import redis_url, workers
+from test_bus import workers
 
 from app.kit.core.common import SliderSpec, wrap_deg
 from app.kit.rigid.view import ANGLE_SPECS, RigidBodyView
 from app.scenes import SCENES
 from physics.euler import euler_rates_from_omega_body, euler_zxz_from_matrix
 
-__all__ = ["redis_url", "workers"]  # the fixtures, for pytest
+__all__ = ["workers"]  # a fixture, for pytest
 
 CODE = "24681357"
 

@@ -20,9 +20,7 @@ from typing import Any
 import numpy as np
 import pytest
 from conftest import WorkerProcess, lecturer_presenting, poll_until
-from test_bus import Workers, redis_url, workers_fixture
-
-__all__ = ["redis_url"]  # a fixture, for pytest
+from test_bus import Workers, workers_fixture
 
 CODE = "97531864"
 TURN_TOLERANCE_RAD = 5e-3

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from conftest import LectureHall as Hall
 from conftest import RawClient, hall_fixture, poll_until
-from test_bus import Workers, _present, redis_url, workers  # noqa: F401 - the fixtures across workers
+from test_bus import Workers, _present, workers  # noqa: F401 - the fixtures across workers
 
 from app.hall.lecture_panel import LAST_ROOM_LABEL
 from app.lecture.follower import Follower

@@ -17,11 +17,9 @@ from typing import Any
 
 import pytest
 from conftest import RawClient, WorkerProcess, lecturer_presenting, shared_hall_fixtures
-from test_bus import Workers, redis_url, workers_fixture
+from test_bus import Workers, workers_fixture
 
 from app.ask import Refused
-
-__all__ = ["redis_url"]  # a fixture, for pytest
 
 CODE = "975310"
 DIRECTION = {"kind": "direction", "prompt": "Where does L point?", "truth": [0, 0, 1]}
