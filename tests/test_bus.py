@@ -169,7 +169,7 @@ def test_followers_on_other_workers_see_the_presenters_scene(workers: Workers) -
     presenter.guard("test", presenter.pause)()
     c = workers.start("c")  # a worker that joins late: it asks for the whole scene
     follower_c, mirror_c = workers.connect("c")
-    poll_until(lambda: follower_c.mode == "following", timeout=10.0)
+    poll_until(lambda: follower_c.mode == "following" and follower_c.scene is not None, timeout=10.0)
     poll_until(lambda: not _scene_differences(mirror_a, mirror_b), timeout=10.0, interval=0.1)
     try:
         poll_until(lambda: not _scene_differences(mirror_a, mirror_c), timeout=10.0, interval=0.1)
@@ -249,7 +249,7 @@ def test_a_follower_on_another_worker_sees_the_presenters_plot_tab(workers: Work
     workers.start("b")
     presenter = _present(workers, "a")
     follower, _ = workers.connect("b")
-    poll_until(lambda: follower.mode == "following", timeout=10.0)
+    poll_until(lambda: follower.mode == "following" and follower.scene is not None, timeout=10.0)
     presenter.guard("test", presenter.scene.tabs.show)("Plots")
     presenter.guard("test", presenter.play)()
     sources = presenter.scene.plot_elements("Plots")
@@ -324,7 +324,7 @@ def test_a_hostile_follower_on_another_worker_changes_nothing(workers: Workers) 
     poll_until(lambda: presenter.room.sim.t > 0.3, timeout=10.0)
     presenter.guard("test", presenter.pause)()
     hostile_session, hostile = workers.connect("b", ViserClient)
-    poll_until(lambda: hostile_session.mode == "following", timeout=10.0)
+    poll_until(lambda: hostile_session.mode == "following" and hostile_session.scene is not None, timeout=10.0)
     poll_until(lambda: len([m for m in hostile.state.messages if str(m[2].get("name", "")).startswith(LIVE_ROOT)])
                > 10, timeout=10.0)
     before = fingerprint(presenter.room.sim)
@@ -381,7 +381,7 @@ def test_a_presenter_on_b_takes_over_from_a_stopped_presenter_on_a(workers: Work
     first = _present(workers, "a", "Heavy top")
     follower_a, mirror_a = workers.connect("a")
     follower_b, mirror_b = workers.connect("b")
-    poll_until(lambda: follower_b.mode == "following", timeout=10.0)
+    poll_until(lambda: follower_b.mode == "following" and follower_b.scene is not None, timeout=10.0)
     first.guard("test", first.stop_presenting)()
     poll_until(lambda: b.lectern.hall is Hall.STOPPED, timeout=10.0)
     second, _ = workers.connect("b")  # it lands in its own room (the lecture ended), presents it, picks a scene
@@ -458,7 +458,7 @@ def test_explore_on_another_worker_is_the_presenters_room_bit_for_bit(workers: W
     assert copy.sim.t > t
     assert_rooms_equal(copy, original, "30 frames on")
     presenter.guard("test", presenter.call_back)()
-    poll_until(lambda: follower_b.mode == "following", timeout=20.0)
+    poll_until(lambda: follower_b.mode == "following" and follower_b.scene is not None, timeout=20.0)
 
 
 # ---------------------------------------------------------------------- malformed messages (app.cluster.messages)
