@@ -118,7 +118,10 @@ class Quiet:
         self._owed.pop(id(handle), None)
 
     def flush(self) -> None:
-        """Write the values owed to fields whose users have stopped editing them."""
+        """Write the values owed to fields whose users have stopped editing them (each frame:
+        nothing to do, and nothing allocated, while nothing is owed)."""
+        if not self._owed:
+            return
         for handle, value in list(self._owed.values()):
             if not self.editing(handle):
                 self.write(handle, value)
