@@ -37,6 +37,7 @@ feature off.
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import dataclasses
 import dis
@@ -545,10 +546,43 @@ def atomic_unless_captured(*owners: Any) -> Iterator[None]:
 
 def divert_queue(interface: Any, take: Callable[[Any], None]) -> Callable[[Any], None]:
     """Route every message queued to viser's `interface` through `take` (a wire's); returns
-    viser's own `queue_message`, which `take` hands messages on to."""
+    viser's own `queue_message`, which `take` hands messages on to.
+
+    The interface's buffer is woken on its event loop only (`wake_on_loop`)."""
+    wake_on_loop(interface.get_message_buffer())
     own = interface.queue_message
     interface.queue_message = take
     return own
+
+
+def wake_on_loop(buffer: Any) -> None:
+    """Make `buffer.message_event.set()` safe from any thread.
+
+    viser's `AsyncMessageBuffer.push` sets its `asyncio.Event` directly from the pushing thread;
+    off the loop that iterates the event's waiters while the loop adds and removes them
+    ("RuntimeError: deque mutated during iteration", seen under load). Off the loop, the set is
+    handed to the loop (`call_soon_threadsafe`, which `push` schedules as well); on the loop it runs
+    as before. Idempotent."""
+    event = buffer.message_event
+    if "set" in vars(event):
+        return
+    loop = buffer.event_loop
+    own_set = event.set
+
+    def set_on_loop() -> None:
+        try:
+            running = asyncio.get_running_loop()
+        except RuntimeError:
+            running = None
+        if running is loop:
+            own_set()
+            return
+        try:
+            loop.call_soon_threadsafe(own_set)
+        except RuntimeError:  # the loop is closed: nobody waits any more
+            pass
+
+    event.set = set_on_loop
 
 
 def message_buffer(interface: Any) -> Any:

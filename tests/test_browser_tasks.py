@@ -169,7 +169,13 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
     laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
     _open_task(laptop, code)
-    laptop.get_by_text("Question 1 of 3", exact=False).first.wait_for(timeout=WAIT_MS)
+    try:
+        laptop.get_by_text("Question 1 of 3", exact=False).first.wait_for(timeout=WAIT_MS)
+    except Exception as error:  # what the student's page and session show, for the failure's message
+        raise AssertionError(f"no first question: mode {cem.mode}, task {cem.task_panel.task}, "
+                             f"note {cem.task_panel.gui_note.content!r}, code box "
+                             f"{cem.task_panel.gui_code.value!r}, last error {cem.last_error!r}; page:\n"
+                             f"{laptop.locator('body').inner_text()[-1500:]}") from error
     _type_into(laptop, "Your name", "Cem")
     submit = "Submit the state of my room"
     for k, expected in enumerate(("✗ not what was asked", "✓ as asked", "✗ not what was asked")):

@@ -343,3 +343,45 @@ def test_the_wire_inlines_points_only_for_nodes_it_saw_made_as_arrows_or_segment
         assert "/inline/a" not in wire._inline and "/inline/s" in wire._inline
     finally:
         server._websock_server.queue_message = wire._queue  # the module's server back as it was
+
+
+class _WatchedWaiters(list):
+    """An event's waiter queue that records which threads walk it (asyncio.Event.set walks it)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.walkers: set[int] = set()
+
+    def __iter__(self):  # noqa: ANN204
+        self.walkers.add(threading.get_ident())
+        return super().__iter__()
+
+
+def test_a_message_queued_off_the_loop_wakes_the_sender_on_the_loop_only(server: Any) -> None:
+    """viser's buffer sets its asyncio.Event from the pushing thread; walking its waiters there
+    races the loop ("deque mutated during iteration", a CI failure). Behind a wire, only the
+    loop's thread walks them, and a waiting sender is still woken."""
+    import asyncio
+
+    from app.viser_internals import event_loop, interface_of, message_buffer
+
+    Wire.attach(server)
+    buffer = message_buffer(interface_of(server))
+    loop = event_loop(server)
+    loop_thread: list[int] = []
+    woken = threading.Event()
+
+    async def wait() -> None:
+        loop_thread.append(threading.get_ident())
+        buffer.message_event.clear()
+        buffer.message_event._waiters = waiters = _WatchedWaiters()  # noqa: SLF001
+        await buffer.message_event.wait()
+        assert waiters.walkers == {threading.get_ident()}
+        woken.set()
+
+    asyncio.run_coroutine_threadsafe(wait(), loop)
+    poll_until(lambda: loop_thread and buffer.message_event._waiters, timeout=10.0,  # noqa: SLF001
+               what="a waiter on viser's loop")
+    server.scene.add_frame("/off_the_loop", show_axes=False)  # pushed from this (test) thread
+    assert woken.wait(10.0), "the waiting sender was not woken"
+    assert threading.get_ident() not in buffer.message_event._waiters.walkers  # noqa: SLF001
