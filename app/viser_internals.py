@@ -56,7 +56,8 @@ from physics.quaternion import matrix_from_wxyz
 __all__ = ["FAST_SETTERS", "FEATURES", "FRAME_CAPTURE", "NEEDS", "PANEL_INPUTS", "SCENE_NODES", "SEND_QUEUE",
            "SUPPORTED", "VERSION", "Feature", "Need", "add_beside", "atomic_unless_captured", "check", "client_buffer",
            "configure", "connection_closed", "divert_queue", "event_loop", "flush_all", "frame_capture",
-           "in_frame_capture", "interface_of", "label_props", "live_connections", "message_buffer", "message_from_dict",
+           "in_frame_capture",
+           "input_handle", "interface_of", "label_props", "live_connections", "message_buffer", "message_from_dict",
            "node_pose", "node_removed",
            "node_world", "pack_window", "panel_checkboxes", "panel_inputs", "pending_messages", "remove_under",
            "report",
@@ -600,6 +601,11 @@ def live_connections(server: Any) -> dict[int, Any]:
     """The browsers' websocket connections by client id (viser's own dict: read, never change
     it); each has `transport` and `protocol.state`."""
     return server._websock_server._live_connections
+
+
+def input_handle(client: Any, uuid: str) -> Any | None:
+    """`client`'s GUI input whose uuid is `uuid` (what the page's `<label for>` names), or None."""
+    return client.gui._gui_input_handle_from_uuid.get(uuid)
 
 
 def client_buffer(server: Any, client_id: int) -> Any | None:

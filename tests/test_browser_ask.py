@@ -36,8 +36,8 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     close_toasts(projector)
 
     # A choice, typed and asked in the presenter's page.
-    type_into(projector, "Question", "The book spins about y′. What does it do?")
-    type_into(projector, "Options", "spins steadily | wobbles | flips again and again")
+    type_into(projector, "Question", "The book spins about y′. What does it do?", presenter)
+    type_into(projector, "Options", "spins steadily | wobbles | flips again and again", presenter)
     button(projector, "Ask the class").click()
     wait_until(lambda: app.rounds.current is not None, timeout=10.0)
     for (page, _), option in zip(students, ("1. spins steadily", "3. flips again and again",
@@ -66,8 +66,8 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     button(projector, "New question").click()
     projector.locator(f'[id="{presenter.ask_panel.gui_kind._impl.uuid}"]').click()
     projector.get_by_role("option", name="Direction").click()
-    type_into(projector, "Question", "Where will ω point at t = 5 s?")
-    type_into(projector, "True direction", "0.287, -0.008, 0.958")
+    type_into(projector, "Question", "Where will ω point at t = 5 s?", presenter)
+    type_into(projector, "True direction", "0.287, -0.008, 0.958", presenter)
     button(projector, "Ask the class").click()
     for page, _ in students:
         button(page, "Send my direction").wait_for(timeout=20_000)

@@ -19,7 +19,7 @@ import re
 import numpy as np
 import pytest
 import test_browser_lecture
-from test_browser_lecture import CODE, open_folder, open_page, text_input
+from test_browser_lecture import CODE, open_folder, open_page, received, text_input
 
 from app.ask.judges import AnswerState
 from app.main import App, create_server
@@ -75,6 +75,7 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
     open_folder(presenter_page, "Lecture", "Presenter code")
     text_input(presenter_page, "Presenter code").click()
     presenter_page.keyboard.type(CODE, delay=20)
+    received(presenter_page, presenter, "Presenter code", CODE)
     presenter_page.get_by_role("button", name="Present").click()
     wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
 

@@ -18,7 +18,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from test_browser_lecture import _CONTEXTS, close_toasts, open_folder, open_page, text_input
+from test_browser_lecture import _CONTEXTS, close_toasts, open_folder, open_page, received, text_input
 from test_codec import assert_rooms_equal
 
 from app.cluster import services
@@ -60,6 +60,7 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
     open_folder(presenter_page, "Lecture", "Presenter code")
     text_input(presenter_page, "Presenter code").click()
     presenter_page.keyboard.type(CODE, delay=30)
+    received(presenter_page, presenter, "Presenter code", CODE)
     presenter_page.get_by_role("button", name="Present").click()
     wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
 

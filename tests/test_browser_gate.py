@@ -13,7 +13,7 @@ import pytest
 from cluster import CODE, Cluster, cluster_fixture
 from conftest import poll_until
 from test_browser import app_url
-from test_browser_lecture import close_toasts, open_folder, text_input
+from test_browser_lecture import close_toasts, open_folder, received, text_input
 
 pytestmark = pytest.mark.browser
 
@@ -36,11 +36,12 @@ def _open(browser: Any, cluster: Cluster, contexts: list[Any]) -> tuple[Any, int
     return page, index, session
 
 
-def _type_and_present(page: Any, code: str) -> None:
+def _type_and_present(page: Any, session: Any, code: str) -> None:
     field = text_input(page, "Presenter code")
     field.click()
     field.fill("")
     page.keyboard.type(code, delay=20)
+    received(page, session, "Presenter code", code)
     page.get_by_role("button", name="Present").click()
 
 
@@ -51,11 +52,11 @@ def test_one_answer_for_every_code_while_the_lecturer_on_the_other_worker_presen
         lecturer_page, lw, lecturer = _open(browser, cluster, contexts)
         student_page, sw, student = _open(browser, cluster, contexts)
         assert lw != sw  # least_conn: the two browsers' websockets on the two workers
-        _type_and_present(lecturer_page, CODE.replace(" ", "-"))
+        _type_and_present(lecturer_page, lecturer, CODE.replace(" ", "-"))
         wait_until(lambda: lecturer.mode == "presenting", timeout=20.0)
         lecturer_page.get_by_role("button", name="Stop presenting").wait_for(timeout=20_000)
         for code in (CODE, "9999 9999"):  # right, then wrong: the page says the same
-            _type_and_present(student_page, code)
+            _type_and_present(student_page, student, code)
             student_page.get_by_text(BUSY).first.wait_for(timeout=20_000)
             assert student.mode != "presenting"
         assert int(cluster.redis.zcard("rbl:gate:wrong")) == 0  # neither was evaluated
@@ -63,7 +64,7 @@ def test_one_answer_for_every_code_while_the_lecturer_on_the_other_worker_presen
             student_page.screenshot(path=os.environ["GATE_SCREENSHOT"])
         lecturer_page.get_by_role("button", name="Stop presenting").click()
         student_page.get_by_text(BUSY).first.wait_for(state="hidden", timeout=20_000)  # the note goes
-        _type_and_present(student_page, CODE.replace(" ", ""))
+        _type_and_present(student_page, student, CODE.replace(" ", ""))
         wait_until(lambda: student.mode == "presenting", timeout=20.0)
     finally:
         for context in contexts:

@@ -18,7 +18,7 @@ import time
 from typing import Any
 
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, received, text_input
 
 from app.kit.core.common import CameraView
 from app.kit.draw.screen import LabelBox, boxes_meet, label_boxes, overlapping
@@ -100,6 +100,7 @@ def test_labels_do_not_overlap_on_a_projector_and_a_phone_as_a_lesson_step_plays
     open_folder(projector, "Lecture", "Presenter code")
     text_input(projector, "Presenter code").click()
     projector.keyboard.type(CODE, delay=30)
+    received(projector, presenter, "Presenter code", CODE)
     projector.get_by_role("button", name="Present").click()
     wait_until(lambda: presenter.mode == "presenting", timeout=10.0)
     wait_until(lambda: follower.mode == "following" and getattr(follower.scene, "narrow", False), timeout=15.0)

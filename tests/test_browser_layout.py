@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, project, text_input  # noqa: F401
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, project, received, text_input  # noqa: F401
 
 from app.kit.draw.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, text_box
 from app.main import App
@@ -102,6 +102,7 @@ def present_through_the_page(page, session, wait_until) -> None:  # type: ignore
     open_folder(page, "Lecture", "Presenter code")
     text_input(page, "Presenter code").click()
     page.keyboard.type(CODE, delay=30)
+    received(page, session, "Presenter code", CODE)
     page.get_by_role("button", name="Present").click()
     wait_until(lambda: session.mode == "presenting", timeout=15.0)
 

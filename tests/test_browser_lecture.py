@@ -23,6 +23,7 @@ from PIL import Image
 from test_browser import app_url
 
 from app.main import App, create_server
+from app.viser_internals import input_handle
 
 pytestmark = pytest.mark.browser
 
@@ -119,13 +120,32 @@ def button(page, name: str):  # type: ignore[no-untyped-def]
     return page.get_by_role("button", name=name, exact=True)
 
 
-def type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
-    """Type `text` into the page's emptied text field labelled `label`, then Enter."""
+def type_into(page, label: str, text: str, session=None) -> None:  # type: ignore[no-untyped-def]
+    """Type `text` into the page's emptied text field labelled `label`, then Enter; with
+    `session`, wait until its server holds `text` (`received`)."""
     field = text_input(page, label)
+    field.wait_for(state="visible", timeout=30_000)
     field.click()
     field.fill("")
     page.keyboard.type(text, delay=5)
     field.press("Enter")
+    if session is not None:
+        received(page, session, label, text)
+
+
+def received(page, session, label: str, text: str, timeout: float = 30.0) -> None:  # type: ignore[no-untyped-def]
+    """Wait until `session`'s server holds `text` in the field labelled `label`.
+
+    viser's page sends a field's value at most every 50 ms and keeps only the latest message of
+    any kind meanwhile: a click or another field's keystroke within 50 ms of the last keystroke
+    replaces that keystroke's value, which the server then never gets. A test that types and then
+    acts waits for the value to arrive."""
+    uuid = page.locator("label", has_text=label).first.get_attribute("for")
+    handle = input_handle(session.client, uuid)
+    assert handle is not None, f"no input {label!r} ({uuid}) in the session's panel"
+    expected: object = text if isinstance(handle.value, str) else float(text)  # a number box holds a float
+    poll_until(lambda: handle.value == expected, timeout, 0.02, what=f"the server's {label!r} to be {text!r}",
+               seen=lambda: handle.value)
 
 
 def present_in_page(page, session, timeout: float = 30.0) -> None:  # type: ignore[no-untyped-def]
@@ -133,6 +153,7 @@ def present_in_page(page, session, timeout: float = 30.0) -> None:  # type: igno
     open_folder(page, "Lecture", "Presenter code")
     text_input(page, "Presenter code").click()
     page.keyboard.type(CODE, delay=30)
+    received(page, session, "Presenter code", CODE)
     button(page, "Present").click()
     poll_until(lambda: session.mode == "presenting", timeout, 0.05, what="the page's session presenting",
                seen=lambda: (session.mode, session.last_error))

@@ -52,8 +52,8 @@ def test_a_round_ends_when_its_presenter_closes_the_tab(browser, hall_app: App, 
     wait_until(lambda: student.mode == "following", timeout=20.0)
     close_toasts(lecturer)
 
-    type_into(lecturer, "Question", "The book spins about y′. What does it do?")
-    type_into(lecturer, "Options", "spins steadily | wobbles | flips")
+    type_into(lecturer, "Question", "The book spins about y′. What does it do?", presenter)
+    type_into(lecturer, "Options", "spins steadily | wobbles | flips", presenter)
     button(lecturer, "Ask the class").click()
     option = button(student_page, "3. flips")
     option.wait_for(timeout=20_000)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, text_input  # noqa: F401
+from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, received, text_input  # noqa: F401
 
 from app.main import App
 from app.sharestore import DEFAULT_TTL_S
@@ -24,13 +24,14 @@ from tests.test_trust import fingerprint
 pytestmark = pytest.mark.browser
 
 
-def _open_code(page, text: str) -> None:  # type: ignore[no-untyped-def]
+def _open_code(page, session, text: str) -> None:  # type: ignore[no-untyped-def]
     field = text_input(page, "Shared code")
     field.wait_for(state="visible", timeout=20_000)
     field.click()
     field.fill("")
     page.keyboard.type(text, delay=10)
     page.keyboard.press("Enter")
+    received(page, session, "Shared code", text)
     page.get_by_role("button", name="Open a shared moment").click()
 
 
@@ -58,17 +59,17 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
     open_folder_to(other_page, "Share", "Shared code")
     before_room, before = other.room, fingerprint(other.room.sim)
 
-    _open_code(other_page, "hello")
+    _open_code(other_page, other, "hello")
     other_page.get_by_text("is not a share code").first.wait_for(timeout=15_000)
     hall_app.share_store.clock = lambda: 2e9 + DEFAULT_TTL_S  # type: ignore[union-attr]  # 30 days later
     try:
-        _open_code(other_page, code.lower())
+        _open_code(other_page, other, code.lower())
         other_page.get_by_text(f"The shared moment {code} expired").first.wait_for(timeout=15_000)
     finally:
         hall_app.share_store.clock = __import__("time").time  # type: ignore[union-attr]
     assert other.room is before_room and fingerprint(other.room.sim) == before
 
-    _open_code(other_page, code)
+    _open_code(other_page, other, code)
     wait_until(lambda: other.room.scene.title == "Heavy top", timeout=15.0)
     dropdown = other_page.locator(f'[id="{other.gui_scene._impl.uuid}"]')
     wait_until(lambda: dropdown.input_value() == "Heavy top", timeout=15.0)  # the page says so

@@ -11,7 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder_to, open_page, text_input  # noqa: F401 - hall_app: a fixture
+from test_browser_lecture import CODE, close_toasts, hall_app, open_folder_to, open_page, type_into  # noqa: F401 - hall_app: a fixture
 
 from app.main import App
 
@@ -21,13 +21,9 @@ SHOTS = Path("/work/wt/shots/tasks")
 WAIT_MS = 30_000  # a busy machine
 
 
-def _type_into(page, label: str, text: str) -> None:  # type: ignore[no-untyped-def]
-    field = text_input(page, label)
-    field.wait_for(state="visible", timeout=WAIT_MS)
-    field.click()
-    field.fill("")
-    page.keyboard.type(text, delay=5)
-    field.press("Enter")
+def _type_into(page, label: str, text: str, session=None) -> None:  # type: ignore[no-untyped-def]
+    """`type_into` (test_browser_lecture): typed, and with `session` awaited on the server."""
+    type_into(page, label, text, session)
 
 
 def _button(page, name: str):  # type: ignore[no-untyped-def]
@@ -39,19 +35,30 @@ def _choose(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
     page.get_by_role("option", name=option, exact=True).click()
 
 
-def _student_submits(page, value: str, expected: str) -> str:  # type: ignore[no-untyped-def]
+def _student_submits(page, session, value: str, expected: str) -> str:  # type: ignore[no-untyped-def]
     """Type `value` in the number box, press Submit, wait for the verdict `expected`; the folder's text."""
-    _type_into(page, "Your number [s]", value)
+    _type_into(page, "Your number [s]", value, session)
     _button(page, "Submit").click()
     page.get_by_text(expected, exact=False).first.wait_for(timeout=WAIT_MS)
     return page.locator("body").inner_text()
 
 
-def _open_task(page, typed: str) -> None:  # type: ignore[no-untyped-def]
+def _open_task(page, session, typed: str) -> None:  # type: ignore[no-untyped-def]
     """A student types the task code `typed` in the Task folder and opens the task."""
     open_folder_to(page, "Task", "Task code")
-    _type_into(page, "Task code", typed)
+    _type_into(page, "Task code", typed, session)
     _button(page, "Open the task").click()
+
+
+def _question_shown(page, session, words: str) -> None:  # type: ignore[no-untyped-def]
+    """Wait for the task's question `words` on the student's page; failing, say what showed."""
+    try:
+        page.get_by_text(words, exact=False).first.wait_for(timeout=WAIT_MS)
+    except Exception as error:
+        panel = session.task_panel
+        raise AssertionError(f"no {words!r}: mode {session.mode}, task {panel.task}, note "
+                             f"{panel.gui_note.content!r}, code box {panel.gui_code.value!r}, last error "
+                             f"{session.last_error!r}; page:\n{page.locator('body').inner_text()[-1500:]}") from error
 
 
 def _presenting(browser, app: App):  # type: ignore[no-untyped-def]
@@ -62,11 +69,11 @@ def _presenting(browser, app: App):  # type: ignore[no-untyped-def]
     return projector, presenter
 
 
-def _open_as_lecturer(page, code: str) -> None:  # type: ignore[no-untyped-def]
+def _open_as_lecturer(page, session, code: str) -> None:  # type: ignore[no-untyped-def]
     """The lecturer opens the task `code` with the presenter code, through the Task folder."""
     open_folder_to(page, "Task", "Task code")
-    _type_into(page, "Task code", code)
-    _type_into(page, "Lecturer's code", CODE)
+    _type_into(page, "Task code", code, session)
+    _type_into(page, "Lecturer's code", CODE, session)
     _button(page, "Open as lecturer").click()
 
 
@@ -78,12 +85,12 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     projector.locator(f'[id="{ask.gui_kind._impl.uuid}"]').click()
     projector.get_by_role("option", name="Number").click()
     wait_until(lambda: ask.forms["number"].gui_unit.visible, timeout=20.0)
-    _type_into(projector, "Question", "The book flips: its flip period?")
-    _type_into(projector, "Right value", "2.5")
-    _type_into(projector, "Unit", "s")
-    _type_into(projector, "Tolerance", "0.2")
+    _type_into(projector, "Question", "The book flips: its flip period?", presenter)
+    _type_into(projector, "Right value", "2.5", presenter)
+    _type_into(projector, "Unit", "s", presenter)
+    _type_into(projector, "Tolerance", "0.2", presenter)
     _choose(projector, presenter.task_panel.gui_attempts, "2")
-    _type_into(projector, "Words for the task", "Spin the book about its middle axis and time a flip.")
+    _type_into(projector, "Words for the task", "Spin the book about its middle axis and time a flip.", presenter)
     wait_until(lambda: (ask.forms["number"].gui_tolerance.value, presenter.task_panel.gui_attempts.value)
                == ("0.2", "2"), timeout=20.0)
     _button(projector, "Make a task").click()
@@ -95,24 +102,24 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
 
     laptop, ann = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
-    _open_task(laptop, code.lower().replace("-", " "))  # as read aloud
-    laptop.get_by_text("The book flips: its flip period?", exact=False).first.wait_for(timeout=WAIT_MS)
-    _type_into(laptop, "Your name", "Ann Lee")
-    wrong = _student_submits(laptop, "3.1", "3.1 s: wrong")
+    _open_task(laptop, ann, code.lower().replace("-", " "))  # as read aloud
+    _question_shown(laptop, ann, "The book flips: its flip period?")
+    _type_into(laptop, "Your name", "Ann Lee", ann)
+    wrong = _student_submits(laptop, ann, "3.1", "3.1 s: wrong")
     assert "1 attempt left" in wrong and "Receipt" in wrong, wrong
-    right = _student_submits(laptop, "2.6", "2.6 s: right")
+    right = _student_submits(laptop, ann, "2.6", "2.6 s: right")
     assert "no attempts left" in right, right
     verdict = next(line for line in right.splitlines() if "Your attempt 2" in line)
 
     phone, bea = open_page(browser, app, timeout=90.0, viewport={"width": 390, "height": 844}, is_mobile=True,
                            has_touch=True)
     close_toasts(phone)
-    _open_task(phone, code)
-    phone.get_by_text("The book flips: its flip period?", exact=False).first.wait_for(timeout=WAIT_MS)
-    _type_into(phone, "Student number", "s 2041")
-    _student_submits(phone, "4", "4 s: wrong")
+    _open_task(phone, bea, code)
+    _question_shown(phone, bea, "The book flips: its flip period?")
+    _type_into(phone, "Student number", "s 2041", bea)
+    _student_submits(phone, bea, "4", "4 s: wrong")
 
-    _open_as_lecturer(projector, code)
+    _open_as_lecturer(projector, presenter, code)
     projector.get_by_text("2 students", exact=False).first.wait_for(timeout=WAIT_MS)
     table = presenter.task_panel.gui_table.content
     assert "| Ann Lee | – | 2 | 1.00 | 2.6 s: right |" in table, table
@@ -120,7 +127,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     body = projector.locator("body").inner_text()
     assert "Ann Lee" in body and "s2041" in body and "2.6 s: right" in body, body
     # live: a later attempt shows in the open table without a click of the lecturer's
-    _student_submits(phone, "2.45", "2.45 s: right")
+    _student_submits(phone, bea, "2.45", "2.45 s: right")
     projector.get_by_text("2.45 s: right", exact=False).first.wait_for(timeout=WAIT_MS)
     SHOTS.mkdir(parents=True, exist_ok=True)
     projector.screenshot(path=str(SHOTS / "lecturer-table.png"))
@@ -168,15 +175,9 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
 
     laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
-    _open_task(laptop, code)
-    try:
-        laptop.get_by_text("Question 1 of 3", exact=False).first.wait_for(timeout=WAIT_MS)
-    except Exception as error:  # what the student's page and session show, for the failure's message
-        raise AssertionError(f"no first question: mode {cem.mode}, task {cem.task_panel.task}, "
-                             f"note {cem.task_panel.gui_note.content!r}, code box "
-                             f"{cem.task_panel.gui_code.value!r}, last error {cem.last_error!r}; page:\n"
-                             f"{laptop.locator('body').inner_text()[-1500:]}") from error
-    _type_into(laptop, "Your name", "Cem")
+    _open_task(laptop, cem, code)
+    _question_shown(laptop, cem, "Question 1 of 3")
+    _type_into(laptop, "Your name", "Cem", cem)
     submit = "Submit the state of my room"
     for k, expected in enumerate(("✗ not what was asked", "✓ as asked", "✗ not what was asked")):
         if k:
@@ -188,7 +189,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
                    timeout=30.0)
         laptop.get_by_text(expected, exact=False).first.wait_for(timeout=WAIT_MS)
 
-    _open_as_lecturer(projector, code)
+    _open_as_lecturer(projector, presenter, code)
     projector.get_by_text("1 student", exact=False).first.wait_for(timeout=WAIT_MS)
     table = presenter.task_panel.gui_table.content
     assert "| Cem | – | 1 | 0.33 | 1 ✗ · 2 ✓ · 3 ✗ |" in table, table
