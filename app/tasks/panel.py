@@ -12,8 +12,9 @@ session; `app.main` calls it for every new browser).
   and presses `Make a task` (or first `Add to the worksheet` for each question of a worksheet):
   the task code is shown.
 - The lecturer types the task code and the presenter code (`Lecturer's code`) and presses
-  `Open as lecturer`: the live table (one row a student), `Download results (CSV)`, `Close the
-  task` and `Extend` (the due time `Due in [h]` from now).
+  `Open as lecturer`: the live table (one row a student), the 3D views of a direction or state
+  question's answers (`app.tasks.views`: the sphere of tips, the gallery), `Download results
+  (CSV)`, `Close the task` and `Extend` (the due time `Due in [h]` from now).
 
 Every action checks who may do it on the server (a hostile page can press hidden buttons and
 send any value): a student reads only their own submissions, the lecturer's buttons need the
