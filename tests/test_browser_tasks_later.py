@@ -180,6 +180,13 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         assert "Q1: 90.0° from the target ✗" in rows[1] and "Q2: flips" in rows[1], rows
         assert "Q3: loops" in rows[1] and rows[1].endswith("✓ as asked"), rows  # the best of two attempts
         assert rows[2].startswith(",s2041,0.333,1,") and rows[2].endswith("Q3: not answered"), rows
+        # Play this answer: Ann's loops in the lecturer's own room, its scene opened first
+        _button(desk, "Play this answer").click()
+        wait_text(desk, "Playing answer 1 in your room.", "Ann's answer playing", teacher)
+        wait_until(lambda: teacher.room.scene.title == "Heavy top" and teacher.room.playing, timeout=30.0,
+                   what="the lecturer's room playing a Heavy top",
+                   seen=lambda: (teacher.room.scene.title, teacher.room.playing))
+        desk.screenshot(path=str(SHOTS / "lecturer-plays-anns-answer.png"))
         (SHOTS / "restart-table.md").write_text(f"{table}\n\nAnn's verdict: {ann_verdict}\n\nCem: {late_words}\n\n"
                                                 + "\n".join(rows) + "\n")
         for session in (bea, cem, teacher):

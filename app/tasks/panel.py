@@ -515,9 +515,13 @@ class TaskPanel:
         """The gallery's `Play this answer`: the chosen student's state in this browser's room, playing
         (the lecturer's own room, or the class's while presenting; never a presenter's room followed)."""
         self._lecturers()
-        if getattr(self.session, "mode", None) == "following":
+        session, answer = self.session, entry.answer
+        if getattr(session, "mode", None) == "following":
             raise PermissionError("press Explore on my own first: an answer plays in your own room")
-        play_answer(self.session.room, entry.answer)
+        if session.room.scene.title != answer.scene and answer.scene in SCENES:  # its scene opened first
+            session.own_room.open_scene(answer.scene, lambda room: play_answer(room, answer))
+        else:
+            play_answer(session.room, answer)
         if self.views is not None:
             self.views.gallery_panel.line.content = f"Playing answer {entry.number} in your room."
 
