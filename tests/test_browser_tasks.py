@@ -147,29 +147,49 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
 WORKSHEET = "Worksheet on the memo (a task for home: one rotation, the flip, a top that loops)"
 
 
-def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(browser, hall_app: App,  # noqa: F811
-                                                                             wait_until) -> None:
-    app = hall_app
-    projector, presenter = _presenting(browser, app)
+def wait_text(page, text: str, what: str, session=None, timeout_ms: int = WAIT_MS) -> None:  # type: ignore[no-untyped-def]
+    """Wait until `text` shows on `page`; AssertionError naming `what` and what the page (and its
+    session's last error) showed otherwise."""
+    try:
+        page.get_by_text(text, exact=False).first.wait_for(timeout=timeout_ms)
+    except Exception as error:  # noqa: BLE001 - said with what was seen
+        said = "" if session is None else f"; the session's last error {session.last_error!r}"
+        raise AssertionError(f"waited {timeout_ms / 1000:g} s for {what} ({text!r}){said}; the page showed:\n"
+                             f"{page.locator('body').inner_text()[-1500:]}") from error
+
+
+def make_memo_worksheet(projector, presenter, wait_until, attempts: str) -> str:  # type: ignore[no-untyped-def]
+    """The presenter's page starts the memo worksheet lesson, adds each step's question to the
+    worksheet, sets `attempts` and presses `Make a task`; the task code shown ("K7M2-QX9P")."""
     ask = presenter.ask_panel
     projector.get_by_text("Lesson", exact=True).first.click()
     _choose(projector, presenter.lesson_runner.gui_lesson, WORKSHEET)
-    wait_until(lambda: presenter.lesson is not None, timeout=30.0)
+    wait_until(lambda: presenter.lesson is not None, timeout=30.0, what="the worksheet lesson started",
+               seen=lambda: presenter.last_error)
     with presenter.lock:  # the lesson's start has ended
         pass
     for k, start in enumerate(("One rotation", "The flip", "A heavy top that loops")):
         if k > 0 or presenter.lesson_step < 0:
             _button(projector, "Next ▶").click()
-        wait_until(lambda start=start: str(ask.gui_prompt.value).startswith(start), timeout=30.0)
+        wait_until(lambda start=start: str(ask.gui_prompt.value).startswith(start), timeout=30.0,
+                   what=f"the Ask form filled with {start!r}", seen=lambda: ask.gui_prompt.value)
         _button(projector, "Add to the worksheet").click()
-        projector.get_by_text(f"{k + 1} question", exact=False).first.wait_for(timeout=WAIT_MS)
-    _choose(projector, presenter.task_panel.gui_attempts, "unlimited")
-    wait_until(lambda: presenter.task_panel.gui_attempts.value == "unlimited", timeout=20.0)
+        wait_text(projector, f"{k + 1} question", f"{k + 1} question(s) in the worksheet", presenter)
+    _choose(projector, presenter.task_panel.gui_attempts, attempts)
+    wait_until(lambda: presenter.task_panel.gui_attempts.value == attempts, timeout=20.0,
+               what=f"Attempts {attempts}", seen=lambda: presenter.task_panel.gui_attempts.value)
     _button(projector, "Make a task").click()
-    projector.get_by_text("Task code", exact=False).first.wait_for(timeout=WAIT_MS)
+    wait_text(projector, "Task code", "the task code under Make a task", presenter)
     made = re.search(r"Task code ([0-9A-Z]{4}-[0-9A-Z]{4})", projector.locator("body").inner_text())
     assert made is not None, "no task code on the presenter's page"
-    code = made.group(1)
+    return made.group(1)
+
+
+def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(browser, hall_app: App,  # noqa: F811
+                                                                             wait_until) -> None:
+    app = hall_app
+    projector, presenter = _presenting(browser, app)
+    code = make_memo_worksheet(projector, presenter, wait_until, attempts="unlimited")
     task = app.task_store.task(code)
     assert [q.judge for q in task.questions] == ["attitude", "axis_stays", "top_motion"]
 

@@ -327,7 +327,7 @@ def test_the_lecturers_tally_counts_each_students_counted_answer_once(store: Tas
         for option in answers:
             clock.t += 1.0
             store.submit(task.code, token, name, "", 0, option)
-    text = tallies_text(task, store.submissions(task.code))
+    text = tallies_text(task, store.submissions(task.code), clock())
     lines = text.split("  \n")
     assert lines[0] == "**Q1** · 2 answered · 1 right", text  # Ann's best (option 2), Bea's (option 3)
     assert lines[1].startswith("1. smallest") and "**0**" in lines[2] and "**1**" in lines[4] and "**1**" in lines[6]

@@ -294,3 +294,65 @@ def test_make_a_task_is_part_of_the_ask_form_hidden_while_a_round_runs(hall: App
         poll_until(lambda: panel.gui_make.visible and panel.gui_words.visible, timeout=DEADLINE_S)
     finally:
         client.close()
+
+
+def test_the_lecturer_sees_a_direction_tasks_answers_as_tips_on_the_sphere(hall: App) -> None:
+    """Opened as lecturer, a task of a direction question shows every student's counted answer as a
+    tip on the sphere of `Ask the class` (and the true direction), in the lecturer's own scene only;
+    `3D view` none hides them.  A student's browser has no such view."""
+    import numpy as np
+
+    from app.hall.ask_kinds import direction_of
+    from app.hall.ask_presenter import SPHERE_RADIUS
+
+    app = hall
+    clients = []
+    try:
+        lecturer_client, lecturer = _new_session(app)
+        clients.append(lecturer_client)
+        with lecturer.lock:
+            lecturer.present(CODE)
+        ask, panel = lecturer.ask_panel, lecturer.task_panel
+        ask.gui_kind.value = "Direction"
+        ask.gui_prompt.value = "Where does the angular momentum point?"
+        ask.forms["direction"].gui_truth.value = "0, 0, 1"
+        panel.gui_attempts.value = "2"
+        panel.gui_counts.value = "last"
+        with lecturer.lock:
+            task = panel.make_from_form()
+        answers = {"Ann": [(0.0, 80.0), (90.0, 10.0)], "Bea": [(180.0, 88.0)]}  # azimuth, elevation [deg]
+        for name, tries in answers.items():
+            client, student = _new_session(app)
+            clients.append(client)
+            mine = student.task_panel
+            _typed(client, mine.gui_code, task.shown_code)
+            _click(client, mine.gui_open)
+            poll_until(lambda mine=mine: mine.task is not None and mine.gui_azimuth.visible, timeout=DEADLINE_S)
+            _typed(client, mine.gui_name, name)
+            for azimuth, elevation in tries:
+                _typed(client, mine.gui_azimuth, azimuth)
+                _typed(client, mine.gui_elevation, elevation)
+                before = mine.gui_verdict.content
+                _click(client, mine.gui_submit)
+                poll_until(lambda mine=mine, before=before: mine.gui_verdict.content != before, timeout=DEADLINE_S,
+                           what=f"{name}'s verdict", seen=lambda mine=mine: mine.gui_note.content)
+            assert mine.views is None  # a student's browser never builds the lecturer's views
+        opened = _open_as_lecturer(lecturer_client, lecturer, task)
+        poll_until(lambda: opened.views is not None and opened.views.sphere.handles[1].visible, timeout=DEADLINE_S,
+                   what="the tips on the lecturer's sphere", seen=lambda: opened.gui_note.content)
+        views = opened.views
+        assert views.gui_view.value == "Q1 · sphere of tips" and views.gui_view.visible
+        sphere, tips, truth = views.sphere.handles
+        assert sphere.visible and truth.visible
+        counted = [direction_of(90.0, 10.0), direction_of(180.0, 88.0)]  # Ann's last attempt counts, then Bea's
+        np.testing.assert_allclose(tips.points, SPHERE_RADIUS * np.array(counted), atol=2e-3)  # viser: float16
+        assert np.allclose(truth.points[0, 1] / np.linalg.norm(truth.points[0, 1]), (0.0, 0.0, 1.0))
+        assert not views.gallery_panel.folder.visible
+        assert tips._impl.name.startswith("/task_views/"), tips._impl.name  # the lecturer's own, not the Ask round's
+        _typed(lecturer_client, views.gui_view, "none")
+        poll_until(lambda: not any(h.visible for h in views.sphere.handles), timeout=DEADLINE_S,
+                   what="the sphere hidden by 3D view none", seen=lambda: [h.visible for h in views.sphere.handles])
+        assert lecturer.error_count == 0, lecturer.last_error
+    finally:
+        for client in clients:
+            client.close()

@@ -31,7 +31,8 @@ from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.kit.panel.download import save_download
 
 __all__ = ["ASK_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EARLIER_LABEL", "LABELS", "NEW_LABEL", "REVEAL_LABEL",
-           "SPHERE_RADIUS", "VOTE_AGAIN_LABEL", "AskPanel", "count_text", "histogram_text", "sphere_points"]
+           "SPHERE_RADIUS", "VOTE_AGAIN_LABEL", "AnswerSphere", "AskPanel", "count_text", "histogram_text",
+           "sphere_points"]
 
 ASK_LABEL = "Ask the class"
 CLOSE_LABEL = "Close the round"
@@ -64,6 +65,42 @@ def sphere_points(tally: Tally) -> np.ndarray:
     if not tally.directions:
         return np.zeros((0, 3), dtype=np.float32)
     return (SPHERE_RADIUS * np.asarray(tally.directions, dtype=np.float64)).astype(np.float32)
+
+
+class AnswerSphere:
+    """A direction question's answers in one browser's 3D view (`scene`, its `client.scene`):
+    a faint sphere of radius SPHERE_RADIUS around the origin, every answer's tip a point on it,
+    the true direction an arrow once revealed.  Its nodes are made hidden, under `root`, when it
+    is (no node is made inside a frame of the app loop); `draw` sets and shows them."""
+
+    def __init__(self, scene: Any, root: str) -> None:
+        self.handles: list[Any] = [
+            scene.add_icosphere(f"{root}/sphere", radius=SPHERE_RADIUS, color=(150, 170, 200), subdivisions=3,
+                                opacity=0.12, cast_shadow=False, receive_shadow=False, visible=False),
+            scene.add_point_cloud(f"{root}/tips", np.zeros((1, 3), np.float32), colors=TIP_COLOR,
+                                  point_size=0.12, point_shape="circle", visible=False),
+            scene.add_arrows(f"{root}/truth", np.zeros((1, 2, 3), np.float32), TRUTH_COLOR, shaft_radius=0.05,
+                             head_radius=0.12, head_length=0.25, visible=False),
+        ]
+
+    def draw(self, tally: Tally | None, revealed: bool = False) -> None:
+        """The sphere, the tips of `tally`'s directions and (revealed) the true direction; `tally`
+        None: all hidden."""
+        sphere, tips, truth_arrow = self.handles
+        show_if_changed(sphere, tally is not None)
+        points = np.zeros((0, 3), np.float32) if tally is None else sphere_points(tally)
+        if len(points):
+            tips.points = points
+        show_if_changed(tips, bool(len(points)))
+        truth = None if tally is None else getattr(tally.question, "truth", None)
+        if revealed and truth is not None:
+            truth_arrow.points = np.array([[[0.0, 0.0, 0.0], [TRUTH_REACH * SPHERE_RADIUS * c for c in truth]]],
+                                          np.float32)
+        show_if_changed(truth_arrow, bool(revealed and truth is not None))
+
+    def remove(self) -> None:
+        for handle in self.handles:
+            handle.remove()
 
 
 class AskPanel:
@@ -117,15 +154,8 @@ class AskPanel:
             self.gallery_panel.folder.visible = False
         self._alias_fields()
         # The sphere, the tips and the true direction, made hidden now (see AnswerPanel: no node is made in a frame)
-        scene = client.scene
-        self._sphere: list[Any] = [
-            scene.add_icosphere(f"{ASK_ROOT}/sphere", radius=SPHERE_RADIUS, color=(150, 170, 200), subdivisions=3,
-                                opacity=0.12, cast_shadow=False, receive_shadow=False, visible=False),
-            scene.add_point_cloud(f"{ASK_ROOT}/tips", np.zeros((1, 3), np.float32), colors=TIP_COLOR,
-                                  point_size=0.12, point_shape="circle", visible=False),
-            scene.add_arrows(f"{ASK_ROOT}/truth", np.zeros((1, 2, 3), np.float32), TRUTH_COLOR, shaft_radius=0.05,
-                             head_radius=0.12, head_length=0.25, visible=False),
-        ]
+        self.sphere = AnswerSphere(client.scene, ASK_ROOT)
+        self._sphere = self.sphere.handles  # (sphere, tips, truth arrow), as tests read them
         self.gui_kind.on_update(guard("question kind", lambda _e: self._kind_shown()))
         self.gui_ask.on_click(guard("ask the class", lambda _e: self.ask_from_form()))
         self.gui_close.on_click(guard("close the round", lambda _e: self._changed(rounds.close_round)))
@@ -282,22 +312,10 @@ class AskPanel:
         self.gallery_panel.line.content = f"Playing answer {entry.number} in the room."
 
     def _draw_sphere(self, tally: Tally | None, revealed: bool = False) -> None:
-        """The sphere, the tips of the answers and (revealed) the true direction, in this browser's
-        scene; `tally` None: hidden."""
-        sphere, tips, truth_arrow = self._sphere
-        show_if_changed(sphere, tally is not None)
-        points = np.zeros((0, 3), np.float32) if tally is None else sphere_points(tally)
-        if len(points):
-            tips.points = points
-        show_if_changed(tips, bool(len(points)))
-        truth = None if tally is None else getattr(tally.question, "truth", None)
-        if revealed and truth is not None:
-            truth_arrow.points = np.array([[[0.0, 0.0, 0.0], [TRUTH_REACH * SPHERE_RADIUS * c for c in truth]]],
-                                          np.float32)
-        show_if_changed(truth_arrow, bool(revealed and truth is not None))
+        """The sphere of the round's tips (`AnswerSphere.draw`); `tally` None: hidden."""
+        self.sphere.draw(tally, revealed)
 
     def remove(self) -> None:
-        for handle in self._sphere:
-            handle.remove()
+        self.sphere.remove()
         self.gallery.remove()
         self.folder.remove()

@@ -12,8 +12,9 @@ session; `app.main` calls it for every new browser).
   and presses `Make a task` (or first `Add to the worksheet` for each question of a worksheet):
   the task code is shown.
 - The lecturer types the task code and the presenter code (`Lecturer's code`) and presses
-  `Open as lecturer`: the live table (one row a student), `Download results (CSV)`, `Close the
-  task` and `Extend` (the due time `Due in [h]` from now).
+  `Open as lecturer`: the live table (one row a student), the 3D views of a direction or state
+  question's answers (`app.tasks.views`: the sphere of tips, the gallery), `Download results
+  (CSV)`, `Close the task` and `Extend` (the due time `Due in [h]` from now).
 
 Every action checks who may do it on the server (a hostile page can press hidden buttons and
 send any value): a student reads only their own submissions, the lecturer's buttons need the
@@ -33,6 +34,7 @@ from typing import Any
 
 import viser
 
+from app.ask.gallery import GalleryEntry, play_answer
 from app.ask.questions import Question
 from app.ask.round import Tally
 from app.hall.ask_kinds import direction_of
@@ -54,6 +56,7 @@ from app.tasks.model import (
     iso_time,
 )
 from app.tasks.store import TaskRules
+from app.tasks.views import TaskViews
 
 __all__ = ["ADD_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EXTEND_LABEL", "LECTURER_LABEL", "MAKE_LABEL", "OPEN_LABEL",
            "RECEIPT_LABEL", "SUBMIT_LABEL", "TASK_FOLDER", "TaskPanel", "attach_tasks", "table_text", "tallies_text"]
@@ -95,7 +98,7 @@ def table_text(task: Task, submissions: list[Submission], now: float) -> str:
     return "\n".join(lines)
 
 
-def tallies_text(task: Task, submissions: list[Submission]) -> str:
+def tallies_text(task: Task, submissions: list[Submission], now: float) -> str:
     """Per question, the counted answers (one a student: `model.counted`) in words: how many
     answered and were right, and a choice's bars or a number's histogram (`QuestionKind.tally_text`,
     the right answer marked) as `Ask the class` shows them."""
@@ -110,7 +113,7 @@ def tallies_text(task: Task, submissions: list[Submission]) -> str:
         line = f"**Q{index + 1}** · {len(chosen)} answered" + (f" · {right} right" if is_judged(question) else "")
         if chosen and question.kind in ("choice", "number"):
             values = [c.value for c in chosen]
-            tally = Tally(1, question, task.open_now(time.time()), len(chosen),
+            tally = Tally(1, question, task.open_now(now), len(chosen),
                           **question.tally_fields(values, [None] * len(values)))
             line += "  \n" + question.tally_text(tally, revealed=True)
         lines.append(line)
@@ -163,13 +166,16 @@ class TaskPanel:
         worksheet: the questions added for the next task made here.
     """
 
-    def __init__(self, session: Any, store: TaskRules, clock: Callable[[], float] = time.time) -> None:
+    def __init__(self, session: Any, store: TaskRules, clock: Callable[[], float] | None = None) -> None:
         self.session = session
         self.store = store
-        self.clock = clock
+        self.clock: Callable[[], float] = clock or (lambda: store.clock())
+        """[s since the epoch] the time the folder says things by: the store's clock (the one that
+        refuses a late submission) unless given."""
         self.task: Task | None = None
         self.question = 0
         self.lecturer_task: Task | None = None
+        self.views: TaskViews | None = None  # the lecturer's 3D views, made at the first `Open as lecturer`
         self.made: Task | None = None
         self.worksheet: list[tuple[Question, str | None, str | None]] = []
         """The questions added for the next task made here, each with the scene and preset shown then."""
@@ -466,6 +472,9 @@ class TaskPanel:
         self.lecturer_task = task
         self.gui_lecturer_code.value = ""
         self._say("")
+        if self.views is None:
+            with self.folder:
+                self.views = TaskViews(self.client, self.client.gui, self.session.guard, self._play_entry)
         self._show_lecturer(True)
         self.refresh_table()
         self._start_polling()
@@ -499,6 +508,22 @@ class TaskPanel:
         for handle in (self.gui_table, self.gui_csv, self.gui_extend_hours, self.gui_extend, self.gui_close,
                        self.gui_receipt, self.gui_check):
             handle.visible = shown
+        if not shown and self.views is not None:
+            self.views.hide()
+
+    def _play_entry(self, entry: GalleryEntry) -> None:
+        """The gallery's `Play this answer`: the chosen student's state in this browser's room, playing
+        (the lecturer's own room, or the class's while presenting; never a presenter's room followed)."""
+        self._lecturers()
+        session, answer = self.session, entry.answer
+        if getattr(session, "mode", None) == "following":
+            raise PermissionError("press Explore on my own first: an answer plays in your own room")
+        if session.room.scene.title != answer.scene and answer.scene in SCENES:  # its scene opened first
+            session.own_room.open_scene(answer.scene, lambda room: play_answer(room, answer))
+        else:
+            play_answer(session.room, answer)
+        if self.views is not None:
+            self.views.gallery_panel.line.content = f"Playing answer {entry.number} in your room."
 
     def _lecturers(self) -> Task:
         if self.lecturer_task is None:
@@ -510,9 +535,12 @@ class TaskPanel:
         task = self.store.task(self._lecturers().code)
         self.lecturer_task = task
         submissions = self.store.submissions(task.code)
-        text = table_text(task, submissions, self.clock()) + "\n\n" + tallies_text(task, submissions)
+        now = self.clock()
+        text = table_text(task, submissions, now) + "\n\n" + tallies_text(task, submissions, now)
         if self.gui_table.content != text:
             self.gui_table.content = text
+        if self.views is not None:
+            self.views.show(task, submissions)
         return text
 
     def download(self) -> None:
