@@ -50,17 +50,6 @@ def _open_task(page, session, typed: str) -> None:  # type: ignore[no-untyped-de
     _button(page, "Open the task").click()
 
 
-def _question_shown(page, session, words: str) -> None:  # type: ignore[no-untyped-def]
-    """Wait for the task's question `words` on the student's page; failing, say what showed."""
-    try:
-        page.get_by_text(words, exact=False).first.wait_for(timeout=WAIT_MS)
-    except Exception as error:
-        panel = session.task_panel
-        raise AssertionError(f"no {words!r}: mode {session.mode}, task {panel.task}, note "
-                             f"{panel.gui_note.content!r}, code box {panel.gui_code.value!r}, last error "
-                             f"{session.last_error!r}; page:\n{page.locator('body').inner_text()[-1500:]}") from error
-
-
 def _presenting(browser, app: App):  # type: ignore[no-untyped-def]
     """The lecturer's page on a 1280×900 projector, presenting: (page, session)."""
     projector, presenter = open_page(browser, app, timeout=90.0, viewport={"width": 1280, "height": 900})
@@ -103,7 +92,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     laptop, ann = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
     _open_task(laptop, ann, code.lower().replace("-", " "))  # as read aloud
-    _question_shown(laptop, ann, "The book flips: its flip period?")
+    wait_text(laptop, "The book flips: its flip period?", "Ann's question", ann)
     _type_into(laptop, "Your name", "Ann Lee", ann)
     wrong = _student_submits(laptop, ann, "3.1", "3.1 s: wrong")
     assert "1 attempt left" in wrong and "Receipt" in wrong, wrong
@@ -115,7 +104,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
                            has_touch=True)
     close_toasts(phone)
     _open_task(phone, bea, code)
-    _question_shown(phone, bea, "The book flips: its flip period?")
+    wait_text(phone, "The book flips: its flip period?", "Bea's question", bea)
     _type_into(phone, "Student number", "s 2041", bea)
     _student_submits(phone, bea, "4", "4 s: wrong")
 
@@ -196,7 +185,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
     laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
     close_toasts(laptop)
     _open_task(laptop, cem, code)
-    _question_shown(laptop, cem, "Question 1 of 3")
+    wait_text(laptop, "Question 1 of 3", "Cem's first question", cem)
     _type_into(laptop, "Your name", "Cem", cem)
     submit = "Submit the state of my room"
     for k, expected in enumerate(("✗ not what was asked", "✓ as asked", "✗ not what was asked")):

@@ -66,7 +66,7 @@ def _student_opens(browser: Any, app: App, code: str, who: str, **context: Any) 
     question shown."""
     page, session = open_page(browser, app, timeout=90.0, **context)
     close_toasts(page)
-    _open_task(page, code)
+    _open_task(page, session, code)
     wait_text(page, "Question 1 of 3", f"{who}'s first question", session)
     return page, session
 
@@ -118,7 +118,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         code = make_memo_worksheet(projector, presenter, wait_until, attempts="2")
         task = first.task_store.task(code)
         laptop, ann = _student_opens(browser, first, code, "Ann", **LAPTOP)
-        _type_into(laptop, "Your name", "Ann Lee")
+        _type_into(laptop, "Your name", "Ann Lee", ann)
         _answers(laptop, ann, first, code, 0, WRONG)  # D = 1 is no turn about x
         _next_question(laptop, ann, task, 1, wait_until)
         _answers(laptop, ann, first, code, 1, RIGHT)  # the Dzhanibekov start flips
@@ -137,7 +137,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
     with _server(data_dir=tmp_path) as second:  # the same data folder: the restart
         phone, bea = _student_opens(browser, second, code.lower().replace("-", " "), "Bea (after the restart)",
                                     **PHONE)
-        _type_into(phone, "Student number", "s 2041")
+        _type_into(phone, "Student number", "s 2041", bea)
         _answers(phone, bea, second, code, 0, WRONG)
         _next_question(phone, bea, task, 1, wait_until)
         _answers(phone, bea, second, code, 1, RIGHT)  # and she stops there
@@ -149,7 +149,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         second.task_store.clock = lambda: real_clock() + 8 * DAY_S  # a week and a day later: due a day ago
         late, cem = _student_opens(browser, second, code, "Cem (too late)", **LAPTOP)
         wait_text(late, "no longer open", "the task said closed to Cem", cem)
-        _type_into(late, "Your name", "Cem")
+        _type_into(late, "Your name", "Cem", cem)
         _button(late, SUBMIT).click()
         wait_text(late, "a submission after the due time is not accepted", "Cem told he is too late", cem)
         late_words = cem.task_panel.gui_note.content
@@ -159,7 +159,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
 
         desk, teacher = open_page(browser, second, timeout=90.0, **LECTURER)
         close_toasts(desk)
-        _open_as_lecturer(desk, code)
+        _open_as_lecturer(desk, teacher, code)
         wait_text(desk, "2 students, 6 submissions", "the lecturer's table", teacher)
         table = teacher.task_panel.gui_table.content
         assert "past its due time" in table, table
@@ -216,7 +216,7 @@ def test_a_worksheet_made_on_one_worker_is_done_on_the_other(browser, two_worker
     code = make_memo_worksheet(projector, presenter, wait_until, attempts="1")
     task = a.task_store.task(code)
     laptop, dana = _student_opens(browser, b, code, "Dana (on worker B)", **LAPTOP)
-    _type_into(laptop, "Student number", "s77")
+    _type_into(laptop, "Student number", "s77", dana)
     _answers(laptop, dana, b, code, 0, WRONG)
     _next_question(laptop, dana, task, 1, wait_until)
     started = time.time()
@@ -227,7 +227,7 @@ def test_a_worksheet_made_on_one_worker_is_done_on_the_other(browser, two_worker
     wait_text(laptop, "You have used your 1 attempt at question 2", "Dana's second attempt refused", dana)
     laptop.screenshot(path=str(SHOTS / "dana-worker-b-verdict.png"))
 
-    _open_as_lecturer(projector, code)  # on worker A
+    _open_as_lecturer(projector, presenter, code)  # on worker A
     wait_text(projector, "1 student, 2 submissions", "the lecturer's table on worker A", presenter)
     table = presenter.task_panel.gui_table.content
     assert "| – | s77 | 1 | 0.33 | 1 ✗ · 2 ✓ · 3 – |" in table, table
