@@ -69,11 +69,25 @@ def box_inside(box, width: float, height: float) -> bool:  # type: ignore[no-unt
         and box["y"] + box["height"] <= height
 
 
-def scroll_panel_to_end(page, at: tuple[float, float]) -> None:  # type: ignore[no-untyped-def]
-    """The mouse wheel over the panel (at `at` [CSS px]) until it scrolled as far as it goes."""
-    page.mouse.move(*at)
-    for _ in range(8):
-        page.mouse.wheel(0, 1500)
+def scroll_panel_to_end(page, at: tuple[float, float]) -> float:  # type: ignore[no-untyped-def]
+    """Scroll what is under the point `at` [CSS px] (the panel) as far down as it goes, as a mouse
+    wheel there would: each scrollable element from the one under the point up to the page.
+
+    Not `page.mouse.wheel`: Playwright's wheel waits for the renderer to draw a frame, with no
+    deadline; a renderer starved by a busy machine held it past the test's 300 s (a CI run).
+    How far it scrolled [CSS px]."""
+    return page.evaluate("""([x, y]) => {
+        let moved = 0;
+        for (let e = document.elementFromPoint(x, y); e; e = e.parentElement) {
+            const style = getComputedStyle(e).overflowY;
+            if (e.scrollHeight > e.clientHeight && (style === 'auto' || style === 'scroll')) {
+                const before = e.scrollTop;
+                e.scrollTop = e.scrollHeight;
+                moved += e.scrollTop - before;
+            }
+        }
+        return moved;
+    }""", list(at))
 
 
 def stop_in_sight(page, session, wait_until, width: float, height: float, where: str):  # type: ignore[no-untyped-def]
@@ -139,7 +153,7 @@ def test_the_lecturers_controls_stay_in_sight_in_every_scene(browser, hall_app: 
             play.first.click()
         open_a_long_folder(page)
         close_toasts(page)
-        scroll_panel_to_end(page, (width - 150, height / 2))
+        assert scroll_panel_to_end(page, (width - 150, height / 2)) > 0, f"{title}: the panel did not scroll"
         stop_in_sight(page, session, wait_until, width, height, f"{title}, {presets[-1].name if presets else ''}")
         if title == "Heavy top":
             shot(page, f"row3_{width}x{height}_heavy_top.png")

@@ -132,6 +132,7 @@ def test_a_worker_that_ends_leaves_the_others_browsers_working(cluster: Cluster)
     cluster.stop_worker(wa)
     assert cluster.redis.get("rbl:presenter") is None  # released as it stopped
     if sb.mode == "following":  # the last state an earlier presenter on its worker left
+        b.wait_for_label("Explore on my own", 30.0)  # the follower's panel reaches the client after the mode
         b.click("Explore on my own")
         poll_until(lambda: sb.mode == "own", 10.0)
     b.wait_for_label("Play")
