@@ -31,6 +31,7 @@ from weakref import WeakKeyDictionary
 
 import viser
 
+from app.i18n import for_gui
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.core.room import LIVE, Room
@@ -120,6 +121,8 @@ class SceneView:
         self.root = target.root_prefix + type(self).root
         self.room = room
         self.sim: Any = room.sim
+        self.tr = for_gui(target.gui)
+        """The browser's words and numbers (`app.i18n.Translator`), chosen per browser by its session."""
         self._wrap = wrap
         self._report_error = report_error
         self.quiet = Quiet()  # the server writing sliders: their callbacks do nothing
@@ -170,7 +173,7 @@ class SceneView:
         self.message = MessageLine(gui)
         self.transport = Transport(gui, self._wrap, self.message, on_toggle=room.toggle, on_step=room.step,
                                    on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock,
-                                   **transport_options)
+                                   tr=self.tr, **transport_options)
 
     def _build_scene(self) -> None:
         """Add the scene's nodes under `root`."""
@@ -250,17 +253,17 @@ class SceneView:
     def choose_own_preset(self, name: str) -> None:
         """A button of the ★ Mine row."""
         if self.start_own_preset is None:
-            self.message.show(f"No preset named {name!r}.")
+            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
             return
         try:
             self.start_own_preset(name)
         except ValueError:  # a name a client made up, or one deleted meanwhile
-            self.message.show(f"No preset named {name!r}.")
+            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""
         if name not in {p.name for p in self.presets()}:
-            self.message.show(f"No preset named {name!r}.")
+            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
             return
         self.message.clear()
         self.apply_preset(self.room, name)
