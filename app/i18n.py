@@ -105,6 +105,7 @@ class Translator:
     def __init__(self, language: str, translations: _gettext.NullTranslations) -> None:
         self.language = language
         self._translations = translations
+        self._english: dict[str, str] | None = None  # translation -> msgid (`english`), built at first use
 
     def gettext(self, message: str) -> str:
         """`message` (an English msgid) in this language; itself when the catalog lacks it or it is ""."""
@@ -115,6 +116,15 @@ class Translator:
     def ngettext(self, singular: str, plural: str, n: int) -> str:
         """The singular or plural form for `n`, as this language's plural rule says."""
         return self._translations.ngettext(singular, plural, n)
+
+    def english(self, text: str) -> str:
+        """The English msgid `text` translates (a widget's label back to the name code and
+        lessons use: "Hoekbogen" -> "Angle arcs"); `text` itself when no entry translates to it."""
+        if self._english is None:
+            catalog = getattr(self._translations, "_catalog", {})
+            self._english = {str(value): str(key) for key, value in catalog.items()
+                             if isinstance(key, str) and key and isinstance(value, str)}
+        return self._english.get(text, text)
 
     def all(self, messages: Iterable[str]) -> tuple[str, ...]:
         """Each of `messages` translated."""

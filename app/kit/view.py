@@ -351,14 +351,15 @@ class SceneView:
         remove_under(controls, self.root)
 
     def checkboxes(self) -> dict[str, viser.GuiCheckboxHandle]:
-        """The view's checkboxes by label (what a lesson step may switch): every checkbox of its
+        """The view's checkboxes by English label (what a lesson step may switch, whatever the
+        browser's language): every checkbox of its
         panel, found in the panel's tree below the view's top-level handles (`_gui_roots`), or,
         without viser's panel registry (`app.viser_internals.PANEL_INPUTS`), every checkbox the
         view or its parts hold."""
         found = panel_checkboxes(self.client.gui, self._gui_roots)
         if found is None:
             found = _held_checkboxes(self)
-        return {str(handle.label): handle for handle in found}
+        return {self.tr.english(str(handle.label)): handle for handle in found}  # by its English label
 
     def panel_controls(self) -> list[Any]:
         """The inputs of the view's panel (buttons, rows of buttons, sliders, checkboxes, menus):
