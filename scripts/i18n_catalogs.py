@@ -34,12 +34,14 @@ def po_files() -> list[Path]:
     return sorted(LOCALE.glob("*/LC_MESSAGES/messages.po"))
 
 
-def extract() -> None:
+def extract(out: Path = POT) -> Path:
+    """The marked strings of app/**.py (babel.cfg) into the template `out`; `out`."""
     keywords = [arg for keyword in KEYWORDS for arg in ("-k", keyword)]
     pybabel("extract", "-F", str(ROOT / "babel.cfg"), "--no-default-keywords", *keywords, "--sort-by-file",
-            "--no-wrap", "--project", "rigid-body-lab", "-o", str(POT), str(ROOT))
+            "--no-wrap", "--project", "rigid-body-lab", "-o", str(out), str(ROOT))
     # Paths relative to the checkout (the .pot is the same on every machine).
-    POT.write_text(POT.read_text(encoding="utf-8").replace(str(ROOT) + "/", ""), encoding="utf-8")
+    out.write_text(out.read_text(encoding="utf-8").replace(str(ROOT) + "/", ""), encoding="utf-8")
+    return out
 
 
 def update() -> None:
