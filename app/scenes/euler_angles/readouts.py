@@ -110,28 +110,31 @@ def factors_text(angles_deg: Sequence[float]) -> str:
     return "\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors)
 
 
-def omega_text(angles_deg: Sequence[float], rates_deg: Sequence[float]) -> str:
+def omega_text(angles_deg: Sequence[float], rates_deg: Sequence[float], tr: Translator = ENGLISH) -> str:
     """The ω tab [deg/s]: the rates, ω's three components φ̇ e_z, θ̇ e_n, ψ̇ e_z′ and ω in space
-    components (x y z), ω_b in body components (x′ y′ z′), |ω|; 3 decimals, |x| < 5e-4 shown as 0."""
+    components (x y z), ω_b in body components (x′ y′ z′), |ω|; 3 decimals, |x| < 5e-4 shown as 0
+    (a table in a code block: its numbers as written in English, its words in the language of `tr`)."""
     phi, theta, psi = _radians(angles_deg)
     angles, rates = np.array([phi, theta, psi]), np.radians(rates_deg)
     omega_space = np.degrees(omega_space_from_euler_rates(angles, rates))
     omega_body = np.degrees(omega_body_from_euler_rates(angles, rates))
     dphi, dtheta, dpsi = rates_deg
 
+    unit, space, body = tr.gettext("deg/s"), tr.gettext("ω_s (space)"), tr.gettext("ω_b (body)")
+
     def row(name: str, v: Any) -> str:
         return f"{name:<14}" + "".join(f"{(0.0 if abs(x) < 5e-4 else x):10.3f}" for x in v)
 
     return (
         "```\n"
-        f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [deg/s]\n\n"
+        f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [{unit}]\n\n"
         f"{'':<14}{'x | x′':>10}{'y | y′':>10}{'z | z′':>10}\n"
         f"{row('(dφ/dt) e_z', (0.0, 0.0, dphi))}\n"
         f"{row('(dθ/dt) e_n', dtheta * line_of_nodes(phi))}\n"
         f"{row('(dψ/dt) e_z′', dpsi * body_z_axis(phi, theta))}\n"
-        f"{row('ω_s (space)', omega_space)}\n"
-        f"{row('ω_b (body)', omega_body)}\n"
-        f"|ω| = {float(np.linalg.norm(omega_space)):.3f} deg/s\n```"
+        f"{row(space, omega_space)}\n"
+        f"{row(body, omega_body)}\n"
+        f"|ω| = {float(np.linalg.norm(omega_space)):.3f} {unit}\n```"
     )
 
 

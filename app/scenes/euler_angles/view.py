@@ -334,7 +334,7 @@ class EulerAnglesView(SceneView):
             with self.readout_tabs.tab("Factors"):
                 self.readout_factors = Readout(gui)
             with self.readout_tabs.tab("ω"):
-                gui.add_markdown("ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b")
+                gui.add_markdown(_("ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b"))
                 self.readout_omega = Readout(gui)
         self.folder_body = gui.add_folder(_("Body: principal moments [kg m²]"), expand_by_default=False)
         with self.folder_body:
@@ -551,4 +551,4 @@ class EulerAnglesView(SceneView):
         if shown in (None, "Factors"):
             self.readout_factors.set(readouts.factors_text(angles_deg))
         if shown in (None, "ω"):
-            self.readout_omega.set(readouts.omega_text(angles_deg, self.sim.rates_deg))
+            self.readout_omega.set(readouts.omega_text(angles_deg, self.sim.rates_deg, self.tr))
