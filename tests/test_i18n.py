@@ -263,3 +263,23 @@ def test_refusals_and_numbers_of_the_euler_panel_in_the_browsers_language(hall: 
     view._refresh_status()
     assert view.transport.gui_status.content.startswith("**t = 1,25 s** · gepauzeerd · 1×")
 
+
+
+def test_a_follower_keeps_its_language_and_explores_in_it_while_the_presenter_speaks_english(hall: Any) -> None:
+    app, join = hall
+    lecturer, student = join(), join()
+    student.set_language("de")
+    lecturer.present(app.lectern.code)
+    assert lecturer.error_count == 0, lecturer.last_error
+    poll_until(lambda: (app.frame(1 / 60), student.mode.name == "FOLLOWING")[1], timeout=10.0)  # the loop's work
+    assert student.language == "de" and student.gui_scene.label == "Szene" and student.gui_language.label == "Sprache"
+    lecturer.select_scene("Free body")
+    assert lecturer.scene.transport.gui_play.label == "Play"  # the presenter's panel stays English
+    student.set_language("nl")  # while following: its own widgets relabel, the shared screen is untouched
+    assert student.error_count == 0, student.last_error
+    assert student.mode.name == "FOLLOWING" and student.gui_scene.label == "Scène"
+    student.explore()
+    assert student.error_count == 0, student.last_error
+    assert student.room.scene.title == "Free body" and student.gui_scene.value == "Vrij lichaam"
+    assert student.scene.transport.gui_play.label == "Afspelen"
+    assert lecturer.scene.transport.gui_play.label == "Play" and lecturer.language == "en"
