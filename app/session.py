@@ -36,14 +36,14 @@ from app.hall.notes import Notes
 from app.hall.own_panel import OwnPanel
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.hall.share import Camera, SharePanel
-from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, language_named, set_translator, translator
+from app.i18n import DEFAULT_LANGUAGE
 from app.kit.core.room import Room
-from app.kit.view import SceneView
 from app.lecture.lectern import Lectern, Mode
 from app.lessons import Lesson
 from app.own import OwnLibrary
 from app.roles.following import Following
 from app.roles.guard import ErrorLine, Guard
+from app.roles.language import Language
 from app.roles.own_room import OwnRoom
 from app.roles.phone import PhoneFit
 from app.roles.presenting import Presenting
@@ -64,7 +64,7 @@ class Session:
     Attributes:
         client (client_id), lectern (or None), own (`app.own`, or None: no Mine folder), share_store.
         showing: what it shows (`app.roles.showing.Showing`: mode, view, own room).
-        own_room, phone, following, presenting, student: its roles (`app.roles`).
+        own_room, languages, phone, following, presenting, student: its roles (`app.roles`).
         errors, projector_layout, lecture, ask_panel, question (None without a lectern), narrow,
             lesson_runner, notes, share, own_panel: the panel's parts (`app.hall`).
     """
@@ -73,9 +73,6 @@ class Session:
                  lectern: Lectern | None = None, own: OwnLibrary | None = None,
                  share_store: ShareStore | None = None, language: str = DEFAULT_LANGUAGE) -> None:
         self.client = client
-        self.tr = translator(language)  # ValueError for a language the app has no catalog of
-        """This browser's words (`app.i18n.Translator`): its panel's translated parts speak it."""
-        set_translator(client.gui, self.tr)
         self.client_id: int = client.client_id
         self.lectern = lectern
         self.own = own
@@ -85,6 +82,7 @@ class Session:
         self.showing = Showing(client, lectern, Room(SCENES[scene], SCENES[scene].new_simulation()))
         self._guard = Guard(self._busy, self.showing.switch_lock, lambda: self.room, self.report_error)
         self.own_room = OwnRoom(self)
+        self.languages = Language(self, self.own_room, language)  # ValueError for a language without a catalog
         self.phone = PhoneFit(self)
         self.following = Following(self, self.own_room, self.phone)
         self.presenting = Presenting(self, self.own_room, self.following)
@@ -97,8 +95,7 @@ class Session:
         """The panel's parts, in the panel's order (viser orders by creation)."""
         self.errors = ErrorLine(self.client, self.guard, last_order=LAST)
         self.gui_error, self.gui_load = self.errors.gui_error, self.errors.gui_load
-        self.gui_scene = self.own_room.build_dropdown(gui, scene)
-        self.gui_language = self._build_language(gui)
+        self.gui_scene, self.gui_language = self.own_room.build_dropdown(gui, scene), self.languages.build_dropdown(gui)
         self._guarded_tick = self.guard("tick", lambda dt: self.room.tick(dt))
         self.projector_layout = ProjectorLayout(
             self.client, self.guard, lambda: None if self.mode is Mode.FOLLOWING else self.scene)
@@ -144,55 +141,6 @@ class Session:
         self.own_room.refresh_preset_commands()
         self.student.show_questions()  # the round asked now, or none, from the first frame
         self.phone.fit_at_connect()
-
-    # ------------------------------------------------------------------ its language (app.i18n)
-    def _build_language(self, gui: Any) -> Any:
-        """The Language dropdown (each language by its own name), under the scene dropdown."""
-        dropdown = gui.add_dropdown(self.tr.gettext("Language"), tuple(LANGUAGES.values()),
-                                    initial_value=LANGUAGES[self.tr.language],
-                                    hint=self.tr.gettext("the language of this browser's panel"))
-        dropdown.on_update(self.guard("language dropdown", lambda _event: self._language_chosen()))
-        return dropdown
-
-    @property
-    def language(self) -> str:
-        """This browser's language code (a key of `app.i18n.LANGUAGES`)."""
-        return self.tr.language
-
-    def _language_chosen(self) -> None:
-        """The Language dropdown changed: a name that is no language (a client can send any)
-        puts it back; another language relabels this browser's panel (`set_language`)."""
-        chosen = str(self.gui_language.value)
-        code = language_named(chosen)
-        if code is None:
-            self.gui_language.value = LANGUAGES[self.language]
-            raise ValueError(f"unknown language {chosen!r}")
-        if code != self.language:
-            self._relabel(code)
-
-    def set_language(self, language: str) -> None:
-        """Speak `language` (a code or a language's own name, as the Language dropdown does), within the guard."""
-        code = language_named(language)
-        if code is None:
-            raise ValueError(f"unknown language {language!r}; choose one of {', '.join(LANGUAGES)}")
-        self.guard("language", lambda: self.gui_language.__setattr__("value", LANGUAGES[code]))()
-
-    def _relabel(self, language: str) -> None:
-        """This browser's panel in `language`: its own widgets relabelled, the scene's panel built
-        again for the same room (nothing of the room changes; other browsers see nothing)."""
-        self.tr = translator(language)
-        set_translator(self.client.gui, self.tr)
-        _ = self.tr.gettext
-        with self.client.atomic():
-            self.gui_language.label = _("Language")
-            self.gui_language.hint = _("the language of this browser's panel")
-            dropdown = self.gui_scene
-            title = self.room.scene.title if self.mode is not Mode.FOLLOWING else self.own_room.scene_title(
-                str(dropdown.value))
-            self.own_room.relabel_dropdown(dropdown, title)
-            view = self.scene
-            if self.mode is not Mode.FOLLOWING and isinstance(view, SceneView):
-                self.own_room.rebuild_view()
 
     # ------------------------------------------------------------------ what it shows
     @property
@@ -274,6 +222,10 @@ class Session:
     def switch_scene(self, title: str) -> None:
         """Show a new room of the scene `title`, as the dropdown does (within the guard)."""
         self.gui_scene.value = self.own_room.scene_label(title)  # runs `OwnRoom.scene_chosen` synchronously
+
+    def set_language(self, language: str) -> None:
+        """Speak `language` (a code or its own name), as the Language dropdown does (`Language.choose`)."""
+        self.guard("language", self.languages.choose)(language)
 
     def controlled_room(self) -> Room:
         """The room this browser may change (PermissionError while it follows the presenter)."""

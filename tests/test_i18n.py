@@ -17,7 +17,7 @@ import viser
 from babel.messages.pofile import read_po
 from babel.support import Translations
 
-from app.i18n import LANGUAGES, catalog_bytes, compile_po, for_gui, language_named, translator
+from app.i18n import catalog_bytes, compile_po, for_gui, language_named, translator
 from app.main import _parse_args, create_server
 from scripts import i18n_catalogs
 from tests.conftest import RawClient, poll_until
@@ -220,17 +220,17 @@ def test_switching_language_relabels_that_browser_only_and_changes_nothing_of_it
     english_panel = _translated_part(english)
     dutch.gui_language.value = "Nederlands"  # as the dropdown sends it (runs its callback)
     assert dutch.error_count == 0, dutch.last_error
-    assert dutch.language == "nl" and dutch.room is room
+    assert dutch.languages.code == "nl" and dutch.room is room
     assert (room.sim.t, tuple(room.sim.angles_deg), room.playing) == state
     assert dutch.scene.transport.gui_play.label == "Afspelen" and dutch.gui_scene.label == "Scène"
     assert dutch.gui_scene.value == "Euler-hoeken" and dutch.gui_language.label == "Taal"
     assert len(room.views) == 1  # the old view left, the new one joined
-    assert english.language == "en" and _translated_part(english) == english_panel
+    assert english.languages.code == "en" and _translated_part(english) == english_panel
     dutch.select_scene("Free body")  # the API keeps English titles whatever the language
     assert dutch.room.scene.title == "Free body" and dutch.gui_scene.value == "Vrij lichaam"
     assert dutch.error_count == 0, dutch.last_error
     dutch.gui_language.value = "Klingon"  # a client can send anything: refused, nothing changes
-    assert dutch.language == "nl" and dutch.gui_language.value == "Nederlands"
+    assert dutch.languages.code == "nl" and dutch.gui_language.value == "Nederlands"
     assert dutch.error_count == 1 and "Klingon" in str(dutch.last_error)
     dutch.set_language("en")
     assert dutch.gui_scene.value == "Free body" and dutch.scene.transport.gui_play.label == "Play"
@@ -240,7 +240,7 @@ def test_the_default_language_is_every_new_browsers_and_a_lesson_finds_its_check
     app, join = hall
     app.language = "de"
     german = join()
-    assert german.language == "de" and german.gui_language.value == "Deutsch"
+    assert german.languages.code == "de" and german.gui_language.value == "Deutsch"
     assert german.scene.folder_display.label == "Darstellung"
     assert "Angle arcs" in german.scene.checkboxes()  # lessons name checkboxes in English
     assert german.scene.checkboxes()["Angle arcs"].label == "Winkelbögen"
@@ -272,7 +272,8 @@ def test_a_follower_keeps_its_language_and_explores_in_it_while_the_presenter_sp
     lecturer.present(app.lectern.code)
     assert lecturer.error_count == 0, lecturer.last_error
     poll_until(lambda: (app.frame(1 / 60), student.mode.name == "FOLLOWING")[1], timeout=10.0)  # the loop's work
-    assert student.language == "de" and student.gui_scene.label == "Szene" and student.gui_language.label == "Sprache"
+    assert student.languages.code == "de" and student.gui_scene.label == "Szene"
+    assert student.gui_language.label == "Sprache"
     lecturer.select_scene("Free body")
     assert lecturer.scene.transport.gui_play.label == "Play"  # the presenter's panel stays English
     student.set_language("nl")  # while following: its own widgets relabel, the shared screen is untouched
@@ -282,4 +283,4 @@ def test_a_follower_keeps_its_language_and_explores_in_it_while_the_presenter_sp
     assert student.error_count == 0, student.last_error
     assert student.room.scene.title == "Free body" and student.gui_scene.value == "Vrij lichaam"
     assert student.scene.transport.gui_play.label == "Afspelen"
-    assert lecturer.scene.transport.gui_play.label == "Play" and lecturer.language == "en"
+    assert lecturer.scene.transport.gui_play.label == "Play" and lecturer.languages.code == "en"
