@@ -5,8 +5,9 @@
    plays; the other still reads English (Scene, Play) and its room stands still.
 2. A German phone (390×844, touch, the app started with `--language de`): the folded panel's
    line and `Details` are German; unfolded, the panel's German text is neither cut (a text wider
-   than its box, or past the panel's edge) nor overlapping another, and the panel does not scroll
-   sideways; the same check on a German 1280×800 laptop.
+   than its box, past the panel's edge, or a word broken across lines where it has no hyphen) nor
+   overlapping another, and the panel does not scroll sideways; the same check on a German
+   1280×800 laptop with its `Darstellung` folder open.
 
 Screenshots: /work/wt/shots/i18n/ (LANGUAGE_SCREENSHOTS=<folder> to put them elsewhere; "" for none).
 Needs Debian's Chromium: `apt-get install chromium`.
@@ -15,6 +16,7 @@ Needs Debian's Chromium: `apt-get install chromium`.
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -30,16 +32,18 @@ SHOTS = os.environ.get("LANGUAGE_SCREENSHOTS", "/work/wt/shots/i18n")
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 
-TEXT_BOXES_JS = """() => {
+TEXT_BOXES_JS = r"""() => {
   // The panel (the outermost positioned box holding the Language dropdown's label) and every piece
   // of text in it that is drawn: its box, and how wide its text is against its box.
-  const label = [...document.querySelectorAll('label')].find(e => /^(Language|Taal|Sprache)$/.test(e.textContent.trim()))
-             || [...document.querySelectorAll('button')].find(e => e.textContent.trim() === 'Details');
+  const named = (selector, pattern) => [...document.querySelectorAll(selector)]
+    .find(e => pattern.test(e.textContent.trim()));
+  const label = named('label', /^(Language|Taal|Sprache)$/) || named('button', /^Details$/);
   if (!label) return null;
   let panel = null;
   for (let e = label; e && e !== document.body; e = e.parentElement) {
     const style = getComputedStyle(e);
-    if ((style.position === 'fixed' || style.position === 'absolute') && e.getBoundingClientRect().width > 150) panel = e;
+    const floats = style.position === 'fixed' || style.position === 'absolute';
+    if (floats && e.getBoundingClientRect().width > 150) panel = e;
   }
   if (!panel) return null;
   const box = panel.getBoundingClientRect();
@@ -56,14 +60,22 @@ TEXT_BOXES_JS = """() => {
     const rects = [...range.getClientRects()].filter(r => r.width > 0 && r.height > 0);
     if (!rects.length) continue;
     const r = range.getBoundingClientRect();
+    // Scrolled out of its area (under the panel's header): not drawn.
+    const viewport = el.closest('.mantine-ScrollArea-viewport');
+    if (viewport) {
+      const v = viewport.getBoundingClientRect();
+      if (r.y < v.y - 1 || r.bottom > v.bottom + 1) continue;
+    }
     const clips = style.overflow !== 'visible' || style.textOverflow === 'ellipsis';
-    texts.push({text, x: r.x, y: r.y, right: r.right, bottom: r.bottom, lines: rects.length,
+    texts.push({text, x: r.x, y: r.y, right: r.right, bottom: r.bottom,
+                lines: rects.map(q => [q.x, q.y, q.right, q.bottom]),
+                pieces: text.split(/[\s\u00AD\u2010-]+/).filter(Boolean).length,  // where a line may break
                 cut: clips && el.scrollWidth > el.clientWidth + 1, tag: el.tagName});
   }
   const sideways = [...panel.querySelectorAll('.mantine-ScrollArea-viewport')].map(v => v.scrollWidth - v.clientWidth);
   return {panel: {x: box.x, y: box.y, right: box.right, bottom: box.bottom}, texts, sideways};
 }"""
-"""The panel's box, its drawn texts (box [CSS px], lines, cut: wider than the element that clips
+"""The panel's box, its drawn texts (box [CSS px], each line's box, cut: wider than the element that clips
 it) and how far each of its scroll areas scrolls sideways [px]."""
 
 
@@ -73,20 +85,38 @@ def shot(page: Any, name: str) -> None:
         page.screenshot(path=str(Path(SHOTS) / name))
 
 
+def settled_boxes(page: Any, timeout: float = 20.0) -> dict[str, Any]:
+    """The panel's text boxes (TEXT_BOXES_JS) once two reads 0.25 s apart agree (a folder opening
+    or the panel scrolling has finished); AssertionError naming the last two reads if not."""
+    deadline = time.monotonic() + timeout
+    previous = None
+    while True:
+        found = page.evaluate(TEXT_BOXES_JS)
+        assert found is not None, "no panel on the page"
+        if found == previous:
+            return found
+        if time.monotonic() > deadline:
+            raise AssertionError(f"the panel's text kept moving for {timeout} s: {previous} then {found}")
+        previous = found
+        page.wait_for_timeout(250)
+
+
 def text_problems(page: Any) -> tuple[list[str], dict[str, Any]]:
-    """What is wrong with the panel's text as drawn now: texts cut, past the panel's right edge, or
-    overlapping another text (a box over another's by more than 2 px each way); the raw boxes."""
-    found = page.evaluate(TEXT_BOXES_JS)
-    assert found is not None, "no panel on the page"
+    """What is wrong with the panel's text as drawn (once settled): texts cut, past the panel's
+    right edge, a word broken where it has no break, or overlapping another text (a line's box over
+    another's by more than 2 px each way); the raw boxes."""
+    found = settled_boxes(page)
     panel, texts = found["panel"], found["texts"]
     problems = [f"cut: {t['text']!r}" for t in texts if t["cut"]]
+    rows = [len({round(box[1]) for box in t["lines"]}) for t in texts]  # a hyphen drawn at a break has a box of its own
+    problems += [f"a word broken across lines: {t['text']!r} ({n} lines: {t['lines']})"
+                 for t, n in zip(texts, rows) if n > t["pieces"]]
     problems += [f"past the panel's edge ({t['right']:.0f} > {panel['right']:.0f}): {t['text']!r}"
                  for t in texts if t["right"] > panel["right"] + 1 and t["x"] < panel["right"]]
-    for i, a in enumerate(texts):
+    for i, a in enumerate(texts):  # line by line: a wrapped text's box holds the texts beside its lines
         for b in texts[i + 1:]:
-            dx = min(a["right"], b["right"]) - max(a["x"], b["x"])
-            dy = min(a["bottom"], b["bottom"]) - max(a["y"], b["y"])
-            if dx > 2 and dy > 2:
+            if any(min(p[2], q[2]) - max(p[0], q[0]) > 2 and min(p[3], q[3]) - max(p[1], q[1]) > 2
+                   for p in a["lines"] for q in b["lines"]):
                 problems.append(f"overlap: {a['text']!r} and {b['text']!r}")
     problems += [f"the panel scrolls sideways by {s} px" for s in found["sideways"] if s > 1]
     return problems, found
