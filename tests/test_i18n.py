@@ -124,13 +124,13 @@ def _texts(handle: Any) -> Iterator[tuple[str, str]]:
 
 def _translated_part(session: Any) -> list[tuple[str, str]]:
     """The texts of the widgets this issue's first part translates: the scene and Language
-    dropdowns and the scene's panel, less what is not wrapped yet (the presets' rows and note,
-    whose words come from the preset files; the Timeline; the typed-number script)."""
+    dropdowns, the Projector checkbox and the scene's panel (its Timeline too), less what is not
+    wrapped yet (the presets' rows and note, whose words come from the preset files; the
+    typed-number script)."""
     view = session.scene
-    skipped = {id(h) for h in (*view.presets_row.groups, view.presets_row.gui_note,
-                               *(view.timeline.handles if view.timeline else ()))}
+    skipped = {id(h) for h in (*view.presets_row.groups, view.presets_row.gui_note)}
     texts: list[tuple[str, str]] = []
-    for handle in (session.gui_scene, session.gui_language, *view.gui_roots):
+    for handle in (session.gui_scene, session.gui_language, session.gui_projector, *view.gui_roots):
         if id(handle) in skipped or type(handle).__name__ == "GuiHtmlHandle":
             continue
         texts.extend((what, text) for what, text in _texts(handle)
@@ -223,6 +223,7 @@ def test_switching_language_relabels_that_browser_only_and_changes_nothing_of_it
     assert dutch.languages.code == "nl" and dutch.room is room
     assert (room.sim.t, tuple(room.sim.angles_deg), room.playing) == state
     assert dutch.scene.transport.gui_play.label == "Afspelen" and dutch.gui_scene.label == "Scène"
+    assert dutch.scene.nodes.label.text == "knooplijn (onbepaald)" and dutch.scene.timeline.gui_slider.label == "Tijdlijn [s]"
     assert dutch.gui_scene.value == "Euler-hoeken" and dutch.gui_language.label == "Taal"
     assert len(room.views) == 1  # the old view left, the new one joined
     assert english.languages.code == "en" and _translated_part(english) == english_panel

@@ -158,7 +158,8 @@ class SceneView:
             return
         order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
-                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock,
+                                 tr=self.tr)
         room = self.room
         transport.looking_back = lambda: room.mode != LIVE  # the Timeline's status says the time then
         self._bindings.append(self.timeline.binding)

@@ -75,6 +75,7 @@ class Language:
         with browser.client.atomic():
             self.dropdown.label = _("Language")
             self.dropdown.hint = _("the language of this browser's panel")
+            browser.projector_layout.relabel(self.tr)
             following = browser.showing.mode is Mode.FOLLOWING
             dropdown = browser.gui_scene
             title = self.own_room.scene_title(str(dropdown.value)) if following else browser.showing.room.scene.title

@@ -60,7 +60,7 @@ from app.kit.core.presets import Preset
 from app.kit.core.room import Room
 from app.kit.draw.labels import DETAIL, KEY, LabelLayer
 from app.kit.draw.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
-from app.kit.draw.widgets import Body, LineOfNodes, Stage
+from app.kit.draw.widgets import NODES_LABELS, Body, LineOfNodes, Stage
 from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
 from app.kit.view import SceneView, nth
 from app.scenes.euler_angles import readouts
@@ -257,7 +257,8 @@ class EulerAnglesView(SceneView):
                       "theta": Pose(self.after_theta_node, reach=THETA_REACH),
                       "psi": Pose(self.body.node, reach=PSI_REACH)}
         # The line of nodes is the after-φ frame's x axis: it rides on that frame (no message of its own).
-        self.nodes = LineOfNodes(scene, f"{root}/p/n", labels=labels)
+        defined, undefined = (self.tr.gettext(text) for text in NODES_LABELS)
+        self.nodes = LineOfNodes(scene, f"{root}/p/n", labels=labels, text=(defined, undefined))
         # Arcs: fixed pieces in the frame the angle is measured in, a tail piece in the frame it turns.
         frames = {"phi": (root, f"{root}/p"), "theta": (f"{root}/p", f"{root}/p/t"),
                   "psi": (f"{root}/p/t", f"{root}/p/t/s")}
