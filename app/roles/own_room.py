@@ -39,10 +39,10 @@ class OwnRoom:
         self._preset_commands: list[Any] = []
         """The palette's `Preset: …` commands of the scene shown (none while following)."""
         self._key_toast: Any = None
+        """The "Following the presenter" toast a key brought up, until the next key or it closes."""
         self._labels: dict[str, str] = {}  # scene title -> the dropdown's option (`build_dropdown`)
         self._titles: dict[str, str] = {}  # the dropdown's option -> scene title
         self._relabelling = False  # the dropdown is being relabelled: its callback does nothing
-        """The "Following the presenter" toast a key brought up, until the next key or it closes."""
 
     def build_dropdown(self, gui: Any, title: str) -> Any:
         """The scene dropdown (`scene_chosen`), showing `title`; its options are the scenes' titles
