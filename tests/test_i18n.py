@@ -285,3 +285,19 @@ def test_a_follower_keeps_its_language_and_explores_in_it_while_the_presenter_sp
     assert student.room.scene.title == "Free body" and student.gui_scene.value == "Vrij lichaam"
     assert student.scene.transport.gui_play.label == "Afspelen"
     assert lecturer.scene.transport.gui_play.label == "Play" and lecturer.languages.code == "en"
+
+
+def test_a_presenter_switching_language_keeps_presenting_the_same_room(hall: Any) -> None:
+    app, join = hall
+    lecturer, student = join(), join()
+    lecturer.present(app.lectern.code)
+    poll_until(lambda: (app.frame(1 / 60), student.mode.name == "FOLLOWING")[1], timeout=10.0)
+    room = lecturer.room
+    lecturer.play()
+    lecturer.set_language("nl")
+    assert lecturer.error_count == 0, lecturer.last_error
+    assert lecturer.mode.name == "PRESENTING" and lecturer.room is room and room.playing
+    assert lecturer.scene.transport.gui_play.label == "Pauze" and len(room.views) == 1
+    app.frame(1 / 60)
+    assert student.mode.name == "FOLLOWING" and student.room is room and student.languages.code == "en"
+    assert student.gui_scene.label == "Scene" and student.error_count == 0, student.last_error
