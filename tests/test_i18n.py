@@ -223,7 +223,8 @@ def test_switching_language_relabels_that_browser_only_and_changes_nothing_of_it
     assert dutch.languages.code == "nl" and dutch.room is room
     assert (room.sim.t, tuple(room.sim.angles_deg), room.playing) == state
     assert dutch.scene.transport.gui_play.label == "Afspelen" and dutch.gui_scene.label == "Scène"
-    assert dutch.scene.nodes.label.text == "knooplijn (onbepaald)" and dutch.scene.timeline.gui_slider.label == "Tijdlijn [s]"
+    assert dutch.scene.nodes.label.text == "knooplijn (onbepaald)"  # "D = 1": θ = 0, the line undefined
+    assert dutch.scene.timeline.gui_slider.label == "Tijdlijn [s]" and dutch.gui_projector.label == "Projector"
     assert dutch.gui_scene.value == "Euler-hoeken" and dutch.gui_language.label == "Taal"
     assert len(room.views) == 1  # the old view left, the new one joined
     assert english.languages.code == "en" and _translated_part(english) == english_panel
