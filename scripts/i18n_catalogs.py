@@ -7,9 +7,9 @@
     python scripts/i18n_catalogs.py init xx   # a new language's messages.po from the .pot
 
 The marks extracted: `_("...")`, `N_("...")`, `gettext("...")` (also as `tr.gettext`), and
-`ngettext("one", "many", n)`; never one inside an f-string (the extractor does not look there).  Translate in the .po files (msgstr); `check` and tests/test_i18n.py
-fail while any entry is empty or fuzzy.  A new language also needs its line in
-`app.i18n.LANGUAGES`.
+`ngettext("one", "many", n)`; never one inside an f-string (the extractor does not look there).
+Translate in the .po files (msgstr); `check` and tests/test_i18n.py fail while any entry is empty
+or fuzzy.  A new language also needs its line in `app.i18n.LANGUAGES`.
 """
 
 from __future__ import annotations
