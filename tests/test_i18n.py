@@ -302,3 +302,17 @@ def test_a_presenter_switching_language_keeps_presenting_the_same_room(hall: Any
     app.frame(1 / 60)
     assert student.mode.name == "FOLLOWING" and student.room is room and student.languages.code == "en"
     assert student.gui_scene.label == "Scene" and student.error_count == 0, student.last_error
+
+
+def test_every_shipped_lesson_runs_in_a_german_browser_without_an_error(hall: Any) -> None:
+    """Lessons name scenes, checkboxes and tabs in English: a German panel finds them all."""
+    app, join = hall
+    german = join()
+    german.set_language("de")
+    assert german.lessons
+    for title, lesson in german.lessons.items():
+        german.start_lesson(title)
+        for _step in range(len(lesson.steps) - 1):
+            german.next_step(1)
+        assert german.error_count == 0, f"{title}: {german.last_error}"
+        assert german.scene.transport is None or german.scene.transport.tr.language == "de"
