@@ -148,15 +148,17 @@ def start_nginx(listen_host: str, listen_port: int, upstreams: Sequence[str], fo
 
 def start_worker(worker_id: str, port: int, folder: str | Path, redis_url: str, code: str, *,
                  host: str = "127.0.0.1", projector: bool = False,
-                 data_dir: str | Path | None = None) -> subprocess.Popen[bytes]:
+                 data_dir: str | Path | None = None, language: str = "en") -> subprocess.Popen[bytes]:
     """One app worker (`python -m app ... --worker-id`), its output in folder/<worker_id>.log;
-    `data_dir` the lecturer's data folder (every worker the same one)."""
+    `data_dir` the lecturer's data folder (every worker the same one); `language` a new browser's."""
     env = dict(os.environ, **{REDIS_ENV: redis_url, CODE_ENV: code, "PYTHONUNBUFFERED": "1"})
     args = [sys.executable, "-m", "app", "--host", host, "--port", str(port), "--worker-id", worker_id]
     if projector:
         args.append("--projector")
     if data_dir:
         args += ["--data-dir", str(data_dir)]
+    if language != "en":
+        args += ["--language", language]
     with open(Path(folder) / f"{worker_id}.log", "wb") as log:
         return _popen(args, env=env, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)
 
@@ -194,7 +196,7 @@ class Launch:
         self.reported: set[str] = set()  # workers whose end was said
 
     def start(self, workers: int, host: str, port: int, code: str, redis_url: str | None = None,
-              projector: bool = False, data_dir: str | Path | None = None) -> None:
+              projector: bool = False, data_dir: str | Path | None = None, language: str = "en") -> None:
         require("nginx")
         check_port_free(host, port)
         if redis_url is None:
@@ -206,7 +208,7 @@ class Launch:
         for k in range(1, workers + 1):
             worker_id = f"w{k}"
             self.workers[worker_id] = start_worker(worker_id, free_port(), self.folder, self.redis_url, code,
-                                                   projector=projector, data_dir=data_dir)
+                                                   projector=projector, data_dir=data_dir, language=language)
         for worker_id, process in self.workers.items():
             self.ports[worker_id] = _worker_port(self.folder / f"{worker_id}.log", process, WORKER_START_S)
             wait_for_port(self.ports[worker_id], process=process, timeout=WORKER_START_S)
@@ -262,7 +264,7 @@ def launch_main(args: argparse.Namespace) -> int:
     try:
         try:
             launch.start(args.workers, args.host, args.port, code, redis_url=args.redis, projector=args.projector,
-                         data_dir=getattr(args, "data_dir", None))
+                         data_dir=getattr(args, "data_dir", None), language=getattr(args, "language", "en"))
         except MissingProgram as error:
             print(f"rigid-body-lab: {error}", file=sys.stderr, flush=True)
             return 2

@@ -1,6 +1,6 @@
 """Start the lecture app: a viser server, one `Session` per browser, and a 60 Hz loop.
 
-    python -m app [--host 127.0.0.1] [--port 8080]
+    python -m app [--host 127.0.0.1] [--port 8080] [--language en|nl|de]
     rigid-body-lab [--host ...] [--port ...]
     rigid-body-lab --workers N [--redis URL] ...   # N processes behind nginx (`app.launch`)
 
@@ -30,6 +30,7 @@ import viser
 
 from app.backpressure import FramePacer, PacerStats
 from app.export import export_main
+from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, translator
 from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
 from app.lecture.gate import Gate, guess_chance, normalize_code
@@ -105,6 +106,7 @@ class App:
         bus_factory: Callable[[viser.ViserServer, Lectern], Any] | None = None,
         gate: Gate | None = None,
         own: OwnLibrary | None = None,
+        language: str = DEFAULT_LANGUAGE,
     ) -> None:
         report_viser_internals()  # once: what of viser's internals is off, and what the app does instead
         self.server = server
@@ -116,6 +118,8 @@ class App:
         self.lectern = Lectern(server, presenter_code, gate=gate)
         self.lectern.seats = lambda: list(self.sessions.values())
         self.projector = projector
+        self.language = translator(language).language  # ValueError for a language without a catalog
+        """The language a new browser's panel starts in (`app.i18n`; each browser may choose another)."""
         self.own = own  # the lecturer's own presets and lessons (app.own), or None
         self.share_store = share_store
         """Where `Share` keeps its codes (`app.sharestore`); None: no Share folder."""
@@ -143,7 +147,8 @@ class App:
 
     # ------------------------------------------------------------------ sessions
     def _new_session(self, client: viser.ClientHandle) -> Session:
-        session = Session(client, lectern=self.lectern, own=self.own, share_store=self.share_store)
+        session = Session(client, lectern=self.lectern, own=self.own, share_store=self.share_store,
+                          language=self.language)
         if self.task_store is not None:
             attach_tasks(session, self.task_store)  # the Task folder and Make a task (app.tasks, issue 37)
         if self.projector:
@@ -356,6 +361,7 @@ def create_server(
     host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, *, verbose: bool = True, start_loop: bool = True,
     presenter_code: str | None = None, projector: bool = False,
     redis_url: str | None = None, worker_id: str | None = None, data_dir: str | Path | None = None,
+    language: str = DEFAULT_LANGUAGE,
 ) -> App:
     """Build the app on (host, port) and start its loop.  port=0: an ephemeral port.
     presenter_code: the code that makes a browser the presenter (`App.lectern.code`; random if None).
@@ -368,10 +374,13 @@ def create_server(
     platform's default, `app.userdata.default_data_dir()`), made when something is first saved.
     Share keeps its codes there too (`shares.sqlite3`, opened at the first share), or in Redis
     at `redis_url` on several processes (`app.sharestore.open_share_store`).
+    language: the language a new browser's panel starts in ("en", "nl", "de": `app.i18n.LANGUAGES`;
+    ValueError for another), each browser may choose its own in the Language dropdown.
 
     Reads every scene's presets and every lesson first: a broken file raises PresetError or
     LessonError (naming the file and the field or step) before the server starts.
     """
+    translator(language)  # an unknown language, or a catalog that does not read: before the server starts
     check_presets()
     lessons()  # a broken lesson file: LessonError naming the file and the step
     gate: Gate | None = None
@@ -395,7 +404,7 @@ def create_server(
             return Bus(server, lectern, url, worker)
 
     app = App(server, presenter_code=presenter_code, projector=projector, gate=gate, own=own,
-              share_store=open_share_store(folder, redis_url), bus_factory=bus_factory)
+              share_store=open_share_store(folder, redis_url), bus_factory=bus_factory, language=language)
     app.task_store = open_task_store(folder, redis_url)
     if redis_url is not None:
         from app.cluster.askbus import AskBus  # noqa: PLC0415 - a one-process app imports no redis
@@ -428,6 +437,10 @@ def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
                         help="with --workers: the Redis to use (redis://[:password@]host:port/0; default: "
                              f"one started on a free local port).  Alone: this process is one worker of a "
                              f"lecture (also read from ${REDIS_ENV})")
+    parser.add_argument("--language", choices=tuple(LANGUAGES), default=DEFAULT_LANGUAGE,
+                        help="the language a new browser's panel starts in: "
+                             + ", ".join(f"{code} ({name})" for code, name in LANGUAGES.items())
+                             + " (default %(default)s; each browser may choose its own in the Language dropdown)")
     parser.add_argument("--worker-id", metavar="ID", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.presenter_code is None:
@@ -490,7 +503,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     try:
         app = create_server(args.host, args.port, presenter_code=args.presenter_code, projector=args.projector,
                             redis_url=args.redis, worker_id=args.worker_id if worker else None,
-                            verbose=not worker, data_dir=args.data_dir)
+                            verbose=not worker, data_dir=args.data_dir, language=args.language)
     except (PresetError, LessonError) as error:
         print(f"rigid-body-lab: {error}", file=sys.stderr)
         raise SystemExit(2) from None

@@ -36,12 +36,14 @@ from app.hall.notes import Notes
 from app.hall.own_panel import OwnPanel
 from app.hall.projector import PROJECTOR_CSS, PROJECTOR_LABEL_SCALE, ProjectorLayout, projector_view
 from app.hall.share import Camera, SharePanel
+from app.i18n import DEFAULT_LANGUAGE
 from app.kit.core.room import Room
 from app.lecture.lectern import Lectern, Mode
 from app.lessons import Lesson
 from app.own import OwnLibrary
 from app.roles.following import Following
 from app.roles.guard import ErrorLine, Guard
+from app.roles.language import Language
 from app.roles.own_room import OwnRoom
 from app.roles.phone import PhoneFit
 from app.roles.presenting import Presenting
@@ -62,14 +64,14 @@ class Session:
     Attributes:
         client (client_id), lectern (or None), own (`app.own`, or None: no Mine folder), share_store.
         showing: what it shows (`app.roles.showing.Showing`: mode, view, own room).
-        own_room, phone, following, presenting, student: its roles (`app.roles`).
+        own_room, languages, phone, following, presenting, student: its roles (`app.roles`).
         errors, projector_layout, lecture, ask_panel, question (None without a lectern), narrow,
             lesson_runner, notes, share, own_panel: the panel's parts (`app.hall`).
     """
 
     def __init__(self, client: viser.ClientHandle, scene: str = DEFAULT_SCENE, *,
                  lectern: Lectern | None = None, own: OwnLibrary | None = None,
-                 share_store: ShareStore | None = None) -> None:
+                 share_store: ShareStore | None = None, language: str = DEFAULT_LANGUAGE) -> None:
         self.client = client
         self.client_id: int = client.client_id
         self.lectern = lectern
@@ -80,6 +82,7 @@ class Session:
         self.showing = Showing(client, lectern, Room(SCENES[scene], SCENES[scene].new_simulation()))
         self._guard = Guard(self._busy, self.showing.switch_lock, lambda: self.room, self.report_error)
         self.own_room = OwnRoom(self)
+        self.languages = Language(self, self.own_room, language)  # ValueError for a language without a catalog
         self.phone = PhoneFit(self)
         self.following = Following(self, self.own_room, self.phone)
         self.presenting = Presenting(self, self.own_room, self.following)
@@ -92,7 +95,7 @@ class Session:
         """The panel's parts, in the panel's order (viser orders by creation)."""
         self.errors = ErrorLine(self.client, self.guard, last_order=LAST)
         self.gui_error, self.gui_load = self.errors.gui_error, self.errors.gui_load
-        self.gui_scene = self.own_room.build_dropdown(gui, scene)
+        self.gui_scene, self.gui_language = self.own_room.build_dropdown(gui, scene), self.languages.build_dropdown(gui)
         self._guarded_tick = self.guard("tick", lambda dt: self.room.tick(dt))
         self.projector_layout = ProjectorLayout(
             self.client, self.guard, lambda: None if self.mode is Mode.FOLLOWING else self.scene)
@@ -218,7 +221,11 @@ class Session:
 
     def switch_scene(self, title: str) -> None:
         """Show a new room of the scene `title`, as the dropdown does (within the guard)."""
-        self.gui_scene.value = title  # runs `OwnRoom.scene_chosen` synchronously
+        self.gui_scene.value = self.own_room.scene_label(title)  # runs `OwnRoom.scene_chosen` synchronously
+
+    def set_language(self, language: str) -> None:
+        """Speak `language` (a code or its own name), as the Language dropdown does (`Language.choose`)."""
+        self.guard("language", self.languages.choose)(language)
 
     def controlled_room(self) -> Room:
         """The room this browser may change (PermissionError while it follows the presenter)."""

@@ -76,13 +76,14 @@ def clean_env() -> dict[str, str]:
 
 
 def copy_sources(dest: Path) -> Path:
-    """The files the wheel is built from, copied to dest/src (no __pycache__, no build/)."""
+    """The files the wheel is built from, copied to dest/src (no __pycache__, no build/, no .mo: the
+    build compiles the catalogs, setup.py)."""
     src = dest / "src"
     src.mkdir(parents=True)
     for name in PACKAGED:
         path = ROOT / name
         if path.is_dir():
-            shutil.copytree(path, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+            shutil.copytree(path, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "*.mo"))
         else:
             shutil.copy2(path, src / name)
     return src

@@ -124,3 +124,25 @@ def test_no_module_finds_its_data_through_its_own_file() -> None:
                    for path in (ROOT / package).rglob("*.py") if "__file__" in path.read_text(encoding="utf-8"))
     assert users == []
     assert "resources.files(" in (ROOT / "app" / "data.py").read_text(encoding="utf-8")
+
+
+def test_the_wheel_carries_every_catalog_compiled_and_the_installed_app_reads_it(wheel: Path, site: Path,
+                                                                                 tmp_path: Path) -> None:
+    """setup.py's build compiles each app/locale/<lang>/LC_MESSAGES/messages.po (the copy has no
+    .mo: `copy_sources`), and the installed app reads the .mo (no .po there) through importlib.resources."""
+    catalogs = sorted(p.relative_to(ROOT).with_suffix(".mo").as_posix()
+                      for p in (ROOT / "app" / "locale").glob("*/LC_MESSAGES/messages.po"))
+    assert len(catalogs) >= 2  # nl, de
+    names = _names(wheel)
+    assert [c for c in catalogs if c not in names] == []
+    assert not any(name.endswith(".po") for name in names)
+    script = ("import sys; sys.path.insert(0, sys.argv[1])\n"
+              "from app.i18n import translator, locale_dir\n"
+              "print(locale_dir())\n"
+              "print(translator('nl').gettext('Scene'), translator('de').gettext('Scene'))\n")
+    out = subprocess.run([sys.executable, "-I", "-c", script, str(site)], cwd=tmp_path, capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    folder, words = out.stdout.strip().splitlines()
+    assert Path(folder) == site / "app" / "locale"
+    assert words == "Scène Szene"

@@ -24,20 +24,27 @@ from typing import Any
 
 import viser
 
+from app.i18n import Translator, for_gui, translator
 from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, Room
 
 __all__ = ["NarrowPanel", "own_line"]
 
+ENGLISH = translator("en")
 
-def own_line(room: Room, copy: bool = True) -> str:
+
+def own_line(room: Room, copy: bool = True, tr: Translator = ENGLISH) -> str:
     """An explorer's status in one line (Markdown): what its own room does ("Your copy" of the
-    presenter's room, or `copy` False: "Your scene", a browser that never followed)."""
-    whose = "Your copy" if copy else "Your scene"
+    presenter's room, or `copy` False: "Your scene", a browser that never followed), in the
+    language of `tr`."""
+    _ = tr.gettext
+    whose = _("Your copy") if copy else _("Your scene")
+    title = _(room.scene.title)
     if room.mode != LIVE:
-        return f"**{whose}** · {room.scene.title} · looking back at t = {room.shown_t:.1f} s"
-    state = "▶ playing" if room.playing else "paused"
-    return f"**{whose}** · {room.scene.title} · {state} · t = {room.sim.t:.1f} s"
+        looking = _("looking back at t = {t} s").format(t=tr.decimal(room.shown_t, 1))
+        return f"**{whose}** · {title} · {looking}"
+    state = _("▶ playing") if room.playing else _("paused")
+    return f"**{whose}** · {title} · {state} · t = {tr.decimal(room.sim.t, 1)} s"
 
 
 class NarrowPanel:
@@ -62,7 +69,7 @@ class NarrowPanel:
     def __init__(self, client: viser.ClientHandle, guard: Wrap, handles: Callable[[], Sequence[Any]],
                  room: Callable[[], Room], *, order: float, copy: Callable[[], bool] = lambda: True,
                  own: Callable[[], bool] = lambda: True) -> None:
-        gui = client.gui
+        gui = self._gui = client.gui  # its language: `app.i18n.for_gui`, read at each refresh
         self._handles = handles
         self._own = own
         self._lock = threading.RLock()
@@ -123,13 +130,15 @@ class NarrowPanel:
             self._unfold()
         if not self.gui_details.visible:
             self.gui_details.visible = True
-        label = "Details" if folded else "Hide details"
+        tr = for_gui(self._gui)
+        label = tr.gettext("Details") if folded else tr.gettext("Hide details")
         if self.gui_details.label != label:
             self.gui_details.label = label
+            self.gui_details.hint = tr.gettext("your scene's controls")
         if self.gui_line.visible != folded:
             self.gui_line.visible = folded
         if folded:
-            line = own_line(self._room(), self._copy())
+            line = own_line(self._room(), self._copy(), tr)
             if self.gui_line.content != line:
                 self.gui_line.content = line
 

@@ -15,6 +15,7 @@ from typing import Any
 
 import viser
 
+from app.i18n import N_, Translator, for_gui
 from app.kit.core.common import CameraView, Wrap, apply_camera
 from app.kit.draw.screen import narrow_size, narrow_view
 from app.lecture.caption import CAPTION_PROJECTOR_RULES
@@ -36,6 +37,9 @@ pre {{ white-space: pre-wrap !important; overflow-wrap: anywhere; }}  /* wrapped
 h3 {{ font-size: 22px !important; }}
 {CAPTION_PROJECTOR_RULES}
 </style>"""
+
+PROJECTOR_WORDS = (N_("Projector"), N_("large text, a narrow panel, large 3D labels"))
+"""The checkbox's label and hint (translated: `app.i18n`)."""
 
 
 def projector_view(view: CameraView) -> CameraView:
@@ -67,8 +71,14 @@ class ProjectorLayout:
         self.style: Any = None
         self._own_view = own_view
         gui: Any = client.gui  # viser's handles type `value` read-only; it is not
-        self.gui_checkbox = gui.add_checkbox("Projector", False, hint="large text, a narrow panel, large 3D labels")
+        tr = for_gui(gui)
+        self.gui_checkbox = gui.add_checkbox(tr.gettext(PROJECTOR_WORDS[0]), False, hint=tr.gettext(PROJECTOR_WORDS[1]))
         self.gui_checkbox.on_update(guard("projector", lambda _event: self.set(bool(self.gui_checkbox.value))))
+
+    def relabel(self, tr: Translator) -> None:
+        """The checkbox in the language of `tr` (`app.i18n`; the browser chose another)."""
+        self.gui_checkbox.label = tr.gettext(PROJECTOR_WORDS[0])
+        self.gui_checkbox.hint = tr.gettext(PROJECTOR_WORDS[1])
 
     def set(self, on: bool) -> None:
         """Projector layout on or off: panel text >= 18 px, a narrower collapsible panel, 3D labels

@@ -31,6 +31,7 @@ from weakref import WeakKeyDictionary
 
 import viser
 
+from app.i18n import for_gui
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.core.room import LIVE, Room
@@ -120,6 +121,8 @@ class SceneView:
         self.root = target.root_prefix + type(self).root
         self.room = room
         self.sim: Any = room.sim
+        self.tr = for_gui(target.gui)
+        """The browser's words and numbers (`app.i18n.Translator`), chosen per browser by its session."""
         self._wrap = wrap
         self._report_error = report_error
         self.quiet = Quiet()  # the server writing sliders: their callbacks do nothing
@@ -155,7 +158,8 @@ class SceneView:
             return
         order = transport.gui_status.order
         self.timeline = Timeline(self.client.gui, self._wrap, self.message, self.room,
-                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock)
+                                 order=float(order) if isinstance(order, int | float) else None, clock=self.clock,
+                                 tr=self.tr)
         room = self.room
         transport.looking_back = lambda: room.mode != LIVE  # the Timeline's status says the time then
         self._bindings.append(self.timeline.binding)
@@ -170,7 +174,7 @@ class SceneView:
         self.message = MessageLine(gui)
         self.transport = Transport(gui, self._wrap, self.message, on_toggle=room.toggle, on_step=room.step,
                                    on_reset=room.reset, on_time_scale=room.set_time_scale, clock=self.clock,
-                                   **transport_options)
+                                   tr=self.tr, **transport_options)
 
     def _build_scene(self) -> None:
         """Add the scene's nodes under `root`."""
@@ -250,17 +254,17 @@ class SceneView:
     def choose_own_preset(self, name: str) -> None:
         """A button of the ★ Mine row."""
         if self.start_own_preset is None:
-            self.message.show(f"No preset named {name!r}.")
+            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
             return
         try:
             self.start_own_preset(name)
         except ValueError:  # a name a client made up, or one deleted meanwhile
-            self.message.show(f"No preset named {name!r}.")
+            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""
         if name not in {p.name for p in self.presets()}:
-            self.message.show(f"No preset named {name!r}.")
+            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
             return
         self.message.clear()
         self.apply_preset(self.room, name)
@@ -348,14 +352,15 @@ class SceneView:
         remove_under(controls, self.root)
 
     def checkboxes(self) -> dict[str, viser.GuiCheckboxHandle]:
-        """The view's checkboxes by label (what a lesson step may switch): every checkbox of its
+        """The view's checkboxes by English label (what a lesson step may switch, whatever the
+        browser's language): every checkbox of its
         panel, found in the panel's tree below the view's top-level handles (`_gui_roots`), or,
         without viser's panel registry (`app.viser_internals.PANEL_INPUTS`), every checkbox the
         view or its parts hold."""
         found = panel_checkboxes(self.client.gui, self._gui_roots)
         if found is None:
             found = _held_checkboxes(self)
-        return {str(handle.label): handle for handle in found}
+        return {self.tr.english(str(handle.label)): handle for handle in found}  # by its English label
 
     def panel_controls(self) -> list[Any]:
         """The inputs of the view's panel (buttons, rows of buttons, sliders, checkboxes, menus):

@@ -108,8 +108,7 @@ class Following:
             showing.hide_live(True)
             with copy.lock:
                 showing.view = self.own_room.new_view(copy)
-            if browser.gui_scene.value != copy.scene.title:
-                browser.gui_scene.value = copy.scene.title  # titles match: no switch
+            self.own_room.show_title(copy.scene.title)  # titles match: no switch
         browser.show_mode()
         self.phone.fit_explorer(narrow)
         self.own_room.refresh_preset_commands()

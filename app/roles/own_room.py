@@ -13,6 +13,7 @@ import contextlib
 from collections.abc import Callable
 from typing import Any, cast
 
+from app.i18n import for_gui
 from app.kit.core.room import Room
 from app.kit.view import SceneView
 from app.lecture.lectern import Mode
@@ -39,13 +40,55 @@ class OwnRoom:
         """The palette's `Preset: …` commands of the scene shown (none while following)."""
         self._key_toast: Any = None
         """The "Following the presenter" toast a key brought up, until the next key or it closes."""
+        self._labels: dict[str, str] = {}  # scene title -> the dropdown's option (`build_dropdown`)
+        self._titles: dict[str, str] = {}  # the dropdown's option -> scene title
+        self._relabelling = False  # the dropdown is being relabelled: its callback does nothing
 
     def build_dropdown(self, gui: Any, title: str) -> Any:
-        """The scene dropdown (`scene_chosen`), showing `title`."""
-        dropdown = gui.add_dropdown("Scene", tuple(SCENES), initial_value=title,
-                                    hint="each scene models only what it needs")
+        """The scene dropdown (`scene_chosen`), showing `title`; its options are the scenes' titles
+        in the browser's language (`scene_label`)."""
+        tr = for_gui(gui)
+        self._labels = {name: tr.gettext(name) for name in SCENES}
+        self._titles = {label: name for name, label in self._labels.items()}
+        dropdown = gui.add_dropdown(tr.gettext("Scene"), tuple(self._labels.values()),
+                                    initial_value=self.scene_label(title),
+                                    hint=tr.gettext("each scene models only what it needs"))
         dropdown.on_update(self.browser.guard("scene dropdown", lambda _event: self.scene_chosen()))
         return dropdown
+
+    def relabel_dropdown(self, dropdown: Any, title: str) -> None:
+        """The scene dropdown in the browser's language now, showing `title` (no switch: its
+        callback ignores what this writes)."""
+        tr = for_gui(self.browser.client.gui)
+        self._labels = {name: tr.gettext(name) for name in SCENES}
+        self._titles = {label: name for name, label in self._labels.items()}
+        self._relabelling = True
+        try:
+            dropdown.label = tr.gettext("Scene")
+            dropdown.hint = tr.gettext("each scene models only what it needs")
+            dropdown.options = tuple(self._labels.values())  # (viser: a value not among them becomes the first)
+            dropdown.value = self.scene_label(title)
+        finally:
+            self._relabelling = False
+
+    def rebuild_view(self) -> None:
+        """The view of the room shown built again (the browser's language changed): the same
+        room, its state and its other views untouched."""
+        self.show(self.showing.room)
+
+    def scene_label(self, title: str) -> str:
+        """The scene dropdown's option for the scene `title` (a key of SCENES), in the browser's language."""
+        return self._labels.get(title, title)
+
+    def scene_title(self, label: str) -> str:
+        """The scene title (a key of SCENES) of a dropdown option; the option itself if it is none."""
+        return self._titles.get(label, label)
+
+    def show_title(self, title: str) -> None:
+        """The scene dropdown shows the scene `title` (no switch: it shows the room's scene already)."""
+        label = self.scene_label(title)
+        if self.browser.gui_scene.value != label:
+            self.browser.gui_scene.value = label
 
     # ------------------------------------------------------------------ views
     def new_view(self, room: Room) -> SceneView:
@@ -92,9 +135,11 @@ class OwnRoom:
         """The scene dropdown changed: a new room of its scene (a title not in SCENES, or a
         follower's choice, puts the dropdown back)."""
         browser = self.browser
-        title = browser.gui_scene.value
+        if self._relabelling:
+            return
+        title = self.scene_title(str(browser.gui_scene.value))
         if title not in SCENES or self.showing.mode is Mode.FOLLOWING:  # a client can send anything
-            browser.gui_scene.value = self.showing.room.scene.title  # viser's setter
+            browser.gui_scene.value = self.scene_label(self.showing.room.scene.title)  # viser's setter
             if self.showing.mode is Mode.FOLLOWING:
                 raise PermissionError(FOLLOWING_REFUSAL)
             return
@@ -118,8 +163,7 @@ class OwnRoom:
             with room.lock:
                 showing.own_room = room
                 showing.view = self._view_for_mode(room)
-            if browser.gui_scene.value != room.scene.title:
-                browser.gui_scene.value = room.scene.title  # the titles match now
+            self.show_title(room.scene.title)  # the titles match now
         browser.narrow.refresh()  # a narrow explorer's new scene panel folds too
         self.refresh_preset_commands()
         if browser.own_panel is not None:

@@ -63,14 +63,14 @@ class PhoneFit:
             self.centre_body()
 
     def foldable(self) -> list[Any]:
-        """What a narrow explorer's panel folds away (`app.hall.narrow.NarrowPanel`): the scene
-        dropdown, the lesson, the session's own folders and the view's panel."""
+        """What a narrow explorer's panel folds away (`app.hall.narrow.NarrowPanel`): the scene and
+        Language dropdowns, the lesson, the session's own folders and the view's panel."""
         browser = self.browser
         view = browser.showing.view
         roots: list[Any] = []
         if isinstance(view, SceneView) and browser.showing.mode is not Mode.FOLLOWING:
             roots = list(view.gui_roots)
-        return [browser.gui_scene, browser.lesson_runner.folder, *browser.own_folders, *roots]
+        return [browser.gui_scene, browser.gui_language, browser.lesson_runner.folder, *browser.own_folders, *roots]
 
     def screen_changed(self) -> None:
         """The lecture's periodic refresh: a fold whose screen became wide ends; the line is rewritten."""

@@ -106,6 +106,7 @@ class Browser(Seat, Protocol):
     own: OwnLibrary | None
     showing: Showing
     gui_scene: Any
+    gui_language: Any
     projector_layout: ProjectorLayout
     lecture: LecturePanel | None
     ask_panel: AskPanel | None

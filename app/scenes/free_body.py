@@ -10,6 +10,7 @@ about the largest, smallest and middle axes to see which spins are stable).
 
 from __future__ import annotations
 
+from app.i18n import N_
 from app.kit.core.common import CameraView
 from app.kit.rigid.torque_free import TorqueFreeView
 
@@ -19,7 +20,7 @@ __all__ = ["FreeBodyView"]
 class FreeBodyView(TorqueFreeView):
     """The free body (see the module docstring)."""
 
-    title = "Free body"
+    title = N_("Free body")  # the scene dropdown shows it translated (app.i18n)
     root = "/free"
     view = CameraView(position=(4.6, -3.9, 2.5), look_at=(0.25, 0.55, 0.1))
     intro = (

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from app.i18n import N_
 from app.kit.core.common import GIMBAL_LOCK_DEG, LABEL_SCALE, CameraView, SliderSpec, striped_parts
 from app.kit.draw.labels import KEY
 from app.kit.draw.widgets import TraceLines
@@ -83,7 +84,7 @@ def _disc_on_rod(disc_radius: float) -> list[tuple[np.ndarray, np.ndarray, tuple
 class HeavyTopView(RigidBodyView):
     """The heavy symmetric top (see the module docstring)."""
 
-    title = "Heavy top"
+    title = N_("Heavy top")  # the scene dropdown shows it translated (app.i18n)
     simulation_parts = (tip_axis,)  # the point its trace follows (the room codec decodes it)
     root = "/top"
     view = CameraView(position=(5.2, -4.0, 2.4), look_at=(0.55, 0.95, -0.1))

@@ -12,11 +12,12 @@ import copy
 import itertools
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
+from app.i18n import N_
 from physics._types import Mat3, Vec3
 
 __all__ = [
@@ -77,6 +78,10 @@ SPACE_AXIS_LENGTH = 2.0  # [scene units]
 NODES_HALF_LENGTH = 1.9  # [scene units] the line of nodes is drawn from -this to +this along e_n
 
 
+REFUSAL = N_("{label} = {value} refused: the range is {lo} to {hi}.")
+"""A slider's refusal (`SliderSpec.refusal`), for translation; the English one is written in place."""
+
+
 @dataclass(frozen=True)
 class SliderSpec:
     """A slider: key, label (with unit), range, step, hint, marks ((value, text), ...)."""
@@ -88,6 +93,8 @@ class SliderSpec:
     step: float
     hint: str = ""
     marks: tuple[tuple[float, str], ...] = ()
+    words: Any = field(default=None, compare=False, repr=False)
+    """The `app.i18n.Translator` its texts are in (`translated`); None: English."""
 
     def rounded(self, value: float) -> float:
         """`value` clamped to the range and rounded to the step (what the slider can show)."""
@@ -100,8 +107,18 @@ class SliderSpec:
         return checked_value(value, self.lo, self.hi)
 
     def refusal(self, value: Any) -> str:
-        """The message for a refused value."""
-        return f"{self.label} = {value!r} refused: the range is {self.lo:g} to {self.hi:g}."
+        """The message for a refused value (in the spec's language, `translated`)."""
+        if self.words is None:
+            return f"{self.label} = {value!r} refused: the range is {self.lo:g} to {self.hi:g}."
+        tr = self.words
+        return tr.gettext(REFUSAL).format(label=self.label, value=repr(value), lo=tr.general(self.lo),
+                                          hi=tr.general(self.hi))
+
+    def translated(self, tr: Any) -> SliderSpec:
+        """This spec with its label, hint and marks in the language of `tr` (an
+        `app.i18n.Translator`; its refusals too); range and step unchanged."""
+        marks = tuple((value, tr.gettext(text)) for value, text in self.marks)
+        return replace(self, label=tr.gettext(self.label), hint=tr.gettext(self.hint), marks=marks, words=tr)
 
 
 def checked_value(value: Any, lo: float, hi: float) -> float | None:
@@ -181,11 +198,11 @@ def fade_color(color: Sequence[int], faded: Sequence[int], weight: float) -> tup
 def gimbal_note(theta_deg: float) -> str | None:
     """The gimbal-lock message near θ = 0° or 180° (within GIMBAL_LOCK_DEG), else None."""
     if theta_deg < GIMBAL_LOCK_DEG:
-        return ("**⚠ Gimbal lock** (θ ≈ 0°): the line of nodes is undefined; "
-                "only **φ + ψ** is defined here, not φ and ψ separately.")
+        return N_("**⚠ Gimbal lock** (θ ≈ 0°): the line of nodes is undefined; "
+                  "only **φ + ψ** is defined here, not φ and ψ separately.")
     if theta_deg > 180.0 - GIMBAL_LOCK_DEG:
-        return ("**⚠ Gimbal lock** (θ ≈ 180°): the line of nodes is undefined; "
-                "only **φ − ψ** is defined here, not φ and ψ separately.")
+        return N_("**⚠ Gimbal lock** (θ ≈ 180°): the line of nodes is undefined; "
+                  "only **φ − ψ** is defined here, not φ and ψ separately.")
     return None
 
 

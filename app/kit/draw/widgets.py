@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from app.i18n import N_
 from app.kit.core.common import (
     BODY_AXIS_COLORS,
     GIMBAL_FADE_DEG,
@@ -40,8 +41,8 @@ from app.viser_internals import set_points, set_position, set_scale, set_wxyz
 from physics._types import Mat3, Vec3
 from physics.quaternion import wxyz_from_matrix
 
-__all__ = ["FADE_LEVELS", "POSE_QUANTUM", "Body", "LineOfNodes", "Stage", "TraceLines", "Vector", "quantized",
-           "z_onto"]
+__all__ = ["FADE_LEVELS", "NODES_LABELS", "POSE_QUANTUM", "Body", "LineOfNodes", "Stage", "TraceLines", "Vector",
+           "quantized", "z_onto"]
 
 FADE_LEVELS = 8  # the line of nodes fades in this many steps (one colour message per step)
 POSE_QUANTUM = 2.0**-12
@@ -54,6 +55,10 @@ LENGTH_RTOL = 5e-3  # while playing, an arrow's length is resent when it changed
 LABEL_BEYOND = 0.16  # [scene units] a vector's label sits this far beyond its tip
 HEAD_EVERY = 6  # playing frames between two sends of a trace's growing head chunk (10 Hz at 60 fps)
 LABEL_ASIDE = 0.06  # [scene units] ... or this far off its middle (x and y of the arrow's frame)
+
+NODES_LABELS = (N_("line of nodes"), N_("line of nodes (undefined)"))
+"""The line of nodes' 3D label, defined and near gimbal lock (`LineOfNodes`; a view passes them in
+its browser's language: `text`)."""
 
 
 def quantized(values: Any, quantum: float) -> tuple[float, ...]:
@@ -158,15 +163,17 @@ class LineOfNodes:
     fade is sent."""
 
     def __init__(self, scene: Any, name: str, *, half_length: float = NODES_HALF_LENGTH,
-                 labels: LabelLayer | None = None, riding: bool = False) -> None:
+                 labels: LabelLayer | None = None, riding: bool = False,
+                 text: tuple[str, str] = NODES_LABELS) -> None:
         self.riding = riding
+        self._texts = text  # (defined, undefined)
         self.node = scene.add_frame(name, show_axes=False)
         self.line = scene.add_line_segments(
             f"{name}/line", np.array([[[-half_length, 0.0, 0.0], [half_length, 0.0, 0.0]]]),
             NODES_COLOR, thickness=6.0, thickness_units="screen",
         )
         self.label = _register(labels, scene.add_label(
-            f"{name}/label", "line of nodes", position=(0.8 * half_length, 0.0, 0.04),
+            f"{name}/label", text[0], position=(0.8 * half_length, 0.0, 0.04),
             font_screen_scale=1.6, anchor="bottom-center",  # inside the line: clear of the axis labels
         ), AXES)
         self._level = -1
@@ -197,7 +204,7 @@ class LineOfNodes:
             color = fade_color(NODES_COLOR, NODES_FADED_COLOR, level / FADE_LEVELS)
             self.line.colors = np.array([[color, color]], dtype=np.uint8)
             locked = math.degrees(min(theta, math.pi - theta)) < GIMBAL_LOCK_DEG
-            self.label.text = "line of nodes (undefined)" if locked else "line of nodes"
+            self.label.text = self._texts[1] if locked else self._texts[0]
 
     @property
     def visible(self) -> bool:

@@ -21,6 +21,7 @@ from typing import Any
 
 import viser
 
+from app.i18n import N_, Translator, translator
 from app.kit.core.common import SliderSpec, Wrap, checked_value
 from app.kit.core.presets import Preset
 from app.kit.panel.binding import Clock, Refused, bind
@@ -43,9 +44,10 @@ __all__ = [
 ]
 
 TIME_SCALE_RANGE = (0.1, 4.0)
-PLAY_LABEL, PAUSE_LABEL = "Play", "Pause"
-STEP_LABEL, RESET_LABEL = "▶| Step", "⟲ Reset"  # glyphs the GUI font has (⏭ ⏸ are missing)
-LOOKING_BACK_STATUS = "⟲ Looking back: the time shown is under the Timeline."  # one line, as the scenes' status
+PLAY_LABEL, PAUSE_LABEL = N_("Play"), N_("Pause")
+STEP_LABEL, RESET_LABEL = N_("▶| Step"), N_("⟲ Reset")  # glyphs the GUI font has (⏭ ⏸ are missing)
+LOOKING_BACK_STATUS = N_("⟲ Looking back: the time shown is under the Timeline.")  # one line, as the scenes' status
+ENGLISH = translator("en")
 
 Callback = Callable[[Any], None]
 """The session's guard: (where, fn) -> fn that runs under the locks and reports exceptions."""
@@ -183,7 +185,8 @@ def add_slider(gui: Any, spec: SliderSpec, value: float = 0.0) -> Any:
 
 
 class Transport:
-    """Play/Pause (one toggle), Step · Reset, time scale, integrator (optional), status line.
+    """Play/Pause (one toggle), Step · Reset, time scale, integrator (optional), status line,
+    in the language of `tr` (`app.i18n`; English by default).
 
     The handles only report: `on_toggle()`, `on_step()`, `on_reset()`, `on_time_scale(x)`,
     `on_integrator(name)`.  `show(playing, time_scale, integrator)` makes them show a room's
@@ -197,21 +200,25 @@ class Transport:
                  on_time_scale: Callable[[float], None],
                  integrators: Sequence[str] = (), on_integrator: Callable[[str], None] | None = None,
                  integrator: str | None = None, integrator_hint: str | None = None,
-                 clock: Clock | None = None) -> None:
+                 clock: Clock | None = None, tr: Translator = ENGLISH) -> None:
+        _ = tr.gettext
+        self.tr = tr
         self._message = message
-        self.gui_play = gui.add_button(PLAY_LABEL, color="green", icon=viser.Icon.PLAYER_PLAY_FILLED,
-                                       hint="start / pause the motion")
-        self.gui_step_reset = gui.add_button_group("Step · Reset", (STEP_LABEL, RESET_LABEL))
+        self.play_label, self.pause_label = _(PLAY_LABEL), _(PAUSE_LABEL)
+        step_label, reset_label = _(STEP_LABEL), _(RESET_LABEL)
+        self.gui_play = gui.add_button(self.play_label, color="green", icon=viser.Icon.PLAYER_PLAY_FILLED,
+                                       hint=_("start / pause the motion"))
+        self.gui_step_reset = gui.add_button_group(_("Step · Reset"), (step_label, reset_label))
         lo, hi = TIME_SCALE_RANGE
         self.gui_time_scale = gui.add_slider(
-            "Time scale [×]", lo, hi, 0.05, 1.0,
-            marks=((0.1, "0.1×"), (1.0, "1×"), (2.0, "2×"), (3.0, "3×"), (4.0, "4×")),
-            hint="simulated seconds per second of wall time (slow motion below 1)",
+            _("Time scale [×]"), lo, hi, 0.05, 1.0,
+            marks=tuple((x, f"{tr.general(x)}×") for x in (0.1, 1.0, 2.0, 3.0, 4.0)),
+            hint=_("simulated seconds per second of wall time (slow motion below 1)"),
         )
         self.gui_integrator = None
         first = integrator if integrator is not None else (integrators[0] if integrators else "")
         if integrators:
-            self.gui_integrator = gui.add_dropdown("Integrator", tuple(integrators), initial_value=first,
+            self.gui_integrator = gui.add_dropdown(_("Integrator"), tuple(integrators), initial_value=first,
                                                    hint=integrator_hint)
         self.gui_status = gui.add_markdown("")
         self.looking_back: Callable[[], bool] = lambda: False
@@ -225,9 +232,9 @@ class Transport:
 
         def step_or_reset(event: Any) -> None:
             choice = event.target.value
-            if choice == STEP_LABEL:
+            if choice == step_label:
                 on_step()
-            elif choice == RESET_LABEL:
+            elif choice == reset_label:
                 on_reset()
 
         self.gui_step_reset.on_click(wrap("step/reset buttons", step_or_reset))
@@ -239,7 +246,8 @@ class Transport:
         def check_time_scale(value: Any) -> float:
             number = checked_value(value, lo, hi)
             if number is None:
-                raise Refused(f"Time scale {value!r} refused: it must be between {lo:g}× and {hi:g}×.")
+                raise Refused(_("Time scale {value} refused: it must be between {lo}× and {hi}×.").format(
+                    value=repr(value), lo=tr.general(lo), hi=tr.general(hi)))
             return number
 
         self.time_scale_binding = bind(self.gui_time_scale, where="time scale", wrap=wrap, message=message,
@@ -252,7 +260,7 @@ class Transport:
                 if self.quiet.active:
                     return
                 if menu.value not in menu.options:  # a client can send any string
-                    message.show(f"Integrator {menu.value!r} refused.")
+                    message.show(_("Integrator {name} refused.").format(name=repr(menu.value)))
                     self.quiet.write(menu, self._integrator)
                     return
                 on_integrator(str(menu.value))
@@ -267,7 +275,7 @@ class Transport:
 
     def show(self, playing: bool, time_scale: float, integrator: str = "") -> None:
         """Show a room's transport state: the toggle offers Pause while playing, Play while paused."""
-        label = PAUSE_LABEL if playing else PLAY_LABEL
+        label = self.pause_label if playing else self.play_label
         if self.gui_play.label != label:
             self.gui_play.label = label
             self.gui_play.icon = viser.Icon.PLAYER_PAUSE_FILLED if playing else viser.Icon.PLAYER_PLAY_FILLED
@@ -280,7 +288,7 @@ class Transport:
 
     def set_status(self, text: str) -> None:
         if self.looking_back():
-            text = LOOKING_BACK_STATUS
+            text = self.tr.gettext(LOOKING_BACK_STATUS)
         if self.gui_status.content != text:
             self.gui_status.content = text
 
@@ -289,10 +297,10 @@ class PresetsRow:
     """One button row per preset group, the lecturer's own presets in a row of their own
     (`OWN_ROW`, hidden while there are none: `show_own`), and the chosen preset's note below them."""
 
-    OWN_ROW = "★ Mine"
+    OWN_ROW = N_("★ Mine")
 
     def __init__(self, gui: Any, wrap: Wrap, presets: Sequence[Preset], on_preset: Callable[[str], None],
-                 on_own: Callable[[str], None] | None = None) -> None:
+                 on_own: Callable[[str], None] | None = None, tr: Translator = ENGLISH) -> None:
         groups: dict[str, list[str]] = {}
         for preset in presets:
             groups.setdefault(preset.group, []).append(preset.name)
@@ -301,8 +309,9 @@ class PresetsRow:
             group = gui.add_button_group(label, tuple(names))
             group.on_click(wrap(f"{label} presets", lambda event: on_preset(str(event.target.value))))
             self.groups.append(group)
-        self.gui_own = gui.add_button_group(self.OWN_ROW, ("—",), visible=False,
-                                            hint="your own presets of this scene (the Mine folder keeps them)")
+        self.gui_own = gui.add_button_group(
+            tr.gettext(self.OWN_ROW), ("—",), visible=False,
+            hint=tr.gettext("your own presets of this scene (the Mine folder keeps them)"))
         self._own: tuple[str, ...] = ()
         own_chosen = on_own or on_preset
         self.gui_own.on_click(wrap("own presets", lambda event: own_chosen(str(event.target.value))))
@@ -331,15 +340,20 @@ class Tabs:
     """
 
     def __init__(self, gui: Any, wrap: Wrap, names: Sequence[str] = ("Setup", "Readout", "Plots"),
-                 on_change: Callable[[str], None] | None = None) -> None:
+                 on_change: Callable[[str], None] | None = None, tr: Translator = ENGLISH) -> None:
         self.names = tuple(names)
         self.shown = self.names[0]
-        self.gui_buttons = gui.add_button_group("Show", self.names)
+        self._tr = tr
+        self.labels = {name: tr.gettext(name) for name in self.names}
+        """name -> the button's text in the browser's language (the names are what code and lessons use)."""
+        self._names = {label: name for name, label in self.labels.items()}
+        self.gui_buttons = gui.add_button_group(tr.gettext("Show"), tuple(self.labels.values()))
         self.folders = {name: gui.add_folder(None, visible=name == self.shown) for name in self.names}
         self._on_change = on_change
 
         def chosen(event: Any) -> None:
-            self.show(str(event.target.value))
+            label = str(event.target.value)
+            self.show(self._names.get(label, label))
 
         self.gui_buttons.on_click(wrap("tab buttons", chosen))
 
@@ -357,7 +371,7 @@ class Tabs:
             self.folders[self.shown].visible = False
             self.folders[name].visible = True
             self.shown = name
-            self.gui_buttons.label = f"Show · {name}"
+            self.gui_buttons.label = f"{self._tr.gettext('Show')} · {self.labels[name]}"
             if self._on_change is not None:
                 self._on_change(name)
 

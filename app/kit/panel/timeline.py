@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from app.i18n import N_, Translator, translator
 from app.kit.core.common import Throttle, Wrap
 from app.kit.core.history import HISTORY_SECONDS
 from app.kit.core.room import LIVE, REPLAYING, Room
@@ -40,8 +41,9 @@ from app.kit.panel.gui import MessageLine, Quiet
 __all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "STALE_S", "TIMELINE_LABEL", "TIMELINE_STEP", "Timeline",
            "stretch_moved", "timeline_text"]
 
-TIMELINE_LABEL = "Timeline [s]"
-REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = "Replay", "Resume", "Branch here"
+ENGLISH = translator("en")
+TIMELINE_LABEL = N_("Timeline [s]")
+REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL = N_("Replay"), N_("Resume"), N_("Branch here")
 """(The replay button is not called "Replay": a page's "Play" button must stay the only one whose
 name contains "play", which the browser tests' locators rely on.)"""
 TIMELINE_STEP = 0.01  # [s] the slider's step
@@ -57,37 +59,45 @@ def stretch_moved(then: tuple[float, float] | None, now: tuple[float, float] | N
     return max(abs(now[0] - then[0]), abs(now[1] - then[1])) >= STALE_S
 
 
-def timeline_text(room: Room) -> str:
-    """The status line of the room's replay state."""
+def timeline_text(room: Room, tr: Translator = ENGLISH) -> str:
+    """The status line of the room's replay state, in the language of `tr`."""
+    _ = tr.gettext
     stretch = room.stretch()
     if stretch is None:
-        return f"Replay: the last {HISTORY_SECONDS:g} s of motion are kept once it plays."
-    t_first, t_live = stretch
+        return _("Replay: the last {seconds} s of motion are kept once it plays.").format(
+            seconds=tr.general(HISTORY_SECONDS))
+    t_first, t_live = (tr.decimal(t, 2) for t in stretch)
     if room.mode == LIVE:
-        return f"Live · recorded {t_first:.2f} s to {t_live:.2f} s; move the Timeline to look back."
-    t = room.shown_t
+        return _("Live · recorded {first} s to {live} s; move the Timeline to look back.").format(
+            first=t_first, live=t_live)
+    t = tr.decimal(room.shown_t, 2)
     if room.mode == REPLAYING:
-        return f"**Replaying t = {t:.2f} s of {t_live:.2f} s ({room.time_scale:g}×)**"
-    return f"**Showing t = {t:.2f} s of {t_live:.2f} s** (paused): {REPLAY_LABEL}, {RESUME_LABEL} or {BRANCH_LABEL}."
+        return _("**Replaying t = {t} s of {live} s ({scale}×)**").format(t=t, live=t_live,
+                                                                          scale=tr.general(room.time_scale))
+    return _("**Showing t = {t} s of {live} s** (paused): {replay}, {resume} or {branch}.").format(
+        t=t, live=t_live, replay=_(REPLAY_LABEL), resume=_(RESUME_LABEL), branch=_(BRANCH_LABEL))
 
 
 class Timeline:
     """The slider, the three buttons and the status line (see the module docstring)."""
 
     def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, room: Room, *, order: float | None = None,
-                 clock: Clock | None = None) -> None:
+                 clock: Clock | None = None, tr: Translator = ENGLISH) -> None:
         self.room = room
         self._message = message
+        self.tr = tr
+        _ = tr.gettext
+        replay, resume, branch = _(REPLAY_LABEL), _(RESUME_LABEL), _(BRANCH_LABEL)
 
         def stale_now() -> Any:
             """A test of the message just shown: the stretch it quotes has moved on."""
             then = room.stretch()
             return lambda: stretch_moved(then, room.stretch())
         orders = [None] * 3 if order is None else [order + 0.1 * k for k in (1, 2, 3)]
-        self.gui_slider = gui.add_slider(TIMELINE_LABEL, 0.0, TIMELINE_STEP, TIMELINE_STEP, 0.0, disabled=True,
+        self.gui_slider = gui.add_slider(_(TIMELINE_LABEL), 0.0, TIMELINE_STEP, TIMELINE_STEP, 0.0, disabled=True,
                                          order=orders[0],
-                                         hint="scrub back through the last minute of motion (pauses it)")
-        self.gui_buttons = gui.add_button_group("Past", (REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL), order=orders[1])
+                                         hint=_("scrub back through the last minute of motion (pauses it)"))
+        self.gui_buttons = gui.add_button_group(_("Past"), (replay, resume, branch), order=orders[1])
         self.gui_status = gui.add_markdown("", order=orders[2])
         self.quiet = Quiet()
         self._range = (0.0, TIMELINE_STEP)
@@ -113,7 +123,7 @@ class Timeline:
             except (TypeError, ValueError):
                 number = math.nan
             if not math.isfinite(number):
-                raise Refused(f"Time {value!r} refused: not a number of seconds.")
+                raise Refused(_("Time {value} refused: not a number of seconds.").format(value=repr(value)))
             return number
 
         self.binding: Binding = bind(self.gui_slider, where="timeline", wrap=wrap, message=message, quiet=self.quiet,
@@ -122,14 +132,14 @@ class Timeline:
 
         def clicked(event: Any) -> None:
             choice = str(event.target.value)
-            if choice in (REPLAY_LABEL, RESUME_LABEL, BRANCH_LABEL):
+            if choice in (replay, resume, branch):
                 self.binding.release()  # a button pressed: the hand has left the slider
             try:
-                if choice == REPLAY_LABEL:
+                if choice == replay:
                     room.replay()
-                elif choice == RESUME_LABEL:
+                elif choice == resume:
                     room.resume()
-                elif choice == BRANCH_LABEL:
+                elif choice == branch:
                     room.branch()
                 else:  # a client can send any string
                     return
@@ -193,7 +203,7 @@ class Timeline:
         value = round(self._shown_value(), 6)
         self.quiet.write(slider, value)
         self._owed = (lo, hi) != self._range or slider.value != value  # skipped while its user edits
-        text = timeline_text(room)
+        text = timeline_text(room, self.tr)
         if self.gui_status.content != text:
             self.gui_status.content = text
         self._message.recheck()

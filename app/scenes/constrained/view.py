@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 import viser
 
+from app.i18n import N_
 from app.kit.core.common import CameraView, SliderSpec, Throttle, Wrap
 from app.kit.core.presets import Preset
 from app.kit.core.room import Room
@@ -89,7 +90,7 @@ class ConstrainedView(SceneView):
 
     transport: Transport  # built by build_head
 
-    title = "Constrained particles"
+    title = N_("Constrained particles")  # the scene dropdown shows it translated (app.i18n)
     root = "/cp"  # node names are short: every message of a frame carries its node's name
     view = VIEW
 

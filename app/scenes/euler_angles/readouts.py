@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from app.i18n import Translator, translator
 from app.kit.core.common import format_deg, format_matrix, format_vector
 from app.scenes.euler_angles.simulation import GREEK, MIN_EDGE, box_edges
 from physics.euler import (
@@ -29,42 +30,61 @@ __all__ = ["arc_text", "body_text", "factors_text", "matrix_text", "moments_refu
            "omega_text", "single_angle_text", "single_rotation_text", "status_text"]
 
 
+ENGLISH = translator("en")
+
+
 def _radians(angles_deg: Sequence[float]) -> tuple[float, float, float]:
     phi, theta, psi = (math.radians(a) for a in angles_deg)
     return phi, theta, psi
 
 
-def status_text(t: float, playing: bool, time_scale: float) -> str:
-    """The transport's status line: t [s], playing or paused, the time scale."""
-    state = "▶ playing" if playing else "paused"
-    return f"**t = {t:.2f} s** · {state} · {time_scale:g}×"
+def status_text(t: float, playing: bool, time_scale: float, tr: Translator = ENGLISH) -> str:
+    """The transport's status line: t [s], playing or paused, the time scale (words and numbers
+    in the language of `tr`)."""
+    state = tr.gettext("▶ playing") if playing else tr.gettext("paused")
+    return f"**t = {tr.decimal(t, 2)} s** · {state} · {tr.general(time_scale)}×"
 
 
-def body_text(moments: Sequence[float]) -> str:
+def _numbers(values: Sequence[float], tr: Translator) -> str:
+    """Numbers a person reads, 2 decimals, in a list: "1.00, 2.00" (English), "1,00; 2,00"
+    (a language whose decimal separator is the comma)."""
+    written = [tr.decimal(float(v), 2) for v in values]
+    return ("; " if any("," in w for w in written) else ", ").join(written)
+
+
+def body_text(moments: Sequence[float], tr: Translator = ENGLISH) -> str:
     """The body folder's line: the drawn box's edge ratios (`box_edges`, shortest = 1) for the
-    principal moments (3,) [kg m²], and whether it is a flat lamina."""
+    principal moments (3,) [kg m²], and whether it is a flat lamina (in the language of `tr`)."""
     edges = box_edges(moments)
     flat = edges.min() <= MIN_EDGE
     shown = edges / edges.min()
-    status = f"Uniform box with edges along x′, y′, z′ in the ratio **{', '.join(f'{r:.2f}' for r in shown)}**."
+    status = tr.gettext("Uniform box with edges along x′, y′, z′ in the ratio **{ratios}**.").format(
+        ratios=_numbers(shown, tr))
     if flat:
-        status += "  \nA flat lamina: one triangle inequality holds with equality."
+        status += "  \n" + tr.gettext("A flat lamina: one triangle inequality holds with equality.")
     return status
 
 
-def moments_refused_text(error: BaseException, moments: Sequence[float]) -> str:
-    """The body folder's line when a moment was refused (`error`), `moments` [kg m²] staying."""
-    shown = ", ".join(f"{m:.2f}" for m in moments)
-    return (f"**⚠ Not a rigid body:** {error}  \n"
-            "Each moment must be at most the sum of the other two "
-            f"(I1 + I2 ≥ I3 and cyclic).  Showing the last valid body, I = ({shown}) kg m².")
+def moments_refused_text(error: BaseException, moments: Sequence[float], tr: Translator = ENGLISH) -> str:
+    """The body folder's line when a moment was refused (`error`, physics' own words, English),
+    `moments` [kg m²] staying."""
+    return tr.gettext("**⚠ Not a rigid body:** {error}  \n"
+                      "Each moment must be at most the sum of the other two "
+                      "(I1 + I2 ≥ I3 and cyclic).  Showing the last valid body, I = ({moments}) kg m².").format(
+        error=_error_words(error, tr), moments=_numbers(moments, tr))
 
 
-def moments_refused_message(index: int, value: float, error: BaseException, moments: Sequence[float]) -> str:
+def _error_words(error: BaseException, tr: Translator) -> str:
+    """physics' refusal (English: "I1 + I2 >= I3 fails: 1 + 1 < 3"), its one word in the language of `tr`."""
+    return str(error).replace(" fails:", " " + tr.gettext("fails") + ":")
+
+
+def moments_refused_message(index: int, value: float, error: BaseException, moments: Sequence[float],
+                            tr: Translator = ENGLISH) -> str:
     """The message line when I_{index+1} = `value` was refused, `moments` [kg m²] staying."""
-    shown = ", ".join(f"{m:.2f}" for m in moments)
-    return (f"I{index + 1} = {value:g} refused: not a rigid body ({error}); "
-            f"the body stays I = ({shown}) kg m².")
+    return tr.gettext("I{number} = {value} refused: not a rigid body ({error}); "
+                      "the body stays I = ({moments}) kg m².").format(
+        number=index + 1, value=tr.general(value), error=_error_words(error, tr), moments=_numbers(moments, tr))
 
 
 def arc_text(key: str, angle_deg: float) -> str:
@@ -90,28 +110,31 @@ def factors_text(angles_deg: Sequence[float]) -> str:
     return "\n".join(f"{title}\n```\n{format_matrix(M, 4)}\n```" for title, M in factors)
 
 
-def omega_text(angles_deg: Sequence[float], rates_deg: Sequence[float]) -> str:
+def omega_text(angles_deg: Sequence[float], rates_deg: Sequence[float], tr: Translator = ENGLISH) -> str:
     """The ω tab [deg/s]: the rates, ω's three components φ̇ e_z, θ̇ e_n, ψ̇ e_z′ and ω in space
-    components (x y z), ω_b in body components (x′ y′ z′), |ω|; 3 decimals, |x| < 5e-4 shown as 0."""
+    components (x y z), ω_b in body components (x′ y′ z′), |ω|; 3 decimals, |x| < 5e-4 shown as 0
+    (a table in a code block: its numbers as written in English, its words in the language of `tr`)."""
     phi, theta, psi = _radians(angles_deg)
     angles, rates = np.array([phi, theta, psi]), np.radians(rates_deg)
     omega_space = np.degrees(omega_space_from_euler_rates(angles, rates))
     omega_body = np.degrees(omega_body_from_euler_rates(angles, rates))
     dphi, dtheta, dpsi = rates_deg
 
+    unit, space, body = tr.gettext("deg/s"), tr.gettext("ω_s (space)"), tr.gettext("ω_b (body)")
+
     def row(name: str, v: Any) -> str:
         return f"{name:<14}" + "".join(f"{(0.0 if abs(x) < 5e-4 else x):10.3f}" for x in v)
 
     return (
         "```\n"
-        f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [deg/s]\n\n"
+        f"dφ/dt = {dphi:g}   dθ/dt = {dtheta:g}   dψ/dt = {dpsi:g}   [{unit}]\n\n"
         f"{'':<14}{'x | x′':>10}{'y | y′':>10}{'z | z′':>10}\n"
         f"{row('(dφ/dt) e_z', (0.0, 0.0, dphi))}\n"
         f"{row('(dθ/dt) e_n', dtheta * line_of_nodes(phi))}\n"
         f"{row('(dψ/dt) e_z′', dpsi * body_z_axis(phi, theta))}\n"
-        f"{row('ω_s (space)', omega_space)}\n"
-        f"{row('ω_b (body)', omega_body)}\n"
-        f"|ω| = {float(np.linalg.norm(omega_space)):.3f} deg/s\n```"
+        f"{row(space, omega_space)}\n"
+        f"{row(body, omega_body)}\n"
+        f"|ω| = {float(np.linalg.norm(omega_space)):.3f} {unit}\n```"
     )
 
 

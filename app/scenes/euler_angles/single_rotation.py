@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import viser
 
+from app.i18n import N_, Translator, translator
 from app.kit.core.common import BODY_AXIS_COLORS, SPACE_AXIS_COLORS, Wrap, axis_segments, polyline_segments
 from app.kit.core.target import DrawTarget
 from app.kit.draw.labels import AXES, LabelLayer
@@ -38,6 +39,8 @@ from app.scenes.euler_angles.simulation import EulerAnglesSimulation, box_edges
 from app.viser_internals import set_points, set_position, set_wxyz
 from physics.quaternion import wxyz_from_matrix
 from physics.so3 import SingleRotation, exp_so3, rot_x, rot_z, single_rotation, turn_path
+
+ENGLISH = translator("en")
 
 __all__ = ["ANIMATION_HOLD", "ANIMATION_SECONDS", "ARC_SEGMENTS", "SINGLE_ARC_RADIUS", "SingleRotationPart",
            "arc_reference_axis", "box_outline_segments"]
@@ -52,7 +55,7 @@ ANIMATION_HOLD = 1.5  # [s] they then stay on the body, and go
 TURN_LEGEND = "dark: one turn sΦ about d"  # the label on the single-turn outline
 ZXZ_LEGENDS = ("coloured: z-x-z, now φ about z", "coloured: z-x-z, now θ about the line of nodes",
                "coloured: z-x-z, now ψ about z′")  # the label on the z-x-z outline, step by step
-PANEL_LEGEND = ("**The two outlines:** dark, one turn by sΦ about d (s = 0 → 1); coloured, the z-x-z "
+PANEL_LEGEND = N_("**The two outlines:** dark, one turn by sΦ about d (s = 0 → 1); coloured, the z-x-z "
                 "steps: φ about z (purple), θ about the line of nodes (pink), ψ about z′ (teal).")
 
 
@@ -138,20 +141,21 @@ class SingleRotationPart:
             f"{single}/t3", ZXZ_LEGENDS[0], font_screen_scale=1.3, anchor="bottom-left", visible=False),
             AXES, wanted=False)
 
-    def build_gui(self) -> Any:
+    def build_gui(self, tr: Translator = ENGLISH) -> Any:
         """The folder "Single rotation D = exp(Φ hat d)": the toggle, Animate and the readout
-        (hidden while the toggle is off); returns the folder."""
+        (hidden while the toggle is off), in the language of `tr`; returns the folder."""
         gui = self.client.gui
-        self.folder = gui.add_folder("Single rotation D = exp(Φ hat d)")
+        _ = tr.gettext
+        self.folder = gui.add_folder(_("Single rotation D = exp(Φ hat d)"))
         with self.folder:
             self.gui_toggle = gui.add_checkbox(
-                "Single rotation", False,
-                hint="D as one turn by Φ about the unit axis d (memo 1.1-1.3); switching it on animates once")
+                _("Single rotation"), False,
+                hint=_("D as one turn by Φ about the unit axis d (memo 1.1-1.3); switching it on animates once"))
             self.gui_animate = gui.add_button(
-                "Animate", icon=viser.Icon.PLAYER_PLAY,
-                hint="two outlines turn from the space axes to D: dark, by sΦ about d (s = 0 → 1); "
-                     "coloured, z-x-z in three steps (φ purple, θ pink, ψ teal)")
-            self.gui_legend = gui.add_markdown(PANEL_LEGEND, visible=False)
+                _("Animate"), icon=viser.Icon.PLAYER_PLAY,
+                hint=_("two outlines turn from the space axes to D: dark, by sΦ about d (s = 0 → 1); "
+                       "coloured, z-x-z in three steps (φ purple, θ pink, ψ teal)"))
+            self.gui_legend = gui.add_markdown(_(PANEL_LEGEND), visible=False)
             self.readout = Readout(gui)
             self.readout.handle.visible = False
         return self.folder

@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 import viser
 
+from app.i18n import N_
 from app.kit.core.common import (
     OMEGA_COLOR,
     CameraView,
@@ -59,7 +60,7 @@ from app.kit.core.presets import Preset
 from app.kit.core.room import Room
 from app.kit.draw.labels import DETAIL, KEY, LabelLayer
 from app.kit.draw.lean import TOLERANCE, ArcPieces, FrameArrow, Pose, snap, world_pose
-from app.kit.draw.widgets import Body, LineOfNodes, Stage
+from app.kit.draw.widgets import NODES_LABELS, Body, LineOfNodes, Stage
 from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
 from app.kit.view import SceneView, nth
 from app.scenes.euler_angles import readouts
@@ -81,23 +82,45 @@ __all__ = [
 ]
 
 _FULL_MARKS = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
+# Labels and hints in English, marked for the catalogs (app.i18n): a view shows them translated
+# (`SliderSpec.translated`).  Unit symbols and formulas stay.
 ANGLE_SPECS = (
-    SliderSpec("phi", "φ [deg]", -180.0, 180.0, 1.0, "precession about the space z axis (applied first)",
+    SliderSpec("phi", N_("φ [deg]"), -180.0, 180.0, 1.0, N_("precession about the space z axis (applied first)"),
                _FULL_MARKS),
-    SliderSpec("theta", "θ [deg]", 0.0, 180.0, 1.0, "nutation about the line of nodes (applied second)",
+    SliderSpec("theta", N_("θ [deg]"), 0.0, 180.0, 1.0, N_("nutation about the line of nodes (applied second)"),
                ((0.0, "0°"), (45.0, "45°"), (90.0, "90°"), (135.0, "135°"), (180.0, "180°"))),
-    SliderSpec("psi", "ψ [deg]", -180.0, 180.0, 1.0, "spin about the body z′ axis (applied last)", _FULL_MARKS),
+    SliderSpec("psi", N_("ψ [deg]"), -180.0, 180.0, 1.0, N_("spin about the body z′ axis (applied last)"),
+               _FULL_MARKS),
 )
 _RATE_MARKS = ((-180.0, "-180"), (-90.0, "-90"), (0.0, "0"), (90.0, "90"), (180.0, "180"))
-RATE_SPECS = tuple(
-    SliderSpec(f"{key}_dot", f"d{greek}/dt [deg/s]", -180.0, 180.0, 1.0,
-               f"d{greek}/dt: Play advances {greek} at this rate", _RATE_MARKS)
-    for key, greek in (("phi", "φ"), ("theta", "θ"), ("psi", "ψ"))
+RATE_SPECS = (
+    SliderSpec("phi_dot", N_("dφ/dt [deg/s]"), -180.0, 180.0, 1.0, N_("dφ/dt: Play advances φ at this rate"),
+               _RATE_MARKS),
+    SliderSpec("theta_dot", N_("dθ/dt [deg/s]"), -180.0, 180.0, 1.0, N_("dθ/dt: Play advances θ at this rate"),
+               _RATE_MARKS),
+    SliderSpec("psi_dot", N_("dψ/dt [deg/s]"), -180.0, 180.0, 1.0, N_("dψ/dt: Play advances ψ at this rate"),
+               _RATE_MARKS),
 )
-MOMENT_SPECS = tuple(
-    SliderSpec(f"I{k + 1}", f"I{k + 1} [kg m²]", 0.1, 5.0, 0.05, f"principal moment about the body {'xyz'[k]}′ axis")
-    for k in range(3)
+MOMENT_SPECS = (
+    SliderSpec("I1", "I1 [kg m²]", 0.1, 5.0, 0.05, N_("principal moment about the body x′ axis")),
+    SliderSpec("I2", "I2 [kg m²]", 0.1, 5.0, 0.05, N_("principal moment about the body y′ axis")),
+    SliderSpec("I3", "I3 [kg m²]", 0.1, 5.0, 0.05, N_("principal moment about the body z′ axis")),
 )
+INTRO = N_(
+    "### Euler angles, z-x-z convention\n"
+    "**D = Rz(φ) Rx(θ) Rz(ψ)**, body → space (x = D x′).  \n"
+    "φ: precession about z · θ: nutation about the line of nodes · "
+    "ψ: spin about z′.  Angles in **degrees**.  \n"
+    "**ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′** (orange, head to tail)."
+)
+LEGEND = N_(
+    "Thin red/green/blue arrows: space axes x y z.  \n"
+    "Dark arrows: body axes x′ y′ z′ (the columns of D).  \n"
+    "Gold: line of nodes e_n = (cos φ, sin φ, 0).  \n"
+    "Faint: intermediate frames (η after φ, η′ after θ).  \n"
+    "ω arrows: 1 unit = {scale}°/s."
+)
+READOUT_TABS = ("D", N_("Factors"), "ω")
 BODY_AXIS_LENGTH = 1.35
 FRAME_AXIS_LENGTH = 1.1
 ARC_RADII = {"phi": 1.2, "theta": 1.05, "psi": 0.95}
@@ -172,7 +195,7 @@ class EulerAnglesView(SceneView):
 
     transport: Transport  # built by build_head
 
-    title = "Euler angles"
+    title = N_("Euler angles")  # the scene dropdown shows it translated (app.i18n)
     root = "/e"  # node names are short: every message of a frame carries its node's name
     view = VIEW
     preset_file = "euler_angles.json"
@@ -234,7 +257,8 @@ class EulerAnglesView(SceneView):
                       "theta": Pose(self.after_theta_node, reach=THETA_REACH),
                       "psi": Pose(self.body.node, reach=PSI_REACH)}
         # The line of nodes is the after-φ frame's x axis: it rides on that frame (no message of its own).
-        self.nodes = LineOfNodes(scene, f"{root}/p/n", labels=labels)
+        defined, undefined = (self.tr.gettext(text) for text in NODES_LABELS)
+        self.nodes = LineOfNodes(scene, f"{root}/p/n", labels=labels, text=(defined, undefined))
         # Arcs: fixed pieces in the frame the angle is measured in, a tail piece in the frame it turns.
         frames = {"phi": (root, f"{root}/p"), "theta": (f"{root}/p", f"{root}/p/t"),
                   "psi": (f"{root}/p/t", f"{root}/p/t/s")}
@@ -283,63 +307,57 @@ class EulerAnglesView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        self.build_head(
-            "### Euler angles, z-x-z convention\n"
-            "**D = Rz(φ) Rx(θ) Rz(ψ)**, body → space (x = D x′).  \n"
-            "φ: precession about z · θ: nutation about the line of nodes · "
-            "ψ: spin about z′.  Angles in **degrees**.  \n"
-            "**ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′** (orange, head to tail)."
-        )
-        self.folder_angles = gui.add_folder("Euler angles z-x-z [deg]")
+        tr = self.tr
+        _ = tr.gettext
+        angle_specs = [spec.translated(tr) for spec in ANGLE_SPECS]
+        rate_specs = [spec.translated(tr) for spec in RATE_SPECS]
+        moment_specs = [spec.translated(tr) for spec in MOMENT_SPECS]
+        self.build_head(_(INTRO))
+        self.folder_angles = gui.add_folder(_("Euler angles z-x-z [deg]"))
         with self.folder_angles:
-            self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(ANGLE_SPECS, self.sim.angles_deg)]
+            self.gui_angles = [add_slider(gui, spec, value) for spec, value in zip(angle_specs, self.sim.angles_deg)]
             self.gui_gimbal_note = gui.add_markdown("", visible=False)
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
-        self.folder_rates = gui.add_folder("Euler rates [deg/s]")
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset,
+                                          tr=tr)
+        self.folder_rates = gui.add_folder(_("Euler rates [deg/s]"))
         with self.folder_rates:
-            self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(RATE_SPECS, self.sim.rates_deg)]
-        self.folder_single = self.single_rotation.build_gui()
-        self.folder_readout = gui.add_folder("Readout")
+            self.gui_rates = [add_slider(gui, spec, value) for spec, value in zip(rate_specs, self.sim.rates_deg)]
+        self.folder_single = self.single_rotation.build_gui(tr)
+        self.folder_readout = gui.add_folder(_("Readout"))
         with self.folder_readout:
             # Three texts, one shown at a time (the server knows which: only that one is sent while playing).
-            self.readout_tabs = Tabs(gui, wrap, ("D", "Factors", "ω"), on_change=lambda _name: self.render_readout())
+            self.readout_tabs = Tabs(gui, wrap, READOUT_TABS, on_change=lambda _name: self.render_readout(), tr=tr)
             # Each tab's fixed heading is a markdown of its own, sent once: only the numbers go at 2 Hz.
             with self.readout_tabs.tab("D"):
-                gui.add_markdown("D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components; "
-                                 "e_n = (cos φ, sin φ, 0), e_z′ = D e_z")
+                gui.add_markdown(_("D = Rz(φ) Rx(θ) Rz(ψ), columns = x′ y′ z′ in space components; "
+                                   "e_n = (cos φ, sin φ, 0), e_z′ = D e_z"))
                 self.readout_matrix = Readout(gui)
             with self.readout_tabs.tab("Factors"):
                 self.readout_factors = Readout(gui)
             with self.readout_tabs.tab("ω"):
-                gui.add_markdown("ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b")
+                gui.add_markdown(_("ω = (dφ/dt) e_z + (dθ/dt) e_n + (dψ/dt) e_z′ [deg/s]; ω_s = D ω_b"))
                 self.readout_omega = Readout(gui)
-        self.folder_body = gui.add_folder("Body: principal moments [kg m²]", expand_by_default=False)
+        self.folder_body = gui.add_folder(_("Body: principal moments [kg m²]"), expand_by_default=False)
         with self.folder_body:
-            self.gui_moments = [add_slider(gui, spec, value) for spec, value in zip(MOMENT_SPECS, self.sim.moments)]
+            self.gui_moments = [add_slider(gui, spec, value) for spec, value in zip(moment_specs, self.sim.moments)]
             self.gui_moments_status = gui.add_markdown("")
-        self.folder_display = gui.add_folder("Display", expand_by_default=False)
+        self.folder_display = gui.add_folder(_("Display"), expand_by_default=False)
         with self.folder_display:
-            self.gui_show_frames = gui.add_checkbox("Intermediate frames", True,
-                                                    hint="ξηζ = Rz(φ) and ξ′η′ζ′ = Rz(φ) Rx(θ)")
-            self.gui_show_arcs = gui.add_checkbox("Angle arcs", True)
-            self.gui_show_omega = gui.add_checkbox("ω and its components", True)
-            self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
-            gui.add_markdown(
-                "Thin red/green/blue arrows: space axes x y z.  \n"
-                "Dark arrows: body axes x′ y′ z′ (the columns of D).  \n"
-                "Gold: line of nodes e_n = (cos φ, sin φ, 0).  \n"
-                "Faint: intermediate frames (η after φ, η′ after θ).  \n"
-                f"ω arrows: 1 unit = {1.0 / RATE_ARROW_SCALE:g}°/s."
-            )
+            self.gui_show_frames = gui.add_checkbox(_("Intermediate frames"), True,
+                                                    hint=_("ξηζ = Rz(φ) and ξ′η′ζ′ = Rz(φ) Rx(θ)"))
+            self.gui_show_arcs = gui.add_checkbox(_("Angle arcs"), True)
+            self.gui_show_omega = gui.add_checkbox(_("ω and its components"), True)
+            self.gui_reset_view = gui.add_button(_("Reset view"), icon=viser.Icon.CAMERA)
+            gui.add_markdown(_(LEGEND).format(scale=tr.general(1.0 / RATE_ARROW_SCALE)))
         for index, handle in enumerate(self.gui_angles):
             self.bind(handle, f"{GREEK[KEYS[index]]} slider", self._angle_edit(index),
-                      nth(lambda: self.sim.angles_deg, index), spec=ANGLE_SPECS[index])
+                      nth(lambda: self.sim.angles_deg, index), spec=angle_specs[index])
         for index, handle in enumerate(self.gui_rates):
             self.bind(handle, "rate slider", self._rate_edit(index), nth(lambda: self.sim.rates_deg, index),
-                      spec=RATE_SPECS[index])
+                      spec=rate_specs[index])
         for index, handle in enumerate(self.gui_moments):
             self.bind(handle, f"I{index + 1} slider", self._moment_edit(index),
-                      nth(lambda: self.sim.moments, index), spec=MOMENT_SPECS[index])
+                      nth(lambda: self.sim.moments, index), spec=moment_specs[index])
         for handle in (self.gui_show_frames, self.gui_show_arcs, self.gui_show_omega):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
         self.gui_reset_view.on_click(wrap("reset view", lambda _event: self.reset_view()))
@@ -376,8 +394,8 @@ class EulerAnglesView(SceneView):
             try:
                 self.sim.set_moments(moments)
             except InertiaError as error:
-                self.gui_moments_status.content = readouts.moments_refused_text(error, self.sim.moments)
-                return readouts.moments_refused_message(index, value, error, self.sim.moments)
+                self.gui_moments_status.content = readouts.moments_refused_text(error, self.sim.moments, self.tr)
+                return readouts.moments_refused_message(index, value, error, self.sim.moments, self.tr)
             self.room.refresh()
             return None
 
@@ -441,10 +459,10 @@ class EulerAnglesView(SceneView):
         self.show_values(self.gui_moments, MOMENT_SPECS, self.sim.moments)
 
     def _refresh_status(self) -> None:
-        self.transport.set_status(readouts.status_text(self.sim.t, self.room.playing, self.room.time_scale))
+        self.transport.set_status(readouts.status_text(self.sim.t, self.room.playing, self.room.time_scale, self.tr))
 
     def _refresh_moments_status(self) -> None:
-        status = readouts.body_text(self.sim.moments)
+        status = readouts.body_text(self.sim.moments, self.tr)
         if self.gui_moments_status.content != status:
             self.gui_moments_status.content = status
 
@@ -523,6 +541,8 @@ class EulerAnglesView(SceneView):
         shown = self.readout_tabs.shown if only_shown else None
         angles_deg = self.sim.angles_deg
         note = gimbal_note(angles_deg[1])
+        if note is not None:
+            note = self.tr.gettext(note)
         if self.gui_gimbal_note.visible != (note is not None):
             self.gui_gimbal_note.visible = note is not None
         if note is not None and self.gui_gimbal_note.content != note:
@@ -532,4 +552,4 @@ class EulerAnglesView(SceneView):
         if shown in (None, "Factors"):
             self.readout_factors.set(readouts.factors_text(angles_deg))
         if shown in (None, "ω"):
-            self.readout_omega.set(readouts.omega_text(angles_deg, self.sim.rates_deg))
+            self.readout_omega.set(readouts.omega_text(angles_deg, self.sim.rates_deg, self.tr))

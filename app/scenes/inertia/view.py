@@ -38,6 +38,7 @@ import numpy as np
 import trimesh
 import viser
 
+from app.i18n import N_
 from app.kit.core.common import BODY_AXIS_COLORS, CameraView, Wrap, axis_segments
 from app.kit.core.presets import PRESETS_DIR, Preset
 from app.kit.core.room import Room
@@ -118,7 +119,7 @@ class _Ball:
 class InertiaView(SceneView):
     """One browser's view of an `InertiaSystem` (see the module docstring)."""
 
-    title = "Inertia"
+    title = N_("Inertia")  # the scene dropdown shows it translated (app.i18n)
     root = "/inertia"
     view = CameraView(position=(5.0, -4.2, 3.2), look_at=(0.3, 0.6, 0.2))
     preset_file = "inertia.json"

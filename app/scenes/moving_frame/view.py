@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 import viser
 
+from app.i18n import N_
 from app.kit.core.common import CameraView, Throttle, Wrap
 from app.kit.core.presets import Preset
 from app.kit.core.room import Room
@@ -144,7 +145,7 @@ class MovingFrameView(SceneView):
 
     transport: Transport  # built by build_head
 
-    title = "Moving frame"
+    title = N_("Moving frame")  # the scene dropdown shows it translated (app.i18n)
     root = "/mf"  # node names are short: every message of a frame carries its node's name
     view = VIEW
     preset_file = "moving_frame.json"

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from app.i18n import N_
 from app.kit.core.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
 from app.kit.draw.labels import AXES, DETAIL
 from app.kit.draw.widgets import TraceLines, quantized, z_onto
@@ -87,7 +88,7 @@ def _closed_segments(points: np.ndarray) -> np.ndarray:
 class PoinsotView(TorqueFreeView):
     """Poinsot's construction (see the module docstring)."""
 
-    title = "Poinsot"
+    title = N_("Poinsot")  # the scene dropdown shows it translated (app.i18n)
     simulation_parts = (omega_space,)  # the point the herpolhode follows (the room codec decodes it)
     root = "/pt"  # node names are short: every message of a frame carries its node's name
     view = CameraView(position=(2.6, -8.2, 1.9), look_at=(1.1, 0.5, -0.5))

@@ -1,0 +1,190 @@
+"""The translation layer: every word a person reads in a translated part of the panel goes
+through a `Translator` (gettext catalogs read with Babel), chosen per browser.
+
+Catalogs: `app/locale/<lang>/LC_MESSAGES/messages.po` in the repository (`messages.pot` beside
+them is what extraction finds), compiled to `messages.mo` by the wheel's build (setup.py) so the
+wheel carries them; they are read with `importlib.resources`.  A checkout (`python -m app`, the
+tests, an editable install) compiles a `.po` in memory when its `.mo` is missing or older.
+The workflow (extract -> update -> translate -> compile -> check): `scripts/i18n_catalogs.py`.
+
+    tr = translator("nl")
+    tr.gettext("Scene")                            # "Scène"
+    tr.ngettext("{n} answer", "{n} answers", 3)    # plural forms from the catalog's header
+    tr.decimal(1.5, 2)                              # "1,50": a number a person reads, never one typed
+
+Marking: `_("...")` (a local `_ = tr.gettext`) where a string is used, `N_("...")` for a module
+constant translated later (`tr.gettext(CONSTANT)`); the keywords are in babel.cfg.
+
+Per browser: a session sets its panel's translator (`set_translator(client.gui, tr)`); a view
+reads it from the GUI its panel goes to (`for_gui(gui)`), English for a GUI nobody set (a
+recorder, a tool).  English is the msgids themselves (no catalog): the English panel is the
+app's words as they always were, numbers written as Python writes them.
+"""
+
+from __future__ import annotations
+
+import functools
+import gettext as _gettext
+import io
+import threading
+from collections.abc import Iterable
+from importlib import resources
+from importlib.resources.abc import Traversable
+from pathlib import Path
+from typing import Any
+from weakref import WeakKeyDictionary
+
+__all__ = [
+    "DEFAULT_LANGUAGE",
+    "DOMAIN",
+    "LANGUAGES",
+    "N_",
+    "Translator",
+    "catalog_bytes",
+    "compile_po",
+    "for_gui",
+    "language_named",
+    "locale_dir",
+    "set_translator",
+    "translator",
+]
+
+LANGUAGES: dict[str, str] = {"en": "English", "nl": "Nederlands", "de": "Deutsch"}
+"""Code -> the language's own name (the Language dropdown's options: each in its own language)."""
+DEFAULT_LANGUAGE = "en"
+DOMAIN = "messages"
+
+
+def N_(message: str) -> str:  # noqa: N802 - gettext's name for "mark only"
+    """Mark `message` for extraction; translated where it is used (`Translator.gettext`)."""
+    return message
+
+
+def locale_dir() -> Traversable:
+    """app/locale: `<lang>/LC_MESSAGES/messages.{po,mo}` (the .po only in a checkout)."""
+    return resources.files("app") / "locale"
+
+
+def compile_po(po_text: bytes, *, locale: str) -> bytes:
+    """The .mo bytes of a .po file's bytes (fuzzy entries left out, as gettext does)."""
+    from babel.messages.mofile import write_mo  # noqa: PLC0415 - only when a catalog is compiled
+    from babel.messages.pofile import read_po  # noqa: PLC0415
+
+    catalog = read_po(io.BytesIO(po_text), locale=locale)
+    out = io.BytesIO()
+    write_mo(out, catalog, use_fuzzy=False)
+    return out.getvalue()
+
+
+def catalog_bytes(language: str) -> bytes:
+    """The compiled catalog (.mo bytes) of `language`: the .mo file, or the .po compiled in
+    memory when the .mo is missing or older than it (a checkout).  FileNotFoundError if neither."""
+    folder = locale_dir() / language / "LC_MESSAGES"
+    mo, po = folder / f"{DOMAIN}.mo", folder / f"{DOMAIN}.po"
+    if mo.is_file() and not (po.is_file() and _older(mo, po)):
+        return mo.read_bytes()
+    if po.is_file():
+        return compile_po(po.read_bytes(), locale=language)
+    raise FileNotFoundError(f"no catalog for {language!r} in {folder}")
+
+
+def _older(mo: Traversable, po: Traversable) -> bool:
+    """The .mo was written before the .po (both files on disk); False where times are unknown."""
+    if isinstance(mo, Path) and isinstance(po, Path):
+        return mo.stat().st_mtime < po.stat().st_mtime
+    return False
+
+
+class Translator:
+    """One language's words and numbers.
+
+    Attributes:
+        language: its code (a key of LANGUAGES).
+    """
+
+    def __init__(self, language: str, translations: _gettext.NullTranslations) -> None:
+        self.language = language
+        self._translations = translations
+        self._english: dict[str, str] | None = None  # translation -> msgid (`english`), built at first use
+
+    def gettext(self, message: str) -> str:
+        """`message` (an English msgid) in this language; itself when the catalog lacks it or it is ""."""
+        return self._translations.gettext(message) if message else message
+
+    __call__ = gettext
+
+    def ngettext(self, singular: str, plural: str, n: int) -> str:
+        """The singular or plural form for `n`, as this language's plural rule says."""
+        return self._translations.ngettext(singular, plural, n)
+
+    def english(self, text: str) -> str:
+        """The English msgid `text` translates (a widget's label back to the name code and
+        lessons use: "Hoekbogen" -> "Angle arcs"); `text` itself when no entry translates to it."""
+        if self._english is None:
+            catalog = getattr(self._translations, "_catalog", {})
+            self._english = {str(value): str(key) for key, value in catalog.items()
+                             if isinstance(key, str) and key and isinstance(value, str)}
+        return self._english.get(text, text)
+
+    def all(self, messages: Iterable[str]) -> tuple[str, ...]:
+        """Each of `messages` translated."""
+        return tuple(self.gettext(m) for m in messages)
+
+    def decimal(self, value: float, decimals: int) -> str:
+        """`value` with `decimals` digits after the separator, as this language writes a number to
+        read (no grouping): English "1.50", Dutch and German "1,50".  Never for a value typed or parsed."""
+        if self.language == DEFAULT_LANGUAGE:
+            return f"{value:.{decimals}f}"
+        from babel.numbers import format_decimal  # noqa: PLC0415 - Babel's number formats
+
+        pattern = "0." + "0" * decimals if decimals > 0 else "0"
+        return str(format_decimal(value, format=pattern, locale=self.language, group_separator=False))
+
+    def general(self, value: float) -> str:
+        """`value` as Python's `:g` writes it (up to 6 significant digits), with this language's
+        decimal separator: English "0.1", Dutch and German "0,1"."""
+        text = f"{value:g}"
+        if self.language == DEFAULT_LANGUAGE:
+            return text
+        from babel.numbers import get_decimal_symbol  # noqa: PLC0415
+
+        return text.replace(".", str(get_decimal_symbol(self.language)))
+
+    def __repr__(self) -> str:
+        return f"Translator({self.language!r})"
+
+
+@functools.cache
+def translator(language: str) -> Translator:
+    """The translator of `language` (a key of LANGUAGES), read once; ValueError for another code."""
+    if language not in LANGUAGES:
+        raise ValueError(f"unknown language {language!r}; choose one of {', '.join(LANGUAGES)}")
+    if language == DEFAULT_LANGUAGE:
+        return Translator(language, _gettext.NullTranslations())
+    from babel.support import Translations  # noqa: PLC0415
+
+    return Translator(language, Translations(io.BytesIO(catalog_bytes(language)), domain=DOMAIN))
+
+
+def language_named(name: str) -> str | None:
+    """The code of a language given by its code or its own name ("nl", "Nederlands"); None if unknown."""
+    if name in LANGUAGES:
+        return name
+    return next((code for code, own in LANGUAGES.items() if own == name), None)
+
+
+_BY_GUI: WeakKeyDictionary[Any, Translator] = WeakKeyDictionary()
+_BY_GUI_LOCK = threading.Lock()
+
+
+def set_translator(gui: Any, tr: Translator) -> None:
+    """The panel built in `gui` (a browser's `client.gui`) speaks `tr` from now on."""
+    with _BY_GUI_LOCK:
+        _BY_GUI[gui] = tr
+
+
+def for_gui(gui: Any) -> Translator:
+    """The translator of the browser whose panel `gui` is; English for a GUI nobody set."""
+    with _BY_GUI_LOCK:
+        found = _BY_GUI.get(gui)
+    return found if found is not None else translator(DEFAULT_LANGUAGE)
