@@ -103,7 +103,7 @@ def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until,
     scene = session.scene
     before = still_picture(page)  # nodes faded in
     time.sleep(0.5)  # control: half a second later a still scene renders the same
-    unchanged = changed_fraction(before, page.screenshot(clip=SCENE_CLIP))
+    unchanged = changed_fraction(before, page.screenshot(clip=SCENE_CLIP, timeout=60_000))
     assert unchanged < MIN_CHANGED_FRACTION / 5
 
     # The slider root's id is the GUI uuid; its <label for=...> carries the text.
@@ -126,7 +126,7 @@ def test_euler_scene_slider_moves_the_body_and_play_moves_the_slider(wait_until,
     value = float(thumb.get_attribute("aria-valuenow"))
     assert 150.0 < value < 179.0
     assert scene.room.playing  # the slider's own update did not pause (no feedback)
-    picture_changes(page, page.screenshot(clip=SCENE_CLIP))  # the body moves
+    picture_changes(page, page.screenshot(clip=SCENE_CLIP, timeout=60_000))  # the body moves
     print(f"changed pixels: still {unchanged:.4%}, θ 50° -> 179° {changed:.2%}; slider followed to {value}")
     assert session.last_error is None
 
@@ -162,7 +162,7 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
         assert scene.sim.model.inertia == (0.3, 0.75, 1.0) and scene.room.playing
         t = scene.sim.state.t
         time.sleep(0.3)
-        picture_changes(page, page.screenshot(clip=SCENE_CLIP))
+        picture_changes(page, page.screenshot(clip=SCENE_CLIP, timeout=60_000))
         wait_until(lambda: scene.sim.state.t > t + 0.5, timeout=10.0)  # the body keeps moving
 
         # The other browser: its own session, still the Euler scene, not playing, unchanged.
@@ -189,9 +189,9 @@ def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_l
     page.locator("canvas").first.wait_for(timeout=30_000)
     time.sleep(4.0)
     clip = {"x": 0, "y": 200, "width": 800, "height": 400}
-    first = page.screenshot(clip=clip)
+    first = page.screenshot(clip=clip, timeout=60_000)
     time.sleep(1.5)
-    assert changed_fraction(first, page.screenshot(clip=clip)) > MIN_CHANGED_FRACTION
+    assert changed_fraction(first, page.screenshot(clip=clip, timeout=60_000)) > MIN_CHANGED_FRACTION
 
     from app.main import create_server
 
@@ -222,7 +222,7 @@ def test_poinsot_scene_opens_from_the_dropdown_and_its_picture_changes_while_it_
     page.get_by_text("Poinsot: the ellipsoid rolls").wait_for(timeout=30_000)
     session.play()
     time.sleep(2.0)
-    picture_changes(page, page.screenshot(clip=SCENE_CLIP))
+    picture_changes(page, page.screenshot(clip=SCENE_CLIP, timeout=60_000))
     assert session.room.playing and session.last_error is None
 
 
@@ -296,7 +296,7 @@ def test_arrows_and_segments_sent_inline_draw_as_the_raw_buffers_do(wait_until, 
                 set_points(node_a, arrows)
                 set_points(node_s, segments)
             time.sleep(2.0)
-            shots.append(page.screenshot(clip=SCENE_CLIP))
+            shots.append(page.screenshot(clip=SCENE_CLIP, timeout=60_000))
         finally:
             server.stop()
     assert sorted(inlined) == ["/a", "/s"]  # the first server's frame, inline; the second's, viser's
