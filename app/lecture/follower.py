@@ -294,14 +294,16 @@ class Follower:
         """The panel in `tr`'s language (its widgets and the status last shown)."""
         self.tr = tr
         _ = tr.gettext
-        for handle, label, hint in ((self.folder, FOLLOWING_TITLE, None),
-                                    (self.gui_follow_camera, FOLLOW_CAMERA_LABEL, FOLLOW_CAMERA_HINT),
+        if self.folder.label != _(FOLLOWING_TITLE):
+            self.folder.label = _(FOLLOWING_TITLE)
+        handle: Any
+        for handle, label, hint in ((self.gui_follow_camera, FOLLOW_CAMERA_LABEL, FOLLOW_CAMERA_HINT),
                                     (self.gui_explore, EXPLORE_LABEL, EXPLORE_HINT),
                                     (self.gui_caption, CAPTION_LABEL, CAPTION_HINT),
                                     (self.gui_details, None, DETAILS_HINT)):
             if label is not None and handle.label != _(label):
                 handle.label = _(label)
-            if hint is not None and handle.hint != _(hint):
+            if handle.hint != _(hint):
                 handle.hint = _(hint)
         self._layout()
         if self._status is not None:
