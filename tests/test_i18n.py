@@ -316,3 +316,47 @@ def test_every_shipped_lesson_runs_in_a_german_browser_without_an_error(hall: An
             german.next_step(1)
         assert german.error_count == 0, f"{title}: {german.last_error}"
         assert german.scene.transport is None or german.scene.transport.tr.language == "de"
+
+
+def test_a_follower_and_a_student_read_their_panels_in_their_language_the_lecturers_words_as_typed(
+        hall: Any) -> None:
+    """The follower's panel, the explorer's live bar and the question panel in each browser's
+    language (the first two also relabelled while following); a refusal of an answer too."""
+    app, join = hall
+    lecturer, german, english = join(), join(), join()
+    german.set_language("de")
+    lecturer.present(app.lectern.code)
+    poll_until(lambda: (app.frame(1 / 60), german.mode.name == "FOLLOWING")[1], timeout=10.0)
+    panel = german.showing.view
+    assert panel.folder.label == "Dem Vortragenden folgen" and panel.gui_explore.label == "Selbst erkunden"
+    poll_until(lambda: (app.frame(1 / 60), "Vortragender:" in panel.gui_status.content)[1], timeout=10.0)
+    assert "Szene **Euler-Winkel**" in panel.gui_status.content
+    assert english.showing.view.gui_explore.label == "Explore on my own"
+    german.set_language("nl")  # while following: the same panel, relabelled
+    assert german.error_count == 0, german.last_error
+    assert german.showing.view is panel and panel.gui_explore.label == "Zelf verkennen"
+    assert "Presentator:" in panel.gui_status.content and "Scène **Euler-hoeken**" in panel.gui_status.content
+    lecturer.ask({"kind": "number", "prompt": "How long is one turn?", "unit": "s", "value": 2.0})
+    poll_until(lambda: (app.frame(1 / 60), german.question.folder.visible)[1], timeout=10.0)
+    question = german.question
+    assert question.folder.label == "Vraag" and question.gui_send_number.label == "Stuur mijn getal"
+    assert question.gui_number.label == "Jouw antwoord [s]"
+    assert question.gui_prompt.content == "**Vraag 1** · How long is one turn?"  # the lecturer's words as typed
+    assert english.question.gui_send_number.label == "Send my number"
+    german.guard("answer", question.send)(2.1)
+    assert german.error_count == 0, german.last_error
+    assert question.gui_mine.content.startswith("Jouw antwoord: **2.1 s**")
+    assert question.gui_change.label == "Wijzig mijn antwoord"
+    lecturer.close_round()
+    question.redraw()
+    assert "*De ronde is gesloten.*" in question.gui_prompt.content
+    german.guard("answer", question.send)(3.0)  # refused: said in Dutch, nothing changes
+    assert german.error_count == 1 and "de ronde is gesloten" in str(german.last_error)
+    assert german.my_answer() == 2.1
+    german.explore()
+    app.frame(1 / 60)
+    assert german.lecture.gui_follow.label == "Volg presentator"
+    assert german.lecture.gui_lecture_on.content.startswith("**● College bezig** · de presentator toont")
+    german.set_language("de")  # the live bar follows the language
+    assert german.lecture.gui_follow.label == "Vortragendem folgen"
+    assert "Vorlesung läuft" in german.lecture.gui_lecture_on.content

@@ -21,16 +21,24 @@ import viser
 from app.ask import JUDGES, Question, State, question_from_dict
 from app.ask.judges import MOTION_WORDS
 from app.ask.questions import MAX_OPTIONS
+from app.i18n import N_, Translator, for_gui
 from app.kit.core.common import Wrap, show_if_changed
 
 __all__ = ["ARROW_COLOR", "ARROW_LENGTH", "ASK_ROOT", "DIRECTION_LABEL", "FROM_COPY_LABEL", "NUMBER_LABEL", "PANELS",
            "STATE_LABEL", "KindForm", "KindPanels", "KindWidget", "Student", "angles_of", "direction_of",
            "quaternion_to", "rotated_z", "target_of"]
 
-DIRECTION_LABEL = "Send my direction"
-FROM_COPY_LABEL = "Answer from my copy"
-STATE_LABEL = "Send my state"
-NUMBER_LABEL = "Send my number"
+DIRECTION_LABEL = N_("Send my direction")
+FROM_COPY_LABEL = N_("Answer from my copy")
+STATE_LABEL = N_("Send my state")
+NUMBER_LABEL = N_("Send my number")
+AZIMUTH_LABEL, AZIMUTH_HINT = N_("Azimuth"), N_("[deg] from x towards y, about the vertical z")
+ELEVATION_LABEL, ELEVATION_HINT = N_("Elevation"), N_("[deg] above the horizontal x-y plane")
+DIRECTION_HINT = N_("or turn the arrow in the 3D view first")
+FROM_COPY_HINT = N_("an exact copy of the presenter's scene, yours to change")
+STATE_HINT = N_("your copy's state as it is now")
+ANSWER_LABEL, ANSWER_HINT = N_("Your answer"), N_("a number in the question's unit")
+NUMBER_HINT = N_("the number in the box")
 ARROW_LENGTH = 2.2  # [scene units] a student's arrow (out of the scenes' bodies)
 ARROW_COLOR = (0, 150, 150)  # teal: no axis, vector or pointer of the scenes has it
 ASK_ROOT = "/ask"  # the presenter's sphere and a student's arrow, each in its own browser's scene
@@ -143,8 +151,17 @@ class KindForm(Protocol):
         ...
 
 
+def relabel(handle: Any, tr: Translator, label: str, hint: str | None = None) -> None:
+    """`handle`'s label (and hint), msgids, in `tr`'s language; unchanged ones are not sent."""
+    if handle.label != (text := tr.gettext(label)):
+        handle.label = text
+    if hint is not None and handle.hint != (text := tr.gettext(hint)):
+        handle.hint = text
+
+
 class KindWidget(Protocol):
-    """A kind's controls in a student's `Question` folder (made hidden, in the folder being built)."""
+    """A kind's controls in a student's `Question` folder (made hidden, in the folder being built;
+    `show` writes their words in the language of the browser whose panel they are in)."""
 
     def show(self, question: Question | None, controls: bool) -> None:
         """Show the controls for `question` (of this kind) while `controls`; hide them for None."""
@@ -281,12 +298,12 @@ class DirectionWidget:
     def __init__(self, gui: Any, guard: Wrap, student: Student, send: Callable[[Any], None],
                  redraw: Callable[[], None]) -> None:
         self._writing = False  # the server moves the sliders: their callbacks do nothing
-        self.gui_azimuth = gui.add_slider("Azimuth", min=-180.0, max=180.0, step=1.0, initial_value=0.0,
-                                          visible=False, hint="[deg] from x towards y, about the vertical z")
-        self.gui_elevation = gui.add_slider("Elevation", min=-90.0, max=90.0, step=1.0, initial_value=45.0,
-                                            visible=False, hint="[deg] above the horizontal x-y plane")
-        self.gui_send_direction = gui.add_button(DIRECTION_LABEL, visible=False,
-                                                 hint="or turn the arrow in the 3D view first")
+        self.gui = gui
+        self.gui_azimuth = gui.add_slider(AZIMUTH_LABEL, min=-180.0, max=180.0, step=1.0, initial_value=0.0,
+                                          visible=False, hint=AZIMUTH_HINT)
+        self.gui_elevation = gui.add_slider(ELEVATION_LABEL, min=-90.0, max=90.0, step=1.0, initial_value=45.0,
+                                            visible=False, hint=ELEVATION_HINT)
+        self.gui_send_direction = gui.add_button(DIRECTION_LABEL, visible=False, hint=DIRECTION_HINT)
         self.gui_azimuth.on_update(guard("azimuth", lambda _e: self._sliders_moved()))
         self.gui_elevation.on_update(guard("elevation", lambda _e: self._sliders_moved()))
         self.gui_send_direction.on_click(guard("send my direction", lambda _e: send(self.direction())))
@@ -318,6 +335,11 @@ class DirectionWidget:
 
     def show(self, question: Question | None, controls: bool) -> None:
         shown = question is not None and controls
+        if shown:
+            tr = for_gui(self.gui)
+            relabel(self.gui_azimuth, tr, AZIMUTH_LABEL, AZIMUTH_HINT)
+            relabel(self.gui_elevation, tr, ELEVATION_LABEL, ELEVATION_HINT)
+            relabel(self.gui_send_direction, tr, DIRECTION_LABEL, DIRECTION_HINT)
         for handle in (self.gui_azimuth, self.gui_elevation, self.gui_send_direction, self._gizmo):
             show_if_changed(handle, shown)
 
@@ -331,9 +353,9 @@ class StateWidget:
     def __init__(self, gui: Any, guard: Wrap, student: Student, send: Callable[[Any], None],
                  redraw: Callable[[], None]) -> None:
         self.student = student
-        self.gui_from_copy = gui.add_button(FROM_COPY_LABEL, visible=False,
-                                            hint="an exact copy of the presenter's scene, yours to change")
-        self.gui_send_state = gui.add_button(STATE_LABEL, visible=False, hint="your copy's state as it is now")
+        self.gui = gui
+        self.gui_from_copy = gui.add_button(FROM_COPY_LABEL, visible=False, hint=FROM_COPY_HINT)
+        self.gui_send_state = gui.add_button(STATE_LABEL, visible=False, hint=STATE_HINT)
 
         def from_copy() -> None:
             student.answer_from_copy()
@@ -345,6 +367,10 @@ class StateWidget:
     def show(self, question: Question | None, controls: bool) -> None:
         shown = question is not None and controls
         exploring = getattr(self.student, "mode", None) != "following"
+        if shown:
+            tr = for_gui(self.gui)
+            relabel(self.gui_from_copy, tr, FROM_COPY_LABEL, FROM_COPY_HINT)
+            relabel(self.gui_send_state, tr, STATE_LABEL, STATE_HINT)
         show_if_changed(self.gui_from_copy, shown and not exploring)
         show_if_changed(self.gui_send_state, shown and exploring)
 
@@ -357,17 +383,22 @@ class NumberWidget:
 
     def __init__(self, gui: Any, guard: Wrap, student: Student, send: Callable[[Any], None],
                  redraw: Callable[[], None]) -> None:
-        self.gui_number = gui.add_number("Your answer", 0.0, step=0.0001, visible=False,
-                                         hint="a number in the question's unit")
-        self.gui_send_number = gui.add_button(NUMBER_LABEL, visible=False, hint="the number in the box")
+        self.gui = gui
+        self.gui_number = gui.add_number(ANSWER_LABEL, 0.0, step=0.0001, visible=False, hint=ANSWER_HINT)
+        self.gui_send_number = gui.add_button(NUMBER_LABEL, visible=False, hint=NUMBER_HINT)
         self.gui_send_number.on_click(guard("send my number", lambda _e: send(self.gui_number.value)))
 
     def show(self, question: Question | None, controls: bool) -> None:
         shown = question is not None and controls
         unit = getattr(question, "unit", "")
-        label = f"Your answer [{unit}]" if unit else "Your answer"
-        if shown and self.gui_number.label != label:
-            self.gui_number.label = label
+        if shown:
+            tr = for_gui(self.gui)
+            label = tr.gettext(ANSWER_LABEL) + (f" [{unit}]" if unit else "")
+            if self.gui_number.label != label:
+                self.gui_number.label = label
+            if self.gui_number.hint != (hint := tr.gettext(ANSWER_HINT)):
+                self.gui_number.hint = hint
+            relabel(self.gui_send_number, tr, NUMBER_LABEL, NUMBER_HINT)
         show_if_changed(self.gui_number, shown)
         show_if_changed(self.gui_send_number, shown)
 

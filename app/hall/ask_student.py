@@ -17,20 +17,59 @@ only what changed.
 
 from __future__ import annotations
 
+import math
+import re
 from typing import Any
 
 from app.ask import Question, Rounds, Shown
-from app.hall.ask_kinds import PANELS, KindWidget, Student, direction_of
+from app.ask.round import Refused
+from app.hall.ask_kinds import PANELS, KindWidget, Student, direction_of, relabel
+from app.i18n import N_, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 
-__all__ = ["CHANGE_LABEL", "AnswerPanel", "answer_words"]
+__all__ = ["CHANGE_LABEL", "REFUSALS", "AnswerPanel", "answer_words", "refusal_words"]
 
-CHANGE_LABEL = "Change my answer"
+CHANGE_LABEL = N_("Change my answer")
+CHANGE_HINT = N_("until the round closes")
+QUESTION_TITLE = N_("Question")
+
+REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"no question is asked now"), N_("no question is asked now")),
+    (re.compile(r"the round is closed: answers are no longer taken"),
+     N_("the round is closed: answers are no longer taken")),
+    (re.compile(r"too fast: at most (?P<rate>\d+) answers a second"), N_("too fast: at most {rate} answers a second")),
+    (re.compile(r"the round is full \((?P<count>\d+) answers\)"), N_("the round is full ({count} answers)")),
+    (re.compile(r"this browser has no answer token"), N_("this browser has no answer token")),
+    (re.compile(r"the question's process cannot be reached"), N_("the question's process cannot be reached")),
+    (re.compile(r"not an answer: (?P<error>.*)", re.S), N_("not an answer: {error}")),
+)
+"""The refusals of an answer (`app.ask.round`, `app.ask.hub`), matched in English, and their msgids."""
 
 
-def answer_words(question: Question, value: Any) -> str:
-    """A student's own answer in words (Markdown, `QuestionKind.answer_words`)."""
-    return question.answer_words(value)
+def refusal_words(refusal: str, tr: Translator) -> str:
+    """An answer's refusal (`Refused`'s English words) in `tr`'s language; the words as they are
+    when no pattern knows them (a detail after "not an answer:" stays as the check wrote it)."""
+    for pattern, msgid in REFUSALS:
+        found = pattern.fullmatch(refusal)
+        if found:
+            return tr.gettext(msgid).format(**found.groupdict())
+    return refusal
+
+
+def answer_words(question: Question, value: Any, tr: Translator | None = None) -> str:
+    """A student's own answer in words (Markdown, `QuestionKind.answer_words`), in `tr`'s language
+    (English by default): a direction's and an unjudged state's words translated, a choice's
+    option and a number as they are."""
+    tr = tr or translator("en")
+    if tr.language != "en" and question.kind == "direction":
+        x, y, z = value
+        return tr.gettext("**azimuth {azimuth}°, elevation {elevation}°**").format(
+            azimuth=f"{math.degrees(math.atan2(y, x)):.0f}",
+            elevation=f"{math.degrees(math.asin(max(-1.0, min(1.0, z)))):.0f}")
+    words = question.answer_words(value)
+    if words == "**your state**":
+        return tr.gettext("**your state**")
+    return words
 
 
 class AnswerPanel:
@@ -50,13 +89,14 @@ class AnswerPanel:
         self._round_id: str | None = None  # the round the panel last showed (None: none)
         self._mine_seen = ""  # repr of this browser's answer when the panel last looked
         gui: Any = student.client.gui
-        self.folder = gui.add_folder("Question", order=order, visible=False)
+        self.gui = gui
+        self.folder = gui.add_folder(QUESTION_TITLE, order=order, visible=False)
         with self.folder:
             self.gui_prompt = gui.add_markdown("")
             self.widgets: dict[str, KindWidget] = {
                 kind: panels.widget(gui, guard, student, self.send, self._redraw) for kind, panels in PANELS.items()}
             self.gui_mine = gui.add_markdown("", visible=False)
-            self.gui_change = gui.add_button(CHANGE_LABEL, visible=False, hint="until the round closes")
+            self.gui_change = gui.add_button(CHANGE_LABEL, visible=False, hint=CHANGE_HINT)
         self.gui_change.on_click(guard("change my answer", lambda _e: self._edit()))
         self._alias_widgets()
 
@@ -77,8 +117,12 @@ class AnswerPanel:
         return direction_of(azimuth, elevation)
 
     def send(self, value: Any) -> None:
-        """Answer `value`; the panel then shows the answer (a refusal is raised: the guard says it)."""
-        self.student.answer(value)
+        """Answer `value`; the panel then shows the answer (a refusal is raised in the browser's
+        language: the guard says it)."""
+        try:
+            self.student.answer(value)
+        except Refused as refusal:
+            raise Refused(refusal_words(str(refusal), for_gui(self.gui))) from None
         self.editing = False
         self.drawn = ()
         self.refresh()
@@ -92,12 +136,17 @@ class AnswerPanel:
         self.drawn = ()
         self.refresh()
 
+    def redraw(self) -> None:
+        """Write the panel again (the browser's language changed)."""
+        self._redraw()
+
     def refresh(self) -> None:
         """Show the round the class is asked now (or nothing), the controls or this browser's answer."""
         shown: Shown | None = self.rounds.shown() if self.active else None
         mine = self.student.my_answer() if shown is not None else None
+        tr = for_gui(self.gui)
         key = (None if shown is None else (shown.id, shown.open), self.editing, mine is None,
-               repr(mine), getattr(self.student, "mode", None))
+               repr(mine), getattr(self.student, "mode", None), tr.language)
         if key == self.drawn:
             return
         self.drawn = key
@@ -117,17 +166,22 @@ class AnswerPanel:
         if mine is None:
             self.editing = True
         controls = shown.open and self.editing
-        head = f"**Question {shown.number}** · {question.prompt}"
+        _ = tr.gettext
+        head = _("**Question {number}** · {prompt}").format(number=shown.number, prompt=question.prompt)
         if not shown.open:
-            head += "  \n*The round is closed.*"
+            head += "  \n" + _("*The round is closed.*")
         write_if_changed(self.gui_prompt, head)
+        if self.folder.label != _(QUESTION_TITLE):
+            self.folder.label = _(QUESTION_TITLE)
+        relabel(self.gui_change, tr, CHANGE_LABEL, CHANGE_HINT)
         show_if_changed(self.folder, True)
         for kind, widget in self.widgets.items():
             widget.show(question if kind == question.kind else None, controls)
         show_if_changed(self.gui_mine, mine is not None)
         if mine is not None:
-            write_if_changed(self.gui_mine, f"Your answer: {question.answer_words(mine)}"
-                   + (" · you can change it until the round closes." if shown.open else ""))
+            words = answer_words(question, mine, tr)
+            write_if_changed(self.gui_mine, _("Your answer: {answer} · you can change it until the round closes.")
+                             .format(answer=words) if shown.open else _("Your answer: {answer}").format(answer=words))
         show_if_changed(self.gui_change, mine is not None and shown.open and not self.editing)
         self.student.folded_for_question(shown.open and mine is None)
 

@@ -33,6 +33,7 @@ from typing import Any, Protocol
 
 import viser
 
+from app.i18n import N_, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lecture.follower import Hall
 from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
@@ -41,9 +42,12 @@ __all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "LIVE_BAR_CLASS
            "LecturePanel", "Lecturer", "call_text", "ended_text", "live_badge"]
 
 CALL_BACK_LABEL = "Call everyone back"
-FOLLOW_LABEL = "Follow presenter"
-STAY_LABEL = "Stay"
-LAST_ROOM_LABEL = "Open the last lecture's room"
+FOLLOW_LABEL = N_("Follow presenter")
+FOLLOW_HINT = N_("back to the presenter's live scene")
+STAY_LABEL = N_("Stay")
+STAY_HINT = N_("keep exploring your own copy")
+LAST_ROOM_LABEL = N_("Open the last lecture's room")
+LAST_ROOM_HINT = N_("a copy of the room the presenter left, paused, yours to change")
 LIVE_BAR_CLASS = "rb-live-bar"  # the marker inside the live bar's form (the CSS finds the form by it)
 LIVE_BAR_CSS = f"""<div class="{LIVE_BAR_CLASS}"><style>
 .mantine-ScrollArea-viewport div[style*="overflow: hidden"]:has(.{LIVE_BAR_CLASS}) {{
@@ -66,21 +70,36 @@ def live_badge(following: int, exploring: int) -> str:
     return f"**● Live** · {following} following · {exploring} exploring"
 
 
-def call_text(seconds_left: float) -> str:
-    """An explorer's offer to come back (Markdown), `seconds_left` [s] before it follows."""
-    return (f"**The presenter calls everyone back**: following again in {max(1, math.ceil(seconds_left))} s. "
-            f"Press {STAY_LABEL} to keep exploring.")
+def call_text(seconds_left: float, tr: Translator | None = None) -> str:
+    """An explorer's offer to come back (Markdown), `seconds_left` [s] before it follows, in
+    `tr`'s language (English by default)."""
+    _ = (tr or translator("en")).gettext
+    return _("**The presenter calls everyone back**: following again in {seconds} s. "
+             "Press {stay} to keep exploring.").format(seconds=max(1, math.ceil(seconds_left)), stay=_(STAY_LABEL))
 
 
-def lecture_on_text(scene: str) -> str:
-    """An explorer's reminder (Markdown) that a lecture runs, showing `scene`."""
-    return f"**● Lecture on** · the presenter shows {scene}"
+def lecture_on_text(scene: str, tr: Translator | None = None) -> str:
+    """An explorer's reminder (Markdown) that a lecture runs, showing `scene` ("" for a scene not
+    known yet), in `tr`'s language (English by default; a scene's title translated)."""
+    _ = (tr or translator("en")).gettext
+    return _("**● Lecture on** · the presenter shows {scene}").format(scene=_(scene) if scene else _("a scene"))
 
 
-def ended_text(hall: Hall, scene: str) -> str:
-    """A newcomer's line (Markdown) once the lecture ended (`hall` STOPPED or LEFT), its last scene `scene`."""
-    how = "the presenter has left" if hall is Hall.LEFT else "the presenter stopped presenting"
-    return f"**The lecture has ended** ({how}; last scene: {scene}). This room is your own."
+def ended_text(hall: Hall, scene: str, tr: Translator | None = None) -> str:
+    """A newcomer's line (Markdown) once the lecture ended (`hall` STOPPED or LEFT), its last scene
+    `scene` ("" when not known), in `tr`'s language (English by default)."""
+    _ = (tr or translator("en")).gettext
+    how = _("the presenter has left") if hall is Hall.LEFT else _("the presenter stopped presenting")
+    return _("**The lecture has ended** ({how}; last scene: {scene}). This room is your own.").format(
+        how=how, scene=_(scene) if scene else _("a scene"))
+
+
+def _label(handle: Any, tr: Translator, label: str, hint: str) -> None:
+    """`handle`'s label and hint (msgids) in `tr`'s language; unchanged ones are not sent."""
+    if handle.label != (text := tr.gettext(label)):
+        handle.label = text
+    if handle.hint != (text := tr.gettext(hint)):
+        handle.hint = text
 
 
 class Lecturer(Seat, Protocol):
@@ -155,14 +174,13 @@ class LecturePanel:
                                             hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
                                                  f"unless they press {STAY_LABEL}")
         self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_stay = gui.add_button(STAY_LABEL, visible=False, order=next(orders),
-                                       hint="keep exploring your own copy")
-        self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
-                                         hint="back to the presenter's live scene")
+        _ = for_gui(gui).gettext
+        self.gui_stay = gui.add_button(_(STAY_LABEL), visible=False, order=next(orders), hint=_(STAY_HINT))
+        self.gui_follow = gui.add_button(_(FOLLOW_LABEL), icon=viser.Icon.USERS, visible=False, order=next(orders),
+                                         hint=_(FOLLOW_HINT))
         self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_last_room = gui.add_button(LAST_ROOM_LABEL, icon=viser.Icon.HISTORY, visible=False,
-                                            order=next(orders),
-                                            hint="a copy of the room the presenter left, paused, yours to change")
+        self.gui_last_room = gui.add_button(_(LAST_ROOM_LABEL), icon=viser.Icon.HISTORY, visible=False,
+                                            order=next(orders), hint=_(LAST_ROOM_HINT))
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
@@ -209,18 +227,21 @@ class LecturePanel:
             write_if_changed(self.gui_badge, live_badge(following, explorers))
             if self.gui_call_back.disabled != (explorers == 0):
                 self.gui_call_back.disabled = explorers == 0
+        tr = for_gui(self.seat.client.gui)  # the explorer's words: its language now
         left = lectern.call_back_left(self.seat) if exploring else None
+        if exploring:
+            _label(self.gui_follow, tr, FOLLOW_LABEL, FOLLOW_HINT)
+            _label(self.gui_stay, tr, STAY_LABEL, STAY_HINT)
+            write_if_changed(self.gui_lecture_on, call_text(left, tr) if left is not None
+                   else lecture_on_text(lectern.live_title() or "", tr))
         show_if_changed(self.gui_lecture_on, exploring)
         show_if_changed(self.gui_follow, exploring)
         show_if_changed(self.gui_stay, left is not None)
-        if exploring:
-            title = lectern.live_title()
-            write_if_changed(self.gui_lecture_on, call_text(left) if left is not None
-                   else lecture_on_text(title or "a scene"))
         ended = (mode is Mode.OWN and self.seat.came_after_lecture and lectern.live
                  and not lectern.someone_presents and lectern.hall in (Hall.STOPPED, Hall.LEFT))
         if ended:
-            write_if_changed(self.gui_ended, ended_text(lectern.hall, lectern.live_title() or "a scene"))
+            _label(self.gui_last_room, tr, LAST_ROOM_LABEL, LAST_ROOM_HINT)
+            write_if_changed(self.gui_ended, ended_text(lectern.hall, lectern.live_title() or "", tr))
         show_if_changed(self.gui_ended, ended)
         show_if_changed(self.gui_last_room, ended)
 

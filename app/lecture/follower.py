@@ -30,6 +30,7 @@ from typing import Annotated, Any, Literal, cast
 import msgspec
 import viser
 
+from app.i18n import N_, Translator, for_gui, translator
 from app.kit.core.common import Wrap
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
@@ -43,6 +44,16 @@ DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 MAX_LINE_CHARS = 400  # a title, preset or key number's line in a status read from another worker
 MAX_TEXT_CHARS = 4000  # the lesson step's text in it
 MAX_KEY_NUMBERS = 64  # its key numbers' lines
+FOLLOWING_TITLE = N_("Following the presenter")
+DETAILS_LABEL = N_("Details")
+HIDE_DETAILS_LABEL = N_("Hide details")
+DETAILS_HINT = N_("the presenter's numbers and your options")
+FOLLOW_CAMERA_LABEL = N_("Follow camera")
+FOLLOW_CAMERA_HINT = N_("see what the presenter's camera sees")
+EXPLORE_LABEL = N_("Explore on my own")
+EXPLORE_HINT = N_("an exact copy of what the presenter shows now, yours to change")
+CAPTION_LABEL = N_("Caption")
+CAPTION_HINT = N_("the lesson's words over the 3D view")
 TransportMode = Literal["live", "replaying", "scrubbing"]  # `Room.mode` (LIVE, REPLAYING, SCRUBBING)
 
 
@@ -93,14 +104,23 @@ class Transport(msgspec.Struct, frozen=True, kw_only=True):
                    shown_t=float(room.shown_t), live_t=float(room.live_t), time_scale=float(room.time_scale))
 
 
-def transport_words(transport: Transport) -> str:
-    """What the presenter's transport is doing, in words (playing, paused, looking back, replaying)."""
+def _english() -> Translator:
+    return translator("en")
+
+
+def transport_words(transport: Transport, tr: Translator | None = None) -> str:
+    """What the presenter's transport is doing, in words (playing, paused, looking back,
+    replaying), in `tr`'s language (English by default)."""
+    tr = tr or _english()
+    _ = tr.gettext
     if transport.mode == REPLAYING:
-        return (f"⟲ replaying t = {transport.shown_t:.1f} s of {transport.live_t:.1f} s "
-                f"({transport.time_scale:g}×)")
+        return _("⟲ replaying t = {shown} s of {live} s ({scale}×)").format(
+            shown=tr.decimal(transport.shown_t, 1), live=tr.decimal(transport.live_t, 1),
+            scale=tr.general(transport.time_scale))
     if transport.mode == SCRUBBING:
-        return f"⟲ looking back at t = {transport.shown_t:.1f} s (live: {transport.live_t:.1f} s)"
-    return "▶ playing" if transport.playing else "paused"
+        return _("⟲ looking back at t = {shown} s (live: {live} s)").format(
+            shown=tr.decimal(transport.shown_t, 1), live=tr.decimal(transport.live_t, 1))
+    return _("▶ playing") if transport.playing else _("paused")
 
 
 _Line = Annotated[str, msgspec.Meta(max_length=MAX_LINE_CHARS)]
@@ -156,54 +176,70 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         status: FollowerStatus = msgspec.convert(data, cls)
         return status
 
-    def markdown(self) -> str:
+    def markdown(self, tr: Translator | None = None) -> str:
         """The followers' panel text: who presents what (or plainly that the presenter stopped or
         left), the scene and preset, the time (once: while the presenter looks back, the head's),
-        the lesson step while live, the scene's key numbers (lines)."""
+        the lesson step while live, the scene's key numbers (lines); the app's words in `tr`'s
+        language (English by default; the title, preset, lesson and key numbers as sent)."""
+        tr = tr or _english()
+        _ = tr.gettext
         if not self.title:
-            return "Nobody is presenting."
+            return _("Nobody is presenting.")
         live, transport = self.hall is Hall.LIVE, self.transport
         if not live:
-            head = ended_head(self.hall)
+            head = ended_head(self.hall, tr)
         else:
-            head = "**Presenter:** " + (transport_words(transport) if transport is not None else "presenting")
-        lines = [head, f"Scene **{self.title}**" + (f" · preset **{self.preset}**" if self.preset else "")]
+            head = _("**Presenter:** {doing}").format(
+                doing=transport_words(transport, tr) if transport is not None else _("presenting"))
+        title = _(self.title)  # a scene's title is in the catalog
+        scene = (_("Scene **{title}** · preset **{preset}**").format(title=title, preset=self.preset)
+                 if self.preset else _("Scene **{title}**").format(title=title))
+        lines = [head, scene]
         if transport is not None and (transport.mode == LIVE or not live):
-            lines.append(f"t = {transport.t:.1f} s · {transport.time_scale:g}×")
+            lines.append(f"t = {tr.decimal(transport.t, 1)} s · {tr.general(transport.time_scale)}×")
         if self.lesson and live:
             lines.append(self.lesson)
         lines.extend(self.key_numbers)
         return "  \n".join(lines)
 
-    def line(self) -> str:
-        """The same in one line (Markdown), for a narrow screen."""
+    def line(self, tr: Translator | None = None) -> str:
+        """The same in one line (Markdown), for a narrow screen, in `tr`'s language (English by default)."""
+        tr = tr or _english()
+        _ = tr.gettext
         transport = self.transport
         if not self.title:
-            return "Nobody is presenting."
+            return _("Nobody is presenting.")
+        title = _(self.title)
         if self.hall is not Hall.LIVE:
-            return ended_line(self.hall, self.title)
+            return ended_line(self.hall, title, tr)
         if transport is None:
-            return f"**{self.title}**"
+            return f"**{title}**"
         if transport.mode != LIVE:
-            return f"**⟲ {self.title}** · t = {transport.shown_t:.1f} of {transport.live_t:.1f} s"
+            return _("**⟲ {title}** · t = {shown} of {live} s").format(
+                title=title, shown=tr.decimal(transport.shown_t, 1), live=tr.decimal(transport.live_t, 1))
         state = "▶" if transport.playing else "⏸"
-        return f"**{state} {self.title}** · t = {transport.t:.1f} s"
+        return f"**{state} {title}** · t = {tr.decimal(transport.t, 1)} s"
 
 
-def ended_head(hall: Hall) -> str:
-    """The first line of the followers' status once the presenter stopped or left ("" otherwise)."""
-    return {
-        Hall.STOPPED: "**The presenter stopped presenting**: this is the last state they showed. "
-                      "Explore it on your own, or wait for the next presenter.",
-        Hall.LEFT: "**The presenter has left**: this is the last state they showed. "
-                   "A new presenter can take over with the code.",
-    }.get(hall, "")
+def ended_head(hall: Hall, tr: Translator | None = None) -> str:
+    """The first line of the followers' status once the presenter stopped or left ("" otherwise),
+    in `tr`'s language (English by default)."""
+    _ = (tr or _english()).gettext
+    if hall is Hall.STOPPED:
+        return _("**The presenter stopped presenting**: this is the last state they showed. "
+                 "Explore it on your own, or wait for the next presenter.")
+    if hall is Hall.LEFT:
+        return _("**The presenter has left**: this is the last state they showed. "
+                 "A new presenter can take over with the code.")
+    return ""
 
 
-def ended_line(hall: Hall, title: str) -> str:
-    """The followers' one line once the presenter stopped or left."""
-    word = "stopped" if hall is Hall.STOPPED else "left"
-    return f"**Presenter {word}** · last state: {title}"
+def ended_line(hall: Hall, title: str, tr: Translator | None = None) -> str:
+    """The followers' one line once the presenter stopped or left, in `tr`'s language (English by default)."""
+    _ = (tr or _english()).gettext
+    if hall is Hall.STOPPED:
+        return _("**Presenter stopped** · last state: {title}").format(title=title)
+    return _("**Presenter left** · last state: {title}").format(title=title)
 
 
 class Follower:
@@ -230,21 +266,20 @@ class Follower:
                  explore: Callable[[], None], follow_camera_changed: Callable[[Follower], None],
                  own_folders: Sequence[Any] = ()) -> None:
         gui = client.gui
+        self.tr = for_gui(gui)
+        """The browser's words (`app.i18n`): the panel and its status speak them (`relabel`)."""
         self.camera = client.camera
         self.own_folders = tuple(own_folders)
         self.narrow = is_narrow(self.camera)
         self.expanded = not self.narrow
-        self.folder = gui.add_folder("Following the presenter", order=-10.0)
+        self.folder = gui.add_folder(FOLLOWING_TITLE, order=-10.0)
         with self.folder:
             self.gui_line = gui.add_markdown("")
-            self.gui_details = gui.add_button("Details", icon=viser.Icon.CHEVRON_DOWN,
-                                              hint="the presenter's numbers and your options")
+            self.gui_details = gui.add_button(DETAILS_LABEL, icon=viser.Icon.CHEVRON_DOWN, hint=DETAILS_HINT)
             self.gui_status = gui.add_markdown("")
-            self.gui_follow_camera = gui.add_checkbox("Follow camera", True,
-                                                      hint="see what the presenter's camera sees")
-            self.gui_explore = gui.add_button("Explore on my own", icon=viser.Icon.USER,
-                                              hint="an exact copy of what the presenter shows now, yours to change")
-            self.gui_caption = gui.add_checkbox("Caption", True, hint="the lesson's words over the 3D view")
+            self.gui_follow_camera = gui.add_checkbox(FOLLOW_CAMERA_LABEL, True, hint=FOLLOW_CAMERA_HINT)
+            self.gui_explore = gui.add_button(EXPLORE_LABEL, icon=viser.Icon.USER, hint=EXPLORE_HINT)
+            self.gui_caption = gui.add_checkbox(CAPTION_LABEL, True, hint=CAPTION_HINT)
             self.caption = Caption(gui)
             self.plot = PlotMirror(gui)
         self.gui_explore.on_click(guard("explore", lambda _event: explore()))
@@ -252,7 +287,27 @@ class Follower:
         self.gui_follow_camera.on_update(guard("follow camera", lambda _event: follow_camera_changed(self)))
         self.gui_caption.on_update(guard("caption", lambda _event: self.show_caption(*self._caption_words)))
         self._caption_words = ("", "")
+        self._status: FollowerStatus | None = None  # the status last shown (`relabel` writes it again)
+        self.relabel(self.tr)  # (lays the panel out)
+
+    def relabel(self, tr: Translator) -> None:
+        """The panel in `tr`'s language (its widgets and the status last shown)."""
+        self.tr = tr
+        _ = tr.gettext
+        if self.folder.label != _(FOLLOWING_TITLE):
+            self.folder.label = _(FOLLOWING_TITLE)
+        handle: Any
+        for handle, label, hint in ((self.gui_follow_camera, FOLLOW_CAMERA_LABEL, FOLLOW_CAMERA_HINT),
+                                    (self.gui_explore, EXPLORE_LABEL, EXPLORE_HINT),
+                                    (self.gui_caption, CAPTION_LABEL, CAPTION_HINT),
+                                    (self.gui_details, None, DETAILS_HINT)):
+            if label is not None and handle.label != _(label):
+                handle.label = _(label)
+            if handle.hint != _(hint):
+                handle.hint = _(hint)
         self._layout()
+        if self._status is not None:
+            self.show_status(self._status)
 
     @property
     def follow_camera(self) -> bool:
@@ -281,7 +336,9 @@ class Follower:
         full = self.expanded
         self.gui_line.visible = not full
         self.gui_details.visible = self.narrow
-        self.gui_details.label = "Hide details" if full else "Details"
+        label = self.tr.gettext(HIDE_DETAILS_LABEL if full else DETAILS_LABEL)
+        if self.gui_details.label != label:
+            self.gui_details.label = label
         for handle in (self.gui_status, self.gui_follow_camera, self.gui_explore, self.gui_caption):
             handle.visible = full
         self.plot.set_shown(full)
@@ -295,7 +352,8 @@ class Follower:
     def show_status(self, status: FollowerStatus) -> None:
         """Write `status` as Markdown (`FollowerStatus.markdown`, and `line` for the collapsed
         panel); unchanged text is not sent."""
-        text, line = status.markdown(), status.line()
+        self._status = status
+        text, line = status.markdown(self.tr), status.line(self.tr)
         if self.gui_status.content != text:
             self.gui_status.content = text
         if self.gui_line.content != line:

@@ -3,8 +3,9 @@
 Each browser speaks its own language (`app.i18n`), the app's default (`--language`) at first.
 Choosing another in the dropdown relabels this browser's panel only: its own widgets (the scene
 and Language dropdowns) relabelled, and the scene's panel built again for the same room (its
-state and its other views untouched), unless it follows a presenter (the follower's panel is the
-lectern's; the next view it builds, exploring, is in its language).
+state and its other views untouched), unless it follows a presenter (then the follower's panel,
+the lectern's, is relabelled; the next view it builds, exploring, is in its language); the live
+bar and the student's question panel are written again in it.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from typing import Any
 
 from app.i18n import LANGUAGES, Translator, language_named, set_translator, translator
 from app.kit.view import SceneView
+from app.lecture.follower import Follower
 from app.lecture.lectern import Mode
 from app.roles.own_room import OwnRoom
 from app.roles.showing import Browser
@@ -80,5 +82,12 @@ class Language:
             dropdown = browser.gui_scene
             title = self.own_room.scene_title(str(dropdown.value)) if following else browser.showing.room.scene.title
             self.own_room.relabel_dropdown(dropdown, title)
-            if not following and isinstance(browser.showing.view, SceneView):
+            view = browser.showing.view
+            if following and isinstance(view, Follower):
+                view.relabel(self.tr)
+            if not following and isinstance(view, SceneView):
                 self.own_room.rebuild_view()
+            if browser.lecture is not None:
+                browser.lecture.refresh()  # the live bar's words (it reads the browser's language)
+            if browser.question is not None:
+                browser.question.redraw()

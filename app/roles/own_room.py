@@ -265,8 +265,9 @@ class OwnRoom:
             if self._key_toast is not None:
                 with contextlib.suppress(Exception):  # closed already
                     self._key_toast.remove()
+            _ = for_gui(self.browser.client.gui).gettext
             self._key_toast = self.browser.client.add_notification(
-                "Following the presenter", "Press 'Explore on my own' to drive your own copy.",
+                _("Following the presenter"), _("Press 'Explore on my own' to drive your own copy."),
                 auto_close_seconds=3.0)
             return
         action(self.showing.room)
