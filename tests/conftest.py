@@ -129,7 +129,7 @@ HEAVY_MODULES = ("tests/test_fork.py", "tests/test_soak.py", "tests/test_replay.
                  "tests/test_euler.py", "tests/test_package.py", "tests/test_frame_budget.py")
 """The non-browser modules that took longest (over 40 s each in a loaded run of 2026-11-28, docs/testing.md),
 longest first: the other process starts them while the browser group
-runs, so that the two processes end with short modules and finish together."""
+runs, and ends on short modules."""
 
 
 def _rank(scope: str) -> tuple[int, int]:
