@@ -45,6 +45,18 @@ def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: flo
         time.sleep(interval)
 
 
+TEST_SHOTS = os.environ.get("RBL_TEST_SHOTS")
+"""A folder: browser tests keep there the pictures they take for people (no assertion reads them);
+unset, they take none (under SwiftShader a picture costs seconds)."""
+
+
+def keep_picture(shown: Any, name: str, **options: Any) -> None:
+    """`shown.screenshot(...)` (a Playwright page or locator) into $RBL_TEST_SHOTS/`name`, if set."""
+    if TEST_SHOTS:
+        Path(TEST_SHOTS).mkdir(parents=True, exist_ok=True)
+        shown.screenshot(path=str(Path(TEST_SHOTS) / name), **options)
+
+
 def scenes_without_an_entry(table: Any, name: str) -> str:
     """What is wrong with a per-scene test table (a dict by scene title, or a collection of titles)
     against the registry (`app.scenes.SCENES`): each registered scene it lacks and each title it
@@ -101,7 +113,33 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
             part = browser_modules.index(module) % browser_groups
             return BROWSER_GROUP if part == 0 else f"{BROWSER_GROUP}-{part}"
 
+        def _assign_work_unit(self, node: Any) -> None:
+            if not self._ordered:  # the first assignment: the queue is complete, nothing taken yet
+                self._ordered = True
+                self.workqueue = type(self.workqueue)(sorted(self.workqueue.items(), key=lambda unit: _rank(unit[0])))
+            super()._assign_work_unit(node)
+
+        _ordered = False
+
     return ModulesAndTheBrowser(config, log)
+
+
+HEAVY_MODULES = ("tests/test_fork.py", "tests/test_soak.py", "tests/test_replay.py", "tests/test_cli.py",
+                 "tests/test_in_the_picture.py", "tests/test_export.py", "tests/test_memory.py",
+                 "tests/test_euler.py", "tests/test_package.py", "tests/test_frame_budget.py")
+"""The non-browser modules that took longest (over 40 s each in a loaded run of 2026-11-28, docs/testing.md),
+longest first: the other process starts them while the browser group
+runs, and ends on short modules."""
+
+
+def _rank(scope: str) -> tuple[int, int]:
+    """Where a scope goes in the queue: the browser groups first (the longest, they start at once),
+    then HEAVY_MODULES in their order, then the rest in collection order (sorted() is stable)."""
+    if scope == BROWSER_GROUP or scope.startswith(BROWSER_GROUP + "-"):
+        return (0, 0)
+    if scope in HEAVY_MODULES:
+        return (1, HEAVY_MODULES.index(scope))
+    return (2, 0)
 
 
 @pytest.fixture(autouse=True, scope="session")

@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 import pytest
+from conftest import keep_picture
 from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, open_page, project
 
 from app.lecture.caption import CAPTION_CLASS, PROJECTOR_CAPTION_PX
@@ -66,7 +67,7 @@ def _assert_clear_of_body(page, camera, sim, where: str) -> None:  # type: ignor
         assert not inside, f"{where}: the caption {band} covers the body at ({x:.0f}, {y:.0f})"
 
 
-def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: App, wait_until, tmp_path) -> None:
+def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: App, wait_until) -> None:
     app = hall_app
     presenter_page, presenter = open_page(browser, app, 120.0, viewport={"width": 1024, "height": 768})
     close_toasts(presenter_page)
@@ -100,7 +101,7 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     reads_the_step(laptop, "laptop")
     time.sleep(1.0)  # the presenter's camera has reached it
     _assert_clear_of_body(laptop, follower.client.camera, presenter.room.sim, "laptop")
-    laptop.screenshot(path=str(tmp_path / "laptop.png"), timeout=120_000)
+    keep_picture(laptop, "caption_laptop.png", timeout=120_000)
     laptop.get_by_text("The presenter's Plots tab (read only)").first.wait_for(timeout=15_000)
     chart = laptop.get_by_text("ω, body components [rad/s]").first.locator("xpath=ancestor::div[.//canvas][1]")
     chart.scroll_into_view_if_needed()
@@ -110,8 +111,8 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     laptop.get_by_text("attitude [rad]").first.wait_for(timeout=15_000)
     for who, shown in (("presenter", presenter_page), ("laptop", laptop)):
         assert _cut_lines(shown) == [], (who, _cut_lines(shown))
-        shown.locator("pre", has_text="attitude [rad]").first.screenshot(path=str(tmp_path / f"{who}_accuracy.png"),
-                                                                        timeout=120_000)
+        keep_picture(shown.locator("pre", has_text="attitude [rad]").first, f"caption_{who}_accuracy.png",
+                     timeout=120_000)
     # ... which hides the caption on its own screen only.
     laptop.locator(f'[id="{follower.scene.gui_caption._impl.uuid}"]').click()
     wait_until(lambda: _caption(laptop) is None, timeout=10.0)
@@ -126,7 +127,7 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     reads_the_step(phone, "phone")
     time.sleep(1.0)
     _assert_clear_of_body(phone, pocket.client.camera, presenter.room.sim, "phone")
-    phone.screenshot(path=str(tmp_path / "phone.png"), timeout=120_000)
+    keep_picture(phone, "caption_phone.png", timeout=120_000)
 
     # The presenter unticks Caption (its Lesson folder): gone from every screen.
     presenter_page.get_by_text("Lesson", exact=True).first.click()

@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 
 import pytest
+from conftest import keep_picture
 from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, received, text_input  # noqa: F401
 
 from app.main import App
@@ -35,8 +36,8 @@ def _open_code(page, session, text: str) -> None:  # type: ignore[no-untyped-def
     page.get_by_role("button", name="Open a shared moment").click()
 
 
-def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, hall_app: App, wait_until,  # noqa: F811
-                                                                      tmp_path) -> None:
+def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, hall_app: App,  # noqa: F811
+                                                                      wait_until) -> None:
     sharer_page, sharer = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
     sharer_page.locator(f'[id="{sharer.gui_scene._impl.uuid}"]').click()
     sharer_page.get_by_role("option", name="Heavy top").click()
@@ -52,7 +53,7 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
     shown.wait_for(timeout=15_000)
     code = re.search(r"[0-9A-Z]{4}-[0-9A-Z]{4}", shown.inner_text()).group(0)  # type: ignore[union-attr]
     assert code == sharer.share.last_code
-    sharer_page.screenshot(path=str(tmp_path / "shared.png"))
+    keep_picture(sharer_page, "share_shared.png")
 
     other_page, other = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
     close_toasts(other_page)
@@ -79,4 +80,4 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
     drop_caches(opened.sim)
     assert_same(expected.sim, opened.sim, "opened")
     assert other.room.playing is False and other.error_count == 0 and sharer.error_count == 0
-    other_page.screenshot(path=str(tmp_path / "opened.png"))
+    keep_picture(other_page, "share_opened.png")
