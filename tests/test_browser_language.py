@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from test_browser_lecture import _CONTEXTS, close_toasts, open_page
+from test_browser_lecture import close_toasts, open_page, serving
 
-from app.main import App, create_server
+from app.main import App
 
 pytestmark = pytest.mark.browser
 
@@ -134,24 +134,12 @@ def button(page: Any, name: str) -> Any:
 
 @pytest.fixture
 def german_app() -> Iterator[App]:
-    running = create_server("127.0.0.1", 0, verbose=False, language="de")
-    try:
-        yield running
-    finally:
-        while _CONTEXTS:
-            _CONTEXTS.pop().close()
-        running.stop()
+    yield from serving(language="de")
 
 
 @pytest.fixture
 def english_app() -> Iterator[App]:
-    running = create_server("127.0.0.1", 0, verbose=False)
-    try:
-        yield running
-    finally:
-        while _CONTEXTS:
-            _CONTEXTS.pop().close()
-        running.stop()
+    yield from serving()
 
 
 def test_one_browser_picks_dutch_and_reads_dutch_while_another_stays_english(browser, english_app: App,

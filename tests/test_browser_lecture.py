@@ -33,15 +33,21 @@ CODE = "246810"
 _CONTEXTS: list = []  # the browser contexts a test opened (closed after it: a page left open keeps rendering)
 
 
-@pytest.fixture
-def hall_app():  # type: ignore[no-untyped-def]
-    running = create_server("127.0.0.1", 0, verbose=False, presenter_code=CODE)
+def serving(**options):  # type: ignore[no-untyped-def]
+    """A quiet app on a free port (`create_server` with `options`), yielded; afterwards the
+    browser contexts a test opened are closed, then the app stops."""
+    running = create_server("127.0.0.1", 0, verbose=False, **options)
     try:
         yield running
     finally:
         while _CONTEXTS:
             _CONTEXTS.pop().close()
         running.stop()
+
+
+@pytest.fixture
+def hall_app():  # type: ignore[no-untyped-def]
+    yield from serving(presenter_code=CODE)
 
 
 def project(camera, point, width: float, height: float) -> tuple[float, float]:  # type: ignore[no-untyped-def]
