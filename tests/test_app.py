@@ -21,7 +21,7 @@ import time
 import numpy as np
 import pytest
 import viser
-from conftest import world_rotation
+from conftest import poll_until, world_rotation
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
@@ -158,11 +158,13 @@ def test_each_client_gets_its_own_session_gui_and_body(wait_until, app: App, con
 def test_sessions_are_ticked_by_a_paced_60hz_loop(app: App, connect) -> None:
     session = one_session(app, connect)
     dts: list[float] = []
+    started = time.monotonic()
     session.room.advance = dts.append  # type: ignore[method-assign]
-    time.sleep(1.0)
-    # 60 Hz nominal; generous lower bound for a loaded 2-core machine, strict upper bound
-    # (a busy loop would give thousands).
-    assert 30 <= len(dts) <= 70, len(dts)
+    poll_until(lambda: len(dts) >= 30, 30.0, what="30 ticks", seen=lambda: len(dts))
+    ticks, seconds = len(dts), time.monotonic() - started
+    # 60 Hz nominal: never faster (a busy loop would give thousands a second); a loaded machine
+    # may give fewer, so the count is awaited, not timed.
+    assert ticks / seconds <= 70, (ticks, seconds)
     assert max(dts) <= app_main.MAX_TICK_DT
     assert 1 / 75 < float(np.median(dts)) < 1 / 30
 

@@ -244,7 +244,8 @@ def test_a_worksheet_from_a_lesson_done_on_the_other_worker_shows_in_the_lecture
         first = _state_submit(student_client, student, "not what was asked")  # D = 1 is no 90° turn about x
         assert "90.0° from the target" in first, first
         _click(student_client, mine.gui_next)
-        poll_until(lambda: student.room.scene.title == "Free body", timeout=DEADLINE_S)
+        poll_until(lambda: student.room.scene.title == "Free body", timeout=DEADLINE_S, what="question 2's scene",
+                   seen=lambda: (student.room.scene.title, mine.question, student.last_error))
         second = _state_submit(student_client, student, "✓ as asked")  # the Dzhanibekov start flips
         _click(student_client, mine.gui_next)
         poll_until(lambda: student.room.scene.title == "Heavy top", timeout=DEADLINE_S)
