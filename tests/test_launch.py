@@ -60,7 +60,10 @@ class Launched:
         self.folder = Path(os.environ.get("TMPDIR", "/tmp"))
         self.out = open(self.folder / f"rbl-launch-{self.port}.out", "w+b")  # noqa: SIM115
         self.err = open(self.folder / f"rbl-launch-{self.port}.err", "w+b")  # noqa: SIM115
-        self.process = subprocess.Popen([sys.executable, "-m", "app", "--port", str(self.port), *args],
+        # a data folder of its own: two launches at once on one folder share its Redis's append-only
+        # directory, and the second redis-server exits (seen in a fresh-clone run)
+        own = () if "--data-dir" in args else ("--data-dir", str(self.folder / f"rbl-launch-{self.port}-data"))
+        self.process = subprocess.Popen([sys.executable, "-m", "app", "--port", str(self.port), *args, *own],
                                         cwd=ROOT, stdout=self.out, stderr=self.err)
 
     def started(self) -> None:
