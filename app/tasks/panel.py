@@ -157,7 +157,86 @@ def attach_tasks(session: Any, store: TaskRules) -> TaskPanel:
     return panel
 
 
-class TaskPanel:
+class TaskMaking:
+    """The presenter's `Make a task` in the Ask form (a part of `TaskPanel`): the worksheet of
+    questions added, the task made of them and its code said under the button."""
+
+    session: Any
+    store: TaskRules
+    clock: Callable[[], float]
+    ask: Any
+    worksheet: list[tuple[Question, str | None, str | None]]
+    made: Task | None
+
+    def _build_maker(self, gui: Any, guard: Any) -> None:
+        ask = getattr(self.session, "ask_panel", None)
+        self.ask = ask
+        if ask is None:
+            return
+        base = float(ask.gui_ask.order)
+        with ask.folder:
+            self.gui_due = gui.add_number("Due in [h]", 168.0, min=0.01, step=0.01, order=base + 0.11,
+                                          hint="a task: the students answer at home until then")
+            self.gui_attempts = gui.add_dropdown("Attempts", ATTEMPT_CHOICES, initial_value="1", order=base + 0.12)
+            self.gui_counts = gui.add_dropdown("Counts", ("best", "last"), initial_value="best", order=base + 0.13,
+                                               hint="which attempt counts for the grade")
+            self.gui_words = gui.add_text("Words for the task", "", order=base + 0.14,
+                                          hint="what the students read with the question")
+            self.gui_add = gui.add_button(ADD_LABEL, order=base + 0.15,
+                                          hint="this question, then the next: one task of several questions")
+            self.gui_make = gui.add_button(MAKE_LABEL, icon=viser.Icon.CLIPBOARD_LIST, order=base + 0.16,
+                                           hint="a task code the students use at home, in their own room")
+            self.gui_made = gui.add_markdown("", visible=False, order=base + 0.17)
+        ask.form_extras = (self.gui_due, self.gui_attempts, self.gui_counts, self.gui_words, self.gui_add,
+                           self.gui_make)  # shown with the form, hidden while a round runs
+        self.gui_add.on_click(guard("add to the worksheet", lambda _e: self.add_to_worksheet()))
+        self.gui_make.on_click(guard("make a task", lambda _e: self.make_from_form()))
+
+    def _presenting(self) -> None:
+        ask = self.ask
+        if ask is None or not ask.presenting():
+            raise PermissionError("only the presenter can make a task")
+
+    def add_to_worksheet(self) -> None:
+        """The Ask form's question joins the worksheet of the next task made here."""
+        self._presenting()
+        assert self.ask is not None
+        if len(self.worksheet) >= MAX_QUESTIONS:
+            raise TaskRefused(f"a worksheet has at most {MAX_QUESTIONS} questions")
+        scene, preset = self._place_now()
+        self.worksheet.append((self.ask.form_question(), scene, preset))
+        self._said_made(f"{len(self.worksheet)} question{'s' if len(self.worksheet) > 1 else ''} in the worksheet; "
+                        f"*{MAKE_LABEL}* makes the task of them.")
+
+    def make_from_form(self) -> Task:
+        """`Make a task`: the worksheet's questions (or the Ask form's question alone), the scene
+        and preset shown, due `Due in [h]` from now: a task; its code said under the button."""
+        self._presenting()
+        assert self.ask is not None
+        entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
+        attempts = None if self.gui_attempts.value == "unlimited" else int(str(self.gui_attempts.value))
+        task = self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * _hours(self.gui_due.value),
+                                 attempts=attempts, counts=str(self.gui_counts.value), scene=entries[0][1],
+                                 preset=entries[0][2], words=str(self.gui_words.value),
+                                 places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
+        self.worksheet = []
+        self.made = task
+        self._said_made(f"Task code **{task.shown_code}** · due {iso_time(task.due)} · {task.policy.words()}: "
+                        f"students type it in the {TASK_FOLDER} folder and open it.")
+        return task
+
+    def _place_now(self) -> tuple[str | None, str | None]:
+        """(scene, preset) of the room shown now."""
+        room = self.session.room
+        preset = getattr(room.sim, "preset", None)
+        return room.scene.title, preset if isinstance(preset, str) else None
+
+    def _said_made(self, text: str) -> None:
+        self.gui_made.content = text
+        self.gui_made.visible = True
+
+
+class TaskPanel(TaskMaking):
     """One browser's tasks: the `Task` folder and, for a presenter, `Make a task` (module docstring).
 
     Attributes:
@@ -247,74 +326,6 @@ class TaskPanel:
                 method(code)
 
         store.listeners.append(listener)
-
-    # ------------------------------------------------------------------ the presenter's `Make a task`
-    def _build_maker(self, gui: Any, guard: Any) -> None:
-        ask = getattr(self.session, "ask_panel", None)
-        self.ask = ask
-        if ask is None:
-            return
-        base = float(ask.gui_ask.order)
-        with ask.folder:
-            self.gui_due = gui.add_number("Due in [h]", 168.0, min=0.01, step=0.01, order=base + 0.11,
-                                          hint="a task: the students answer at home until then")
-            self.gui_attempts = gui.add_dropdown("Attempts", ATTEMPT_CHOICES, initial_value="1", order=base + 0.12)
-            self.gui_counts = gui.add_dropdown("Counts", ("best", "last"), initial_value="best", order=base + 0.13,
-                                               hint="which attempt counts for the grade")
-            self.gui_words = gui.add_text("Words for the task", "", order=base + 0.14,
-                                          hint="what the students read with the question")
-            self.gui_add = gui.add_button(ADD_LABEL, order=base + 0.15,
-                                          hint="this question, then the next: one task of several questions")
-            self.gui_make = gui.add_button(MAKE_LABEL, icon=viser.Icon.CLIPBOARD_LIST, order=base + 0.16,
-                                           hint="a task code the students use at home, in their own room")
-            self.gui_made = gui.add_markdown("", visible=False, order=base + 0.17)
-        ask.form_extras = (self.gui_due, self.gui_attempts, self.gui_counts, self.gui_words, self.gui_add,
-                           self.gui_make)  # shown with the form, hidden while a round runs
-        self.gui_add.on_click(guard("add to the worksheet", lambda _e: self.add_to_worksheet()))
-        self.gui_make.on_click(guard("make a task", lambda _e: self.make_from_form()))
-
-    def _presenting(self) -> None:
-        ask = self.ask
-        if ask is None or not ask.presenting():
-            raise PermissionError("only the presenter can make a task")
-
-    def add_to_worksheet(self) -> None:
-        """The Ask form's question joins the worksheet of the next task made here."""
-        self._presenting()
-        assert self.ask is not None
-        if len(self.worksheet) >= MAX_QUESTIONS:
-            raise TaskRefused(f"a worksheet has at most {MAX_QUESTIONS} questions")
-        scene, preset = self._place_now()
-        self.worksheet.append((self.ask.form_question(), scene, preset))
-        self._said_made(f"{len(self.worksheet)} question{'s' if len(self.worksheet) > 1 else ''} in the worksheet; "
-                        f"*{MAKE_LABEL}* makes the task of them.")
-
-    def make_from_form(self) -> Task:
-        """`Make a task`: the worksheet's questions (or the Ask form's question alone), the scene
-        and preset shown, due `Due in [h]` from now: a task; its code said under the button."""
-        self._presenting()
-        assert self.ask is not None
-        entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
-        attempts = None if self.gui_attempts.value == "unlimited" else int(str(self.gui_attempts.value))
-        task = self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * _hours(self.gui_due.value),
-                                 attempts=attempts, counts=str(self.gui_counts.value), scene=entries[0][1],
-                                 preset=entries[0][2], words=str(self.gui_words.value),
-                                 places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
-        self.worksheet = []
-        self.made = task
-        self._said_made(f"Task code **{task.shown_code}** · due {iso_time(task.due)} · {task.policy.words()}: "
-                        f"students type it in the {TASK_FOLDER} folder and open it.")
-        return task
-
-    def _place_now(self) -> tuple[str | None, str | None]:
-        """(scene, preset) of the room shown now."""
-        room = self.session.room
-        preset = getattr(room.sim, "preset", None)
-        return room.scene.title, preset if isinstance(preset, str) else None
-
-    def _said_made(self, text: str) -> None:
-        self.gui_made.content = text
-        self.gui_made.visible = True
 
     # ------------------------------------------------------------------ the student's side
     def _say(self, text: str) -> None:
