@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, project, received, text_input  # noqa: F401
+from test_browser_lecture import (CODE, button, choose, close_toasts, hall_app, open_folder, open_page, project,  # noqa: F401
+                                  received, text_input)
 
 from app.kit.draw.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, text_box
 from app.main import App
@@ -119,11 +120,11 @@ def present_through_the_page(page, session, wait_until) -> None:  # type: ignore
     received(page, session, "Presenter code", CODE)
     page.get_by_role("button", name="Present").click()
     wait_until(lambda: session.mode == "presenting", timeout=15.0)
+    button(page, "Stop presenting").first.wait_for(timeout=30_000)  # the page laid out as the presenter's
 
 
 def pick_scene(page, session, title: str, wait_until) -> None:  # type: ignore[no-untyped-def]
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
-    page.get_by_role("option", name=title, exact=True).click()
+    choose(page, session.gui_scene, title)
     wait_until(lambda: session.scene.title == title, timeout=20.0)
 
 

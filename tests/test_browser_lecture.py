@@ -154,6 +154,24 @@ def received(page, session, label: str, text: str, timeout: float = 30.0) -> Non
                seen=lambda: handle.value)
 
 
+def choose(page, handle, option: str, tries: int = 3) -> None:  # type: ignore[no-untyped-def]
+    """Pick `option` in the viser dropdown `handle`, as a person does: open it, click the option;
+    if the list closed before the click (Mantine hides a dropdown whose field moved out of the
+    panel's view, as when the panel grows above it on a busy machine), open it again."""
+    field = page.locator(f'[id="{handle._impl.uuid}"]')
+    item = page.get_by_role("option", name=option, exact=True)
+    for attempt in range(tries):
+        field.scroll_into_view_if_needed(timeout=30_000)
+        field.click()
+        try:
+            item.click(timeout=10_000)
+            return
+        except Exception:  # noqa: BLE001 - the list closed under the pointer: open it again
+            if attempt == tries - 1:
+                raise
+            page.keyboard.press("Escape")
+
+
 def present_in_page(page, session, timeout: float = 30.0) -> None:  # type: ignore[no-untyped-def]
     """Type CODE into the page's `Presenter code` and press Present; waits until `session` presents."""
     open_folder(page, "Lecture", "Presenter code")
