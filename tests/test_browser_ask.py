@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_browser import choose
 from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, type_into  # noqa: F401 - a fixture
 
 from app.main import App
@@ -64,8 +65,7 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
 
     # A direction: the students turn their arrows with the sliders and send them.
     button(projector, "New question").click()
-    projector.locator(f'[id="{presenter.ask_panel.gui_kind._impl.uuid}"]').click()
-    projector.get_by_role("option", name="Direction").click()
+    choose(projector, presenter.ask_panel.gui_kind, "Direction")
     type_into(projector, "Question", "Where will ω point at t = 5 s?", presenter)
     type_into(projector, "True direction", "0.287, -0.008, 0.958", presenter)
     button(projector, "Ask the class").click()

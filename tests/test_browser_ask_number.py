@@ -8,6 +8,7 @@ check."""
 from __future__ import annotations
 
 import pytest
+from test_browser import choose
 from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, text_input, type_into  # noqa: F401
 
 from app.main import App
@@ -24,8 +25,7 @@ def test_a_class_answers_a_number_with_its_unit_through_its_pages(browser, hall_
     wait_until(lambda: all(session.mode == "following" for _, session in students), timeout=20.0)
     close_toasts(projector)
 
-    projector.locator(f'[id="{presenter.ask_panel.gui_kind._impl.uuid}"]').click()
-    projector.get_by_role("option", name="Number").click()
+    choose(projector, presenter.ask_panel.gui_kind, "Number")
     wait_until(lambda: presenter.ask_panel.forms["number"].gui_unit.visible, timeout=10.0)
     type_into(projector, "Question", "The book flips: its flip period?", presenter)
     type_into(projector, "Right value", "2.5", presenter)

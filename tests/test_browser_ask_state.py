@@ -19,6 +19,7 @@ import re
 import numpy as np
 import pytest
 import test_browser_lecture
+from test_browser import choose
 from test_browser_lecture import CODE, open_folder, open_page, received, text_input
 
 from app.ask.judges import AnswerState
@@ -57,18 +58,13 @@ def _tap(page, name: str) -> None:  # type: ignore[no-untyped-def]
     raise AssertionError(f"could not tap {name!r}")
 
 
-def _choose(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
-    page.locator(f'[id="{handle._impl.uuid}"]').click()
-    page.get_by_role("option", name=option, exact=True).click()
-
-
 def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one(  # type: ignore[no-untyped-def]
         browser, ask_app: App, wait_until) -> None:
     app = ask_app
     lectern = app.lectern
     presenter_page, presenter = open_page(browser, app, viewport={"width": 1024, "height": 768})
     presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
-    _choose(presenter_page, presenter.gui_scene, "Heavy top")
+    choose(presenter_page, presenter.gui_scene, "Heavy top")
     wait_until(lambda: presenter.room.scene.title == "Heavy top", timeout=15.0)
     presenter_page.get_by_role("button", name="Wave", exact=True).click()
     wait_until(lambda: presenter.room.sim.preset == "Wave", timeout=10.0)
@@ -81,9 +77,9 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
 
     # The presenter asks a judged State question from its form.
     panel = presenter.ask_panel
-    _choose(presenter_page, panel.gui_kind, "State")
+    choose(presenter_page, panel.gui_kind, "State")
     text_input(presenter_page, "Question").fill("Find a start that makes the top loop")
-    _choose(presenter_page, panel.gui_judge, "top_motion")
+    choose(presenter_page, panel.gui_judge, "top_motion")
     text_input(presenter_page, "Target").fill("loops")
     text_input(presenter_page, "Target").press("Enter")
     wait_until(lambda: panel.gui_target.value == "loops", timeout=10.0)

@@ -18,6 +18,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from test_browser import choose
 from test_browser_lecture import _CONTEXTS, close_toasts, open_folder, open_page, received, text_input
 from test_codec import assert_rooms_equal
 
@@ -54,8 +55,7 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
     a, b = two_workers
     presenter_page, presenter = open_page(browser, a, viewport={"width": 1280, "height": 800})
     close_toasts(presenter_page)
-    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
-    presenter_page.get_by_role("option", name="Free body").click()
+    choose(presenter_page, presenter.gui_scene, "Free body")
     wait_until(lambda: presenter.room.scene.title == "Free body", timeout=30.0)
     open_folder(presenter_page, "Lecture", "Presenter code")
     text_input(presenter_page, "Presenter code").click()

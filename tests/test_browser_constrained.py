@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
-from test_browser import open_app
+from test_browser import choose, open_app
 
 from app.scenes.constrained import ConstrainedView
 
@@ -24,8 +24,7 @@ WIDTH, HEIGHT = 1280, 800
 def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no-untyped-def]
     page.set_viewport_size({"width": WIDTH, "height": HEIGHT})
     session = open_app(page, app)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
-    page.get_by_role("option", name="Constrained particles").click()
+    choose(page, session.gui_scene, "Constrained particles")
     page.get_by_text("Constrained particles (memo §2, §5)").wait_for(timeout=30_000)
     shots = os.environ.get("CONSTRAINED_SHOTS")
     for preset in ConstrainedView.presets():

@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 import pytest
-from test_browser import open_app
+from test_browser import choose, open_app
 from test_browser_lecture import project
 
 from app.main import App
@@ -29,8 +29,7 @@ OMEGA_RTOL = 1e-9  # ω_b against Rᵀ p / scale (float32 positions travel as fl
 
 def test_dragging_the_omega_gizmo_sets_omega_and_kick_and_energy_tab_work(wait_until, app: App, page) -> None:
     session = open_app(page, app)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
-    page.get_by_role("option", name="Heavy top").click()
+    choose(page, session.gui_scene, "Heavy top")
     wait_until(lambda: session.scene.title == "Heavy top", timeout=10.0)
     view = session.scene
     page.get_by_role("button", name="Cusp", exact=True).click()

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 import trimesh
 from PIL import Image
-from test_browser import open_app
+from test_browser import choose, open_app
 
 from app.kit.draw.screen import project
 from app.scenes.inertia import InertiaView
@@ -58,8 +58,7 @@ def _shot_pair(page, view) -> tuple[float, float]:  # type: ignore[no-untyped-de
 def test_the_body_shows_inside_the_momental_ellipsoid(app, page, tmp_path) -> None:
     page.set_viewport_size({"width": WIDTH, "height": HEIGHT})
     session = open_app(page, app)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
-    page.get_by_role("option", name="Inertia").click()
+    choose(page, session.gui_scene, "Inertia")
     page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
     view = session.scene
     results = {}

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_browser import choose
 from test_browser_lecture import close_toasts, hall_app, open_page, present_and_follow
 
 from app.kit.core.common import wrap_deg
@@ -58,8 +59,7 @@ def test_followers_key_numbers_move_while_the_presenter_shows_the_energy_tab(  #
     close_toasts(presenter_page)
     follower_page, follower = present_and_follow(browser, app, presenter_page, presenter, wait_until)
 
-    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
-    presenter_page.get_by_role("option", name="Heavy top", exact=True).click()
+    choose(presenter_page, presenter.gui_scene, "Heavy top")
     wait_until(lambda: presenter.room.scene.title == "Heavy top", timeout=30.0)
     presenter_page.get_by_role("button", name="Loop", exact=True).click()
     wait_until(lambda: presenter.room.sim.preset == "Loop", timeout=15.0)

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from conftest import poll_until
 from PIL import Image
-from test_browser import app_url
+from test_browser import app_url, choose  # noqa: F401 - choose: for the browser tests that import from here
 
 from app.main import App, create_server
 from app.viser_internals import input_handle
@@ -154,24 +154,6 @@ def received(page, session, label: str, text: str, timeout: float = 30.0) -> Non
                seen=lambda: handle.value)
 
 
-def choose(page, handle, option: str, tries: int = 3) -> None:  # type: ignore[no-untyped-def]
-    """Pick `option` in the viser dropdown `handle`, as a person does: open it, click the option;
-    if the list closed before the click (Mantine hides a dropdown whose field moved out of the
-    panel's view, as when the panel grows above it on a busy machine), open it again."""
-    field = page.locator(f'[id="{handle._impl.uuid}"]')
-    item = page.get_by_role("option", name=option, exact=True)
-    for attempt in range(tries):
-        field.scroll_into_view_if_needed(timeout=30_000)
-        field.click()
-        try:
-            item.click(timeout=10_000)
-            return
-        except Exception:  # noqa: BLE001 - the list closed under the pointer: open it again
-            if attempt == tries - 1:
-                raise
-            page.keyboard.press("Escape")
-
-
 def present_in_page(page, session, timeout: float = 30.0) -> None:  # type: ignore[no-untyped-def]
     """Type CODE into the page's `Presenter code` and press Present; waits until `session` presents."""
     open_folder(page, "Lecture", "Presenter code")
@@ -188,8 +170,7 @@ def play_and_present(page, session, title: str) -> None:  # type: ignore[no-unty
     Play, then present (`present_in_page`)."""
     page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
     close_toasts(page)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
-    page.get_by_role("option", name=title).click()
+    choose(page, session.gui_scene, title)
     poll_until(lambda: session.scene.title == title, 15.0, 0.05, what=f"the scene {title!r} chosen",
                seen=lambda: session.scene.title)
     button(page, "Play").click()
@@ -234,8 +215,7 @@ def test_followers_cannot_move_the_presenters_masses_and_explore_copies_them(bro
     presenter_page, presenter = open_page(browser, app, viewport={"width": 1280, "height": 800})
     presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
     close_toasts(presenter_page)
-    presenter_page.locator(f'[id="{presenter.gui_scene._impl.uuid}"]').click()
-    presenter_page.get_by_role("option", name="Inertia").click()
+    choose(presenter_page, presenter.gui_scene, "Inertia")
     presenter_page.get_by_text("Inertia tensor (memo §3)").wait_for(timeout=30_000)
     presenter_page.get_by_role("button", name="Add mass").click()
     wait_until(lambda: len(presenter.scene.sim.masses) == 3, timeout=10.0)

@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 from PIL import Image
 from playwright.sync_api import Error as PlaywrightError
-from test_browser import open_app, slider_thumb, still_picture
+from test_browser import choose, open_app, slider_thumb, still_picture
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder, open_page, text_input  # noqa: F401
 from test_browser_typing import binding_of, number_box, type_into
 
@@ -99,8 +99,7 @@ def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
 
 
 def choose_scene(page, session, title: str, wait_until) -> None:  # type: ignore[no-untyped-def]
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
-    page.get_by_role("option", name=title).click()
+    choose(page, session.gui_scene, title)
     wait_until(lambda: session.scene.title == title, timeout=10.0)
 
 

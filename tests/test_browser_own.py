@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import poll_until
-from test_browser import open_app
+from test_browser import choose, open_app
 from test_browser_messages import choose_scene, download
 
 from app.main import App, create_server
@@ -63,12 +63,6 @@ def type_into(page, label: str, text: str, handle) -> None:  # type: ignore[no-u
 def open_mine(page) -> None:  # type: ignore[no-untyped-def]
     page.get_by_text("Mine", exact=True).first.click()
     page.get_by_role("button", name="Save as preset").wait_for(state="visible", timeout=10_000)
-
-
-def pick(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
-    """Choose `option` in the dropdown `handle` (its root's id is the GUI uuid)."""
-    page.locator(f'[id="{handle._impl.uuid}"]').click()
-    page.get_by_role("option", name=option).click()
 
 
 pytestmark = pytest.mark.browser
@@ -168,7 +162,7 @@ def test_a_two_step_lesson_exports_imports_into_a_fresh_folder_and_steps(browser
         upload.set_input_files(str(exported_path))
         page.get_by_text("Imported Two motions (2 steps").first.wait_for(timeout=10_000)
         page.get_by_text("Lesson", exact=True).first.click()
-        pick(page, session.lesson_runner.gui_lesson, "★ Two motions")
+        choose(page, session.lesson_runner.gui_lesson, "★ Two motions")
         wait_until(lambda: session.lesson_runner.step == 0 and session.room.sim.preset == "Dzhanibekov"
                    and session.scene.title == "Free body", timeout=10.0)
         page.get_by_role("button", name="Next ▶").click()

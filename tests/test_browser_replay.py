@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 import pytest
+from test_browser import choose
 
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING
 from app.main import App
@@ -36,8 +37,7 @@ def drag_thumb(page, handle, dx: float) -> None:
 def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, app: App, page) -> None:
     session = open_app(page, app, wait=False)
     wait_for_gui(page)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
-    page.get_by_role("option", name="Free body").click()
+    choose(page, session.gui_scene, "Free body")
     wait_until(lambda: session.scene.title == "Free body", timeout=10.0)
     page.get_by_role("button", name="Dzhanibekov").click()
     scene = session.scene
@@ -101,8 +101,7 @@ def test_constrained_particles_scrub_back_resume_and_branch(wait_until, app: App
     and paths rewound), Resume (the live moment bit for bit), back again and Branch here."""
     session = open_app(page, app, wait=False)
     wait_for_gui(page)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()  # the Scene dropdown
-    page.get_by_role("option", name="Constrained particles").click()
+    choose(page, session.gui_scene, "Constrained particles")
     wait_until(lambda: session.scene.title == "Constrained particles", timeout=30.0)
     page.get_by_role("button", name="Double pendulum, chaotic").click()
     scene = session.scene

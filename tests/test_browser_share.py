@@ -14,6 +14,7 @@ import re
 
 import pytest
 from conftest import keep_picture
+from test_browser import choose
 from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, received, text_input  # noqa: F401
 
 from app.main import App
@@ -39,8 +40,7 @@ def _open_code(page, session, text: str) -> None:  # type: ignore[no-untyped-def
 def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, hall_app: App,  # noqa: F811
                                                                       wait_until) -> None:
     sharer_page, sharer = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
-    sharer_page.locator(f'[id="{sharer.gui_scene._impl.uuid}"]').click()
-    sharer_page.get_by_role("option", name="Heavy top").click()
+    choose(sharer_page, sharer.gui_scene, "Heavy top")
     wait_until(lambda: sharer.scene.title == "Heavy top", timeout=15.0)
     sharer_page.get_by_role("button", name="Play", exact=True).click()
     wait_until(lambda: sharer.room.sim.t > 0.5, timeout=15.0)

@@ -11,6 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
+from test_browser import choose
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder_to, open_page, type_into  # noqa: F401 - hall_app: a fixture
 
 from app.main import App
@@ -28,11 +29,6 @@ def _type_into(page, label: str, text: str, session=None) -> None:  # type: igno
 
 def _button(page, name: str):  # type: ignore[no-untyped-def]
     return page.get_by_role("button", name=name, exact=True)
-
-
-def _choose(page, handle, option: str) -> None:  # type: ignore[no-untyped-def]
-    page.locator(f'[id="{handle._impl.uuid}"]').click()
-    page.get_by_role("option", name=option, exact=True).click()
 
 
 def _student_submits(page, session, value: str, expected: str) -> str:  # type: ignore[no-untyped-def]
@@ -71,14 +67,13 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     app = hall_app
     projector, presenter = _presenting(browser, app)
     ask = presenter.ask_panel
-    projector.locator(f'[id="{ask.gui_kind._impl.uuid}"]').click()
-    projector.get_by_role("option", name="Number").click()
+    choose(projector, ask.gui_kind, "Number")
     wait_until(lambda: ask.forms["number"].gui_unit.visible, timeout=20.0)
     _type_into(projector, "Question", "The book flips: its flip period?", presenter)
     _type_into(projector, "Right value", "2.5", presenter)
     _type_into(projector, "Unit", "s", presenter)
     _type_into(projector, "Tolerance", "0.2", presenter)
-    _choose(projector, presenter.task_panel.gui_attempts, "2")
+    choose(projector, presenter.task_panel.gui_attempts, "2")
     _type_into(projector, "Words for the task", "Spin the book about its middle axis and time a flip.", presenter)
     wait_until(lambda: (ask.forms["number"].gui_tolerance.value, presenter.task_panel.gui_attempts.value)
                == ("0.2", "2"), timeout=20.0)
@@ -152,7 +147,7 @@ def make_memo_worksheet(projector, presenter, wait_until, attempts: str) -> str:
     worksheet, sets `attempts` and presses `Make a task`; the task code shown ("K7M2-QX9P")."""
     ask = presenter.ask_panel
     projector.get_by_text("Lesson", exact=True).first.click()
-    _choose(projector, presenter.lesson_runner.gui_lesson, WORKSHEET)
+    choose(projector, presenter.lesson_runner.gui_lesson, WORKSHEET)
     wait_until(lambda: presenter.lesson is not None, timeout=30.0, what="the worksheet lesson started",
                seen=lambda: presenter.last_error)
     with presenter.lock:  # the lesson's start has ended
@@ -164,7 +159,7 @@ def make_memo_worksheet(projector, presenter, wait_until, attempts: str) -> str:
                    what=f"the Ask form filled with {start!r}", seen=lambda: ask.gui_prompt.value)
         _button(projector, "Add to the worksheet").click()
         wait_text(projector, f"{k + 1} question", f"{k + 1} question(s) in the worksheet", presenter)
-    _choose(projector, presenter.task_panel.gui_attempts, attempts)
+    choose(projector, presenter.task_panel.gui_attempts, attempts)
     wait_until(lambda: presenter.task_panel.gui_attempts.value == attempts, timeout=20.0,
                what=f"Attempts {attempts}", seen=lambda: presenter.task_panel.gui_attempts.value)
     _button(projector, "Make a task").click()

@@ -23,11 +23,11 @@ from typing import Any
 
 import pytest
 from conftest import poll_until
+from test_browser import choose
 from test_browser_lecture import _CONTEXTS, CODE, close_toasts, open_page
 from test_browser_tasks import (
     WAIT_MS,
     _button,
-    _choose,
     _open_as_lecturer,
     _open_task,
     _presenting,
@@ -168,7 +168,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         assert "Cem" not in table, table
         # the 3D view of the first question's states, shown at once: both students' bodies
         wait_text(desk, "2 answers drawn faint at once", "the gallery of question 1", teacher)
-        _choose(desk, teacher.task_panel.views.gui_view, "Q3 · gallery")
+        choose(desk, teacher.task_panel.views.gui_view, "Q3 · gallery")
         wait_text(desk, "1 answer drawn faint at once", "the gallery of question 3", teacher)
         desk.get_by_role("button", name="Next", exact=True).click()
         wait_text(desk, "Answer 1 of 1: loops", "Ann's counted state of question 3, alone", teacher)

@@ -28,6 +28,7 @@ import pytest
 from PIL import Image
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
+from test_browser import choose
 
 from app.hall.projector import projector_view
 from app.kit.core.common import CameraView
@@ -177,8 +178,7 @@ def test_the_browser_frames_the_modelled_picture_and_a_preset_leaves_no_old_trac
     from app.scenes.moving_frame.view import PARTICLE_COLORS
 
     session = open_app(page, app)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
-    page.get_by_role("option", name="Moving frame").click()
+    choose(page, session.gui_scene, "Moving frame")
     page.get_by_text("Moving frame C′ (memo").wait_for(timeout=30_000)
     view = MovingFrameView.view
     camera, width, height, panel = _layouts(view)["desktop 1280x800"]

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
+from test_browser import choose
 
 from app.kit.core.presets import PresetError, load_presets
 from app.kit.draw.lean import TOLERANCE
@@ -378,8 +379,7 @@ def test_browser_opens_the_scene_and_the_camera_toggle_makes_C_prime_stand_still
     from test_browser import SCENE_CLIP, changed_fraction, open_app
 
     session = open_app(page, app)
-    page.locator(f'[id="{session.gui_scene._impl.uuid}"]').click()
-    page.get_by_role("option", name="Moving frame").click()
+    choose(page, session.gui_scene, "Moving frame")
     wait_until(lambda: session.scene.title == "Moving frame", timeout=10.0)
     page.get_by_text("Moving frame C′").first.wait_for(timeout=10_000)
     view = session.scene
