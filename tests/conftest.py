@@ -124,6 +124,27 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     return ModulesAndTheBrowser(config, log)
 
 
+_WORKER_SECONDS: dict[str, list[float]] = {}  # xdist worker id: [seconds in tests, browser-group seconds]
+
+
+def pytest_runtest_logreport(report: pytest.TestReport) -> None:
+    """On the controller: each xdist worker's time in its tests' setup, call and teardown."""
+    node = getattr(report, "node", None)
+    worker = getattr(getattr(node, "gateway", None), "id", None)
+    if worker is not None:
+        seconds = _WORKER_SECONDS.setdefault(worker, [0.0, 0.0])
+        seconds[0] += report.duration
+        if "browser" in report.keywords:
+            seconds[1] += report.duration
+
+
+def pytest_terminal_summary(terminalreporter: Any) -> None:
+    """Where the suite's time went: each process's seconds in tests, and its share in browser
+    tests (the process that ends last sets the suite's time)."""
+    for worker, (total, browser) in sorted(_WORKER_SECONDS.items()):
+        terminalreporter.write_line(f"{worker}: {total:.0f} s in tests, {browser:.0f} s of them in browser tests")
+
+
 HEAVY_MODULES = ("tests/test_fork.py", "tests/test_soak.py", "tests/test_replay.py", "tests/test_cli.py",
                  "tests/test_in_the_picture.py", "tests/test_export.py", "tests/test_memory.py",
                  "tests/test_euler.py", "tests/test_package.py", "tests/test_frame_budget.py")

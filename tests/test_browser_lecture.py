@@ -86,14 +86,17 @@ def close_toasts(page) -> None:  # type: ignore[no-untyped-def]
 
 
 def open_folder(page, folder: str, inside: str) -> None:  # type: ignore[no-untyped-def]
-    """Click the folder `folder` open until the text `inside` shows (a click may land while the
-    panel is still laying out)."""
-    for _ in range(4):
-        page.get_by_text(folder, exact=True).first.click()
+    """Open the folder `folder` until the text `inside` shows: a click on its title only while
+    `inside` is hidden, then a wait (a second click while it unfolds on a busy machine would fold
+    it again)."""
+    shown = page.get_by_text(inside, exact=True).first
+    for _ in range(3):
+        if not shown.is_visible():
+            page.get_by_text(folder, exact=True).first.click()
         try:
-            page.get_by_text(inside, exact=True).first.wait_for(state="visible", timeout=3_000)
+            shown.wait_for(state="visible", timeout=20_000)
             return
-        except Exception:  # noqa: BLE001 - closed again, or not yet drawn: click once more
+        except Exception:  # noqa: BLE001 - the click landed before the panel was laid out
             continue
     raise AssertionError(f"the folder {folder!r} did not open")
 
