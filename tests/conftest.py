@@ -138,11 +138,86 @@ def pytest_runtest_logreport(report: pytest.TestReport) -> None:
             seconds[1] += report.duration
 
 
+_CHROMIUM_CPU_S: list[float] = []  # CPU seconds of each Chromium this process ran (with its child processes)
+
+
+def _process_table() -> dict[int, tuple[int, float, str]]:
+    """Every process: pid -> (ppid, its own CPU seconds so far: utime + stime, its name) (Linux /proc)."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    table = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            name, _, rest = stat.read_text().partition(" (")[2].rpartition(")")
+        except OSError:  # ended meanwhile
+            continue
+        fields = rest.split()
+        table[int(stat.parent.name)] = (int(fields[1]), (int(fields[11]) + int(fields[12])) / ticks, name)
+    return table
+
+
+class ChromiumCpu:
+    """The CPU seconds [s] of the Chromium processes this process started (through Playwright's
+    driver: the browser, its renderers and GPU process), sampled every `period_s` by a thread: a process
+    that ends is counted as last sampled (Chromium's renderers are reaped by no ancestor of ours,
+    so the kernel's children's times miss them)."""
+
+    def __init__(self, period_s: float = 1.0) -> None:
+        import threading
+
+        self.seen: dict[int, float] = {}
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, args=(period_s,), name="chromium-cpu", daemon=True)
+        self._thread.start()
+
+    def _run(self, period_s: float) -> None:
+        while not self._stop.wait(period_s):
+            self.sample()
+
+    def sample(self) -> None:
+        table = _process_table()
+        ours = {os.getpid()}
+        grown = True
+        while grown:
+            more = {pid for pid, (ppid, _, _) in table.items() if ppid in ours} - ours
+            grown = bool(more)
+            ours |= more
+        for pid in ours:
+            if table[pid][2].startswith("chrom"):
+                self.seen[pid] = table[pid][1]
+
+    def stop(self) -> float:
+        """Stop sampling; the CPU seconds seen."""
+        self.sample()
+        self._stop.set()
+        return sum(self.seen.values())
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    """On an xdist worker: hand the CPU its Chromiums used to the controller (`workeroutput`)."""
+    output = getattr(session.config, "workeroutput", None)
+    if output is not None:
+        output["chromium_cpu_s"] = sum(_CHROMIUM_CPU_S)
+
+
+def pytest_testnodedown(node: Any, error: Any) -> None:
+    """On the controller: a worker's Chromium CPU, for the summary."""
+    seconds = getattr(node, "workeroutput", {}).get("chromium_cpu_s", 0.0)
+    worker = getattr(getattr(node, "gateway", None), "id", "?")
+    _WORKER_SECONDS.setdefault(worker, [0.0, 0.0])
+    _CHROMIUM_BY_WORKER[worker] = seconds
+
+
+_CHROMIUM_BY_WORKER: dict[str, float] = {}
+
+
 def pytest_terminal_summary(terminalreporter: Any) -> None:
-    """Where the suite's time went: each process's seconds in tests, and its share in browser
-    tests (the process that ends last sets the suite's time)."""
+    """Where the suite's time went: each process's seconds in tests, its share in browser tests
+    (the process that ends last sets the suite's time) and the CPU its Chromium used."""
     for worker, (total, browser) in sorted(_WORKER_SECONDS.items()):
-        terminalreporter.write_line(f"{worker}: {total:.0f} s in tests, {browser:.0f} s of them in browser tests")
+        terminalreporter.write_line(f"{worker}: {total:.0f} s in tests, {browser:.0f} s of them in browser tests, "
+                                    f"Chromium {_CHROMIUM_BY_WORKER.get(worker, 0.0):.0f} CPU-s")
+    if not _WORKER_SECONDS and _CHROMIUM_CPU_S:
+        terminalreporter.write_line(f"Chromium: {sum(_CHROMIUM_CPU_S):.0f} CPU-s")
 
 
 HEAVY_MODULES = ("tests/test_fork.py", "tests/test_soak.py", "tests/test_replay.py", "tests/test_cli.py",
@@ -334,10 +409,12 @@ def browser() -> Iterator[Any]:
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
+        cpu = ChromiumCpu()
         chromium = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
         try:
             yield chromium
         finally:
+            _CHROMIUM_CPU_S.append(cpu.stop())  # before close: its processes end with it
             chromium.close()
 
 
