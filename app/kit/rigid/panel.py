@@ -14,6 +14,7 @@ import numpy as np
 import viser
 import viser.uplot
 
+from app.i18n import N_, refusal_text
 from app.kit.core.common import GIMBAL_LOCK_DEG, SliderSpec, gimbal_note, wrap_deg
 from app.kit.panel.binding import BOX_DIGITS
 from app.kit.panel.gui import PresetsRow, Readout, Tabs, add_slider
@@ -229,12 +230,16 @@ class RigidBodyPanel(RigidBodyScene):
             try:
                 model = self.model_from_params(candidate)
             except (InertiaError, ValueError) as error:
-                shown = ", ".join(f"{p:g}" for p in current)
-                self.gui_param_status.content = (
-                    f"**⚠ Refused:** {error}.  Each moment must be at most the sum of the other two "
-                    f"(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
-                )
-                return f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving."
+                tr = self.tr
+                shown = "; ".join(tr.general(p) for p in current) if tr.language != "en" \
+                    else ", ".join(f"{p:g}" for p in current)
+                reason = refusal_text(error, tr)
+                self.gui_param_status.content = tr.gettext(
+                    "**⚠ Refused:** {reason}.  Each moment must be at most the sum of the other two "
+                    "(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
+                ).format(reason=reason, shown=shown)
+                return tr.gettext("Not a rigid body: {reason}. Refused; the last valid body ({shown}) keeps moving."
+                                  ).format(reason=reason, shown=shown)
             self.sim.mesh = None  # new moments: a handed-on mesh no longer fits
             self.sim.set_model(model)  # same R and ω_b, new body; keeps playing
             self.room.refresh()

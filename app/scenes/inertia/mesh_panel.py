@@ -16,6 +16,7 @@ from typing import Any
 
 import viser
 
+from app.i18n import refusal_text
 from app.data import files_in, meshes_dir
 from app.kit.core.common import Wrap, checked_value
 from app.kit.panel.binding import Refused
@@ -137,8 +138,10 @@ class MeshPanel:
             vertices, faces = read_mesh(name, content)
             self.sim.set_mesh(name, vertices, faces, **self._weight())
         except (MeshError, ValueError) as error:
-            text = str(error) if str(error).startswith(name) else f"{name}: {error}"
-            message.show(f"Mesh refused: {text}. The last valid body stays.")
+            tr = self.view.tr
+            words = refusal_text(error, tr)
+            text = words if words.startswith(name) else f"{name}: {words}"
+            message.show(tr.gettext("Mesh refused: {reason}. The last valid body stays.").format(reason=text))
             return
         message.clear()
         self.sim.set_about(None)

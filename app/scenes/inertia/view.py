@@ -38,7 +38,7 @@ import numpy as np
 import trimesh
 import viser
 
-from app.i18n import N_
+from app.i18n import N_, refusal_text
 from app.kit.core.common import BODY_AXIS_COLORS, CameraView, Wrap, axis_segments
 from app.kit.core.presets import PRESETS_DIR, Preset
 from app.kit.core.room import Room
@@ -329,11 +329,12 @@ class InertiaView(SceneView):
         try:
             handed, k = spin_moments(moments)
         except InertiaError as error:
-            self.message.show(f"Nothing to spin: {error} — masses on one line are no rigid body to spin "
-                              "(add a mass off the line).")
+            self.message.show(self.tr.gettext("Nothing to spin: {reason} — masses on one line are no rigid body "
+                                              "to spin (add a mass off the line).").format(
+                reason=refusal_text(error, self.tr)))
             return
         if self.open_scene is None:
-            self.message.show("This browser cannot open another scene.")
+            self.message.show(self.tr.gettext("This browser cannot open another scene."))
             return
         mesh = self.sim.mesh
         com = properties["com"]
