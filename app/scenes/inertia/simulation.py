@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from app.i18n import N_
 from app.kit.core.common import SliderSpec, fork_sharing
 from app.kit.core.presets import Preset, PresetError, preset_entries
 from physics._types import Vec3
@@ -40,7 +41,7 @@ MAX_MASSES = 12
 MESH_SUFFIXES = ("stl", "obj", "ply", "off", "glb")
 EQUAL_RTOL = 1e-6  # principal moments closer than this times the largest are "equal" (3.8)
 ZERO_RTOL = 1e-9  # a principal moment below this times the largest is "zero" (masses on a line)
-MASS_SPEC = SliderSpec("m", "m [kg]", 0.1, 10.0, 0.1, "the selected mass")
+MASS_SPEC = SliderSpec("m", "m [kg]", 0.1, 10.0, 0.1, N_("the selected mass"))
 MESH_MASS_RANGE = (1e-3, 1e4)  # [kg] a mesh's mass
 MESH_DENSITY_RANGE = (1.0, 1e5)  # [kg/m³] a mesh's density (air-light foam to osmium x 4)
 COORD_LIMIT = 3.0  # [m] positions and O within ±this
@@ -185,25 +186,26 @@ class InertiaSystem:
         if float(np.abs(I_O).max()) <= 1e-12 * nothing:
             moments, axes, equal = np.zeros(3), self._axes, [[0, 1, 2]]
             zero = [True, True, True]
-            notes.append("**I_O = 0**: all the mass is at O, every moment about O is zero and every axis is "
-                         "principal (the frame drawn is only one choice; no ellipsoid).")
+            notes.append(N_("**I_O = 0**: all the mass is at O, every moment about O is zero and every axis is "
+                         "principal (the frame drawn is only one choice; no ellipsoid)."))
         else:
             moments, axes, equal = principal_axes_near(I_O, self._axes, rtol=EQUAL_RTOL)
             zero = [bool(moments[k] <= ZERO_RTOL * moments[2]) for k in range(3)]
             if zero[0]:
-                notes.append("A principal moment is **zero**: all the mass lies on one line through O (3.8); "
+                notes.append(N_("A principal moment is **zero**: all the mass lies on one line through O (3.8); "
                              "e1 is that line, and the momental ellipsoid is an endless cylinder about it "
-                             "(drawn cut).")
+                             "(drawn cut)."))
             if equal == [[0, 1, 2]]:
-                notes.append("**All three moments are equal**: every axis through O is principal (3.8); the "
-                             "frame drawn is only one choice (it keeps its last directions).")
+                notes.append(N_("**All three moments are equal**: every axis through O is principal (3.8); the "
+                                "frame drawn is only one choice (it keeps its last directions)."))
             elif equal and not zero[0]:
-                pair = "I1 = I2" if equal[0] == [0, 1] else "I2 = I3"
-                notes.append(f"**Two moments are equal** ({pair}): any axis in their plane is principal (3.8); "
-                             "the frame drawn keeps its last directions there.")
+                notes.append(N_("**Two moments are equal** (I1 = I2): any axis in their plane is principal (3.8); "
+                                "the frame drawn keeps its last directions there.") if equal[0] == [0, 1] else
+                             N_("**Two moments are equal** (I2 = I3): any axis in their plane is principal (3.8); "
+                                "the frame drawn keeps its last directions there."))
             elif equal:
-                notes.append("**Two moments are equal** (I2 = I3): any axis across the line is principal (3.8); "
-                             "the frame drawn keeps its last directions there.")
+                notes.append(N_("**Two moments are equal** (I2 = I3): any axis across the line is principal (3.8); "
+                                "the frame drawn keeps its last directions there."))
         self._axes = axes
         result = {"mass": mass, "com": com, "I_cm": I_cm, "O": O, "d": d, "I_O": I_O, "parallel": parallel,
                   "moments": moments, "axes": axes, "equal": equal, "zero": zero, "notes": notes, "size": size}
