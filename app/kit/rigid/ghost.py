@@ -14,16 +14,16 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from app.i18n import DEFAULT_LANGUAGE, N_, Translator, translator
 from app.kit.core.common import Wrap
 from app.kit.draw.labels import LabelLayer
 from app.kit.draw.widgets import Body
 from app.kit.panel.gui import MessageLine, Quiet
 from app.kit.rigid.simulation import RigidBodySimulation, magnified_attitude
-from app.i18n import DEFAULT_LANGUAGE, N_, Translator, translator
 from app.kit.rigid.text import ghost_note
+from physics.dynamics import Model
 
 ENGLISH = translator(DEFAULT_LANGUAGE)
-from physics.dynamics import Model
 
 __all__ = ["GHOST_K_OPTIONS", "GHOST_OPACITY", "ExactGhost", "Translucent"]
 

@@ -37,8 +37,7 @@ def status_text(sim: RigidBodySimulation, playing: bool, time_scale: float, tr: 
     method = (_("{method} (closed form)").format(method=sim.integrator) if sim.method.reference
               else _("{method}, {n} sub-step(s)/frame").format(method=sim.integrator, n=sim.substeps)
               if sim.substeps else sim.integrator)
-    return "**t = {t} s** · {state} · {scale}× · {method}".format(
-        t=tr.decimal(sim.t, 2), state=state, scale=tr.general(time_scale), method=method)
+    return f"**t = {tr.decimal(sim.t, 2)} s** · {state} · {tr.general(time_scale)}× · {method}"
 
 
 def integrator_hint(model: Model, tr: Translator = ENGLISH) -> str:

@@ -16,8 +16,8 @@ from typing import Any
 
 import viser
 
-from app.i18n import N_, refusal_text
 from app.data import files_in, meshes_dir
+from app.i18n import N_, refusal_text
 from app.kit.core.common import Wrap, checked_value
 from app.kit.panel.binding import Refused
 from app.kit.view import SceneView
