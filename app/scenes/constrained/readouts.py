@@ -112,15 +112,15 @@ def readout_text(sim: ConstrainedSimulation, ev: Evaluation, tr: Translator = EN
              "",
              _("(5.7) virtual work C_i·∂x_i/∂q_j") + "  [" + ", ".join(units) + "]"]
     for i in range(system.n):
-        lines.append(f"{_('particle {n}').format(n=i + 1):<10}" + "".join(num(w) for w in ev.virtual_work[i]))
+        lines.append(_("particle {n}").format(n=i + 1).ljust(10) + "".join(num(w) for w in ev.virtual_work[i]))
     if system.n > 1:
-        lines.append(f"{_('sum'):<10}" + "".join(num(w) for w in ev.virtual_work.sum(axis=0)))
-    lines += ["", f"{_('(5.13) per coordinate'):<21}" + "  d/dt∂T/∂q̇   ∂T/∂q        Q_j   " + _("residual")]
+        lines.append(_("sum").ljust(10) + "".join(num(w) for w in ev.virtual_work.sum(axis=0)))
+    lines += ["", _("(5.13) per coordinate").ljust(21) + "  d/dt∂T/∂q̇   ∂T/∂q        Q_j   " + _("residual")]
     terms = ev.terms
     for j, name in enumerate(names):
         lines.append(f"{name:<21}" + num(terms.ddt_dT_dqdot[j]) + num(terms.dT_dq[j]) + num(terms.Q[j])
                      + f"{terms.residual[j]:11.1e}")
-    lines += ["", f"{_('forces [N]'):<10}" + "         x         y         z"]
+    lines += ["", _("forces [N]").ljust(10) + "         x         y         z"]
     for i in range(system.n):
         lines.append(f"F{i + 1}       " + "".join(num(c) for c in ev.F[i]))
         lines.append(f"C{i + 1}=mẍ−F  " + "".join(num(c) for c in ev.C[i]))

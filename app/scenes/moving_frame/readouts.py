@@ -43,33 +43,33 @@ def readout_text(sim: MovingFrameSimulation, report: ForceReport, x_body: Array,
 
     report: `sim.forces()` now; x_body: (3, 3) the particles' x′ now [m] (`sim.body_coordinates()`).
     """
-    tr_ = tr.gettext
+    _ = tr.gettext
     frame = sim.frame
     focus = sim.setup.focus
-    _, v_body = sim.body_coordinates()
+    v_body = sim.body_coordinates()[1]
     w = float(np.linalg.norm(frame.omega_body))
     residual = float(np.max(np.abs(report.residual[focus])))
     force_scale = max(1.0, float(np.max(np.abs(report.m_x_ddot_body[focus]))))
     phi, theta, psi = sim.angles_deg
-    held = tr_(" (stopped by the rim, now carried by it)") if focus == 0 and sim.caught_at is not None else ""
+    held = _(" (stopped by the rim, now carried by it)") if focus == 0 and sim.caught_at is not None else ""
     lines = [
-        tr_("C′ now: φ θ ψ = {phi}°, {theta}°, {psi}°").format(phi=format_deg(phi, 1), theta=f"{theta:.1f}",
+        _("C′ now: φ θ ψ = {phi}°, {theta}°, {psi}°").format(phi=format_deg(phi, 1), theta=f"{theta:.1f}",
                                                              psi=format_deg(psi, 1)) + "  \n"
-        + tr_("ω_b = {omega} rad/s, |ω| = {w} rad/s = {earth} × Earth's").format(
+        + _("ω_b = {omega} rad/s, |ω| = {w} rad/s = {earth} × Earth's").format(
             omega=format_vector(frame.omega_body), w=f"{w:.3f}", earth=f"{w / EARTH_OMEGA:,.0f}") + "  \n"
         f"a = {format_vector(frame.a)} m, ä = {format_vector(frame.a_ddot)} m/s²",
-        f"**{tr_(PARTICLES[focus])}**{held}: x′ = {format_vector(x_body[focus])} m, "
+        "**" + _(PARTICLES[focus]) + f"**{held}: x′ = {format_vector(x_body[focus])} m, "
         f"ẋ′ = {format_vector(v_body[focus])} m/s",
-        "```\n" + f"{tr_('force in C′ [N]'):<15}" + "     x′       y′       z′",
-        force_row(tr_("Dᵀ F (real)"), report.real[focus]),
+        "```\n" + _("force in C′ [N]").ljust(15) + "     x′       y′       z′",
+        force_row(_("Dᵀ F (real)"), report.real[focus]),
         force_row("−m Dᵀ ä", report.inertial.translational[focus]),
         force_row("−m ω̇ × x′", report.inertial.euler[focus]),
         force_row("−m ω×(ω×x′)", report.inertial.centrifugal[focus]),
         force_row("−2m ω × ẋ′", report.inertial.coriolis[focus]),
-        force_row(tr_("sum"), report.real[focus] + report.inertial.total[focus]),
+        force_row(_("sum"), report.real[focus] + report.inertial.total[focus]),
         force_row("m ẍ′", report.m_x_ddot_body[focus]),
         "```",
-        tr_("m ẍ′ from x′ = Dᵀ(x − a) differentiated (no (1.28)); |m ẍ′ − sum| = {residual} N "
+        _("m ẍ′ from x′ = Dᵀ(x − a) differentiated (no (1.28)); |m ẍ′ − sum| = {residual} N "
             "({relative} relative).").format(residual=f"{residual:.1e}", relative=f"{residual / force_scale:.1e}"),
     ]
     return "\n".join(lines)
