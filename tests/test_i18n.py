@@ -72,6 +72,12 @@ def test_the_catalog_compiles_and_keeps_every_placeholder_and_line_break(languag
     for message in catalog:
         if not message.id:
             continue
+        if isinstance(message.id, tuple):  # ngettext: singular and plural, each form compiled as written
+            singular, plural = message.id
+            forms = tuple(translations.ngettext(singular, plural, n) for n in (1, 2))
+            assert forms == tuple(message.string[:2]), message.id
+            assert all(_fields(form) == _fields(plural) for form in forms), message.id
+            continue
         shown = translations.gettext(message.id)
         assert shown == message.string, message.id  # compiled as written
         assert _fields(shown) == _fields(message.id), message.id

@@ -167,7 +167,8 @@ class HeavyTopView(RigidBodyView):
 
     def build_display_extras(self, gui: Any) -> None:
         _ = self.tr.gettext
-        self.gui_show_trace = gui.add_checkbox(_("Tip trace"), True, hint=_("the last {seconds} s of the z′ tip").format(
+        self.gui_show_trace = gui.add_checkbox(
+            _("Tip trace"), True, hint=_("the last {seconds} s of the z′ tip").format(
             seconds=self.tr.general(TRACE_SECONDS)))
         self.gui_show_trace.on_update(self._wrap("trace toggle", lambda _event: self._show_trace()))
 
@@ -184,7 +185,7 @@ class HeavyTopView(RigidBodyView):
             self._draw_energy(sim)
 
     # ------------------------------------------------------------------ the energy picture
-    extra_tabs = ("Energy",)
+    extra_tabs = (N_("Energy"),)
 
     def build_tab_extras(self, gui: Any) -> None:
         with self.tabs.tab("Energy"):

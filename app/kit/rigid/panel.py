@@ -105,7 +105,7 @@ class RigidBodyPanel(RigidBodyScene):
         param_specs = [spec.translated(tr) for spec in self.param_specs]
         self.build_head(_(self.intro), integrators=applicable(self.sim.model), on_integrator=self.set_integrator,
                         integrator=self.sim.integrator, integrator_hint=integrator_hint(self.sim.model, tr))
-        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange", *self.extra_tabs),
+        self.tabs = Tabs(gui, wrap, (N_("Setup"), N_("Readout"), N_("Plots"), N_("Lagrange"), *self.extra_tabs),
                          on_change=lambda _name: self.refresh(), tr=tr)
         with self.tabs.tab("Setup"):
             self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset,

@@ -64,11 +64,12 @@ class TorqueFreeView(RigidBodyView):
     )
     param_folder = N_("Body: principal moments [kg m²]")
     rate_specs = tuple(
-        SliderSpec(f"w{k + 1}", f"ω_{axis}′ [rad/s]", -10.0, 10.0, 0.01, hint,
+        SliderSpec(f"w{k + 1}", label, -10.0, 10.0, 0.01, hint,
                    ((-10.0, "-10"), (-5.0, "-5"), (0.0, "0"), (5.0, "5"), (10.0, "10")))
-        for k, (axis, hint) in enumerate((("x", N_("body component of ω along x′ (initial condition)")),
-                                          ("y", N_("body component of ω along y′ (initial condition)")),
-                                          ("z", N_("body component of ω along z′ (initial condition)"))))
+        for k, (label, hint) in enumerate((
+            (N_("ω_x′ [rad/s]"), N_("body component of ω along x′ (initial condition)")),
+            (N_("ω_y′ [rad/s]"), N_("body component of ω along y′ (initial condition)")),
+            (N_("ω_z′ [rad/s]"), N_("body component of ω along z′ (initial condition)"))))
     )
     rate_folder = N_("Angular velocity ω_b, body axes [rad/s]")
     hand_gizmos = ("omega", "L")  # ω and L set by dragging their tips (app.kit.rigid.hand)

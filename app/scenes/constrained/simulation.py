@@ -8,7 +8,8 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -49,7 +50,8 @@ GUIDE_POINTS = 73  # points of the drawn constraint curve (hoop, rod)
 
 _MASS = SliderSpec("m", N_("m [kg]"), 0.1, 5.0, 0.1, N_("the particle's mass"))
 _G = SliderSpec("g", N_("g [m/s²]"), 0.0, 20.0, 0.01, N_("gravity, along −z"))
-_FORCE_SCALE = SliderSpec("force_scale", N_("arrow scale [m/N]"), 0.005, 0.5, 0.005, N_("length of a force arrow per newton"))
+_FORCE_SCALE = SliderSpec("force_scale", N_("arrow scale [m/N]"), 0.005, 0.5, 0.005,
+                          N_("length of a force arrow per newton"))
 
 
 @dataclass(frozen=True)
@@ -72,12 +74,30 @@ class Kind:
         return self.build(*params[:-1])
 
 
+COORDINATE_HINT = N_("the generalized coordinate {q}")
+VELOCITY_HINT = N_("the generalized velocity {q_dot}")
+"""The hints of a coordinate's and a velocity's slider ({q}: "θ", {q_dot}: "dθ/dt"), translated by the view."""
+
+
 def _angle(key: str, label: str, lo: float = -180.0, hi: float = 180.0) -> SliderSpec:
-    return SliderSpec(key, f"{label} [deg]", lo, hi, 0.5, f"the generalized coordinate {label}")
+    return SliderSpec(key, f"{label} [deg]", lo, hi, 0.5, COORDINATE_HINT.format(q=label))
 
 
 def _rate(key: str, label: str) -> SliderSpec:
-    return SliderSpec(key, f"d{label}/dt [deg/s]", -1440.0, 1440.0, 1.0, f"the generalized velocity d{label}/dt")
+    return SliderSpec(key, f"d{label}/dt [deg/s]", -1440.0, 1440.0, 1.0, VELOCITY_HINT.format(q_dot=f"d{label}/dt"))
+
+
+def translated_state_spec(spec: SliderSpec, tr: Any) -> SliderSpec:
+    """A coordinate's or velocity's slider spec (`_angle`, `_rate`) in the language of `tr`
+    (`app.i18n.Translator`): its hint from the template, its label (a symbol and a unit) as it is."""
+    symbol = spec.label.split(" [", 1)[0]
+    if spec.hint == COORDINATE_HINT.format(q=symbol):
+        hint = tr.gettext(COORDINATE_HINT).format(q=symbol)
+    elif spec.hint == VELOCITY_HINT.format(q_dot=symbol):
+        hint = tr.gettext(VELOCITY_HINT).format(q_dot=symbol)
+    else:
+        hint = tr.gettext(spec.hint)
+    return replace(spec.translated(tr), hint=hint)
 
 
 KINDS: dict[str, Kind] = {k.key: k for k in (

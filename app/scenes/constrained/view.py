@@ -55,6 +55,7 @@ from app.scenes.constrained.simulation import (
     ConstrainedSimulation,
     load_constrained_presets,
     setup_of,
+    translated_state_spec,
 )
 from app.viser_internals import set_points, set_position, set_scale
 from physics._types import Array
@@ -183,7 +184,8 @@ class ConstrainedView(SceneView):
             "### Constrained particles (memo §2, §5)\n"
             "x_i = x_i(q, t) (5.1).  Teal/violet: virtual displacements ∂x_i/∂q_j δq (5.6); black: applied "
             "force F; red: constraint force **C = m ẍ − F**, with **C · ∂x/∂q_j = 0** (5.7)."))
-        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots"), on_change=lambda _name: self.refresh(), tr=tr)
+        self.tabs = Tabs(gui, wrap, (N_("Setup"), N_("Readout"), N_("Plots")), on_change=lambda _name: self.refresh(),
+                         tr=tr)
         with self.tabs.tab("Setup"):
             self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset,
                                           tr=tr)
@@ -210,8 +212,8 @@ class ConstrainedView(SceneView):
         sim = self.sim
         kind = sim.setup.kind_spec
         tr = self.tr
-        q_specs = [spec.translated(tr) for spec in kind.q_specs]
-        rate_specs = [spec.translated(tr) for spec in kind.rate_specs]
+        q_specs = [translated_state_spec(spec, tr) for spec in kind.q_specs]
+        rate_specs = [translated_state_spec(spec, tr) for spec in kind.rate_specs]
         param_specs = [spec.translated(tr) for spec in kind.param_specs]
         with self.folder_state:
             self.gui_q = [add_slider(gui, spec, value) for spec, value in zip(q_specs, sim.setup.q_shown)]
@@ -235,7 +237,8 @@ class ConstrainedView(SceneView):
                 PlotSpec("q(t)", ("q1", "q2")[: system.m],
                          tuple(f"{c} [{u}]" for c, u in zip(system.coordinates, units)),
                          ("#1e6ed8", "#dc7814")[: system.m]),
-                PlotSpec(tr.gettext("h = T₂ − T₀ + V and T + V [J]"), ("h", "E"), ("h [J]", "T + V [J]"), ("#1b9e3a", "#888888")),
+                PlotSpec(tr.gettext("h = T₂ − T₀ + V and T + V [J]"), ("h", "E"), ("h [J]", "T + V [J]"),
+                         ("#1b9e3a", "#888888")),
                 PlotSpec("|h − h₀| / (|T| + |V|)₀ (log10)", ("drift",), ("drift",), ("#c0392b",), log=True),
             ]
             self.plots = LivePlots(gui, sim.samples, specs, height=170)

@@ -16,9 +16,9 @@ import numpy as np
 
 from app.i18n import DEFAULT_LANGUAGE, Translator, translator
 from app.kit.core.common import format_matrix
+from physics._types import Vec3
 
 ENGLISH = translator(DEFAULT_LANGUAGE)
-from physics._types import Vec3
 
 __all__ = ["key_numbers_text", "readout_text", "spin_text"]
 

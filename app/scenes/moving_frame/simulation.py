@@ -52,12 +52,15 @@ PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at m
 _DEG = ((-360.0, "-360"), (0.0, "0"), (360.0, "360"))
 PARAM_SPECS = (
     # The frame C′ (an edit restarts the run at t = 0).
-    SliderSpec("phi_dot", N_("dφ/dt [deg/s]"), -360.0, 360.0, 1.0, N_("precession rate of C′ about space z at t = 0"), _DEG),
+    SliderSpec("phi_dot", N_("dφ/dt [deg/s]"), -360.0, 360.0, 1.0, N_("precession rate of C′ about space z at t = 0"),
+               _DEG),
     SliderSpec("theta_dot", N_("dθ/dt [deg/s]"), -180.0, 180.0, 1.0, N_("nutation rate of C′ (constant)")),
     SliderSpec("psi_dot", N_("dψ/dt [deg/s]"), -720.0, 720.0, 1.0, N_("spin rate of C′ about its own z′ (constant)")),
-    SliderSpec("phi_ddot", N_("d²φ/dt² [deg/s²]"), -30.0, 30.0, 0.5, N_("angular acceleration of φ (a turntable speeding up)")),
+    SliderSpec("phi_ddot", N_("d²φ/dt² [deg/s²]"), -30.0, 30.0, 0.5,
+               N_("angular acceleration of φ (a turntable speeding up)")),
     SliderSpec("spin_up", N_("speeds up for [s]"), 1.0, 600.0, 1.0,
-               N_("d²φ/dt² acts this long, then dφ/dt holds (a motor that speeds the turntable up, then keeps the speed)")),
+               N_("d²φ/dt² acts this long, then dφ/dt holds (a motor that speeds the turntable up, "
+                  "then keeps the speed)")),
     SliderSpec("offset", N_("origin offset h [m]"), 0.0, 3.0, 0.05,
                N_("C′'s origin is D (0, 0, h) from the line: on a globe of radius h, or up a top's axis")),
     SliderSpec("line_accel", N_("line acceleration A [m/s²]"), -2.0, 2.0, 0.05,
@@ -75,9 +78,11 @@ PARAM_SPECS = (
     SliderSpec("rider_y", N_("at rest: y′ [m]"), -3.0, 3.0, 0.05, N_("where the particle at rest sits in C′")),
     SliderSpec("anchor_x", N_("spring anchor x′ [m]"), -3.0, 3.0, 0.05, N_("the spring's anchor, fixed in C′")),
     SliderSpec("anchor_y", N_("spring anchor y′ [m]"), -3.0, 3.0, 0.05, N_("the spring's anchor, fixed in C′")),
-    SliderSpec("stretch_x", N_("spring stretch x′ [m]"), -2.0, 2.0, 0.05, N_("the particle starts here from the anchor, "
+    SliderSpec("stretch_x", N_("spring stretch x′ [m]"), -2.0, 2.0, 0.05,
+               N_("the particle starts here from the anchor, "
                   "at rest in C′")),
-    SliderSpec("stretch_y", N_("spring stretch y′ [m]"), -2.0, 2.0, 0.05, N_("the particle starts here from the anchor, "
+    SliderSpec("stretch_y", N_("spring stretch y′ [m]"), -2.0, 2.0, 0.05,
+               N_("the particle starts here from the anchor, "
                   "at rest in C′")),
     SliderSpec("disc_radius", N_("disc radius [m]"), 0.0, 3.0, 0.05,
                N_("the disc in C′'s x′y′ plane; its rim stops the free particle and carries it (0: no disc)")),

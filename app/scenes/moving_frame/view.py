@@ -266,7 +266,8 @@ class MovingFrameView(SceneView):
             particle_sliders = [self._slider(gui, key) for key in PARTICLE_KEYS]
         self.folder_display = gui.add_folder(_("Display"), expand_by_default=False)
         with self.folder_display:
-            self.gui_show_paths = gui.add_checkbox(_("Paths"), True, hint=_("pale: in C; dark: in C′ (what a rider sees)"))
+            self.gui_show_paths = gui.add_checkbox(_("Paths"), True,
+                                                   hint=_("pale: in C; dark: in C′ (what a rider sees)"))
             self.gui_show_forces = gui.add_checkbox(_("Force arrows"), True)
             display_sliders = [self._slider(gui, key) for key in DISPLAY_KEYS[:1]]
             self.gui_reset_view = gui.add_button(_("Reset view"), icon=viser.Icon.CAMERA)

@@ -135,7 +135,8 @@ class PoinsotView(TorqueFreeView):
         self.radii = scene.add_line_segments(f"{root}/plane/radii", idle, HERPOLHODE_COLOR, thickness=1.0,
                                              thickness_units="screen")
         self.plane_label = self.labels.add(
-            scene.add_label(f"{root}/plane/label", self.tr.gettext("invariable plane"), position=(0.8 * h, 0.8 * h, 0.0),
+            scene.add_label(f"{root}/plane/label", self.tr.gettext("invariable plane"),
+                            position=(0.8 * h, 0.8 * h, 0.0),
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
         self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"],
