@@ -17,9 +17,11 @@ import viser
 from babel.messages.pofile import read_po
 from babel.support import Translations
 
-from app.i18n import catalog_bytes, compile_po, for_gui, language_named, translator
+from app.i18n import catalog_bytes, compile_po, for_gui, language_named, refusal_text, translator
 from app.main import _parse_args, create_server
 from app.scenes import SCENES
+from physics.inertia import InertiaError, validate_principal_moments
+from physics.methods import methods
 from scripts import i18n_catalogs
 from tests.conftest import RawClient, poll_until
 
@@ -169,6 +171,7 @@ def _texts_here(handle: Any) -> list[tuple[str, str]]:
 
 WORD = re.compile(r"[A-Za-z]{3,}")
 SYMBOLS_ONLY = {"English", "Nederlands", "Deutsch"}  # the Language dropdown names each language in its own
+METHOD_NAMES = set(methods())  # the integrator menu's options: physics' names, as the CLI takes them
 
 
 @pytest.fixture
@@ -239,8 +242,46 @@ def test_every_scenes_panel_built_in_another_language_shows_no_english(hall: Any
     assert [(what, text) for what, text in shown if text in changed] == []
     english_texts = {text for _, text in _translated_part(english)}
     same = sorted({text for _, text in shown if text in english_texts and WORD.search(text)
-                   and text not in SYMBOLS_ONLY and text not in msgids - changed})
+                   and text not in SYMBOLS_ONLY | METHOD_NAMES and text not in msgids - changed})
     assert same == []
+
+
+def test_a_refusal_from_physics_keeps_its_english_words_and_carries_what_a_translation_needs() -> None:
+    """physics stays English (its CLI, `str(error)`); the app translates the template it carries."""
+    with pytest.raises(InertiaError) as caught:
+        validate_principal_moments((1.0, 1.0, 3.0))
+    error = caught.value
+    assert str(error) == "I1 + I2 >= I3 fails: 1 + 1 < 3"
+    assert refusal_text(error, translator("en")) == str(error)
+    assert refusal_text(error, translator("nl")) == "I1 + I2 >= I3 geldt niet: 1 + 1 < 3"
+    assert refusal_text(error, translator("de")) == "I1 + I2 >= I3 gilt nicht: 1 + 1 < 3"
+    assert refusal_text(ValueError("plain words"), translator("de")) == "plain words"
+
+
+@pytest.mark.parametrize(("language", "refused", "reason"), [
+    ("nl", "Geen star lichaam", "I1 + I2 >= I3 geldt niet: 1 + 1 < 3"),
+    ("de", "Kein starrer Körper", "I1 + I2 >= I3 gilt nicht: 1 + 1 < 3"),
+])
+def test_a_refusal_from_physics_shows_in_the_browsers_language(hall: Any, language: str, refused: str,
+                                                              reason: str) -> None:
+    """A non-physical body typed into the Free body panel (I3 = 3 with I1 = I2 = 1, as a browser
+    sends it): physics' InertiaError said in that browser's language, prefix and reason; nothing changes."""
+    app, join = hall
+    session = join()
+    session.set_language(language)
+    session.select_scene("Free body")
+    view = session.scene
+    view._param_edit(0)(1.0)
+    view._param_edit(1)(1.0)
+    for index, value in enumerate((1.0, 1.0, 2.0)):
+        app.raw_clients[session.client_id].set_value(view.gui_params[index], value)
+    poll_until(lambda: tuple(view.sim.model.inertia) == (1.0, 1.0, 2.0), timeout=10.0)
+    app.raw_clients[session.client_id].set_value(view.gui_params[2], 3.0)
+    note = poll_until(lambda: view.message.text if reason in view.message.text else None, timeout=10.0)
+    assert refused in note and "fails" not in note and "refused" not in note.lower()
+    assert reason in view.gui_param_status.content and "Each moment" not in view.gui_param_status.content
+    assert tuple(view.sim.model.inertia) == (1.0, 1.0, 2.0)  # refused: the last valid body keeps moving
+    assert session.error_count == 0, session.last_error
 
 
 def test_switching_language_relabels_that_browser_only_and_changes_nothing_of_its_room(hall: Any) -> None:
