@@ -1,0 +1,73 @@
+"""The command line's words (`rigid-body-lab --help`, its errors and what it prints) in the
+user's language.
+
+The CLI's language: `--language` when the command line gives one (it is also the browsers'
+default), else the environment's locale as gettext reads it (LANGUAGE, LC_ALL, LC_MESSAGES,
+LANG: "nl_NL.UTF-8" -> Dutch), else English.  `python -m physics` (a library's CLI) stays English.
+
+`Parser` is an `argparse.ArgumentParser` whose own words (the usage line, the options' heading,
+`-h`'s help, "error:") come from the app's catalogs too; argparse's messages about a bad value
+("invalid choice: ...") stay Python's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Mapping, Sequence
+from typing import Any, NoReturn
+
+from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, N_, Translator, translator
+
+__all__ = ["Parser", "cli_language", "cli_translator"]
+
+LOCALE_VARIABLES = ("LANGUAGE", "LC_ALL", "LC_MESSAGES", "LANG")
+"""Where gettext looks for the user's language, in its order (LANGUAGE may list several: "nl:de")."""
+
+
+def cli_language(argv: Sequence[str], environ: Mapping[str, str] | None = None) -> str:
+    """The code of the CLI's language: `--language X` (or `--language=X`) in `argv` if X is one
+    of LANGUAGES, else the first of the locale variables that names one, else English."""
+    for index, word in enumerate(argv):
+        given = argv[index + 1] if word == "--language" and index + 1 < len(argv) else \
+            word.split("=", 1)[1] if word.startswith("--language=") else None
+        if given in LANGUAGES:
+            return given
+    environ = os.environ if environ is None else environ
+    for variable in LOCALE_VARIABLES:
+        for entry in (environ.get(variable) or "").split(":"):
+            code = entry.split(".", 1)[0].split("@", 1)[0].split("_", 1)[0].lower()
+            if code in LANGUAGES:
+                return code
+            if entry and variable != "LANGUAGE":
+                return DEFAULT_LANGUAGE  # "C", "en_US", "fr_FR": a locale is set, not one of ours
+    return DEFAULT_LANGUAGE
+
+
+def cli_translator(argv: Sequence[str], environ: Mapping[str, str] | None = None) -> Translator:
+    """The translator of the CLI's language (`cli_language`)."""
+    return translator(cli_language(argv, environ))
+
+
+USAGE, OPTIONS, HELP = N_("usage: "), N_("options"), N_("show this help message and exit")
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser speaking `tr` (its own words; the arguments' help is the caller's to translate)."""
+
+    def __init__(self, *args: Any, tr: Translator, **kwargs: Any) -> None:
+        self.tr = tr
+
+        class Formatter(argparse.HelpFormatter):
+            def add_usage(self, usage: Any, actions: Any, groups: Any, prefix: str | None = None) -> None:
+                super().add_usage(usage, actions, groups, tr.gettext(USAGE) if prefix is None else prefix)
+
+        super().__init__(*args, add_help=False, formatter_class=Formatter, **kwargs)
+        self._optionals.title = tr.gettext(OPTIONS)
+        self.add_argument("-h", "--help", action="help", default=argparse.SUPPRESS, help=tr.gettext(HELP))
+
+    def error(self, message: str) -> NoReturn:
+        """Print the usage and the error (its prefix translated) to stderr; exit 2."""
+        self.print_usage(sys.stderr)
+        self.exit(2, self.tr.gettext("{prog}: error: {message}").format(prog=self.prog, message=message) + "\n")
