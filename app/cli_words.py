@@ -1,9 +1,11 @@
 """The command line's words (`rigid-body-lab --help`, its errors and what it prints) in the
 user's language.
 
-The CLI's language: `--language` when the command line gives one (it is also the browsers'
-default), else the environment's locale as gettext reads it (LANGUAGE, LC_ALL, LC_MESSAGES,
-LANG: "nl_NL.UTF-8" -> Dutch), else English.  `python -m physics` (a library's CLI) stays English.
+The CLI's language is `--language` (the same option that sets a new browser's language): when the
+command line gives one of LANGUAGES, its help, errors and start line are in it; else English.
+Not the environment's locale (LANG): the app's own output then never depends on the shell it was
+started from (scripts and tests that read it see English), and one option says it all
+(`rigid-body-lab --language nl --help`).  `python -m physics` (a library's CLI) stays English.
 
 `Parser` is an `argparse.ArgumentParser` whose own words (the usage line, the options' heading,
 `-h`'s help, "error:") come from the app's catalogs too; argparse's messages about a bad value
@@ -13,41 +15,28 @@ LANG: "nl_NL.UTF-8" -> Dutch), else English.  `python -m physics` (a library's C
 from __future__ import annotations
 
 import argparse
-import os
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, N_, Translator, translator
 
 __all__ = ["Parser", "cli_language", "cli_translator"]
 
-LOCALE_VARIABLES = ("LANGUAGE", "LC_ALL", "LC_MESSAGES", "LANG")
-"""Where gettext looks for the user's language, in its order (LANGUAGE may list several: "nl:de")."""
-
-
-def cli_language(argv: Sequence[str], environ: Mapping[str, str] | None = None) -> str:
-    """The code of the CLI's language: `--language X` (or `--language=X`) in `argv` if X is one
-    of LANGUAGES, else the first of the locale variables that names one, else English."""
+def cli_language(argv: Sequence[str]) -> str:
+    """The code of the CLI's language: X of `--language X` (or `--language=X`) in `argv` if it is
+    one of LANGUAGES, else English."""
     for index, word in enumerate(argv):
         given = argv[index + 1] if word == "--language" and index + 1 < len(argv) else \
             word.split("=", 1)[1] if word.startswith("--language=") else None
         if given in LANGUAGES:
             return given
-    environ = os.environ if environ is None else environ
-    for variable in LOCALE_VARIABLES:
-        for entry in (environ.get(variable) or "").split(":"):
-            code = entry.split(".", 1)[0].split("@", 1)[0].split("_", 1)[0].lower()
-            if code in LANGUAGES:
-                return code
-            if entry and variable != "LANGUAGE":
-                return DEFAULT_LANGUAGE  # "C", "en_US", "fr_FR": a locale is set, not one of ours
     return DEFAULT_LANGUAGE
 
 
-def cli_translator(argv: Sequence[str], environ: Mapping[str, str] | None = None) -> Translator:
+def cli_translator(argv: Sequence[str]) -> Translator:
     """The translator of the CLI's language (`cli_language`)."""
-    return translator(cli_language(argv, environ))
+    return translator(cli_language(argv))
 
 
 USAGE, OPTIONS, HELP = N_("usage: "), N_("options"), N_("show this help message and exit")

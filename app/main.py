@@ -443,8 +443,8 @@ def _parse_args(argv: Sequence[str] | None, tr: Translator | None = None) -> arg
                                "lecture (also read from ${variable})").format(variable=REDIS_ENV))
     parser.add_argument("--language", choices=tuple(LANGUAGES), default=DEFAULT_LANGUAGE,
                         help=_("the language a new browser's panel starts in, and this command's: {languages} "
-                               "(default %(default)s, or the environment's LANG for this command; each browser "
-                               "may choose its own in the Language dropdown)").format(
+                               "(default %(default)s; each browser may choose its own in the Language dropdown)"
+                               ).format(
                             languages=", ".join(f"{code} ({name})" for code, name in LANGUAGES.items())))
     parser.add_argument("--worker-id", metavar="ID", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)

@@ -17,7 +17,7 @@ import viser
 from babel.messages.pofile import read_po
 from babel.support import Translations
 
-from app.cli_words import LOCALE_VARIABLES, cli_language
+from app.cli_words import cli_language
 from app.i18n import catalog_bytes, compile_po, for_gui, language_named, refusal_text, translator
 from app.main import _parse_args, create_server
 from app.scenes import SCENES
@@ -113,42 +113,34 @@ def test_language_option_chooses_the_default_and_refuses_another() -> None:
         create_server("127.0.0.1", 0, verbose=False, start_loop=False, language="fr")
 
 
-def _help(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], argv: list[str],
-          **environ: str) -> str:
-    """`rigid-body-lab <argv> --help` as printed, with only the locale variables `environ` set."""
-    for variable in LOCALE_VARIABLES:
-        monkeypatch.delenv(variable, raising=False)
-    for variable, value in environ.items():
-        monkeypatch.setenv(variable, value)
+def _help(capsys: pytest.CaptureFixture[str], argv: list[str]) -> str:
+    """`rigid-body-lab <argv> --help` as printed."""
     with pytest.raises(SystemExit):
         _parse_args([*argv, "--help"])
     return capsys.readouterr().out
 
 
-def test_the_command_lines_help_in_dutch_from_the_environment_or_language(monkeypatch: pytest.MonkeyPatch,
-                                                                           capsys: pytest.CaptureFixture[str]) -> None:
-    dutch = _help(monkeypatch, capsys, [], LANG="nl_NL.UTF-8")
+def test_the_command_lines_help_in_dutch_with_language(monkeypatch: pytest.MonkeyPatch,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """`--language nl --help`: the help (argparse's own words too) in Dutch; the shell's locale
+    changes nothing (LANG=de: still Dutch; no --language: English)."""
+    monkeypatch.setenv("LANG", "de_DE.UTF-8")
+    dutch = _help(capsys, ["--language", "nl"])
     assert dutch.startswith("gebruik: rigid-body-lab") and "\nopties:\n" in dutch
     assert "toon deze hulptekst en stop" in dutch and "Mechanica van starre lichamen" in dutch
     english_words = ("usage:", "options:", "show this help", "interface to bind", "in a browser",
                      "the language a new", "where own presets", "serve with N", "projector layout")
     assert [words for words in english_words if words in " ".join(dutch.split())] == []
-    assert _help(monkeypatch, capsys, ["--language", "nl"], LANG="C.UTF-8") == dutch  # --language wins
-    german = _help(monkeypatch, capsys, ["--language=de"], LANG="nl_NL.UTF-8")
+    german = _help(capsys, ["--language=de"])
     assert german.startswith("Aufruf: ") and "diese Hilfe anzeigen und beenden" in german
-    english = _help(monkeypatch, capsys, [], LANG="fr_FR.UTF-8")
+    english = _help(capsys, [])
     assert english.startswith("usage: ") and "show this help message and exit" in english
-    assert cli_language([], {"LANGUAGE": "fr:de", "LANG": "nl_NL"}) == "de"
-    assert cli_language([], {}) == "en" and cli_language(["--language", "xx"], {"LANG": "de_DE"}) == "de"
+    assert cli_language(["--language", "xx"]) == "en" and cli_language(["--port", "1", "--language", "de"]) == "de"
 
 
-def test_the_command_lines_errors_in_its_language(monkeypatch: pytest.MonkeyPatch,
-                                                  capsys: pytest.CaptureFixture[str]) -> None:
-    for variable in LOCALE_VARIABLES:
-        monkeypatch.delenv(variable, raising=False)
-    monkeypatch.setenv("LANG", "de_DE.UTF-8")
+def test_the_command_lines_errors_in_its_language(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as caught:
-        _parse_args(["--workers", "0"])
+        _parse_args(["--language", "de", "--workers", "0"])
     assert caught.value.code == 2
     err = capsys.readouterr().err
     assert err.startswith("Aufruf: ") and "rigid-body-lab: Fehler: --workers braucht mindestens 1" in err
