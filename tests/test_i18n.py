@@ -306,6 +306,24 @@ def test_a_refusal_from_physics_shows_in_the_browsers_language(hall: Any, langua
     assert session.error_count == 0, session.last_error
 
 
+def test_a_preset_button_shows_its_name_translated_and_starts_the_english_preset(hall: Any) -> None:
+    """The Heavy top's "Sleeping" in a German browser: the button reads "Schlafend", a click (as
+    the browser sends it) starts the preset "Sleeping", the note is German; the API keeps English."""
+    app, join = hall
+    german = join()
+    german.set_language("de")
+    german.select_scene("Heavy top")
+    row = german.scene.presets_row
+    group = next(g for g in row.groups if "Schlafend" in g._impl.props.options)
+    assert group.label == "Aufrecht" and "Sleeping" not in group._impl.props.options
+    app.raw_clients[german.client_id].set_value(group, "Schlafend")
+    poll_until(lambda: german.room.sim.preset == "Sleeping", timeout=10.0)
+    assert row.gui_note.content.startswith("**Schlafend.** Fast aufrecht und schnell")
+    german.apply_preset("Too slow")
+    assert german.room.sim.preset == "Too slow" and row.gui_note.content.startswith("**Zu langsam.**")
+    assert german.error_count == 0, german.last_error
+
+
 def test_switching_language_relabels_that_browser_only_and_changes_nothing_of_its_room(hall: Any) -> None:
     app, join = hall
     dutch, english = join(), join()
