@@ -45,14 +45,14 @@ USAGE, OPTIONS, HELP = N_("usage: "), N_("options"), N_("show this help message 
 class Parser(argparse.ArgumentParser):
     """An ArgumentParser speaking `tr` (its own words; the arguments' help is the caller's to translate)."""
 
-    def __init__(self, *args: Any, tr: Translator, **kwargs: Any) -> None:
+    def __init__(self, prog: str, description: str, *, tr: Translator) -> None:
         self.tr = tr
 
         class Formatter(argparse.HelpFormatter):
             def add_usage(self, usage: Any, actions: Any, groups: Any, prefix: str | None = None) -> None:
                 super().add_usage(usage, actions, groups, tr.gettext(USAGE) if prefix is None else prefix)
 
-        super().__init__(*args, add_help=False, formatter_class=Formatter, **kwargs)
+        super().__init__(prog=prog, description=description, add_help=False, formatter_class=Formatter)
         self._optionals.title = tr.gettext(OPTIONS)
         self.add_argument("-h", "--help", action="help", default=argparse.SUPPRESS, help=tr.gettext(HELP))
 
