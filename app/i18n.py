@@ -160,12 +160,14 @@ def refusal_text(error: BaseException, tr: Translator) -> str:
     an English template marked where it is raised, and its fields) translated and filled in; any
     other error's own words (English)."""
     template, fields = getattr(error, "template", None), getattr(error, "fields", None)
-    if isinstance(template, str) and isinstance(fields, dict) and fields:
-        try:
-            return tr.gettext(template).format(**fields)
-        except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: physics' words
-            return str(error)
-    return str(error)
+    if not (isinstance(template, str) and isinstance(fields, dict)):
+        return str(error)
+    if not fields:  # the template is the message as it is (no placeholders filled)
+        return tr.gettext(template)
+    try:
+        return tr.gettext(template).format(**fields)
+    except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: physics' words
+        return str(error)
 
 
 @functools.cache

@@ -30,6 +30,7 @@ from physics.inertia import (
     validate_principal_moments,
 )
 from physics.meshfile import read_mesh_bytes
+from physics.refusal import Refusal
 
 __all__ = ["COORD_LIMIT", "EQUAL_RTOL", "FREE_BODY_MOMENTS", "MASS_SPEC", "MAX_FACES", "MAX_MASSES",
            "MAX_UPLOAD_BYTES", "MESH_DENSITY_RANGE", "MESH_DISPLAY_SIZE", "MESH_MASS_RANGE", "MESH_SUFFIXES",
@@ -55,16 +56,18 @@ def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
     merged (an STL repeats them per face), faces are kept as they are: an open or inside-out mesh
     is left for `mesh_mass_properties` to refuse, never repaired."""
     if len(content) > MAX_UPLOAD_BYTES:
-        raise MeshError(f"{name}: {len(content) / 2**20:.1f} MiB is larger than {MAX_UPLOAD_BYTES / 2**20:.0f} MiB")
+        raise MeshError(N_("{name}: {size} MiB is larger than {most} MiB"), name=name,
+                        size=f"{len(content) / 2**20:.1f}", most=f"{MAX_UPLOAD_BYTES / 2**20:.0f}")
     kind = name.rsplit(".", 1)[-1].lower() if "." in name else ""
     if kind not in MESH_SUFFIXES:
-        raise MeshError(f"{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)")
+        raise MeshError(N_("{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)"), name=name)
     try:
         vertices, faces = read_mesh_bytes(name, content)  # the same reader as python -m physics inertia
     except MeshError as error:
-        raise MeshError(f"{name}: unreadable ({str(error).split(' (', 1)[-1].rstrip(')')})") from None
+        raise MeshError(N_("{name}: unreadable ({reason})"), name=name,
+                        reason=str(error).split(" (", 1)[-1].rstrip(")")) from None
     if len(faces) > MAX_FACES:
-        raise MeshError(f"{name}: {len(faces)} faces, more than {MAX_FACES}")
+        raise MeshError(N_("{name}: {faces} faces, more than {most}"), name=name, faces=len(faces), most=MAX_FACES)
     return vertices, faces
 
 
@@ -148,8 +151,9 @@ class InertiaSystem:
         value: Any = mass if mass is not None else density
         (lo, hi), unit = (MESH_MASS_RANGE, "kg") if mass is not None else (MESH_DENSITY_RANGE, "kg/m³")
         if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
-            raise ValueError(f"{'mass' if mass is not None else 'density'} {value!r} {unit}: "
-                             f"a number from {lo:g} to {hi:g} wanted")
+            raise Refusal(N_("mass {value} {unit}: a number from {lo} to {hi} wanted") if mass is not None else
+                          N_("density {value} {unit}: a number from {lo} to {hi} wanted"),
+                          value=repr(value), unit=unit, lo=f"{lo:g}", hi=f"{hi:g}")
         return float(value) if mass is not None else float(value) * volume
 
     def set_about(self, about: Vec3 | None) -> None:
