@@ -1,6 +1,6 @@
 """The translation catalogs (app/locale, `app.i18n`): extract, update, compile, check.
 
-    python scripts/i18n_catalogs.py extract   # app/**.py, physics/**.py (babel.cfg), assets/presets -> app/locale/messages.pot
+    python scripts/i18n_catalogs.py extract   # app/**.py, physics/**.py (babel.cfg), assets/presets -> messages.pot
     python scripts/i18n_catalogs.py update    # the .pot merged into every app/locale/<lang>/LC_MESSAGES/messages.po
     python scripts/i18n_catalogs.py compile   # every .po -> its .mo beside it (the wheel's build does this too)
     python scripts/i18n_catalogs.py check     # exit 1 naming every entry untranslated or fuzzy
