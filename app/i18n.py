@@ -45,6 +45,7 @@ __all__ = [
     "for_gui",
     "language_named",
     "locale_dir",
+    "refusal_text",
     "set_translator",
     "translator",
 ]
@@ -152,6 +153,21 @@ class Translator:
 
     def __repr__(self) -> str:
         return f"Translator({self.language!r})"
+
+
+def refusal_text(error: BaseException, tr: Translator) -> str:
+    """What `error` says, in the language of `tr`: a refusal from `physics` (`physics.refusal.Refusal`:
+    an English template marked where it is raised, and its fields) translated and filled in; any
+    other error's own words (English)."""
+    template, fields = getattr(error, "template", None), getattr(error, "fields", None)
+    if not (isinstance(template, str) and isinstance(fields, dict)):
+        return str(error)
+    if not fields:  # the template is the message as it is (no placeholders filled)
+        return tr.gettext(template)
+    try:
+        return tr.gettext(template).format(**fields)
+    except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: physics' words
+        return str(error)
 
 
 @functools.cache

@@ -43,6 +43,7 @@ from pathlib import Path
 from typing import Any
 
 from app.cluster.services import MissingProgram, free_port, require, start_redis, stop_process, wait_for_port
+from app.i18n import DEFAULT_LANGUAGE, translator
 from app.lecture.gate import new_code
 from app.userdata import default_data_dir
 
@@ -258,6 +259,8 @@ def launch_main(args: argparse.Namespace) -> int:
     """`--workers N` (the options of `app.main._parse_args`): start, serve until Ctrl-C or
     SIGTERM, stop everything; the exit status."""
     code = args.presenter_code or new_code()
+    tr = translator(getattr(args, "language", DEFAULT_LANGUAGE))  # the command line's language (app.cli_words)
+    _ = tr.gettext
     launch = Launch()
     handlers = {sig: signal.signal(sig, _interrupt)  # SIGINT also when started with it ignored (in the background)
                 for sig in (signal.SIGTERM, signal.SIGINT)}
@@ -269,15 +272,18 @@ def launch_main(args: argparse.Namespace) -> int:
             print(f"rigid-body-lab: {error}", file=sys.stderr, flush=True)
             return 2
         except RuntimeError as error:
-            print(f"rigid-body-lab: could not start: {error}", file=sys.stderr, flush=True)
+            print("rigid-body-lab: " + _("could not start: {reason}").format(reason=error), file=sys.stderr,
+                  flush=True)
             return 1
-        workers = f"{args.workers} worker{'s' if args.workers != 1 else ''}"
-        print(f"open http://{args.host}:{args.port} in a browser; presenter code: {code}  "
-              f"({workers} behind nginx, pid {os.getpid()})", flush=True)
+        opened = _("open {url} in a browser; presenter code: {code}").format(url=f"http://{args.host}:{args.port}",
+                                                                            code=code)
+        behind = tr.ngettext("({n} worker behind nginx, pid {pid})", "({n} workers behind nginx, pid {pid})",
+                             args.workers).format(n=args.workers, pid=os.getpid())
+        print(f"{opened}  {behind}", flush=True)
         while True:
             reason = launch.check()
             if reason is not None:
-                print(f"rigid-body-lab: {reason}; stopping", file=sys.stderr, flush=True)
+                print("rigid-body-lab: " + _("{reason}; stopping").format(reason=reason), file=sys.stderr, flush=True)
                 return 1
             time.sleep(POLL_S)
     except KeyboardInterrupt:

@@ -29,8 +29,9 @@ from typing import Any
 import viser
 
 from app.backpressure import FramePacer, PacerStats
+from app.cli_words import Parser, cli_translator
 from app.export import export_main
-from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, translator
+from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, Translator, translator
 from app.kit.core.presets import PresetError
 from app.kit.core.room import Room
 from app.lecture.gate import Gate, guess_chance, normalize_code
@@ -415,49 +416,55 @@ def create_server(
     return app
 
 
-def _parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(
-        prog="rigid-body-lab", description="Rigid-body mechanics in the browser (viser)."
-    )
+def _parse_args(argv: Sequence[str] | None, tr: Translator | None = None) -> argparse.Namespace:
+    """The command line `argv` (None: sys.argv's), its help and errors in the language of `tr`
+    (None: the CLI's, `app.cli_words.cli_language`)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    tr = cli_translator(argv) if tr is None else tr
+    _ = tr.gettext
+    parser = Parser(prog="rigid-body-lab", description=_("Rigid-body mechanics in the browser (viser)."), tr=tr)
     parser.add_argument("--host", default=DEFAULT_HOST,
-                        help="interface to bind (default %(default)s; 0.0.0.0 exposes it to the network)")
+                        help=_("interface to bind (default %(default)s; 0.0.0.0 exposes it to the network)"))
     parser.add_argument("--port", type=int, default=DEFAULT_PORT,
-                        help="port (default %(default)s; viser tries the next one if busy)")
+                        help=_("port (default %(default)s; viser tries the next one if busy)"))
     parser.add_argument("--presenter-code", metavar="CODE",
-                        help="the code a browser types to present (default: a random one, printed at start)")
+                        help=_("the code a browser types to present (default: a random one, printed at start)"))
     parser.add_argument("--projector", action="store_true",
-                        help="start every browser in the projector layout (large text, narrow panel)")
+                        help=_("start every browser in the projector layout (large text, narrow panel)"))
     parser.add_argument("--data-dir", metavar="PATH",
-                        help="where own presets and lessons are kept (default: the platform's data folder, "
-                             "e.g. ~/.local/share/rigid-body-lab)")
+                        help=_("where own presets and lessons are kept (default: the platform's data folder, "
+                               "e.g. ~/.local/share/rigid-body-lab)"))
     parser.add_argument("--workers", type=int, metavar="N",
-                        help="serve with N app processes behind nginx on --port, one lecture through Redis "
-                             "(needs nginx and redis-server)")
+                        help=_("serve with N app processes behind nginx on --port, one lecture through Redis "
+                               "(needs nginx and redis-server)"))
     parser.add_argument("--redis", metavar="URL", default=os.environ.get(REDIS_ENV) or None,
-                        help="with --workers: the Redis to use (redis://[:password@]host:port/0; default: "
-                             f"one started on a free local port).  Alone: this process is one worker of a "
-                             f"lecture (also read from ${REDIS_ENV})")
+                        help=_("with --workers: the Redis to use (redis://[:password@]host:port/0; default: "
+                               "one started on a free local port).  Alone: this process is one worker of a "
+                               "lecture (also read from ${variable})").format(variable=REDIS_ENV))
     parser.add_argument("--language", choices=tuple(LANGUAGES), default=DEFAULT_LANGUAGE,
-                        help="the language a new browser's panel starts in: "
-                             + ", ".join(f"{code} ({name})" for code, name in LANGUAGES.items())
-                             + " (default %(default)s; each browser may choose its own in the Language dropdown)")
+                        help=_("the language a new browser's panel starts in, and this command's: {languages} "
+                               "(default %(default)s; each browser may choose its own in the Language dropdown)"
+                               ).format(
+                            languages=", ".join(f"{code} ({name})" for code, name in LANGUAGES.items())))
     parser.add_argument("--worker-id", metavar="ID", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.presenter_code is None:
         args.presenter_code = os.environ.get(CODE_ENV) or None
     if args.workers is not None and args.workers < 1:
-        parser.error("--workers needs at least 1")
+        parser.error(_("--workers needs at least 1"))
     return args
 
 
-def _code_warning(code: str) -> str:
+def _code_warning(code: str, tr: Translator | None = None) -> str:
     """A line for a presenter code that a guesser limited to the hall's rate could find in a
-    90-minute lecture with more than 1e-4 chance; "" for a code long enough."""
+    90-minute lecture with more than 1e-4 chance; "" for a code long enough (in the language of `tr`)."""
     chance = guess_chance(90.0, code)
     if chance <= 1e-4:
         return ""
-    return (f"warning: a guesser could find the presenter code {code!r} with a chance of {chance:.1%} in 90 "
-            "minutes; leave out --presenter-code for a random one of eight digits")
+    return (tr or translator(DEFAULT_LANGUAGE)).gettext(
+        "warning: a guesser could find the presenter code {code} with a chance of {chance} in 90 "
+        "minutes; leave out --presenter-code for a random one of eight digits").format(code=repr(code),
+                                                                                      chance=f"{chance:.1%}")
 
 
 GC_THRESHOLDS = (10_000, 20, 20)
@@ -487,10 +494,12 @@ def main(argv: Sequence[str] | None = None) -> None:
     arguments = list(sys.argv[1:] if argv is None else argv)
     if arguments[:1] == ["export"]:
         raise SystemExit(export_main(arguments[1:]))
-    args = _parse_args(arguments)
+    tr = cli_translator(arguments)
+    args = _parse_args(arguments, tr)
+    _ = tr.gettext
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(levelname)s %(message)s")
     if args.presenter_code is not None and not normalize_code(args.presenter_code):
-        print("rigid-body-lab: the presenter code is empty", file=sys.stderr)
+        print("rigid-body-lab: " + _("the presenter code is empty"), file=sys.stderr)
         raise SystemExit(2)
     if args.workers is not None:
         from app.launch import launch_main  # noqa: PLC0415 - the launcher: only for --workers
@@ -510,8 +519,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     if worker:
         print(f"worker {app.lectern.gate.worker_id} on http://{args.host}:{app.port}", flush=True)
     else:
-        print(f"open http://{args.host}:{app.port} in a browser; presenter code: {app.lectern.code}", flush=True)
-    if args.presenter_code is not None and not worker and (warning := _code_warning(args.presenter_code)):
+        print(_("open {url} in a browser; presenter code: {code}").format(url=f"http://{args.host}:{app.port}",
+                                                                         code=app.lectern.code), flush=True)
+    if args.presenter_code is not None and not worker and (warning := _code_warning(args.presenter_code, tr)):
         print(warning, flush=True)
     try:
         while True:

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from physics._types import Mat3, Vec3
+from physics.refusal import N_, Refusal
 
 __all__ = [
     "InertiaError",
@@ -57,12 +58,14 @@ DEFINITE_RTOL = 1e-12
 ZERO_VOLUME_RTOL = 1e-12
 
 
-class InertiaError(ValueError):
-    """Moments or a tensor that no physical body has; the message names the failing test."""
+class InertiaError(Refusal):
+    """Moments or a tensor that no physical body has; the message names the failing test
+    (`template` and `fields`: `physics.refusal.Refusal`, for an app that translates it)."""
 
 
-class MeshError(ValueError):
-    """A mesh that does not bound a solid: bad shapes or indices, open, inside out, flat."""
+class MeshError(Refusal):
+    """A mesh that does not bound a solid: bad shapes or indices, open, inside out, flat
+    (`template` and `fields`: `physics.refusal.Refusal`)."""
 
 
 def _fmt(x: float) -> str:
@@ -88,19 +91,19 @@ def validate_principal_moments(moments: ArrayLike) -> Vec3:
     """
     m = np.array(moments, dtype=float)
     if m.shape != (3,):
-        raise InertiaError(f"principal moments must have shape (3,), got {m.shape}")
+        raise InertiaError(N_("principal moments must have shape (3,), got {shape}"), shape=m.shape)
     for k in range(3):
         if not math.isfinite(m[k]):
-            raise InertiaError(f"moments must be finite, got {_fmt(m[k])} for I{k + 1}")
+            raise InertiaError(N_("moments must be finite, got {value} for I{k}"), value=_fmt(m[k]), k=k + 1)
     for k in range(3):
         if not m[k] > 0.0:
-            raise InertiaError(f"moment I{k + 1} = {_fmt(m[k])} is not positive")
+            raise InertiaError(N_("moment I{k} = {value} is not positive"), k=k + 1, value=_fmt(m[k]))
     slack = TRIANGLE_RTOL * float(m.sum())
     for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
         if m[i] + m[j] < m[k] - slack:
             raise InertiaError(
-                f"I{i + 1} + I{j + 1} >= I{k + 1} fails: "
-                f"{_fmt(m[i])} + {_fmt(m[j])} < {_fmt(m[k])}"
+                N_("I{i} + I{j} >= I{k} fails: {a} + {b} < {c}"),
+                i=i + 1, j=j + 1, k=k + 1, a=_fmt(m[i]), b=_fmt(m[j]), c=_fmt(m[k]),
             )
     return m
 
@@ -132,9 +135,9 @@ def validate_inertia_tensor(I: ArrayLike) -> Mat3:
     eigenvalues = np.linalg.eigvalsh(A)  # ascending
     if not (eigenvalues[2] > 0.0 and eigenvalues[0] > DEFINITE_RTOL * eigenvalues[2]):
         raise InertiaError(
-            "inertia tensor is not positive definite: eigenvalues "
-            f"({_fmt(eigenvalues[0])}, {_fmt(eigenvalues[1])}, {_fmt(eigenvalues[2])})"
-            " (collinear mass distribution or a non-physical tensor)"
+            N_("inertia tensor is not positive definite: eigenvalues ({a}, {b}, {c}) "
+               "(collinear mass distribution or a non-physical tensor)"),
+            a=_fmt(eigenvalues[0]), b=_fmt(eigenvalues[1]), c=_fmt(eigenvalues[2]),
         )
     validate_principal_moments(eigenvalues)
     return A
@@ -165,7 +168,7 @@ def inertia_tensor_of_particles(
             f"need masses (N,), positions (N, 3), about (3,); got {m.shape}, {x.shape}, {o.shape}"
         )
     if not np.all(np.isfinite(m)) or np.any(m < 0.0):
-        raise InertiaError(f"masses must be finite and >= 0, got {m.tolist()}")
+        raise InertiaError(N_("masses must be finite and >= 0, got {masses}"), masses=m.tolist())
     r = x - o
     second_moment = (r * m[:, None]).T @ r  # Σ m r rᵀ
     return np.trace(second_moment) * np.eye(3) - second_moment
@@ -325,8 +328,9 @@ def _check_closed_and_oriented(faces: NDArray[np.int64], n_vertices: int) -> Non
     if np.any(repeated):
         i, j = divmod(int(keys[int(np.argmax(repeated))]), n_vertices)
         raise MeshError(
-            f"edge ({i}, {j}) is traversed in the same direction by two faces: "
-            "inconsistent face orientation or a non-manifold edge"
+            N_("edge ({i}, {j}) is traversed in the same direction by two faces: "
+               "inconsistent face orientation or a non-manifold edge"),
+            i=i, j=j,
         )
     reverse_keys = np.sort(tails * n + heads)
     if not np.array_equal(keys, reverse_keys):
@@ -335,9 +339,9 @@ def _check_closed_and_oriented(faces: NDArray[np.int64], n_vertices: int) -> Non
         missing = keys[position] != tails * n + heads
         h = int(np.argmax(missing))
         raise MeshError(
-            f"open mesh: edge ({int(heads[h])}, {int(tails[h])}) of face {h // 3} has no "
-            "opposite edge in another face (a boundary edge, or a neighbour with the wrong "
-            "orientation)"
+            N_("open mesh: edge ({i}, {j}) of face {face} has no opposite edge in another face "
+               "(a boundary edge, or a neighbour with the wrong orientation)"),
+            i=int(heads[h]), j=int(tails[h]), face=h // 3,
         )
 
 
@@ -390,7 +394,7 @@ def mesh_mass_properties(
     repeated = (f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0])
     if np.any(repeated):
         k = int(np.argmax(repeated))
-        raise MeshError(f"face {k} = {f[k].tolist()} repeats a vertex")
+        raise MeshError(N_("face {k} = {face} repeats a vertex"), k=k, face=f[k].tolist())
     _check_closed_and_oriented(f, v.shape[0])
 
     used = np.zeros(v.shape[0], dtype=bool)
@@ -414,11 +418,12 @@ def mesh_mass_properties(
 
     extent = float(np.linalg.norm(v_used.max(axis=0) - v_used.min(axis=0)))
     if abs(volume) <= ZERO_VOLUME_RTOL * extent**3:
-        raise MeshError(f"mesh encloses zero volume ({volume:.3g} m^3)")
+        raise MeshError(N_("mesh encloses zero volume ({volume} m^3)"), volume=f"{volume:.3g}")
     if volume < 0.0:
         raise MeshError(
-            f"mesh is inside out (signed volume {volume:.6g} m^3 < 0): faces must be "
-            "counter-clockwise seen from outside"
+            N_("mesh is inside out (signed volume {volume} m^3 < 0): faces must be "
+               "counter-clockwise seen from outside"),
+            volume=f"{volume:.6g}",
         )
 
     centroid = (s @ d) / 24.0 / volume  # ∫ x dV / V, relative to the reference

@@ -43,6 +43,7 @@ from numpy.typing import ArrayLike
 
 from physics._types import Array
 from physics.exact_top import HeavySymmetricTopExact
+from physics.refusal import N_  # the motion's names and descriptions: an app translates them
 
 __all__ = [
     "CUSP",
@@ -63,13 +64,13 @@ __all__ = [
     "energy_picture",
 ]
 
-STEADY = "steady precession"
-WAVE = "wave"
-LOOP = "loop"
-CUSP = "cusp"
-SLEEPING = "sleeping"
-TOO_SLOW = "too slow to sleep"
-THROUGH_VERTICAL = "through the vertical"
+STEADY = N_("steady precession")
+WAVE = N_("wave")
+LOOP = N_("loop")
+CUSP = N_("cusp")
+SLEEPING = N_("sleeping")
+TOO_SLOW = N_("too slow to sleep")
+THROUGH_VERTICAL = N_("through the vertical")
 MOTION_CLASSES = (STEADY, WAVE, LOOP, CUSP, SLEEPING, TOO_SLOW, THROUGH_VERTICAL)
 
 STEADY_TOL_RAD = 1e-6  # θ₂ − θ₁ at most this [rad]: steady precession (1e-6 rad = 6e-5°)
@@ -78,13 +79,13 @@ CUSP_RTOL = 1e-9  # |p_φ − p_ψ cos θ_k| at most this times |p_φ| + |p_ψ|:
 UPRIGHT_DEG = 10.0  # [deg] "near the vertical" for sleeping and too-slow tops
 
 _DESCRIPTIONS = {
-    STEADY: "θ stays put (θ₁ = θ₂): the tip draws a circle.",
-    WAVE: "θ nods between θ₁ and θ₂ and φ̇ keeps its sign: the tip draws waves.",
-    LOOP: "φ̇ changes sign between θ₁ and θ₂: the tip draws loops.",
-    CUSP: "φ̇ = 0 at a turning point: the tip stops there every nod and draws cusps.",
-    SLEEPING: "the vertical is stable (I3² ω_z′² > 4 I1 mgl) and the axis stays near it.",
-    TOO_SLOW: "near the vertical, but I3² ω_z′² < 4 I1 mgl: the vertical is unstable and the top falls.",
-    THROUGH_VERTICAL: "p_φ = ±p_ψ: the axis swings through the vertical (θ = 0 or 180°) every nod.",
+    STEADY: N_("θ stays put (θ₁ = θ₂): the tip draws a circle."),
+    WAVE: N_("θ nods between θ₁ and θ₂ and φ̇ keeps its sign: the tip draws waves."),
+    LOOP: N_("φ̇ changes sign between θ₁ and θ₂: the tip draws loops."),
+    CUSP: N_("φ̇ = 0 at a turning point: the tip stops there every nod and draws cusps."),
+    SLEEPING: N_("the vertical is stable (I3² ω_z′² > 4 I1 mgl) and the axis stays near it."),
+    TOO_SLOW: N_("near the vertical, but I3² ω_z′² < 4 I1 mgl: the vertical is unstable and the top falls."),
+    THROUGH_VERTICAL: N_("p_φ = ±p_ψ: the axis swings through the vertical (θ = 0 or 180°) every nod."),
 }
 
 

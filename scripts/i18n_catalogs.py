@@ -1,6 +1,6 @@
 """The translation catalogs (app/locale, `app.i18n`): extract, update, compile, check.
 
-    python scripts/i18n_catalogs.py extract   # app/**.py -> app/locale/messages.pot (babel.cfg)
+    python scripts/i18n_catalogs.py extract   # app/**.py, physics/**.py (babel.cfg), assets/presets -> messages.pot
     python scripts/i18n_catalogs.py update    # the .pot merged into every app/locale/<lang>/LC_MESSAGES/messages.po
     python scripts/i18n_catalogs.py compile   # every .po -> its .mo beside it (the wheel's build does this too)
     python scripts/i18n_catalogs.py check     # exit 1 naming every entry untranslated or fuzzy
@@ -34,14 +34,50 @@ def po_files() -> list[Path]:
     return sorted(LOCALE.glob("*/LC_MESSAGES/messages.po"))
 
 
+PRESETS = ROOT / "assets" / "presets"
+PRESET_WORDS = ("group", "name", "note")
+"""What a person reads of a preset (assets/presets/*.json): its row's label, its button, its note."""
+
+
 def extract(out: Path = POT) -> Path:
-    """The marked strings of app/**.py (babel.cfg) into the template `out`; `out`."""
+    """The marked strings of app/**.py and physics/**.py (babel.cfg) and the presets' words
+    (`preset_messages`) into the template `out`; `out`."""
     keywords = [arg for keyword in KEYWORDS for arg in ("-k", keyword)]
     pybabel("extract", "-F", str(ROOT / "babel.cfg"), "--no-default-keywords", *keywords, "--sort-by-file",
             "--no-wrap", "--project", "rigid-body-lab", "-o", str(out), str(ROOT))
     # Paths relative to the checkout (the .pot is the same on every machine).
     out.write_text(out.read_text(encoding="utf-8").replace(str(ROOT) + "/", ""), encoding="utf-8")
+    add_preset_messages(out)
     return out
+
+
+def preset_messages() -> list[tuple[str, str]]:
+    """(text, where) of every preset's group, name and note in assets/presets/*.json."""
+    import json  # noqa: PLC0415
+
+    found = []
+    for path in sorted(PRESETS.glob("*.json")):
+        for index, preset in enumerate(json.loads(path.read_text(encoding="utf-8")).get("presets", [])):
+            for key in PRESET_WORDS:
+                if isinstance(preset.get(key), str) and preset[key]:
+                    found.append((preset[key], f"{path.relative_to(ROOT)}:{index + 1}"))
+    return found
+
+
+def add_preset_messages(pot: Path) -> None:
+    """The presets' words appended to the template `pot` (each once, where it is first found; a
+    text the code marks already is left where it is)."""
+    from babel.messages.pofile import escape, read_po  # noqa: PLC0415
+
+    with pot.open("rb") as handle:
+        known = {message.id for message in read_po(handle)}
+    blocks = []
+    for text, where in preset_messages():
+        if text not in known:
+            known.add(text)
+            blocks.append(f"#: {where}\nmsgid {escape(text)}\nmsgstr \"\"\n")
+    with pot.open("a", encoding="utf-8") as handle:
+        handle.write("".join("\n" + block for block in blocks))
 
 
 def update() -> None:

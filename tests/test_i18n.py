@@ -17,8 +17,12 @@ import viser
 from babel.messages.pofile import read_po
 from babel.support import Translations
 
-from app.i18n import catalog_bytes, compile_po, for_gui, language_named, translator
+from app.cli_words import cli_language
+from app.i18n import catalog_bytes, compile_po, for_gui, language_named, refusal_text, translator
 from app.main import _parse_args, create_server
+from app.scenes import SCENES
+from physics.inertia import InertiaError, validate_principal_moments
+from physics.methods import methods
 from scripts import i18n_catalogs
 from tests.conftest import RawClient, poll_until
 
@@ -71,6 +75,12 @@ def test_the_catalog_compiles_and_keeps_every_placeholder_and_line_break(languag
     for message in catalog:
         if not message.id:
             continue
+        if isinstance(message.id, tuple):  # ngettext: singular and plural, each form compiled as written
+            singular, plural = message.id
+            forms = tuple(translations.ngettext(singular, plural, n) for n in (1, 2))
+            assert forms == tuple(message.string[:2]), message.id
+            assert all(_fields(form) == _fields(plural) for form in forms), message.id
+            continue
         shown = translations.gettext(message.id)
         assert shown == message.string, message.id  # compiled as written
         assert _fields(shown) == _fields(message.id), message.id
@@ -103,6 +113,39 @@ def test_language_option_chooses_the_default_and_refuses_another() -> None:
         create_server("127.0.0.1", 0, verbose=False, start_loop=False, language="fr")
 
 
+def _help(capsys: pytest.CaptureFixture[str], argv: list[str]) -> str:
+    """`rigid-body-lab <argv> --help` as printed."""
+    with pytest.raises(SystemExit):
+        _parse_args([*argv, "--help"])
+    return capsys.readouterr().out
+
+
+def test_the_command_lines_help_in_dutch_with_language(monkeypatch: pytest.MonkeyPatch,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """`--language nl --help`: the help (argparse's own words too) in Dutch; the shell's locale
+    changes nothing (LANG=de: still Dutch; no --language: English)."""
+    monkeypatch.setenv("LANG", "de_DE.UTF-8")
+    dutch = _help(capsys, ["--language", "nl"])
+    assert dutch.startswith("gebruik: rigid-body-lab") and "\nopties:\n" in dutch
+    assert "toon deze hulptekst en stop" in dutch and "Mechanica van starre lichamen" in dutch
+    english_words = ("usage:", "options:", "show this help", "interface to bind", "in a browser",
+                     "the language a new", "where own presets", "serve with N", "projector layout")
+    assert [words for words in english_words if words in " ".join(dutch.split())] == []
+    german = _help(capsys, ["--language=de"])
+    assert german.startswith("Aufruf: ") and "diese Hilfe anzeigen und beenden" in german
+    english = _help(capsys, [])
+    assert english.startswith("usage: ") and "show this help message and exit" in english
+    assert cli_language(["--language", "xx"]) == "en" and cli_language(["--port", "1", "--language", "de"]) == "de"
+
+
+def test_the_command_lines_errors_in_its_language(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as caught:
+        _parse_args(["--language", "de", "--workers", "0"])
+    assert caught.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("Aufruf: ") and "rigid-body-lab: Fehler: --workers braucht mindestens 1" in err
+
+
 def test_workers_get_the_language_too(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     import app.launch as launch
 
@@ -123,29 +166,15 @@ def _texts(handle: Any) -> Iterator[tuple[str, str]]:
 
 
 def _translated_part(session: Any) -> list[tuple[str, str]]:
-    """The texts of the widgets this issue's first part translates: the scene and Language
-    dropdowns, the Projector checkbox and the scene's panel (its Timeline too), less what is not
-    wrapped yet (the presets' rows and note, whose words come from the preset files; the
-    typed-number script)."""
+    """The texts of the scene and Language dropdowns, the Projector checkbox and the scene's
+    panel (its Timeline, its presets' rows and note too), less the typed-number script."""
     view = session.scene
-    skipped = {id(h) for h in (*view.presets_row.groups, view.presets_row.gui_note)}
     texts: list[tuple[str, str]] = []
     for handle in (session.gui_scene, session.gui_language, session.gui_projector, *view.gui_roots):
-        if id(handle) in skipped or type(handle).__name__ == "GuiHtmlHandle":
+        if type(handle).__name__ == "GuiHtmlHandle":
             continue
-        texts.extend((what, text) for what, text in _texts(handle)
-                     if not any(id(h) in skipped for h in _under(handle, text)))
+        texts.extend(_texts(handle))
     return texts
-
-
-def _under(handle: Any, text: str) -> list[Any]:
-    """The handles under `handle` (itself included) that show `text`."""
-    found = []
-    if any(t == text for _, t in _texts_here(handle)):
-        found.append(handle)
-    for child in list(getattr(handle, "_children", {}).values()):
-        found.extend(_under(child, text))
-    return found
 
 
 def _texts_here(handle: Any) -> list[tuple[str, str]]:
@@ -162,6 +191,7 @@ def _texts_here(handle: Any) -> list[tuple[str, str]]:
 
 WORD = re.compile(r"[A-Za-z]{3,}")
 SYMBOLS_ONLY = {"English", "Nederlands", "Deutsch"}  # the Language dropdown names each language in its own
+METHOD_NAMES = set(methods())  # the integrator menu's options: physics' names, as the CLI takes them
 
 
 @pytest.fixture
@@ -209,6 +239,89 @@ def test_a_panel_built_in_another_language_shows_no_english_among_its_translated
                    and text not in SYMBOLS_ONLY and text not in msgids - changed})
     assert same == []
     assert for_gui(other.client.gui) is tr and for_gui(english.client.gui) is translator("en")
+
+
+@pytest.mark.parametrize("language", TRANSLATED)
+@pytest.mark.parametrize("title", list(SCENES))
+def test_every_scenes_panel_built_in_another_language_shows_no_english(hall: Any, title: str,
+                                                                       language: str) -> None:
+    """Each scene of the dropdown, opened in a Dutch or German browser with a preset applied: none
+    of its wrapped widgets (presets' buttons and note too) shows a msgid the language translates,
+    nor a text with a word the English panel of the same scene shows (a string never marked would)."""
+    app, join = hall
+    english, other = join(), join()
+    other.set_language(language)
+    for session in (english, other):
+        session.select_scene(title)
+        session.apply_preset(session.room.scene.presets()[-1].name)  # the API names it in English
+        assert session.error_count == 0, session.last_error
+    assert other.scene.presets_row.gui_note.content  # the preset's note is shown (and checked below)
+    tr = translator(language)
+    msgids = _msgids(_catalog(LOCALE / language / "LC_MESSAGES" / "messages.po"))
+    changed = {m for m in msgids if tr.gettext(m) != m}
+    shown = _translated_part(other)
+    assert len(shown) >= 20, shown
+    assert [(what, text) for what, text in shown if text in changed] == []
+    english_texts = {text for _, text in _translated_part(english)}
+    same = sorted({text for _, text in shown if text in english_texts and WORD.search(text)
+                   and text not in SYMBOLS_ONLY | METHOD_NAMES and text not in msgids - changed})
+    assert same == []
+
+
+def test_a_refusal_from_physics_keeps_its_english_words_and_carries_what_a_translation_needs() -> None:
+    """physics stays English (its CLI, `str(error)`); the app translates the template it carries."""
+    with pytest.raises(InertiaError) as caught:
+        validate_principal_moments((1.0, 1.0, 3.0))
+    error = caught.value
+    assert str(error) == "I1 + I2 >= I3 fails: 1 + 1 < 3"
+    assert refusal_text(error, translator("en")) == str(error)
+    assert refusal_text(error, translator("nl")) == "I1 + I2 >= I3 geldt niet: 1 + 1 < 3"
+    assert refusal_text(error, translator("de")) == "I1 + I2 >= I3 gilt nicht: 1 + 1 < 3"
+    assert refusal_text(ValueError("plain words"), translator("de")) == "plain words"
+
+
+@pytest.mark.parametrize(("language", "refused", "reason"), [
+    ("nl", "Geen star lichaam", "I1 + I2 >= I3 geldt niet: 1 + 1 < 3"),
+    ("de", "Kein starrer Körper", "I1 + I2 >= I3 gilt nicht: 1 + 1 < 3"),
+])
+def test_a_refusal_from_physics_shows_in_the_browsers_language(hall: Any, language: str, refused: str,
+                                                              reason: str) -> None:
+    """A non-physical body typed into the Free body panel (I3 = 3 with I1 = I2 = 1, as a browser
+    sends it): physics' InertiaError said in that browser's language, prefix and reason; nothing changes."""
+    app, join = hall
+    session = join()
+    session.set_language(language)
+    session.select_scene("Free body")
+    view = session.scene
+    view._param_edit(0)(1.0)
+    view._param_edit(1)(1.0)
+    for index, value in enumerate((1.0, 1.0, 2.0)):
+        app.raw_clients[session.client_id].set_value(view.gui_params[index], value)
+    poll_until(lambda: tuple(view.sim.model.inertia) == (1.0, 1.0, 2.0), timeout=10.0)
+    app.raw_clients[session.client_id].set_value(view.gui_params[2], 3.0)
+    note = poll_until(lambda: view.message.text if reason in view.message.text else None, timeout=10.0)
+    assert refused in note and "fails" not in note and "refused" not in note.lower()
+    assert reason in view.gui_param_status.content and "Each moment" not in view.gui_param_status.content
+    assert tuple(view.sim.model.inertia) == (1.0, 1.0, 2.0)  # refused: the last valid body keeps moving
+    assert session.error_count == 0, session.last_error
+
+
+def test_a_preset_button_shows_its_name_translated_and_starts_the_english_preset(hall: Any) -> None:
+    """The Heavy top's "Sleeping" in a German browser: the button reads "Schlafend", a click (as
+    the browser sends it) starts the preset "Sleeping", the note is German; the API keeps English."""
+    app, join = hall
+    german = join()
+    german.set_language("de")
+    german.select_scene("Heavy top")
+    row = german.scene.presets_row
+    group = next(g for g in row.groups if "Schlafend" in g._impl.props.options)
+    assert group.label == "Aufrecht" and "Sleeping" not in group._impl.props.options
+    app.raw_clients[german.client_id].set_value(group, "Schlafend")
+    poll_until(lambda: german.room.sim.preset == "Sleeping", timeout=10.0)
+    assert row.gui_note.content.startswith("**Schlafend.** Fast aufrecht und schnell")
+    german.apply_preset("Too slow")
+    assert german.room.sim.preset == "Too slow" and row.gui_note.content.startswith("**Zu langsam.**")
+    assert german.error_count == 0, german.last_error
 
 
 def test_switching_language_relabels_that_browser_only_and_changes_nothing_of_its_room(hall: Any) -> None:

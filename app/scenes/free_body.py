@@ -23,7 +23,7 @@ class FreeBodyView(TorqueFreeView):
     title = N_("Free body")  # the scene dropdown shows it translated (app.i18n)
     root = "/free"
     view = CameraView(position=(4.6, -3.9, 2.5), look_at=(0.25, 0.55, 0.1))
-    intro = (
+    intro = N_(
         "### Free body (no torque)\n"
         "I ω̇_b + ω_b × (I ω_b) = 0.  **L = D I ω_b** is fixed in space, **E = T** is conserved.  "
         "SI units; angles in degrees (z-x-z)."

@@ -88,28 +88,28 @@ class HeavyTopView(RigidBodyView):
     simulation_parts = (tip_axis,)  # the point its trace follows (the room codec decodes it)
     root = "/top"
     view = CameraView(position=(5.2, -4.0, 2.4), look_at=(0.55, 0.95, -0.1))
-    intro = (
+    intro = N_(
         "### Heavy symmetric top (pivot at the origin)\n"
         "Gravity −g e_z on the centre of mass at ℓ along z′: **M = −mgℓ e_z′ × e_z**, "
         "V = mgℓ cos θ.  Conserved: E, L_z, ω_z′.  Angles in degrees (z-x-z)."
     )
     preset_file = "heavy_top.json"
     param_specs = (
-        SliderSpec("I1", "I1 = I2 [kg m²]", 0.1, 5.0, 0.01, "transverse moment about the pivot",
+        SliderSpec("I1", "I1 = I2 [kg m²]", 0.1, 5.0, 0.01, N_("transverse moment about the pivot"),
                    ((0.1, "0.1"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"))),
-        SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01, "moment about the symmetry axis z′ (≤ 2 I1)",
+        SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01, N_("moment about the symmetry axis z′ (≤ 2 I1)"),
                    ((0.05, "0.05"), (1.0, "1"), (2.5, "2.5"), (5.0, "5"))),
-        SliderSpec("mgl", "m g ℓ [N m]", 0.0, 30.0, 0.1, "weight times the pivot-to-centre-of-mass distance",
+        SliderSpec("mgl", "m g ℓ [N m]", 0.0, 30.0, 0.1, N_("weight times the pivot-to-centre-of-mass distance"),
                    ((0.0, "0"), (10.0, "10"), (20.0, "20"), (30.0, "30"))),
     )
-    param_folder = "Top: moments and gravity"
+    param_folder = N_("Top: moments and gravity")
     rate_specs = (
-        SliderSpec("spin", "spin ω_z′ [rad/s]", -40.0, 40.0, 0.1, "body component of ω along z′ (conserved)",
+        SliderSpec("spin", N_("spin ω_z′ [rad/s]"), -40.0, 40.0, 0.1, N_("body component of ω along z′ (conserved)"),
                    ((-40.0, "-40"), (0.0, "0"), (12.0, "12"), (40.0, "40"))),
-        SliderSpec("phi_dot", "dφ/dt [deg/s]", -360.0, 360.0, 0.1, "precession rate", _MARKS_RATE),
-        SliderSpec("theta_dot", "dθ/dt [deg/s]", -360.0, 360.0, 0.1, "nutation rate", _MARKS_RATE),
+        SliderSpec("phi_dot", "dφ/dt [deg/s]", -360.0, 360.0, 0.1, N_("precession rate"), _MARKS_RATE),
+        SliderSpec("theta_dot", "dθ/dt [deg/s]", -360.0, 360.0, 0.1, N_("nutation rate"), _MARKS_RATE),
     )
-    rate_folder = "Spin and Euler rates"
+    rate_folder = N_("Spin and Euler rates")
     hand_gizmos = ("omega",)
     tilt_frame = True  # steady precession: ω and L stand still in the φ-θ frame (nothing sent for them)
     momentum_kind = "z"
@@ -166,7 +166,10 @@ class HeavyTopView(RigidBodyView):
         self.trace = TraceLines(scene, f"{root}/trace", TRACE_COLOR, self.sim.traces["tip"])
 
     def build_display_extras(self, gui: Any) -> None:
-        self.gui_show_trace = gui.add_checkbox("Tip trace", True, hint=f"the last {TRACE_SECONDS:g} s of the z′ tip")
+        _ = self.tr.gettext
+        self.gui_show_trace = gui.add_checkbox(
+            _("Tip trace"), True, hint=_("the last {seconds} s of the z′ tip").format(
+            seconds=self.tr.general(TRACE_SECONDS)))
         self.gui_show_trace.on_update(self._wrap("trace toggle", lambda _event: self._show_trace()))
 
     def _show_trace(self) -> None:
@@ -182,11 +185,11 @@ class HeavyTopView(RigidBodyView):
             self._draw_energy(sim)
 
     # ------------------------------------------------------------------ the energy picture
-    extra_tabs = ("Energy",)
+    extra_tabs = (N_("Energy"),)
 
     def build_tab_extras(self, gui: Any) -> None:
         with self.tabs.tab("Energy"):
-            self.energy_plot = EnergyPlot(gui)
+            self.energy_plot = EnergyPlot(gui, self.tr)
         self._energy_run = -1  # the run (sim.restarts) whose picture is drawn
 
     def plot_elements(self, tab: str) -> list[Any]:
@@ -221,8 +224,9 @@ class HeavyTopView(RigidBodyView):
 
     def shape_status(self, model: Model) -> str:
         I1, _, I3 = model.inertia
-        return (f"I3 / I1 = {I3 / I1:.2f} (at most 2).  Drawn as a disc on a rod; the disc's size "
-                "follows I3 / I1, not to scale.  The trace follows the tip of z′.")
+        return self.tr.gettext("I3 / I1 = {ratio} (at most 2).  Drawn as a disc on a rod; the disc's size "
+                               "follows I3 / I1, not to scale.  The trace follows the tip of z′.").format(
+            ratio=self.tr.decimal(I3 / I1, 2))
 
     def readout_extras(self, sim: RigidBodySimulation) -> str:
         R, omega = sim.state.R_space_body, sim.state.omega_body
@@ -231,6 +235,7 @@ class HeavyTopView(RigidBodyView):
         critical = 4.0 * I1 * sim.model.mgl / (I3 * I3)
         return (f"p_φ = L_z = {L[2]:.5f} kg m²/s\n"
                 f"p_ψ = I3 ω_z′ = {I3 * omega[2]:.5f} kg m²/s\n"
-                "(both conserved)\n"
-                f"sleeps if ω_z′² > 4 I1 mgl / I3² = {critical:.3g}\n"
-                f"  (now ω_z′² = {omega[2] ** 2:.3g})")
+                + self.tr.gettext("(both conserved)\n"
+                                  "sleeps if ω_z′² > 4 I1 mgl / I3² = {critical}\n"
+                                  "  (now ω_z′² = {now})").format(critical=f"{critical:.3g}",
+                                                                  now=f"{omega[2] ** 2:.3g}"))

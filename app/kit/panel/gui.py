@@ -301,13 +301,17 @@ class PresetsRow:
 
     def __init__(self, gui: Any, wrap: Wrap, presets: Sequence[Preset], on_preset: Callable[[str], None],
                  on_own: Callable[[str], None] | None = None, tr: Translator = ENGLISH) -> None:
+        self._tr = tr
         groups: dict[str, list[str]] = {}
         for preset in presets:
             groups.setdefault(preset.group, []).append(preset.name)
+        # A preset's button shows its name translated (the preset files' words are in the catalogs:
+        # scripts/i18n_catalogs.py extracts them); a click hands on the English name, the API's.
+        self.names = {tr.gettext(preset.name): preset.name for preset in presets}
         self.groups = []
         for label, names in groups.items():
-            group = gui.add_button_group(label, tuple(names))
-            group.on_click(wrap(f"{label} presets", lambda event: on_preset(str(event.target.value))))
+            group = gui.add_button_group(tr.gettext(label), tuple(tr.gettext(name) for name in names))
+            group.on_click(wrap(f"{label} presets", lambda event: on_preset(self._english(str(event.target.value)))))
             self.groups.append(group)
         self.gui_own = gui.add_button_group(
             tr.gettext(self.OWN_ROW), ("—",), visible=False,
@@ -327,8 +331,13 @@ class PresetsRow:
             self.gui_own.options = names
         self.gui_own.visible = bool(names)
 
+    def _english(self, label: str) -> str:
+        """The English name of the preset whose button shows `label` (itself if none does)."""
+        return self.names.get(label, label)
+
     def show_note(self, preset: Preset | None) -> None:
-        content = f"**{preset.name}.** {preset.note}" if preset is not None else ""
+        _ = self._tr.gettext
+        content = f"**{_(preset.name)}.** {_(preset.note)}" if preset is not None else ""
         if self.gui_note.content != content:
             self.gui_note.content = content
 

@@ -22,7 +22,10 @@ from typing import Any
 import numpy as np
 import viser.uplot
 
+from app.i18n import DEFAULT_LANGUAGE, Translator, translator
 from physics.top_energy import TopEnergyPicture
+
+ENGLISH = translator(DEFAULT_LANGUAGE)
 
 __all__ = ["GRID_POINTS", "MARK_PERIOD", "EnergyPlot", "Window", "energy_plot_data", "plot_window"]
 
@@ -89,7 +92,9 @@ class EnergyPlot:
         sends: how many times the chart's data were sent (tests check the throttling).
     """
 
-    def __init__(self, gui: Any) -> None:
+    def __init__(self, gui: Any, tr: Translator = ENGLISH) -> None:
+        self.tr = tr
+        _ = tr.gettext
         self.picture: TopEnergyPicture | None = None
         self.sends = 0
         self.window: Window = (0.0, 180.0, 0.0, 1.0)
@@ -101,11 +106,11 @@ class EnergyPlot:
             viser.uplot.Series(label="U_eff(θ)", stroke=U_COLOR, width=2.0),
             viser.uplot.Series(label="E", stroke=E_COLOR, width=2.0, dash=(6.0, 4.0)),
             viser.uplot.Series(label="θ₁ θ₂", stroke=TURN_COLOR, width=1.5, dash=(3.0, 3.0)),
-            viser.uplot.Series(label="θ now", stroke=NOW_COLOR, width=2.0),
+            viser.uplot.Series(label=_("θ now"), stroke=NOW_COLOR, width=2.0),
         )
         self.handle = gui.add_uplot(
             data=(np.zeros(1),) + tuple(np.zeros(1) for _ in range(4)), series=series,
-            title="Effective potential U_eff(θ) [J]", height=230,
+            title=_("Effective potential U_eff(θ) [J]"), height=230,
             scales=self._scales(), legend=viser.uplot.Legend(show=True, live=False),
             axes=(viser.uplot.Axis(label="θ [deg]"), viser.uplot.Axis()),
         )
@@ -119,25 +124,28 @@ class EnergyPlot:
     def show(self, picture: TopEnergyPicture | None, theta_now: float, failure: str = "") -> None:
         """Draw `picture` with the current θ [rad] marked; None: say `failure` instead."""
         self.picture = picture
+        _ = self.tr.gettext
         if picture is None:
-            self.gui_motion.content = f"**No energy picture:** {failure}"
+            self.gui_motion.content = _("**No energy picture:** {reason}").format(reason=failure)
             self.gui_readout.content = ""
             return
         window = plot_window(picture)
         if window != self.window:
             self.window = window
             self.handle.scales = self._scales()
-        self.gui_motion.content = f"**Motion: {picture.motion}.** {picture.description}"
-        pole = " (the pole: the axis passes through it)"
-        self.gui_readout.content = (
-            f"θ₁ = {_deg(picture.theta_1)}{pole if picture.theta_1 == 0.0 else ''}, "
-            f"θ₂ = {_deg(picture.theta_2)}{pole if picture.theta_2 == math.pi else ''}; "
-            f"dφ/dt there: {_rate(picture.phi_dot_1)}, {_rate(picture.phi_dot_2)}.  \n"
-            f"E = {picture.energy:.4f} J, L_z = p_φ = {picture.p_phi:.4f} kg m²/s, "
-            f"p_ψ = I3 ω_z′ = {picture.p_psi:.4f} kg m²/s (all conserved).  \n"
+        # The motion's name and description are physics' (`physics.top_energy`, marked there).
+        self.gui_motion.content = _("**Motion: {motion}.** {description}").format(
+            motion=_(picture.motion), description=_(picture.description))
+        pole = _(" (the pole: the axis passes through it)")
+        self.gui_readout.content = _(
+            "θ₁ = {theta_1}{pole_1}, θ₂ = {theta_2}{pole_2}; dφ/dt there: {rate_1}, {rate_2}.  \n"
+            "E = {energy} J, L_z = p_φ = {p_phi} kg m²/s, p_ψ = I3 ω_z′ = {p_psi} kg m²/s (all conserved).  \n"
             "E = ½ I1 θ̇² + U_eff(θ), U_eff = (p_φ − p_ψ cos θ)² / (2 I1 sin²θ) + p_ψ² / (2 I3) + mgl cos θ: "
             "θ moves where U_eff ≤ E, between the turning points θ₁ and θ₂ where U_eff = E."
-        )
+        ).format(theta_1=_deg(picture.theta_1), pole_1=pole if picture.theta_1 == 0.0 else "",
+                 theta_2=_deg(picture.theta_2), pole_2=pole if picture.theta_2 == math.pi else "",
+                 rate_1=_rate(picture.phi_dot_1), rate_2=_rate(picture.phi_dot_2), energy=f"{picture.energy:.4f}",
+                 p_phi=f"{picture.p_phi:.4f}", p_psi=f"{picture.p_psi:.4f}")
         self._send(theta_now)
 
     def mark(self, theta_now: float, *, throttled: bool = True) -> None:

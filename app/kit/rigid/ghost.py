@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from app.i18n import DEFAULT_LANGUAGE, N_, Translator, translator
 from app.kit.core.common import Wrap
 from app.kit.draw.labels import LabelLayer
 from app.kit.draw.widgets import Body
@@ -22,12 +23,14 @@ from app.kit.rigid.simulation import RigidBodySimulation, magnified_attitude
 from app.kit.rigid.text import ghost_note
 from physics.dynamics import Model
 
+ENGLISH = translator(DEFAULT_LANGUAGE)
+
 __all__ = ["GHOST_K_OPTIONS", "GHOST_OPACITY", "ExactGhost", "Translucent"]
 
 GHOST_OPACITY = 0.3
-GHOST_K_OPTIONS = {"0 (exact)": 0.0, "1 (= solid)": 1.0, "10": 10.0, "100": 100.0, "10³": 1e3, "10⁴": 1e4,
+GHOST_K_OPTIONS = {N_("0 (exact)"): 0.0, N_("1 (= solid)"): 1.0, "10": 10.0, "100": 100.0, "10³": 1e3, "10⁴": 1e4,
                    "10⁵": 1e5, "10⁶": 1e6}
-"""The ghost's error magnifications k (dropdown label -> k)."""
+"""The ghost's error magnifications k (English dropdown label -> k; shown translated)."""
 
 Shape = Callable[[Any, str, Model], None]
 """build_shape(scene, parent, model): add a body's shape nodes under `parent`."""
@@ -71,7 +74,8 @@ class ExactGhost:
 
     def __init__(self, gui: Any, wrap: Wrap, message: MessageLine, quiet: Quiet, *, scene: Any, root: str,
                  shape: Shape, axis_length: float, sim: RigidBodySimulation,
-                 on_change: Callable[[], None], labels: LabelLayer | None = None) -> None:
+                 on_change: Callable[[], None], labels: LabelLayer | None = None,
+                 tr: Translator = ENGLISH) -> None:
         self._scene, self._root, self._shape, self._axis_length = scene, root, shape, axis_length
         self._labels = labels  # the view's LabelLayer (the ghost's axis labels stay hidden with its axes)
         self.sim = sim
@@ -79,11 +83,14 @@ class ExactGhost:
         self.body: Body | None = None
         self._model: Model | None = None
         self.k = 0.0
-        self.gui_toggle = gui.add_checkbox("Exact ghost", False,
-                                           hint="a translucent copy at the exact solution's attitude")
+        self._tr = tr
+        _ = tr.gettext
+        self._options = {_(name): value for name, value in GHOST_K_OPTIONS.items()}  # shown label -> k
+        self.gui_toggle = gui.add_checkbox(_("Exact ghost"), False,
+                                           hint=_("a translucent copy at the exact solution's attitude"))
         self.gui_k = gui.add_dropdown(
-            "Exaggerate error ×k", tuple(GHOST_K_OPTIONS), initial_value=next(iter(GHOST_K_OPTIONS)),
-            visible=False, hint="ghost at R_exact·exp(k·log(R_exactᵀR)): k = 0 exact, k = 1 on the solid body")
+            _("Exaggerate error ×k"), tuple(self._options), initial_value=next(iter(self._options)),
+            visible=False, hint=_("ghost at R_exact·exp(k·log(R_exactᵀR)): k = 0 exact, k = 1 on the solid body"))
         self.gui_note = gui.add_markdown("", visible=False)
         self.gui_toggle.on_update(wrap("exact ghost", self._toggled))
         self.gui_k.on_update(wrap("ghost magnification", self._k_chosen))
@@ -108,7 +115,7 @@ class ExactGhost:
 
     def set_k(self, k: float) -> None:
         """The error magnification k (one of GHOST_K_OPTIONS' values; ValueError otherwise)."""
-        label = next((name for name, value in GHOST_K_OPTIONS.items() if value == k), None)
+        label = next((name for name, value in self._options.items() if value == k), None)
         if label is None:
             raise ValueError(f"k = {k!r} is not one of {sorted(GHOST_K_OPTIONS.values())}")
         self.k = float(k)
@@ -120,7 +127,7 @@ class ExactGhost:
             return
         value = self.gui_toggle.value
         if not isinstance(value, bool):  # a client can send anything
-            self._message.show(f"Exact ghost = {value!r} refused: on or off.")
+            self._message.show(self._tr.gettext("Exact ghost = {value} refused: on or off.").format(value=repr(value)))
             self._quiet.write(self.gui_toggle, self.body is not None and bool(self.body.node.visible))
             return
         self.set(value)
@@ -129,11 +136,12 @@ class ExactGhost:
         if self._quiet.active:
             return
         label = self.gui_k.value
-        if label not in GHOST_K_OPTIONS:
-            self._message.show(f"Magnification {label!r} refused: choose one of {', '.join(GHOST_K_OPTIONS)}.")
+        if label not in self._options:
+            self._message.show(self._tr.gettext("Magnification {label} refused: choose one of {options}.").format(
+                label=repr(label), options=", ".join(self._options)))
             self.set_k(self.k)
             return
-        self.set_k(GHOST_K_OPTIONS[label])
+        self.set_k(self._options[label])
 
     def reshape(self, model: Model) -> None:
         """A new body: the ghost takes its shape (if it was built)."""
@@ -161,7 +169,7 @@ class ExactGhost:
             self.gui_note.visible = shown
         if not shown:
             return
-        label = next(name for name, value in GHOST_K_OPTIONS.items() if value == self.k)
-        text = ghost_note(self.sim, self.k, label)
+        label = next(name for name, value in self._options.items() if value == self.k)
+        text = ghost_note(self.sim, self.k, label, self._tr)
         if self.gui_note.content != text:
             self.gui_note.content = text

@@ -28,6 +28,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from app.i18n import N_, Translator
 from app.kit.core.common import SliderSpec
 from app.kit.panel.gui import add_slider
 from physics._types import Vec3
@@ -37,8 +38,8 @@ from physics.euler import GimbalLockError
 __all__ = ["AXES", "GIMBAL_OMEGA_MAX", "KICK_SPEC", "HandControls", "omega_after_kick"]
 
 AXES = ("x′", "y′", "z′")
-KICK_SPEC = SliderSpec("kick", "Kick J [N m s]", -5.0, 5.0, 0.01,
-                       "the torque impulse of a kick, about the body axis chosen below",
+KICK_SPEC = SliderSpec("kick", N_("Kick J [N m s]"), -5.0, 5.0, 0.01,
+                       N_("the torque impulse of a kick, about the body axis chosen below"),
                        ((-5.0, "-5"), (0.0, "0"), (5.0, "5")))
 GIMBAL_OMEGA_MAX = 50.0  # [rad/s] the largest |ω| set by hand where the Euler rates are undefined
 GIZMO_SCALE = 0.45  # [scene units] the gizmos' size
@@ -62,6 +63,7 @@ class HandView(Protocol):
     root: str
     controls: Any  # the controlling browser's scene, or None
     message: Any  # app.kit.panel.gui.MessageLine
+    tr: Translator  # the browser's words
     omega_scale: float
     L_scale: float
     gizmos_hidden: bool
@@ -95,13 +97,17 @@ class HandControls:
         self.impulse = 0.5
         self.last_change: tuple[np.ndarray, np.ndarray] | None = None
         self.gizmos: dict[str, Any] = {}
-        with gui.add_folder("Set ω by hand", expand_by_default=False):
-            kinds = " and L" if "L" in view.hand_gizmos else ""
-            self.gui_show = gui.add_checkbox(
-                f"Drag ω{kinds}", True, hint=f"when paused: a gizmo at the tip of ω{kinds} sets ω")
-            self.gui_impulse = add_slider(gui, KICK_SPEC, self.impulse)
-            self.gui_kick = gui.add_button_group("Kick about", AXES)
-        view.bind(self.gui_impulse, "kick impulse", self._set_impulse, lambda: self.impulse, spec=KICK_SPEC)
+        _ = view.tr.gettext
+        self.kick_spec = KICK_SPEC.translated(view.tr)
+        with gui.add_folder(_("Set ω by hand"), expand_by_default=False):
+            if "L" in view.hand_gizmos:
+                label, hint = _("Drag ω and L"), _("when paused: a gizmo at the tip of ω and L sets ω")
+            else:
+                label, hint = _("Drag ω"), _("when paused: a gizmo at the tip of ω sets ω")
+            self.gui_show = gui.add_checkbox(label, True, hint=hint)
+            self.gui_impulse = add_slider(gui, self.kick_spec, self.impulse)
+            self.gui_kick = gui.add_button_group(_("Kick about"), AXES)
+        view.bind(self.gui_impulse, "kick impulse", self._set_impulse, lambda: self.impulse, spec=self.kick_spec)
         self.gui_kick.on_click(view._wrap("kick", lambda event: self.kick(event.target.value, self.impulse)))
         self.gui_show.on_update(view._wrap("drag ω", lambda _event: self.refresh()))
         controls = view.controls  # interactive handles only in the controlling browser's own scene
@@ -137,19 +143,22 @@ class HandControls:
     def refusal(self, omega_body: Vec3) -> str | None:
         """Why ω_b cannot be set (not finite, a rate slider out of range), or None."""
         view = self.view
+        _ = view.tr.gettext
         if not np.all(np.isfinite(omega_body)):
-            return f"ω = {omega_body!r} refused: not finite."
+            return _("ω = {omega} refused: not finite.").format(omega=repr(omega_body))
         state = State(view.sim.state.R_space_body, omega_body, 0.0)
         try:
             rates = view.rates_from_state(view.sim.angles, state)
         except GimbalLockError:
             norm = float(np.linalg.norm(omega_body))
             if norm > GIMBAL_OMEGA_MAX:
-                return f"|ω| = {norm:.3g} rad/s refused: at most {GIMBAL_OMEGA_MAX:g} rad/s near gimbal lock."
+                return _("|ω| = {norm} rad/s refused: at most {most} rad/s near gimbal lock.").format(
+                    norm=f"{norm:.3g}", most=view.tr.general(GIMBAL_OMEGA_MAX))
             return None
         for spec, rate in zip(view.rate_specs, rates):
             if spec.check(rate) is None:
-                return f"{spec.label} would be {rate:.4g}, outside its range {spec.lo:g} to {spec.hi:g}: refused."
+                return _("{label} would be {rate}, outside its range {lo} to {hi}: refused.").format(
+                    label=_(spec.label), rate=f"{rate:.4g}", lo=view.tr.general(spec.lo), hi=view.tr.general(spec.hi))
         return None
 
     def set_omega_body(self, omega_body: Vec3, what: str) -> bool:
@@ -178,14 +187,16 @@ class HandControls:
         view = self.view
         k = AXES.index(axis) if axis in AXES else axis if axis in (0, 1, 2) else None
         if k is None:
-            view.message.show(f"Kick about {axis!r} refused: the axes are {', '.join(AXES)}.")
+            view.message.show(view.tr.gettext("Kick about {axis} refused: the axes are {axes}.").format(
+                axis=repr(axis), axes=", ".join(AXES)))
             return False
         J = KICK_SPEC.check(impulse)
         if J is None:
-            view.message.show(KICK_SPEC.refusal(impulse))
+            view.message.show(self.kick_spec.refusal(impulse))
             return False
         omega = omega_after_kick(view.sim.model.inertia, view.sim.state.omega_body, int(k), J)
-        return self.set_omega_body(omega, f"Kick J = {J:g} N m s about {AXES[int(k)]}")
+        return self.set_omega_body(omega, view.tr.gettext("Kick J = {J} N m s about {axis}").format(
+            J=view.tr.general(J), axis=AXES[int(k)]))
 
     def _gizmo_event(self, kind: str, event: Any) -> None:
         """viser's gizmo callback: event.phase is "start", "update" or "end" of a drag."""
@@ -216,7 +227,8 @@ class HandControls:
         held, self.dragging = self.dragging, kind  # an update without its drag start (a raw client)
         try:
             view.room.playing = False
-            self.set_omega_body(omega_body, f"{'ω' if kind == 'omega' else 'L'} dragged")
+            self.set_omega_body(omega_body, self.view.tr.gettext("{arrow} dragged").format(
+                arrow="ω" if kind == "omega" else "L"))
         finally:
             self.dragging = held if held is not None else None
 

@@ -14,6 +14,7 @@ import numpy as np
 import viser
 import viser.uplot
 
+from app.i18n import N_, refusal_text
 from app.kit.core.common import GIMBAL_LOCK_DEG, SliderSpec, gimbal_note, wrap_deg
 from app.kit.panel.binding import BOX_DIGITS
 from app.kit.panel.gui import PresetsRow, Readout, Tabs, add_slider
@@ -47,13 +48,13 @@ class FlipPlots(LivePlots):
     segment (±max |value| of the window) at each time `flips(t_lo, t_hi)` returns."""
 
     def __init__(self, gui: Any, buffer: Any, specs: Sequence[PlotSpec], flip_chart: int,
-                 flips: Callable[[float, float], np.ndarray]) -> None:
+                 flips: Callable[[float, float], np.ndarray], flip_label: str = "flip (exact)") -> None:
         self._flip_chart = -1  # plain charts while the base class builds them
         super().__init__(gui, buffer, specs)
         self._flip_chart = flip_chart
         self._flips = flips
         handle = self.handles[flip_chart]
-        handle.series = (*handle.series, viser.uplot.Series(label="flip (exact)", stroke=FLIP_COLOR, width=1.5,
+        handle.series = (*handle.series, viser.uplot.Series(label=flip_label, stroke=FLIP_COLOR, width=1.5,
                                                             dash=(4.0, 3.0)))
         handle.data = self._data(self.specs[flip_chart])
 
@@ -76,10 +77,10 @@ class FlipPlots(LivePlots):
 
 _FULL_MARKS = ((-180.0, "-180°"), (-90.0, "-90°"), (0.0, "0°"), (90.0, "90°"), (180.0, "180°"))
 ANGLE_SPECS = (
-    SliderSpec("phi", "φ [deg]", -180.0, 180.0, 1.0, "precession about the space z axis", _FULL_MARKS),
-    SliderSpec("theta", "θ [deg]", 0.0, 180.0, 1.0, "nutation about the line of nodes",
+    SliderSpec("phi", N_("φ [deg]"), -180.0, 180.0, 1.0, N_("precession about the space z axis"), _FULL_MARKS),
+    SliderSpec("theta", N_("θ [deg]"), 0.0, 180.0, 1.0, N_("nutation about the line of nodes"),
                ((0.0, "0°"), (45.0, "45°"), (90.0, "90°"), (135.0, "135°"), (180.0, "180°"))),
-    SliderSpec("psi", "ψ [deg]", -180.0, 180.0, 1.0, "spin about the body z′ axis", _FULL_MARKS),
+    SliderSpec("psi", N_("ψ [deg]"), -180.0, 180.0, 1.0, N_("spin about the body z′ axis"), _FULL_MARKS),
 )
 
 
@@ -96,55 +97,62 @@ class RigidBodyPanel(RigidBodyScene):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        self.build_head(self.intro, integrators=applicable(self.sim.model), on_integrator=self.set_integrator,
-                        integrator=self.sim.integrator, integrator_hint=integrator_hint(self.sim.model))
-        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots", "Lagrange", *self.extra_tabs),
-                         on_change=lambda _name: self.refresh())
+        tr = self.tr
+        _ = tr.gettext
+        # The widgets' specs in the browser's language (the class's, English, read the presets).
+        angle_specs = [spec.translated(tr) for spec in ANGLE_SPECS]
+        rate_specs = [spec.translated(tr) for spec in self.rate_specs]
+        param_specs = [spec.translated(tr) for spec in self.param_specs]
+        self.build_head(_(self.intro), integrators=applicable(self.sim.model), on_integrator=self.set_integrator,
+                        integrator=self.sim.integrator, integrator_hint=integrator_hint(self.sim.model, tr))
+        self.tabs = Tabs(gui, wrap, (N_("Setup"), N_("Readout"), N_("Plots"), N_("Lagrange"), *self.extra_tabs),
+                         on_change=lambda _name: self.refresh(), tr=tr)
         with self.tabs.tab("Setup"):
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
-            with gui.add_folder("Euler angles z-x-z [deg]"):
-                self.gui_angles = [add_slider(gui, spec) for spec in ANGLE_SPECS]
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset,
+                                          tr=tr)
+            with gui.add_folder(_("Euler angles z-x-z [deg]")):
+                self.gui_angles = [add_slider(gui, spec) for spec in angle_specs]
                 self.gui_gimbal_note = gui.add_markdown("", visible=False)
-            with gui.add_folder(self.rate_folder):
-                self.gui_rates = [add_slider(gui, spec) for spec in self.rate_specs]
+            with gui.add_folder(_(self.rate_folder)):
+                self.gui_rates = [add_slider(gui, spec) for spec in rate_specs]
             self.hand = HandControls(self, gui) if self.hand_gizmos else None
-            with gui.add_folder(self.param_folder):
+            with gui.add_folder(_(self.param_folder)):
                 params = self.params_from_model(self.sim.model)
-                self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(self.param_specs, params)]
+                self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(param_specs, params)]
                 self.gui_param_status = gui.add_markdown(self.shape_status(self.sim.model))
-            with gui.add_folder("Display", expand_by_default=False):
-                self.gui_show_omega = gui.add_checkbox("ω arrow", True)
-                self.gui_show_L = gui.add_checkbox("L arrow", True)
-                self.gui_show_nodes = gui.add_checkbox("Line of nodes", True)
-                self.gui_show_body_axes = gui.add_checkbox("Body axes x′ y′ z′", True)
+            with gui.add_folder(_("Display"), expand_by_default=False):
+                self.gui_show_omega = gui.add_checkbox(_("ω arrow"), True)
+                self.gui_show_L = gui.add_checkbox(_("L arrow"), True)
+                self.gui_show_nodes = gui.add_checkbox(_("Line of nodes"), True)
+                self.gui_show_body_axes = gui.add_checkbox(_("Body axes x′ y′ z′"), True)
                 self.ghost = ExactGhost(gui, wrap, self.message, self.quiet, scene=self.client.scene, root=self.root,
                                         shape=self.build_shape, axis_length=self.body_axis_length, sim=self.sim,
-                                        on_change=self.room.refresh, labels=self.labels)
+                                        on_change=self.room.refresh, labels=self.labels, tr=tr)
                 self.gui_ghost = self.ghost.gui_toggle  # a lesson step switches it by its label
                 self.build_display_extras(gui)
-                self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
+                self.gui_reset_view = gui.add_button(_("Reset view"), icon=viser.Icon.CAMERA)
                 self.gui_legend = gui.add_markdown("")
         with self.tabs.tab("Readout"):
             self.readout = Readout(gui)
         with self.tabs.tab("Plots"):
-            self.gui_live_plots = gui.add_checkbox("Live plots", True, hint="turn off to save CPU and bandwidth")
+            self.gui_live_plots = gui.add_checkbox(_("Live plots"), True, hint=_("turn off to save CPU and bandwidth"))
             self.accuracy = Readout(gui)
             specs = self.plot_specs()
             omega_chart = next(k for k, spec in enumerate(specs) if spec.columns[:1] == ("w1",))
             self.plots = FlipPlots(gui, self.sim.samples, specs, omega_chart,
-                                   lambda t_lo, t_hi: self.sim.flips(t_lo, t_hi))
+                                   lambda t_lo, t_hi: self.sim.flips(t_lo, t_hi), _("flip (exact)"))
 
         with self.tabs.tab("Lagrange"):
             self.lagrange_readout = Readout(gui)
         self.build_tab_extras(gui)
 
-        for index, (spec, handle) in enumerate(zip(ANGLE_SPECS, self.gui_angles)):
+        for index, (spec, handle) in enumerate(zip(angle_specs, self.gui_angles)):
             self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._angle_in_force(index),
                       spec=spec)
-        for index, (spec, handle) in enumerate(zip(self.rate_specs, self.gui_rates)):
+        for index, (spec, handle) in enumerate(zip(rate_specs, self.gui_rates)):
             self.bind(handle, f"{spec.label} slider", self._state_edit(handle, spec), self._rate_in_force(index),
                       spec=spec)
-        for index, (spec, handle) in enumerate(zip(self.param_specs, self.gui_params)):
+        for index, (spec, handle) in enumerate(zip(param_specs, self.gui_params)):
             self.bind(handle, f"{spec.label} slider", self._param_edit(index),
                       nth(lambda: self.params_from_model(self.sim.model), index), spec=spec)
         for handle in (self.gui_show_omega, self.gui_show_L, self.gui_show_nodes, self.gui_show_body_axes):
@@ -162,15 +170,16 @@ class RigidBodyPanel(RigidBodyScene):
         return []
 
     def plot_specs(self) -> list[PlotSpec]:
+        _ = self.tr.gettext
         return [
-            PlotSpec("Energy [J]", ("E", "T", "V"), ("E = T + V", "T", "V"), ("black", "#e65a00", "#2a7ab9")),
-            PlotSpec("Angular momentum [kg m²/s]", ("L_norm", "L_z"), ("|L|", "L_z"), ("#7828c8", "#2a9d8f")),
-            PlotSpec("Euler angles z-x-z [deg]", ("phi", "theta", "psi"), ("φ", "θ", "ψ"),
+            PlotSpec(_("Energy [J]"), ("E", "T", "V"), ("E = T + V", "T", "V"), ("black", "#e65a00", "#2a7ab9")),
+            PlotSpec(_("Angular momentum [kg m²/s]"), ("L_norm", "L_z"), ("|L|", "L_z"), ("#7828c8", "#2a9d8f")),
+            PlotSpec(_("Euler angles z-x-z [deg]"), ("phi", "theta", "psi"), ("φ", "θ", "ψ"),
                      ("#8c32d2", "#d70078", "#008c8c")),
-            PlotSpec("ω, body components [rad/s]", ("w1", "w2", "w3"), ("ω_x′", "ω_y′", "ω_z′"),
+            PlotSpec(_("ω, body components [rad/s]"), ("w1", "w2", "w3"), ("ω_x′", "ω_y′", "ω_z′"),
                      ("#c00000", "#00802a", "#0030a0")),
-            PlotSpec("Accuracy: log₁₀ of the errors", ("drift_E", "drift_L", "attitude_error"),
-                     ("|ΔE|/E₀", f"|Δ{self.momentum_label}|/|L₀|", "attitude [rad]"),
+            PlotSpec(_("Accuracy: log₁₀ of the errors"), ("drift_E", "drift_L", "attitude_error"),
+                     ("|ΔE|/E₀", f"|Δ{self.momentum_label}|/|L₀|", _("attitude [rad]")),
                      ("#e65a00", "#7828c8", "black"), log=True),
         ]
 
@@ -229,12 +238,16 @@ class RigidBodyPanel(RigidBodyScene):
             try:
                 model = self.model_from_params(candidate)
             except (InertiaError, ValueError) as error:
-                shown = ", ".join(f"{p:g}" for p in current)
-                self.gui_param_status.content = (
-                    f"**⚠ Refused:** {error}.  Each moment must be at most the sum of the other two "
-                    f"(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
-                )
-                return f"Not a rigid body: {error}. Refused; the last valid body ({shown}) keeps moving."
+                tr = self.tr
+                shown = "; ".join(tr.general(p) for p in current) if tr.language != "en" \
+                    else ", ".join(f"{p:g}" for p in current)
+                reason = refusal_text(error, tr)
+                self.gui_param_status.content = tr.gettext(
+                    "**⚠ Refused:** {reason}.  Each moment must be at most the sum of the other two "
+                    "(I1 + I2 ≥ I3 and cyclic) and positive.  Simulating the last valid body ({shown})."
+                ).format(reason=reason, shown=shown)
+                return tr.gettext("Not a rigid body: {reason}. Refused; the last valid body ({shown}) keeps moving."
+                                  ).format(reason=reason, shown=shown)
             self.sim.mesh = None  # new moments: a handed-on mesh no longer fits
             self.sim.set_model(model)  # same R and ω_b, new body; keeps playing
             self.room.refresh()
@@ -251,19 +264,21 @@ class RigidBodyPanel(RigidBodyScene):
 
     # ------------------------------------------------------------------ text
     def _refresh_status(self) -> None:
-        self.transport.set_status(status_text(self.sim, self.room.playing, self.room.time_scale))
+        self.transport.set_status(status_text(self.sim, self.room.playing, self.room.time_scale, self.tr))
 
     def _refresh_gimbal_note(self) -> None:
         note = gimbal_note(math.degrees(float(self.sim.angles[1])))
         if self.gui_gimbal_note.visible != (note is not None):
             self.gui_gimbal_note.visible = note is not None
+        if note is not None:
+            note = self.tr.gettext(note)
         if note is not None and self.gui_gimbal_note.content != note:
             self.gui_gimbal_note.content = note
 
     def _push_plots(self) -> None:
         if self.gui_live_plots.value:
             self.plots.push()
-        self.accuracy.set(accuracy_text(self.sim, self.momentum_label))
+        self.accuracy.set(accuracy_text(self.sim, self.momentum_label, self.tr))
 
     def _refresh_readout(self) -> None:
         sim = self.sim
@@ -275,7 +290,7 @@ class RigidBodyPanel(RigidBodyScene):
             except GimbalLockError:
                 terms = None
             self.q_arrows.draw(sim.model.torque_space_at(sim.t, sim.state.R_space_body, sim.state.omega_body), terms)
-            self.lagrange_readout.set(lagrange_text(sim, terms))
+            self.lagrange_readout.set(lagrange_text(sim, terms, self.tr))
             return
-        self.readout.set(readout_text(sim, self.displayed_angles_deg(), self.readout_extras(sim)))
+        self.readout.set(readout_text(sim, self.displayed_angles_deg(), self.readout_extras(sim), self.tr))
         self._refresh_gimbal_note()

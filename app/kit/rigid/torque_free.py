@@ -19,6 +19,7 @@ from typing import Any, ClassVar
 import numpy as np
 import trimesh
 
+from app.i18n import N_
 from app.kit.core.common import SliderSpec, striped_parts
 from app.kit.rigid.simulation import RigidBodySimulation
 from app.kit.rigid.view import RigidBodyView
@@ -56,19 +57,21 @@ class TorqueFreeView(RigidBodyView):
     shape and readout.  A scene subclasses it with its title, root, camera view, intro and
     preset file (`app/scenes/free_body.py`, `app/scenes/poinsot/`)."""
 
-    param_specs = tuple(
-        SliderSpec(f"I{k + 1}", f"I{k + 1} [kg m²]", 0.05, 5.0, 0.01,
-                   f"principal moment about the body {'xyz'[k]}′ axis", _MOMENT_MARKS)
-        for k in range(3)
+    param_specs = (
+        SliderSpec("I1", "I1 [kg m²]", 0.05, 5.0, 0.01, N_("principal moment about the body x′ axis"), _MOMENT_MARKS),
+        SliderSpec("I2", "I2 [kg m²]", 0.05, 5.0, 0.01, N_("principal moment about the body y′ axis"), _MOMENT_MARKS),
+        SliderSpec("I3", "I3 [kg m²]", 0.05, 5.0, 0.01, N_("principal moment about the body z′ axis"), _MOMENT_MARKS),
     )
-    param_folder = "Body: principal moments [kg m²]"
+    param_folder = N_("Body: principal moments [kg m²]")
     rate_specs = tuple(
-        SliderSpec(f"w{k + 1}", f"ω_{'xyz'[k]}′ [rad/s]", -10.0, 10.0, 0.01,
-                   f"body component of ω along {'xyz'[k]}′ (initial condition)",
+        SliderSpec(f"w{k + 1}", label, -10.0, 10.0, 0.01, hint,
                    ((-10.0, "-10"), (-5.0, "-5"), (0.0, "0"), (5.0, "5"), (10.0, "10")))
-        for k in range(3)
+        for k, (label, hint) in enumerate((
+            (N_("ω_x′ [rad/s]"), N_("body component of ω along x′ (initial condition)")),
+            (N_("ω_y′ [rad/s]"), N_("body component of ω along y′ (initial condition)")),
+            (N_("ω_z′ [rad/s]"), N_("body component of ω along z′ (initial condition)"))))
     )
-    rate_folder = "Angular velocity ω_b, body axes [rad/s]"
+    rate_folder = N_("Angular velocity ω_b, body axes [rad/s]")
     hand_gizmos = ("omega", "L")  # ω and L set by dragging their tips (app.kit.rigid.hand)
     body_axis_length: ClassVar[float] = 1.15
     arrow_lengths = (1.45, 2.0)  # ω and L start nearly parallel (L = I ω): different lengths keep their labels apart
@@ -116,25 +119,29 @@ class TorqueFreeView(RigidBodyView):
                                   flat_shading=kind == "cylinder", cast_shadow=False, receive_shadow=False)
 
     def shape_status(self, model: Model) -> str:
+        tr = self.tr
+        _ = tr.gettext
         if getattr(self.sim, "mesh", None) is not None:
-            return "Drawn as the mesh handed on from the Inertia scene, in its principal frame (scaled to fit)."
+            return _("Drawn as the mesh handed on from the Inertia scene, in its principal frame (scaled to fit).")
         kind, (a, b, c) = shape_of(model)
         if kind == "ball":
-            return "Drawn as a uniform **ball** (I1 = I2 = I3), painted in sectors so its spin shows."
+            return _("Drawn as a uniform **ball** (I1 = I2 = I3), painted in sectors so its spin shows.")
         if kind == "cylinder":
-            return (f"Drawn as the uniform **cylinder** about z′ with these moments: diameter : length "
-                    f"= {a / c:.2f} : 1.")
+            return _("Drawn as the uniform **cylinder** about z′ with these moments: diameter : length "
+                     "= {ratio} : 1.").format(ratio=tr.decimal(a / c, 2))
         smallest = min(a, b, c)
-        return (f"Drawn as the uniform **box** with these moments: edges along x′ y′ z′ "
-                f"in the ratio {a / smallest:.2f} : {b / smallest:.2f} : {c / smallest:.2f}.")
+        return _("Drawn as the uniform **box** with these moments: edges along x′ y′ z′ "
+                 "in the ratio {a} : {b} : {c}.").format(a=tr.decimal(a / smallest, 2), b=tr.decimal(b / smallest, 2),
+                                                        c=tr.decimal(c / smallest, 2))
 
     def readout_extras(self, sim: RigidBodySimulation) -> str:
         R, omega = sim.state.R_space_body, sim.state.omega_body
         L = sim.momentum(R, omega)
         T = kinetic_energy(sim.model, omega)
-        lines = ["conserved: E = T, L_s (fixed in space)", f"|L| = {L:.5f} kg m²/s"]
+        _ = self.tr.gettext
+        lines = [_("conserved: E = T, L_s (fixed in space)"), f"|L| = {L:.5f} kg m²/s"]
         if T > 0.0:
             lines.append(f"|L|²/(2T) = {L * L / (2.0 * T):.4f} kg m²")
-            lines.append("  (= I2, the middle moment, on the")
-            lines.append("   separatrix of the Dzhanibekov flip)")
+            lines.append(_("  (= I2, the middle moment, on the"))
+            lines.append(_("   separatrix of the Dzhanibekov flip)"))
         return "\n".join(lines)

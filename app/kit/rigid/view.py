@@ -237,4 +237,4 @@ class RigidBodyView(RigidBodyPanel):
         if fixed is not None:
             self.omega_scale = fixed
         self.L_scale = self.arrow_lengths[1] / L if L > 0.0 else self.L_scale
-        self.gui_legend.content = legend_text(bool(self.sim.model.mgl), self.omega_scale, self.L_scale)
+        self.gui_legend.content = legend_text(bool(self.sim.model.mgl), self.omega_scale, self.L_scale, self.tr)

@@ -8,10 +8,12 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
+from app.i18n import N_
 from app.kit.core.common import RunEnded, SliderSpec
 from app.kit.core.history import Snapshot
 from app.kit.core.presets import PRESETS_DIR, Preset, PresetError, preset_entries
@@ -46,9 +48,10 @@ PATH_SPACING = 1.0 / 15.0  # [s] between stored path points
 PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
 GUIDE_POINTS = 73  # points of the drawn constraint curve (hoop, rod)
 
-_MASS = SliderSpec("m", "m [kg]", 0.1, 5.0, 0.1, "the particle's mass")
-_G = SliderSpec("g", "g [m/s²]", 0.0, 20.0, 0.01, "gravity, along −z")
-_FORCE_SCALE = SliderSpec("force_scale", "arrow scale [m/N]", 0.005, 0.5, 0.005, "length of a force arrow per newton")
+_MASS = SliderSpec("m", N_("m [kg]"), 0.1, 5.0, 0.1, N_("the particle's mass"))
+_G = SliderSpec("g", N_("g [m/s²]"), 0.0, 20.0, 0.01, N_("gravity, along −z"))
+_FORCE_SCALE = SliderSpec("force_scale", N_("arrow scale [m/N]"), 0.005, 0.5, 0.005,
+                          N_("length of a force arrow per newton"))
 
 
 @dataclass(frozen=True)
@@ -71,37 +74,55 @@ class Kind:
         return self.build(*params[:-1])
 
 
+COORDINATE_HINT = N_("the generalized coordinate {q}")
+VELOCITY_HINT = N_("the generalized velocity {q_dot}")
+"""The hints of a coordinate's and a velocity's slider ({q}: "θ", {q_dot}: "dθ/dt"), translated by the view."""
+
+
 def _angle(key: str, label: str, lo: float = -180.0, hi: float = 180.0) -> SliderSpec:
-    return SliderSpec(key, f"{label} [deg]", lo, hi, 0.5, f"the generalized coordinate {label}")
+    return SliderSpec(key, f"{label} [deg]", lo, hi, 0.5, COORDINATE_HINT.format(q=label))
 
 
 def _rate(key: str, label: str) -> SliderSpec:
-    return SliderSpec(key, f"d{label}/dt [deg/s]", -1440.0, 1440.0, 1.0, f"the generalized velocity d{label}/dt")
+    return SliderSpec(key, f"d{label}/dt [deg/s]", -1440.0, 1440.0, 1.0, VELOCITY_HINT.format(q_dot=f"d{label}/dt"))
+
+
+def translated_state_spec(spec: SliderSpec, tr: Any) -> SliderSpec:
+    """A coordinate's or velocity's slider spec (`_angle`, `_rate`) in the language of `tr`
+    (`app.i18n.Translator`): its hint from the template, its label (a symbol and a unit) as it is."""
+    symbol = spec.label.split(" [", 1)[0]
+    if spec.hint == COORDINATE_HINT.format(q=symbol):
+        hint = tr.gettext(COORDINATE_HINT).format(q=symbol)
+    elif spec.hint == VELOCITY_HINT.format(q_dot=symbol):
+        hint = tr.gettext(VELOCITY_HINT).format(q_dot=symbol)
+    else:
+        hint = tr.gettext(spec.hint)
+    return replace(spec.translated(tr), hint=hint)
 
 
 KINDS: dict[str, Kind] = {k.key: k for k in (
     Kind("hoop", "Bead on a turning hoop",
-         (SliderSpec("R", "hoop radius R [m]", 0.2, 2.5, 0.05, "the hoop's radius"),
-          SliderSpec("Omega", "Ω [rad/s]", 0.0, 15.0, 0.05, "the hoop turns about its vertical diameter at Ω; "
-                     "above Ω² R = g the bottom is unstable"),
+         (SliderSpec("R", N_("hoop radius R [m]"), 0.2, 2.5, 0.05, N_("the hoop's radius")),
+          SliderSpec("Omega", N_("Ω [rad/s]"), 0.0, 15.0, 0.05, N_("the hoop turns about its vertical diameter at Ω; "
+                        "above Ω² R = g the bottom is unstable")),
           _MASS, _G, _FORCE_SCALE),
          (_angle("q1", "θ"),), (_rate("v1", "θ"),), bead_on_turning_hoop),
     Kind("spherical", "Spherical pendulum",
-         (SliderSpec("L", "rod L [m]", 0.2, 2.5, 0.05, "the rod's length"), _MASS, _G, _FORCE_SCALE),
+         (SliderSpec("L", N_("rod L [m]"), 0.2, 2.5, 0.05, N_("the rod's length")), _MASS, _G, _FORCE_SCALE),
          (_angle("q1", "θ", 1.0, 179.0), _angle("q2", "φ")), (_rate("v1", "θ"), _rate("v2", "φ")),
          spherical_pendulum),
     Kind("double", "Double pendulum",
-         (SliderSpec("L1", "rod L₁ [m]", 0.2, 1.5, 0.05, "the upper rod"),
-          SliderSpec("L2", "rod L₂ [m]", 0.2, 1.5, 0.05, "the lower rod"),
-          SliderSpec("m1", "m₁ [kg]", 0.1, 5.0, 0.1, "the upper particle"),
-          SliderSpec("m2", "m₂ [kg]", 0.1, 5.0, 0.1, "the lower particle"), _G, _FORCE_SCALE),
+         (SliderSpec("L1", N_("rod L₁ [m]"), 0.2, 1.5, 0.05, N_("the upper rod")),
+          SliderSpec("L2", N_("rod L₂ [m]"), 0.2, 1.5, 0.05, N_("the lower rod")),
+          SliderSpec("m1", N_("m₁ [kg]"), 0.1, 5.0, 0.1, N_("the upper particle")),
+          SliderSpec("m2", N_("m₂ [kg]"), 0.1, 5.0, 0.1, N_("the lower particle")), _G, _FORCE_SCALE),
          (_angle("q1", "θ₁"), _angle("q2", "θ₂")), (_rate("v1", "θ₁"), _rate("v2", "θ₂")), double_pendulum),
     Kind("rod", "Bead on a turning rod",
-         (SliderSpec("Omega", "Ω [rad/s]", 0.0, 5.0, 0.05, "the rod turns about space z at Ω"),
-          SliderSpec("length", "rod half length ℓ [m]", 0.5, 2.5, 0.05, "the bead leaves the rod at |r| = ℓ"),
+         (SliderSpec("Omega", N_("Ω [rad/s]"), 0.0, 5.0, 0.05, N_("the rod turns about space z at Ω")),
+          SliderSpec("length", N_("rod half length ℓ [m]"), 0.5, 2.5, 0.05, N_("the bead leaves the rod at |r| = ℓ")),
           _MASS, _G, _FORCE_SCALE),
-         (SliderSpec("q1", "r [m]", -2.5, 2.5, 0.01, "the bead's signed distance from the axis"),),
-         (SliderSpec("v1", "dr/dt [m/s]", -5.0, 5.0, 0.01, "the bead's speed along the rod"),),
+         (SliderSpec("q1", N_("r [m]"), -2.5, 2.5, 0.01, N_("the bead's signed distance from the axis")),),
+         (SliderSpec("v1", N_("dr/dt [m/s]"), -5.0, 5.0, 0.01, N_("the bead's speed along the rod")),),
          bead_on_turning_rod),
 )}
 

@@ -55,6 +55,7 @@ from app.scenes.constrained.simulation import (
     ConstrainedSimulation,
     load_constrained_presets,
     setup_of,
+    translated_state_spec,
 )
 from app.viser_internals import set_points, set_position, set_scale
 from physics._types import Array
@@ -177,25 +178,30 @@ class ConstrainedView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        self.build_head(
+        tr = self.tr
+        _ = tr.gettext
+        self.build_head(_(
             "### Constrained particles (memo §2, §5)\n"
             "x_i = x_i(q, t) (5.1).  Teal/violet: virtual displacements ∂x_i/∂q_j δq (5.6); black: applied "
-            "force F; red: constraint force **C = m ẍ − F**, with **C · ∂x/∂q_j = 0** (5.7).")
-        self.tabs = Tabs(gui, wrap, ("Setup", "Readout", "Plots"), on_change=lambda _name: self.refresh())
+            "force F; red: constraint force **C = m ẍ − F**, with **C · ∂x/∂q_j = 0** (5.7)."))
+        self.tabs = Tabs(gui, wrap, (N_("Setup"), N_("Readout"), N_("Plots")), on_change=lambda _name: self.refresh(),
+                         tr=tr)
         with self.tabs.tab("Setup"):
-            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
-            self.folder_state = gui.add_folder("State q, q̇ (restarts at t = 0)")
-            self.folder_params = gui.add_folder("Parameters (restart at t = 0)")
-            with gui.add_folder("Display", expand_by_default=False):
-                self.gui_show_dx = gui.add_checkbox("Virtual displacements", True,
-                                                    hint=f"∂x_i/∂q_j δq_j, drawn for δq = {DELTA_Q:g} (rad or m)")
-                self.gui_show_forces = gui.add_checkbox("Forces F and C", True)
-                self.gui_show_paths = gui.add_checkbox("Paths", True)
+            self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset,
+                                          tr=tr)
+            self.folder_state = gui.add_folder(_("State q, q̇ (restarts at t = 0)"))
+            self.folder_params = gui.add_folder(_("Parameters (restart at t = 0)"))
+            with gui.add_folder(_("Display"), expand_by_default=False):
+                self.gui_show_dx = gui.add_checkbox(_("Virtual displacements"), True,
+                                                    hint=_("∂x_i/∂q_j δq_j, drawn for δq = {dq} (rad or m)").format(
+                                                        dq=tr.general(DELTA_Q)))
+                self.gui_show_forces = gui.add_checkbox(_("Forces F and C"), True)
+                self.gui_show_paths = gui.add_checkbox(_("Paths"), True)
         with self.tabs.tab("Readout"):
             self.conserved_note = Readout(gui)
             self.readout = Readout(gui)
         with self.tabs.tab("Plots"):
-            self.folder_plots = gui.add_folder("Plots")
+            self.folder_plots = gui.add_folder(_("Plots"))
         for handle in (self.gui_show_dx, self.gui_show_forces, self.gui_show_paths):
             handle.on_update(wrap("display toggle", lambda _event: self.refresh()))
         self._gui_roots = [self.gui_intro, self.message.handle, *self.transport.handles, *self.tabs.handles]
@@ -205,21 +211,25 @@ class ConstrainedView(SceneView):
         gui = self.client.gui
         sim = self.sim
         kind = sim.setup.kind_spec
+        tr = self.tr
+        q_specs = [translated_state_spec(spec, tr) for spec in kind.q_specs]
+        rate_specs = [translated_state_spec(spec, tr) for spec in kind.rate_specs]
+        param_specs = [spec.translated(tr) for spec in kind.param_specs]
         with self.folder_state:
-            self.gui_q = [add_slider(gui, spec, value) for spec, value in zip(kind.q_specs, sim.setup.q_shown)]
+            self.gui_q = [add_slider(gui, spec, value) for spec, value in zip(q_specs, sim.setup.q_shown)]
             self.gui_rates = [add_slider(gui, spec, value)
-                              for spec, value in zip(kind.rate_specs, sim.setup.rates_shown)]
+                              for spec, value in zip(rate_specs, sim.setup.rates_shown)]
         with self.folder_params:
-            self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(kind.param_specs, sim.setup.params)]
+            self.gui_params = [add_slider(gui, spec, value) for spec, value in zip(param_specs, sim.setup.params)]
         for index, handle in enumerate(self.gui_q):
             self._bind(handle, f"{kind.q_specs[index].key} slider", self._state_edit("q", index),
-                       nth(lambda: self.sim.setup.q_shown, index), kind.q_specs[index])
+                       nth(lambda: self.sim.setup.q_shown, index), q_specs[index])
         for index, handle in enumerate(self.gui_rates):
             self._bind(handle, f"{kind.rate_specs[index].key} slider", self._state_edit("rates", index),
-                       nth(lambda: self.sim.setup.rates_shown, index), kind.rate_specs[index])
+                       nth(lambda: self.sim.setup.rates_shown, index), rate_specs[index])
         for index, handle in enumerate(self.gui_params):
             self._bind(handle, f"{kind.param_specs[index].key} slider", self._param_edit(index),
-                       nth(lambda: self.sim.setup.params, index), kind.param_specs[index])
+                       nth(lambda: self.sim.setup.params, index), param_specs[index])
         system = sim.system
         units = ["deg" if a else "m" for a in system.angular]
         with self.folder_plots:
@@ -227,7 +237,8 @@ class ConstrainedView(SceneView):
                 PlotSpec("q(t)", ("q1", "q2")[: system.m],
                          tuple(f"{c} [{u}]" for c, u in zip(system.coordinates, units)),
                          ("#1e6ed8", "#dc7814")[: system.m]),
-                PlotSpec("h = T₂ − T₀ + V and T + V [J]", ("h", "E"), ("h [J]", "T + V [J]"), ("#1b9e3a", "#888888")),
+                PlotSpec(tr.gettext("h = T₂ − T₀ + V and T + V [J]"), ("h", "E"), ("h [J]", "T + V [J]"),
+                         ("#1b9e3a", "#888888")),
                 PlotSpec("|h − h₀| / (|T| + |V|)₀ (log10)", ("drift",), ("drift",), ("#c0392b",), log=True),
             ]
             self.plots = LivePlots(gui, sim.samples, specs, height=170)
@@ -422,12 +433,12 @@ class ConstrainedView(SceneView):
         set_points(self.guide, np.stack([guide[:-1], guide[1:]], axis=1).astype(np.float32))
 
     def _refresh_status(self) -> None:
-        self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale))
+        self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale, self.tr))
 
     def _render_readout(self) -> None:
         ev = self.sim.evaluation()
-        self.conserved_note.set(conserved_text(self.sim, ev))
-        self.readout.set(readout_text(self.sim, ev))
+        self.conserved_note.set(conserved_text(self.sim, ev, self.tr))
+        self.readout.set(readout_text(self.sim, ev, self.tr))
 
 
 def _wrapped(values: Sequence[float], specs: Sequence[SliderSpec]) -> list[float]:

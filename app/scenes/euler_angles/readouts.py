@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from app.i18n import Translator, translator
+from app.i18n import Translator, refusal_text, translator
 from app.kit.core.common import format_deg, format_matrix, format_vector
 from app.scenes.euler_angles.simulation import GREEK, MIN_EDGE, box_edges
 from physics.euler import (
@@ -75,8 +75,8 @@ def moments_refused_text(error: BaseException, moments: Sequence[float], tr: Tra
 
 
 def _error_words(error: BaseException, tr: Translator) -> str:
-    """physics' refusal (English: "I1 + I2 >= I3 fails: 1 + 1 < 3"), its one word in the language of `tr`."""
-    return str(error).replace(" fails:", " " + tr.gettext("fails") + ":")
+    """physics' refusal ("I1 + I2 >= I3 fails: 1 + 1 < 3") in the language of `tr` (`refusal_text`)."""
+    return refusal_text(error, tr)
 
 
 def moments_refused_message(index: int, value: float, error: BaseException, moments: Sequence[float],

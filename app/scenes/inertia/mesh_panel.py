@@ -17,6 +17,7 @@ from typing import Any
 import viser
 
 from app.data import files_in, meshes_dir
+from app.i18n import N_, refusal_text
 from app.kit.core.common import Wrap, checked_value
 from app.kit.panel.binding import Refused
 from app.kit.view import SceneView
@@ -33,6 +34,9 @@ from physics.inertia import MeshError
 __all__ = ["MESHES_DIR", "MeshPanel"]
 
 MESHES_DIR = meshes_dir()  # the shipped meshes (app.data: the checkout's or the installed ones)
+SHIPPED_NAMES = (N_("book"), N_("phone"), N_("racket"), N_("t-handle"), N_("top"))
+"""The shipped meshes' names (their files' stems), marked: a button shows its name translated."""
+MASS_LABEL, DENSITY_LABEL = N_("mass [kg]"), N_("density [kg/m³]")
 
 
 class MeshPanel:
@@ -47,17 +51,24 @@ class MeshPanel:
         """The folder (collapsed): given mass or density, the number box, the upload button and
         one button per shipped mesh; returns the folder."""
         gui = self.view.client.gui
-        self.folder = gui.add_folder("Solid mesh", expand_by_default=False)
+        tr = self.view.tr
+        _ = tr.gettext
+        self.mass_label, self.density_label = _(MASS_LABEL), _(DENSITY_LABEL)
+        self.folder = gui.add_folder(_("Solid mesh"), expand_by_default=False)
         with self.folder:
-            self.gui_given = gui.add_dropdown("Given", ("mass [kg]", "density [kg/m³]"), initial_value="mass [kg]")
-            self.gui_amount = gui.add_number("mass [kg]", 1.0, min=MESH_MASS_RANGE[0], max=MESH_DENSITY_RANGE[1],
+            self.gui_given = gui.add_dropdown(_("Given"), (self.mass_label, self.density_label),
+                                              initial_value=self.mass_label)
+            self.gui_amount = gui.add_number(self.mass_label, 1.0, min=MESH_MASS_RANGE[0], max=MESH_DENSITY_RANGE[1],
                                              step=0.001)
-            self.gui_upload = gui.add_upload_button("Upload STL / OBJ / PLY / OFF / GLB", icon=viser.Icon.UPLOAD,
-                                                    hint="a closed, outward-oriented triangle mesh, in metres; "
-                                                         f"up to {MAX_UPLOAD_BYTES // 2**20} MiB and {MAX_FACES} faces")
+            self.gui_upload = gui.add_upload_button(_("Upload STL / OBJ / PLY / OFF / GLB"), icon=viser.Icon.UPLOAD,
+                                                    hint=_("a closed, outward-oriented triangle mesh, in metres; "
+                                                           "up to {mib} MiB and {faces} faces").format(
+                                                        mib=MAX_UPLOAD_BYTES // 2**20, faces=MAX_FACES))
             self.shipped = {path.name.removesuffix(".stl").replace("_", "-"): path
                             for path in files_in(MESHES_DIR, ".stl")}
-            self.gui_shipped = gui.add_button_group("Shipped", tuple(self.shipped)) if self.shipped else None
+            self.shipped_labels = {_(name): name for name in self.shipped}  # a button's label -> the mesh's name
+            self.gui_shipped = gui.add_button_group(_("Shipped"), tuple(self.shipped_labels)) if self.shipped \
+                else None
         return self.folder
 
     def connect(self, wrap: Wrap) -> None:
@@ -67,7 +78,8 @@ class MeshPanel:
                        check=self._check_amount)
         self.gui_upload.on_upload(wrap("upload", lambda _event: self._uploaded()))
         if self.gui_shipped is not None:
-            self.gui_shipped.on_click(wrap("shipped mesh", lambda event: self.load_shipped(str(event.target.value))))
+            self.gui_shipped.on_click(wrap("shipped mesh", lambda event: self.load_shipped(
+                self.shipped_labels.get(str(event.target.value), str(event.target.value)))))
 
     # ------------------------------------------------------------------ mass or density
     def _weight(self) -> dict[str, float]:
@@ -81,11 +93,11 @@ class MeshPanel:
     def _given_changed(self) -> None:
         """Mass or density: the number box shows the current mesh's (nothing changes), or a
         default (1 kg, 1000 kg/m³) while there is no mesh."""
-        self.gui_amount.label = "density [kg/m³]" if self._by_density() else "mass [kg]"
+        self.gui_amount.label = self.density_label if self._by_density() else self.mass_label
         self.view.quiet.write(self.gui_amount, self._amount_shown())
 
     def _by_density(self) -> bool:
-        return str(self.gui_given.value).startswith("density")
+        return str(self.gui_given.value) in (self.density_label, DENSITY_LABEL)
 
     def _amount_shown(self) -> float:
         """What the mass / density box shows: the mesh's (6 significant digits), or the default."""
@@ -98,12 +110,16 @@ class MeshPanel:
     def _check_amount(self, value: Any) -> float:
         """A mass [kg] or density [kg/m³] in its range (MESH_MASS_RANGE, MESH_DENSITY_RANGE)."""
         by_density = self._by_density()
-        (lo, hi), what = (MESH_DENSITY_RANGE, "density") if by_density else (MESH_MASS_RANGE, "mass")
+        _ = self.view.tr.gettext
+        (lo, hi), what = (MESH_DENSITY_RANGE, _("density")) if by_density else (MESH_MASS_RANGE, _("mass"))
         number = checked_value(value, lo, hi)
         if number is None:
-            kept = f" The mesh keeps its {self.sim.mesh_mass:.4g} kg." if self.sim.mesh is not None else ""
+            kept = (" " + _("The mesh keeps its {mass} kg.").format(mass=f"{self.sim.mesh_mass:.4g}")
+                    if self.sim.mesh is not None else "")
             unit = "kg/m³" if by_density else "kg"
-            raise Refused(f"Refused: {what} {value!r} {unit}: a number from {lo:g} to {hi:g} wanted.{kept}")
+            raise Refused(_("Refused: {what} {value} {unit}: a number from {lo} to {hi} wanted.").format(
+                what=what, value=repr(value), unit=unit, lo=self.view.tr.general(lo), hi=self.view.tr.general(hi))
+                + kept)
         return number
 
     def _amount_edited(self, value: float) -> str | None:
@@ -113,7 +129,8 @@ class MeshPanel:
         try:
             self.sim.weigh_mesh(**({"density": value} if self._by_density() else {"mass": value}))
         except ValueError as error:
-            return f"Refused: {error}. The mesh keeps its {self.sim.mesh_mass:.4g} kg."
+            return self.view.tr.gettext("Refused: {reason}. The mesh keeps its {mass} kg.").format(
+                reason=refusal_text(error, self.view.tr), mass=f"{self.sim.mesh_mass:.4g}")
         self.view.room.refresh()
         return None
 
@@ -126,7 +143,7 @@ class MeshPanel:
         """One of the meshes of assets/meshes/ (a button; a client can send any name)."""
         path = self.shipped.get(name)
         if path is None:
-            self.view.message.show(f"No shipped mesh named {name!r}.")
+            self.view.message.show(self.view.tr.gettext("No shipped mesh named {name}.").format(name=repr(name)))
             return
         self.load_mesh(path.name, path.read_bytes())
 
@@ -137,8 +154,10 @@ class MeshPanel:
             vertices, faces = read_mesh(name, content)
             self.sim.set_mesh(name, vertices, faces, **self._weight())
         except (MeshError, ValueError) as error:
-            text = str(error) if str(error).startswith(name) else f"{name}: {error}"
-            message.show(f"Mesh refused: {text}. The last valid body stays.")
+            tr = self.view.tr
+            words = refusal_text(error, tr)
+            text = words if words.startswith(name) else f"{name}: {words}"
+            message.show(tr.gettext("Mesh refused: {reason}. The last valid body stays.").format(reason=text))
             return
         message.clear()
         self.sim.set_about(None)

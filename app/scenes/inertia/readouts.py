@@ -14,30 +14,37 @@ from typing import Any
 
 import numpy as np
 
+from app.i18n import DEFAULT_LANGUAGE, Translator, translator
 from app.kit.core.common import format_matrix
 from physics._types import Vec3
+
+ENGLISH = translator(DEFAULT_LANGUAGE)
 
 __all__ = ["key_numbers_text", "readout_text", "spin_text"]
 
 
 def readout_text(props: Mapping[str, Any], display_scale: float, *, mesh_name: str | None = None,
-                 masses: int = 0) -> str:
+                 masses: int = 0, tr: Translator = ENGLISH) -> str:
     """The readout: the body (the uniform solid `mesh_name`, or `masses` point masses) and its
     mass, c and O [m] (4 significant digits, rounding noise below 1e-12 of the body's size shown
     as 0), the display scale if it is not 1, I_O [kg m²] (~5 significant digits), I_cm plus the
     parallel-axis term if O is not c, the principal moments (5 digits) and axes (4 decimals), and
     the notes."""
+    _ = tr.gettext
     O, d = props["O"], props["d"]
-    what = (f"a uniform solid **{mesh_name}**, m = {props['mass']:.4g} kg" if mesh_name is not None
-            else f"**{masses} point masses**, m = {props['mass']:.4g} kg")
+    mass = f"{props['mass']:.4g}"
+    what = (_("a uniform solid **{name}**, m = {mass} kg").format(name=mesh_name, mass=mass) if mesh_name is not None
+            else tr.ngettext("**{n} point mass**, m = {mass} kg", "**{n} point masses**, m = {mass} kg",
+                             masses).format(n=masses, mass=mass))
 
     def point(x: Vec3) -> str:  # rounding noise (1e-17 of a 0.5 m body) shown as 0
         return ", ".join(f"{0.0 if abs(v) <= 1e-12 * max(props['size'], 1e-300) else v:.4g}" for v in x)
 
-    lines = [what, f"centre of mass c = ({point(props['com'])}) m",
+    lines = [what, _("centre of mass c = ({point}) m").format(point=point(props["com"])),
              f"O = ({point(O)}) m" + (" = c" if not np.any(d) else "")]
     if display_scale != 1.0:
-        lines.append(f"drawn ×{display_scale:g} (its size is {props['size']:.3g} m)")
+        lines.append(_("drawn ×{scale} (its size is {size} m)").format(scale=f"{display_scale:g}",
+                                                                      size=f"{props['size']:.3g}"))
     scale = float(np.abs(props["I_O"]).max())
     decimals = 4 if scale == 0.0 else min(12, max(4, 4 - math.floor(math.log10(scale))))  # ~5 digits
     text = "  \n".join(lines) + "\n\n**I_O** [kg m²]\n```\n" + format_matrix(props["I_O"], decimals) + "\n```\n"
@@ -45,10 +52,12 @@ def readout_text(props: Mapping[str, Any], display_scale: float, *, mesh_name: s
         text += ("**I_O = I_cm + m(|d|²𝟙 − d dᵀ)**, d = c − O:\n```\n" + format_matrix(props["I_cm"], decimals)
                  + "\n+\n" + format_matrix(props["parallel"], decimals) + "\n```\n")
     moments = props["moments"]
-    text += ("Principal moments I1 ≤ I2 ≤ I3 = " + ", ".join(f"{m:.5g}" for m in moments) + " kg m²  \n"
-             "principal axes e1 e2 e3 (columns, right-handed)\n```\n" + format_matrix(props["axes"], 4) + "\n```\n")
+    text += (_("Principal moments I1 ≤ I2 ≤ I3 = {moments} kg m²").format(
+        moments=", ".join(f"{m:.5g}" for m in moments)) + "  \n"
+             + _("principal axes e1 e2 e3 (columns, right-handed)") + "\n```\n" + format_matrix(props["axes"], 4)
+             + "\n```\n")
     for note in props["notes"]:
-        text += note + "  \n"
+        text += _(note) + "  \n"
     return text
 
 

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from app.i18n import N_
 from app.kit.core.common import SliderSpec, fork_sharing
 from app.kit.core.presets import Preset, PresetError, preset_entries
 from physics._types import Vec3
@@ -29,6 +30,7 @@ from physics.inertia import (
     validate_principal_moments,
 )
 from physics.meshfile import read_mesh_bytes
+from physics.refusal import Refusal
 
 __all__ = ["COORD_LIMIT", "EQUAL_RTOL", "FREE_BODY_MOMENTS", "MASS_SPEC", "MAX_FACES", "MAX_MASSES",
            "MAX_UPLOAD_BYTES", "MESH_DENSITY_RANGE", "MESH_DISPLAY_SIZE", "MESH_MASS_RANGE", "MESH_SUFFIXES",
@@ -40,7 +42,7 @@ MAX_MASSES = 12
 MESH_SUFFIXES = ("stl", "obj", "ply", "off", "glb")
 EQUAL_RTOL = 1e-6  # principal moments closer than this times the largest are "equal" (3.8)
 ZERO_RTOL = 1e-9  # a principal moment below this times the largest is "zero" (masses on a line)
-MASS_SPEC = SliderSpec("m", "m [kg]", 0.1, 10.0, 0.1, "the selected mass")
+MASS_SPEC = SliderSpec("m", "m [kg]", 0.1, 10.0, 0.1, N_("the selected mass"))
 MESH_MASS_RANGE = (1e-3, 1e4)  # [kg] a mesh's mass
 MESH_DENSITY_RANGE = (1.0, 1e5)  # [kg/m³] a mesh's density (air-light foam to osmium x 4)
 COORD_LIMIT = 3.0  # [m] positions and O within ±this
@@ -54,16 +56,18 @@ def read_mesh(name: str, content: bytes) -> tuple[np.ndarray, np.ndarray]:
     merged (an STL repeats them per face), faces are kept as they are: an open or inside-out mesh
     is left for `mesh_mass_properties` to refuse, never repaired."""
     if len(content) > MAX_UPLOAD_BYTES:
-        raise MeshError(f"{name}: {len(content) / 2**20:.1f} MiB is larger than {MAX_UPLOAD_BYTES / 2**20:.0f} MiB")
+        raise MeshError(N_("{name}: {size} MiB is larger than {most} MiB"), name=name,
+                        size=f"{len(content) / 2**20:.1f}", most=f"{MAX_UPLOAD_BYTES / 2**20:.0f}")
     kind = name.rsplit(".", 1)[-1].lower() if "." in name else ""
     if kind not in MESH_SUFFIXES:
-        raise MeshError(f"{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)")
+        raise MeshError(N_("{name}: not a mesh file this app reads (STL, OBJ, PLY, OFF, GLB)"), name=name)
     try:
         vertices, faces = read_mesh_bytes(name, content)  # the same reader as python -m physics inertia
     except MeshError as error:
-        raise MeshError(f"{name}: unreadable ({str(error).split(' (', 1)[-1].rstrip(')')})") from None
+        raise MeshError(N_("{name}: unreadable ({reason})"), name=name,
+                        reason=str(error).split(" (", 1)[-1].rstrip(")")) from None
     if len(faces) > MAX_FACES:
-        raise MeshError(f"{name}: {len(faces)} faces, more than {MAX_FACES}")
+        raise MeshError(N_("{name}: {faces} faces, more than {most}"), name=name, faces=len(faces), most=MAX_FACES)
     return vertices, faces
 
 
@@ -147,8 +151,9 @@ class InertiaSystem:
         value: Any = mass if mass is not None else density
         (lo, hi), unit = (MESH_MASS_RANGE, "kg") if mass is not None else (MESH_DENSITY_RANGE, "kg/m³")
         if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
-            raise ValueError(f"{'mass' if mass is not None else 'density'} {value!r} {unit}: "
-                             f"a number from {lo:g} to {hi:g} wanted")
+            raise Refusal(N_("mass {value} {unit}: a number from {lo} to {hi} wanted") if mass is not None else
+                          N_("density {value} {unit}: a number from {lo} to {hi} wanted"),
+                          value=repr(value), unit=unit, lo=f"{lo:g}", hi=f"{hi:g}")
         return float(value) if mass is not None else float(value) * volume
 
     def set_about(self, about: Vec3 | None) -> None:
@@ -185,25 +190,26 @@ class InertiaSystem:
         if float(np.abs(I_O).max()) <= 1e-12 * nothing:
             moments, axes, equal = np.zeros(3), self._axes, [[0, 1, 2]]
             zero = [True, True, True]
-            notes.append("**I_O = 0**: all the mass is at O, every moment about O is zero and every axis is "
-                         "principal (the frame drawn is only one choice; no ellipsoid).")
+            notes.append(N_("**I_O = 0**: all the mass is at O, every moment about O is zero and every axis is "
+                         "principal (the frame drawn is only one choice; no ellipsoid)."))
         else:
             moments, axes, equal = principal_axes_near(I_O, self._axes, rtol=EQUAL_RTOL)
             zero = [bool(moments[k] <= ZERO_RTOL * moments[2]) for k in range(3)]
             if zero[0]:
-                notes.append("A principal moment is **zero**: all the mass lies on one line through O (3.8); "
+                notes.append(N_("A principal moment is **zero**: all the mass lies on one line through O (3.8); "
                              "e1 is that line, and the momental ellipsoid is an endless cylinder about it "
-                             "(drawn cut).")
+                             "(drawn cut)."))
             if equal == [[0, 1, 2]]:
-                notes.append("**All three moments are equal**: every axis through O is principal (3.8); the "
-                             "frame drawn is only one choice (it keeps its last directions).")
+                notes.append(N_("**All three moments are equal**: every axis through O is principal (3.8); the "
+                                "frame drawn is only one choice (it keeps its last directions)."))
             elif equal and not zero[0]:
-                pair = "I1 = I2" if equal[0] == [0, 1] else "I2 = I3"
-                notes.append(f"**Two moments are equal** ({pair}): any axis in their plane is principal (3.8); "
-                             "the frame drawn keeps its last directions there.")
+                notes.append(N_("**Two moments are equal** (I1 = I2): any axis in their plane is principal (3.8); "
+                                "the frame drawn keeps its last directions there.") if equal[0] == [0, 1] else
+                             N_("**Two moments are equal** (I2 = I3): any axis in their plane is principal (3.8); "
+                                "the frame drawn keeps its last directions there."))
             elif equal:
-                notes.append("**Two moments are equal** (I2 = I3): any axis across the line is principal (3.8); "
-                             "the frame drawn keeps its last directions there.")
+                notes.append(N_("**Two moments are equal** (I2 = I3): any axis across the line is principal (3.8); "
+                                "the frame drawn keeps its last directions there."))
         self._axes = axes
         result = {"mass": mass, "com": com, "I_cm": I_cm, "O": O, "d": d, "I_O": I_O, "parallel": parallel,
                   "moments": moments, "axes": axes, "equal": equal, "zero": zero, "notes": notes, "size": size}

@@ -38,7 +38,7 @@ import numpy as np
 import trimesh
 import viser
 
-from app.i18n import N_
+from app.i18n import N_, refusal_text
 from app.kit.core.common import BODY_AXIS_COLORS, CameraView, Wrap, axis_segments
 from app.kit.core.presets import PRESETS_DIR, Preset
 from app.kit.core.room import Room
@@ -182,39 +182,43 @@ class InertiaView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        self.gui_intro = gui.add_markdown(
+        tr = self.tr
+        _ = tr.gettext
+        self.mass_spec = MASS_SPEC.translated(tr)
+        self.gui_intro = gui.add_markdown(_(
             "### Inertia tensor (memo §3)\n"
             "**I_O = Σ mᵢ (|xᵢ|² 𝟙 − xᵢ xᵢᵀ)** (3.5), xᵢ from O; principal axes e1 e2 e3 "
-            "(moments ascending) at O; the momental ellipsoid has semi-axes ∝ 1/√I_k.")
+            "(moments ascending) at O; the momental ellipsoid has semi-axes ∝ 1/√I_k."))
         self.message = MessageLine(gui)
-        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
-        self.folder_masses = gui.add_folder("Point masses")
+        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset, tr=tr)
+        self.folder_masses = gui.add_folder(_("Point masses"))
         with self.folder_masses:
-            self.gui_selected = gui.add_dropdown("Mass", ("1",), initial_value="1",
-                                                 hint="the mass to weigh and move (or click its ball); "
-                                                      "drag it with the large gizmo")
-            self.gui_mass = add_slider(gui, MASS_SPEC, 1.0)
+            self.gui_selected = gui.add_dropdown(_("Mass"), ("1",), initial_value="1",
+                                                 hint=_("the mass to weigh and move (or click its ball); "
+                                                        "drag it with the large gizmo"))
+            self.gui_mass = add_slider(gui, self.mass_spec, 1.0)
             self.gui_position = gui.add_vector3("x [m]", (0.0, 0.0, 0.0), step=0.05,
                                                 min=(-COORD_LIMIT,) * 3, max=(COORD_LIMIT,) * 3)
-            self.gui_add_remove = gui.add_button_group("Masses", ("Add mass", "Remove mass"))
-        self.folder_O = gui.add_folder("Reference point O")
+            self.gui_add_remove = gui.add_button_group(_("Masses"), (_("Add mass"), _("Remove mass")))
+        self.folder_O = gui.add_folder(_("Reference point O"))
         with self.folder_O:
             self.gui_about = gui.add_vector3("O [m]", (0.0, 0.0, 0.0), step=0.05,
                                              min=(-COORD_LIMIT,) * 3, max=(COORD_LIMIT,) * 3,
-                                             hint="or drag the small gizmo at O")
-            self.gui_O_at_com = gui.add_button("O at the centre of mass")
+                                             hint=_("or drag the small gizmo at O"))
+            self.gui_O_at_com = gui.add_button(_("O at the centre of mass"))
         self.folder_mesh = self.mesh_panel.build()
-        self.gui_spin = gui.add_button("Spin it", icon=viser.Icon.ROTATE_360,
-                                       hint="this body, in the Free body scene")
-        self.folder_readout = gui.add_folder("Readout")
+        self.gui_spin = gui.add_button(_("Spin it"), icon=viser.Icon.ROTATE_360,
+                                       hint=_("this body, in the Free body scene"))
+        self.folder_readout = gui.add_folder(_("Readout"))
         with self.folder_readout:
             self.readout = Readout(gui)
         self.gui_selected.on_update(wrap("mass selector", lambda _event: self._select(self.gui_selected.value)))
         self.bind(self.gui_mass, "mass slider", self._mass_edited, lambda: float(self.sim.masses[self.selected]),
-                  spec=MASS_SPEC)
+                  spec=self.mass_spec)
         self.bind(self.gui_position, "position", self._position_edited,
                   lambda: _shown(self.sim.positions[self.selected]), check=lambda value: self._coords(value, "x"))
-        self.gui_add_remove.on_click(wrap("add/remove", lambda event: self._add_remove(str(event.target.value))))
+        self.gui_add_remove.on_click(wrap("add/remove",
+                                          lambda event: self._add_remove(tr.english(str(event.target.value)))))
         self.bind(self.gui_about, "O", self._set_about, lambda: _shown(self.sim.properties()["O"]),
                   check=lambda value: self._coords(value, "O"))
         self.gui_O_at_com.on_click(wrap("O at c", lambda _event: self._set_about(None)))
@@ -231,7 +235,8 @@ class InertiaView(SceneView):
         except (TypeError, ValueError):
             x = np.full(3, np.nan)
         if x.shape != (3,) or not np.all(np.isfinite(x)) or np.any(np.abs(x) > COORD_LIMIT):
-            raise Refused(f"{what} = {value!r} refused: three numbers within ±{COORD_LIMIT:g} m.")
+            raise Refused(self.tr.gettext("{what} = {value} refused: three numbers within ±{limit} m.").format(
+                what=what, value=repr(value), limit=self.tr.general(COORD_LIMIT)))
         return x
 
     def _select(self, value: Any) -> None:
@@ -240,7 +245,7 @@ class InertiaView(SceneView):
         except ValueError:
             k = -1
         if self.sim.mesh is not None or not 0 <= k < len(self.sim.masses):
-            self.message.show(f"No mass {value!r}.")
+            self.message.show(self.tr.gettext("No mass {value}.").format(value=repr(value)))
             self.quiet.write(self.gui_selected, str(self.selected + 1))
             return
         self.selected = k
@@ -263,7 +268,8 @@ class InertiaView(SceneView):
         except (TypeError, ValueError):
             x = np.full(3, np.nan)
         if x.shape != (3,) or not np.all(np.isfinite(x)):
-            self.message.show(f"{what} dragged to {handle.position!r}: refused, not a point.")
+            self.message.show(self.tr.gettext("{what} dragged to {position}: refused, not a point.").format(
+                what=what, position=repr(handle.position)))
             return None
         return np.clip(x, -COORD_LIMIT, COORD_LIMIT)
 
@@ -286,14 +292,14 @@ class InertiaView(SceneView):
         masses, positions = list(self.sim.masses), list(self.sim.positions)
         if choice == "Add mass":
             if len(masses) >= MAX_MASSES:
-                self.message.show(f"At most {MAX_MASSES} masses.")
+                self.message.show(self.tr.gettext("At most {n} masses.").format(n=MAX_MASSES))
                 return
             masses.append(1.0)
             positions.append(np.array([0.5, 0.5, 0.5]))
             self.selected = len(masses) - 1
         elif choice == "Remove mass":
             if len(masses) <= 1:
-                self.message.show("At least one mass.")
+                self.message.show(self.tr.gettext("At least one mass."))
                 return
             del masses[self.selected], positions[self.selected]
             self.selected = min(self.selected, len(masses) - 1)
@@ -329,11 +335,12 @@ class InertiaView(SceneView):
         try:
             handed, k = spin_moments(moments)
         except InertiaError as error:
-            self.message.show(f"Nothing to spin: {error} — masses on one line are no rigid body to spin "
-                              "(add a mass off the line).")
+            self.message.show(self.tr.gettext("Nothing to spin: {reason} — masses on one line are no rigid body "
+                                              "to spin (add a mass off the line).").format(
+                reason=refusal_text(error, self.tr)))
             return
         if self.open_scene is None:
-            self.message.show("This browser cannot open another scene.")
+            self.message.show(self.tr.gettext("This browser cannot open another scene."))
             return
         mesh = self.sim.mesh
         com = properties["com"]
@@ -474,6 +481,6 @@ class InertiaView(SceneView):
     def _refresh_readout(self, props: dict[str, Any], k: float) -> None:
         sim = self.sim
         if sim.mesh is not None:
-            self.readout.set(readouts.readout_text(props, k, mesh_name=sim.mesh_name))
+            self.readout.set(readouts.readout_text(props, k, mesh_name=sim.mesh_name, tr=self.tr))
         else:
-            self.readout.set(readouts.readout_text(props, k, masses=len(sim.masses)))
+            self.readout.set(readouts.readout_text(props, k, masses=len(sim.masses), tr=self.tr))

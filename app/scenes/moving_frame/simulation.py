@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from app.i18n import N_
 from app.kit.core.common import SliderSpec, canonical_angles_deg, wrap_deg
 from app.kit.core.history import Snapshot
 from app.kit.core.trace import Trace
@@ -43,7 +44,7 @@ __all__ = [
 ]
 
 H_MAX = 1.0 / 240.0  # [s] the longest RK4 step (simulated time); a frame is sub-stepped
-PARTICLES = ("free", "at rest in C′", "on a spring")
+PARTICLES = (N_("free"), N_("at rest in C′"), N_("on a spring"))  # English: the API's; shown translated
 PATH_SECONDS = 10.0  # [s] of simulated time kept in each path
 PATH_SPACING = 1.0 / 15.0  # [s] between stored path points (2° of the turntable's turn)
 PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at most at 10 Hz
@@ -51,47 +52,52 @@ PATH_CHUNK = 4  # points: a chunk completes every 0.2 s; its head is resent at m
 _DEG = ((-360.0, "-360"), (0.0, "0"), (360.0, "360"))
 PARAM_SPECS = (
     # The frame C′ (an edit restarts the run at t = 0).
-    SliderSpec("phi_dot", "dφ/dt [deg/s]", -360.0, 360.0, 1.0, "precession rate of C′ about space z at t = 0", _DEG),
-    SliderSpec("theta_dot", "dθ/dt [deg/s]", -180.0, 180.0, 1.0, "nutation rate of C′ (constant)"),
-    SliderSpec("psi_dot", "dψ/dt [deg/s]", -720.0, 720.0, 1.0, "spin rate of C′ about its own z′ (constant)"),
-    SliderSpec("phi_ddot", "d²φ/dt² [deg/s²]", -30.0, 30.0, 0.5, "angular acceleration of φ (a turntable speeding up)"),
-    SliderSpec("spin_up", "speeds up for [s]", 1.0, 600.0, 1.0,
-               "d²φ/dt² acts this long, then dφ/dt holds (a motor that speeds the turntable up, then keeps the speed)"),
-    SliderSpec("offset", "origin offset h [m]", 0.0, 3.0, 0.05,
-               "C′'s origin is D (0, 0, h) from the line: on a globe of radius h, or up a top's axis"),
-    SliderSpec("line_accel", "line acceleration A [m/s²]", -2.0, 2.0, 0.05,
-               "C′ is carried along space x with ä = A cos(Ω t) at t = 0 starting from rest"),
-    SliderSpec("line_omega", "line Ω [rad/s]", 0.0, 3.0, 0.05,
-               "0: uniform acceleration; else C′ brakes and comes back with period 2π/Ω"),
+    SliderSpec("phi_dot", N_("dφ/dt [deg/s]"), -360.0, 360.0, 1.0, N_("precession rate of C′ about space z at t = 0"),
+               _DEG),
+    SliderSpec("theta_dot", N_("dθ/dt [deg/s]"), -180.0, 180.0, 1.0, N_("nutation rate of C′ (constant)")),
+    SliderSpec("psi_dot", N_("dψ/dt [deg/s]"), -720.0, 720.0, 1.0, N_("spin rate of C′ about its own z′ (constant)")),
+    SliderSpec("phi_ddot", N_("d²φ/dt² [deg/s²]"), -30.0, 30.0, 0.5,
+               N_("angular acceleration of φ (a turntable speeding up)")),
+    SliderSpec("spin_up", N_("speeds up for [s]"), 1.0, 600.0, 1.0,
+               N_("d²φ/dt² acts this long, then dφ/dt holds (a motor that speeds the turntable up, "
+                  "then keeps the speed)")),
+    SliderSpec("offset", N_("origin offset h [m]"), 0.0, 3.0, 0.05,
+               N_("C′'s origin is D (0, 0, h) from the line: on a globe of radius h, or up a top's axis")),
+    SliderSpec("line_accel", N_("line acceleration A [m/s²]"), -2.0, 2.0, 0.05,
+               N_("C′ is carried along space x with ä = A cos(Ω t) at t = 0 starting from rest")),
+    SliderSpec("line_omega", N_("line Ω [rad/s]"), 0.0, 3.0, 0.05,
+               N_("0: uniform acceleration; else C′ brakes and comes back with period 2π/Ω")),
     # The particles (an edit restarts the run).
-    SliderSpec("mass", "mass m [kg]", 0.1, 5.0, 0.1, "the mass of each particle"),
-    SliderSpec("k", "spring constant k [N/m]", 0.0, 40.0, 0.5, "the spring particle: F = −k (x − anchor)"),
-    SliderSpec("free_x", "free: x′₀ [m]", -3.0, 3.0, 0.05, "the free particle's start in C′"),
-    SliderSpec("free_y", "free: y′₀ [m]", -3.0, 3.0, 0.05, "the free particle's start in C′"),
-    SliderSpec("free_vx", "free: ẋ′₀ [m/s]", -3.0, 3.0, 0.05, "its velocity relative to C′ at t = 0"),
-    SliderSpec("free_vy", "free: ẏ′₀ [m/s]", -3.0, 3.0, 0.05, "its velocity relative to C′ at t = 0"),
-    SliderSpec("rider_x", "at rest: x′ [m]", -3.0, 3.0, 0.05, "where the particle at rest sits in C′"),
-    SliderSpec("rider_y", "at rest: y′ [m]", -3.0, 3.0, 0.05, "where the particle at rest sits in C′"),
-    SliderSpec("anchor_x", "spring anchor x′ [m]", -3.0, 3.0, 0.05, "the spring's anchor, fixed in C′"),
-    SliderSpec("anchor_y", "spring anchor y′ [m]", -3.0, 3.0, 0.05, "the spring's anchor, fixed in C′"),
-    SliderSpec("stretch_x", "spring stretch x′ [m]", -2.0, 2.0, 0.05, "the particle starts here from the anchor, "
-               "at rest in C′"),
-    SliderSpec("stretch_y", "spring stretch y′ [m]", -2.0, 2.0, 0.05, "the particle starts here from the anchor, "
-               "at rest in C′"),
-    SliderSpec("disc_radius", "disc radius [m]", 0.0, 3.0, 0.05,
-               "the disc in C′'s x′y′ plane; its rim stops the free particle and carries it (0: no disc)"),
+    SliderSpec("mass", N_("mass m [kg]"), 0.1, 5.0, 0.1, N_("the mass of each particle")),
+    SliderSpec("k", N_("spring constant k [N/m]"), 0.0, 40.0, 0.5, N_("the spring particle: F = −k (x − anchor)")),
+    SliderSpec("free_x", N_("free: x′₀ [m]"), -3.0, 3.0, 0.05, N_("the free particle's start in C′")),
+    SliderSpec("free_y", N_("free: y′₀ [m]"), -3.0, 3.0, 0.05, N_("the free particle's start in C′")),
+    SliderSpec("free_vx", N_("free: ẋ′₀ [m/s]"), -3.0, 3.0, 0.05, N_("its velocity relative to C′ at t = 0")),
+    SliderSpec("free_vy", N_("free: ẏ′₀ [m/s]"), -3.0, 3.0, 0.05, N_("its velocity relative to C′ at t = 0")),
+    SliderSpec("rider_x", N_("at rest: x′ [m]"), -3.0, 3.0, 0.05, N_("where the particle at rest sits in C′")),
+    SliderSpec("rider_y", N_("at rest: y′ [m]"), -3.0, 3.0, 0.05, N_("where the particle at rest sits in C′")),
+    SliderSpec("anchor_x", N_("spring anchor x′ [m]"), -3.0, 3.0, 0.05, N_("the spring's anchor, fixed in C′")),
+    SliderSpec("anchor_y", N_("spring anchor y′ [m]"), -3.0, 3.0, 0.05, N_("the spring's anchor, fixed in C′")),
+    SliderSpec("stretch_x", N_("spring stretch x′ [m]"), -2.0, 2.0, 0.05,
+               N_("the particle starts here from the anchor, "
+                  "at rest in C′")),
+    SliderSpec("stretch_y", N_("spring stretch y′ [m]"), -2.0, 2.0, 0.05,
+               N_("the particle starts here from the anchor, "
+                  "at rest in C′")),
+    SliderSpec("disc_radius", N_("disc radius [m]"), 0.0, 3.0, 0.05,
+               N_("the disc in C′'s x′y′ plane; its rim stops the free particle and carries it (0: no disc)")),
     # Display (no restart).
-    SliderSpec("force_scale", "arrow scale [m/N]", 0.01, 3.0, 0.01, "length of a force arrow per newton"),
-    SliderSpec("forces_on", "forces on particle", 1.0, 3.0, 1.0, "1 free, 2 at rest in C′, 3 on a spring"),
+    SliderSpec("force_scale", N_("arrow scale [m/N]"), 0.01, 3.0, 0.01, N_("length of a force arrow per newton")),
+    SliderSpec("forces_on", N_("forces on particle"), 1.0, 3.0, 1.0, N_("1 free, 2 at rest in C′, 3 on a spring")),
 )
 KEYS = tuple(spec.key for spec in PARAM_SPECS)
 DISPLAY_KEYS = ("force_scale", "forces_on")
 FRAME_KEYS = (*KEYS[:KEYS.index("mass")], "disc_radius")
 PARTICLE_KEYS = KEYS[KEYS.index("mass"):KEYS.index("disc_radius")]
 ANGLE_SPECS = (
-    SliderSpec("phi0", "φ₀ [deg]", -180.0, 180.0, 1.0, "C′'s precession angle at t = 0"),
-    SliderSpec("theta0", "θ₀ [deg]", 0.0, 180.0, 1.0, "C′'s nutation at t = 0 (Earth: 90° − latitude)"),
-    SliderSpec("psi0", "ψ₀ [deg]", -180.0, 180.0, 1.0, "C′'s spin angle at t = 0"),
+    SliderSpec("phi0", N_("φ₀ [deg]"), -180.0, 180.0, 1.0, N_("C′'s precession angle at t = 0")),
+    SliderSpec("theta0", N_("θ₀ [deg]"), 0.0, 180.0, 1.0, N_("C′'s nutation at t = 0 (Earth: 90° − latitude)")),
+    SliderSpec("psi0", N_("ψ₀ [deg]"), -180.0, 180.0, 1.0, N_("C′'s spin angle at t = 0")),
 )
 
 

@@ -73,8 +73,8 @@ __all__ = ["VIEW", "MovingFrameView"]
 PARTICLE_COLORS = ((20, 120, 230), (30, 150, 60), (200, 60, 160))
 PARTICLE_RADIUS = 0.07
 FORCE_KEYS = ("real", "translational", "euler", "centrifugal", "coriolis")
-FORCE_LABELS = {"real": "F (real)", "translational": "−m Dᵀä", "euler": "Euler",
-                "centrifugal": "centrifugal", "coriolis": "Coriolis"}
+FORCE_LABELS = {"real": N_("F (real)"), "translational": "−m Dᵀä", "euler": N_("Euler"),
+                "centrifugal": N_("centrifugal"), "coriolis": N_("Coriolis")}
 FORCE_COLORS = {"real": (30, 30, 30), "translational": (120, 120, 0), "euler": (0, 150, 150),
                 "centrifugal": (230, 90, 0), "coriolis": (150, 40, 220)}
 DISC_COLOR = (210, 205, 190)
@@ -220,7 +220,7 @@ class MovingFrameView(SceneView):
                                    shaft_radius=0.018, head_radius=0.05, head_length=0.1)
         self.sum_arrow = Arrows(scene, f"{frame}/a/s", [(200, 0, 0)], shaft_radius=0.01,
                                 head_radius=0.035, head_length=0.08)
-        texts = {**FORCE_LABELS, "sum": "m ẍ′"}
+        texts = {**{key: self.tr.gettext(text) for key, text in FORCE_LABELS.items()}, "sum": "m ẍ′"}
         self.force_labels = {key: self.labels.add(scene.add_label(
             f"{frame}/a/l/{key}", text, font_screen_scale=LABEL_FONT, visible=False,
             anchor="center-left" if key == "sum" else "center-center"), KEY, wanted=False)
@@ -236,44 +236,51 @@ class MovingFrameView(SceneView):
     def _build_gui(self) -> None:
         gui = self.client.gui
         wrap = self._wrap
-        self.build_head(
+        tr = self.tr
+        _ = tr.gettext
+        self.param_specs_shown = [spec.translated(tr) for spec in PARAM_SPECS]
+        angle_specs = [spec.translated(tr) for spec in ANGLE_SPECS]
+        self.particles_shown = tr.all(PARTICLES)
+        self.build_head(_(
             "### Moving frame C′ (memo §4, (1.28))\n"
             "x = a + D x′, D = Rz(φ) Rx(θ) Rz(ψ).  In C′: **m ẍ′ = Dᵀ F − m Dᵀä − m ω̇ × x′ "
             "− m ω × (ω × x′) − 2m ω × ẋ′** (ω = ω_b, body components).  Particles: blue free, "
             "green at rest in C′, magenta on a spring; pale paths in C, dark paths in C′."
-        )
-        self.gui_ride = gui.add_checkbox("Ride with C′", False,
-                                         hint="on: the rider's view (C′ stands still); off: the inertial view (C)")
-        self.gui_forces_on = gui.add_dropdown("Forces on", PARTICLES, initial_value=PARTICLES[self.sim.setup.focus],
-                                              hint="the particle whose real and inertial forces are drawn")
-        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset)
-        self.folder_readout = gui.add_folder("Readout")
+        ))
+        self.gui_ride = gui.add_checkbox(_("Ride with C′"), False,
+                                         hint=_("on: the rider's view (C′ stands still); off: the inertial view (C)"))
+        self.gui_forces_on = gui.add_dropdown(_("Forces on"), self.particles_shown,
+                                              initial_value=self.particles_shown[self.sim.setup.focus],
+                                              hint=_("the particle whose real and inertial forces are drawn"))
+        self.presets_row = PresetsRow(gui, wrap, self.presets(), self.choose_preset, self.choose_own_preset, tr=tr)
+        self.folder_readout = gui.add_folder(_("Readout"))
         with self.folder_readout:
             self.readout = Readout(gui)
-        self.folder_frame = gui.add_folder("Frame C′ (restarts at t = 0)", expand_by_default=False)
+        self.folder_frame = gui.add_folder(_("Frame C′ (restarts at t = 0)"), expand_by_default=False)
         with self.folder_frame:
             self.gui_angles = [add_slider(gui, spec, value)
-                               for spec, value in zip(ANGLE_SPECS, self.sim.setup.angles_deg)]
+                               for spec, value in zip(angle_specs, self.sim.setup.angles_deg)]
             frame_sliders = [self._slider(gui, key) for key in FRAME_KEYS]
-        self.folder_particles = gui.add_folder("Particles (restarts at t = 0)", expand_by_default=False)
+        self.folder_particles = gui.add_folder(_("Particles (restarts at t = 0)"), expand_by_default=False)
         with self.folder_particles:
             particle_sliders = [self._slider(gui, key) for key in PARTICLE_KEYS]
-        self.folder_display = gui.add_folder("Display", expand_by_default=False)
+        self.folder_display = gui.add_folder(_("Display"), expand_by_default=False)
         with self.folder_display:
-            self.gui_show_paths = gui.add_checkbox("Paths", True, hint="pale: in C; dark: in C′ (what a rider sees)")
-            self.gui_show_forces = gui.add_checkbox("Force arrows", True)
+            self.gui_show_paths = gui.add_checkbox(_("Paths"), True,
+                                                   hint=_("pale: in C; dark: in C′ (what a rider sees)"))
+            self.gui_show_forces = gui.add_checkbox(_("Force arrows"), True)
             display_sliders = [self._slider(gui, key) for key in DISPLAY_KEYS[:1]]
-            self.gui_reset_view = gui.add_button("Reset view", icon=viser.Icon.CAMERA)
+            self.gui_reset_view = gui.add_button(_("Reset view"), icon=viser.Icon.CAMERA)
             self.gui_legend = gui.add_markdown("")
         self.gui_params = [*frame_sliders, *particle_sliders, *display_sliders]
         self._param_keys = [*FRAME_KEYS, *PARTICLE_KEYS, *DISPLAY_KEYS[:1]]
         for handle, key in zip(self.gui_params, self._param_keys):
             index = KEYS.index(key)
             self.bind(handle, f"{key} slider", self._param_edit(key), nth(lambda: self.sim.setup.params, index),
-                      spec=PARAM_SPECS[index])
+                      spec=self.param_specs_shown[index])
         for index, handle in enumerate(self.gui_angles):
             self.bind(handle, f"{ANGLE_SPECS[index].key} slider", self._angle_edit(index),
-                      nth(lambda: self.sim.setup.angles_deg, index), spec=ANGLE_SPECS[index])
+                      nth(lambda: self.sim.setup.angles_deg, index), spec=angle_specs[index])
         self.gui_ride.on_update(wrap("ride toggle", lambda _event: self.refresh()))
         self.gui_forces_on.on_update(wrap("forces-on dropdown", self._forces_on_chosen))
         for handle in (self.gui_show_paths, self.gui_show_forces):
@@ -284,7 +291,7 @@ class MovingFrameView(SceneView):
                            self.folder_readout, self.folder_frame, self.folder_particles, self.folder_display]
 
     def _slider(self, gui: Any, key: str) -> Any:
-        spec = PARAM_SPECS[KEYS.index(key)]
+        spec = self.param_specs_shown[KEYS.index(key)]
         return add_slider(gui, spec, self.sim.setup.value(key))
 
     # ------------------------------------------------------------------ callbacks
@@ -326,12 +333,13 @@ class MovingFrameView(SceneView):
         if self.quiet.active:
             return
         choice = self.gui_forces_on.value
-        if choice not in PARTICLES:  # a client can send any string
-            self.message.show(f"Forces on {choice!r} refused: choose one of {', '.join(PARTICLES)}.")
-            self.quiet.write(self.gui_forces_on, PARTICLES[self.sim.setup.focus])
+        if choice not in self.particles_shown:  # a client can send any string
+            self.message.show(self.tr.gettext("Forces on {choice} refused: choose one of {options}.").format(
+                choice=repr(choice), options=", ".join(self.particles_shown)))
+            self.quiet.write(self.gui_forces_on, self.particles_shown[self.sim.setup.focus])
             return
         params = list(self.sim.setup.params)
-        params[KEYS.index("forces_on")] = float(PARTICLES.index(choice) + 1)
+        params[KEYS.index("forces_on")] = float(self.particles_shown.index(choice) + 1)
         self._edit(params, self.sim.setup.angles_deg, True)
 
     def set_riding(self, on: bool) -> None:
@@ -361,13 +369,13 @@ class MovingFrameView(SceneView):
             self.show_values(self.gui_params, [PARAM_SPECS[KEYS.index(k)] for k in self._param_keys],
                              [setup.value(k) for k in self._param_keys])
             self.show_values(self.gui_angles, ANGLE_SPECS, setup.angles_deg)
-            self.quiet.write(self.gui_forces_on, PARTICLES[setup.focus])
-            self.gui_legend.content = (
-                f"Arrows: 1 m = {1.0 / setup.value('force_scale'):.3g} N, drawn in C′ at the particle "
+            self.quiet.write(self.gui_forces_on, self.particles_shown[setup.focus])
+            self.gui_legend.content = self.tr.gettext(
+                "Arrows: 1 m = {newtons} N, drawn in C′ at the particle "
                 "(body components, turned by D for display).  \n"
                 "Black: the real force Dᵀ F; olive −m Dᵀä; teal Euler; orange centrifugal; violet "
                 "Coriolis; thin red: m ẍ′ (their sum).  Thin grey rod: from C′'s origin back along −z′ by h."
-            )
+            ).format(newtons=self.tr.general(float(f"{1.0 / setup.value('force_scale'):.3g}")))
             self._readout_throttle.trigger()
             self._draw(0.0)
             self.labels.settle()
@@ -475,7 +483,8 @@ class MovingFrameView(SceneView):
                 lines.hide(trace)
 
     def _refresh_status(self) -> None:
-        self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale, self.riding))
+        self.transport.set_status(status_text(self.sim.t, self.room.playing, self.room.time_scale, self.riding,
+                                              self.tr))
 
     def _render_readout(self, report: ForceReport, x_body: Array) -> None:
-        self.readout.set(readout_text(self.sim, report, x_body))
+        self.readout.set(readout_text(self.sim, report, x_body, self.tr))

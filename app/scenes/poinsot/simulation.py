@@ -13,6 +13,7 @@ import numpy as np
 from app.kit.rigid.simulation import RigidBodySimulation
 from physics.dynamics import State
 from physics.poinsot import polhode_L
+from physics.refusal import N_, Refusal
 from physics.so3 import exp_so3
 
 __all__ = ["CURVE_POINTS", "HERPOLHODE_SECONDS", "energy_setting", "next_flip_time", "omega_space", "run_energy",
@@ -46,15 +47,15 @@ def state_at_energy(inertia: Any, state: State, setting: float) -> State:
     I = np.asarray(inertia, dtype=float)
     lo, mid, hi = sorted_moments(I)
     if not -1.0 <= setting <= 1.0:
-        raise ValueError(f"the energy setting must be in [-1, 1], got {setting!r}")
+        raise Refusal(N_("the energy setting must be in [-1, 1], got {setting}"), setting=repr(setting))
     if lo == hi:
-        raise ValueError("a ball (I1 = I2 = I3) turns steadily about any axis: every energy is |L|²/(2I)")
+        raise Refusal(N_("a ball (I1 = I2 = I3) turns steadily about any axis: every energy is |L|²/(2I)"))
     if setting < 0.0 and lo == mid or setting > 0.0 and mid == hi:
-        raise ValueError("two equal moments: there is no polhode on that side of the separatrix")
+        raise Refusal(N_("two equal moments: there is no polhode on that side of the separatrix"))
     L_body = I * state.omega_body
     L_norm = float(np.linalg.norm(L_body))
     if L_norm == 0.0:
-        raise ValueError("the body is not turning (|L| = 0)")
+        raise Refusal(N_("the body is not turning (|L| = 0)"))
     effective = mid + setting * ((hi - mid) if setting >= 0.0 else (mid - lo))
     T = L_norm * L_norm / (2.0 * effective)
     candidates = np.concatenate([polhode_L(I, T, L_norm, CURVE_POINTS, sign) for sign in (1.0, -1.0)])

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from app.i18n import N_
+from app.i18n import N_, refusal_text
 from app.kit.core.common import LABEL_SCALE, CameraView, SliderSpec, polyline_segments
 from app.kit.draw.labels import AXES, DETAIL
 from app.kit.draw.widgets import TraceLines, quantized, z_onto
@@ -64,10 +64,10 @@ HERPOLHODE_COLOR = (0, 130, 120)
 FAMILY_COLOR = (120, 120, 130)
 SEPARATRIX_COLOR = (220, 30, 30)
 ENERGY_SPEC = SliderSpec(
-    "energy", "Energy: x′ ← 0 → z′", -1.0, 1.0, 0.01,
-    "|L|²/(2T) from I_min (−1: about the smallest-moment axis) through I_mid (0: the separatrix) to "
-    "I_max (+1: about the largest-moment axis); |L| and L in space are kept",
-    ((-1.0, "x′"), (0.0, "sep."), (1.0, "z′")),
+    "energy", N_("Energy: x′ ← 0 → z′"), -1.0, 1.0, 0.01,
+    N_("|L|²/(2T) from I_min (−1: about the smallest-moment axis) through I_mid (0: the separatrix) to "
+       "I_max (+1: about the largest-moment axis); |L| and L in space are kept"),
+    ((-1.0, "x′"), (0.0, N_("sep.")), (1.0, "z′")),
 )
 
 
@@ -92,7 +92,7 @@ class PoinsotView(TorqueFreeView):
     simulation_parts = (omega_space,)  # the point the herpolhode follows (the room codec decodes it)
     root = "/pt"  # node names are short: every message of a frame carries its node's name
     view = CameraView(position=(2.6, -8.2, 1.9), look_at=(1.1, 0.5, -0.5))
-    intro = (
+    intro = N_(
         "### Poinsot: the ellipsoid rolls on the invariable plane\n"
         "Poinsot's ellipsoid **ω·Iω = 2T** (blue, fixed in the body) touches the plane **n·ω = 2T/|L|** "
         "(n = L/|L|, fixed in space) at **ω**: polhode (magenta) on it, herpolhode (teal) on the plane.  "
@@ -135,7 +135,8 @@ class PoinsotView(TorqueFreeView):
         self.radii = scene.add_line_segments(f"{root}/plane/radii", idle, HERPOLHODE_COLOR, thickness=1.0,
                                              thickness_units="screen")
         self.plane_label = self.labels.add(
-            scene.add_label(f"{root}/plane/label", "invariable plane", position=(0.8 * h, 0.8 * h, 0.0),
+            scene.add_label(f"{root}/plane/label", self.tr.gettext("invariable plane"),
+                            position=(0.8 * h, 0.8 * h, 0.0),
                             font_screen_scale=LABEL_SCALE * 0.8, anchor="bottom-center"), DETAIL)
         scene.add_frame(f"{root}/herpolhode", show_axes=False)
         self.herpolhode = TraceLines(scene, f"{root}/herpolhode", HERPOLHODE_COLOR, self.sim.traces["herpolhode"],
@@ -163,7 +164,7 @@ class PoinsotView(TorqueFreeView):
                                             font_screen_scale=LABEL_SCALE * 0.8, anchor="center-center"), AXES)
             for k, name in enumerate(("L_x′", "L_y′", "L_z′"))
         ]
-        self.labels.add(scene.add_label(f"{ls}/title", "body L-space",
+        self.labels.add(scene.add_label(f"{ls}/title", self.tr.gettext("body L-space"),
                                         position=(0.0, 0.0, 1.85 * SPHERE_RADIUS), font_screen_scale=LABEL_SCALE * 0.8,
                                         anchor="bottom-center"), DETAIL)
         self.family = scene.add_line_segments(f"{ls}/family", idle, FAMILY_COLOR, thickness=1.5,
@@ -185,8 +186,10 @@ class PoinsotView(TorqueFreeView):
 
     def build_display_extras(self, gui: Any) -> None:
         self.gui_show_nodes.value = False  # the line of nodes would only clutter this picture
-        self.gui_show_lspace = gui.add_checkbox("Momentum-space picture", True,
-                                                hint="body L-space: the |L| sphere, the energy ellipsoid, the polhodes")
+        _ = self.tr.gettext
+        self.gui_show_lspace = gui.add_checkbox(_("Momentum-space picture"), True,
+                                                hint=_("body L-space: the |L| sphere, the energy ellipsoid, "
+                                                       "the polhodes"))
         self.gui_show_lspace.on_update(self._wrap("momentum picture", lambda _event: self._show_lspace()))
 
     def _show_lspace(self) -> None:
@@ -197,9 +200,10 @@ class PoinsotView(TorqueFreeView):
         super()._build_gui()
         gui = self.client.gui
         with self.tabs.tab("Setup"), gui.add_folder("Poinsot", order=self.presets_row.gui_note.order + 0.01):
-            self.gui_energy = add_slider(gui, ENERGY_SPEC)
+            energy_spec = ENERGY_SPEC.translated(self.tr)
+            self.gui_energy = add_slider(gui, energy_spec)
             self.poinsot_readout = Readout(gui)
-        self.bind(self.gui_energy, "energy slider", self._energy_edit, self._energy_in_force, spec=ENERGY_SPEC)
+        self.bind(self.gui_energy, "energy slider", self._energy_edit, self._energy_in_force, spec=energy_spec)
 
     # ------------------------------------------------------------------ a new run
     def restart_extras(self) -> None:
@@ -304,7 +308,7 @@ class PoinsotView(TorqueFreeView):
     def _refresh_poinsot_readout(self) -> None:
         sim = self.sim
         self.poinsot_readout.set(poinsot_text(sim.model.inertia, run_energy(sim), self._motion, self.omega_scale,
-                                              self._next_flip()))
+                                              self._next_flip(), self.tr))
 
     def readout_extras(self, sim: RigidBodySimulation) -> str:
         return str(self.poinsot_readout.handle.content).strip("`\n")
@@ -334,7 +338,8 @@ class PoinsotView(TorqueFreeView):
         try:
             state = state_at_energy(sim.model.inertia, sim.state, setting)
         except ValueError as error:
-            return f"Energy {setting:g} refused: {error}."
+            return self.tr.gettext("Energy {setting} refused: {reason}.").format(
+                setting=self.tr.general(setting), reason=refusal_text(error, self.tr))
         self.message.clear()
         self.room.playing = False
         sim.preset = None
