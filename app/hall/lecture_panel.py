@@ -33,7 +33,7 @@ from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Translator, for_gui, translator
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lecture.follower import Hall
 from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
@@ -41,7 +41,7 @@ from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 __all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "LIVE_BAR_CLASS", "LIVE_BAR_CSS", "STAY_LABEL",
            "LecturePanel", "Lecturer", "call_text", "ended_text", "live_badge"]
 
-CALL_BACK_LABEL = "Call everyone back"
+CALL_BACK_LABEL = N_("Call everyone back")
 FOLLOW_LABEL = N_("Follow presenter")
 FOLLOW_HINT = N_("back to the presenter's live scene")
 STAY_LABEL = N_("Stay")
@@ -65,9 +65,12 @@ scroller and the bar it becomes `overflow: clip`, which clips the same and scrol
 and the panel would scroll sideways)."""
 
 
-def live_badge(following: int, exploring: int) -> str:
-    """The presenter's badge (Markdown): the room is live, who follows and who explores."""
-    return f"**● Live** · {following} following · {exploring} exploring"
+def live_badge(following: int, exploring: int, tr: Translator | None = None) -> str:
+    """The presenter's badge (Markdown): the room is live, who follows and who explores, in
+    `tr`'s language (English by default)."""
+    _ = (tr or translator("en")).gettext
+    return _("**● Live** · {following} following · {exploring} exploring").format(
+        following=following, exploring=exploring)
 
 
 def call_text(seconds_left: float, tr: Translator | None = None) -> str:
@@ -145,14 +148,18 @@ class LecturePanel:
         with self.bar:
             self._build_bar(gui, orders)
         # The Lecture folder.
-        self.folder = gui.add_folder("Lecture", expand_by_default=False)
+        self.folder = gui.add_folder(N_("Lecture"), expand_by_default=False)
         with self.folder:
-            self.gui_code = gui.add_text("Presenter code", "", hint="the code the app printed at start")
-            self.gui_present = gui.add_button("Present", icon=viser.Icon.PRESENTATION,
-                                              hint="show this browser's scene to everyone who follows")
-            self.gui_pointer_label = gui.add_text("Pointer label", "", visible=False,
-                                                  hint="a few words shown beside the marker")
+            self.gui_code = gui.add_text(N_("Presenter code"), "", hint=N_("the code the app printed at start"))
+            self.gui_present = gui.add_button(N_("Present"), icon=viser.Icon.PRESENTATION,
+                                              hint=N_("show this browser's scene to everyone who follows"))
+            self.gui_pointer_label = gui.add_text(N_("Pointer label"), "", visible=False,
+                                                  hint=N_("a few words shown beside the marker"))
             self.gui_note = gui.add_markdown("", visible=False)
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.gui_code, self.gui_present, self.gui_pointer_label, self.gui_stop,
+                        self.gui_pointer)
+        self.words.take(self.gui_call_back, seconds=f"{CALL_BACK_SECONDS:g}", stay=STAY_LABEL)
         self._guarded_point = guard("pointer", self._pointed)
         self.gui_present.on_click(guard("present", lambda _event: seat.present(str(self.gui_code.value))))
         self.gui_stop.on_click(guard("stop presenting", lambda _event: seat.stop_presenting()))
@@ -166,13 +173,12 @@ class LecturePanel:
         """The live bar's widgets (inside `bar`), hidden until `refresh` shows them."""
         self.gui_pin = gui.add_html(LIVE_BAR_CSS, order=next(orders))
         self.gui_badge = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False, order=next(orders))
-        self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False, order=next(orders),
-                                            hint="click in the 3D view to point for everyone (or hold Shift)")
-        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False,
-                                            order=next(orders),
-                                            hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
-                                                 f"unless they press {STAY_LABEL}")
+        self.gui_stop = gui.add_button(N_("Stop presenting"), color="red", visible=False, order=next(orders))
+        self.gui_pointer = gui.add_checkbox(N_("Pointer"), False, visible=False, order=next(orders),
+                                            hint=N_("click in the 3D view to point for everyone (or hold Shift)"))
+        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False, order=next(orders),
+                                            hint=N_("every explorer follows again in {seconds} s "
+                                                    "unless they press {stay}"))
         self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
         _ = for_gui(gui).gettext
         self.gui_stay = gui.add_button(_(STAY_LABEL), visible=False, order=next(orders), hint=_(STAY_HINT))
@@ -181,6 +187,11 @@ class LecturePanel:
         self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
         self.gui_last_room = gui.add_button(_(LAST_ROOM_LABEL), icon=viser.Icon.HISTORY, visible=False,
                                             order=next(orders), hint=_(LAST_ROOM_HINT))
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's and the live bar's words in `tr`'s language (the browser chose another)."""
+        self.words.relabel(tr)
+        self.refresh()
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
@@ -224,7 +235,7 @@ class LecturePanel:
             show_if_changed(handle, presenting)
         if presenting:
             following, explorers = lectern.total_audience()
-            write_if_changed(self.gui_badge, live_badge(following, explorers))
+            write_if_changed(self.gui_badge, live_badge(following, explorers, for_gui(self.seat.client.gui)))
             if self.gui_call_back.disabled != (explorers == 0):
                 self.gui_call_back.disabled = explorers == 0
         tr = for_gui(self.seat.client.gui)  # the explorer's words: its language now
@@ -248,9 +259,13 @@ class LecturePanel:
     def call_back(self) -> None:
         """The presenter asks every explorer back (`Lectern.call_back`); said in the badge's place."""
         called = self.lectern.call_back(self.seat)
+        tr = for_gui(self.seat.client.gui)
         self.seat.client.add_notification(
-            "Called everyone back", f"{called} explorer{'' if called == 1 else 's'} will follow again in "
-            f"{CALL_BACK_SECONDS:g} s unless they press {STAY_LABEL}.", auto_close_seconds=4.0)
+            tr.gettext("Called everyone back"),
+            tr.ngettext("{count} explorer will follow again in {seconds} s unless they press {stay}.",
+                        "{count} explorers will follow again in {seconds} s unless they press {stay}.",
+                        called).format(count=called, seconds=f"{CALL_BACK_SECONDS:g}", stay=tr.gettext(STAY_LABEL)),
+            auto_close_seconds=4.0)
 
     def stay(self) -> None:
         """This explorer keeps exploring (`Lectern.stay`)."""
