@@ -171,14 +171,16 @@ class AskPanel:
             self.gui_earlier = gui.add_button(EARLIER_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
                                               hint=N_("the anonymous answers of the rounds that ended: "
                                                       "yours and those of the presenters before you"))
-        self.words = Labels(gui)
-        self.words.take(self.folder, self.gui_prompt, self.gui_ask, self.gui_close, self.gui_again, self.gui_reveal,
-                        self.gui_csv, self.gui_new, self.gui_earlier,
-                        *(h for form in self.forms.values() for h in form.handles if h not in form.with_options))
-        self.words.take(self.gui_kind, *(h for form in self.forms.values() for h in form.with_options), options=True)
             self.gallery = Gallery(client.scene, root=f"{ASK_ROOT}/gallery")  # its node made now, hidden
             self.gallery_panel = GalleryPanel(gui, self.gallery, lambda entry: self.play_entry(entry), guard)
             self.gallery_panel.folder.visible = False
+        self.words = Labels(gui)
+        with_options = [h for form in self.forms.values() for h in form.with_options]
+        self.words.take(self.folder, self.gui_prompt, self.gui_ask, self.gui_close, self.gui_again, self.gui_reveal,
+                        self.gui_csv, self.gui_new, self.gui_earlier,
+                        *(h for form in self.forms.values() for h in form.handles
+                          if not any(h is o for o in with_options)))
+        self.words.take(self.gui_kind, *with_options, options=True)
         self._alias_fields()
         # The sphere, the tips and the true direction, made hidden now (see AnswerPanel: no node is made in a frame)
         self.sphere = AnswerSphere(client.scene, ASK_ROOT)
