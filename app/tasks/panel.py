@@ -445,7 +445,7 @@ class TaskPanel(TaskMaking):
         self.gui_choice.visible = kind == "choice"
         self.gui_value.visible = kind == "number"
         self.gui_azimuth.visible = self.gui_elevation.visible = kind == "direction"
-        self.gui_submit.label = _("Submit the state of my room" if kind == "state" else SUBMIT_LABEL)
+        self.gui_submit.label = _("Submit the state of my room") if kind == "state" else _(SUBMIT_LABEL)
         self.gui_submit.hint = _("your answer is judged and kept; a receipt code is shown")
         self.gui_submit.visible = True
         self.gui_previous.visible = many and index > 0
