@@ -22,8 +22,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_browser_lecture import (CODE, button, choose, close_toasts, hall_app, open_folder, open_page, project,  # noqa: F401
-                                  received, text_input)
+from test_browser_lecture import (  # noqa: F401
+    CODE,
+    button,
+    choose,
+    close_toasts,
+    hall_app,
+    open_folder,
+    open_page,
+    project,
+    received,
+    text_input,
+)
 
 from app.kit.draw.screen import REFERENCE_HEIGHT_PX, SCREEN_EM_PX, text_box
 from app.main import App

@@ -16,6 +16,7 @@ presenter's own scene (`client.scene`), so the followers' screens never show the
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -65,6 +66,41 @@ def count_text(number: int, answered: int, expected: int, is_open: bool, tr: Tra
     state = _("open") if is_open else _("closed")
     return _("**Round {number}** · {answered} of {expected} answered · {state}").format(
         number=number, answered=answered, expected=max(expected, answered), state=state)
+
+
+TALLY_LINES: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"no answers yet"), N_("no answers yet")),
+    (re.compile(r"round (?P<number>\d+): (?P<count>\d+) answers"), N_("round {number}: {count} answers")),
+    (re.compile(r"(?P<count>\d+) tips on the sphere in the 3D view"), N_("{count} tips on the sphere in the 3D view")),
+    (re.compile(r"(?P<count>\d+) tips on the sphere in the 3D view · (?P<near>\d+) within 15° of the true direction"),
+     N_("{count} tips on the sphere in the 3D view · {near} within 15° of the true direction")),
+    (re.compile(r"(?P<count>\d+) states sent"), N_("{count} states sent")),
+    (re.compile(r"(?P<count>\d+) states sent \(none judged\)"), N_("{count} states sent (none judged)")),
+    (re.compile(r"(?P<count>\d+) not judged"), N_("{count} not judged")),
+    (re.compile(r"✓ \*\*(?P<good>\d+)\*\* of (?P<count>\d+) meet the target"),
+     N_("✓ **{good}** of {count} meet the target")),
+    (re.compile(r"\*\*(?P<right>\d+) of (?P<count>\d+)\*\* within ±(?P<tolerance>.+) of (?P<value>.+)"),
+     N_("**{right} of {count}** within ±{tolerance} of {value}")),
+)
+"""Whole lines of a tally in words (`QuestionKind.tally_text`, English) and their msgids."""
+TALLY_BESIDE = re.compile(r" · round (?P<number>\d+): (?P<count>\d+)$")
+"""The round before beside a bar (after Vote again), at the end of a line."""
+
+
+def tally_in_language(text: str, tr: Translator) -> str:
+    """A tally in words (Markdown lines, `QuestionKind.tally_text`) in `tr`'s language: the
+    app's words translated, the options, numbers and units as they are."""
+    if tr.language == "en" or not text:
+        return text
+    lines = []
+    for line in text.split("  \n"):
+        found = next(((m, msgid) for pattern, msgid in TALLY_LINES if (m := pattern.fullmatch(line))), None)
+        if found is not None:
+            line = tr.gettext(found[1]).format(**found[0].groupdict())
+        else:
+            line = TALLY_BESIDE.sub(lambda m: tr.gettext(" · round {number}: {count}").format(**m.groupdict()), line)
+        lines.append(line)
+    return "  \n".join(lines)
 
 
 def csv_in_language(text: str, tr: Translator) -> str:
@@ -318,7 +354,7 @@ class AskPanel:
         label = tr.gettext(HIDE_LABEL if round_.revealed else REVEAL_LABEL)
         if self.gui_reveal.label != label:
             self.gui_reveal.label = label
-        write_if_changed(self.gui_histogram, question.tally_text(tally, round_.revealed))
+        write_if_changed(self.gui_histogram, tally_in_language(question.tally_text(tally, round_.revealed), tr))
         show_if_changed(self.gui_histogram, True)
         self._draw_sphere(tally if question.kind == "direction" else None, round_.revealed)
         self._show_gallery(round_ if question.kind == "state" else None)
@@ -352,6 +388,7 @@ class AskPanel:
     def relabel(self, tr: Translator) -> None:
         """The folder's words in `tr`'s language (the browser chose another); the round written again."""
         self.words.relabel(tr)
+        self.gallery_panel.relabel(tr)
         self.drawn = ()
         self.refresh()
 

@@ -353,6 +353,8 @@ class TaskPanel(TaskMaking):
         self.words.relabel(tr)
         if self.ask is not None:
             self.maker_words.relabel(tr)
+        if self.views is not None:
+            self.views.relabel(tr)
         if self.task is not None and self.gui_about.visible:
             self.show_question(self.question)
         if self.lecturer_task is not None:
