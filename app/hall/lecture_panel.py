@@ -97,14 +97,6 @@ def ended_text(hall: Hall, scene: str, tr: Translator | None = None) -> str:
         how=how, scene=_(scene) if scene else _("a scene"))
 
 
-def _label(handle: Any, tr: Translator, label: str, hint: str) -> None:
-    """`handle`'s label and hint (msgids) in `tr`'s language; unchanged ones are not sent."""
-    if handle.label != (text := tr.gettext(label)):
-        handle.label = text
-    if handle.hint != (text := tr.gettext(hint)):
-        handle.hint = text
-
-
 class Lecturer(Seat, Protocol):
     """What the lecture's panel drives: a browser's session (`app.session.Session` is one)."""
 
@@ -158,7 +150,7 @@ class LecturePanel:
             self.gui_note = gui.add_markdown("", visible=False)
         self.words = Labels(gui)
         self.words.take(self.folder, self.gui_code, self.gui_present, self.gui_pointer_label, self.gui_stop,
-                        self.gui_pointer)
+                        self.gui_pointer, self.gui_stay, self.gui_follow, self.gui_last_room)
         self.words.take(self.gui_call_back, seconds=f"{CALL_BACK_SECONDS:g}", stay=STAY_LABEL)
         self._guarded_point = guard("pointer", self._pointed)
         self.gui_present.on_click(guard("present", lambda _event: seat.present(str(self.gui_code.value))))
@@ -180,13 +172,12 @@ class LecturePanel:
                                             hint=N_("every explorer follows again in {seconds} s "
                                                     "unless they press {stay}"))
         self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
-        _ = for_gui(gui).gettext
-        self.gui_stay = gui.add_button(_(STAY_LABEL), visible=False, order=next(orders), hint=_(STAY_HINT))
-        self.gui_follow = gui.add_button(_(FOLLOW_LABEL), icon=viser.Icon.USERS, visible=False, order=next(orders),
-                                         hint=_(FOLLOW_HINT))
+        self.gui_stay = gui.add_button(STAY_LABEL, visible=False, order=next(orders), hint=STAY_HINT)
+        self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
+                                         hint=FOLLOW_HINT)
         self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_last_room = gui.add_button(_(LAST_ROOM_LABEL), icon=viser.Icon.HISTORY, visible=False,
-                                            order=next(orders), hint=_(LAST_ROOM_HINT))
+        self.gui_last_room = gui.add_button(LAST_ROOM_LABEL, icon=viser.Icon.HISTORY, visible=False,
+                                            order=next(orders), hint=LAST_ROOM_HINT)
 
     def relabel(self, tr: Translator) -> None:
         """The folder's and the live bar's words in `tr`'s language (the browser chose another)."""
@@ -241,8 +232,6 @@ class LecturePanel:
         tr = for_gui(self.seat.client.gui)  # the explorer's words: its language now
         left = lectern.call_back_left(self.seat) if exploring else None
         if exploring:
-            _label(self.gui_follow, tr, FOLLOW_LABEL, FOLLOW_HINT)
-            _label(self.gui_stay, tr, STAY_LABEL, STAY_HINT)
             write_if_changed(self.gui_lecture_on, call_text(left, tr) if left is not None
                    else lecture_on_text(lectern.live_title() or "", tr))
         show_if_changed(self.gui_lecture_on, exploring)
@@ -251,7 +240,6 @@ class LecturePanel:
         ended = (mode is Mode.OWN and self.seat.came_after_lecture and lectern.live
                  and not lectern.someone_presents and lectern.hall in (Hall.STOPPED, Hall.LEFT))
         if ended:
-            _label(self.gui_last_room, tr, LAST_ROOM_LABEL, LAST_ROOM_HINT)
             write_if_changed(self.gui_ended, ended_text(lectern.hall, lectern.live_title() or "", tr))
         show_if_changed(self.gui_ended, ended)
         show_if_changed(self.gui_last_room, ended)

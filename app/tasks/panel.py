@@ -331,7 +331,8 @@ class TaskPanel(TaskMaking):
             self.gui_extend.on_click(guard("extend the task", lambda _e: self.extend(self.gui_extend_hours.value)))
             self.words = Labels(gui)
             self.words.take(self.folder, self.gui_open, self.gui_name, self.gui_student_number, self.gui_my_receipt,
-                            self.gui_choice, self.gui_azimuth, self.gui_elevation, self.gui_previous, self.gui_next,
+                            self.gui_choice, self.gui_value, self.gui_submit, self.gui_azimuth, self.gui_elevation,
+                            self.gui_previous, self.gui_next,
                             self.gui_lecturer_code, self.gui_lecturer, self.gui_csv, self.gui_extend_hours,
                             self.gui_extend, self.gui_close, self.gui_receipt, self.gui_check)
             self.words.take(self.gui_code, example=EXAMPLE)
@@ -448,7 +449,6 @@ class TaskPanel(TaskMaking):
         self.gui_value.visible = kind == "number"
         self.gui_azimuth.visible = self.gui_elevation.visible = kind == "direction"
         self.gui_submit.label = _("Submit the state of my room") if kind == "state" else _(SUBMIT_LABEL)
-        self.gui_submit.hint = _("your answer is judged and kept; a receipt code is shown")
         self.gui_submit.visible = True
         self.gui_previous.visible = many and index > 0
         self.gui_next.visible = many and index < len(task.questions) - 1
