@@ -541,3 +541,77 @@ def test_the_lecturers_csv_has_its_headers_in_the_lecturers_language_and_numbers
     assert name == "antwoorden-eerdere-rondes.csv"
     assert "ronde,antwoord,seconden,optie,optie_tekst,x,y,z,toestand,beoordeeld,beoordeling,waarde" in text.splitlines()
     assert lecturer.error_count == 0, lecturer.last_error
+
+
+@pytest.fixture
+def task_hall(tmp_path: Path) -> Iterator[Any]:
+    """The app without its loop, its data folder a temporary one, the presenter code known."""
+    running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code="24681357",
+                            data_dir=tmp_path)
+    clients: list[RawClient] = []
+
+    def join() -> Any:
+        before = set(running.sessions)
+        clients.append(RawClient(running.port))
+        return poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
+                          timeout=20.0)
+
+    try:
+        yield running, join
+    finally:
+        for client in clients:
+            client.close()
+        running.stop()
+
+
+def test_a_task_made_read_and_downloaded_in_german_and_its_csv_stays_machine_readable(
+        task_hall: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A German presenter makes a number task through the translated form; a Dutch student
+    submits; the German lecturer's table and gradebook CSV speak German (header row), the
+    score written with a point in the CSV, with a comma in the table."""
+    import app.tasks.panel as task_panel
+
+    saved: list[tuple[str, str]] = []
+    monkeypatch.setattr(task_panel, "save_download", lambda _client, name, data: saved.append((name, str(data))))
+    app, join = task_hall
+    lecturer, student = join(), join()
+    lecturer.set_language("de")
+    student.set_language("nl")
+    de, nl = translator("de"), translator("nl")
+    with lecturer.lock:
+        lecturer.present("24681357")
+    ask, maker = lecturer.ask_panel, lecturer.task_panel
+    ask.gui_kind.value = de.gettext("Number")
+    ask.gui_prompt.value = "T?"
+    number = ask.forms["number"]
+    number.gui_value.value, number.gui_unit.value, number.gui_tolerance.value = "2.5", "s", "0.2"
+    maker.gui_attempts.value = "3"
+    maker.gui_counts.value = de.gettext("last")
+    with lecturer.lock:
+        task = maker.make_from_form()
+    assert (task.policy.attempts, task.policy.counts) == (3, "last")
+    assert maker.gui_made.content.startswith(f"Aufgabencode **{task.shown_code}**")
+    assert "3 Versuche, der letzte zählt" in maker.gui_made.content
+    panel = student.task_panel
+    panel.open(task.shown_code)
+    panel.gui_name.value, panel.gui_value.value = "Ann", 2.6
+    assert panel.submit() is not None, panel.gui_note.content
+    assert panel.gui_verdict.content.startswith("Jouw poging 1 (Ann)") and "nog 2 pogingen" in panel.gui_verdict.content
+    assert panel.gui_submit.label == nl.gettext("Submit")
+    with lecturer.lock:
+        lecturer.stop_presenting()
+    table_panel = lecturer.task_panel
+    assert table_panel.open_as_lecturer(task.shown_code, "24681357") is not None, table_panel.gui_note.content
+    table = table_panel.gui_table.content
+    assert f"**Aufgabe {task.shown_code}** · 1 Frage · fällig" in table
+    assert "| Name | Matrikelnummer | Versuche | Punkte | Urteil | Zuletzt abgegeben (UTC) |" in table
+    assert "| 1 | 1,00 |" in table and "1 Person, 1 Abgabe" in table and "1 geantwortet · 1 richtig" in table
+    table_panel.download()
+    name, text = saved[-1]
+    assert name == f"aufgabe-{task.shown_code}-ergebnisse.csv"
+    header, row = text.splitlines()[:2]
+    assert header == "name,matrikelnummer,punkte,versuche,zuletzt_abgegeben,urteil"
+    assert row.startswith("Ann,,1.000,1,")  # numbers and the ISO time as a program reads them
+    lecturer.set_language("en")  # the table follows the lecturer's language
+    assert "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |" in table_panel.gui_table.content
+    assert lecturer.error_count == 0 and student.error_count == 0, (lecturer.last_error, student.last_error)

@@ -38,12 +38,14 @@ from app.ask.gallery import GalleryEntry, play_answer
 from app.ask.questions import Question
 from app.ask.round import Tally
 from app.hall.ask_kinds import direction_of
-from app.i18n import N_, Labels, Translator, for_gui
+from app.hall.ask_presenter import tally_in_language
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.panel.download import save_download
 from app.lecture.gate import code_matches
 from app.scenes import SCENES
 from app.sharestore import EXAMPLE, format_code
 from app.tasks.model import (
+    GRADEBOOK_COLUMNS,
     MAX_QUESTIONS,
     GradebookRow,
     Submission,
@@ -78,28 +80,65 @@ POLL_S = 2.0  # [s] the lecturer's open table is written again this often (other
 ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", N_("unlimited"))
 
 
-def table_text(task: Task, submissions: list[Submission], now: float) -> str:
+def table_text(task: Task, submissions: list[Submission], now: float, tr: Translator | None = None) -> str:
     """The lecturer's live table (Markdown): a line about the task, then one row a student
-    (name, number, attempts, score, verdict, when)."""
+    (name, number, attempts, score, verdict, when), in `tr`'s language (English by default; the
+    students' names and the judges' verdicts as they are)."""
+    tr = tr or translator("en")
+    _ = tr.gettext
     rows = gradebook_rows(task, submissions)
-    state = "closed" if task.closed else "open" if now < task.due else "past its due time"
+    state = _("closed") if task.closed else _("open") if now < task.due else _("past its due time")
     judged = [r.score for r in rows if r.score is not None]
-    mean = f" · mean score {sum(judged) / len(judged):.2f}" if judged else ""
-    head = (f"**Task {task.shown_code}** · {len(task.questions)} question{'s' if len(task.questions) > 1 else ''} · "
-            f"due {iso_time(task.due)} · {state} · {task.policy.words()}  \n"
-            f"{len(rows)} student{'' if len(rows) == 1 else 's'}, {len(submissions)} submissions{mean}")
+    mean = _(" · mean score {mean}").format(mean=tr.decimal(sum(judged) / len(judged), 2)) if judged else ""
+    head = (_("**Task {code}**").format(code=task.shown_code) + " · "
+            + tr.ngettext("{count} question", "{count} questions", len(task.questions)).format(
+                count=len(task.questions))
+            + " · " + _("due {due}").format(due=iso_time(task.due)) + f" · {state} · {policy_words(task, tr)}  \n"
+            + tr.ngettext("{count} student", "{count} students", len(rows)).format(count=len(rows)) + ", "
+            + tr.ngettext("{count} submission", "{count} submissions", len(submissions)).format(
+                count=len(submissions)) + mean)
     if not rows:
-        return head + "  \nno submissions yet"
-    lines = [head, "", "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |",
-             "|---|---|---|---|---|---|"]
+        return head + "  \n" + _("no submissions yet")
+    number = "Number" if tr.language == "en" else _("Student number")  # ("Number" is a question's kind)
+    columns = (_("Name"), number, _("Attempts"), _("Score"), _("Verdict"), _("Last submitted (UTC)"))
+    lines = [head, "", "| " + " | ".join(columns) + " |", "|---|---|---|---|---|---|"]
     for r in rows:
-        score = "–" if r.score is None else f"{r.score:.2f}"
+        score = "–" if r.score is None else tr.decimal(r.score, 2)
         lines.append(f"| {_cell(r.name) or '–'} | {_cell(r.number) or '–'} | {r.attempts} | {score} | "
-                     f"{_cell(_verdict_cell(r))} | {short_time(r.last_submitted)} |")
+                     f"{_cell(_verdict_cell(r))} | {short_time(r.last_submitted, tr)} |")
     return "\n".join(lines)
 
 
-def tallies_text(task: Task, submissions: list[Submission], now: float) -> str:
+def policy_words(task: Task, tr: Translator) -> str:
+    """The task's attempts and which counts (`Policy.words`) in `tr`'s language."""
+    policy = task.policy
+    if tr.language == "en":
+        return policy.words()
+    _ = tr.gettext
+    if policy.attempts == 1:
+        return tr.ngettext("{count} attempt", "{count} attempts", 1).format(count=1)
+    many = (_("unlimited attempts") if policy.attempts is None
+            else tr.ngettext("{count} attempt", "{count} attempts", policy.attempts).format(count=policy.attempts))
+    return _("{attempts}, the {counts} counts").format(attempts=many, counts=_(policy.counts))
+
+
+GRADEBOOK_WORDS: dict[str, str] = {
+    "name": N_("name"), "number": N_("number"), "score": N_("score"), "attempts": N_("attempts"),
+    "last_submitted": N_("last_submitted"), "verdict": N_("verdict")}
+"""The gradebook's CSV columns (`model.GRADEBOOK_COLUMNS`) a lecturer reads in their language."""
+
+
+def gradebook_in_language(text: str, tr: Translator) -> str:
+    """The gradebook's CSV `text` with its header row in `tr`'s language (the lecturer's); the
+    rows (names, scores with a point, ISO times) as they are: machine-readable."""
+    header = ",".join(GRADEBOOK_COLUMNS)
+    first, newline, rest = text.partition("\n")
+    if first != header:
+        return text
+    return ",".join(tr.gettext(GRADEBOOK_WORDS[c]) for c in GRADEBOOK_COLUMNS) + newline + rest
+
+
+def tallies_text(task: Task, submissions: list[Submission], now: float, tr: Translator | None = None) -> str:
     """Per question, the counted answers (one a student: `model.counted`) in words: how many
     answered and were right, and a choice's bars or a number's histogram (`QuestionKind.tally_text`,
     the right answer marked) as `Ask the class` shows them."""
@@ -111,19 +150,27 @@ def tallies_text(task: Task, submissions: list[Submission], now: float) -> str:
         chosen = [c for subs in by_student.values()
                   if (c := counted([s for s in subs if s.question == index], task.policy.counts)) is not None]
         right = sum(1 for c in chosen if c.score == 1.0)
-        line = f"**Q{index + 1}** · {len(chosen)} answered" + (f" · {right} right" if is_judged(question) else "")
+        words = tr or translator("en")
+        line = (f"**Q{index + 1}** · " + words.gettext("{count} answered").format(count=len(chosen))
+                + (words.gettext(" · {count} right").format(count=right) if is_judged(question) else ""))
         if chosen and question.kind in ("choice", "number"):
             values = [c.value for c in chosen]
             tally = Tally(1, question, task.open_now(now), len(chosen),
                           **question.tally_fields(values, [None] * len(values)))
-            line += "  \n" + question.tally_text(tally, revealed=True)
+            line += "  \n" + tally_in_language(question.tally_text(tally, revealed=True), words)
         lines.append(line)
     return "  \n".join(lines)
 
 
-def short_time(seconds: float) -> str:
-    """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column."""
-    return datetime.fromtimestamp(seconds, UTC).strftime("%d %b %H:%M")
+def short_time(seconds: float, tr: Translator | None = None) -> str:
+    """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column; the
+    month's name in `tr`'s language."""
+    when = datetime.fromtimestamp(seconds, UTC)
+    if tr is None or tr.language == "en":
+        return when.strftime("%d %b %H:%M")
+    from babel.dates import format_datetime  # noqa: PLC0415 - Babel's month names
+
+    return str(format_datetime(when, "dd MMM HH:mm", tzinfo=UTC, locale=tr.language))
 
 
 def _verdict_cell(row: GradebookRow) -> str:
@@ -233,7 +280,7 @@ class TaskMaking:
         tr = for_gui(self.session.client.gui)
         self._said_made(tr.gettext("Task code **{code}** · due {due} · {policy}: students type it in the {folder} "
                                    "folder and open it.").format(code=task.shown_code, due=iso_time(task.due),
-                                                                  policy=task.policy.words(),
+                                                                  policy=policy_words(task, tr),
                                                                   folder=tr.gettext(TASK_FOLDER)))
         return task
 
@@ -431,7 +478,8 @@ class TaskPanel(TaskMaking):
         words = f"{task.words}  \n" if task.words else ""
         which = _("Question {index} of {count}: ").format(index=index + 1, count=len(task.questions)) if many else ""
         self.gui_about.content = (f"{words}**{which}{question.prompt}**  \n"
-                                  + _("Due {due}").format(due=iso_time(task.due)) + f" · {task.policy.words()}{state}")
+                                  + _("Due {due}").format(due=iso_time(task.due))
+                                  + f" · {policy_words(task, for_gui(self.client.gui))}{state}")
         self.gui_about.visible = True
         token = self.session.answer_token
         student = self.store.student(task.code, token)
@@ -593,7 +641,8 @@ class TaskPanel(TaskMaking):
         self.lecturer_task = task
         submissions = self.store.submissions(task.code)
         now = self.clock()
-        text = table_text(task, submissions, now) + "\n\n" + tallies_text(task, submissions, now)
+        tr = for_gui(self.client.gui)
+        text = table_text(task, submissions, now, tr) + "\n\n" + tallies_text(task, submissions, now, tr)
         if self.gui_table.content != text:
             self.gui_table.content = text
         if self.views is not None:
@@ -602,8 +651,9 @@ class TaskPanel(TaskMaking):
 
     def download(self) -> None:
         task = self.store.task(self._lecturers().code)
-        save_download(self.client, f"task-{task.shown_code}-results.csv",
-                      gradebook_csv(task, self.store.submissions(task.code)))
+        tr = for_gui(self.client.gui)  # the lecturer's language now
+        save_download(self.client, tr.gettext("task-{code}-results.csv").format(code=task.shown_code),
+                      gradebook_in_language(gradebook_csv(task, self.store.submissions(task.code)), tr))
 
     def check_receipt(self, text: Any) -> str:
         """The submission a receipt code stands for, said under it (the lecturer's, of the task
