@@ -615,3 +615,31 @@ def test_a_task_made_read_and_downloaded_in_german_and_its_csv_stays_machine_rea
     lecturer.set_language("en")  # the table follows the lecturer's language
     assert "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |" in table_panel.gui_table.content
     assert lecturer.error_count == 0 and student.error_count == 0, (lecturer.last_error, student.last_error)
+
+
+def test_a_refused_presenter_code_is_said_in_the_browsers_language_and_stays_true(hall: Any) -> None:
+    """A wrong code in a Dutch browser: the Lecture folder's note in Dutch, the tries left counted;
+    another presenter busy: said in German; every refusal the lectern words has a translation."""
+    from app.hall.lecture_panel import CODE_REFUSALS, refusal_in_language
+
+    app, join = hall
+    dutch, german, presenter = join(), join(), join()
+    dutch.set_language("nl")
+    german.set_language("de")
+    dutch.present("not the code")
+    assert dutch.mode.name == "OWN"
+    assert dutch.gui_lecture_note.content.startswith("**⚠ Verkeerde presentatorcode (nog ")
+    assert "pogingen deze minuut).**" in dutch.gui_lecture_note.content
+    presenter.present(app.lectern.code)
+    german.present(app.lectern.code)
+    assert german.gui_lecture_note.content == "**⚠ Jemand anderes trägt vor und muss zuerst aufhören.**"
+    dutch.set_language("de")  # the note follows the language when it is said again
+    dutch.lecture.show_refusal()
+    assert dutch.gui_lecture_note.content.startswith("**⚠ Falscher Vortragscode (noch ")
+    nl = translator("nl")
+    for pattern, msgid in CODE_REFUSALS:
+        english = msgid.format(wait=7)
+        assert pattern.fullmatch(english), msgid
+        assert refusal_in_language(english, nl) == nl.gettext(msgid).format(wait=7) != english
+    assert refusal_in_language("a refusal nobody wrote yet", nl) == "a refusal nobody wrote yet"
+    assert dutch.error_count == 0 and german.error_count == 0, (dutch.last_error, german.last_error)

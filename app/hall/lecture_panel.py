@@ -28,6 +28,7 @@ following, calling back) is the session's and the lectern's: the panel calls the
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterator
 from typing import Any, Protocol
 
@@ -63,6 +64,38 @@ with a shadow while it shows anything.  viser wraps the panel's contents in a co
 scroller and the bar it becomes `overflow: clip`, which clips the same and scrolls nothing, with
 `min-width: 0` (a grid item that is no scroll box would otherwise grow to its content's width,
 and the panel would scroll sideways)."""
+
+
+CODE_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"Too many wrong codes: wait (?P<wait>\d+) s before trying again\."),
+     N_("Too many wrong codes: wait {wait} s before trying again.")),
+    (re.compile(r"Wrong presenter code, no tries left: wait (?P<wait>\d+) s before trying again\."),
+     N_("Wrong presenter code, no tries left: wait {wait} s before trying again.")),
+    (re.compile(r"Too many wrong codes in this lecture hall \(someone may be guessing\): wait (?P<wait>\d+) s "
+                r"before trying again\."),
+     N_("Too many wrong codes in this lecture hall (someone may be guessing): wait {wait} s before trying again.")),
+    (re.compile(r"Someone else is presenting; they must stop first\."),
+     N_("Someone else is presenting; they must stop first.")),
+    (re.compile(r"The presenter lock does not answer \(the lecture's Redis\); try again in a moment\."),
+     N_("The presenter lock does not answer (the lecture's Redis); try again in a moment.")),
+)
+"""The lectern's refusals of a presenter code (`app.lecture.lectern`), matched in English, and their msgids."""
+TRIES_LEFT = re.compile(r"Wrong presenter code \((?P<left>\d+) tr(?:y|ies) left this minute\)\.")
+
+
+def refusal_in_language(words: str, tr: Translator) -> str:
+    """A refusal of a presenter code (the lectern's English words) in `tr`'s language; the words
+    as they are when no pattern knows them."""
+    found = TRIES_LEFT.fullmatch(words)
+    if found:
+        left = int(found["left"])
+        return tr.ngettext("Wrong presenter code ({left} try left this minute).",
+                           "Wrong presenter code ({left} tries left this minute).", left).format(left=left)
+    for pattern, msgid in CODE_REFUSALS:
+        found = pattern.fullmatch(words)
+        if found:
+            return tr.gettext(msgid).format(**found.groupdict())
+    return words
 
 
 def live_badge(following: int, exploring: int, tr: Translator | None = None) -> str:
@@ -203,7 +236,7 @@ class LecturePanel:
     def show_refusal(self) -> None:
         """The refusal's words as they are now (or no note)."""
         words = self.lectern.refusal_now(self.seat)
-        self.note(f"**⚠ {words}**" if words else "")
+        self.note(f"**⚠ {refusal_in_language(words, for_gui(self.seat.client.gui))}**" if words else "")
 
     def show_for(self, mode: Mode) -> None:
         """The panel for the browser's `mode` (`refresh`)."""
