@@ -643,3 +643,35 @@ def test_a_refused_presenter_code_is_said_in_the_browsers_language_and_stays_tru
         assert refusal_in_language(english, nl) == nl.gettext(msgid).format(wait=7) != english
     assert refusal_in_language("a refusal nobody wrote yet", nl) == "a refusal nobody wrote yet"
     assert dutch.error_count == 0 and german.error_count == 0, (dutch.last_error, german.last_error)
+
+
+def test_the_mine_folder_says_its_refusals_and_the_notes_name_their_files_in_the_browsers_language(
+        task_hall: Any) -> None:
+    from app.hall.own_panel import OWN_REFUSALS, own_refusal_words
+
+    app, join = task_hall
+    german, follower = join(), join()
+    german.set_language("de")
+    follower.set_language("nl")
+    mine = german.own_panel
+    mine.gui_name.value = "   "
+    german.guard("save preset", lambda: mine._said(mine.save_preset))()
+    assert mine.gui_status.content == "**⚠ gib der Voreinstellung einen Namen**"
+    mine.gui_name.value = "Meine"
+    german.guard("save preset", lambda: mine._said(mine.save_preset))()
+    assert mine.gui_status.content.startswith("**Meine** gespeichert (Euler-Winkel)")
+    german.present("24681357")
+    poll_until(lambda: (app.frame(1 / 60), follower.mode.name == "FOLLOWING")[1], timeout=10.0)
+    follower.own_panel.gui_name.value = "x"
+    follower.guard("save preset", lambda: follower.own_panel._said(follower.own_panel.save_preset))()
+    assert follower.own_panel.gui_status.content == (
+        "**⚠ wie volgt kan niet bewaren: tijdens een college kan alleen de presentator dat**")
+    assert german.notes._file_title(german.room) == "euler-winkel"
+    de = translator("de")
+    for pattern, msgid in OWN_REFUSALS:
+        english = msgid.format(most=80, scene="Free body", name="'Spin'", why="no rigid body")
+        assert pattern.fullmatch(english), msgid
+        assert own_refusal_words(english, de) != english, msgid
+    assert own_refusal_words("Free body has a preset named 'Spin' already", de) == (
+        "Freier Körper hat schon eine Voreinstellung namens 'Spin'")
+    assert german.error_count == 0 and follower.error_count == 0, (german.last_error, follower.last_error)

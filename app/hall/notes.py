@@ -72,6 +72,10 @@ class Notes:
         """The folder's words in `tr`'s language (the browser chose another)."""
         self.words.relabel(tr)
 
+    def _file_title(self, room: Room) -> str:
+        """The scene's title in a download's name, in the browser's language ("euler_angles", "euler-winkel")."""
+        return for_gui(self.client.gui).gettext(room.scene.title).lower().replace(" ", "_")
+
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
         """Record the next `seconds` of the scene shown, from its current state, and offer it as
         .html and .viser downloads.  The copy is taken now (`Room.fork`; the room shown is not
@@ -82,7 +86,7 @@ class Notes:
                              .format(seconds=repr(seconds), most=f"{MAX_SECONDS:g}"))
         room = self._room()
         copy = room.fork()
-        title = room.scene.title.lower().replace(" ", "_")
+        title = self._file_title(room)
         bar = self.gui_record_progress
 
         def work() -> None:
@@ -108,7 +112,7 @@ class Notes:
         """Ask this browser for a render of its 3D view, the drag gizmos hidden meanwhile, and
         save it as `<scene>_t<time>s.png` (in a thread: the browser answers in a second or so)."""
         room = self._room()
-        name = f"{room.scene.title.lower().replace(' ', '_')}_t{room.shown_t:.1f}s.png"
+        name = f"{self._file_title(room)}_t{room.shown_t:.1f}s.png"
         view = self._view()
         hide = getattr(view, "hide_gizmos", None)
 

@@ -19,6 +19,7 @@ changes nothing.
 from __future__ import annotations
 
 import json
+import re
 from typing import Any, Protocol
 
 import viser
@@ -34,6 +35,44 @@ __all__ = ["MINE_MARK", "NONE_CHOSEN", "OwnPanel"]
 
 NONE_CHOSEN = "—"
 MINE_MARK = "★ "  # an own preset or lesson in a list
+
+
+OWN_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"give the preset a name"), N_("give the preset a name")),
+    (re.compile(r"give the lesson a name"), N_("give the lesson a name")),
+    (re.compile(r"the preset's name is longer than (?P<most>\d+) characters"),
+     N_("the preset's name is longer than {most} characters")),
+    (re.compile(r"the lesson's name is longer than (?P<most>\d+) characters"),
+     N_("the lesson's name is longer than {most} characters")),
+    (re.compile(r"(?P<scene>.+) has a preset (?P<name>'.*'|\".*\") of its own: choose another name"),
+     N_("{scene} has a preset {name} of its own: choose another name")),
+    (re.compile(r"this moment cannot be a preset: (?P<why>.+)", re.S), N_("this moment cannot be a preset: {why}")),
+    (re.compile(r"no preset of yours named (?P<name>'.*'|\".*\") in (?P<scene>.+)"),
+     N_("no preset of yours named {name} in {scene}")),
+    (re.compile(r"(?P<scene>.+) has a preset named (?P<name>'.*'|\".*\") already"),
+     N_("{scene} has a preset named {name} already")),
+    (re.compile(r"no lesson of yours named (?P<name>'.*'|\".*\")"), N_("no lesson of yours named {name}")),
+    (re.compile(r"this app keeps no presets or lessons of its own"),
+     N_("this app keeps no presets or lessons of its own")),
+    (re.compile(r"a follower cannot save: only the presenter can, during a lecture"),
+     N_("a follower cannot save: only the presenter can, during a lecture")),
+    (re.compile(r"while a lecture is on, only the presenter can save presets and lessons"),
+     N_("while a lecture is on, only the presenter can save presets and lessons")),
+)
+"""The refusals of the Mine folder's actions (`app.own`, `OwnRoom.may_save`), matched in English, and their msgids."""
+
+
+def own_refusal_words(refusal: str, tr: Translator) -> str:
+    """A refusal (English, from `app.own` or `may_save`) in `tr`'s language, a scene's title
+    translated; the words as they are when no pattern knows them."""
+    for pattern, msgid in OWN_REFUSALS:
+        found = pattern.fullmatch(refusal)
+        if found:
+            fields = found.groupdict()
+            if "scene" in fields:
+                fields["scene"] = tr.gettext(fields["scene"])
+            return tr.gettext(msgid).format(**fields)
+    return refusal
 
 
 class Stage(Protocol):
@@ -122,7 +161,7 @@ class OwnPanel:
         try:
             action(*args)
         except (ValueError, PermissionError, LessonError) as error:
-            self.say(str(error), refused=True)
+            self.say(own_refusal_words(str(error), for_gui(self.gui)), refused=True)
 
     def _allowed(self) -> None:
         why_not = self.stage.may_save()
