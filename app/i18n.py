@@ -18,8 +18,9 @@ constant translated later (`tr.gettext(CONSTANT)`); the keywords are in babel.cf
 Per browser: a session sets its panel's translator (`set_translator(client.gui, tr)`); a view
 reads it from the GUI its panel goes to (`for_gui(gui)`), English for a GUI nobody set (a
 recorder, a tool).  A part built once per browser keeps its widgets' English words in a `Labels`
-and writes them again in the language the browser chooses (`Labels.relabel`).  English is the msgids themselves (no catalog): the English panel is the
-app's words as they always were, numbers written as Python writes them.
+and writes them again in the language the browser chooses (`Labels.relabel`).  English is the
+msgids themselves (no catalog): the English panel is the app's words as they always were,
+numbers written as Python writes them.
 """
 
 from __future__ import annotations
