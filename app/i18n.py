@@ -17,8 +17,10 @@ constant translated later (`tr.gettext(CONSTANT)`); the keywords are in babel.cf
 
 Per browser: a session sets its panel's translator (`set_translator(client.gui, tr)`); a view
 reads it from the GUI its panel goes to (`for_gui(gui)`), English for a GUI nobody set (a
-recorder, a tool).  English is the msgids themselves (no catalog): the English panel is the
-app's words as they always were, numbers written as Python writes them.
+recorder, a tool).  A part built once per browser keeps its widgets' English words in a `Labels`
+and writes them again in the language the browser chooses (`Labels.relabel`).  English is the
+msgids themselves (no catalog): the English panel is the app's words as they always were,
+numbers written as Python writes them.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ __all__ = [
     "DEFAULT_LANGUAGE",
     "DOMAIN",
     "LANGUAGES",
+    "Labels",
     "N_",
     "Translator",
     "catalog_bytes",
@@ -204,3 +207,59 @@ def for_gui(gui: Any) -> Translator:
     with _BY_GUI_LOCK:
         found = _BY_GUI.get(gui)
     return found if found is not None else translator(DEFAULT_LANGUAGE)
+
+
+class Labels:
+    """The words of one panel part's widgets, kept as English msgids and written in a browser's
+    language: `take` a handle made with English words (marked `N_`), `relabel` writes every
+    handle's label, hint (and, for a dropdown taken with `options=True`, its options, the value
+    kept) in a translator's language, sending only what changed.
+
+    Args:
+        gui: the browser's panel (its translator, `for_gui`, is the language `take` writes in).
+    """
+
+    def __init__(self, gui: Any) -> None:
+        self.gui = gui
+        self.tr = for_gui(gui)
+        self._taken: list[tuple[Any, str, str, tuple[str, ...] | None, dict[str, Any]]] = []
+
+    def take(self, *handles: Any, options: bool = False, **fields: Any) -> None:
+        """Keep `handles`' English label and hint (and options) and write them in this part's
+        language; `fields` fill the placeholders of a label or hint msgid (`{seconds}`; a str field
+        is a msgid too, translated)."""
+        for handle in handles:
+            label, hint = str(getattr(handle, "label", "") or ""), str(getattr(handle, "hint", "") or "")
+            kept = tuple(str(o) for o in handle.options) if options else None
+            self._taken.append((handle, label, hint, kept, fields))
+            self._write(handle, label, hint, kept, fields, translator(DEFAULT_LANGUAGE))
+
+    def relabel(self, tr: Translator | None = None) -> None:
+        """Every handle taken in `tr`'s language (the browser's now by default)."""
+        old, self.tr = self.tr, tr or for_gui(self.gui)
+        for handle, label, hint, kept, fields in self._taken:
+            self._write(handle, label, hint, kept, fields, old)
+
+    def option(self, english: str) -> str:
+        """A dropdown's option `english` as this part shows it now."""
+        return self.tr.gettext(english)
+
+    def english(self, shown: Any) -> str:
+        """The English option of a dropdown's value shown (`option`'s inverse)."""
+        return self.tr.english(str(shown))
+
+    def _write(self, handle: Any, label: str, hint: str, kept: tuple[str, ...] | None, fields: dict[str, Any],
+               old: Translator) -> None:
+        tr = self.tr
+        fields = {name: tr.gettext(value) if isinstance(value, str) else value for name, value in fields.items()}
+        if label and handle.label != (text := tr.gettext(label).format(**fields) if fields else tr.gettext(label)):
+            handle.label = text
+        if hint and handle.hint != (text := tr.gettext(hint).format(**fields) if fields else tr.gettext(hint)):
+            handle.hint = text
+        if kept is not None:
+            value = old.english(str(handle.value))
+            shown = tuple(tr.gettext(o) for o in kept)
+            if tuple(handle.options) != shown:
+                handle.options = shown
+                if type(handle).__name__ != "GuiButtonGroupHandle":  # a button group keeps no value
+                    handle.value = tr.gettext(value) if value in kept else shown[0]

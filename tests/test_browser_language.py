@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from test_browser_lecture import close_toasts, open_page, serving
+from test_browser_lecture import CODE, close_toasts, open_folder, open_page, received, serving, text_input
 
 from app.main import App
 
@@ -203,3 +203,80 @@ def test_a_german_phone_and_laptop_show_german_text_neither_cut_nor_overlapping(
     problems, _ = text_problems(laptop)
     assert problems == [], f"the German laptop panel (1280x800): {problems}"
     assert laptop_session.error_count == 0, laptop_session.last_error
+
+
+GERMAN_FOLDERS = (("Lektion", "Weiter ▶"), ("Für die Notizen", "Bildschirmfoto"),
+                  ("Teilen", "Geteilten Moment öffnen"),
+                  ("Aufgabe", "Aufgabe öffnen"), ("Meins", "Lektion importieren"))
+"""The folders of the Lesson, notes, Share, Task and Mine parts in German: (title, their last button's words)."""
+
+
+def folders_fit(page: Any, where: str) -> None:
+    """Open each folder of GERMAN_FOLDERS in turn (its last button scrolled into view), check the
+    panel's German text as drawn (`text_problems`), a screenshot each, and fold it again."""
+    for title, last in GERMAN_FOLDERS:
+        folder = page.get_by_text(title, exact=True).first  # the folder's title (before its widgets)
+        folder.scroll_into_view_if_needed(timeout=30_000)
+        folder.click()
+        end = page.get_by_text(last, exact=True).last
+        end.wait_for(state="visible", timeout=30_000)
+        end.scroll_into_view_if_needed(timeout=30_000)
+        close_toasts(page)
+        shot(page, f"{where}_de_{title.split()[-1].lower()}.png")
+        problems, _ = text_problems(page)
+        assert problems == [], f"the German {title} folder ({where}): {problems}"
+        folder.click()
+        end.wait_for(state="hidden", timeout=30_000)
+
+
+@pytest.fixture
+def german_hall() -> Iterator[App]:
+    yield from serving(language="de", presenter_code=CODE)
+
+
+def test_a_german_presenter_asking_the_class_and_the_folders_fit_the_laptop_and_the_phone(
+        browser, german_hall: App, german_app: App, wait_until) -> None:
+    """A German laptop presents (Vorlesung, Vortragscode, Vortragen) and asks the class a choice
+    through its page: the live bar and `Frage an die Klasse` with the round open are German,
+    neither cut nor overlapping at 1280×800; then the Lesson, notes, Share, Task and Mine folders,
+    each open in turn, on the laptop and on a German phone (390×844) of another app (no lecture
+    ended there: its live bar, pinned over the panel's scroll, stays empty)."""
+    app = german_hall
+    page, session = open_page(browser, app, 90.0, **LAPTOP)
+    button(page, "Abspielen").wait_for(timeout=90_000)
+    close_toasts(page)
+    open_folder(page, "Vorlesung", "Vortragscode")
+    text_input(page, "Vortragscode").click()
+    page.keyboard.type(CODE, delay=30)
+    received(page, session, "Vortragscode", CODE)
+    button(page, "Vortragen").click()
+    wait_until(lambda: session.mode == "presenting", timeout=20.0)
+    button(page, "Vortrag beenden").first.wait_for(timeout=30_000)
+    for label, text in (("Frage", "Dreht er sich gleichmäßig?"), ("Optionen", "ja | nein")):
+        field = text_input(page, label)
+        field.click()
+        field.fill("")
+        page.keyboard.type(text, delay=5)
+        received(page, session, label, text)
+    button(page, "Frage an die Klasse").click()
+    button(page, "Runde schließen").wait_for(timeout=30_000)
+    page.get_by_text("0 von 0 geantwortet", exact=False).first.wait_for(timeout=30_000)
+    for english in ("Stop presenting", "Close the round", "Vote again", "Download answers (CSV)"):
+        assert button(page, english).count() == 0, english
+    close_toasts(page)
+    shot(page, "laptop_de_presenting.png")
+    problems, _ = text_problems(page)
+    assert problems == [], f"the German presenter's panel with a round open (1280x800): {problems}"
+    button(page, "Vortrag beenden").first.click()  # (the live bar is pinned: the panel scrolls under it)
+    wait_until(lambda: session.mode == "own", timeout=20.0)
+    folders_fit(page, "laptop")
+    assert session.error_count == 0, session.last_error
+
+    phone, phone_session = open_page(browser, german_app, 90.0, **PHONE)
+    details = button(phone, "Details")
+    details.wait_for(timeout=90_000)
+    details.tap()
+    button(phone, "Details ausblenden").wait_for(timeout=30_000)
+    close_toasts(phone)
+    folders_fit(phone, "phone")
+    assert phone_session.error_count == 0, phone_session.last_error

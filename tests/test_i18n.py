@@ -75,11 +75,11 @@ def test_the_catalog_compiles_and_keeps_every_placeholder_and_line_break(languag
     for message in catalog:
         if not message.id:
             continue
-        if isinstance(message.id, tuple):  # ngettext: singular and plural, each form compiled as written
-            singular, plural = message.id
-            forms = tuple(translations.ngettext(singular, plural, n) for n in (1, 2))
-            assert forms == tuple(message.string[:2]), message.id
-            assert all(_fields(form) == _fields(plural) for form in forms), message.id
+        if isinstance(message.id, tuple):  # plural forms: one, many (Dutch and German have two)
+            one, many = message.id
+            forms = (translations.ngettext(one, many, 1), translations.ngettext(one, many, 2))
+            assert forms == tuple(message.string), message.id
+            assert [_fields(f) for f in forms] == [_fields(one), _fields(many)], message.id
             continue
         shown = translations.gettext(message.id)
         assert shown == message.string, message.id  # compiled as written
@@ -473,3 +473,312 @@ def test_a_follower_and_a_student_read_their_panels_in_their_language_the_lectur
     german.set_language("de")  # the live bar follows the language
     assert german.lecture.gui_follow.label == "Vortragendem folgen"
     assert "Vorlesung läuft" in german.lecture.gui_lecture_on.content
+
+
+# ------------------------------------------------------------------ the presenter's parts and the folders
+def _texts_of(*roots: Any) -> list[tuple[str, str]]:
+    """(what, text) of every widget under `roots` (shown or hidden), less the HTML (styles)."""
+    return [(what, text) for root in roots if type(root).__name__ != "GuiHtmlHandle" for what, text in _texts(root)]
+
+
+def _presenters_part(session: Any) -> list[tuple[str, str]]:
+    """The presenter's words: the live bar (badge, Stop presenting, Pointer, Call everyone back),
+    the Lecture folder and Ask the class (the form of every kind, the round, its tally, the
+    gallery, Make a task)."""
+    lecture = session.lecture
+    return _texts_of(lecture.bar, lecture.folder, session.ask_panel.folder)
+
+
+def _folders_part(session: Any) -> list[tuple[str, str]]:
+    """The Lesson, notes, Share, Task and Mine folders' own words (the lessons' titles in the
+    Lesson dropdown are the lessons', translated with them elsewhere)."""
+    runner = session.lesson_runner
+    texts = _texts_of(session.notes.folder, session.share.folder, session.task_panel.folder,
+                      session.own_panel.folder)
+    lesson = [(what, text) for what, text in _texts_of(runner.folder)
+              if not (what == "GuiDropdownHandle.options" and text in runner.lessons)]
+    return texts + lesson
+
+
+def _english_left(shown: list[tuple[str, str]], english_panel: list[tuple[str, str]],
+                  language: str) -> tuple[list[tuple[str, str]], list[str]]:
+    """(msgids shown untranslated, texts with a word shown as the English panel shows them) of a
+    panel part in `language`; the judges' names (identifiers) and msgids the language writes the
+    same way are no English left."""
+    from app.ask import JUDGES
+
+    tr = translator(language)
+    msgids = _msgids(_catalog(LOCALE / language / "LC_MESSAGES" / "messages.po"))
+    changed = {m for m in msgids if tr.gettext(m) != m}
+    left = [(what, text) for what, text in shown if text in changed]
+    english_texts = {text for _, text in english_panel}
+    same = sorted({text for _, text in shown if text in english_texts and WORD.search(text)
+                   and text not in SYMBOLS_ONLY and text not in msgids - changed and text not in JUDGES})
+    return left, same
+
+
+def _round_with_an_answer(app: Any, lecturer: Any, student: Any) -> None:
+    """`lecturer` presents and asks a choice (no words of its own), `student` answers it."""
+    lecturer.present(app.lectern.code)
+    assert lecturer.error_count == 0, lecturer.last_error
+    poll_until(lambda: (app.frame(1 / 60), student.mode.name == "FOLLOWING")[1], timeout=10.0)
+    lecturer.ask({"kind": "choice", "prompt": "?", "options": ["A", "B"], "correct": 0})
+    poll_until(lambda: (app.frame(1 / 60), student.question.folder.visible)[1], timeout=10.0)
+    student.answer(0)
+    lecturer.ask_panel.refresh()
+    assert lecturer.error_count == 0 and student.error_count == 0, (lecturer.last_error, student.last_error)
+
+
+@pytest.mark.parametrize("language", TRANSLATED)
+def test_the_presenters_panel_with_a_round_open_shows_no_english_in_another_language(hall: Any,
+                                                                                     language: str) -> None:
+    """Built in English, presenting with a round open, then switched: the live bar, Lecture and
+    Ask the class (every kind's form, the count, the tally, the buttons) in the language; the
+    same panel back in English is the English words the tests click."""
+    app, join = hall
+    lecturer, student = join(), join()
+    _round_with_an_answer(app, lecturer, student)
+    english_panel = _presenters_part(lecturer)
+    assert ("GuiButtonHandle.label", "Stop presenting") in english_panel
+    assert ("GuiButtonHandle.label", "Close the round") in english_panel
+    assert any("1 of 1 answered" in text for _, text in english_panel)
+    lecturer.set_language(language)
+    assert lecturer.error_count == 0, lecturer.last_error
+    app.frame(1 / 60)
+    shown = _presenters_part(lecturer)
+    assert len(shown) >= 60
+    left, same = _english_left(shown, english_panel, language)
+    assert left == [] and same == []
+    tr = translator(language)
+    assert lecturer.gui_stop.label == tr.gettext("Stop presenting") != "Stop presenting"
+    assert lecturer.ask_panel.gui_close.label == tr.gettext("Close the round")
+    assert tr.gettext("**Round {number}** · {answered} of {expected} answered · {state}").format(
+        number=1, answered=1, expected=1, state=tr.gettext("open")) in lecturer.ask_panel.gui_count.content
+    assert lecturer.gui_badge.content == tr.gettext("**● Live** · {following} following · {exploring} exploring"
+                                                    ).format(following=1, exploring=0)
+    lecturer.close_round()  # the presenter's buttons still act in another language
+    lecturer.ask_panel.refresh()
+    assert tr.gettext("closed") in lecturer.ask_panel.gui_count.content
+    lecturer.set_language("en")
+    assert lecturer.gui_stop.label == "Stop presenting" and lecturer.ask_panel.gui_close.label == "Close the round"
+    assert lecturer.ask_panel.gui_csv.label == "Download answers (CSV)" and lecturer.error_count == 0
+
+
+@pytest.mark.parametrize("language", TRANSLATED)
+def test_the_ask_form_reads_its_translated_dropdowns(hall: Any, language: str) -> None:
+    """The Kind, Right option and Judge dropdowns show words in the language; the question the
+    form makes is the same as in English."""
+    app, join = hall
+    lecturer, _student = join(), join()
+    lecturer.set_language(language)
+    lecturer.present(app.lectern.code)
+    panel = lecturer.ask_panel
+    tr = translator(language)
+    assert tuple(panel.gui_kind.options) == tuple(tr.gettext(k) for k in ("Choice", "Direction", "State", "Number"))
+    assert panel.gui_correct.value == tr.gettext("none") and panel.gui_judge.value == tr.gettext("none")
+    panel.gui_kind.value = tr.gettext("Number")  # as the dropdown sends it
+    assert panel.forms["number"].gui_value.visible and not panel.gui_options.visible
+    panel.gui_kind.value = tr.gettext("Choice")
+    panel.gui_prompt.value = "?"
+    panel.gui_options.value = "A | B"
+    assert panel.form_question().correct is None
+    panel.gui_correct.value = "2"
+    assert panel.form_question().correct == 1
+    panel.gui_kind.value = "Klingon"  # a client can send anything: back to Choice, in the language
+    assert panel.gui_kind.value == tr.gettext("Choice") and lecturer.error_count == 0, lecturer.last_error
+
+
+@pytest.mark.parametrize("language", TRANSLATED)
+def test_the_lesson_notes_share_task_and_mine_folders_show_no_english_in_another_language(
+        hall: Any, language: str) -> None:
+    """Built in the language (the app's default) and switched to it later: the same words."""
+    app, join = hall
+    english = join()
+    app.language = language
+    built = join()
+    app.language = "en"
+    switched = join()
+    switched.set_language(language)
+    assert built.error_count == 0 and switched.error_count == 0, (built.last_error, switched.last_error)
+    english_panel = _folders_part(english)
+    for session in (built, switched):
+        shown = _folders_part(session)
+        assert len(shown) >= 60
+        left, same = _english_left(shown, english_panel, language)
+        assert left == [] and same == []
+    assert sorted(_folders_part(built)) == sorted(_folders_part(switched))
+    tr = translator(language)
+    assert built.task_panel.gui_open.label == tr.gettext("Open the task") != "Open the task"
+    assert built.own_panel.gui_actions.options == tuple(tr.gettext(a) for a in ("Play", "Rename", "Delete"))
+
+
+def test_the_lecturers_csv_has_its_headers_in_the_lecturers_language_and_numbers_as_written(
+        hall: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A German lecturer's answers: German column names, the question as typed, numbers with a
+    point (machine-readable); the same round downloaded by an English presenter: English headers."""
+    import app.hall.ask_presenter as ask_presenter
+
+    saved: list[tuple[str, str]] = []
+    monkeypatch.setattr(ask_presenter, "save_download",
+                        lambda _client, name, data: saved.append((name, data if isinstance(data, str)
+                                                                   else data.decode())))
+    app, join = hall
+    lecturer, student = join(), join()
+    lecturer.set_language("de")
+    _round_with_an_answer(app, lecturer, student)
+    lecturer.ask_panel.download()
+    name, text = saved[-1]
+    lines = text.splitlines()
+    assert name == "antworten-runde-1.csv"
+    assert lines[0] == "# choice: ?"  # the comment line: the question as typed
+    header = lines[[k for k, line in enumerate(lines) if not line.startswith("#")][0]]
+    assert header == "runde,antwort,sekunden,auswahl,auswahl_text,x,y,z,zustand,bewertet,bewertung,wert"
+    row = lines[-1].split(",")
+    assert row[:2] == ["1", "1"] and re.fullmatch(r"\d+\.\d\d", row[2]), row  # seconds written with a point
+    assert row[3:5] == ["1", "A"]
+    lecturer.set_language("en")
+    lecturer.ask_panel.download()
+    name, text = saved[-1]
+    assert name == "answers-round-1.csv"
+    assert "round,answer,seconds,option,option_text,x,y,z,state,judged,judged_words,value" in text.splitlines()
+    lecturer.set_language("nl")
+    lecturer.guard("new question", lambda: lecturer.ask_panel._changed(lecturer.ask_panel.rounds.end))()
+    lecturer.ask_panel.download_earlier()
+    name, text = saved[-1]
+    assert name == "antwoorden-eerdere-rondes.csv"
+    assert "ronde,antwoord,seconden,optie,optie_tekst,x,y,z,toestand,beoordeeld,beoordeling,waarde" in text.splitlines()
+    assert lecturer.error_count == 0, lecturer.last_error
+
+
+@pytest.fixture
+def task_hall(tmp_path: Path) -> Iterator[Any]:
+    """The app without its loop, its data folder a temporary one, the presenter code known."""
+    running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code="24681357",
+                            data_dir=tmp_path)
+    clients: list[RawClient] = []
+
+    def join() -> Any:
+        before = set(running.sessions)
+        clients.append(RawClient(running.port))
+        return poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
+                          timeout=20.0)
+
+    try:
+        yield running, join
+    finally:
+        for client in clients:
+            client.close()
+        running.stop()
+
+
+def test_a_task_made_read_and_downloaded_in_german_and_its_csv_stays_machine_readable(
+        task_hall: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A German presenter makes a number task through the translated form; a Dutch student
+    submits; the German lecturer's table and gradebook CSV speak German (header row), the
+    score written with a point in the CSV, with a comma in the table."""
+    import app.tasks.panel as task_panel
+
+    saved: list[tuple[str, str]] = []
+    monkeypatch.setattr(task_panel, "save_download", lambda _client, name, data: saved.append((name, str(data))))
+    app, join = task_hall
+    lecturer, student = join(), join()
+    lecturer.set_language("de")
+    student.set_language("nl")
+    de, nl = translator("de"), translator("nl")
+    with lecturer.lock:
+        lecturer.present("24681357")
+    ask, maker = lecturer.ask_panel, lecturer.task_panel
+    ask.gui_kind.value = de.gettext("Number")
+    ask.gui_prompt.value = "T?"
+    number = ask.forms["number"]
+    number.gui_value.value, number.gui_unit.value, number.gui_tolerance.value = "2.5", "s", "0.2"
+    maker.gui_attempts.value = "3"
+    maker.gui_counts.value = de.gettext("last")
+    with lecturer.lock:
+        task = maker.make_from_form()
+    assert (task.policy.attempts, task.policy.counts) == (3, "last")
+    assert maker.gui_made.content.startswith(f"Aufgabencode **{task.shown_code}**")
+    assert "3 Versuche, der letzte zählt" in maker.gui_made.content
+    panel = student.task_panel
+    panel.open(task.shown_code)
+    panel.gui_name.value, panel.gui_value.value = "Ann", 2.6
+    assert panel.submit() is not None, panel.gui_note.content
+    assert panel.gui_verdict.content.startswith("Jouw poging 1 (Ann)") and "nog 2 pogingen" in panel.gui_verdict.content
+    assert panel.gui_submit.label == nl.gettext("Submit")
+    with lecturer.lock:
+        lecturer.stop_presenting()
+    table_panel = lecturer.task_panel
+    assert table_panel.open_as_lecturer(task.shown_code, "24681357") is not None, table_panel.gui_note.content
+    table = table_panel.gui_table.content
+    assert f"**Aufgabe {task.shown_code}** · 1 Frage · fällig" in table
+    assert "| Name | Matrikelnummer | Versuche | Punkte | Urteil | Zuletzt abgegeben (UTC) |" in table
+    assert "| 1 | 1,00 |" in table and "1 Person, 1 Abgabe" in table and "1 geantwortet · 1 richtig" in table
+    table_panel.download()
+    name, text = saved[-1]
+    assert name == f"aufgabe-{task.shown_code}-ergebnisse.csv"
+    header, row = text.splitlines()[:2]
+    assert header == "name,matrikelnummer,punkte,versuche,zuletzt_abgegeben,urteil"
+    assert row.startswith("Ann,,1.000,1,")  # numbers and the ISO time as a program reads them
+    lecturer.set_language("en")  # the table follows the lecturer's language
+    assert "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |" in table_panel.gui_table.content
+    assert lecturer.error_count == 0 and student.error_count == 0, (lecturer.last_error, student.last_error)
+
+
+def test_a_refused_presenter_code_is_said_in_the_browsers_language_and_stays_true(hall: Any) -> None:
+    """A wrong code in a Dutch browser: the Lecture folder's note in Dutch, the tries left counted;
+    another presenter busy: said in German; every refusal the lectern words has a translation."""
+    from app.hall.lecture_panel import CODE_REFUSALS, refusal_in_language
+
+    app, join = hall
+    dutch, german, presenter = join(), join(), join()
+    dutch.set_language("nl")
+    german.set_language("de")
+    dutch.present("not the code")
+    assert dutch.mode.name == "OWN"
+    assert dutch.gui_lecture_note.content.startswith("**⚠ Verkeerde presentatorcode (nog ")
+    assert "pogingen deze minuut).**" in dutch.gui_lecture_note.content
+    presenter.present(app.lectern.code)
+    german.present(app.lectern.code)
+    assert german.gui_lecture_note.content == "**⚠ Jemand anderes trägt vor und muss zuerst aufhören.**"
+    dutch.set_language("de")  # the note follows the language when it is said again
+    dutch.lecture.show_refusal()
+    assert dutch.gui_lecture_note.content.startswith("**⚠ Falscher Vortragscode (noch ")
+    nl = translator("nl")
+    for pattern, msgid in CODE_REFUSALS:
+        english = msgid.format(wait=7)
+        assert pattern.fullmatch(english), msgid
+        assert refusal_in_language(english, nl) == nl.gettext(msgid).format(wait=7) != english
+    assert refusal_in_language("a refusal nobody wrote yet", nl) == "a refusal nobody wrote yet"
+    assert dutch.error_count == 0 and german.error_count == 0, (dutch.last_error, german.last_error)
+
+
+def test_the_mine_folder_says_its_refusals_and_the_notes_name_their_files_in_the_browsers_language(
+        task_hall: Any) -> None:
+    from app.hall.own_panel import OWN_REFUSALS, own_refusal_words
+
+    app, join = task_hall
+    german, follower = join(), join()
+    german.set_language("de")
+    follower.set_language("nl")
+    mine = german.own_panel
+    mine.gui_name.value = "   "
+    german.guard("save preset", lambda: mine._said(mine.save_preset))()
+    assert mine.gui_status.content == "**⚠ gib der Voreinstellung einen Namen**"
+    mine.gui_name.value = "Meine"
+    german.guard("save preset", lambda: mine._said(mine.save_preset))()
+    assert mine.gui_status.content.startswith("**Meine** gespeichert (Euler-Winkel)")
+    german.present("24681357")
+    poll_until(lambda: (app.frame(1 / 60), follower.mode.name == "FOLLOWING")[1], timeout=10.0)
+    follower.own_panel.gui_name.value = "x"
+    follower.guard("save preset", lambda: follower.own_panel._said(follower.own_panel.save_preset))()
+    assert follower.own_panel.gui_status.content == (
+        "**⚠ wie volgt kan niet bewaren: tijdens een college kan alleen de presentator dat**")
+    assert german.notes._file_title(german.room) == "euler-winkel"
+    de = translator("de")
+    for pattern, msgid in OWN_REFUSALS:
+        english = msgid.format(most=80, scene="Free body", name="'Spin'", why="no rigid body")
+        assert pattern.fullmatch(english), msgid
+        assert own_refusal_words(english, de) != english, msgid
+    assert own_refusal_words("Free body has a preset named 'Spin' already", de) == (
+        "Freier Körper hat schon eine Voreinstellung namens 'Spin'")
+    assert german.error_count == 0 and follower.error_count == 0, (german.last_error, follower.last_error)

@@ -37,6 +37,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from app.ask.judges import AnswerState
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from physics.dynamics import Model, State
 from physics.euler import euler_zxz_from_matrix
 
@@ -177,16 +178,19 @@ class Gallery:
         self.visible = False
         self.draw()
 
-    def words(self) -> str:
-        """The panel's line about what is shown."""
+    def words(self, tr: Translator | None = None) -> str:
+        """The panel's line about what is shown, in `tr`'s language (English by default; a
+        judge's verdict as it is)."""
+        tr = tr or translator("en")
         count = len(self.entries)
         if count == 0:
-            return "No answers yet."
+            return tr.gettext("No answers yet.")
         chosen = self.chosen
         if chosen is None:
-            return f"{count} answer{'s' if count != 1 else ''} drawn faint at once."
+            return tr.ngettext("{count} answer drawn faint at once.", "{count} answers drawn faint at once.",
+                               count).format(count=count)
         said = f": {chosen.value if isinstance(chosen.value, str) else chosen.verdict}" if chosen.verdict else ""
-        return f"Answer {chosen.number} of {count}{said}"
+        return tr.gettext("Answer {number} of {count}").format(number=chosen.number, count=count) + said
 
     # ------------------------------------------------------------------ drawing
     def tick(self) -> None:
@@ -292,24 +296,28 @@ class GalleryPanel:
     `Play this answer`; `play(entry)` is called with the chosen answer (the caller loads it into
     its room and says what happened)."""
 
-    WALK = {"Previous": "previous", "Next": "next", "All": "show_all"}
+    WALK = {N_("Previous"): "previous", N_("Next"): "next", N_("All"): "show_all"}
 
     def __init__(self, gui: Any, gallery: Gallery, play: Callable[[GalleryEntry], None],
                  guard: Callable[[str, Callable[..., Any]], Callable[..., Any]] | None = None) -> None:
         self.gallery = gallery
         self.play = play
         wrap = guard or (lambda _where, fn: fn)
-        self.folder = gui.add_folder("Gallery")
+        self.gui = gui
+        self.folder = gui.add_folder(N_("Gallery"))
         with self.folder:
-            self.line = gui.add_markdown(gallery.words())
-            self.walk = gui.add_button_group("Answers", tuple(self.WALK))
-            self.play_button = gui.add_button("Play this answer", disabled=True,
-                                              hint="the chosen answer in the room, on every screen")
+            self.line = gui.add_markdown(gallery.words(for_gui(gui)))
+            self.walk = gui.add_button_group(N_("Answers"), tuple(self.WALK))
+            self.play_button = gui.add_button(N_("Play this answer"), disabled=True,
+                                              hint=N_("the chosen answer in the room, on every screen"))
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.play_button)
+        self.words.take(self.walk, options=True)
         self.walk.on_click(wrap("gallery", lambda event: self._walk(event.target.value)))
         self.play_button.on_click(wrap("gallery play", lambda _event: self._play()))
 
     def _walk(self, option: Any) -> None:
-        name = self.WALK.get(option) if isinstance(option, str) else None
+        name = self.WALK.get(self.words.english(option)) if isinstance(option, str) else None
         if name is None:  # a client can send anything
             return
         getattr(self.gallery, name)()
@@ -318,19 +326,24 @@ class GalleryPanel:
     def _play(self) -> None:
         chosen = self.gallery.chosen
         if chosen is None:
-            self.line.content = "Choose an answer first (Next or Previous)."
+            self.line.content = for_gui(self.gui).gettext("Choose an answer first (Next or Previous).")
             return
         self.play(chosen)
 
     def refresh(self) -> None:
         """Write the line and the buttons' state from the gallery."""
-        words = self.gallery.words()
+        words = self.gallery.words(for_gui(self.gui))
         if self.line.content != words:
             self.line.content = words
         self.play_button.disabled = self.gallery.chosen is None
         shown = bool(self.gallery.entries)  # (viser's button groups cannot be disabled)
         if self.walk.visible != shown:
             self.walk.visible = shown
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's words in `tr`'s language (the browser chose another)."""
+        self.words.relabel(tr)
+        self.refresh()
 
     def remove(self) -> None:
         self.folder.remove()

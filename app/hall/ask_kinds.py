@@ -39,6 +39,7 @@ FROM_COPY_HINT = N_("an exact copy of the presenter's scene, yours to change")
 STATE_HINT = N_("your copy's state as it is now")
 ANSWER_LABEL, ANSWER_HINT = N_("Your answer"), N_("a number in the question's unit")
 NUMBER_HINT = N_("the number in the box")
+NONE = N_("none")  # a form dropdown's "nothing chosen" (the right option, the judge)
 ARROW_LENGTH = 2.2  # [scene units] a student's arrow (out of the scenes' bodies)
 ARROW_COLOR = (0, 150, 150)  # teal: no axis, vector or pointer of the scenes has it
 ASK_ROOT = "/ask"  # the presenter's sphere and a student's arrow, each in its own browser's scene
@@ -141,6 +142,7 @@ class KindForm(Protocol):
     """A kind's fields in the presenter's form (made hidden, in the folder being built)."""
 
     handles: tuple[Any, ...]  # shown while this kind is chosen
+    with_options: tuple[Any, ...]  # those of them whose options are words (translated, `app.i18n.Labels`)
 
     def question(self, prompt: str) -> Question:
         """The question the fields describe with `prompt`; ValueError naming what is wrong."""
@@ -184,28 +186,33 @@ class KindPanels:
 # ---------------------------------------------------------------------- the presenter's form fields
 class ChoiceForm:
     def __init__(self, gui: Any, scene_title: Callable[[], str]) -> None:
-        self.gui_options = gui.add_text("Options", "", hint="2 to 6 options, separated by |")
-        self.gui_correct = gui.add_dropdown("Right option", ("none", *map(str, range(1, MAX_OPTIONS + 1))),
-                                            initial_value="none", hint="revealed on demand")
+        self.gui = gui
+        self.gui_options = gui.add_text(N_("Options"), "", hint=N_("2 to 6 options, separated by |"))
+        self.gui_correct = gui.add_dropdown(N_("Right option"), (NONE, *map(str, range(1, MAX_OPTIONS + 1))),
+                                            initial_value=NONE, hint=N_("revealed on demand"))
         self.handles = (self.gui_options, self.gui_correct)
+        self.with_options = (self.gui_correct,)  # dropdowns whose options are words (translated)
 
     def question(self, prompt: str) -> Question:
         options = [o.strip() for o in str(self.gui_options.value).split("|") if o.strip()]
-        correct = None if self.gui_correct.value == "none" else int(self.gui_correct.value) - 1
+        chosen = for_gui(self.gui).english(str(self.gui_correct.value))
+        correct = None if chosen == NONE else int(chosen) - 1
         if correct is not None and correct >= len(options):
             raise ValueError(f"the right option {correct + 1} is not one of the {len(options)} options")
         return question_from_dict({"kind": "choice", "prompt": prompt, "options": options, "correct": correct})
 
     def fill(self, question: Any) -> None:
         self.gui_options.value = " | ".join(question.options)
-        self.gui_correct.value = "none" if question.correct is None else str(question.correct + 1)
+        self.gui_correct.value = (for_gui(self.gui).gettext(NONE) if question.correct is None
+                                  else str(question.correct + 1))
 
 
 class DirectionForm:
     def __init__(self, gui: Any, scene_title: Callable[[], str]) -> None:
-        self.gui_truth = gui.add_text("True direction", "", visible=False,
-                                      hint="x, y, z in the space frame (z up), or empty")
+        self.gui_truth = gui.add_text(N_("True direction"), "", visible=False,
+                                      hint=N_("x, y, z in the space frame (z up), or empty"))
         self.handles = (self.gui_truth,)
+        self.with_options: tuple[Any, ...] = ()
 
     def question(self, prompt: str) -> Question:
         text = str(self.gui_truth.value).replace("(", "").replace(")", "").strip()
@@ -224,16 +231,19 @@ class DirectionForm:
 class StateForm:
     def __init__(self, gui: Any, scene_title: Callable[[], str]) -> None:
         self.scene_title = scene_title
-        self.gui_judge = gui.add_dropdown("Judge", ("none", *JUDGES), initial_value="none", visible=False,
-                                          hint="how the app judges a state")
-        self.gui_target = gui.add_text("Target", "", visible=False,
-                                       hint="attitude: φ, θ, ψ [deg] · top_motion: loops, waves, ... · "
-                                            "axis_stays: stays or flips")
+        self.gui = gui
+        self.gui_judge = gui.add_dropdown(N_("Judge"), (NONE, *JUDGES), initial_value=NONE, visible=False,
+                                          hint=N_("how the app judges a state"))
+        self.gui_target = gui.add_text(N_("Target"), "", visible=False,
+                                       hint=N_("attitude: φ, θ, ψ [deg] · top_motion: loops, waves, ... · "
+                                               "axis_stays: stays or flips"))
         self.handles = (self.gui_judge, self.gui_target)
+        self.with_options = (self.gui_judge,)
         self.filled: State | None = None  # a lesson's state question: its target, unless the form changes
 
     def question(self, prompt: str) -> Question:
-        judge_name = None if self.gui_judge.value == "none" else str(self.gui_judge.value)
+        chosen = for_gui(self.gui).english(str(self.gui_judge.value))
+        judge_name = None if chosen == NONE else chosen
         target = None if judge_name is None else target_of(judge_name, str(self.gui_target.value))
         filled = self.filled
         if (filled is not None and judge_name == filled.judge and not str(self.gui_target.value).strip()
@@ -243,18 +253,19 @@ class StateForm:
                                    "judge": judge_name, "target": target})
 
     def fill(self, question: Any) -> None:
-        self.gui_judge.value = question.judge if question.judge in JUDGES else "none"
+        self.gui_judge.value = question.judge if question.judge in JUDGES else for_gui(self.gui).gettext(NONE)
         self.gui_target.value = ""  # empty: the lesson's own target is asked (`question`)
         self.filled = question
 
 
 class NumberForm:
     def __init__(self, gui: Any, scene_title: Callable[[], str]) -> None:
-        self.gui_value = gui.add_text("Right value", "", visible=False, hint="the right number, or empty")
-        self.gui_unit = gui.add_text("Unit", "", visible=False, hint="e.g. s, rad/s, kg m²")
-        self.gui_tolerance = gui.add_text("Tolerance", "0", visible=False,
-                                          hint="an answer within ± this of the right value is right")
+        self.gui_value = gui.add_text(N_("Right value"), "", visible=False, hint=N_("the right number, or empty"))
+        self.gui_unit = gui.add_text(N_("Unit"), "", visible=False, hint=N_("e.g. s, rad/s, kg m²"))
+        self.gui_tolerance = gui.add_text(N_("Tolerance"), "0", visible=False,
+                                          hint=N_("an answer within ± this of the right value is right"))
         self.handles = (self.gui_value, self.gui_unit, self.gui_tolerance)
+        self.with_options: tuple[Any, ...] = ()
 
     def question(self, prompt: str) -> Question:
         value = _float_or_none(str(self.gui_value.value), "Right value")
@@ -407,8 +418,8 @@ class NumberWidget:
 
 
 PANELS: dict[str, KindPanels] = {
-    "choice": KindPanels("Choice", ChoiceForm, ChoiceWidget),
-    "direction": KindPanels("Direction", DirectionForm, DirectionWidget),
-    "state": KindPanels("State", StateForm, StateWidget),
-    "number": KindPanels("Number", NumberForm, NumberWidget),
+    "choice": KindPanels(N_("Choice"), ChoiceForm, ChoiceWidget),
+    "direction": KindPanels(N_("Direction"), DirectionForm, DirectionWidget),
+    "state": KindPanels(N_("State"), StateForm, StateWidget),
+    "number": KindPanels(N_("Number"), NumberForm, NumberWidget),
 }

@@ -16,6 +16,7 @@ presenter's own scene (`client.scene`), so the followers' screens never show the
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -25,8 +26,10 @@ import viser
 from app.ask import Question, Rounds, Tally
 from app.ask.gallery import Gallery, GalleryEntry, GalleryPanel
 from app.ask.judges import AnswerState
+from app.ask.round import Round
 from app.ask.state_tally import gallery_entries
 from app.hall.ask_kinds import ASK_ROOT, PANELS, KindForm
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.kit.panel.download import save_download
 
@@ -34,14 +37,14 @@ __all__ = ["ASK_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EARLIER_LABEL", "LABELS", "
            "SPHERE_RADIUS", "VOTE_AGAIN_LABEL", "AnswerSphere", "AskPanel", "count_text", "histogram_text",
            "sphere_points"]
 
-ASK_LABEL = "Ask the class"
-CLOSE_LABEL = "Close the round"
-VOTE_AGAIN_LABEL = "Vote again"
-REVEAL_LABEL = "Reveal the answer"
-HIDE_LABEL = "Hide the answer"
-CSV_LABEL = "Download answers (CSV)"
-EARLIER_LABEL = "Download earlier rounds (CSV)"
-NEW_LABEL = "New question"
+ASK_LABEL = N_("Ask the class")
+CLOSE_LABEL = N_("Close the round")
+VOTE_AGAIN_LABEL = N_("Vote again")
+REVEAL_LABEL = N_("Reveal the answer")
+HIDE_LABEL = N_("Hide the answer")
+CSV_LABEL = N_("Download answers (CSV)")
+EARLIER_LABEL = N_("Download earlier rounds (CSV)")
+NEW_LABEL = N_("New question")
 LABELS = {panels.label: kind for kind, panels in PANELS.items()}  # the form's Kind dropdown -> kind name
 SPHERE_RADIUS = 1.6  # [scene units] the sphere of the answers' tips, around the origin
 TIP_COLOR = (40, 110, 230)
@@ -49,10 +52,65 @@ TRUTH_COLOR = (235, 160, 0)
 TRUTH_REACH = 1.3  # the true direction's arrow ends this far out of the sphere (its tip seen past a vector)
 
 
-def count_text(number: int, answered: int, expected: int, is_open: bool) -> str:
-    """The presenter's live count (Markdown): "**Round 1** · 31 of 44 answered · open"."""
-    state = "open" if is_open else "closed"
-    return f"**Round {number}** · {answered} of {max(expected, answered)} answered · {state}"
+CSV_COLUMN_WORDS: dict[str, str] = {
+    "round": N_("round"), "answer": N_("answer"), "seconds": N_("seconds"), "option": N_("option"),
+    "option_text": N_("option_text"), "state": N_("state"), "judged": N_("judged"),
+    "judged_words": N_("judged_words"), "value": N_("value")}
+"""The answers' CSV columns (`Round.CSV_COLUMNS`) a lecturer reads in their language (x, y, z stay)."""
+
+
+def count_text(number: int, answered: int, expected: int, is_open: bool, tr: Translator | None = None) -> str:
+    """The presenter's live count (Markdown): "**Round 1** · 31 of 44 answered · open", in `tr`'s
+    language (English by default)."""
+    _ = (tr or translator("en")).gettext
+    state = _("open") if is_open else _("closed")
+    return _("**Round {number}** · {answered} of {expected} answered · {state}").format(
+        number=number, answered=answered, expected=max(expected, answered), state=state)
+
+
+TALLY_LINES: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"no answers yet"), N_("no answers yet")),
+    (re.compile(r"round (?P<number>\d+): (?P<count>\d+) answers"), N_("round {number}: {count} answers")),
+    (re.compile(r"(?P<count>\d+) tips on the sphere in the 3D view"), N_("{count} tips on the sphere in the 3D view")),
+    (re.compile(r"(?P<count>\d+) tips on the sphere in the 3D view · (?P<near>\d+) within 15° of the true direction"),
+     N_("{count} tips on the sphere in the 3D view · {near} within 15° of the true direction")),
+    (re.compile(r"(?P<count>\d+) states sent"), N_("{count} states sent")),
+    (re.compile(r"(?P<count>\d+) states sent \(none judged\)"), N_("{count} states sent (none judged)")),
+    (re.compile(r"(?P<count>\d+) not judged"), N_("{count} not judged")),
+    (re.compile(r"✓ \*\*(?P<good>\d+)\*\* of (?P<count>\d+) meet the target"),
+     N_("✓ **{good}** of {count} meet the target")),
+    (re.compile(r"\*\*(?P<right>\d+) of (?P<count>\d+)\*\* within ±(?P<tolerance>.+) of (?P<value>.+)"),
+     N_("**{right} of {count}** within ±{tolerance} of {value}")),
+)
+"""Whole lines of a tally in words (`QuestionKind.tally_text`, English) and their msgids."""
+TALLY_BESIDE = re.compile(r" · round (?P<number>\d+): (?P<count>\d+)$")
+"""The round before beside a bar (after Vote again), at the end of a line."""
+
+
+def tally_in_language(text: str, tr: Translator) -> str:
+    """A tally in words (Markdown lines, `QuestionKind.tally_text`) in `tr`'s language: the
+    app's words translated, the options, numbers and units as they are."""
+    if tr.language == "en" or not text:
+        return text
+    lines = []
+    for line in text.split("  \n"):
+        found = next(((m, msgid) for pattern, msgid in TALLY_LINES if (m := pattern.fullmatch(line))), None)
+        if found is not None:
+            line = tr.gettext(found[1]).format(**found[0].groupdict())
+        else:
+            line = TALLY_BESIDE.sub(lambda m: tr.gettext(" · round {number}: {count}").format(**m.groupdict()), line)
+        lines.append(line)
+    return "  \n".join(lines)
+
+
+def csv_in_language(text: str, tr: Translator) -> str:
+    """The answers' CSV `text` (`Rounds.csv`, `Rounds.earlier_csv`) with every header line of
+    `Round.CSV_COLUMNS` in `tr`'s language (the lecturer's); the rows, numbers and the
+    comment lines (the question as typed) as they are: machine-readable."""
+    header = ",".join(Round.CSV_COLUMNS)
+    shown = ",".join(tr.gettext(CSV_COLUMN_WORDS[c]) if c in CSV_COLUMN_WORDS else c for c in Round.CSV_COLUMNS)
+    return "".join(shown + line[len(header):] if line.rstrip("\r\n") == header else line
+                   for line in text.splitlines(keepends=True))
 
 
 def histogram_text(tally: Tally, revealed: bool) -> str:
@@ -130,28 +188,35 @@ class AskPanel:
         gui: Any = client.gui
         self.folder = gui.add_folder(ASK_LABEL, order=order, visible=False)
         with self.folder:
-            self.gui_kind = gui.add_dropdown("Kind", tuple(LABELS), initial_value="Choice",
-                                             hint="a choice, a direction in 3D, a state of the student's copy "
-                                                  "or a number with a unit")
-            self.gui_prompt = gui.add_text("Question", "", hint="what the class is asked")
+            self.gui_kind = gui.add_dropdown(N_("Kind"), tuple(LABELS), initial_value="Choice",
+                                             hint=N_("a choice, a direction in 3D, a state of the student's copy "
+                                                     "or a number with a unit"))
+            self.gui_prompt = gui.add_text(N_("Question"), "", hint=N_("what the class is asked"))
             self.forms: dict[str, KindForm] = {kind: panels.form(gui, scene_title) for kind, panels in PANELS.items()}
             self.gui_ask = gui.add_button(ASK_LABEL, icon=viser.Icon.HELP,
-                                          hint="every student answers from their own copy")
+                                          hint=N_("every student answers from their own copy"))
             self.gui_count = gui.add_markdown("", visible=False)
             self.gui_histogram = gui.add_markdown("", visible=False)
-            self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint="no more answers")
+            self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint=N_("no more answers"))
             self.gui_again = gui.add_button(VOTE_AGAIN_LABEL, visible=False,
-                                            hint="the same question again; this round stays beside it")
-            self.gui_reveal = gui.add_button(REVEAL_LABEL, visible=False, hint="the right answer on this screen")
+                                            hint=N_("the same question again; this round stays beside it"))
+            self.gui_reveal = gui.add_button(REVEAL_LABEL, visible=False, hint=N_("the right answer on this screen"))
             self.gui_csv = gui.add_button(CSV_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
-                                          hint="every round's anonymous answers")
-            self.gui_new = gui.add_button(NEW_LABEL, visible=False, hint="back to the form")
+                                          hint=N_("every round's anonymous answers"))
+            self.gui_new = gui.add_button(NEW_LABEL, visible=False, hint=N_("back to the form"))
             self.gui_earlier = gui.add_button(EARLIER_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
-                                              hint="the anonymous answers of the rounds that ended: "
-                                                   "yours and those of the presenters before you")
+                                              hint=N_("the anonymous answers of the rounds that ended: "
+                                                      "yours and those of the presenters before you"))
             self.gallery = Gallery(client.scene, root=f"{ASK_ROOT}/gallery")  # its node made now, hidden
             self.gallery_panel = GalleryPanel(gui, self.gallery, lambda entry: self.play_entry(entry), guard)
             self.gallery_panel.folder.visible = False
+        self.words = Labels(gui)
+        with_options = [h for form in self.forms.values() for h in form.with_options]
+        self.words.take(self.folder, self.gui_prompt, self.gui_ask, self.gui_close, self.gui_again, self.gui_reveal,
+                        self.gui_csv, self.gui_new, self.gui_earlier,
+                        *(h for form in self.forms.values() for h in form.handles
+                          if not any(h is o for o in with_options)))
+        self.words.take(self.gui_kind, *with_options, options=True)
         self._alias_fields()
         # The sphere, the tips and the true direction, made hidden now (see AnswerPanel: no node is made in a frame)
         self.sphere = AnswerSphere(client.scene, ASK_ROOT)
@@ -181,9 +246,9 @@ class AskPanel:
     def _kind_shown(self) -> None:
         if not self.presenting():
             return
-        kind = LABELS.get(str(self.gui_kind.value))
+        kind = LABELS.get(self.words.english(self.gui_kind.value))
         if kind is None:  # a client can send anything
-            self.gui_kind.value = "Choice"
+            self.gui_kind.value = self.words.option("Choice")
             return
         for name, form in self.forms.items():
             for handle in form.handles:
@@ -191,12 +256,12 @@ class AskPanel:
 
     def form_question(self) -> Question:
         """The question the form describes; ValueError naming what is wrong."""
-        kind = LABELS.get(str(self.gui_kind.value), "choice")
+        kind = LABELS.get(self.words.english(self.gui_kind.value), "choice")
         return self.forms[kind].question(str(self.gui_prompt.value))
 
     def fill(self, question: Question) -> None:
         """Put `question` into the form (a lesson step's question), ready for `Ask the class`."""
-        self.gui_kind.value = PANELS[question.kind].label
+        self.gui_kind.value = self.words.option(PANELS[question.kind].label)
         self.gui_prompt.value = question.prompt
         self.forms[question.kind].fill(question)
         state_form: Any = self.forms["state"]
@@ -222,7 +287,9 @@ class AskPanel:
         if not text:
             raise LookupError("no round to download")
         round_ = self.rounds.current
-        save_download(self.client, f"answers-round-{round_.number if round_ else 0}.csv", text)
+        tr = for_gui(self.client.gui)  # the lecturer's language now
+        name = tr.gettext("answers-round-{number}.csv").format(number=round_.number if round_ else 0)
+        save_download(self.client, name, csv_in_language(text, tr))
 
     def download_earlier(self) -> None:
         """The rounds that ended (this presenter's and earlier presenters', `Rounds.earlier_csv`)
@@ -231,7 +298,8 @@ class AskPanel:
         text = self.rounds.earlier_csv()
         if not text:
             raise LookupError("no earlier round to download")
-        save_download(self.client, "answers-earlier-rounds.csv", text)
+        tr = for_gui(self.client.gui)
+        save_download(self.client, tr.gettext("answers-earlier-rounds.csv"), csv_in_language(text, tr))
 
     # ------------------------------------------------------------------ the round
     def set_shown(self, shown: bool) -> None:
@@ -251,7 +319,8 @@ class AskPanel:
         rounds = self.rounds
         round_ = rounds.current
         expected = self.audience()
-        key = (rounds.version, rounds.answers_version, expected)
+        tr = for_gui(self.client.gui)
+        key = (rounds.version, rounds.answers_version, expected, tr.language)
         self.gallery.tick()  # answers that came within the gallery's redraw period
         if key == self.drawn:
             return
@@ -276,16 +345,16 @@ class AskPanel:
             return
         tally = round_.tally()
         question = round_.question
-        write_if_changed(self.gui_count, count_text(round_.number, tally.answered, expected, tally.open)
+        write_if_changed(self.gui_count, count_text(round_.number, tally.answered, expected, tally.open, tr)
                + f"  \n{question.prompt}")
         if self.gui_close.disabled != (not tally.open):
             self.gui_close.disabled = not tally.open
         has_truth = question.has_truth
         show_if_changed(self.gui_reveal, has_truth)
-        label = HIDE_LABEL if round_.revealed else REVEAL_LABEL
+        label = tr.gettext(HIDE_LABEL if round_.revealed else REVEAL_LABEL)
         if self.gui_reveal.label != label:
             self.gui_reveal.label = label
-        write_if_changed(self.gui_histogram, question.tally_text(tally, round_.revealed))
+        write_if_changed(self.gui_histogram, tally_in_language(question.tally_text(tally, round_.revealed), tr))
         show_if_changed(self.gui_histogram, True)
         self._draw_sphere(tally if question.kind == "direction" else None, round_.revealed)
         self._show_gallery(round_ if question.kind == "state" else None)
@@ -309,11 +378,19 @@ class AskPanel:
         if self.play is None:
             raise RuntimeError("this panel cannot play an answer")
         self.play(entry.answer)
-        self.gallery_panel.line.content = f"Playing answer {entry.number} in the room."
+        self.gallery_panel.line.content = for_gui(self.client.gui).gettext(
+            "Playing answer {number} in the room.").format(number=entry.number)
 
     def _draw_sphere(self, tally: Tally | None, revealed: bool = False) -> None:
         """The sphere of the round's tips (`AnswerSphere.draw`); `tally` None: hidden."""
         self.sphere.draw(tally, revealed)
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's words in `tr`'s language (the browser chose another); the round written again."""
+        self.words.relabel(tr)
+        self.gallery_panel.relabel(tr)
+        self.drawn = ()
+        self.refresh()
 
     def remove(self) -> None:
         self.sphere.remove()

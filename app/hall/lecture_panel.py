@@ -28,12 +28,13 @@ following, calling back) is the session's and the lectern's: the panel calls the
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterator
 from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Translator, for_gui, translator
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lecture.follower import Hall
 from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
@@ -41,7 +42,7 @@ from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
 __all__ = ["CALL_BACK_LABEL", "FOLLOW_LABEL", "LAST_ROOM_LABEL", "LIVE_BAR_CLASS", "LIVE_BAR_CSS", "STAY_LABEL",
            "LecturePanel", "Lecturer", "call_text", "ended_text", "live_badge"]
 
-CALL_BACK_LABEL = "Call everyone back"
+CALL_BACK_LABEL = N_("Call everyone back")
 FOLLOW_LABEL = N_("Follow presenter")
 FOLLOW_HINT = N_("back to the presenter's live scene")
 STAY_LABEL = N_("Stay")
@@ -65,9 +66,44 @@ scroller and the bar it becomes `overflow: clip`, which clips the same and scrol
 and the panel would scroll sideways)."""
 
 
-def live_badge(following: int, exploring: int) -> str:
-    """The presenter's badge (Markdown): the room is live, who follows and who explores."""
-    return f"**● Live** · {following} following · {exploring} exploring"
+CODE_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"Too many wrong codes: wait (?P<wait>\d+) s before trying again\."),
+     N_("Too many wrong codes: wait {wait} s before trying again.")),
+    (re.compile(r"Wrong presenter code, no tries left: wait (?P<wait>\d+) s before trying again\."),
+     N_("Wrong presenter code, no tries left: wait {wait} s before trying again.")),
+    (re.compile(r"Too many wrong codes in this lecture hall \(someone may be guessing\): wait (?P<wait>\d+) s "
+                r"before trying again\."),
+     N_("Too many wrong codes in this lecture hall (someone may be guessing): wait {wait} s before trying again.")),
+    (re.compile(r"Someone else is presenting; they must stop first\."),
+     N_("Someone else is presenting; they must stop first.")),
+    (re.compile(r"The presenter lock does not answer \(the lecture's Redis\); try again in a moment\."),
+     N_("The presenter lock does not answer (the lecture's Redis); try again in a moment.")),
+)
+"""The lectern's refusals of a presenter code (`app.lecture.lectern`), matched in English, and their msgids."""
+TRIES_LEFT = re.compile(r"Wrong presenter code \((?P<left>\d+) tr(?:y|ies) left this minute\)\.")
+
+
+def refusal_in_language(words: str, tr: Translator) -> str:
+    """A refusal of a presenter code (the lectern's English words) in `tr`'s language; the words
+    as they are when no pattern knows them."""
+    found = TRIES_LEFT.fullmatch(words)
+    if found:
+        left = int(found["left"])
+        return tr.ngettext("Wrong presenter code ({left} try left this minute).",
+                           "Wrong presenter code ({left} tries left this minute).", left).format(left=left)
+    for pattern, msgid in CODE_REFUSALS:
+        found = pattern.fullmatch(words)
+        if found:
+            return tr.gettext(msgid).format(**found.groupdict())
+    return words
+
+
+def live_badge(following: int, exploring: int, tr: Translator | None = None) -> str:
+    """The presenter's badge (Markdown): the room is live, who follows and who explores, in
+    `tr`'s language (English by default)."""
+    _ = (tr or translator("en")).gettext
+    return _("**● Live** · {following} following · {exploring} exploring").format(
+        following=following, exploring=exploring)
 
 
 def call_text(seconds_left: float, tr: Translator | None = None) -> str:
@@ -92,14 +128,6 @@ def ended_text(hall: Hall, scene: str, tr: Translator | None = None) -> str:
     how = _("the presenter has left") if hall is Hall.LEFT else _("the presenter stopped presenting")
     return _("**The lecture has ended** ({how}; last scene: {scene}). This room is your own.").format(
         how=how, scene=_(scene) if scene else _("a scene"))
-
-
-def _label(handle: Any, tr: Translator, label: str, hint: str) -> None:
-    """`handle`'s label and hint (msgids) in `tr`'s language; unchanged ones are not sent."""
-    if handle.label != (text := tr.gettext(label)):
-        handle.label = text
-    if handle.hint != (text := tr.gettext(hint)):
-        handle.hint = text
 
 
 class Lecturer(Seat, Protocol):
@@ -145,14 +173,18 @@ class LecturePanel:
         with self.bar:
             self._build_bar(gui, orders)
         # The Lecture folder.
-        self.folder = gui.add_folder("Lecture", expand_by_default=False)
+        self.folder = gui.add_folder(N_("Lecture"), expand_by_default=False)
         with self.folder:
-            self.gui_code = gui.add_text("Presenter code", "", hint="the code the app printed at start")
-            self.gui_present = gui.add_button("Present", icon=viser.Icon.PRESENTATION,
-                                              hint="show this browser's scene to everyone who follows")
-            self.gui_pointer_label = gui.add_text("Pointer label", "", visible=False,
-                                                  hint="a few words shown beside the marker")
+            self.gui_code = gui.add_text(N_("Presenter code"), "", hint=N_("the code the app printed at start"))
+            self.gui_present = gui.add_button(N_("Present"), icon=viser.Icon.PRESENTATION,
+                                              hint=N_("show this browser's scene to everyone who follows"))
+            self.gui_pointer_label = gui.add_text(N_("Pointer label"), "", visible=False,
+                                                  hint=N_("a few words shown beside the marker"))
             self.gui_note = gui.add_markdown("", visible=False)
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.gui_code, self.gui_present, self.gui_pointer_label, self.gui_stop,
+                        self.gui_pointer, self.gui_stay, self.gui_follow, self.gui_last_room)
+        self.words.take(self.gui_call_back, seconds=f"{CALL_BACK_SECONDS:g}", stay=STAY_LABEL)
         self._guarded_point = guard("pointer", self._pointed)
         self.gui_present.on_click(guard("present", lambda _event: seat.present(str(self.gui_code.value))))
         self.gui_stop.on_click(guard("stop presenting", lambda _event: seat.stop_presenting()))
@@ -166,21 +198,24 @@ class LecturePanel:
         """The live bar's widgets (inside `bar`), hidden until `refresh` shows them."""
         self.gui_pin = gui.add_html(LIVE_BAR_CSS, order=next(orders))
         self.gui_badge = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_stop = gui.add_button("Stop presenting", color="red", visible=False, order=next(orders))
-        self.gui_pointer = gui.add_checkbox("Pointer", False, visible=False, order=next(orders),
-                                            hint="click in the 3D view to point for everyone (or hold Shift)")
-        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False,
-                                            order=next(orders),
-                                            hint=f"every explorer follows again in {CALL_BACK_SECONDS:g} s "
-                                                 f"unless they press {STAY_LABEL}")
+        self.gui_stop = gui.add_button(N_("Stop presenting"), color="red", visible=False, order=next(orders))
+        self.gui_pointer = gui.add_checkbox(N_("Pointer"), False, visible=False, order=next(orders),
+                                            hint=N_("click in the 3D view to point for everyone (or hold Shift)"))
+        self.gui_call_back = gui.add_button(CALL_BACK_LABEL, visible=False, order=next(orders),
+                                            hint=N_("every explorer follows again in {seconds} s "
+                                                    "unless they press {stay}"))
         self.gui_lecture_on = gui.add_markdown("", visible=False, order=next(orders))
-        _ = for_gui(gui).gettext
-        self.gui_stay = gui.add_button(_(STAY_LABEL), visible=False, order=next(orders), hint=_(STAY_HINT))
-        self.gui_follow = gui.add_button(_(FOLLOW_LABEL), icon=viser.Icon.USERS, visible=False, order=next(orders),
-                                         hint=_(FOLLOW_HINT))
+        self.gui_stay = gui.add_button(STAY_LABEL, visible=False, order=next(orders), hint=STAY_HINT)
+        self.gui_follow = gui.add_button(FOLLOW_LABEL, icon=viser.Icon.USERS, visible=False, order=next(orders),
+                                         hint=FOLLOW_HINT)
         self.gui_ended = gui.add_markdown("", visible=False, order=next(orders))
-        self.gui_last_room = gui.add_button(_(LAST_ROOM_LABEL), icon=viser.Icon.HISTORY, visible=False,
-                                            order=next(orders), hint=_(LAST_ROOM_HINT))
+        self.gui_last_room = gui.add_button(LAST_ROOM_LABEL, icon=viser.Icon.HISTORY, visible=False,
+                                            order=next(orders), hint=LAST_ROOM_HINT)
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's and the live bar's words in `tr`'s language (the browser chose another)."""
+        self.words.relabel(tr)
+        self.refresh()
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""
@@ -201,7 +236,7 @@ class LecturePanel:
     def show_refusal(self) -> None:
         """The refusal's words as they are now (or no note)."""
         words = self.lectern.refusal_now(self.seat)
-        self.note(f"**⚠ {words}**" if words else "")
+        self.note(f"**⚠ {refusal_in_language(words, for_gui(self.seat.client.gui))}**" if words else "")
 
     def show_for(self, mode: Mode) -> None:
         """The panel for the browser's `mode` (`refresh`)."""
@@ -224,14 +259,12 @@ class LecturePanel:
             show_if_changed(handle, presenting)
         if presenting:
             following, explorers = lectern.total_audience()
-            write_if_changed(self.gui_badge, live_badge(following, explorers))
+            write_if_changed(self.gui_badge, live_badge(following, explorers, for_gui(self.seat.client.gui)))
             if self.gui_call_back.disabled != (explorers == 0):
                 self.gui_call_back.disabled = explorers == 0
         tr = for_gui(self.seat.client.gui)  # the explorer's words: its language now
         left = lectern.call_back_left(self.seat) if exploring else None
         if exploring:
-            _label(self.gui_follow, tr, FOLLOW_LABEL, FOLLOW_HINT)
-            _label(self.gui_stay, tr, STAY_LABEL, STAY_HINT)
             write_if_changed(self.gui_lecture_on, call_text(left, tr) if left is not None
                    else lecture_on_text(lectern.live_title() or "", tr))
         show_if_changed(self.gui_lecture_on, exploring)
@@ -240,7 +273,6 @@ class LecturePanel:
         ended = (mode is Mode.OWN and self.seat.came_after_lecture and lectern.live
                  and not lectern.someone_presents and lectern.hall in (Hall.STOPPED, Hall.LEFT))
         if ended:
-            _label(self.gui_last_room, tr, LAST_ROOM_LABEL, LAST_ROOM_HINT)
             write_if_changed(self.gui_ended, ended_text(lectern.hall, lectern.live_title() or "", tr))
         show_if_changed(self.gui_ended, ended)
         show_if_changed(self.gui_last_room, ended)
@@ -248,9 +280,13 @@ class LecturePanel:
     def call_back(self) -> None:
         """The presenter asks every explorer back (`Lectern.call_back`); said in the badge's place."""
         called = self.lectern.call_back(self.seat)
+        tr = for_gui(self.seat.client.gui)
         self.seat.client.add_notification(
-            "Called everyone back", f"{called} explorer{'' if called == 1 else 's'} will follow again in "
-            f"{CALL_BACK_SECONDS:g} s unless they press {STAY_LABEL}.", auto_close_seconds=4.0)
+            tr.gettext("Called everyone back"),
+            tr.ngettext("{count} explorer will follow again in {seconds} s unless they press {stay}.",
+                        "{count} explorers will follow again in {seconds} s unless they press {stay}.",
+                        called).format(count=called, seconds=f"{CALL_BACK_SECONDS:g}", stay=tr.gettext(STAY_LABEL)),
+            auto_close_seconds=4.0)
 
     def stay(self) -> None:
         """This explorer keeps exploring (`Lectern.stay`)."""

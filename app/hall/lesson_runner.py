@@ -15,6 +15,7 @@ from typing import Any, Protocol
 
 import viser
 
+from app.i18n import N_, Labels, Translator
 from app.kit.core.common import Wrap, apply_camera
 from app.kit.core.room import Room
 from app.lecture.caption import Caption
@@ -72,15 +73,18 @@ class LessonRunner:
         self.lesson: Lesson | None = None
         self.step = -1
         self._stepping = False  # a step is switching the scene: the lesson goes on
-        self.folder = gui.add_folder("Lesson", expand_by_default=False)
+        self.folder = gui.add_folder(N_("Lesson"), expand_by_default=False)
         with self.folder:
-            self.gui_lesson = gui.add_dropdown("Lesson", (NO_LESSON, *self.lessons), initial_value=NO_LESSON,
-                                               hint="a walk through one section of the memo")
-            self.gui_steps = gui.add_button_group("Step", ("◀ Back", "Next ▶"))
+            self.gui_lesson = gui.add_dropdown(N_("Lesson"), (NO_LESSON, *self.lessons), initial_value=NO_LESSON,
+                                               hint=N_("a walk through one section of the memo"))
+            self.gui_steps = gui.add_button_group(N_("Step"), (N_("◀ Back"), N_("Next ▶")))
             self.gui_text = gui.add_markdown("")
-            self.gui_caption = gui.add_checkbox("Caption", True,
-                                                hint="the step's words over the 3D view, large; "
-                                                     "while presenting, on every follower's screen too")
+            self.gui_caption = gui.add_checkbox(N_("Caption"), True,
+                                                hint=N_("the step's words over the 3D view, large; "
+                                                        "while presenting, on every follower's screen too"))
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.gui_lesson, self.gui_caption)
+        self.words.take(self.gui_steps, options=True)
         self.caption = Caption(gui)
         self.gui_caption.on_update(guard("caption", lambda _event: self._caption_changed()))
         self.gui_lesson.on_update(guard("lesson", lambda _event: self.start(str(self.gui_lesson.value))))
@@ -89,6 +93,10 @@ class LessonRunner:
         for label, key, delta in (("Lesson: next step", "arrowright", 1), ("Lesson: back", "arrowleft", -1)):
             command = gui.add_command(label, hotkey=key, description=f"key: {key}")
             command.on_trigger(guard(label, lambda _event, delta=delta: self.next_step(delta)))
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's own words in `tr`'s language (the browser chose another; the lessons' texts are theirs)."""
+        self.words.relabel(tr)
 
     def add_lessons(self, own: dict[str, Lesson]) -> None:
         """The lecturer's own lessons (`app.own`) in the dropdown after the shipped ones, marked ★."""

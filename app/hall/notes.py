@@ -18,6 +18,7 @@ import imageio.v3 as iio
 import viser
 
 from app.export import MAX_SECONDS, record
+from app.i18n import N_, Labels, Translator, for_gui
 from app.kit.core.common import Wrap, checked_value
 from app.kit.core.room import Room
 from app.kit.panel.download import save_download
@@ -52,17 +53,28 @@ class Notes:
         self.last_recording: tuple[bytes, bytes] | None = None
         self.last_screenshot: bytes | None = None
         gui = client.gui
-        self.folder = gui.add_folder("For the notes", expand_by_default=False)
+        self.folder = gui.add_folder(N_("For the notes"), expand_by_default=False)
         with self.folder:
-            self.gui_record_seconds = gui.add_number("Record [s]", 10.0, min=1.0, max=60.0, step=1.0,
-                                                     hint="simulated seconds from now, computed faster than real time")
-            self.gui_record = gui.add_button("Record", icon=viser.Icon.VIDEO,
-                                             hint="download the motion as .html (plays offline) and .viser")
+            self.gui_record_seconds = gui.add_number(N_("Record [s]"), 10.0, min=1.0, max=60.0, step=1.0,
+                                                     hint=N_("simulated seconds from now, computed faster than "
+                                                             "real time"))
+            self.gui_record = gui.add_button(N_("Record"), icon=viser.Icon.VIDEO,
+                                             hint=N_("download the motion as .html (plays offline) and .viser"))
             self.gui_record_progress = gui.add_progress_bar(0.0, visible=False)
-            self.gui_screenshot = gui.add_button("Screenshot", icon=viser.Icon.CAMERA,
-                                                 hint="download a PNG of this view, for slides")
+            self.gui_screenshot = gui.add_button(N_("Screenshot"), icon=viser.Icon.CAMERA,
+                                                 hint=N_("download a PNG of this view, for slides"))
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.gui_record_seconds, self.gui_record, self.gui_screenshot)
         self.gui_record.on_click(guard("record", lambda _event: self.record(self.gui_record_seconds.value)))
         self.gui_screenshot.on_click(guard("screenshot", lambda _event: self.screenshot()))
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's words in `tr`'s language (the browser chose another)."""
+        self.words.relabel(tr)
+
+    def _file_title(self, room: Room) -> str:
+        """The scene's title in a download's name, in the browser's language ("euler_angles", "euler-winkel")."""
+        return for_gui(self.client.gui).gettext(room.scene.title).lower().replace(" ", "_")
 
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
         """Record the next `seconds` of the scene shown, from its current state, and offer it as
@@ -70,10 +82,11 @@ class Notes:
         touched); the frames are computed in a thread.  ValueError for a value out of range."""
         value = checked_value(seconds, 1.0, MAX_SECONDS)
         if value is None:
-            raise ValueError(f"Record: {seconds!r} s refused: between 1 and {MAX_SECONDS:g} s")
+            raise ValueError(for_gui(self.client.gui).gettext("Record: {seconds} s refused: between 1 and {most} s")
+                             .format(seconds=repr(seconds), most=f"{MAX_SECONDS:g}"))
         room = self._room()
         copy = room.fork()
-        title = room.scene.title.lower().replace(" ", "_")
+        title = self._file_title(room)
         bar = self.gui_record_progress
 
         def work() -> None:
@@ -99,7 +112,7 @@ class Notes:
         """Ask this browser for a render of its 3D view, the drag gizmos hidden meanwhile, and
         save it as `<scene>_t<time>s.png` (in a thread: the browser answers in a second or so)."""
         room = self._room()
-        name = f"{room.scene.title.lower().replace(' ', '_')}_t{room.shown_t:.1f}s.png"
+        name = f"{self._file_title(room)}_t{room.shown_t:.1f}s.png"
         view = self._view()
         hide = getattr(view, "hide_gizmos", None)
 

@@ -19,10 +19,12 @@ changes nothing.
 from __future__ import annotations
 
 import json
+import re
 from typing import Any, Protocol
 
 import viser
 
+from app.i18n import N_, Labels, Translator, for_gui
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.kit.panel.download import save_download
@@ -33,6 +35,44 @@ __all__ = ["MINE_MARK", "NONE_CHOSEN", "OwnPanel"]
 
 NONE_CHOSEN = "—"
 MINE_MARK = "★ "  # an own preset or lesson in a list
+
+
+OWN_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"give the preset a name"), N_("give the preset a name")),
+    (re.compile(r"give the lesson a name"), N_("give the lesson a name")),
+    (re.compile(r"the preset's name is longer than (?P<most>\d+) characters"),
+     N_("the preset's name is longer than {most} characters")),
+    (re.compile(r"the lesson's name is longer than (?P<most>\d+) characters"),
+     N_("the lesson's name is longer than {most} characters")),
+    (re.compile(r"(?P<scene>.+) has a preset (?P<name>'.*'|\".*\") of its own: choose another name"),
+     N_("{scene} has a preset {name} of its own: choose another name")),
+    (re.compile(r"this moment cannot be a preset: (?P<why>.+)", re.S), N_("this moment cannot be a preset: {why}")),
+    (re.compile(r"no preset of yours named (?P<name>'.*'|\".*\") in (?P<scene>.+)"),
+     N_("no preset of yours named {name} in {scene}")),
+    (re.compile(r"(?P<scene>.+) has a preset named (?P<name>'.*'|\".*\") already"),
+     N_("{scene} has a preset named {name} already")),
+    (re.compile(r"no lesson of yours named (?P<name>'.*'|\".*\")"), N_("no lesson of yours named {name}")),
+    (re.compile(r"this app keeps no presets or lessons of its own"),
+     N_("this app keeps no presets or lessons of its own")),
+    (re.compile(r"a follower cannot save: only the presenter can, during a lecture"),
+     N_("a follower cannot save: only the presenter can, during a lecture")),
+    (re.compile(r"while a lecture is on, only the presenter can save presets and lessons"),
+     N_("while a lecture is on, only the presenter can save presets and lessons")),
+)
+"""The refusals of the Mine folder's actions (`app.own`, `OwnRoom.may_save`), matched in English, and their msgids."""
+
+
+def own_refusal_words(refusal: str, tr: Translator) -> str:
+    """A refusal (English, from `app.own` or `may_save`) in `tr`'s language, a scene's title
+    translated; the words as they are when no pattern knows them."""
+    for pattern, msgid in OWN_REFUSALS:
+        found = pattern.fullmatch(refusal)
+        if found:
+            fields = found.groupdict()
+            if "scene" in fields:
+                fields["scene"] = tr.gettext(fields["scene"])
+            return tr.gettext(msgid).format(**fields)
+    return refusal
 
 
 class Stage(Protocol):
@@ -70,29 +110,50 @@ class OwnPanel:
         self.stage = stage
         self.library = library
         self.last_export: bytes | None = None
-        self.folder = gui.add_folder("Mine", expand_by_default=False)
+        self.gui = gui
+        self._status_is_where = True  # the status line says where the data folder is (nothing done yet)
+        self.folder = gui.add_folder(N_("Mine"), expand_by_default=False)
         with self.folder:
-            self.gui_status = gui.add_markdown(f"Saved on the server running this app, in `{library.data_dir}`")
-            self.gui_name = gui.add_text("Name", "", hint="the name of a preset to save, or a new name for one")
-            self.gui_save = gui.add_button("Save as preset", icon=viser.Icon.DEVICE_FLOPPY,
-                                           hint="keep the moment shown as a preset of this scene")
-            self.gui_mine = gui.add_dropdown("My presets", (NONE_CHOSEN,), initial_value=NONE_CHOSEN)
-            self.gui_actions = gui.add_button_group("Preset", ("Play", "Rename", "Delete"))
-            self.gui_lesson_title = gui.add_text("My lesson", "", hint="the title of a lesson of yours")
-            self.gui_step_text = gui.add_text("Step text", "", hint="what to look at, which equation")
-            self.gui_add = gui.add_button("Add to lesson", icon=viser.Icon.PLUS,
-                                          hint="a step from this view: scene, preset, camera, checkboxes, text")
-            self.gui_export = gui.add_button("Export lesson", icon=viser.Icon.DOWNLOAD)
-            self.gui_import = gui.add_upload_button("Import lesson", icon=viser.Icon.UPLOAD, mime_type=".json")
+            self.gui_status = gui.add_markdown(self._where())
+            self.gui_name = gui.add_text(N_("Name"), "", hint=N_("the name of a preset to save, or a new name for one"))
+            self.gui_save = gui.add_button(N_("Save as preset"), icon=viser.Icon.DEVICE_FLOPPY,
+                                           hint=N_("keep the moment shown as a preset of this scene"))
+            self.gui_mine = gui.add_dropdown(N_("My presets"), (NONE_CHOSEN,), initial_value=NONE_CHOSEN)
+            self.gui_actions = gui.add_button_group(N_("Preset"), (N_("Play"), N_("Rename"), N_("Delete")))
+            self.gui_lesson_title = gui.add_text(N_("My lesson"), "", hint=N_("the title of a lesson of yours"))
+            self.gui_step_text = gui.add_text(N_("Step text"), "", hint=N_("what to look at, which equation"))
+            self.gui_add = gui.add_button(N_("Add to lesson"), icon=viser.Icon.PLUS,
+                                          hint=N_("a step from this view: scene, preset, camera, checkboxes, text"))
+            self.gui_export = gui.add_button(N_("Export lesson"), icon=viser.Icon.DOWNLOAD)
+            self.gui_import = gui.add_upload_button(N_("Import lesson"), icon=viser.Icon.UPLOAD, mime_type=".json")
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.gui_name, self.gui_save, self.gui_mine, self.gui_lesson_title,
+                        self.gui_step_text, self.gui_add, self.gui_export, self.gui_import)
+        self.words.take(self.gui_actions, options=True)
         self.gui_save.on_click(guard("save preset", lambda _e: self._said(self.save_preset)))
-        self.gui_actions.on_click(guard("my preset", lambda e: self._said(self.act, str(e.target.value))))
+        self.gui_actions.on_click(guard("my preset", lambda e: self._said(
+            self.act, self.words.english(e.target.value))))
         self.gui_add.on_click(guard("add to lesson", lambda _e: self._said(self.add_step)))
         self.gui_export.on_click(guard("export lesson", lambda _e: self._said(self.export_lesson)))
         self.gui_import.on_upload(guard("import lesson", lambda _e: self._said(self.import_uploaded)))
         self.refresh()
 
+    def _where(self) -> str:
+        return for_gui(self.gui).gettext("Saved on the server running this app, in `{folder}`").format(
+            folder=self.library.data_dir)
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's words in `tr`'s language (the browser chose another)."""
+        self.words.relabel(tr)
+        if self._status_is_where:
+            self.gui_status.content = self._where()
+
+    def _(self, message: str) -> str:
+        return for_gui(self.gui).gettext(message)
+
     # ------------------------------------------------------------------ status
     def say(self, text: str, refused: bool = False) -> None:
+        self._status_is_where = False
         self.gui_status.content = f"**⚠ {text}**" if refused else text
 
     def _said(self, action: Any, *args: Any) -> None:
@@ -100,7 +161,7 @@ class OwnPanel:
         try:
             action(*args)
         except (ValueError, PermissionError, LessonError) as error:
-            self.say(str(error), refused=True)
+            self.say(own_refusal_words(str(error), for_gui(self.gui)), refused=True)
 
     def _allowed(self) -> None:
         why_not = self.stage.may_save()
@@ -120,7 +181,7 @@ class OwnPanel:
     def _chosen(self) -> str:
         value = str(self.gui_mine.value)
         if not value.startswith(MINE_MARK):
-            raise ValueError("choose one of your presets under My presets")
+            raise ValueError(self._("choose one of your presets under My presets"))
         return value[len(MINE_MARK):]
 
     # ------------------------------------------------------------------ presets
@@ -132,7 +193,8 @@ class OwnPanel:
         room.sim.preset = preset.name  # the run shown is now that preset's (a lesson step names it)
         self.stage.own_changed()
         self.gui_mine.value = MINE_MARK + preset.name
-        self.say(f"Saved **{preset.name}** ({scene.title}): {preset.note}")
+        self.say(self._("Saved **{name}** ({scene}): {note}").format(name=preset.name, scene=self._(scene.title),
+                                                                      note=preset.note))
 
     def act(self, action: str) -> None:
         name = self._chosen()
@@ -141,7 +203,7 @@ class OwnPanel:
             room = self.stage.controlled_room()
             self.stage.start_preset(room, name)
             room.play()
-            self.say(f"Playing **{name}**.")
+            self.say(self._("Playing **{name}**.").format(name=name))
             return
         self._allowed()
         if action == "Rename":
@@ -149,11 +211,11 @@ class OwnPanel:
             self.library.rename_preset(title, name, new)
             self.stage.own_changed()
             self.gui_mine.value = MINE_MARK + new
-            self.say(f"Renamed **{name}** to **{new}**.")
+            self.say(self._("Renamed **{name}** to **{new}**.").format(name=name, new=new))
         elif action == "Delete":
             self.library.delete_preset(title, name)
             self.stage.own_changed()
-            self.say(f"Deleted **{name}**.")
+            self.say(self._("Deleted **{name}**.").format(name=name))
         else:
             raise ValueError(f"no action {action!r}")
 
@@ -179,8 +241,9 @@ class OwnPanel:
         self.stage.controlled_room()
         lesson = self.library.add_step(str(self.gui_lesson_title.value), self.step_here())
         self.stage.own_changed()
-        self.say(f"**{lesson.title}**: {len(lesson.steps)} step{'s' if len(lesson.steps) > 1 else ''} "
-                 "(in the Lesson folder, marked ★).")
+        self.say(for_gui(self.gui).ngettext("**{title}**: {count} step (in the Lesson folder, marked ★).",
+                                            "**{title}**: {count} steps (in the Lesson folder, marked ★).",
+                                            len(lesson.steps)).format(title=lesson.title, count=len(lesson.steps)))
 
     def export_lesson(self) -> None:
         title = " ".join(str(self.gui_lesson_title.value).split())
@@ -188,7 +251,7 @@ class OwnPanel:
         name = "".join(c if c.isalnum() or c in "-_" else "_" for c in title) + ".json"
         save_download(self.stage.client, name, data)
         self.last_export = data
-        self.say(f"Exported **{title}** as {name}.")
+        self.say(self._("Exported **{title}** as {name}.").format(title=title, name=name))
 
     def import_uploaded(self) -> None:
         upload = self.gui_import.value
@@ -196,7 +259,10 @@ class OwnPanel:
         lesson = self.library.import_lesson(upload.name, bytes(upload.content))
         self.stage.own_changed()
         self.gui_lesson_title.value = lesson.title
-        self.say(f"Imported **{lesson.title}** ({len(lesson.steps)} steps; in the Lesson folder, marked ★).")
+        self.say(for_gui(self.gui).ngettext(
+            "Imported **{title}** ({count} step; in the Lesson folder, marked ★).",
+            "Imported **{title}** ({count} steps; in the Lesson folder, marked ★).",
+            len(lesson.steps)).format(title=lesson.title, count=len(lesson.steps)))
 
     @staticmethod
     def lesson_json(data: bytes) -> dict[str, Any]:

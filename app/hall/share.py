@@ -23,6 +23,7 @@ import msgspec
 import viser
 
 from app.codec import CodecError, decode_room, encode_room
+from app.i18n import N_, Labels, Translator, for_gui
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.sharestore import EXAMPLE, ShareCodeError, ShareStore, format_code
@@ -104,18 +105,31 @@ class SharePanel:
         self._open_room = open_room
         self.last_code: str | None = None
         gui = client.gui
-        self.folder = gui.add_folder("Share", expand_by_default=False)
+        self.folder = gui.add_folder(N_("Share"), expand_by_default=False)
         with self.folder:
-            self.gui_share = gui.add_button("Share", icon=viser.Icon.SHARE,
-                                            hint="a short code for exactly what is on screen, "
-                                                 "which anyone on this app can open (kept 30 days)")
+            self.gui_share = gui.add_button(N_("Share"), icon=viser.Icon.SHARE,
+                                            hint=N_("a short code for exactly what is on screen, "
+                                                    "which anyone on this app can open (kept 30 days)"))
             self.gui_code_shown = gui.add_markdown("", visible=False)
-            self.gui_code = gui.add_text("Shared code", "", hint=f"a code someone shared, like {EXAMPLE}")
-            self.gui_open = gui.add_button("Open a shared moment", icon=viser.Icon.FOLDER_OPEN,
-                                           hint="show the moment of the code above, paused, as it was shared")
+            self.gui_code = gui.add_text(N_("Shared code"), "", hint=N_("a code someone shared, like {example}"))
+            self.gui_open = gui.add_button(N_("Open a shared moment"), icon=viser.Icon.FOLDER_OPEN,
+                                           hint=N_("show the moment of the code above, paused, as it was shared"))
             self.gui_note = gui.add_markdown("", visible=False)
+        self.words = Labels(gui)
+        self.words.take(self.folder, self.gui_share, self.gui_code, self.gui_open, example=EXAMPLE)
         self.gui_share.on_click(guard("Share", lambda _event: self.share()))
         self.gui_open.on_click(guard("Open a shared moment", lambda _event: self.open(self.gui_code.value)))
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's words in `tr`'s language (the browser chose another); the code shown said again."""
+        self.words.relabel(tr)
+        if self.last_code is not None and self.gui_code_shown.visible:
+            self.gui_code_shown.content = self._code_words(self.last_code)
+
+    def _code_words(self, code: str) -> str:
+        return for_gui(self.client.gui).gettext(
+            "Code **{code}**: anyone on this app types it in *Shared code* below and presses "
+            "*Open a shared moment* (kept 30 days).").format(code=code)
 
     def _say(self, text: str) -> None:
         self.gui_note.content = text
@@ -128,8 +142,7 @@ class SharePanel:
             data = encode_moment(room, camera_of(self.client))
         code = format_code(self.store.save(data))
         self.last_code = code
-        self.gui_code_shown.content = (f"Code **{code}**: anyone on this app types it in *Shared code* "
-                                       "below and presses *Open a shared moment* (kept 30 days).")
+        self.gui_code_shown.content = self._code_words(code)
         self.gui_code_shown.visible = True
         self._say("")
         return code
@@ -145,7 +158,8 @@ class SharePanel:
         try:
             room, camera = decode_moment(data)
         except CodecError as error:
-            self._say(f"This moment cannot be opened by this app ({error}).")
+            self._say(for_gui(self.client.gui).gettext("This moment cannot be opened by this app ({error}).")
+                      .format(error=error))
             return None
         room.playing = False  # shown paused at the moment, as shared
         self._open_room(room, camera)

@@ -68,6 +68,13 @@ class Language:
         if code != self.code:
             self.relabel(code)
 
+    def parts(self) -> list[Any]:
+        """The panel's parts that relabel themselves (`relabel(tr)`): the live bar and Lecture
+        folder, Ask the class, the Lesson, notes, Share, Task and Mine folders (those built)."""
+        browser: Any = self.browser
+        names = ("lecture", "ask_panel", "lesson_runner", "notes", "share", "task_panel", "own_panel")
+        return [part for name in names if hasattr(part := getattr(browser, name, None), "relabel")]
+
     def relabel(self, language: str) -> None:
         """This browser's panel in `language` (module docstring)."""
         browser = self.browser
@@ -87,7 +94,7 @@ class Language:
                 view.relabel(self.tr)
             if not following and isinstance(view, SceneView):
                 self.own_room.rebuild_view()
-            if browser.lecture is not None:
-                browser.lecture.refresh()  # the live bar's words (it reads the browser's language)
+            for part in self.parts():
+                part.relabel(self.tr)  # the presenter's parts and the folders (`app.i18n.Labels`)
             if browser.question is not None:
                 browser.question.redraw()

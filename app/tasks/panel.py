@@ -38,11 +38,14 @@ from app.ask.gallery import GalleryEntry, play_answer
 from app.ask.questions import Question
 from app.ask.round import Tally
 from app.hall.ask_kinds import direction_of
+from app.hall.ask_presenter import tally_in_language
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.panel.download import save_download
 from app.lecture.gate import code_matches
 from app.scenes import SCENES
 from app.sharestore import EXAMPLE, format_code
 from app.tasks.model import (
+    GRADEBOOK_COLUMNS,
     MAX_QUESTIONS,
     GradebookRow,
     Submission,
@@ -61,44 +64,81 @@ from app.tasks.views import TaskViews
 __all__ = ["ADD_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EXTEND_LABEL", "LECTURER_LABEL", "MAKE_LABEL", "OPEN_LABEL",
            "RECEIPT_LABEL", "SUBMIT_LABEL", "TASK_FOLDER", "TaskPanel", "attach_tasks", "table_text", "tallies_text"]
 
-TASK_FOLDER = "Task"
-OPEN_LABEL = "Open the task"
-LECTURER_LABEL = "Open as lecturer"
-SUBMIT_LABEL = "Submit"
-NEXT_LABEL = "Next question"
-PREVIOUS_LABEL = "Previous question"
-MAKE_LABEL = "Make a task"
-ADD_LABEL = "Add to the worksheet"
-CSV_LABEL = "Download results (CSV)"
-CLOSE_LABEL = "Close the task"
-EXTEND_LABEL = "Extend"
-RECEIPT_LABEL = "Check a receipt"
+TASK_FOLDER = N_("Task")
+OPEN_LABEL = N_("Open the task")
+LECTURER_LABEL = N_("Open as lecturer")
+SUBMIT_LABEL = N_("Submit")
+NEXT_LABEL = N_("Next question")
+PREVIOUS_LABEL = N_("Previous question")
+MAKE_LABEL = N_("Make a task")
+ADD_LABEL = N_("Add to the worksheet")
+CSV_LABEL = N_("Download results (CSV)")
+CLOSE_LABEL = N_("Close the task")
+EXTEND_LABEL = N_("Extend")
+RECEIPT_LABEL = N_("Check a receipt")
 POLL_S = 2.0  # [s] the lecturer's open table is written again this often (other processes' submissions)
-ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", "unlimited")
+ATTEMPT_CHOICES = ("1", "2", "3", "5", "10", N_("unlimited"))
 
 
-def table_text(task: Task, submissions: list[Submission], now: float) -> str:
+def table_text(task: Task, submissions: list[Submission], now: float, tr: Translator | None = None) -> str:
     """The lecturer's live table (Markdown): a line about the task, then one row a student
-    (name, number, attempts, score, verdict, when)."""
+    (name, number, attempts, score, verdict, when), in `tr`'s language (English by default; the
+    students' names and the judges' verdicts as they are)."""
+    tr = tr or translator("en")
+    _ = tr.gettext
     rows = gradebook_rows(task, submissions)
-    state = "closed" if task.closed else "open" if now < task.due else "past its due time"
+    state = _("closed") if task.closed else _("open") if now < task.due else _("past its due time")
     judged = [r.score for r in rows if r.score is not None]
-    mean = f" · mean score {sum(judged) / len(judged):.2f}" if judged else ""
-    head = (f"**Task {task.shown_code}** · {len(task.questions)} question{'s' if len(task.questions) > 1 else ''} · "
-            f"due {iso_time(task.due)} · {state} · {task.policy.words()}  \n"
-            f"{len(rows)} student{'' if len(rows) == 1 else 's'}, {len(submissions)} submissions{mean}")
+    mean = _(" · mean score {mean}").format(mean=tr.decimal(sum(judged) / len(judged), 2)) if judged else ""
+    head = (_("**Task {code}**").format(code=task.shown_code) + " · "
+            + tr.ngettext("{count} question", "{count} questions", len(task.questions)).format(
+                count=len(task.questions))
+            + " · " + _("due {due}").format(due=iso_time(task.due)) + f" · {state} · {policy_words(task, tr)}  \n"
+            + tr.ngettext("{count} student", "{count} students", len(rows)).format(count=len(rows)) + ", "
+            + tr.ngettext("{count} submission", "{count} submissions", len(submissions)).format(
+                count=len(submissions)) + mean)
     if not rows:
-        return head + "  \nno submissions yet"
-    lines = [head, "", "| Name | Number | Attempts | Score | Verdict | Last submitted (UTC) |",
-             "|---|---|---|---|---|---|"]
+        return head + "  \n" + _("no submissions yet")
+    number = "Number" if tr.language == "en" else _("Student number")  # ("Number" is a question's kind)
+    columns = (_("Name"), number, _("Attempts"), _("Score"), _("Verdict"), _("Last submitted (UTC)"))
+    lines = [head, "", "| " + " | ".join(columns) + " |", "|---|---|---|---|---|---|"]
     for r in rows:
-        score = "–" if r.score is None else f"{r.score:.2f}"
+        score = "–" if r.score is None else tr.decimal(r.score, 2)
         lines.append(f"| {_cell(r.name) or '–'} | {_cell(r.number) or '–'} | {r.attempts} | {score} | "
-                     f"{_cell(_verdict_cell(r))} | {short_time(r.last_submitted)} |")
+                     f"{_cell(_verdict_cell(r))} | {short_time(r.last_submitted, tr)} |")
     return "\n".join(lines)
 
 
-def tallies_text(task: Task, submissions: list[Submission], now: float) -> str:
+def policy_words(task: Task, tr: Translator) -> str:
+    """The task's attempts and which counts (`Policy.words`) in `tr`'s language."""
+    policy = task.policy
+    if tr.language == "en":
+        return policy.words()
+    _ = tr.gettext
+    if policy.attempts == 1:
+        return tr.ngettext("{count} attempt", "{count} attempts", 1).format(count=1)
+    many = (_("unlimited attempts") if policy.attempts is None
+            else tr.ngettext("{count} attempt", "{count} attempts", policy.attempts).format(count=policy.attempts))
+    return _("{attempts}, the {counts} counts").format(attempts=many, counts=_(policy.counts))
+
+
+GRADEBOOK_WORDS: dict[str, str] = {
+    "name": N_("name"), "number": N_("number"), "score": N_("score"), "attempts": N_("attempts"),
+    "last_submitted": N_("last_submitted"), "verdict": N_("verdict")}
+"""The gradebook's CSV columns (`model.GRADEBOOK_COLUMNS`) a lecturer reads in their language."""
+
+
+def gradebook_in_language(text: str, tr: Translator) -> str:
+    """The gradebook's CSV `text` with its header row in `tr`'s language (the lecturer's); the
+    rows (names, scores with a point, ISO times) as they are: machine-readable."""
+    header = ",".join(GRADEBOOK_COLUMNS)
+    first, newline, rest = text.partition("\n")
+    if first != header:
+        return text
+    return ",".join(tr.gettext(GRADEBOOK_WORDS[c]) for c in GRADEBOOK_COLUMNS) + newline + rest
+
+
+def tallies_text(task: Task, submissions: list[Submission], now: float, tr: Translator | None = None) -> str:
     """Per question, the counted answers (one a student: `model.counted`) in words: how many
     answered and were right, and a choice's bars or a number's histogram (`QuestionKind.tally_text`,
     the right answer marked) as `Ask the class` shows them."""
@@ -110,19 +150,27 @@ def tallies_text(task: Task, submissions: list[Submission], now: float) -> str:
         chosen = [c for subs in by_student.values()
                   if (c := counted([s for s in subs if s.question == index], task.policy.counts)) is not None]
         right = sum(1 for c in chosen if c.score == 1.0)
-        line = f"**Q{index + 1}** · {len(chosen)} answered" + (f" · {right} right" if is_judged(question) else "")
+        words = tr or translator("en")
+        line = (f"**Q{index + 1}** · " + words.gettext("{count} answered").format(count=len(chosen))
+                + (words.gettext(" · {count} right").format(count=right) if is_judged(question) else ""))
         if chosen and question.kind in ("choice", "number"):
             values = [c.value for c in chosen]
             tally = Tally(1, question, task.open_now(now), len(chosen),
                           **question.tally_fields(values, [None] * len(values)))
-            line += "  \n" + question.tally_text(tally, revealed=True)
+            line += "  \n" + tally_in_language(question.tally_text(tally, revealed=True), words)
         lines.append(line)
     return "  \n".join(lines)
 
 
-def short_time(seconds: float) -> str:
-    """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column."""
-    return datetime.fromtimestamp(seconds, UTC).strftime("%d %b %H:%M")
+def short_time(seconds: float, tr: Translator | None = None) -> str:
+    """`seconds` since the epoch as "28 Nov 14:05" (UTC), for the table's narrow column; the
+    month's name in `tr`'s language."""
+    when = datetime.fromtimestamp(seconds, UTC)
+    if tr is None or tr.language == "en":
+        return when.strftime("%d %b %H:%M")
+    from babel.dates import format_datetime  # noqa: PLC0415 - Babel's month names
+
+    return str(format_datetime(when, "dd MMM HH:mm", tzinfo=UTC, locale=tr.language))
 
 
 def _verdict_cell(row: GradebookRow) -> str:
@@ -175,18 +223,22 @@ class TaskMaking:
             return
         base = float(ask.gui_ask.order)
         with ask.folder:
-            self.gui_due = gui.add_number("Due in [h]", 168.0, min=0.01, step=0.01, order=base + 0.11,
-                                          hint="a task: the students answer at home until then")
-            self.gui_attempts = gui.add_dropdown("Attempts", ATTEMPT_CHOICES, initial_value="1", order=base + 0.12)
-            self.gui_counts = gui.add_dropdown("Counts", ("best", "last"), initial_value="best", order=base + 0.13,
-                                               hint="which attempt counts for the grade")
-            self.gui_words = gui.add_text("Words for the task", "", order=base + 0.14,
-                                          hint="what the students read with the question")
+            self.gui_due = gui.add_number(N_("Due in [h]"), 168.0, min=0.01, step=0.01, order=base + 0.11,
+                                          hint=N_("a task: the students answer at home until then"))
+            self.gui_attempts = gui.add_dropdown(N_("Attempts"), ATTEMPT_CHOICES, initial_value="1",
+                                                 order=base + 0.12)
+            self.gui_counts = gui.add_dropdown(N_("Counts"), (N_("best"), N_("last")), initial_value="best",
+                                               order=base + 0.13, hint=N_("which attempt counts for the grade"))
+            self.gui_words = gui.add_text(N_("Words for the task"), "", order=base + 0.14,
+                                          hint=N_("what the students read with the question"))
             self.gui_add = gui.add_button(ADD_LABEL, order=base + 0.15,
-                                          hint="this question, then the next: one task of several questions")
+                                          hint=N_("this question, then the next: one task of several questions"))
             self.gui_make = gui.add_button(MAKE_LABEL, icon=viser.Icon.CLIPBOARD_LIST, order=base + 0.16,
-                                           hint="a task code the students use at home, in their own room")
+                                           hint=N_("a task code the students use at home, in their own room"))
             self.gui_made = gui.add_markdown("", visible=False, order=base + 0.17)
+        self.maker_words = Labels(gui)
+        self.maker_words.take(self.gui_due, self.gui_words, self.gui_add, self.gui_make)
+        self.maker_words.take(self.gui_attempts, self.gui_counts, options=True)
         ask.form_extras = (self.gui_due, self.gui_attempts, self.gui_counts, self.gui_words, self.gui_add,
                            self.gui_make)  # shown with the form, hidden while a round runs
         self.gui_add.on_click(guard("add to the worksheet", lambda _e: self.add_to_worksheet()))
@@ -205,8 +257,10 @@ class TaskMaking:
             raise TaskRefused(f"a worksheet has at most {MAX_QUESTIONS} questions")
         scene, preset = self._place_now()
         self.worksheet.append((self.ask.form_question(), scene, preset))
-        self._said_made(f"{len(self.worksheet)} question{'s' if len(self.worksheet) > 1 else ''} in the worksheet; "
-                        f"*{MAKE_LABEL}* makes the task of them.")
+        tr = for_gui(self.session.client.gui)
+        self._said_made(tr.ngettext("{count} question in the worksheet; *{make}* makes the task of them.",
+                                    "{count} questions in the worksheet; *{make}* makes the task of them.",
+                                    len(self.worksheet)).format(count=len(self.worksheet), make=tr.gettext(MAKE_LABEL)))
 
     def make_from_form(self) -> Task:
         """`Make a task`: the worksheet's questions (or the Ask form's question alone), the scene
@@ -214,15 +268,20 @@ class TaskMaking:
         self._presenting()
         assert self.ask is not None
         entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
-        attempts = None if self.gui_attempts.value == "unlimited" else int(str(self.gui_attempts.value))
+        words = self.maker_words
+        attempts = (None if words.english(self.gui_attempts.value) == "unlimited"
+                    else int(words.english(self.gui_attempts.value)))
         task = self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * _hours(self.gui_due.value),
-                                 attempts=attempts, counts=str(self.gui_counts.value), scene=entries[0][1],
+                                 attempts=attempts, counts=words.english(self.gui_counts.value), scene=entries[0][1],
                                  preset=entries[0][2], words=str(self.gui_words.value),
                                  places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
         self.worksheet = []
         self.made = task
-        self._said_made(f"Task code **{task.shown_code}** · due {iso_time(task.due)} · {task.policy.words()}: "
-                        f"students type it in the {TASK_FOLDER} folder and open it.")
+        tr = for_gui(self.session.client.gui)
+        self._said_made(tr.gettext("Task code **{code}** · due {due} · {policy}: students type it in the {folder} "
+                                   "folder and open it.").format(code=task.shown_code, due=iso_time(task.due),
+                                                                  policy=policy_words(task, tr),
+                                                                  folder=tr.gettext(TASK_FOLDER)))
         return task
 
     def _place_now(self) -> tuple[str | None, str | None]:
@@ -269,40 +328,42 @@ class TaskPanel(TaskMaking):
         with client.atomic():
             self.folder = gui.add_folder(TASK_FOLDER, order=order, expand_by_default=False)
             with self.folder:
-                self.gui_code = gui.add_text("Task code", "", hint=f"the code your lecturer gave, like {EXAMPLE}")
+                self.gui_code = gui.add_text(N_("Task code"), "",
+                                             hint=N_("the code your lecturer gave, like {example}"))
                 self.gui_open = gui.add_button(OPEN_LABEL, icon=viser.Icon.SCHOOL,
-                                               hint="the task's scene opens in your own room with its question")
+                                               hint=N_("the task's scene opens in your own room with its question"))
                 self.gui_note = gui.add_markdown("", visible=False)
                 self.gui_about = gui.add_markdown("", visible=False)
-                self.gui_name = gui.add_text("Your name", "", visible=False, hint="given once per task")
-                self.gui_student_number = gui.add_text("Student number", "", visible=False,
-                                                       hint="or your name, or both")
-                self.gui_my_receipt = gui.add_text("Your receipt", "", visible=False,
-                                                   hint="to go on from another browser: a receipt of yours")
-                self.gui_choice = gui.add_dropdown("Your option", ("-",), visible=False)
-                self.gui_value = gui.add_number("Your number", 0.0, step=0.0001, visible=False)
-                self.gui_azimuth = gui.add_slider("Azimuth [deg]", min=-180.0, max=180.0, step=1.0,
+                self.gui_name = gui.add_text(N_("Your name"), "", visible=False, hint=N_("given once per task"))
+                self.gui_student_number = gui.add_text(N_("Student number"), "", visible=False,
+                                                       hint=N_("or your name, or both"))
+                self.gui_my_receipt = gui.add_text(N_("Your receipt"), "", visible=False,
+                                                   hint=N_("to go on from another browser: a receipt of yours"))
+                self.gui_choice = gui.add_dropdown(N_("Your option"), ("-",), visible=False)
+                self.gui_value = gui.add_number(N_("Your number"), 0.0, step=0.0001, visible=False)
+                self.gui_azimuth = gui.add_slider(N_("Azimuth [deg]"), min=-180.0, max=180.0, step=1.0,
                                                   initial_value=0.0, visible=False)
-                self.gui_elevation = gui.add_slider("Elevation [deg]", min=-90.0, max=90.0, step=1.0,
+                self.gui_elevation = gui.add_slider(N_("Elevation [deg]"), min=-90.0, max=90.0, step=1.0,
                                                     initial_value=45.0, visible=False)
                 self.gui_submit = gui.add_button(SUBMIT_LABEL, icon=viser.Icon.SEND, visible=False,
-                                                 hint="your answer is judged and kept; a receipt code is shown")
+                                                 hint=N_("your answer is judged and kept; a receipt code is shown"))
                 self.gui_verdict = gui.add_markdown("", visible=False)
                 self.gui_previous = gui.add_button(PREVIOUS_LABEL, visible=False)
                 self.gui_next = gui.add_button(NEXT_LABEL, visible=False)
-                self.gui_lecturer_code = gui.add_text("Lecturer's code", "", hint="the presenter code: the lecturer "
-                                                      "sees every submission of the task")
+                self.gui_lecturer_code = gui.add_text(N_("Lecturer's code"), "",
+                                                      hint=N_("the presenter code: the lecturer "
+                                                              "sees every submission of the task"))
                 self.gui_lecturer = gui.add_button(LECTURER_LABEL, icon=viser.Icon.TABLE)
                 self.gui_table = gui.add_markdown("", visible=False)
                 self.gui_csv = gui.add_button(CSV_LABEL, icon=viser.Icon.DOWNLOAD, visible=False,
-                                              hint="one row a student: name, number, score 0-1, attempts, "
-                                                   "last submitted, verdict")
-                self.gui_extend_hours = gui.add_number("New due in [h]", 24.0, min=0.01, step=0.01, visible=False,
-                                                       hint="Extend: due this many hours from now, open again")
+                                              hint=N_("one row a student: name, number, score 0-1, attempts, "
+                                                   "last submitted, verdict"))
+                self.gui_extend_hours = gui.add_number(N_("New due in [h]"), 24.0, min=0.01, step=0.01, visible=False,
+                                                       hint=N_("Extend: due this many hours from now, open again"))
                 self.gui_extend = gui.add_button(EXTEND_LABEL, visible=False)
-                self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint="no more submissions")
-                self.gui_receipt = gui.add_text("Receipt", "", visible=False,
-                                                hint="a receipt code a student shows: the submission it stands for")
+                self.gui_close = gui.add_button(CLOSE_LABEL, visible=False, hint=N_("no more submissions"))
+                self.gui_receipt = gui.add_text(N_("Receipt"), "", visible=False,
+                                                hint=N_("a receipt code a student shows: the submission it stands for"))
                 self.gui_check = gui.add_button(RECEIPT_LABEL, visible=False)
                 self.gui_receipt_note = gui.add_markdown("", visible=False)
             self.gui_open.on_click(guard("open the task", lambda _e: self.open(self.gui_code.value)))
@@ -315,6 +376,13 @@ class TaskPanel(TaskMaking):
             self.gui_close.on_click(guard("close the task", lambda _e: self.close_task()))
             self.gui_check.on_click(guard("check a receipt", lambda _e: self.check_receipt(self.gui_receipt.value)))
             self.gui_extend.on_click(guard("extend the task", lambda _e: self.extend(self.gui_extend_hours.value)))
+            self.words = Labels(gui)
+            self.words.take(self.folder, self.gui_open, self.gui_name, self.gui_student_number, self.gui_my_receipt,
+                            self.gui_choice, self.gui_value, self.gui_submit, self.gui_azimuth, self.gui_elevation,
+                            self.gui_previous, self.gui_next,
+                            self.gui_lecturer_code, self.gui_lecturer, self.gui_csv, self.gui_extend_hours,
+                            self.gui_extend, self.gui_close, self.gui_receipt, self.gui_check)
+            self.words.take(self.gui_code, example=EXAMPLE)
             self._build_maker(gui, guard)
         changed = weakref.WeakMethod(self._store_changed)  # the store does not keep a closed browser's panel
 
@@ -326,6 +394,23 @@ class TaskPanel(TaskMaking):
                 method(code)
 
         store.listeners.append(listener)
+
+    def relabel(self, tr: Translator) -> None:
+        """The folder's words (and `Make a task`'s) in `tr`'s language (the browser chose another);
+        the question shown and the lecturer's table written again."""
+        self.words.relabel(tr)
+        if self.ask is not None:
+            self.maker_words.relabel(tr)
+        if self.views is not None:
+            self.views.relabel(tr)
+        if self.task is not None and self.gui_about.visible:
+            self.show_question(self.question)
+        if self.lecturer_task is not None:
+            self.refresh_table()
+
+    def _(self, message: str) -> str:
+        """`message` in this browser's language now."""
+        return for_gui(self.client.gui).gettext(message)
 
     # ------------------------------------------------------------------ the student's side
     def _say(self, text: str) -> None:
@@ -342,7 +427,7 @@ class TaskPanel(TaskMaking):
             return None
         session = self.session
         if getattr(session, "mode", None) == "presenting":
-            self._say("A presenter's screen is the class's: stop presenting to do a task.")
+            self._say(self._("A presenter's screen is the class's: stop presenting to do a task."))
             return None
         if getattr(session, "mode", None) == "following":
             session.explore()  # the student's own room, a copy of the shared one first
@@ -370,7 +455,8 @@ class TaskPanel(TaskMaking):
                 try:
                     session.start_preset(room, preset)
                 except (ValueError, KeyError, LookupError) as error:
-                    self._say(f"(the preset {preset!r} is not on this app: {error})")
+                    self._say(self._("(the preset {preset} is not on this app: {error})").format(
+                        preset=repr(preset), error=error))
 
         opener = getattr(session, "open_scene", None)  # the session's, or its own room role's (app.roles)
         if opener is None:
@@ -387,10 +473,13 @@ class TaskPanel(TaskMaking):
         self._open_place(task, index)
         question = task.questions[index]
         many = len(task.questions) > 1
-        state = "" if task.open_now(self.clock()) else " · **no longer open**"
+        _ = self._
+        state = "" if task.open_now(self.clock()) else " · **" + _("no longer open") + "**"
         words = f"{task.words}  \n" if task.words else ""
-        self.gui_about.content = (f"{words}**{f'Question {index + 1} of {len(task.questions)}: ' if many else ''}"
-                                  f"{question.prompt}**  \nDue {iso_time(task.due)} · {task.policy.words()}{state}")
+        which = _("Question {index} of {count}: ").format(index=index + 1, count=len(task.questions)) if many else ""
+        self.gui_about.content = (f"{words}**{which}{question.prompt}**  \n"
+                                  + _("Due {due}").format(due=iso_time(task.due))
+                                  + f" · {policy_words(task, for_gui(self.client.gui))}{state}")
         self.gui_about.visible = True
         token = self.session.answer_token
         student = self.store.student(task.code, token)
@@ -403,11 +492,11 @@ class TaskPanel(TaskMaking):
             self.gui_choice.value = options[0]
         if kind == "number":
             unit = getattr(question, "unit", "")
-            self.gui_value.label = f"Your number [{unit}]" if unit else "Your number"
+            self.gui_value.label = _("Your number") + (f" [{unit}]" if unit else "")
         self.gui_choice.visible = kind == "choice"
         self.gui_value.visible = kind == "number"
         self.gui_azimuth.visible = self.gui_elevation.visible = kind == "direction"
-        self.gui_submit.label = "Submit the state of my room" if kind == "state" else SUBMIT_LABEL
+        self.gui_submit.label = _("Submit the state of my room") if kind == "state" else _(SUBMIT_LABEL)
         self.gui_submit.visible = True
         self.gui_previous.visible = many and index > 0
         self.gui_next.visible = many and index < len(task.questions) - 1
@@ -417,14 +506,18 @@ class TaskPanel(TaskMaking):
 
     def _show_verdict(self, task: Task, last: Submission | None, used: int, who: str) -> None:
         allowed = task.policy.attempts
+        tr = for_gui(self.client.gui)
+        _ = tr.gettext
         if last is None:
-            text = f"Answering as **{who}**." if who else ""
+            text = _("Answering as **{who}**.").format(who=who) if who else ""
         else:
-            left = ("you may try again" if allowed is None else
-                    f"{allowed - used} attempt{'s' if allowed - used != 1 else ''} left" if used < allowed
-                    else "no attempts left")
-            text = (f"Your attempt {last.attempt} ({who}): **{last.words}** · {left}  \n"
-                    f"Receipt **{format_code(last.receipt)}** · submitted {iso_time(last.at)}")
+            left = (_("you may try again") if allowed is None else
+                    tr.ngettext("{count} attempt left", "{count} attempts left", allowed - used).format(
+                        count=allowed - used) if used < allowed else _("no attempts left"))
+            text = _("Your attempt {attempt} ({who}): **{verdict}** · {left}  \n"
+                     "Receipt **{receipt}** · submitted {at}").format(
+                attempt=last.attempt, who=who, verdict=last.words, left=left, receipt=format_code(last.receipt),
+                at=iso_time(last.at))
         self.gui_verdict.content = text
         self.gui_verdict.visible = bool(text)
 
@@ -446,7 +539,7 @@ class TaskPanel(TaskMaking):
         refusal said (None) and nothing kept."""
         task = self.task
         if task is None:
-            self._say("Open a task first: type its code and press *Open the task*.")
+            self._say(self._("Open a task first: type its code and press *Open the task*."))
             return None
         question = task.questions[self.question]
         try:
@@ -466,7 +559,7 @@ class TaskPanel(TaskMaking):
         table and its buttons.  A wrong code is said (None); wrong codes are limited per minute."""
         lectern = getattr(self.session, "lectern", None)
         if lectern is None:
-            self._say("This app has no presenter code: nobody may open a task as lecturer.")
+            self._say(self._("This app has no presenter code: nobody may open a task as lecturer."))
             return None
         try:
             task = self.store.task(code_text)
@@ -474,11 +567,11 @@ class TaskPanel(TaskMaking):
             self._say(str(error))
             return None
         if not self.store.lecturer_codes.allow("hall"):  # counted before it is compared: no guess slips through
-            self._say("Too many lecturer's codes were tried on this app: wait a minute.")
+            self._say(self._("Too many lecturer's codes were tried on this app: wait a minute."))
             return None
         if not isinstance(presenter_code, str) or len(presenter_code) > 64 or not code_matches(
                 presenter_code, lectern.code):
-            self._say("Wrong lecturer's code: the presenter code is wanted.")
+            self._say(self._("Wrong lecturer's code: the presenter code is wanted."))
             return None
         self.lecturer_task = task
         self.gui_lecturer_code.value = ""
@@ -534,7 +627,8 @@ class TaskPanel(TaskMaking):
         else:
             play_answer(session.room, answer)
         if self.views is not None:
-            self.views.gallery_panel.line.content = f"Playing answer {entry.number} in your room."
+            self.views.gallery_panel.line.content = self._("Playing answer {number} in your room.").format(
+                number=entry.number)
 
     def _lecturers(self) -> Task:
         if self.lecturer_task is None:
@@ -547,7 +641,8 @@ class TaskPanel(TaskMaking):
         self.lecturer_task = task
         submissions = self.store.submissions(task.code)
         now = self.clock()
-        text = table_text(task, submissions, now) + "\n\n" + tallies_text(task, submissions, now)
+        tr = for_gui(self.client.gui)
+        text = table_text(task, submissions, now, tr) + "\n\n" + tallies_text(task, submissions, now, tr)
         if self.gui_table.content != text:
             self.gui_table.content = text
         if self.views is not None:
@@ -556,8 +651,9 @@ class TaskPanel(TaskMaking):
 
     def download(self) -> None:
         task = self.store.task(self._lecturers().code)
-        save_download(self.client, f"task-{task.shown_code}-results.csv",
-                      gradebook_csv(task, self.store.submissions(task.code)))
+        tr = for_gui(self.client.gui)  # the lecturer's language now
+        save_download(self.client, tr.gettext("task-{code}-results.csv").format(code=task.shown_code),
+                      gradebook_in_language(gradebook_csv(task, self.store.submissions(task.code)), tr))
 
     def check_receipt(self, text: Any) -> str:
         """The submission a receipt code stands for, said under it (the lecturer's, of the task

@@ -20,6 +20,7 @@ from app.ask.gallery import Gallery, GalleryEntry, GalleryPanel
 from app.ask.judges import AnswerState
 from app.ask.round import Tally
 from app.hall.ask_presenter import AnswerSphere
+from app.i18n import N_, Labels, Translator
 from app.kit.core.common import show_if_changed
 from app.tasks.model import Submission, Task, counted
 
@@ -71,14 +72,21 @@ class TaskViews:
         self._lock = threading.RLock()  # the poll thread and the browser's callbacks both draw
         self.task: Task | None = None
         self.submissions: list[Submission] = []
-        self.gui_view = gui.add_dropdown("3D view", (NO_VIEW,), initial_value=NO_VIEW,
-                                         hint="a question's answers in your 3D view: tips on a sphere, or the "
-                                              "gallery of the students' bodies")
+        self.gui_view = gui.add_dropdown(N_("3D view"), (NO_VIEW,), initial_value=NO_VIEW,
+                                         hint=N_("a question's answers in your 3D view: tips on a sphere, or the "
+                                                 "gallery of the students' bodies"))
+        self.words = Labels(gui)
+        self.words.take(self.gui_view)
         self.sphere = AnswerSphere(client.scene, VIEW_ROOT)
         self.gallery = Gallery(client.scene, root=f"{VIEW_ROOT}/gallery")
         self.gallery_panel = GalleryPanel(gui, self.gallery, play, guard)
         self.gallery_panel.folder.visible = False
         self.gui_view.on_update(guard("3D view", lambda _e: self.draw()))
+
+    def relabel(self, tr: Translator) -> None:
+        """The dropdown and the gallery's folder in `tr`'s language (the browser chose another)."""
+        self.words.relabel(tr)
+        self.gallery_panel.relabel(tr)
 
     def show(self, task: Task, submissions: list[Submission]) -> None:
         """The views of `task` with `submissions` (a task newly shown: its first viewable question)."""
