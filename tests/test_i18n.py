@@ -318,7 +318,9 @@ def test_a_preset_button_shows_its_name_translated_and_starts_the_english_preset
     assert group.label == "Aufrecht" and "Sleeping" not in group._impl.props.options
     app.raw_clients[german.client_id].set_value(group, "Schlafend")
     poll_until(lambda: german.room.sim.preset == "Sleeping", timeout=10.0)
-    assert row.gui_note.content.startswith("**Schlafend.** Fast aufrecht und schnell")
+    poll_until(lambda: row.gui_note.content.startswith("**Schlafend.** Fast aufrecht und schnell"), timeout=10.0,
+               what="the German note of Sleeping (the callback writes it after the preset starts)",
+               seen=lambda: row.gui_note.content[:60])
     german.apply_preset("Too slow")
     assert german.room.sim.preset == "Too slow" and row.gui_note.content.startswith("**Zu langsam.**")
     assert german.error_count == 0, german.last_error
