@@ -87,6 +87,7 @@ class Language:
                 view.relabel(self.tr)
             if not following and isinstance(view, SceneView):
                 self.own_room.rebuild_view()
+            browser.lesson_runner.relabel()  # the lesson's titles and step in the new language
             if browser.lecture is not None:
                 browser.lecture.refresh()  # the live bar's words (it reads the browser's language)
             if browser.question is not None:
