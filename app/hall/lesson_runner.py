@@ -130,16 +130,17 @@ class LessonRunner:
 
     def _show_options(self) -> None:
         options = self._options()
-        if tuple(self.gui_lesson.options) != options:
-            value = self._title(str(self.gui_lesson.value))
+        if tuple(self.gui_lesson.options) == options:
+            return
+        running = next((title for title, lesson in self.lessons.items() if lesson is self.lesson), None)
+        shown = NO_LESSON if running is None else self._shown_title(running)
+        self._relabelling = True  # viser's setters run start(): nothing (the lesson goes on)
+        try:
             self.gui_lesson.options = options
-            shown = self._shown_title(value) if value in self.lessons else NO_LESSON
             if self.gui_lesson.value != shown:
-                self._relabelling = True
-                try:
-                    self.gui_lesson.value = shown  # runs start(): nothing (the lesson goes on)
-                finally:
-                    self._relabelling = False
+                self.gui_lesson.value = shown
+        finally:
+            self._relabelling = False
 
     def relabel(self) -> None:
         """The browser's language changed: the titles, the step's text and the caption in it."""
