@@ -16,7 +16,7 @@ from test_i18n import hall  # noqa: F401 - the fixture: the app without its loop
 
 from app.data import files_in
 from app.i18n import LANGUAGES
-from app.lessons import LESSONS_DIR, LessonError, in_language, lessons, load_lesson
+from app.lessons import LESSONS_DIR, LessonError, lessons, load_lesson
 from app.scenes import SCENES
 
 EULER = "§1 Euler angles and ω"
@@ -142,6 +142,8 @@ def test_a_dutch_follower_reads_an_english_presenters_lesson_step_in_dutch(hall:
 
 
 def test_a_dutch_presenters_question_from_the_lesson_is_in_dutch_and_the_follower_unknown_words_stay() -> None:
+    from app.lessons import in_language  # noqa: PLC0415 - new with the languages: the other tests run without it
+
     lesson = next(lesson for lesson in lessons() if lesson.title == FREE_BODY)
     step = lesson.steps[2]
     dutch = step.ask_in("nl")
