@@ -102,6 +102,10 @@ def test_a_german_browser_runs_a_shipped_lesson_and_reads_it_in_german(browser, 
 def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_overlapping(browser, english_app: App,
                                                                                      size: str) -> None:
     page, session = open_page(browser, english_app, 90.0, **SIZES[size])
+    folded = session.narrow.gui_details
+    if size == "390x844":  # a phone's panel starts folded: its `Details` first
+        page.get_by_role("button", name=str(folded.label), exact=True).first.wait_for(timeout=90_000)
+    _unfold(page, session)
     page.locator(f'[id="{session.gui_scene._impl.uuid}"]').wait_for(state="attached", timeout=90_000)
     close_toasts(page)
     found: dict[str, list[str]] = {}
