@@ -8,7 +8,8 @@ Chromium through the pages (issue 38):
    (English, Nederlands, Deutsch) in the Language dropdown and every scene of
    `app.scenes.SCENES` in the Scene dropdown, as a person does; in each, the panel's text is
    neither cut, nor past the panel's edge, nor overlapping another text, and the panel does not
-   scroll sideways (`test_browser_language.text_problems`).  The check needs no particular
+   scroll sideways (`test_browser_language.text_problems`); no field's text (a dropdown's value)
+   is wider than its box.  The check needs no particular
    translation: a scene whose panel is still English is checked as it is.
 
 Pictures ($RBL_TEST_SHOTS, none when unset): `<size>_<language>_<scene>.png`, `lesson_de.png`.
@@ -38,6 +39,24 @@ SIZES = {
     "390x844": {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True,
                 "device_scale_factor": 2},
 }
+FIELDS_JS = r"""(panel) => {
+  // Every drawn field (a dropdown's or a number's input) in the panel whose text is wider than its box.
+  const canvas = document.createElement('canvas').getContext('2d');
+  const cut = [];
+  for (const input of document.querySelectorAll('input:not([type=checkbox]):not([type=hidden])')) {
+    const r = input.getBoundingClientRect();
+    if (!input.value || r.width === 0 || r.x < panel.x - 1 || r.right > panel.right + 1) continue;
+    if (r.y < panel.y || r.bottom > panel.bottom) continue;
+    const style = getComputedStyle(input);
+    if (style.visibility === 'hidden') continue;
+    canvas.font = `${style.fontWeight} ${style.fontSize} ${style.fontFamily}`;
+    const room = input.clientWidth - parseFloat(style.paddingLeft) - parseFloat(style.paddingRight);
+    const wide = canvas.measureText(input.value).width;
+    if (wide > room + 1) cut.push(`${input.value} (${wide.toFixed(0)} px in ${room.toFixed(0)} px)`);
+  }
+  return cut;
+}"""
+"""The texts of the panel's fields (a dropdown's value, a number) cut by their box [CSS px]."""
 EULER_DE = "§1 Euler-Winkel und ω"
 FIRST_STEP_DE = "Eine Rotation ist eine einzige Drehung"
 
@@ -123,6 +142,7 @@ def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_over
             _unfold(page, session)
             close_toasts(page)
             problems, boxes = text_problems(page)
+            problems += [f"a field's text cut: {field}" for field in page.evaluate(FIELDS_JS, boxes["panel"])]
             assert len(boxes["texts"]) >= 5, f"{size} {code} {title}: too few texts in the panel: {boxes['texts']}"
             if problems:
                 found[f"{size} {code} {title}"] = problems
