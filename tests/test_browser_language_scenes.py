@@ -133,6 +133,8 @@ def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_over
         if session.languages.code != code:
             choose(page, session.gui_language, name)
             _wait(page, f"the session to speak {code}", lambda code=code: session.languages.code == code)
+            # the page relabelled (one message: the dropdowns' labels and options together)
+            page.get_by_text(str(session.gui_language.label), exact=True).first.wait_for(timeout=60_000)
         for title in SCENES:
             _unfold(page, session)
             label = session.own_room.scene_label(title)
