@@ -317,13 +317,11 @@ class Session:
         self.lesson_runner.next_step(delta)
 
     def lesson_text(self) -> str:
-        """The current step's text in English (sent to the followers of a presenter running a
-        lesson; each shows it in its own language, `app.lessons.in_language`)."""
+        """The current step's text in English, as followers are sent it (`app.lessons.in_language`)."""
         return self.lesson_runner.text(english=True)
 
     def caption_words(self) -> tuple[str, str]:
-        """(head, words) of the lesson caption in English, as the followers are sent it
-        (`app.hall.lesson_runner.LessonRunner.caption_words`)."""
+        """(head, words) of the lesson caption in English, as followers are sent it (`LessonRunner`)."""
         return self.lesson_runner.caption_words(english=True)
 
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
