@@ -9,10 +9,10 @@ Chromium through the pages (issue 38):
    `app.scenes.SCENES` in the Scene dropdown, as a person does; in each, the panel's text is
    neither cut, nor past the panel's edge, nor overlapping another text, and the panel does not
    scroll sideways (`test_browser_language.text_problems`); no field's text (a dropdown's value)
-   is wider than its box.  The check needs no particular
+   is wider than its box; at the panel's top, middle and bottom (scrolled through).  The check needs no particular
    translation: a scene whose panel is still English is checked as it is.
 
-Pictures ($RBL_TEST_SHOTS, none when unset): `<size>_<language>_<scene>.png`, `lesson_de.png`.
+Pictures ($RBL_TEST_SHOTS, none when unset): `<size>_<language>_<scene>_<top|middle|bottom>.png`, `lesson_de.png`.
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
@@ -57,6 +57,15 @@ FIELDS_JS = r"""(panel) => {
   return cut;
 }"""
 """The texts of the panel's fields (a dropdown's value, a number) cut by their box [CSS px]."""
+SCROLL_JS = r"""(to) => {
+  // The panel's own scroll area (the tallest one) scrolled to `to` [0..1 of its height]; whether it scrolls.
+  const areas = [...document.querySelectorAll('.mantine-ScrollArea-viewport')]
+    .filter(v => v.scrollHeight > v.clientHeight + 1).sort((a, b) => b.scrollHeight - a.scrollHeight);
+  if (!areas.length) return false;
+  areas[0].scrollTop = to * (areas[0].scrollHeight - areas[0].clientHeight);
+  return true;
+}"""
+"""Scroll the panel (to 0: the top, 1: the bottom); False when it has nothing to scroll."""
 EULER_DE = "§1 Euler-Winkel und ω"
 FIRST_STEP_DE = "Eine Rotation ist eine einzige Drehung"
 
@@ -143,11 +152,15 @@ def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_over
                 _wait(page, f"the scene {title!r}", lambda title=title: session.room.scene.title == title)
             _unfold(page, session)
             close_toasts(page)
-            problems, boxes = text_problems(page)
-            problems += [f"a field's text cut: {field}" for field in page.evaluate(FIELDS_JS, boxes["panel"])]
-            assert len(boxes["texts"]) >= 5, f"{size} {code} {title}: too few texts in the panel: {boxes['texts']}"
-            if problems:
-                found[f"{size} {code} {title}"] = problems
-            keep_picture(page, f"{size}_{code}_{title.replace(' ', '_')}.png")
+            for part, to in (("top", 0.0), ("middle", 0.5), ("bottom", 1.0)):  # the whole panel, scrolled through
+                if to and not page.evaluate(SCROLL_JS, to):
+                    break
+                problems, boxes = text_problems(page)
+                problems += [f"a field's text cut: {field}" for field in page.evaluate(FIELDS_JS, boxes["panel"])]
+                assert len(boxes["texts"]) >= 5, f"{size} {code} {title}: too few texts in the panel: {boxes['texts']}"
+                if problems:
+                    found[f"{size} {code} {title} ({part})"] = problems
+                keep_picture(page, f"{size}_{code}_{title.replace(' ', '_')}_{part}.png")
+            page.evaluate(SCROLL_JS, 0.0)  # the dropdowns in view again
     assert session.error_count == 0, session.last_error
     assert not found, "panels with cut or overlapping text:\n" + "\n".join(f"{k}: {v}" for k, v in found.items())
