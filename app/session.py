@@ -317,12 +317,12 @@ class Session:
         self.lesson_runner.next_step(delta)
 
     def lesson_text(self) -> str:
-        """The current step's text (shown to the followers of a presenter running a lesson)."""
-        return self.lesson_runner.text()
+        """The current step's text in English, as followers are sent it (`app.lessons.in_language`)."""
+        return self.lesson_runner.text(english=True)
 
     def caption_words(self) -> tuple[str, str]:
-        """(head, words) of the lesson caption (`app.hall.lesson_runner.LessonRunner.caption_words`)."""
-        return self.lesson_runner.caption_words()
+        """(head, words) of the lesson caption in English, as followers are sent it (`LessonRunner`)."""
+        return self.lesson_runner.caption_words(english=True)
 
     def record(self, seconds: Any, *, wait: bool = False) -> threading.Thread:
         """Record the next `seconds` of the scene shown (`app.hall.notes.Notes.record`)."""

@@ -6,6 +6,11 @@ text, the `Caption` checkbox), the step's caption over the browser's 3D view
 the → / ← keys, the running lesson and its step, and applying a step to the browser's
 stage (`Stage`: the scene, the preset, the toggles, the tab, the integrator, the camera, play
 or pause).  A scene chosen by hand ends the lesson (`scene_changed`).
+
+Languages: the dropdown's titles, the step's text and caption are in the browser's language
+(`app.i18n.for_gui`; English where the lesson lacks it, `app.lessons.Texts`); what a presenter
+sends its followers is English (`text(english=True)`), and each follower's panel shows it in its
+own language (`app.lessons.in_language`).
 """
 
 from __future__ import annotations
@@ -15,11 +20,11 @@ from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Labels, Translator
+from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.core.common import Wrap, apply_camera
 from app.kit.core.room import Room
 from app.lecture.caption import Caption
-from app.lessons import Lesson, lessons
+from app.lessons import Lesson, caption_head, lessons, remember, step_line
 
 __all__ = ["NO_LESSON", "LessonRunner", "Stage"]
 
@@ -68,14 +73,16 @@ class LessonRunner:
 
     def __init__(self, gui: Any, guard: Wrap, stage: Stage, on_step: Callable[[], None]) -> None:
         self.stage = stage
+        self._gui = gui
         self._on_step = on_step
         self.lessons = {lesson.title: lesson for lesson in lessons()}
         self.lesson: Lesson | None = None
         self.step = -1
         self._stepping = False  # a step is switching the scene: the lesson goes on
+        self._relabelling = False  # the dropdown's titles change language: the lesson goes on
         self.folder = gui.add_folder(N_("Lesson"), expand_by_default=False)
         with self.folder:
-            self.gui_lesson = gui.add_dropdown(N_("Lesson"), (NO_LESSON, *self.lessons), initial_value=NO_LESSON,
+            self.gui_lesson = gui.add_dropdown(N_("Lesson"), self._options(), initial_value=NO_LESSON,
                                                hint=N_("a walk through one section of the memo"))
             self.gui_steps = gui.add_button_group(N_("Step"), (N_("◀ Back"), N_("Next ▶")))
             self.gui_text = gui.add_markdown("")
@@ -87,39 +94,81 @@ class LessonRunner:
         self.words.take(self.gui_steps, options=True)
         self.caption = Caption(gui)
         self.gui_caption.on_update(guard("caption", lambda _event: self._caption_changed()))
-        self.gui_lesson.on_update(guard("lesson", lambda _event: self.start(str(self.gui_lesson.value))))
+        self.gui_lesson.on_update(guard("lesson", lambda _event: self.start(self._title(str(self.gui_lesson.value)))))
         self.gui_steps.on_click(guard("lesson step", lambda event: self.next_step(
             -1 if str(event.target.value).startswith("◀") else 1)))
         for label, key, delta in (("Lesson: next step", "arrowright", 1), ("Lesson: back", "arrowleft", -1)):
             command = gui.add_command(label, hotkey=key, description=f"key: {key}")
             command.on_trigger(guard(label, lambda _event, delta=delta: self.next_step(delta)))
 
-    def relabel(self, tr: Translator) -> None:
-        """The folder's own words in `tr`'s language (the browser chose another; the lessons' texts are theirs)."""
-        self.words.relabel(tr)
-
     def add_lessons(self, own: dict[str, Lesson]) -> None:
         """The lecturer's own lessons (`app.own`) in the dropdown after the shipped ones, marked ★."""
         shipped = {lesson.title: lesson for lesson in lessons()}
         self.lessons = {**shipped, **{OWN_MARK + title: lesson for title, lesson in own.items()}}
-        options = (NO_LESSON, *self.lessons)
-        if tuple(self.gui_lesson.options) != options:
-            self.gui_lesson.options = options
+        remember(own.values())  # a follower in this process reads them in its language too
+        self._show_options()
 
-    def text(self) -> str:
-        """The current step's text (Markdown; shown to the followers of a presenter running a lesson)."""
+    @property
+    def tr(self) -> Translator:
+        """The browser's language (`app.i18n.for_gui`)."""
+        return for_gui(self._gui)
+
+    def _shown_title(self, title: str) -> str:
+        """A dropdown entry's title (a key of `lessons`) as the browser's language writes it."""
+        lesson = self.lessons.get(title)
+        if lesson is None:
+            return title
+        own = OWN_MARK if title.startswith(OWN_MARK) and not lesson.title.startswith(OWN_MARK) else ""
+        return own + lesson.title_in(self.tr.language)
+
+    def _options(self) -> tuple[str, ...]:
+        return (NO_LESSON, *(self._shown_title(title) for title in self.lessons))
+
+    def _title(self, shown: str) -> str:
+        """The key of `lessons` of a dropdown entry in any language (itself when none is: NO_LESSON, or anything
+        a client sends)."""
+        if shown in self.lessons:
+            return shown
+        return next((title for title in self.lessons if self._shown_title(title) == shown), shown)
+
+    def _show_options(self) -> None:
+        options = self._options()
+        if tuple(self.gui_lesson.options) == options:
+            return
+        running = next((title for title, lesson in self.lessons.items() if lesson is self.lesson), None)
+        shown = NO_LESSON if running is None else self._shown_title(running)
+        self._relabelling = True  # viser's setters run start(): nothing (the lesson goes on)
+        try:
+            self.gui_lesson.options = options
+            if self.gui_lesson.value != shown:
+                self.gui_lesson.value = shown
+        finally:
+            self._relabelling = False
+
+    def relabel(self, tr: Translator) -> None:
+        """The browser's language changed to `tr`'s: the folder's own words, the lessons' titles,
+        the step's text and the caption in it."""
+        self.words.relabel(tr)
+        self._show_options()
+        if self.lesson is not None and self.step >= 0:
+            self.gui_text.content = self.text()
+            self.caption.show(*self.caption_words())
+
+    def text(self, *, english: bool = False) -> str:
+        """The current step's text (Markdown) in the browser's language, or in English (what a
+        presenter's followers are sent: each shows it in its own, `app.lessons.in_language`)."""
         if self.lesson is None or self.step < 0:
             return ""
-        return f"**{self.lesson.title}**, step {self.step + 1}/{len(self.lesson.steps)}: " + \
-            self.lesson.steps[self.step].text
+        return step_line(self.lesson, self.step, translator("en") if english else self.tr)
 
-    def caption_words(self) -> tuple[str, str]:
+    def caption_words(self, *, english: bool = False) -> tuple[str, str]:
         """(head, words) of the caption over the 3D view: the lesson and step, and the step's
-        text; ("", "") with no lesson running or the `Caption` checkbox off."""
+        text, in the browser's language or in English; ("", "") with no lesson running or the
+        `Caption` checkbox off."""
         if self.lesson is None or self.step < 0 or self.gui_caption.value is not True:
             return "", ""
-        return (f"{self.lesson.title} · step {self.step + 1} of {len(self.lesson.steps)}",
-                self.lesson.steps[self.step].text)
+        tr = translator("en") if english else self.tr
+        return caption_head(self.lesson, self.step, tr), self.lesson.steps[self.step].text_in(tr.language)
 
     def _caption_changed(self) -> None:
         self.caption.show(*self.caption_words())
@@ -140,6 +189,9 @@ class LessonRunner:
 
     def start(self, title: str) -> None:
         """Run the lesson `title` from its first step (NO_LESSON: none)."""
+        if self._relabelling:
+            return  # the dropdown relabelled in another language: the lesson goes on
+        title = self._title(title)
         if title not in self.lessons:  # NO_LESSON, or anything a client sends
             self.lesson, self.step = None, -1
             self.gui_text.content = ""

@@ -36,6 +36,7 @@ from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 from app.lecture.caption import Caption
 from app.lecture.room_plot import PlotMirror
+from app.lessons import in_language
 
 __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "FollowerStatus", "Hall", "Transport",
            "ended_head", "ended_line", "is_narrow", "transport_words", "view_aspect"]
@@ -180,7 +181,8 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         """The followers' panel text: who presents what (or plainly that the presenter stopped or
         left), the scene and preset, the time (once: while the presenter looks back, the head's),
         the lesson step while live, the scene's key numbers (lines); the app's words in `tr`'s
-        language (English by default; the title, preset, lesson and key numbers as sent)."""
+        language (English by default; the lesson step too where the lesson has it, `app.lessons.in_language`;
+        the preset and key numbers as sent)."""
         tr = tr or _english()
         _ = tr.gettext
         if not self.title:
@@ -198,7 +200,7 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         if transport is not None and (transport.mode == LIVE or not live):
             lines.append(f"t = {tr.decimal(transport.t, 1)} s · {tr.general(transport.time_scale)}×")
         if self.lesson and live:
-            lines.append(self.lesson)
+            lines.append(in_language(self.lesson, tr.language))  # the lesson's words where it has them
         lines.extend(self.key_numbers)
         return "  \n".join(lines)
 
@@ -308,6 +310,8 @@ class Follower:
         self._layout()
         if self._status is not None:
             self.show_status(self._status)
+        if any(self._caption_words):
+            self.show_caption(*self._caption_words)  # the lesson's words in the new language
 
     @property
     def follow_camera(self) -> bool:
@@ -363,6 +367,8 @@ class Follower:
         """The presenter's caption (`app.hall.lesson_runner.LessonRunner.caption_words`; "" words:
         none), over this screen's 3D view unless its `Caption` checkbox is off."""
         self._caption_words = (head, words)
+        language = self.tr.language  # the presenter sends English: the lesson's words in this browser's
+        head, words = in_language(head, language), in_language(words, language)
         shown = self.gui_caption.value is True  # a client can send anything
         self.caption.show(head if shown else "", words if shown else "")
 

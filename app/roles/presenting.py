@@ -121,7 +121,8 @@ class Presenting:
         if browser.lectern is not None and browser.lectern.presenter is browser:
             browser.lectern.refresh_followers()
         lesson, k = browser.lesson_runner.lesson, browser.lesson_runner.step
-        question = lesson.steps[k].ask if lesson is not None and 0 <= k < len(lesson.steps) else None
+        language = browser.lesson_runner.tr.language  # the question as the lecturer reads the lesson
+        question = lesson.steps[k].ask_in(language) if lesson is not None and 0 <= k < len(lesson.steps) else None
         if question is not None and browser.ask_panel is not None:
             browser.ask_panel.fill(question)  # the lecturer asks it with `Ask the class`
 
