@@ -77,20 +77,20 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """The suite on 2 processes (pyproject's addopts: `-n 2 --dist loadgroup`): xdist's scope
     scheduling with these groups, each run by one process in collection order:
 
-    - every browser test in BROWSER_GROUP: one Chromium, one page drawing at a time (two
-      Chromiums drawing at once on 2 cores time each other's pages out);
+    - the browser tests in RBL_BROWSER_GROUPS groups (default 2), module by module in turn: each
+      group one Chromium, one page drawing at a time in it;
     - every other test with its module: a module-scoped fixture (a server, a cluster of
       workers, a Redis) starts once.
 
     The groups are read from the nodeids (the `xdist_group` mark is not used: xdist 3.8 renames
     nodeids for it, which pytest 9 ignores).
 
-    RBL_BROWSER_GROUPS=N (default 1) splits the browser tests into N groups, module by module in
-    turn, so that N processes each run a Chromium at once (the browser group alone is most of the
-    suite's time: ~600-800 s of the 600-870 s of the CI runs of 2026-11-27/28)."""
+    Two browser groups, one per process, end together: in one group the browser tests were the
+    suite's long pole (a quiet run of ac31cd2: one group would hold 1,053 s of tests; with two
+    the processes held 744 s and 740 s, 12:33 in all)."""
     if config.getvalue("dist") != "loadgroup":
         return None
-    browser_groups = max(1, int(os.environ.get("RBL_BROWSER_GROUPS", "1")))
+    browser_groups = max(1, int(os.environ.get("RBL_BROWSER_GROUPS", "2")))
     browser_modules: list[str] = []
     from xdist.scheduler import LoadScopeScheduling
 
