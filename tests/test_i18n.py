@@ -784,3 +784,16 @@ def test_the_mine_folder_says_its_refusals_and_the_notes_name_their_files_in_the
     assert own_refusal_words("Free body has a preset named 'Spin' already", de) == (
         "Freier Körper hat schon eine Voreinstellung namens 'Spin'")
     assert german.error_count == 0 and follower.error_count == 0, (german.last_error, follower.last_error)
+
+
+@pytest.mark.parametrize("title", ["Free body", "Heavy top", "Poinsot"])
+def test_the_rigid_bodies_line_of_nodes_reads_german_in_a_german_browser(hall: Any, title: str) -> None:
+    """The 3D label of the line of nodes in the rigid-body scenes (their own `LineOfNodes`, not
+    the Euler-angles scene's), after a switch to German."""
+    _, join = hall
+    german = join()
+    german.select_scene(title)
+    assert german.scene.nodes.label.text.startswith("line of nodes")
+    german.set_language("de")
+    assert german.scene.nodes.label.text.startswith("Knotenlinie"), german.scene.nodes.label.text
+    assert german.error_count == 0, german.last_error

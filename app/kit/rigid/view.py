@@ -38,7 +38,7 @@ import viser
 
 from app.kit.core.common import L_COLOR, OMEGA_COLOR, Throttle, Wrap
 from app.kit.core.room import Room
-from app.kit.draw.widgets import POSE_QUANTUM, Body, LineOfNodes, Stage, Vector, quantized
+from app.kit.draw.widgets import NODES_LABELS, POSE_QUANTUM, Body, LineOfNodes, Stage, Vector, quantized
 from app.kit.rigid.ghost import ExactGhost
 from app.kit.rigid.lagrange_arrows import GeneralizedForceArrows
 from app.kit.rigid.panel import ANGLE_SPECS, PLOT_PERIOD, READOUT_PERIOD, SLIDER_PERIOD, STATUS_PERIOD, RigidBodyPanel
@@ -107,7 +107,8 @@ class RigidBodyView(RigidBodyPanel):
         self.body = Body(scene, f"{parent}/b", lambda s, parent: self.build_shape(s, parent, model),
                          axis_length=self.body_axis_length, labels=labels)
         self._drawn_model = model
-        self.nodes = LineOfNodes(scene, f"{parent}/nodes", labels=labels, riding=tilt)
+        defined, undefined = (self.tr.gettext(text) for text in NODES_LABELS)
+        self.nodes = LineOfNodes(scene, f"{parent}/nodes", labels=labels, riding=tilt, text=(defined, undefined))
         self.omega = Vector(scene, f"{parent}/w", OMEGA_COLOR, "ω", labels=labels,
                             label_at_middle=self.omega_label_at_middle)
         self.L = Vector(scene, f"{parent}/L", L_COLOR, "L", labels=labels)
