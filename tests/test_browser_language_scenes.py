@@ -19,13 +19,12 @@ Needs Debian's Chromium: `apt-get install chromium`.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
 from conftest import keep_picture
-from test_browser_language import text_problems
-from test_browser_lecture import choose, close_toasts, open_page, serving
+from test_browser_language import english_app, german_app, text_problems  # noqa: F401 - fixtures
+from test_browser_lecture import choose, close_toasts, open_page
 
 from app.i18n import LANGUAGES
 from app.main import App
@@ -70,16 +69,6 @@ EULER_DE = "§1 Euler-Winkel und ω"
 FIRST_STEP_DE = "Eine Rotation ist eine einzige Drehung"
 
 
-@pytest.fixture
-def german_app() -> Iterator[App]:
-    yield from serving(language="de")
-
-
-@pytest.fixture
-def english_app() -> Iterator[App]:
-    yield from serving()
-
-
 def _unfold(page: Any, session: Any) -> None:
     """A phone's folded panel unfolded with its `Details` button (as a person taps it); nothing
     where the panel is not folded."""
@@ -98,7 +87,7 @@ def _wait(page: Any, what: str, condition: Any, timeout_ms: int = 60_000) -> Non
         page.wait_for_timeout(200)
 
 
-def test_a_german_browser_runs_a_shipped_lesson_and_reads_it_in_german(browser, german_app: App) -> None:
+def test_a_german_browser_runs_a_shipped_lesson_and_reads_it_in_german(browser, german_app: App) -> None:  # noqa: F811
     page, session = open_page(browser, german_app, 90.0, **SIZES["1280x800"])
     page.get_by_role("button", name="Abspielen", exact=True).wait_for(timeout=90_000)
     close_toasts(page)
@@ -127,7 +116,7 @@ def test_a_german_browser_runs_a_shipped_lesson_and_reads_it_in_german(browser, 
 
 
 @pytest.mark.parametrize("size", list(SIZES))
-def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_overlapping(browser, english_app: App,
+def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_overlapping(browser, english_app: App,  # noqa: F811
                                                                                      size: str) -> None:
     page, session = open_page(browser, english_app, 90.0, **SIZES[size])
     folded = session.narrow.gui_details
