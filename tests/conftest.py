@@ -77,7 +77,7 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """The suite on 2 processes (pyproject's addopts: `-n 2 --dist loadgroup`): xdist's scope
     scheduling with these groups, each run by one process in collection order:
 
-    - the browser tests in RBL_BROWSER_GROUPS groups (default 2), module by module in turn: each
+    - the browser tests in RBL_BROWSER_GROUPS groups (default 1), module by module in turn: each
       group one Chromium, one page drawing at a time in it;
     - every other test with its module: a module-scoped fixture (a server, a cluster of
       workers, a Redis) starts once.
@@ -85,12 +85,13 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     The groups are read from the nodeids (the `xdist_group` mark is not used: xdist 3.8 renames
     nodeids for it, which pytest 9 ignores).
 
-    Two browser groups, one per process, end together: in one group the browser tests were the
-    suite's long pole (a quiet run of ac31cd2: one group would hold 1,053 s of tests; with two
-    the processes held 744 s and 740 s, 12:33 in all)."""
+    Two browser groups end the suite sooner (a quiet run of ac31cd2: 744 s and 740 s per process,
+    12:33, where one group held 1,053 s of browser tests), but two Chromiums drawing at once
+    starved each other's pages: in two of three quiet runs a page took 120 s for a screenshot or
+    missed a tap, where one group's runs passed.  One group stays the default."""
     if config.getvalue("dist") != "loadgroup":
         return None
-    browser_groups = max(1, int(os.environ.get("RBL_BROWSER_GROUPS", "2")))
+    browser_groups = max(1, int(os.environ.get("RBL_BROWSER_GROUPS", "1")))
     browser_modules: list[str] = []
     from xdist.scheduler import LoadScopeScheduling
 
