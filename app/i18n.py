@@ -109,7 +109,7 @@ class Translator:
     def __init__(self, language: str, translations: _gettext.NullTranslations) -> None:
         self.language = language
         self._translations = translations
-        self._english: dict[str, str] | None = None  # translation -> msgid (`english`), built at first use
+        self._english: dict[str, tuple[str, ...]] | None = None  # translation -> msgids, at first use
 
     def gettext(self, message: str) -> str:
         """`message` (an English msgid) in this language; itself when the catalog lacks it or it is ""."""
@@ -121,14 +121,27 @@ class Translator:
         """The singular or plural form for `n`, as this language's plural rule says."""
         return self._translations.ngettext(singular, plural, n)
 
-    def english(self, text: str) -> str:
+    def english(self, text: str, among: Iterable[str] | None = None) -> str:
         """The English msgid `text` translates (a widget's label back to the name code and
-        lessons use: "Hoekbogen" -> "Angle arcs"); `text` itself when no entry translates to it."""
+        lessons use: "Hoekbogen" -> "Angle arcs"); `text` itself when no entry translates to it.
+        Two msgids may share a translation (German "Knotenlinie" is "Line of nodes" and "line of
+        nodes"): `among` (the English words the widget can show) picks the one meant."""
+        found = self.englishes(text)
+        if among is not None:
+            wanted = set(among)
+            found = tuple(m for m in found if m in wanted)
+        return found[0] if found else text
+
+    def englishes(self, text: str) -> tuple[str, ...]:
+        """Every English msgid that translates to `text` (in catalog order; () when none does)."""
         if self._english is None:
             catalog = getattr(self._translations, "_catalog", {})
-            self._english = {str(value): str(key) for key, value in catalog.items()
-                             if isinstance(key, str) and key and isinstance(value, str)}
-        return self._english.get(text, text)
+            english: dict[str, tuple[str, ...]] = {}
+            for key, value in catalog.items():
+                if isinstance(key, str) and key and isinstance(value, str):
+                    english[value] = (*english.get(value, ()), key)
+            self._english = english
+        return self._english.get(text, ())
 
     def all(self, messages: Iterable[str]) -> tuple[str, ...]:
         """Each of `messages` translated."""
@@ -246,7 +259,8 @@ class Labels:
 
     def english(self, shown: Any) -> str:
         """The English option of a dropdown's value shown (`option`'s inverse)."""
-        return self.tr.english(str(shown))
+        kept = {o for _handle, _label, _hint, options, _fields in self._taken for o in options or ()}
+        return self.tr.english(str(shown), kept or None)
 
     def _write(self, handle: Any, label: str, hint: str, kept: tuple[str, ...] | None, fields: dict[str, Any],
                old: Translator) -> None:
@@ -257,7 +271,7 @@ class Labels:
         if hint and handle.hint != (text := tr.gettext(hint).format(**fields) if fields else tr.gettext(hint)):
             handle.hint = text
         if kept is not None:
-            value = old.english(str(handle.value))
+            value = old.english(str(handle.value), kept)
             shown = tuple(tr.gettext(o) for o in kept)
             if tuple(handle.options) != shown:
                 handle.options = shown

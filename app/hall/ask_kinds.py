@@ -195,7 +195,7 @@ class ChoiceForm:
 
     def question(self, prompt: str) -> Question:
         options = [o.strip() for o in str(self.gui_options.value).split("|") if o.strip()]
-        chosen = for_gui(self.gui).english(str(self.gui_correct.value))
+        chosen = for_gui(self.gui).english(str(self.gui_correct.value), (NONE,))
         correct = None if chosen == NONE else int(chosen) - 1
         if correct is not None and correct >= len(options):
             raise ValueError(f"the right option {correct + 1} is not one of the {len(options)} options")
@@ -242,7 +242,7 @@ class StateForm:
         self.filled: State | None = None  # a lesson's state question: its target, unless the form changes
 
     def question(self, prompt: str) -> Question:
-        chosen = for_gui(self.gui).english(str(self.gui_judge.value))
+        chosen = for_gui(self.gui).english(str(self.gui_judge.value), (NONE, *JUDGES))
         judge_name = None if chosen == NONE else chosen
         target = None if judge_name is None else target_of(judge_name, str(self.gui_target.value))
         filled = self.filled

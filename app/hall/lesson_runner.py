@@ -223,7 +223,7 @@ class LessonRunner:
         view = stage.scene
         toggles = view.checkboxes()
         for label, value in step.display.items():
-            toggle = toggles.get(label) or toggles.get(self.tr.gettext(label))  # a lesson names it in English
+            toggle = toggles.get(label)  # a lesson names it in English
             if toggle is None:
                 raise ValueError(f"lesson step {self.step + 1}: {step.scene} has no checkbox {label!r}")
             if toggle.value != value:

@@ -360,7 +360,11 @@ class SceneView:
         found = panel_checkboxes(self.client.gui, self._gui_roots)
         if found is None:
             found = _held_checkboxes(self)
-        return {self.tr.english(str(handle.label)): handle for handle in found}  # by its English label
+        by_english = {}  # by every English label the handle's shows (two msgids may share a translation)
+        for handle in found:
+            for english in self.tr.englishes(str(handle.label)) or (str(handle.label),):
+                by_english[english] = handle
+        return by_english
 
     def panel_controls(self) -> list[Any]:
         """The inputs of the view's panel (buttons, rows of buttons, sliders, checkboxes, menus):

@@ -218,7 +218,8 @@ class InertiaView(SceneView):
         self.bind(self.gui_position, "position", self._position_edited,
                   lambda: _shown(self.sim.positions[self.selected]), check=lambda value: self._coords(value, "x"))
         self.gui_add_remove.on_click(wrap("add/remove",
-                                          lambda event: self._add_remove(tr.english(str(event.target.value)))))
+                                          lambda event: self._add_remove(
+                                              tr.english(str(event.target.value), ("Add mass", "Remove mass")))))
         self.bind(self.gui_about, "O", self._set_about, lambda: _shown(self.sim.properties()["O"]),
                   check=lambda value: self._coords(value, "O"))
         self.gui_O_at_com.on_click(wrap("O at c", lambda _event: self._set_about(None)))
