@@ -3,7 +3,8 @@
 A lecturer presents in English (1024×768) while a Dutch and a German student (1280×800), each
 having picked their language in the page's Language dropdown (the Dutch one before the lecture,
 the German one while already following), follow: their follower panel reads Dutch / German
-("De presentator volgen", "Zelf verkennen" / "Dem Vortragenden folgen", "Selbst erkunden").  The
+("De presentator volgen", "Zelf verkennen" / "Dem Vortragenden folgen", "Selbst erkunden"), the
+key numbers under the scene written their way too ("I3 [kg m²] = 2,6").  The
 lecturer asks a choice question (typed in English: it stays as typed); each student answers it
 in their own page, whose question panel speaks their language ("Vraag 1", "Jouw antwoord",
 "Wijzig mijn antwoord" / "Frage 1", "Deine Antwort", "Meine Antwort ändern"); then the Dutch
@@ -127,6 +128,9 @@ def test_an_english_lecture_followed_and_answered_in_dutch_and_german(browser, h
     button(german_page, "Selbst erkunden").wait_for(timeout=30_000)
     shows(german_page, "Vortragender:")
     assert german.mode == "following"
+    for page in (dutch_page, german_page):  # the key numbers too: Euler angles' I3, a decimal comma
+        shows(page, "I3 [kg m²] = 2,6")
+        assert page.get_by_text("I3 [kg m²] = 2.6", exact=False).count() == 0
     close_toasts(dutch_page)
     close_toasts(german_page)
     no_english(dutch_page, "nl", "following")

@@ -18,6 +18,8 @@ from typing import Any
 import pytest
 
 from app.cluster.messages import LIVE_DECODER, HallState, encode
+from app.i18n import translator
+from app.kit.core.key_number import KeyNumber
 from app.kit.core.room import Room
 from app.lecture.bus.follow import copy_hall
 from app.lecture.bus.source import hall_message
@@ -26,7 +28,7 @@ from app.lecture.lectern import Lectern, RemoteShow
 from app.scenes import SCENES
 
 LESSON = "**Step 3/7** · the tennis-racket flip"
-KEY_NUMBERS = ["ω₁ = 0.1 rad/s", "ω₂ = 6 rad/s"]
+KEY_NUMBERS = [KeyNumber("ω₁", (0.1,), unit="rad/s"), KeyNumber("principal moments about O", (2.5, 5.0), unit="kg m²")]
 
 
 def _room(looking_back: bool) -> Room:
@@ -88,7 +90,10 @@ def test_the_status_crosses_workers_as_the_same_value_and_words(looking_back: bo
 
 @pytest.mark.parametrize("change", [
     {"hall": "nobody"}, {"title": 3}, {"title": "x" * 5000}, {"lesson": ["a"]}, {"key_numbers": [1, 2]},
-    {"key_numbers": ["k"] * 1000}, {"transport": {"mode": "flying"}}, {"transport": {"t": "soon"}},
+    {"key_numbers": ["k = 1"]}, {"key_numbers": [{"label": "k", "values": [1.0]}] * 1000},
+    {"key_numbers": [{"label": "k", "values": ["one"]}]}, {"key_numbers": [{"label": "k" * 5000, "values": []}]},
+    {"key_numbers": [{"label": "k", "values": [1.0] * 1000}]}, {"transport": {"mode": "flying"}},
+    {"transport": {"t": "soon"}},
 ])
 def test_a_status_that_is_not_one_is_refused(change: dict[str, Any]) -> None:
     plain = _through_the_bus(FollowerStatus.of_room(_room(False), Hall.LIVE, LESSON, KEY_NUMBERS)).to_dict()
@@ -101,10 +106,26 @@ def test_a_status_that_is_not_one_is_refused(change: dict[str, Any]) -> None:
 def test_a_status_made_of_long_words_is_one_the_other_workers_accept() -> None:
     """A long lesson step or many key numbers are cut where the status is made, so the source never
     sends a status the others refuse (each refusal would drop a hall message)."""
-    status = FollowerStatus.of_room(_room(False), Hall.LIVE, "x" * 10_000, ["k = 1" * 200] * 500)
+    numbers = [KeyNumber.made("k" * 5000, [1.0] * 5000, unit="u" * 5000, name="n" * 5000)] * 500
+    status = FollowerStatus.of_room(_room(False), Hall.LIVE, "x" * 10_000, numbers)
     heard = _through_the_bus(status)
     assert heard == status and heard.lesson == "x" * len(heard.lesson) and 0 < len(heard.lesson) < 10_000
-    assert 0 < len(heard.key_numbers) < 500 and all(0 < len(line) < 1000 for line in heard.key_numbers)
+    assert 0 < len(heard.key_numbers) < 500 and all(0 < len(n.label) < 1000 and 0 < len(n.values) < 100
+                                                    for n in heard.key_numbers)
+
+
+def test_key_numbers_are_written_in_each_followers_words() -> None:
+    """The key numbers cross as English labels and numbers: each follower reads the labels from
+    its catalog and the numbers written its way (a decimal comma, the values apart by "; ");
+    symbols and units stay."""
+    status = _through_the_bus(FollowerStatus.of_room(_room(False), Hall.LIVE, LESSON, KEY_NUMBERS))
+    english, dutch, german = (status.markdown(translator(code)) for code in ("en", "nl", "de"))
+    assert "ω₁ = 0.1 rad/s" in english and "principal moments about O = 2.5, 5 kg m²" in english
+    assert "ω₁ = 0,1 rad/s" in dutch and "ω₁ = 0,1 rad/s" in german
+    for words, language in ((dutch, "nl"), (german, "de")):
+        label = translator(language).gettext("principal moments about O")
+        assert label != "principal moments about O", f"{language}: the label is not in the catalog"
+        assert f"{label} = 2,5; 5 kg m²" in words and "principal moments" not in words
 
 
 @pytest.mark.parametrize("looking_back", [False, True])

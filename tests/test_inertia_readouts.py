@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from app.scenes.inertia.readouts import key_numbers_text, readout_text, spin_text
+from app.scenes.inertia.readouts import key_numbers_of, readout_text, spin_text
 from app.scenes.inertia.simulation import InertiaSystem
 from tests.test_inertia_scene import readout_matrices as matrices
 from tests.test_inertia_scene import tensor
@@ -86,15 +86,15 @@ def test_a_mesh_drawn_at_a_scale() -> None:
     closed_form = 6.0 / 12.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])  # 6.5, 5, 2.5
     np.testing.assert_allclose(principal_moments(text), np.sort(closed_form), rtol=1e-5)
     np.testing.assert_allclose(matrices(text)[0], np.diag(closed_form), atol=READOUT_ATOL)
-    assert key_numbers_text(system.properties(), mesh_name="box.stl") == [
-        "box.stl: m = 6 kg", "principal moments about O: 2.5, 5, 6.5 kg m²"]
+    assert [n.words() for n in key_numbers_of(system.properties(), mesh_name="box.stl")] == [
+        "box.stl: m = 6 kg", "principal moments about O = 2.5, 5, 6.5 kg m²"]
 
 
 def test_key_numbers_and_the_spin_note() -> None:
     system = InertiaSystem(MASSES, POSITIONS)
-    body, moments = key_numbers_text(system.properties(), masses=np.array(MASSES))
-    assert body == "3 masses [kg]: 1, 2, 0.5"
-    shown = [float(v) for v in moments.removeprefix("principal moments about O: ").removesuffix(" kg m²").split(", ")]
+    body, moments = (n.words() for n in key_numbers_of(system.properties(), masses=np.array(MASSES)))
+    assert body == "masses [kg] = 1, 2, 0.5"
+    shown = [float(v) for v in moments.removeprefix("principal moments about O = ").removesuffix(" kg m²").split(", ")]
     np.testing.assert_allclose(shown, np.linalg.eigvalsh(system.properties()["I_O"]), rtol=0.6e-3)
     assert spin_text("3 point masses", (0.5, 1.0, 1.2), 1.0) == (
         "Spun from the Inertia scene: 3 point masses, about its middle axis y′.")

@@ -33,6 +33,7 @@ import viser
 
 from app.i18n import for_gui
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
+from app.kit.core.key_number import KeyNumber
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
 from app.kit.core.room import LIVE, Room
 from app.kit.core.target import DrawTarget, as_target
@@ -132,7 +133,7 @@ class SceneView:
         self._in_force: WeakKeyDictionary[Binding, tuple[Callable[[], Any], SliderSpec | None]] = \
             WeakKeyDictionary()
         """binding -> (the value in force, read from the simulation; the slider's spec): what
-        the followers read (`control_values`), never the widget, which may be stale."""
+        the followers read (`in_force`), never the widget, which may be stale."""
         self._root_node = target.scene.add_frame(self.root, show_axes=False)
         # Every 3D label of the view is registered here with a priority; `frame` ends with
         # `self.labels.update(dt)` and `refresh` with `self.labels.settle()` (app.kit.draw.labels).
@@ -397,31 +398,24 @@ class SceneView:
         """Choose the integrator `name` (a lesson step); scenes with an integrator menu override it."""
         raise ValueError(f"{self.title} has no integrator menu (asked for {name!r})")
 
-    def key_numbers(self) -> list[str]:
-        """A few lines of the scene's key numbers, for the followers' read-only panel: by default
-        "label = value" of each bound slider, its value read from the room's simulation now
-        (`control_values`), whatever tab the browser shows."""
-        return [f"{label} = {value}" for label, value in self.control_values()]
-
-    def control_values(self) -> list[tuple[str, str]]:
-        """(label, value) of the view's bound sliders (`bind`; the timeline's not), for the
-        followers' read-only panel.  Each value is the binding's value in force (`current`: read
-        from the room's simulation, as the slider would show it, rounded to its step), not the
-        slider's widget: a view does not keep its sliders current while another tab shows."""
+    def key_numbers(self) -> list[KeyNumber]:
+        """The scene's key numbers, for the followers' read-only panel: by default each bound
+        slider's English label and its value in force, read from the room's simulation now
+        (`in_force`) whatever tab the browser shows, rounded to the slider's step."""
         timeline = self.timeline.binding if self.timeline is not None else None
-        return [(str(b.handle.label), self.value_in_force(b)) for b in self._bindings
+        return [KeyNumber.made(self.tr.english(str(b.handle.label)), (self.in_force(b),)) for b in self._bindings
                 if isinstance(b.handle, viser.GuiSliderHandle) and b is not timeline]
 
-    def value_in_force(self, binding: Binding) -> str:
+    def in_force(self, binding: Binding) -> float:
         """The value in force of a bound control, from the simulation (`bind`'s `current`),
-        rounded to its slider's step, as text (`:g`); the widget's value for a control not bound
-        through `bind`."""
+        rounded to its slider's step, not the slider's widget (a view does not keep its sliders
+        current while another tab shows); the widget's value for a control not bound through `bind`."""
         source = self._in_force.get(binding)
         if source is None:
-            return f"{binding.handle.value:g}"
+            return float(binding.handle.value)
         current, spec = source
         value = float(current())
-        return f"{spec.rounded(value) if spec is not None else value:g}"
+        return spec.rounded(value) if spec is not None else value
 
     # ------------------------------------------------------------------ bound controls
     def bind(self, handle: Any, where: str, apply: Callable[[Any], str | None], current: Callable[[], Any],

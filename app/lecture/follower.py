@@ -32,6 +32,7 @@ import viser
 
 from app.i18n import N_, Translator, for_gui, translator
 from app.kit.core.common import Wrap
+from app.kit.core.key_number import KeyNumber
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING, Room
 from app.kit.draw.screen import NARROW_ASPECT, NARROW_PX, narrow_size
 from app.lecture.caption import Caption
@@ -42,9 +43,9 @@ __all__ = ["DEFAULT_ASPECT", "NARROW_ASPECT", "NARROW_PX", "Follower", "Follower
            "ended_head", "ended_line", "is_narrow", "transport_words", "view_aspect"]
 
 DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
-MAX_LINE_CHARS = 400  # a title, preset or key number's line in a status read from another worker
+MAX_LINE_CHARS = 400  # a title or preset in a status read from another worker
 MAX_TEXT_CHARS = 4000  # the lesson step's text in it
-MAX_KEY_NUMBERS = 64  # its key numbers' lines
+MAX_KEY_NUMBERS = 64  # its key numbers
 FOLLOWING_TITLE = N_("Following the presenter")
 DETAILS_LABEL = N_("Details")
 HIDE_DETAILS_LABEL = N_("Hide details")
@@ -138,7 +139,8 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         title: the scene's title ("": nothing on the shared screen).  preset: its preset or "".
         transport: the presenter's transport (`Transport`), None before it is known.
         lesson: the presenter's lesson step ("" for none; shown only while LIVE).
-        key_numbers: the scene's key numbers, one Markdown line each.
+        key_numbers: the scene's key numbers (`KeyNumber`: English labels, numbers), written
+            in the words of the browser that shows them.
     """
 
     hall: Hall = Hall.EMPTY
@@ -146,11 +148,11 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
     preset: _Line = ""
     transport: Transport | None = None
     lesson: _Text = ""
-    key_numbers: Annotated[tuple[_Line, ...], msgspec.Meta(max_length=MAX_KEY_NUMBERS)] = ()
+    key_numbers: Annotated[tuple[KeyNumber, ...], msgspec.Meta(max_length=MAX_KEY_NUMBERS)] = ()
 
     @classmethod
     def of_room(cls, room: Room | None, hall: Hall, lesson: str = "",
-                key_numbers: Sequence[str] = ()) -> FollowerStatus:
+                key_numbers: Sequence[KeyNumber] = ()) -> FollowerStatus:
         """The status of `room` (the room on the shared screen, None if there is none) in `hall`;
         its texts cut to the lengths `from_dict` accepts (a long lesson step is not refused)."""
         if room is None:
@@ -159,7 +161,7 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         return cls(hall=hall, title=str(room.scene.title)[:MAX_LINE_CHARS],
                    preset=str(preset)[:MAX_LINE_CHARS] if preset else "", transport=Transport.of_room(room),
                    lesson=str(lesson)[:MAX_TEXT_CHARS],
-                   key_numbers=tuple(str(line)[:MAX_LINE_CHARS] for line in key_numbers[:MAX_KEY_NUMBERS]))
+                   key_numbers=tuple(key_numbers[:MAX_KEY_NUMBERS]))
 
     def ended(self, hall: Hall) -> FollowerStatus:
         """The same status once the presenter stopped (`hall` STOPPED) or left (LEFT)."""
@@ -181,8 +183,9 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         """The followers' panel text: who presents what (or plainly that the presenter stopped or
         left), the scene and preset, the time (once: while the presenter looks back, the head's),
         the lesson step while live, the scene's key numbers (lines); the app's words in `tr`'s
-        language (English by default; the lesson step too where the lesson has it, `app.lessons.in_language`;
-        the preset and key numbers as sent)."""
+        language (English by default): the scene, a shipped preset's name and the key numbers'
+        labels from the catalog, the lesson step where the lesson has it (`app.lessons.in_language`),
+        a lecturer's own preset as named."""
         tr = tr or _english()
         _ = tr.gettext
         if not self.title:
@@ -194,14 +197,14 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
             head = _("**Presenter:** {doing}").format(
                 doing=transport_words(transport, tr) if transport is not None else _("presenting"))
         title = _(self.title)  # a scene's title is in the catalog
-        scene = (_("Scene **{title}** · preset **{preset}**").format(title=title, preset=self.preset)
+        scene = (_("Scene **{title}** · preset **{preset}**").format(title=title, preset=_(self.preset))
                  if self.preset else _("Scene **{title}**").format(title=title))
         lines = [head, scene]
         if transport is not None and (transport.mode == LIVE or not live):
             lines.append(f"t = {tr.decimal(transport.t, 1)} s · {tr.general(transport.time_scale)}×")
         if self.lesson and live:
             lines.append(in_language(self.lesson, tr.language))  # the lesson's words where it has them
-        lines.extend(self.key_numbers)
+        lines.extend(number.words(tr) for number in self.key_numbers)
         return "  \n".join(lines)
 
     def line(self, tr: Translator | None = None) -> str:

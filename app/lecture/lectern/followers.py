@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
+from app.kit.core.key_number import KeyNumber
 from app.kit.draw.labels import Screen
 from app.kit.draw.screen import screen_of
 from app.lecture.follower import Follower, FollowerStatus, Hall, view_aspect
@@ -80,7 +81,7 @@ class Followers:
             self._screens = None
 
     # ------------------------------------------------------------------ what the panels show
-    def _key_numbers(self) -> list[str]:
+    def _key_numbers(self) -> list[KeyNumber]:
         view = self._stage.live_view
         if view is None:
             return []

@@ -11,10 +11,11 @@ import math
 
 from app.i18n import DEFAULT_LANGUAGE, Translator, translator
 from app.kit.core.common import SliderSpec
+from app.kit.core.key_number import KeyNumber
 from app.scenes.constrained.simulation import ConstrainedSimulation
 from physics.constrained import Evaluation, hoop_equilibrium
 
-__all__ = ["conserved_text", "extra_line", "key_numbers_text", "on_step", "readout_text", "status_text"]
+__all__ = ["conserved_text", "extra_line", "key_numbers_of", "on_step", "readout_text", "status_text"]
 
 ENGLISH = translator(DEFAULT_LANGUAGE)
 
@@ -78,15 +79,16 @@ def on_step(value: float, spec: SliderSpec) -> float:
     return round(round(value / spec.step) * spec.step, decimals) + 0.0  # never -0
 
 
-def key_numbers_text(sim: ConstrainedSimulation) -> list[str]:
-    """The followers' key numbers: "label = value" of q and q̇ now (display units, labelled as
-    their sliders, on the sliders' steps) and of the system's parameters."""
+def key_numbers_of(sim: ConstrainedSimulation) -> list[KeyNumber]:
+    """The followers' key numbers: q and q̇ now (display units, labelled as their sliders, on the
+    sliders' steps) and the system's parameters."""
     kind = sim.setup.kind_spec
-    lines = [f"{spec.label} = {on_step(value, spec):g}"
-             for specs, values in ((kind.q_specs, sim.q_shown), (kind.rate_specs, sim.rates_shown))
-             for spec, value in zip(specs, values)]
-    lines += [f"{spec.label} = {spec.rounded(value):g}" for spec, value in zip(kind.param_specs, sim.setup.params)]
-    return lines
+    numbers = [KeyNumber.made(spec.label, (on_step(value, spec),))
+               for specs, values in ((kind.q_specs, sim.q_shown), (kind.rate_specs, sim.rates_shown))
+               for spec, value in zip(specs, values)]
+    numbers += [KeyNumber.made(spec.label, (spec.rounded(value),))
+                for spec, value in zip(kind.param_specs, sim.setup.params)]
+    return numbers
 
 
 def _num(x: float) -> str:

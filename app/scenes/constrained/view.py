@@ -40,6 +40,7 @@ import viser
 
 from app.i18n import N_
 from app.kit.core.common import CameraView, SliderSpec, Throttle, Wrap
+from app.kit.core.key_number import KeyNumber
 from app.kit.core.presets import Preset
 from app.kit.core.room import Room
 from app.kit.draw.labels import DETAIL
@@ -48,7 +49,7 @@ from app.kit.draw.widgets import Stage, TraceLines, Vector
 from app.kit.panel.gui import PresetsRow, Readout, Tabs, Transport, add_slider
 from app.kit.panel.plots import LivePlots, PlotSpec
 from app.kit.view import SceneView, nth
-from app.scenes.constrained.readouts import conserved_text, key_numbers_text, readout_text, status_text
+from app.scenes.constrained.readouts import conserved_text, key_numbers_of, readout_text, status_text
 from app.scenes.constrained.simulation import (
     GUIDE_POINTS,
     ConstrainedSetup,
@@ -349,10 +350,10 @@ class ConstrainedView(SceneView):
             self.plots.push()
             self.labels.settle()
 
-    def key_numbers(self) -> list[str]:
-        """q, q̇ now and the parameters, from the simulation (`readouts.key_numbers_text`), whatever
+    def key_numbers(self) -> list[KeyNumber]:
+        """q, q̇ now and the parameters, from the simulation (`readouts.key_numbers_of`), whatever
         tab shows (the q, q̇ sliders follow the motion on the Setup tab only)."""
-        return key_numbers_text(self.sim)
+        return key_numbers_of(self.sim)
 
     def _show_state_sliders(self) -> None:
         """While playing the q, q̇ sliders follow the motion; paused at t = 0 they show the setup."""

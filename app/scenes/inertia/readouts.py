@@ -14,13 +14,14 @@ from typing import Any
 
 import numpy as np
 
-from app.i18n import DEFAULT_LANGUAGE, Translator, translator
+from app.i18n import DEFAULT_LANGUAGE, N_, Translator, translator
 from app.kit.core.common import format_matrix
+from app.kit.core.key_number import KeyNumber
 from physics._types import Vec3
 
 ENGLISH = translator(DEFAULT_LANGUAGE)
 
-__all__ = ["key_numbers_text", "readout_text", "spin_text"]
+__all__ = ["key_numbers_of", "readout_text", "spin_text"]
 
 
 def readout_text(props: Mapping[str, Any], display_scale: float, *, mesh_name: str | None = None,
@@ -61,16 +62,21 @@ def readout_text(props: Mapping[str, Any], display_scale: float, *, mesh_name: s
     return text
 
 
-def key_numbers_text(props: Mapping[str, Any], *, mesh_name: str | None = None,
-                     masses: Sequence[float] | np.ndarray = ()) -> list[str]:
+def key_numbers_of(props: Mapping[str, Any], *, mesh_name: str | None = None,
+                   masses: Sequence[float] | np.ndarray = ()) -> list[KeyNumber]:
     """For the followers' panel: the body (the mesh `mesh_name` and its mass, or the point
-    `masses` [kg]) and its principal moments about O [kg m²]."""
+    `masses` [kg]) and its principal moments about O [kg m²], each to 4 significant digits."""
     if mesh_name is not None:
-        body = f"{mesh_name}: m = {props['mass']:.4g} kg"
+        body = KeyNumber.made("m", (_significant(props["mass"]),), unit="kg", name=mesh_name)
     else:
-        body = f"{len(masses)} masses [kg]: " + ", ".join(f"{m:.3g}" for m in masses)
-    moments = ", ".join(f"{m:.4g}" for m in props["moments"])
-    return [body, f"principal moments about O: {moments} kg m²"]
+        body = KeyNumber.made(N_("masses [kg]"), [_significant(m, 3) for m in masses])
+    moments = [_significant(m) for m in props["moments"]]
+    return [body, KeyNumber.made(N_("principal moments about O"), moments, unit="kg m²")]
+
+
+def _significant(value: float, digits: int = 4) -> float:
+    """`value` rounded to `digits` significant digits."""
+    return float(f"{value:.{digits}g}")
 
 
 def spin_text(body: str, moments: Sequence[float] | np.ndarray, k: float) -> str:

@@ -40,6 +40,7 @@ import viser
 
 from app.i18n import N_, refusal_text
 from app.kit.core.common import BODY_AXIS_COLORS, CameraView, Wrap, axis_segments
+from app.kit.core.key_number import KeyNumber
 from app.kit.core.presets import PRESETS_DIR, Preset
 from app.kit.core.room import Room
 from app.kit.draw.labels import AXES, KEY
@@ -360,13 +361,13 @@ class InertiaView(SceneView):
         room = self.open_scene(SPIN_SCENE, prepare)
         room.notify(readouts.spin_text(what, moments, k))
 
-    def key_numbers(self) -> list[str]:
+    def key_numbers(self) -> list[KeyNumber]:
         """For the followers' panel: the body (masses, or the mesh and its mass) and its
         principal moments about O."""
         sim = self.sim
         if sim.mesh is not None:
-            return readouts.key_numbers_text(sim.properties(), mesh_name=sim.mesh_name)
-        return readouts.key_numbers_text(sim.properties(), masses=sim.masses)
+            return readouts.key_numbers_of(sim.properties(), mesh_name=sim.mesh_name)
+        return readouts.key_numbers_of(sim.properties(), masses=sim.masses)
 
     def gizmo_handles(self) -> list[Any]:
         """The mass's and O's drag gizmos (only in the controlling browser)."""
