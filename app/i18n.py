@@ -28,6 +28,7 @@ from __future__ import annotations
 import functools
 import gettext as _gettext
 import io
+import re
 import threading
 from collections.abc import Iterable
 from importlib import resources
@@ -42,6 +43,7 @@ __all__ = [
     "LANGUAGES",
     "Labels",
     "N_",
+    "Phrases",
     "Translator",
     "catalog_bytes",
     "compile_po",
@@ -184,6 +186,59 @@ def refusal_text(error: BaseException, tr: Translator) -> str:
         return tr.gettext(template).format(**fields)
     except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: physics' words
         return str(error)
+
+
+class Phrases:
+    """English sentences a lower layer writes whole (a refusal, a verdict), matched as a whole
+    and written in a browser's language: each entry is (a regular expression matching the English
+    sentence, with named groups; the msgid its translation is, with the same names as placeholders).
+
+        REFUSALS = Phrases((r"too fast: at most (?P<rate>[0-9]+) answers a second",
+                            N_("too fast: at most {rate} answers a second")))
+        REFUSALS.in_language("too fast: at most 5 answers a second", translator("nl"))
+
+    Args:
+        entries: (pattern, msgid), tried in order (the first whole match is taken).
+        translated: group names whose text is a msgid too (a scene's title): translated.
+        numbers: group names whose text is a number as Python wrote it: its decimal point
+            written the language's way.
+        nested: group name -> the Phrases its text is (a verdict inside a sentence): written by those.
+    """
+
+    def __init__(self, *entries: tuple[str, str], translated: Iterable[str] = (), numbers: Iterable[str] = (),
+                 nested: dict[str, Phrases] | None = None) -> None:
+        self.entries = tuple((re.compile(pattern, re.S), msgid) for pattern, msgid in entries)
+        self.translated, self.numbers = frozenset(translated), frozenset(numbers)
+        self.nested = dict(nested or {})
+
+    @property
+    def msgids(self) -> tuple[str, ...]:
+        """The msgids of the entries, in order."""
+        return tuple(msgid for _pattern, msgid in self.entries)
+
+    def words(self, text: str, tr: Translator) -> str | None:
+        """`text` in `tr`'s language when an entry matches it whole; None when none does."""
+        for pattern, msgid in self.entries:
+            found = pattern.fullmatch(text)
+            if found is None:
+                continue
+            fields = {name: self._field(name, value or "", tr) for name, value in found.groupdict().items()}
+            return tr.gettext(msgid).format(**fields)
+        return None
+
+    def in_language(self, text: str, tr: Translator) -> str:
+        """`text` in `tr`'s language (`words`); `text` as it is when no entry matches it."""
+        found = self.words(text, tr)
+        return text if found is None else found
+
+    def _field(self, name: str, value: str, tr: Translator) -> str:
+        if name in self.nested:
+            return self.nested[name].in_language(value, tr)
+        if name in self.translated:
+            return tr.gettext(value)
+        if name in self.numbers and tr.language != DEFAULT_LANGUAGE:
+            return value.replace(".", tr.general(0.5)[1])
+        return value
 
 
 @functools.cache

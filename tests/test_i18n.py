@@ -780,7 +780,7 @@ def test_a_refused_presenter_code_is_said_in_the_browsers_language_and_stays_tru
     dutch.lecture.show_refusal()
     assert dutch.gui_lecture_note.content.startswith("**⚠ Falscher Vortragscode (noch ")
     nl = translator("nl")
-    for pattern, msgid in CODE_REFUSALS:
+    for pattern, msgid in CODE_REFUSALS.entries:
         english = msgid.format(wait=7)
         assert pattern.fullmatch(english), msgid
         assert refusal_in_language(english, nl) == nl.gettext(msgid).format(wait=7) != english
@@ -811,7 +811,7 @@ def test_the_mine_folder_says_its_refusals_and_the_notes_name_their_files_in_the
         "**⚠ wie volgt kan niet bewaren: tijdens een college kan alleen de presentator dat**")
     assert german.notes._file_title(german.room) == "euler-winkel"
     de = translator("de")
-    for pattern, msgid in OWN_REFUSALS:
+    for pattern, msgid in OWN_REFUSALS.entries:
         english = msgid.format(most=80, scene="Free body", name="'Spin'", why="no rigid body")
         assert pattern.fullmatch(english), msgid
         assert own_refusal_words(english, de) != english, msgid

@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from app.i18n import N_
 from physics.judging import attitude_error_rad, axis_stays, top_motion
 from physics.top_energy import CUSP, LOOP, SLEEPING, STEADY, THROUGH_VERTICAL, TOO_SLOW, WAVE
 
@@ -114,8 +115,9 @@ def judge(question: Any, value: Mapping[str, Any]) -> Judged | None:
 
 
 AXIS_NAMES = ("x′", "y′", "z′")
-MOTION_WORDS = {STEADY: "steady precession", WAVE: "waves", LOOP: "loops", CUSP: "cusps",
-                SLEEPING: "sleeping", TOO_SLOW: "too slow to sleep", THROUGH_VERTICAL: "through the vertical"}
+MOTION_WORDS = {STEADY: N_("steady precession"), WAVE: N_("waves"), LOOP: N_("loops"), CUSP: N_("cusps"),
+                SLEEPING: N_("sleeping"), TOO_SLOW: N_("too slow to sleep"),
+                THROUGH_VERTICAL: N_("through the vertical")}
 """The class of motion (physics.top_energy) -> the word the student and the tally read."""
 _ORTHO_TOL = 1e-6  # ‖Rᵀ R − 1‖ allowed in an answer's attitude
 _MAX_SECONDS = 60.0  # the longest span axis_stays integrates [s]

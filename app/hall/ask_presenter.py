@@ -29,7 +29,7 @@ from app.ask.judges import AnswerState
 from app.ask.round import Round
 from app.ask.state_tally import gallery_entries
 from app.hall.ask_kinds import ASK_ROOT, PANELS, KindForm
-from app.i18n import N_, Labels, Translator, for_gui, translator
+from app.i18n import N_, Labels, Phrases, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.kit.panel.download import save_download
 
@@ -68,18 +68,18 @@ def count_text(number: int, answered: int, expected: int, is_open: bool, tr: Tra
         number=number, answered=answered, expected=max(expected, answered), state=state)
 
 
-TALLY_LINES: tuple[tuple[re.Pattern[str], str], ...] = (
-    (re.compile(r"no answers yet"), N_("no answers yet")),
-    (re.compile(r"round (?P<number>\d+): (?P<count>\d+) answers"), N_("round {number}: {count} answers")),
-    (re.compile(r"(?P<count>\d+) tips on the sphere in the 3D view"), N_("{count} tips on the sphere in the 3D view")),
-    (re.compile(r"(?P<count>\d+) tips on the sphere in the 3D view · (?P<near>\d+) within 15° of the true direction"),
+TALLY_LINES = Phrases(
+    (r"no answers yet", N_("no answers yet")),
+    (r"round (?P<number>\d+): (?P<count>\d+) answers", N_("round {number}: {count} answers")),
+    (r"(?P<count>\d+) tips on the sphere in the 3D view", N_("{count} tips on the sphere in the 3D view")),
+    (r"(?P<count>\d+) tips on the sphere in the 3D view · (?P<near>\d+) within 15° of the true direction",
      N_("{count} tips on the sphere in the 3D view · {near} within 15° of the true direction")),
-    (re.compile(r"(?P<count>\d+) states sent"), N_("{count} states sent")),
-    (re.compile(r"(?P<count>\d+) states sent \(none judged\)"), N_("{count} states sent (none judged)")),
-    (re.compile(r"(?P<count>\d+) not judged"), N_("{count} not judged")),
-    (re.compile(r"✓ \*\*(?P<good>\d+)\*\* of (?P<count>\d+) meet the target"),
+    (r"(?P<count>\d+) states sent", N_("{count} states sent")),
+    (r"(?P<count>\d+) states sent \(none judged\)", N_("{count} states sent (none judged)")),
+    (r"(?P<count>\d+) not judged", N_("{count} not judged")),
+    (r"✓ \*\*(?P<good>\d+)\*\* of (?P<count>\d+) meet the target",
      N_("✓ **{good}** of {count} meet the target")),
-    (re.compile(r"\*\*(?P<right>\d+) of (?P<count>\d+)\*\* within ±(?P<tolerance>.+) of (?P<value>.+)"),
+    (r"\*\*(?P<right>\d+) of (?P<count>\d+)\*\* within ±(?P<tolerance>.+) of (?P<value>.+)",
      N_("**{right} of {count}** within ±{tolerance} of {value}")),
 )
 """Whole lines of a tally in words (`QuestionKind.tally_text`, English) and their msgids."""
@@ -94,12 +94,9 @@ def tally_in_language(text: str, tr: Translator) -> str:
         return text
     lines = []
     for line in text.split("  \n"):
-        found = next(((m, msgid) for pattern, msgid in TALLY_LINES if (m := pattern.fullmatch(line))), None)
-        if found is not None:
-            line = tr.gettext(found[1]).format(**found[0].groupdict())
-        else:
-            line = TALLY_BESIDE.sub(lambda m: tr.gettext(" · round {number}: {count}").format(**m.groupdict()), line)
-        lines.append(line)
+        whole = TALLY_LINES.words(line, tr)
+        lines.append(whole if whole is not None else TALLY_BESIDE.sub(
+            lambda m: tr.gettext(" · round {number}: {count}").format(**m.groupdict()), line))
     return "  \n".join(lines)
 
 

@@ -17,14 +17,13 @@ only what changed.
 
 from __future__ import annotations
 
-import math
-import re
 from typing import Any
 
 from app.ask import Question, Rounds, Shown
 from app.ask.round import Refused
+from app.ask.verdict_words import answer_in_language
 from app.hall.ask_kinds import PANELS, KindWidget, Student, direction_of, relabel
-from app.i18n import N_, Translator, for_gui, translator
+from app.i18n import N_, Phrases, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 
 __all__ = ["CHANGE_LABEL", "REFUSALS", "AnswerPanel", "answer_words", "refusal_words"]
@@ -33,15 +32,15 @@ CHANGE_LABEL = N_("Change my answer")
 CHANGE_HINT = N_("until the round closes")
 QUESTION_TITLE = N_("Question")
 
-REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
-    (re.compile(r"no question is asked now"), N_("no question is asked now")),
-    (re.compile(r"the round is closed: answers are no longer taken"),
+REFUSALS = Phrases(
+    (r"no question is asked now", N_("no question is asked now")),
+    (r"the round is closed: answers are no longer taken",
      N_("the round is closed: answers are no longer taken")),
-    (re.compile(r"too fast: at most (?P<rate>\d+) answers a second"), N_("too fast: at most {rate} answers a second")),
-    (re.compile(r"the round is full \((?P<count>\d+) answers\)"), N_("the round is full ({count} answers)")),
-    (re.compile(r"this browser has no answer token"), N_("this browser has no answer token")),
-    (re.compile(r"the question's process cannot be reached"), N_("the question's process cannot be reached")),
-    (re.compile(r"not an answer: (?P<error>.*)", re.S), N_("not an answer: {error}")),
+    (r"too fast: at most (?P<rate>\d+) answers a second", N_("too fast: at most {rate} answers a second")),
+    (r"the round is full \((?P<count>\d+) answers\)", N_("the round is full ({count} answers)")),
+    (r"this browser has no answer token", N_("this browser has no answer token")),
+    (r"the question's process cannot be reached", N_("the question's process cannot be reached")),
+    (r"not an answer: (?P<error>.*)", N_("not an answer: {error}")),
 )
 """The refusals of an answer (`app.ask.round`, `app.ask.hub`), matched in English, and their msgids."""
 
@@ -49,27 +48,15 @@ REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
 def refusal_words(refusal: str, tr: Translator) -> str:
     """An answer's refusal (`Refused`'s English words) in `tr`'s language; the words as they are
     when no pattern knows them (a detail after "not an answer:" stays as the check wrote it)."""
-    for pattern, msgid in REFUSALS:
-        found = pattern.fullmatch(refusal)
-        if found:
-            return tr.gettext(msgid).format(**found.groupdict())
-    return refusal
+    return REFUSALS.in_language(refusal, tr)
 
 
 def answer_words(question: Question, value: Any, tr: Translator | None = None) -> str:
     """A student's own answer in words (Markdown, `QuestionKind.answer_words`), in `tr`'s language
-    (English by default): a direction's and an unjudged state's words translated, a choice's
-    option and a number as they are."""
+    (English by default): a direction's and a state's words translated (`app.ask.verdict_words`),
+    a choice's option and a number as they are."""
     tr = tr or translator("en")
-    if tr.language != "en" and question.kind == "direction":
-        x, y, z = value
-        return tr.gettext("**azimuth {azimuth}°, elevation {elevation}°**").format(
-            azimuth=f"{math.degrees(math.atan2(y, x)):.0f}",
-            elevation=f"{math.degrees(math.asin(max(-1.0, min(1.0, z)))):.0f}")
-    words = question.answer_words(value)
-    if words == "**your state**":
-        return tr.gettext("**your state**")
-    return words
+    return answer_in_language(question.answer_words(value), tr)
 
 
 class AnswerPanel:

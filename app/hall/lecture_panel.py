@@ -34,7 +34,7 @@ from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Labels, Translator, for_gui, translator
+from app.i18n import N_, Labels, Phrases, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.lecture.follower import Hall
 from app.lecture.lectern import CALL_BACK_SECONDS, Lectern, Mode, Seat
@@ -66,17 +66,17 @@ scroller and the bar it becomes `overflow: clip`, which clips the same and scrol
 and the panel would scroll sideways)."""
 
 
-CODE_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
-    (re.compile(r"Too many wrong codes: wait (?P<wait>\d+) s before trying again\."),
+CODE_REFUSALS = Phrases(
+    (r"Too many wrong codes: wait (?P<wait>\d+) s before trying again\.",
      N_("Too many wrong codes: wait {wait} s before trying again.")),
-    (re.compile(r"Wrong presenter code, no tries left: wait (?P<wait>\d+) s before trying again\."),
+    (r"Wrong presenter code, no tries left: wait (?P<wait>\d+) s before trying again\.",
      N_("Wrong presenter code, no tries left: wait {wait} s before trying again.")),
-    (re.compile(r"Too many wrong codes in this lecture hall \(someone may be guessing\): wait (?P<wait>\d+) s "
-                r"before trying again\."),
+    (r"Too many wrong codes in this lecture hall \(someone may be guessing\): wait (?P<wait>\d+) s "
+                r"before trying again\.",
      N_("Too many wrong codes in this lecture hall (someone may be guessing): wait {wait} s before trying again.")),
-    (re.compile(r"Someone else is presenting; they must stop first\."),
+    (r"Someone else is presenting; they must stop first\.",
      N_("Someone else is presenting; they must stop first.")),
-    (re.compile(r"The presenter lock does not answer \(the lecture's Redis\); try again in a moment\."),
+    (r"The presenter lock does not answer \(the lecture's Redis\); try again in a moment\.",
      N_("The presenter lock does not answer (the lecture's Redis); try again in a moment.")),
 )
 """The lectern's refusals of a presenter code (`app.lecture.lectern`), matched in English, and their msgids."""
@@ -91,11 +91,7 @@ def refusal_in_language(words: str, tr: Translator) -> str:
         left = int(found["left"])
         return tr.ngettext("Wrong presenter code ({left} try left this minute).",
                            "Wrong presenter code ({left} tries left this minute).", left).format(left=left)
-    for pattern, msgid in CODE_REFUSALS:
-        found = pattern.fullmatch(words)
-        if found:
-            return tr.gettext(msgid).format(**found.groupdict())
-    return words
+    return CODE_REFUSALS.in_language(words, tr)
 
 
 def live_badge(following: int, exploring: int, tr: Translator | None = None) -> str:

@@ -19,12 +19,11 @@ changes nothing.
 from __future__ import annotations
 
 import json
-import re
 from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Labels, Translator, for_gui
+from app.i18n import N_, Labels, Phrases, Translator, for_gui
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.kit.panel.download import save_download
@@ -37,27 +36,28 @@ NONE_CHOSEN = "—"
 MINE_MARK = "★ "  # an own preset or lesson in a list
 
 
-OWN_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
-    (re.compile(r"give the preset a name"), N_("give the preset a name")),
-    (re.compile(r"give the lesson a name"), N_("give the lesson a name")),
-    (re.compile(r"the preset's name is longer than (?P<most>\d+) characters"),
+OWN_REFUSALS = Phrases(
+    (r"give the preset a name", N_("give the preset a name")),
+    (r"give the lesson a name", N_("give the lesson a name")),
+    (r"the preset's name is longer than (?P<most>\d+) characters",
      N_("the preset's name is longer than {most} characters")),
-    (re.compile(r"the lesson's name is longer than (?P<most>\d+) characters"),
+    (r"the lesson's name is longer than (?P<most>\d+) characters",
      N_("the lesson's name is longer than {most} characters")),
-    (re.compile(r"(?P<scene>.+) has a preset (?P<name>'.*'|\".*\") of its own: choose another name"),
+    (r"(?P<scene>.+) has a preset (?P<name>'.*'|\".*\") of its own: choose another name",
      N_("{scene} has a preset {name} of its own: choose another name")),
-    (re.compile(r"this moment cannot be a preset: (?P<why>.+)", re.S), N_("this moment cannot be a preset: {why}")),
-    (re.compile(r"no preset of yours named (?P<name>'.*'|\".*\") in (?P<scene>.+)"),
+    (r"this moment cannot be a preset: (?P<why>.+)", N_("this moment cannot be a preset: {why}")),
+    (r"no preset of yours named (?P<name>'.*'|\".*\") in (?P<scene>.+)",
      N_("no preset of yours named {name} in {scene}")),
-    (re.compile(r"(?P<scene>.+) has a preset named (?P<name>'.*'|\".*\") already"),
+    (r"(?P<scene>.+) has a preset named (?P<name>'.*'|\".*\") already",
      N_("{scene} has a preset named {name} already")),
-    (re.compile(r"no lesson of yours named (?P<name>'.*'|\".*\")"), N_("no lesson of yours named {name}")),
-    (re.compile(r"this app keeps no presets or lessons of its own"),
+    (r"no lesson of yours named (?P<name>'.*'|\".*\")", N_("no lesson of yours named {name}")),
+    (r"this app keeps no presets or lessons of its own",
      N_("this app keeps no presets or lessons of its own")),
-    (re.compile(r"a follower cannot save: only the presenter can, during a lecture"),
+    (r"a follower cannot save: only the presenter can, during a lecture",
      N_("a follower cannot save: only the presenter can, during a lecture")),
-    (re.compile(r"while a lecture is on, only the presenter can save presets and lessons"),
+    (r"while a lecture is on, only the presenter can save presets and lessons",
      N_("while a lecture is on, only the presenter can save presets and lessons")),
+    translated=("scene",),
 )
 """The refusals of the Mine folder's actions (`app.own`, `OwnRoom.may_save`), matched in English, and their msgids."""
 
@@ -65,14 +65,7 @@ OWN_REFUSALS: tuple[tuple[re.Pattern[str], str], ...] = (
 def own_refusal_words(refusal: str, tr: Translator) -> str:
     """A refusal (English, from `app.own` or `may_save`) in `tr`'s language, a scene's title
     translated; the words as they are when no pattern knows them."""
-    for pattern, msgid in OWN_REFUSALS:
-        found = pattern.fullmatch(refusal)
-        if found:
-            fields = found.groupdict()
-            if "scene" in fields:
-                fields["scene"] = tr.gettext(fields["scene"])
-            return tr.gettext(msgid).format(**fields)
-    return refusal
+    return OWN_REFUSALS.in_language(refusal, tr)
 
 
 class Stage(Protocol):

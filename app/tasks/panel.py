@@ -37,6 +37,7 @@ import viser
 from app.ask.gallery import GalleryEntry, play_answer
 from app.ask.questions import Question
 from app.ask.round import Tally
+from app.ask.verdict_words import verdict_in_language
 from app.hall.ask_kinds import direction_of
 from app.hall.ask_presenter import tally_in_language
 from app.i18n import N_, Labels, Translator, for_gui, translator
@@ -516,7 +517,8 @@ class TaskPanel(TaskMaking):
                         count=allowed - used) if used < allowed else _("no attempts left"))
             text = _("Your attempt {attempt} ({who}): **{verdict}** · {left}  \n"
                      "Receipt **{receipt}** · submitted {at}").format(
-                attempt=last.attempt, who=who, verdict=last.words, left=left, receipt=format_code(last.receipt),
+                attempt=last.attempt, who=who, verdict=verdict_in_language(last.words, tr), left=left,
+                receipt=format_code(last.receipt),
                 at=iso_time(last.at))
         self.gui_verdict.content = text
         self.gui_verdict.visible = bool(text)
