@@ -398,9 +398,66 @@ def _browser_missing() -> str | None:
     return None
 
 
+BROWSER_FPS = float(os.environ.get("RBL_BROWSER_FPS", "0"))
+"""The most frames a second a test page draws (0, the default: as many as it can).  SwiftShader
+draws a 1280×800 view on the CPU: uncapped, one playing page takes 1.8 of the 2 cores, capped at
+10 it takes 0.86 (measured); the browser tests alone passed 61 of 61 at 10 (627 s, one process).
+Off by default until a full run under load shows the cap changes no test's outcome (at 5, with
+two browser groups, three tests that wait for the camera or a frame failed)."""
+_FPS_CAP_JS = """(() => {
+  // At most %s frames a second: a requestAnimationFrame callback runs in the next due frame, and
+  // every callback of that frame runs in it (they share its timestamp); cancelAnimationFrame kept true.
+  const period = 1000 / %s, raf = window.requestAnimationFrame.bind(window);
+  const caf = window.cancelAnimationFrame.bind(window), native = new Map();
+  let next = 1, due = 0, open = -1;
+  window.requestAnimationFrame = (callback) => {
+    const id = next++;
+    const tick = (now) => {
+      if (now !== open) {
+        if (now + 1 < due) { native.set(id, raf(tick)); return; }
+        open = now;
+        due = Math.max(due + period, now);
+      }
+      native.delete(id);
+      callback(now);
+    };
+    native.set(id, raf(tick));
+    return id;
+  };
+  window.cancelAnimationFrame = (id) => {
+    const handle = native.get(id);
+    if (handle !== undefined) { caf(handle); native.delete(id); }
+  };
+})();"""
+
+
+class CappedBrowser:
+    """A Playwright browser whose every new context and page draws at most BROWSER_FPS frames a
+    second (an init script, before the page's own); everything else is the browser's."""
+
+    def __init__(self, browser: Any) -> None:
+        self._browser = browser
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._browser, name)
+
+    def new_context(self, **options: Any) -> Any:
+        context = self._browser.new_context(**options)
+        if BROWSER_FPS > 0:
+            context.add_init_script(_FPS_CAP_JS % (BROWSER_FPS, BROWSER_FPS))
+        return context
+
+    def new_page(self, **options: Any) -> Any:
+        page = self._browser.new_page(**options)
+        if BROWSER_FPS > 0:
+            page.add_init_script(_FPS_CAP_JS % (BROWSER_FPS, BROWSER_FPS))
+        return page
+
+
 @pytest.fixture(scope="session")
 def browser() -> Iterator[Any]:
-    """Headless Debian Chromium (SwiftShader WebGL) via Playwright, one per test session."""
+    """Headless Debian Chromium (SwiftShader WebGL) via Playwright, one per test session, its
+    pages capped at BROWSER_FPS frames a second (`CappedBrowser`)."""
     missing = _browser_missing()
     if missing is not None:
         message = f"{missing}: {INSTALL_HINT}"
@@ -413,7 +470,7 @@ def browser() -> Iterator[Any]:
         cpu = ChromiumCpu()
         chromium = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
         try:
-            yield chromium
+            yield CappedBrowser(chromium)
         finally:
             _CHROMIUM_CPU_S.append(cpu.stop())  # before close: its processes end with it
             chromium.close()

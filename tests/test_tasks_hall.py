@@ -357,3 +357,23 @@ def test_the_lecturer_sees_a_direction_tasks_answers_as_tips_on_the_sphere(hall:
     finally:
         for client in clients:
             client.close()
+
+
+def test_a_german_student_reads_the_verdict_in_german_and_the_task_keeps_it_in_english(hall: App) -> None:
+    """The verdict is stored as the kind words it (English: the lecturer's table, the CSV, a
+    receipt read later) and written in the student's language where the student reads it."""
+    lecturer_client, lecturer = _new_session(hall)
+    dirk_client, dirk = _new_session(hall)
+    try:
+        task = _make_task(hall, lecturer)
+        _typed(dirk_client, dirk.gui_language, "Deutsch")
+        poll_until(lambda: dirk.languages.code == "de", timeout=DEADLINE_S)
+        said = _submit(dirk_client, dirk, task.code, "Dirk", 2.4)
+        assert "**2.4 s: richtig**" in said and "right" not in said, said
+        assert hall.task_store is not None
+        (submission,) = hall.task_store.submissions(task.code)
+        assert submission.words == "2.4 s: right"
+        assert dirk.error_count == 0, dirk.last_error
+    finally:
+        lecturer_client.close()
+        dirk_client.close()
