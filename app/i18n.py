@@ -162,12 +162,20 @@ class Translator:
     def general(self, value: float) -> str:
         """`value` as Python's `:g` writes it (up to 6 significant digits), with this language's
         decimal separator: English "0.1", Dutch and German "0,1"."""
-        text = f"{value:g}"
+        return self.local_point(f"{value:g}")
+
+    @property
+    def decimal_sign(self) -> str:
+        """The sign this language writes between a number's whole part and its fraction ("." or ",")."""
         if self.language == DEFAULT_LANGUAGE:
-            return text
+            return "."
         from babel.numbers import get_decimal_symbol  # noqa: PLC0415
 
-        return text.replace(".", str(get_decimal_symbol(self.language)))
+        return str(get_decimal_symbol(self.language))
+
+    def local_point(self, number: str) -> str:
+        """A number as Python wrote it ("4.2") with this language's decimal sign ("4,2")."""
+        return number if self.language == DEFAULT_LANGUAGE else number.replace(".", self.decimal_sign)
 
     def __repr__(self) -> str:
         return f"Translator({self.language!r})"
@@ -236,8 +244,8 @@ class Phrases:
             return self.nested[name].in_language(value, tr)
         if name in self.translated:
             return tr.gettext(value)
-        if name in self.numbers and tr.language != DEFAULT_LANGUAGE:
-            return value.replace(".", tr.general(0.5)[1])
+        if name in self.numbers:
+            return tr.local_point(value)
         return value
 
 

@@ -54,6 +54,6 @@ class KeyNumber(msgspec.Struct, frozen=True):
         language and the numbers written its way (`Translator.general`; English by default),
         separated by "; " where a decimal comma would make ", " ambiguous."""
         tr = tr or translator("en")
-        values = ("; " if "," in tr.general(0.5) else ", ").join(tr.general(v) for v in self.values)
+        values = ("; " if tr.decimal_sign == "," else ", ").join(tr.general(v) for v in self.values)
         line = f"{tr.gettext(self.label)} = {values}" + (f" {self.unit}" if self.unit else "")
         return f"{self.name}: {line}" if self.name else line
