@@ -53,8 +53,17 @@ unset, they take none (under SwiftShader a picture costs seconds)."""
 def keep_picture(shown: Any, name: str, **options: Any) -> None:
     """`shown.screenshot(...)` (a Playwright page or locator) into $RBL_TEST_SHOTS/`name`, if set."""
     if TEST_SHOTS:
-        Path(TEST_SHOTS).mkdir(parents=True, exist_ok=True)
-        shown.screenshot(path=str(Path(TEST_SHOTS) / name), **options)
+        path = Path(TEST_SHOTS) / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        shown.screenshot(path=str(path), **options)
+
+
+def keep_words(name: str, text: str) -> None:
+    """`text` into $RBL_TEST_SHOTS/`name` beside the pictures, if set (what a page said, for people)."""
+    if TEST_SHOTS:
+        path = Path(TEST_SHOTS) / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
 
 
 def scenes_without_an_entry(table: Any, name: str) -> str:
@@ -71,6 +80,9 @@ def scenes_without_an_entry(table: Any, name: str) -> str:
 
 
 BROWSER_GROUP = "browser"
+STILL_PAGE_MODULES = ("tests/test_browser_language_scenes.py", "tests/test_browser_language.py")
+"""Browser modules whose pages play nothing (panels laid out and measured): a second browser
+group, on the other process, beside the first (`pytest_xdist_make_scheduler`)."""
 
 
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
@@ -78,7 +90,8 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     scheduling with these groups, each run by one process in collection order:
 
     - the browser tests in RBL_BROWSER_GROUPS groups (default 1), module by module in turn: each
-      group one Chromium, one page drawing at a time in it;
+      group one Chromium, one page drawing at a time in it; the STILL_PAGE_MODULES in a group of
+      their own, which the other process starts at once;
     - every other test with its module: a module-scoped fixture (a server, a cluster of
       workers, a Redis) starts once.
 
@@ -109,6 +122,8 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
             name = rest.split("[", 1)[0].split("::")[-1]
             if not (browser is True or name in browser):  # type: ignore[operator]
                 return module
+            if module in STILL_PAGE_MODULES:
+                return f"{BROWSER_GROUP}-still"
             if module not in browser_modules:
                 browser_modules.append(module)
             part = browser_modules.index(module) % browser_groups

@@ -77,9 +77,10 @@ def app_url(page, port: int) -> str:
 
 
 def choose(page, handle, option: str, tries: int = 3) -> None:  # type: ignore[no-untyped-def]
-    """Pick `option` in the viser dropdown `handle`, as a person does: open it, click the option;
-    if the list closed before the click (Mantine hides a dropdown whose field moved out of the
-    panel's view, as when the panel grows above it on a busy machine), open it again."""
+    """Pick `option` in the viser dropdown `handle`, as a person does: open it, click the option,
+    see the field show it; if the list closed before the click (Mantine hides a dropdown whose
+    field moved out of the panel's view, as when the panel grows above it on a busy machine) or
+    the field kept its value, open it again."""
     field = page.locator(f'[id="{handle._impl.uuid}"]')
     item = page.get_by_role("option", name=option, exact=True)
     for attempt in range(tries):
@@ -87,10 +88,13 @@ def choose(page, handle, option: str, tries: int = 3) -> None:  # type: ignore[n
         field.click()
         try:
             item.click(timeout=10_000)
+            page.wait_for_function("([field, option]) => field.value === option",
+                                   arg=[field.element_handle(timeout=10_000), option], timeout=10_000)
             return
-        except Exception:  # noqa: BLE001 - the list closed under the pointer: open it again
+        except Exception:  # noqa: BLE001 - the list closed under the pointer, or the field kept its value
             if attempt == tries - 1:
-                raise
+                raise AssertionError(f"{option!r} not chosen in the dropdown: it shows "
+                                     f"{field.input_value(timeout=5_000)!r}") from None
             page.keyboard.press("Escape")
 
 

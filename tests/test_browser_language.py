@@ -9,26 +9,24 @@
    overlapping another, and the panel does not scroll sideways; the same check on a German
    1280×800 laptop with its `Darstellung` folder open.
 
-Screenshots: /work/wt/shots/i18n/ (LANGUAGE_SCREENSHOTS=<folder> to put them elsewhere; "" for none).
+Pictures for people: $RBL_TEST_SHOTS/i18n/ (none when unset).
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import keep_picture
 from test_browser_lecture import CODE, close_toasts, open_folder, open_page, received, serving, text_input
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
 
-SHOTS = os.environ.get("LANGUAGE_SCREENSHOTS", "/work/wt/shots/i18n")
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 
@@ -80,9 +78,7 @@ it) and how far each of its scroll areas scrolls sideways [px]."""
 
 
 def shot(page: Any, name: str) -> None:
-    if SHOTS:
-        Path(SHOTS).mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(Path(SHOTS) / name))
+    keep_picture(page, f"i18n/{name}")
 
 
 def settled_boxes(page: Any, timeout: float = 20.0) -> dict[str, Any]:

@@ -13,12 +13,11 @@ step the student's page holds none of the English words wrapped for these panels
 msgids of app/lecture/follower.py, app/hall/lecture_panel.py, app/hall/ask_student.py and
 app/hall/ask_kinds.py that the language writes otherwise), and the lecturer's page stays English.
 
-Screenshots: /work/wt/shots/i18n2/ (LANGUAGE_SCREENSHOTS=<folder> to put them elsewhere; "" for none).
+Pictures for people: $RBL_TEST_SHOTS/i18n2/ (none when unset).
 """
 
 from __future__ import annotations
 
-import os
 import re
 import time
 from pathlib import Path
@@ -26,6 +25,7 @@ from typing import Any
 
 import pytest
 from babel.messages.pofile import read_po
+from conftest import keep_picture
 from test_browser_lecture import button, close_toasts, hall_app, open_page, present_in_page, type_into  # noqa: F401
 
 from app.i18n import translator
@@ -33,7 +33,6 @@ from app.main import App
 
 pytestmark = pytest.mark.browser
 
-SHOTS = os.environ.get("LANGUAGE_SCREENSHOTS", "/work/wt/shots/i18n2")
 LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 ROOT = Path(__file__).resolve().parents[1]
 WRAPPED_IN = ("app/lecture/follower.py", "app/hall/lecture_panel.py", "app/hall/ask_student.py",
@@ -93,9 +92,7 @@ def pick_language(page: Any, session: Any, name: str, code: str) -> None:
 
 
 def shot(page: Any, name: str) -> None:
-    if SHOTS:
-        Path(SHOTS).mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(Path(SHOTS) / name))
+    keep_picture(page, f"i18n2/{name}")
 
 
 def no_english(page: Any, language: str, when: str) -> None:

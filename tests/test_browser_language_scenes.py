@@ -78,12 +78,14 @@ def _unfold(page: Any, session: Any) -> None:
         _wait(page, "the phone's panel unfolded by Details", lambda: narrow.expanded)
 
 
-def _wait(page: Any, what: str, condition: Any, timeout_ms: int = 60_000) -> None:
-    """Wait until `condition()` (a server-side look at what the page was sent) holds; say `what` if not."""
+def _wait(page: Any, what: str, condition: Any, timeout_ms: int = 60_000, seen: Any = None) -> None:
+    """Wait until `condition()` (a server-side look at what the page was sent) holds; say `what`
+    (and what `seen()` returns) if not."""
     deadline = page.evaluate("() => performance.now()") + timeout_ms
     while not condition():
         if page.evaluate("() => performance.now()") > deadline:
-            raise AssertionError(f"waited {timeout_ms / 1000:.0f} s for {what}")
+            raise AssertionError(f"waited {timeout_ms / 1000:.0f} s for {what}"
+                                 + ("" if seen is None else f"; saw {seen()!r}"))
         page.wait_for_timeout(200)
 
 
@@ -138,7 +140,8 @@ def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_over
             label = session.own_room.scene_label(title)
             if session.room.scene.title != title:
                 choose(page, session.gui_scene, label)
-                _wait(page, f"the scene {title!r}", lambda title=title: session.room.scene.title == title)
+                _wait(page, f"the scene {title!r}", lambda title=title: session.room.scene.title == title,
+                      seen=lambda: (session.room.scene.title, session.gui_scene.value, session.last_error))
             _unfold(page, session)
             close_toasts(page)
             for part, to in (("top", 0.0), ("middle", 0.5), ("bottom", 1.0)):  # the whole panel, scrolled through

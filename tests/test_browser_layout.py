@@ -12,17 +12,14 @@
    of what the bottom sheet leaves, its disc inside it, and the axes' tips (the x, y, z labels,
    their text boxes) are inside it.
 
-LAYOUT_SCREENSHOTS=<folder>: save what each part saw there.
+Pictures for people: $RBL_TEST_SHOTS/layout/ (none when unset).
 """
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 import numpy as np
 import pytest
-from conftest import poll_until
+from conftest import keep_picture, poll_until
 from test_browser_lecture import (  # noqa: F401
     CODE,
     button,
@@ -43,7 +40,6 @@ from app.viser_internals import node_world, scene_nodes
 
 pytestmark = pytest.mark.browser
 
-SHOTS = os.environ.get("LAYOUT_SCREENSHOTS")
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 PROJECTOR = {"viewport": {"width": 1024, "height": 768}}
@@ -72,8 +68,7 @@ new MutationObserver(() => {
 
 
 def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
-    if SHOTS:
-        page.screenshot(path=str(Path(SHOTS) / name))
+    keep_picture(page, f"layout/{name}")
 
 
 def box_inside(box, width: float, height: float) -> bool:  # type: ignore[no-untyped-def]

@@ -21,12 +21,12 @@ Needs Debian's Chromium: `apt-get install chromium`.
 from __future__ import annotations
 
 import io
-import os
 import re
 import time
 
 import numpy as np
 import pytest
+from conftest import keep_picture
 from PIL import Image
 from playwright.sync_api import Error as PlaywrightError
 from test_browser import choose, open_app, slider_thumb, still_picture
@@ -39,7 +39,6 @@ pytestmark = pytest.mark.browser
 
 GIZMO_FREE_SHARE = 0.002  # at most this share of pixels differs between two gizmo-free screenshots
 NEAR_PX = 150  # [px] a refusal said "at the control": its text this close to the box, above or below
-SHOTS = os.environ.get("REFUSAL_SHOTS", "")  # a folder to save the refusal tests' screenshots in (or none)
 
 
 def said_near(page, box, pattern: re.Pattern[str]) -> list[tuple[str, float]]:  # type: ignore[no-untyped-def]
@@ -94,8 +93,7 @@ def recorded_end(refused: re.Pattern[str], text: str) -> float:
 
 
 def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
-    if SHOTS:
-        page.screenshot(path=os.path.join(SHOTS, name))
+    keep_picture(page, f"messages/{name}")
 
 
 def choose_scene(page, session, title: str, wait_until) -> None:  # type: ignore[no-untyped-def]

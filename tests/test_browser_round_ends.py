@@ -9,30 +9,27 @@ Scene dropdown (at most one click on `Explore on my own` away); a new presenter'
 the `Ask the class` form, not the old round, and `Download earlier rounds (CSV)` saves the ended
 round's answers at once.
 
-ROUND_SCREENSHOTS=<folder>: the pages are saved there (download_answers.png,
-student_after_leave.png, newcomer.png, next_presenter.png).  Needs Debian's Chromium: `apt-get install chromium`.
+Pictures for people: $RBL_TEST_SHOTS/round_ends/ (download_answers.png, student_after_leave.png,
+newcomer.png, next_presenter.png; none when unset).  Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
+from conftest import keep_picture
 from test_browser_lecture import button, close_toasts, hall_app, open_page, present_in_page, text_input, type_into  # noqa: F401
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
 
-SHOTS = os.environ.get("ROUND_SCREENSHOTS")
 LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 
 
 def _shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
-    if SHOTS:
-        Path(SHOTS).mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(Path(SHOTS) / name), timeout=60_000)
+    keep_picture(page, f"round_ends/{name}", timeout=60_000)
 
 
 def _download(page, control) -> tuple[str, str]:  # type: ignore[no-untyped-def]

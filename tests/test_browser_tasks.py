@@ -11,6 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
+from conftest import keep_picture, keep_words
 from test_browser import choose
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder_to, open_page, type_into  # noqa: F401 - hall_app: a fixture
 
@@ -18,7 +19,6 @@ from app.main import App
 
 pytestmark = pytest.mark.browser
 
-SHOTS = Path("/work/wt/shots/tasks")
 WAIT_MS = 30_000  # a busy machine
 
 
@@ -113,10 +113,9 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     # live: a later attempt shows in the open table without a click of the lecturer's
     _student_submits(phone, bea, "2.45", "2.45 s: right")
     projector.get_by_text("2.45 s: right", exact=False).first.wait_for(timeout=WAIT_MS)
-    SHOTS.mkdir(parents=True, exist_ok=True)
-    projector.screenshot(path=str(SHOTS / "lecturer-table.png"))
-    laptop.screenshot(path=str(SHOTS / "student-verdict.png"))
-    (SHOTS / "lecturer-table.md").write_text(presenter.task_panel.gui_table.content + "\n\n" + verdict + "\n")
+    keep_picture(projector, "tasks/lecturer-table.png")
+    keep_picture(laptop, "tasks/student-verdict.png")
+    keep_words("tasks/lecturer-table.md", presenter.task_panel.gui_table.content + "\n\n" + verdict + "\n")
     # the CSV the lecturer downloads
     with projector.expect_download(timeout=WAIT_MS) as download:
         _button(projector, "Download results (CSV)").click()
@@ -198,8 +197,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
     table = presenter.task_panel.gui_table.content
     assert "| Cem | – | 1 | 0.33 | 1 ✗ · 2 ✓ · 3 ✗ |" in table, table
     assert "**Q2** · 1 answered · 1 right" in table, table
-    SHOTS.mkdir(parents=True, exist_ok=True)
-    projector.screenshot(path=str(SHOTS / "worksheet-lecturer.png"))
-    laptop.screenshot(path=str(SHOTS / "worksheet-student.png"))
+    keep_picture(projector, "tasks/worksheet-lecturer.png")
+    keep_picture(laptop, "tasks/worksheet-student.png")
     for session in (presenter, cem):
         assert session.error_count == 0, session.last_error

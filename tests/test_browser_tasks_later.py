@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import poll_until
+from conftest import keep_picture, keep_words, poll_until
 from test_browser import choose
 from test_browser_lecture import _CONTEXTS, CODE, close_toasts, open_page
 from test_browser_tasks import (
@@ -40,7 +40,6 @@ from app.main import App, create_server
 
 pytestmark = pytest.mark.browser
 
-SHOTS = Path("/work/wt/shots/tasks2")
 SUBMIT = "Submit the state of my room"
 WRONG, RIGHT = "✗ not what was asked", "✓ as asked"
 LAPTOP = {"viewport": {"width": 1024, "height": 768}}
@@ -112,7 +111,6 @@ def _csv_rows(page: Any) -> list[str]:
 
 def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, tmp_path: Path,
                                                                      wait_until) -> None:
-    SHOTS.mkdir(parents=True, exist_ok=True)
     with _server(data_dir=tmp_path) as first:
         projector, presenter = _presenting(browser, first)
         code = make_memo_worksheet(projector, presenter, wait_until, attempts="2")
@@ -130,7 +128,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         _answers(laptop, ann, first, code, 2, RIGHT)
         wait_text(laptop, "no attempts left", "Ann's attempts used up at question 3", ann)
         ann_verdict = _verdict_line(laptop)
-        laptop.screenshot(path=str(SHOTS / "ann-laptop-verdict.png"))
+        keep_picture(laptop, "tasks2/ann-laptop-verdict.png")
         for session in (presenter, ann):
             assert session.error_count == 0, session.last_error
 
@@ -141,7 +139,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         _answers(phone, bea, second, code, 0, WRONG)
         _next_question(phone, bea, task, 1, wait_until)
         _answers(phone, bea, second, code, 1, RIGHT)  # and she stops there
-        phone.screenshot(path=str(SHOTS / "bea-phone-after-restart.png"))
+        keep_picture(phone, "tasks2/bea-phone-after-restart.png")
         kept = second.task_store.submissions(code)
         assert len(kept) == 6, [(s.student.key, s.question, s.attempt) for s in kept]
 
@@ -153,7 +151,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         _button(late, SUBMIT).click()
         wait_text(late, "a submission after the due time is not accepted", "Cem told he is too late", cem)
         late_words = cem.task_panel.gui_note.content
-        late.screenshot(path=str(SHOTS / "cem-too-late.png"))
+        keep_picture(late, "tasks2/cem-too-late.png")
         assert second.task_store.submissions(code) == kept, "a late submission was kept"
         assert second.task_store.student(code, cem.answer_token) is None, "the late student's name was kept"
 
@@ -172,7 +170,7 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         wait_text(desk, "1 answer drawn faint at once", "the gallery of question 3", teacher)
         desk.get_by_role("button", name="Next", exact=True).click()
         wait_text(desk, "Answer 1 of 1: loops", "Ann's counted state of question 3, alone", teacher)
-        desk.screenshot(path=str(SHOTS / "lecturer-table-after-restart.png"))
+        keep_picture(desk, "tasks2/lecturer-table-after-restart.png")
         rows = _csv_rows(desk)
         assert rows[0] == "name,number,score,attempts,last_submitted,verdict", rows
         assert len(rows) == 3, rows  # Ann, Bea; nothing of Cem's
@@ -186,8 +184,8 @@ def test_a_worksheet_done_before_and_after_a_restart_and_once_too_late(browser, 
         wait_until(lambda: teacher.room.scene.title == "Heavy top" and teacher.room.playing, timeout=30.0,
                    what="the lecturer's room playing a Heavy top",
                    seen=lambda: (teacher.room.scene.title, teacher.room.playing))
-        desk.screenshot(path=str(SHOTS / "lecturer-plays-anns-answer.png"))
-        (SHOTS / "restart-table.md").write_text(f"{table}\n\nAnn's verdict: {ann_verdict}\n\nCem: {late_words}\n\n"
+        keep_picture(desk, "tasks2/lecturer-plays-anns-answer.png")
+        keep_words("tasks2/restart-table.md", f"{table}\n\nAnn's verdict: {ann_verdict}\n\nCem: {late_words}\n\n"
                                                 + "\n".join(rows) + "\n")
         for session in (bea, cem, teacher):
             assert session.error_count == 0, session.last_error
@@ -211,7 +209,6 @@ def two_workers(tmp_path: Path) -> Iterator[tuple[App, App]]:
 
 def test_a_worksheet_made_on_one_worker_is_done_on_the_other(browser, two_workers, wait_until) -> None:
     a, b = two_workers
-    SHOTS.mkdir(parents=True, exist_ok=True)
     projector, presenter = _presenting(browser, a)
     code = make_memo_worksheet(projector, presenter, wait_until, attempts="1")
     task = a.task_store.task(code)
@@ -225,18 +222,18 @@ def test_a_worksheet_made_on_one_worker_is_done_on_the_other(browser, two_worker
     dana_verdict = _verdict_line(laptop)
     _button(laptop, SUBMIT).click()  # once more: refused, said, nothing kept
     wait_text(laptop, "You have used your 1 attempt at question 2", "Dana's second attempt refused", dana)
-    laptop.screenshot(path=str(SHOTS / "dana-worker-b-verdict.png"))
+    keep_picture(laptop, "tasks2/dana-worker-b-verdict.png")
 
     _open_as_lecturer(projector, presenter, code)  # on worker A
     wait_text(projector, "1 student, 2 submissions", "the lecturer's table on worker A", presenter)
     table = presenter.task_panel.gui_table.content
     assert "| – | s77 | 1 | 0.33 | 1 ✗ · 2 ✓ · 3 – |" in table, table
     wait_text(projector, "1 answer drawn faint at once", "the gallery of question 1 on worker A", presenter)
-    projector.screenshot(path=str(SHOTS / "lecturer-table-worker-a.png"))
+    keep_picture(projector, "tasks2/lecturer-table-worker-a.png")
     rows = _csv_rows(projector)
     assert len(rows) == 2 and rows[1].startswith(",s77,0.333,1,"), rows
     last_submitted = datetime.fromisoformat(rows[1].split(",")[4]).timestamp()
     assert started - 1.0 <= last_submitted <= time.time(), (rows, started)
-    (SHOTS / "workers-table.md").write_text(f"{table}\n\nDana's verdict: {dana_verdict}\n\n" + "\n".join(rows) + "\n")
+    keep_words("tasks2/workers-table.md", f"{table}\n\nDana's verdict: {dana_verdict}\n\n" + "\n".join(rows) + "\n")
     for session in (presenter, dana):
         assert session.error_count == 0, session.last_error

@@ -377,3 +377,38 @@ def test_a_german_student_reads_the_verdict_in_german_and_the_task_keeps_it_in_e
     finally:
         lecturer_client.close()
         dirk_client.close()
+
+
+def test_a_student_doing_a_task_stays_in_their_room_when_a_lecture_starts(hall: App) -> None:
+    """A student who opened a task while nobody presented keeps their room and the task when a
+    presenter starts; a browser that only looks on is pulled along (it follows by default)."""
+    clients: list[RawClient] = []
+    try:
+        lecturer_client, lecturer = _new_session(hall)
+        clients.append(lecturer_client)
+        task = _make_task(hall, lecturer)
+        with lecturer.lock:
+            lecturer.stop_presenting()
+        student_client, student = _new_session(hall)
+        onlooker_client, onlooker = _new_session(hall)
+        clients += [student_client, onlooker_client]
+        assert student.mode == onlooker.mode == "own"
+        mine = student.task_panel
+        _typed(student_client, mine.gui_code, task.shown_code)
+        _click(student_client, mine.gui_open)
+        scene = task.place(0)[0]
+        poll_until(lambda: mine.task is not None and student.room.scene.title == scene, timeout=DEADLINE_S,
+                   what=f"the task opened in {scene}", seen=lambda: (mine.task, student.room.scene.title))
+        with student.lock:
+            room = student.room
+        with lecturer.lock:
+            lecturer.present(CODE)
+        poll_until(lambda: onlooker.mode == "following", timeout=DEADLINE_S, what="the onlooker following",
+                   seen=lambda: onlooker.mode)
+        assert student.mode == "own", "pulled along by the lecture"
+        assert student.room is room and mine.task is not None and mine.task.shown_code == task.shown_code
+        for session in (lecturer, student, onlooker):
+            assert session.error_count == 0, session.last_error
+    finally:
+        for client in clients:
+            client.close()

@@ -45,6 +45,11 @@ class Following:
         """A browser with its own room that has not chosen to explore follows a new presenter."""
         return self.showing.mode is Mode.OWN and not self.explored
 
+    def keep_own(self) -> None:
+        """This browser chose its own room (a task opened in it): a new presenter does not pull it
+        along; `Follow presenter` still does."""
+        self.explored = True
+
     def follow(self) -> None:
         """Follow the presenter (or the last state a presenter left): the shared scene and a
         read-only panel; this browser's own room goes."""

@@ -432,6 +432,8 @@ class TaskPanel(TaskMaking):
             return None
         if getattr(session, "mode", None) == "following":
             session.explore()  # the student's own room, a copy of the shared one first
+        else:
+            session.following.keep_own()  # a lecture starting meanwhile leaves the task where it is
         self.opened_place = None
         self.task = task
         self.lecturer_task = None
