@@ -27,6 +27,9 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Protocol
 
+from app.i18n import N_
+from physics.refusal import Refusal
+
 __all__ = ["ALPHABET", "CODE_LENGTH", "DEFAULT_TTL_S", "MAX_PAYLOAD", "SHARES_FILE", "RedisShareStore",
            "ShareCodeError", "ShareStore", "SqliteShareStore", "format_code", "normalize_code",
            "open_share_store"]
@@ -40,19 +43,21 @@ EXAMPLE = "K7M2-QX9P"
 SHARES_FILE = "shares.sqlite3"  # the SQLite store's file in the data folder
 
 
-class ShareCodeError(ValueError):
-    """A code that opens nothing: malformed, unknown or expired (the message says which)."""
+class ShareCodeError(Refusal):
+    """A code that opens nothing: malformed, unknown or expired (the message says which: English,
+    its `template` a msgid and its `fields` for a panel to say it in a browser's language)."""
 
 
 def normalize_code(text: Any) -> str:
     """The code in `text` as stored (8 characters of ALPHABET); ShareCodeError if it is not one."""
     if not isinstance(text, str) or len(text) > 64:
-        raise ShareCodeError(f"That is not a share code: a code is {CODE_LENGTH} letters and digits, like {EXAMPLE}.")
+        raise ShareCodeError(N_("That is not a share code: a code is {length} letters and digits, like {example}."),
+                             length=CODE_LENGTH, example=EXAMPLE)
     code = "".join(text.split()).replace("-", "").upper().translate(_TYPOS)
     if len(code) != CODE_LENGTH or any(c not in ALPHABET for c in code):
         shown = text.strip()[:20]
-        raise ShareCodeError(f"{shown!r} is not a share code: a code is {CODE_LENGTH} letters and digits, "
-                             f"like {EXAMPLE}.")
+        raise ShareCodeError(N_("{shown} is not a share code: a code is {length} letters and digits, like {example}."),
+                             shown=repr(shown), length=CODE_LENGTH, example=EXAMPLE)
     return code
 
 
@@ -67,8 +72,8 @@ def new_code() -> str:
 
 
 def _unknown(code: str) -> ShareCodeError:
-    return ShareCodeError(f"No shared moment has the code {format_code(code)}: check it, or ask for a new one "
-                          "(a moment is kept 30 days).")
+    return ShareCodeError(N_("No shared moment has the code {code}: check it, or ask for a new one "
+                             "(a moment is kept 30 days)."), code=format_code(code))
 
 
 def _check_payload(payload: bytes) -> None:
@@ -148,8 +153,9 @@ class SqliteShareStore:
         payload, expires = row
         if expires <= self.clock():
             day = datetime.fromtimestamp(expires, UTC).strftime("%Y-%m-%d")
-            raise ShareCodeError(f"The shared moment {format_code(code)} expired on {day} (moments are kept "
-                                 f"{self.ttl_s / 86400:g} days): ask for a new code.")
+            raise ShareCodeError(N_("The shared moment {code} expired on {day} (moments are kept {days} days): "
+                                    "ask for a new code."), code=format_code(code), day=day,
+                                 days=f"{self.ttl_s / 86400:g}")
         return bytes(payload)
 
     def close(self) -> None:

@@ -37,6 +37,7 @@ import trimesh
 from scipy.spatial.transform import Rotation
 
 from app.ask.judges import AnswerState
+from app.ask.verdict_words import verdict_in_language
 from app.i18n import N_, Labels, Translator, for_gui, translator
 from physics.dynamics import Model, State
 from physics.euler import euler_zxz_from_matrix
@@ -180,7 +181,7 @@ class Gallery:
 
     def words(self, tr: Translator | None = None) -> str:
         """The panel's line about what is shown, in `tr`'s language (English by default; a
-        judge's verdict as it is)."""
+        judge's class and verdict written in it too)."""
         tr = tr or translator("en")
         count = len(self.entries)
         if count == 0:
@@ -189,7 +190,9 @@ class Gallery:
         if chosen is None:
             return tr.ngettext("{count} answer drawn faint at once.", "{count} answers drawn faint at once.",
                                count).format(count=count)
-        said = f": {chosen.value if isinstance(chosen.value, str) else chosen.verdict}" if chosen.verdict else ""
+        value = chosen.value
+        judged = tr.gettext(value) if isinstance(value, str) else verdict_in_language(chosen.verdict, tr)
+        said = f": {judged}" if chosen.verdict else ""
         return tr.gettext("Answer {number} of {count}").format(number=chosen.number, count=count) + said
 
     # ------------------------------------------------------------------ drawing

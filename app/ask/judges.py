@@ -43,8 +43,9 @@ from app.i18n import N_
 from physics.judging import attitude_error_rad, axis_stays, top_motion
 from physics.top_energy import CUSP, LOOP, SLEEPING, STEADY, THROUGH_VERTICAL, TOO_SLOW, WAVE
 
-__all__ = ["AXIS_NAMES", "JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "MOTION_WORDS", "READERS", "AnswerState",
-           "Judged", "check_state", "check_target", "judge", "judge_answer", "read_state", "state_of_room"]
+__all__ = ["AXIS_NAMES", "AXIS_WORDS", "FLIPS", "JUDGES", "MAX_STATE_BYTES", "MAX_STATE_KEYS", "MOTION_WORDS",
+           "READERS", "STAYS", "AnswerState", "Judged", "check_state", "check_target", "judge", "judge_answer",
+           "read_state", "state_of_room"]
 
 MAX_STATE_KEYS = 64
 MAX_STATE_BYTES = 4096  # the answer's repr
@@ -119,6 +120,9 @@ MOTION_WORDS = {STEADY: N_("steady precession"), WAVE: N_("waves"), LOOP: N_("lo
                 SLEEPING: N_("sleeping"), TOO_SLOW: N_("too slow to sleep"),
                 THROUGH_VERTICAL: N_("through the vertical")}
 """The class of motion (physics.top_energy) -> the word the student and the tally read."""
+STAYS, FLIPS = N_("stays"), N_("flips")
+AXIS_WORDS = (STAYS, FLIPS)
+"""The axis judge's classes (its `Judged.value`: English, as kept; the tally writes them in the reader's language)."""
 _ORTHO_TOL = 1e-6  # ‖Rᵀ R − 1‖ allowed in an answer's attitude
 _MAX_SECONDS = 60.0  # the longest span axis_stays integrates [s]
 _MAX_RATE = 1e3  # |ω| [rad/s] an answer may have
@@ -312,8 +316,8 @@ def judge_axis_stays(answer: AnswerState, target: Mapping[str, Any] | None) -> J
     good = None if wanted is None else run.stays == wanted
     if run.stays:
         words = f"stays — the {name} axis stays within {within_deg:g}° for {seconds:g} s (at most {most:.1f}°)"
-        return Judged("stays", words, "", good)
-    return Judged("flips", f"flips — the {name} axis leaves {within_deg:g}° at t = {run.left_at_s:.1f} s "
+        return Judged(STAYS, words, "", good)
+    return Judged(FLIPS, f"flips — the {name} axis leaves {within_deg:g}° at t = {run.left_at_s:.1f} s "
                            f"(it turns up to {most:.0f}°)", "", good)
 
 

@@ -5,16 +5,43 @@ task's submission keeps them), in a browser's language where a person reads them
     verdict_in_language("loops — the top loops ... ✓ as asked", translator("de"))
     # "Schleifen — ... ✓ wie gefragt"
 
-What is not the app's (a choice's option, a typed number, a judge's refusal) stays as written.
+What is not the app's (a choice's option, a typed number) stays as written; a judge's refusal
+of a body (`app.ask.judges`: "this question is about the Heavy top scene; ...") is written in the
+reader's language where it is said (`JUDGE_REFUSALS`, nested in the refusals that carry it).
 """
 
 from __future__ import annotations
 
 from app.i18n import N_, Phrases, Translator
 
-__all__ = ["ANSWER_WORDS", "JUDGED", "VERDICTS", "answer_in_language", "verdict_in_language"]
+__all__ = ["ANSWER_WORDS", "JUDGED", "JUDGE_REFUSALS", "VERDICTS", "answer_in_language", "judge_refusal_words",
+           "verdict_in_language"]
 
 _NUMBER = r"-?[0-9][0-9.e+-]*"
+
+JUDGE_REFUSALS = Phrases(
+    (r"this question is about the (?P<scene>.+) scene; the answer is a (?P<answer>.+) body",
+     N_("this question is about the {scene} scene; the answer is a {answer} body")),
+    (r"the class of motion is judged for a heavy top \(I1 = I2, m g ℓ > 0\)",
+     N_("the class of motion is judged for a heavy top (I1 = I2, m g ℓ > 0)")),
+    (r"whether an axis stays is judged for a torque-free body",
+     N_("whether an axis stays is judged for a torque-free body")),
+    (r"this answer cannot be judged: (?P<error>.+)", N_("this answer cannot be judged: {error}")),
+    (r"(?P<scene>.+) has no body to answer with", N_("{scene} has no body to answer with")),
+    (r"an answer needs a finite 3x3 attitude and a finite ω \(3 numbers\)",
+     N_("an answer needs a finite 3x3 attitude and a finite ω (3 numbers)")),
+    (r"the answer's attitude is not a rotation", N_("the answer's attitude is not a rotation")),
+    (rf"the answer's \|ω\| is above (?P<rate>{_NUMBER}) rad/s", N_("the answer's |ω| is above {rate} rad/s")),
+    (r"the answer's moments of inertia must be 3 positive numbers",
+     N_("the answer's moments of inertia must be 3 positive numbers")),
+    (r"the answer's m g ℓ must be finite", N_("the answer's m g ℓ must be finite")),
+    (r"a state answer is an object", N_("a state answer is an object")),
+    (r"a state answer names its scene", N_("a state answer names its scene")),
+    (r"a state answer needs the numbers (?P<keys>.+)", N_("a state answer needs the numbers {keys}")),
+    translated=("scene", "answer"), numbers=("rate",),
+)
+"""A judge's refusal of a state answer (`app.ask.judges`: a body of another scene, a model the
+judge cannot use, a malformed state), matched in English; a scene's title translated."""
 
 JUDGED = Phrases(
     (rf"(?P<degrees>{_NUMBER})° from the target", N_("{degrees}° from the target")),
@@ -56,7 +83,7 @@ ANSWER_WORDS = Phrases(
     (r"\*\*your state\*\*", N_("**your state**")),
     (r"\*\*(?P<mine>azimuth .+)\*\*", "**{mine}**"),
     (r"\*\*(?P<judged>.+)\*\*", "**{judged}**"),
-    nested={"judged": JUDGED, "mine": _MINE},
+    nested={"judged": JUDGED, "mine": _MINE, "error": JUDGE_REFUSALS},
 )
 """A student's own answer in words during a round (`QuestionKind.answer_words`, Markdown)."""
 
@@ -66,6 +93,11 @@ def verdict_in_language(words: str, tr: Translator) -> str:
     they are where no pattern knows them."""
     found = VERDICTS.words(words, tr)
     return found if found is not None else JUDGED.in_language(words, tr)
+
+
+def judge_refusal_words(refusal: str, tr: Translator) -> str:
+    """A judge's refusal (`JUDGE_REFUSALS`, English) in `tr`'s language; as it is when no pattern knows it."""
+    return JUDGE_REFUSALS.in_language(refusal, tr)
 
 
 def answer_in_language(words: str, tr: Translator) -> str:

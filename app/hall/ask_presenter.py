@@ -25,7 +25,7 @@ import viser
 
 from app.ask import Question, Rounds, Tally
 from app.ask.gallery import Gallery, GalleryEntry, GalleryPanel
-from app.ask.judges import AnswerState
+from app.ask.judges import AXIS_WORDS, MOTION_WORDS, AnswerState
 from app.ask.round import Round
 from app.ask.state_tally import gallery_entries
 from app.hall.ask_kinds import ASK_ROOT, PANELS, KindForm
@@ -85,6 +85,10 @@ TALLY_LINES = Phrases(
 """Whole lines of a tally in words (`QuestionKind.tally_text`, English) and their msgids."""
 TALLY_BESIDE = re.compile(r" · round (?P<number>\d+): (?P<count>\d+)$")
 """The round before beside a bar (after Vote again), at the end of a line."""
+TALLY_CLASS_BAR = re.compile(r"^(?P<label>[a-z ]+)(?P<bar> `[█·]+` \*\*\d+\*\*)")
+"""A judged class's bar of a State question's tally (`judged_histogram_text`: "loops `███` **3**")."""
+JUDGED_CLASSES = frozenset((*MOTION_WORDS.values(), *AXIS_WORDS))
+"""The classes a judge says (msgids, kept English in the round and the CSV)."""
 
 
 def tally_in_language(text: str, tr: Translator) -> str:
@@ -95,9 +99,17 @@ def tally_in_language(text: str, tr: Translator) -> str:
     lines = []
     for line in text.split("  \n"):
         whole = TALLY_LINES.words(line, tr)
-        lines.append(whole if whole is not None else TALLY_BESIDE.sub(
-            lambda m: tr.gettext(" · round {number}: {count}").format(**m.groupdict()), line))
+        if whole is None:
+            whole = TALLY_CLASS_BAR.sub(lambda m: _class_bar(m, tr), TALLY_BESIDE.sub(
+                lambda m: tr.gettext(" · round {number}: {count}").format(**m.groupdict()), line), count=1)
+        lines.append(whole)
     return "  \n".join(lines)
+
+
+def _class_bar(found: re.Match[str], tr: Translator) -> str:
+    """A judged class's bar with the class in `tr`'s language (a line starting with another word as it is)."""
+    label = found["label"]
+    return (tr.gettext(label) if label in JUDGED_CLASSES else label) + found["bar"]
 
 
 def csv_in_language(text: str, tr: Translator) -> str:

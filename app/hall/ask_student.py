@@ -21,7 +21,7 @@ from typing import Any
 
 from app.ask import Question, Rounds, Shown
 from app.ask.round import Refused
-from app.ask.verdict_words import answer_in_language
+from app.ask.verdict_words import JUDGE_REFUSALS, answer_in_language
 from app.hall.ask_kinds import PANELS, KindWidget, Student, direction_of, relabel
 from app.i18n import N_, Phrases, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
@@ -41,6 +41,7 @@ REFUSALS = Phrases(
     (r"this browser has no answer token", N_("this browser has no answer token")),
     (r"the question's process cannot be reached", N_("the question's process cannot be reached")),
     (r"not an answer: (?P<error>.*)", N_("not an answer: {error}")),
+    nested={"error": JUDGE_REFUSALS},
 )
 """The refusals of an answer (`app.ask.round`, `app.ask.hub`), matched in English, and their msgids."""
 

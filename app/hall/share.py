@@ -23,7 +23,7 @@ import msgspec
 import viser
 
 from app.codec import CodecError, decode_room, encode_room
-from app.i18n import N_, Labels, Translator, for_gui
+from app.i18n import N_, Labels, Translator, for_gui, refusal_text
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.sharestore import EXAMPLE, ShareCodeError, ShareStore, format_code
@@ -153,7 +153,7 @@ class SharePanel:
         try:
             data = self.store.load(text)
         except ShareCodeError as error:
-            self._say(str(error))
+            self._say(refusal_text(error, for_gui(self.client.gui)))
             return None
         try:
             room, camera = decode_moment(data)

@@ -29,7 +29,9 @@ from datetime import UTC, datetime
 from typing import Any
 
 from app.ask.questions import Question, question_from_dict, question_to_dict
+from app.i18n import N_
 from app.sharestore import EXAMPLE, ShareCodeError, format_code, normalize_code
+from physics.refusal import Refusal
 
 __all__ = ["COUNTS", "DEFAULT_EXPIRE_AFTER_S", "GRADEBOOK_COLUMNS", "MAX_ATTEMPTS", "MAX_NAME_CHARS",
            "MAX_QUESTIONS", "MAX_STUDENT_NUMBER_CHARS", "MAX_WORDS_CHARS", "GradebookRow", "Policy", "Student",
@@ -48,12 +50,14 @@ MAX_DUE_AHEAD_S = 400 * 24 * 3600.0  # [s] a due time at most this far ahead
 GRADEBOOK_COLUMNS = ("name", "number", "score", "attempts", "last_submitted", "verdict")
 
 
-class TaskCodeError(ValueError):
-    """A task code that opens nothing: malformed, unknown or expired (the message says which)."""
+class TaskCodeError(Refusal):
+    """A task code that opens nothing: malformed, unknown or expired (the message says which:
+    English; its `template` a msgid and its `fields` for the panel to say it in a browser's language)."""
 
 
-class TaskRefused(ValueError):
-    """A submission or an action refused; the message is the student's (or lecturer's) to read."""
+class TaskRefused(Refusal):
+    """A submission or an action refused; the message is the student's (or lecturer's) to read
+    (English; a `template` msgid and its `fields` where the panel says it in a browser's language)."""
 
 
 def normalize_task_code(text: Any) -> str:
@@ -62,8 +66,11 @@ def normalize_task_code(text: Any) -> str:
     try:
         return normalize_code(text)
     except ShareCodeError:
-        shown = repr(text.strip()[:20]) if isinstance(text, str) else "That"
-        raise TaskCodeError(f"{shown} is not a task code: a code is 8 letters and digits, like {EXAMPLE}.") from None
+        if not isinstance(text, str):
+            raise TaskCodeError(N_("That is not a task code: a code is 8 letters and digits, like {example}."),
+                                example=EXAMPLE) from None
+        raise TaskCodeError(N_("{shown} is not a task code: a code is 8 letters and digits, like {example}."),
+                            shown=repr(text.strip()[:20]), example=EXAMPLE) from None
 
 
 def iso_time(seconds: float | None) -> str:
@@ -81,12 +88,14 @@ def _clean_text(value: Any, where: str, most: int, *, allow_newlines: bool = Fal
     if not isinstance(value, str):
         raise TaskRefused(f"{where}: a text wanted")
     if len(value) > most:
-        raise TaskRefused(f"{where}: at most {most} characters, got {len(value)}")
+        raise TaskRefused(N_("{where}: at most {most} characters, got {count}"), where=where, most=most,
+                          count=len(value))
     for char in value:
         if allow_newlines and char in "\n\t":
             continue
         if unicodedata.category(char) in ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp"):
-            raise TaskRefused(f"{where}: no control or invisible characters, please (found U+{ord(char):04X})")
+            raise TaskRefused(N_("{where}: no control or invisible characters, please (found {char})"), where=where,
+                              char=f"U+{ord(char):04X}")
     return value.strip()
 
 
@@ -153,10 +162,11 @@ class Task:
     def check_open(self, now: float) -> None:
         """TaskRefused saying why a submission is refused now (closed, or past the due time)."""
         if self.closed:
-            raise TaskRefused(f"The task {self.shown_code} was closed by the lecturer: no more submissions.")
+            raise TaskRefused(N_("The task {code} was closed by the lecturer: no more submissions."),
+                              code=self.shown_code)
         if now >= self.due:
-            raise TaskRefused(f"The task {self.shown_code} was due {iso_time(self.due)}: "
-                              "a submission after the due time is not accepted.")
+            raise TaskRefused(N_("The task {code} was due {due}: a submission after the due time is not accepted."),
+                              code=self.shown_code, due=iso_time(self.due))
 
     def to_dict(self) -> dict[str, Any]:
         return {"code": self.code, "questions": [question_to_dict(q) for q in self.questions], "due": self.due,
@@ -221,7 +231,7 @@ def check_student(name: Any, number: Any) -> Student:
     name_text = " ".join(_clean_text(name, "Name", MAX_NAME_CHARS).split())
     number_text = "".join(_clean_text(number, "Student number", MAX_STUDENT_NUMBER_CHARS).split())
     if not name_text and not number_text:
-        raise TaskRefused("To be counted, give your name or your student number.")
+        raise TaskRefused(N_("To be counted, give your name or your student number."))
     key = f"number:{number_text.casefold()}" if number_text else f"name:{name_text.casefold()}"
     return Student(key=key, name=name_text, number=number_text)
 

@@ -61,6 +61,8 @@ from app.tasks.model import (
 )
 from app.tasks.store import TaskRules
 from app.tasks.views import TaskViews
+from app.tasks.words import cell as _cell
+from app.tasks.words import receipt_words, refusal_words
 
 __all__ = ["ADD_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EXTEND_LABEL", "LECTURER_LABEL", "MAKE_LABEL", "OPEN_LABEL",
            "RECEIPT_LABEL", "SUBMIT_LABEL", "TASK_FOLDER", "TaskPanel", "attach_tasks", "table_text", "tallies_text"]
@@ -184,11 +186,6 @@ def _verdict_cell(row: GradebookRow) -> str:
         mark = "–" if not answered else "✓" if score == 1.0 else "✗" if score == 0.0 else "·"
         marks.append(f"{k + 1} {mark}")
     return " · ".join(marks)
-
-
-def _cell(text: str) -> str:
-    """A student's words in a Markdown table cell (no pipes, no markup)."""
-    return "".join(" " if c in "|\\`*_[]<>#" else c for c in text)
 
 
 def _hours(value: Any) -> float:
@@ -424,7 +421,7 @@ class TaskPanel(TaskMaking):
         try:
             task = self.store.task(text)
         except TaskCodeError as error:
-            self._say(str(error))
+            self._say(refusal_words(error, for_gui(self.client.gui)))
             return None
         session = self.session
         if getattr(session, "mode", None) == "presenting":
@@ -551,7 +548,7 @@ class TaskPanel(TaskMaking):
                                            self.gui_student_number.value, self.question, self._answer(question),
                                            receipt=self.gui_my_receipt.value)
         except (TaskRefused, TaskCodeError, PermissionError) as error:
-            self._say(str(error))
+            self._say(refusal_words(error, for_gui(self.client.gui)))
             return None
         self._say("")
         self.show_question(self.question)
@@ -568,7 +565,7 @@ class TaskPanel(TaskMaking):
         try:
             task = self.store.task(code_text)
         except TaskCodeError as error:
-            self._say(str(error))
+            self._say(refusal_words(error, for_gui(self.client.gui)))
             return None
         if not self.store.lecturer_codes.allow("hall"):  # counted before it is compared: no guess slips through
             self._say(self._("Too many lecturer's codes were tried on this app: wait a minute."))
@@ -663,17 +660,11 @@ class TaskPanel(TaskMaking):
         """The submission a receipt code stands for, said under it (the lecturer's, of the task
         opened: another task's receipt is not shown); its words."""
         task = self._lecturers()
+        tr = for_gui(self.client.gui)
         try:
-            found = self.store.receipt(text)
+            words = receipt_words(self.store.receipt(text), task, tr)
         except TaskCodeError as error:
-            words = str(error)
-        else:
-            if found.task != task.code:
-                words = f"The receipt {format_code(found.receipt)} is not of the task {task.shown_code}."
-            else:
-                who = " ".join(part for part in (found.student.name, found.student.number) if part)
-                words = (f"Receipt **{format_code(found.receipt)}**: {_cell(who)}, question {found.question + 1}, "
-                         f"attempt {found.attempt}: {_cell(found.words)} · submitted {iso_time(found.at)}")
+            words = refusal_words(error, tr)
         self.gui_receipt_note.content = words
         self.gui_receipt_note.visible = True
         return words

@@ -23,8 +23,9 @@ from collections.abc import Callable
 from typing import Any
 
 from app.ask.round import RateLimit
+from app.i18n import N_
 from app.tasks.model import Student, Submission, Task, TaskRefused
-from app.tasks.store import TaskRules, token_hash
+from app.tasks.store import TaskRules, already_answering, token_hash
 
 __all__ = ["RedisTaskStore"]
 
@@ -81,13 +82,12 @@ class RedisTaskStore(TaskRules):
             return mine
         body = json.dumps({"key": student.key, "name": student.name, "number": student.number})
         if not self._redis.hsetnx(self._key(code, "students"), student.key, body):
-            raise TaskRefused(f"{student.number or student.name} already answers this task from another browser: "
-                              "go on there, or type a receipt of yours in Your receipt.")
+            raise already_answering(student)
         if not self._redis.hsetnx(self._key(code, "tokens"), token_hash(token), student.key):
             self._redis.hdel(self._key(code, "students"), student.key)  # this browser bound itself meanwhile
             found = self._student(code, token)
             if found is None:
-                raise TaskRefused("this browser's name could not be kept: submit again")
+                raise TaskRefused(N_("this browser's name could not be kept: submit again"))
             return found
         task = self._load_task(code)
         if task is not None:

@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from app.ask.round import RateLimit
+from app.i18n import N_
 from app.sharestore import format_code, new_code
 from app.tasks.model import (
     DEFAULT_EXPIRE_AFTER_S,
@@ -46,7 +47,7 @@ from app.tasks.model import (
     verdict,
 )
 
-__all__ = ["RATE", "RATE_WINDOW_S", "TASKS_FILE", "SqliteTaskStore", "TaskRules", "token_hash"]
+__all__ = ["RATE", "RATE_WINDOW_S", "TASKS_FILE", "SqliteTaskStore", "TaskRules", "already_answering", "token_hash"]
 
 TASKS_FILE = "tasks.sqlite3"  # the SQLite store's file in the data folder
 RATE = 5  # submissions a browser may make ...
@@ -57,6 +58,12 @@ RATE_WINDOW_S = 10.0  # [s] ... in any window this long (more are refused, not c
 def token_hash(token: str) -> str:
     """What is kept of a browser's token (its SHA-256, hex)."""
     return hashlib.sha256(str(token).encode("utf-8")).hexdigest()
+
+
+def already_answering(student: Student) -> TaskRefused:
+    """The refusal of a second browser answering as `student` without a receipt of theirs."""
+    return TaskRefused(N_("{who} already answers this task from another browser: go on there, or type a receipt "
+                          "of yours in Your receipt."), who=student.number or student.name)
 
 
 class TaskRules:
@@ -137,10 +144,11 @@ class TaskRules:
         code = normalize_task_code(text)
         task = self._load_task(code)
         if task is None:
-            raise TaskCodeError(f"No task has the code {format_code(code)}: check it with your lecturer.")
+            raise TaskCodeError(N_("No task has the code {code}: check it with your lecturer."), code=format_code(code))
         if self.clock() >= task.expires:
             day = datetime.fromtimestamp(task.expires, UTC).strftime("%Y-%m-%d")
-            raise TaskCodeError(f"The task {format_code(code)} expired on {day}: ask your lecturer.")
+            raise TaskCodeError(N_("The task {code} expired on {day}: ask your lecturer."), code=format_code(code),
+                                day=day)
         return task
 
     def student(self, text: Any, token: str) -> Student | None:
@@ -157,28 +165,28 @@ class TaskRules:
         task = self.task(text)
         task.check_open(self.clock())
         if not isinstance(token, str) or not token:
-            raise TaskRefused("this browser has no token")
+            raise TaskRefused(N_("this browser has no token"))
         bound = self._student(task.code, token)
         if bound is None and isinstance(receipt, str) and receipt.strip():
             bound = self._continue_with(task, token, receipt)
         student = check_student(name, number) if bound is None else bound
         if isinstance(question, bool) or not isinstance(question, int) or not 0 <= question < len(task.questions):
-            raise TaskRefused(f"question: 1 to {len(task.questions)} wanted")
+            raise TaskRefused(N_("question: 1 to {count} wanted"), count=len(task.questions))
         asked = task.questions[question]
         try:
             checked = asked.check(value)
         except ValueError as error:
-            raise TaskRefused(f"Not an answer: {error}") from None
+            raise TaskRefused(N_("Not an answer: {error}"), error=error) from None
         allowed = task.policy.attempts
         if allowed is not None and self._attempts(task.code, student.key, question) >= allowed:
             raise self._used_up(allowed, question, len(task.questions))
         if not self.rate.allow(token_hash(token)):
-            raise TaskRefused(f"Too many submissions from this browser: at most {RATE} in {RATE_WINDOW_S:g} s. "
-                              "Wait a moment and submit again.")
+            raise TaskRefused(N_("Too many submissions from this browser: at most {rate} in {seconds} s. "
+                                 "Wait a moment and submit again."), rate=RATE, seconds=f"{RATE_WINDOW_S:g}")
         try:
             score, words = verdict(asked, checked)
         except ValueError as error:  # a judge that cannot judge this state (another scene's body)
-            raise TaskRefused(f"Not judged: {error}") from None
+            raise TaskRefused(N_("Not judged: {error}"), error=error) from None
         with self._lock:
             student = self._bind(task.code, token, student)
             while True:
@@ -196,22 +204,27 @@ class TaskRules:
         """The student a receipt of `task` belongs to, now answering from `token`'s browser too;
         TaskRefused for another task's receipt, none, or too many tried on this process."""
         if not self.receipt_tries.allow("hall"):
-            raise TaskRefused("Too many receipts were tried on this app: wait a minute.")
+            raise TaskRefused(N_("Too many receipts were tried on this app: wait a minute."))
         try:
             found = self._receipt(normalize_task_code(receipt))
         except TaskCodeError:
             found = None
         if found is None or found.task != task.code:
-            raise TaskRefused("That receipt is not one of this task's: check it (or give your name).")
+            raise TaskRefused(N_("That receipt is not one of this task's: check it (or give your name)."))
         with self._lock:
             self._bind_more(task.code, token, found.student)
         return found.student
 
     @staticmethod
     def _used_up(allowed: int, question: int, questions: int) -> TaskRefused:
-        which = f" at question {question + 1}" if questions > 1 else ""
-        plural = "attempt" if allowed == 1 else "attempts"
-        return TaskRefused(f"You have used your {allowed} {plural}{which}: this task allows no more.")
+        if questions > 1:
+            template = (N_("You have used your {count} attempt at question {question}: this task allows no more.")
+                        if allowed == 1 else
+                        N_("You have used your {count} attempts at question {question}: this task allows no more."))
+            return TaskRefused(template, count=allowed, question=question + 1)
+        template = (N_("You have used your {count} attempt: this task allows no more.") if allowed == 1 else
+                    N_("You have used your {count} attempts: this task allows no more."))
+        return TaskRefused(template, count=allowed)
 
     def mine(self, text: Any, token: str) -> list[Submission]:
         """The submissions of the student the browser of `token` answers as (nobody else's)."""
@@ -230,10 +243,10 @@ class TaskRules:
         try:
             code = normalize_task_code(text)
         except TaskCodeError:
-            raise TaskCodeError("That is not a receipt code: a code is 8 letters and digits.") from None
+            raise TaskCodeError(N_("That is not a receipt code: a code is 8 letters and digits.")) from None
         found = self._receipt(code)
         if found is None:
-            raise TaskCodeError(f"No submission has the receipt {format_code(code)}.")
+            raise TaskCodeError(N_("No submission has the receipt {code}."), code=format_code(code))
         return found
 
     def close_task(self, text: Any) -> Task:
@@ -326,8 +339,7 @@ class SqliteTaskStore(TaskRules):
                 return mine
             other = db.execute("SELECT 1 FROM students WHERE task = ? AND key = ?", (code, student.key)).fetchone()
             if other is not None:
-                raise TaskRefused(f"{student.number or student.name} already answers this task from another browser: "
-                                  "go on there, or type a receipt of yours in Your receipt.")
+                raise already_answering(student)
             db.execute("INSERT INTO students VALUES (?, ?, ?, ?, ?)",
                        (code, student.key, token_hash(token), student.name, student.number))
             db.commit()
