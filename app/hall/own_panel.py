@@ -27,6 +27,7 @@ from app.i18n import N_, Labels, Phrases, Translator, for_gui
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.kit.panel.download import save_download
+from app.lesson_errors import lesson_error_words
 from app.lessons import LessonError
 from app.own import OwnLibrary
 
@@ -153,7 +154,9 @@ class OwnPanel:
         """Run an action; a refusal (bad input, not allowed) is said here and changes nothing."""
         try:
             action(*args)
-        except (ValueError, PermissionError, LessonError) as error:
+        except LessonError as error:  # a lesson file imported that does not load: its file, field and fault
+            self.say(lesson_error_words(str(error), for_gui(self.gui)), refused=True)
+        except (ValueError, PermissionError) as error:
             self.say(own_refusal_words(str(error), for_gui(self.gui)), refused=True)
 
     def _allowed(self) -> None:
