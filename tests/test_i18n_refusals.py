@@ -194,7 +194,8 @@ def test_a_broken_lesson_file_imported_is_said_in_german_naming_its_file_and_fie
             ("kaputt.json", json.dumps(broken).encode(), "**⚠ kaputt.json: steps[0].preset: Heavy top hat keine "
                                                          "Voreinstellung 'Nope' ("),
             ("leer.json", json.dumps({"title": "Leer"}).encode(), "**⚠ leer.json: steps: fehlt oder ist leer**"),
-            ("liste.json", json.dumps({"title": "L", "steps": [3]}).encode(), "**⚠ liste.json: steps[0]: kein Objekt**"),
+            ("liste.json", json.dumps({"title": "L", "steps": [3]}).encode(),
+             "**⚠ liste.json: steps[0]: kein Objekt**"),
     ):
         mine.gui_import._impl.value = UploadedFile(name, content)
         german.guard("import lesson", lambda: mine._said(mine.import_uploaded))()
