@@ -202,3 +202,23 @@ def test_a_broken_lesson_file_imported_is_said_in_german_naming_its_file_and_fie
         assert mine.gui_status.content.startswith(said), mine.gui_status.content
         assert "has no preset" not in mine.gui_status.content and "missing" not in mine.gui_status.content
     assert german.error_count == 0, german.last_error
+
+
+@pytest.mark.parametrize("language", ["nl", "de"])
+def test_every_judge_and_lesson_file_pattern_matches_its_english_and_has_a_translation(language: str) -> None:
+    """Each entry of the judges' refusals and of a lesson file's faults matches the English its
+    msgid writes, and the language writes it otherwise."""
+    from app.ask.verdict_words import JUDGE_REFUSALS
+    from app.lesson_errors import LESSON_FIELD_ERRORS
+
+    class Sample(dict[str, str]):
+        def __missing__(self, name: str) -> str:
+            samples = {"where": "steps[0].camera", "preset": "'Spin'", "rate": "1000", "type": "int"}
+            return samples.get(name, "Heavy top")
+
+    tr = translator(language)
+    for table in (JUDGE_REFUSALS, LESSON_FIELD_ERRORS):
+        for pattern, msgid in table.entries:
+            english = msgid.format_map(Sample())
+            assert pattern.fullmatch(english), msgid
+            assert table.in_language(english, tr) != english, msgid
