@@ -29,7 +29,8 @@ LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
     "app.data": 0, "app.userdata": 0, "app.sweep": 0, "app.i18n": 0,  # i18n: the translation layer (Babel)
     "app.cli_words": 0.5,  # the command line's words (app.i18n)
-    "app.sharestore": 0, "app.backpressure": 0, "app.wire": 0,
+    "app.backpressure": 0, "app.wire": 0,
+    "app.sharestore": 0.5, "app.lesson_errors": 0.5,  # their refusals in the reader's words (app.i18n)
     "app.ask": 0.5,  # questions to the class: the model (no viser)
     "app.cluster": 0.6,  # Redis, its typed messages, questions across processes, child processes
     # the kit's rooms: core <- panel, draw (neither imports the other) <- view <- rigid
