@@ -413,12 +413,13 @@ def _browser_missing() -> str | None:
     return None
 
 
-BROWSER_FPS = float(os.environ.get("RBL_BROWSER_FPS", "0"))
-"""The most frames a second a test page draws (0, the default: as many as it can).  SwiftShader
+BROWSER_FPS = float(os.environ.get("RBL_BROWSER_FPS", "10"))
+"""The most frames a second a test page draws (RBL_BROWSER_FPS; 0: as many as it can).  SwiftShader
 draws a 1280×800 view on the CPU: uncapped, one playing page takes 1.8 of the 2 cores, capped at
-10 it takes 0.86 (measured); the browser tests alone passed 61 of 61 at 10 (627 s, one process).
-Off by default until a full run under load shows the cap changes no test's outcome (at 5, with
-two browser groups, three tests that wait for the camera or a frame failed)."""
+10 it takes 0.7–0.86 (measured; turning WebGL's antialiasing off saved nothing more).  Two whole
+quiet runs at 10 passed every test (11:14 on two processes, 11:06 on three), where uncapped runs
+took 12:27–12:41; at 5, with two browser groups, three tests that wait for the camera or a
+frame failed."""
 _FPS_CAP_JS = """(() => {
   // At most %s frames a second: a requestAnimationFrame callback runs in the next due frame, and
   // every callback of that frame runs in it (they share its timestamp); cancelAnimationFrame kept true.
