@@ -7,17 +7,16 @@ follower panel with the presenter's scene, and the presenter's badge counts it. 
 opens its Plots tab and plays: the follower's page shows the tab copied, read only.  The follower
 presses `Explore on my own`: its room on B is the presenter's, bit for bit (`app.codec`); it
 presses `Follow presenter` and follows again.
-Needs Debian's Chromium and redis-server.  BUS_SCREENSHOTS=<folder>: the follower's page is saved there
+Needs Debian's Chromium and redis-server.  Pictures for people under $RBL_TEST_SHOTS/bus/
 (follower_other_worker.png, the picture in docs/cluster.md; follower_plot_other_worker.png, with the plot).
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
+from conftest import TEST_SHOTS, keep_picture
 from test_browser import choose
 from test_browser_lecture import _CONTEXTS, close_toasts, open_folder, open_page, received, text_input
 from test_codec import assert_rooms_equal
@@ -28,7 +27,6 @@ from app.main import App, create_server
 pytestmark = pytest.mark.browser
 
 CODE = "86420135"
-SHOTS = os.environ.get("BUS_SCREENSHOTS")  # a folder: follower_other_worker.png is saved there
 
 
 @pytest.fixture
@@ -71,9 +69,9 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
     close_toasts(follower_page)
     presenter_page.get_by_text("1 following").first.wait_for(timeout=30_000)  # the badge counts worker B's follower
     assert b.lectern.remote is not None and b.lectern.remote.worker == "a"
-    if SHOTS:
+    if TEST_SHOTS:
         follower_page.wait_for_timeout(3000)  # the shared nodes fade in, the labels are laid out
-        follower_page.screenshot(path=str(Path(SHOTS) / "follower_other_worker.png"))
+        keep_picture(follower_page, "bus/follower_other_worker.png")
 
     # The presenter opens its Plots tab and plays: the follower on B sees the tab copied, read only.
     presenter_page.get_by_role("button", name="Plots", exact=True).click()
@@ -81,8 +79,7 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
     wait_until(lambda: presenter.scene.tabs.shown == "Plots" and presenter.room.playing, timeout=15.0)
     follower_page.get_by_text("The presenter's Plots tab (read only)").first.wait_for(timeout=30_000)
     follower_page.get_by_text("ω, body components [rad/s]").first.wait_for(timeout=30_000)  # a chart's title
-    if SHOTS:
-        follower_page.screenshot(path=str(Path(SHOTS) / "follower_plot_other_worker.png"))
+    keep_picture(follower_page, "bus/follower_plot_other_worker.png")
     presenter_page.get_by_role("button", name="Pause", exact=True).click()
     wait_until(lambda: not presenter.room.playing, timeout=15.0)
 

@@ -2,16 +2,15 @@
 
 The scene is picked in the Scene dropdown, each preset clicked and played (the Play button);
 the simulation must advance with no error, the Readout tab must show (5.13) term by term, and a
-screenshot of each preset playing is saved (1280×800) to CONSTRAINED_SHOTS if that is set.
+picture of each preset playing (1280×800) is kept under $RBL_TEST_SHOTS/constrained if that is set.
 """
 
 from __future__ import annotations
 
-import os
 import time
-from pathlib import Path
 
 import pytest
+from conftest import keep_picture
 from test_browser import choose, open_app
 
 from app.scenes.constrained import ConstrainedView
@@ -26,7 +25,6 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
     session = open_app(page, app)
     choose(page, session.gui_scene, "Constrained particles")
     page.get_by_text("Constrained particles (memo §2, §5)").wait_for(timeout=30_000)
-    shots = os.environ.get("CONSTRAINED_SHOTS")
     for preset in ConstrainedView.presets():
         page.get_by_role("button", name=preset.name, exact=True).click()
         deadline = time.monotonic() + 20.0  # a preset's first solve on a busy machine
@@ -44,12 +42,9 @@ def test_pick_the_scene_play_every_preset(app, page) -> None:  # type: ignore[no
             time.sleep(0.05)
         assert session.simulation.t >= 1.2, (f"{preset.name!r} played to t = {session.simulation.t:.3f} s in 30 s, "
                                              f"errors {session.error_count} (last {session.last_error!r})")
-        if shots:
-            Path(shots).mkdir(parents=True, exist_ok=True)
-            page.screenshot(path=str(Path(shots) / f"{preset.name.replace(' ', '_').replace(',', '')}.png"))
+        keep_picture(page, f"constrained/{preset.name.replace(' ', '_').replace(',', '')}.png")
         page.get_by_role("button", name="Pause", exact=True).click()
     page.get_by_role("button", name="Readout").click()
     page.get_by_text("d/dt∂T/∂q̇").first.wait_for(timeout=10_000)
-    if shots:
-        page.screenshot(path=str(Path(shots) / "readout.png"))
+    keep_picture(page, "constrained/readout.png")
     assert session.error_count == 0, session.last_error

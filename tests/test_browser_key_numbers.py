@@ -4,19 +4,18 @@ and opens the Energy tab (where its own sliders are not kept current); the follo
 numbers, read from its page, keep moving with t, and once the presenter pauses they are the
 state's (Euler angles of R_space_body, in degrees, as the φ slider would show them).
 
-KEY_NUMBERS_SCREENSHOTS=<folder>: the follower's panel is saved there while the presenter plays
-on the Energy tab (follower_panel.png).  Needs Debian's Chromium: `apt-get install chromium`.
+A picture for people: $RBL_TEST_SHOTS/key_numbers/follower_panel.png, the follower's panel while
+the presenter plays on the Energy tab.  Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
 
 import math
-import os
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import keep_picture
 from test_browser import choose
 from test_browser_lecture import close_toasts, hall_app, open_page, present_and_follow
 
@@ -28,7 +27,6 @@ from physics.euler import euler_zxz_from_matrix
 pytestmark = pytest.mark.browser
 __all__ = ["hall_app"]  # the fixture, imported for pytest
 
-SHOTS = os.environ.get("KEY_NUMBERS_SCREENSHOTS", "")
 PHI_LINE = re.compile(r"φ \[deg\] = (-?[0-9.]+)")
 T_LINE = re.compile(r"t = ([0-9.]+) s")
 
@@ -84,10 +82,8 @@ def test_followers_key_numbers_move_while_the_presenter_shows_the_energy_tab(  #
         raise AssertionError(f"waited 60 s for the follower's φ to take 3 values as t runs on; its page read "
                              f"(t, φ): {readings}, presenter at t = {presenter.room.sim.t:.1f} s") from None
     finally:
-        if SHOTS:
-            Path(SHOTS).mkdir(parents=True, exist_ok=True)
-            _status_block(follower_page).locator("xpath=..").screenshot(
-                path=str(Path(SHOTS) / "follower_panel.png"), timeout=60_000)
+        keep_picture(_status_block(follower_page).locator("xpath=.."), "key_numbers/follower_panel.png",
+                     timeout=60_000)
     assert len({t for t, _ in readings}) == len(readings), readings
     assert float(presenter.scene.gui_angles[0].value) == phi_widget  # the presenter's φ slider stood still meanwhile
 

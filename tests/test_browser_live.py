@@ -14,18 +14,18 @@ follower (390×844, touch) and a laptop follower (1280×800).
    not, follows again when the countdown ends (the lectern's clock is moved on by the test).
 
 A page that does not act is frozen meanwhile (`frozen`), so that two cores render at most two
-pages.  LIVE_SCREENSHOTS=<folder>: save live_badge.png and phone_explorer.png there.
+pages.  Pictures for people: $RBL_TEST_SHOTS/live/ (live_badge.png, phone_explorer.png).
 """
 
 from __future__ import annotations
 
 import contextlib
-import os
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import TEST_SHOTS, keep_picture
 from PIL import Image
 from test_browser_lecture import close_toasts, hall_app, play_and_present, project  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
@@ -36,7 +36,6 @@ from app.main import App
 
 pytestmark = pytest.mark.browser
 
-SHOTS = os.environ.get("LIVE_SCREENSHOTS")
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True, "device_scale_factor": 2}
 SCRUB_BACK_S = 4.0  # [s] the laptop types a time this far back (a property: any time in the history scrubs there)
 
@@ -168,8 +167,8 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
     badge(presenter_page, 1, 1)
     assert presenter.error_count == 0, presenter.last_error
 
-    if SHOTS:  # the projector with the badge, and the phone explorer
+    if TEST_SHOTS:  # the projector with the badge, and the phone explorer
         close_toasts(presenter_page)
         time.sleep(1.0)
-        presenter_page.screenshot(path=str(Path(SHOTS) / "live_badge.png"))
-        Image.open(path).save(Path(SHOTS) / "phone_explorer.png")
+        keep_picture(presenter_page, "live/live_badge.png")
+        Image.open(path).save(Path(TEST_SHOTS) / "live" / "phone_explorer.png")

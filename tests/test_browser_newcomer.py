@@ -4,16 +4,15 @@ lands in its own room (the Scene dropdown on its own scene, no "Following the pr
 line saying the lecture has ended, and `Open the last lecture's room` shows the room the presenter
 left at its time t.
 
-NEWCOMER_SCREENSHOTS=<folder>: save newcomer_landing.png and newcomer_last_room.png there.
+Pictures for people: $RBL_TEST_SHOTS/newcomer/ (newcomer_landing.png, newcomer_last_room.png).
 """
 
 from __future__ import annotations
 
-import os
 import time
-from pathlib import Path
 
 import pytest
+from conftest import TEST_SHOTS, keep_picture
 from test_browser_lecture import close_toasts, hall_app, play_and_present  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
@@ -24,7 +23,6 @@ from app.scenes import DEFAULT_SCENE
 
 pytestmark = pytest.mark.browser
 
-SHOTS = os.environ.get("NEWCOMER_SCREENSHOTS")
 LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 
 
@@ -42,12 +40,11 @@ def waited(wait_until, what: str, predicate, seen, timeout: float) -> None:  # t
 
 
 def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
-    """Save the page as `name` under NEWCOMER_SCREENSHOTS (if set)."""
-    if SHOTS:
+    """The page as `name` under $RBL_TEST_SHOTS/newcomer (if set)."""
+    if TEST_SHOTS:
         close_toasts(page)
         time.sleep(1.0)  # the nodes fade in (a picture for people, not a wait for a state)
-        Path(SHOTS).mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(Path(SHOTS) / name), timeout=120_000)
+        keep_picture(page, f"newcomer/{name}", timeout=120_000)
 
 
 def test_a_visitor_after_the_lecture_lands_in_its_own_room_and_opens_the_last_one(browser, hall_app: App,  # noqa: F811

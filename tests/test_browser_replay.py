@@ -5,11 +5,11 @@ Debian's Chromium); the state is read back on the server.  ~20 s on 2 cores.
 
 from __future__ import annotations
 
-import os
 import time
 
 import numpy as np
 import pytest
+from conftest import TEST_SHOTS, keep_picture
 from test_browser import choose
 
 from app.kit.core.room import LIVE, REPLAYING, SCRUBBING
@@ -18,7 +18,6 @@ from tests.test_browser import open_app, slider_thumb, wait_for_gui
 
 pytestmark = pytest.mark.browser
 
-SHOT = os.environ.get("REPLAY_SCREENSHOT")  # a path: save the scrubbed-back flip there
 
 
 def drag_thumb(page, handle, dx: float) -> None:
@@ -62,9 +61,9 @@ def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, a
     history = room.history
     assert history is not None and history.t_first == 0.0 and room.live_t == t_live
     page.get_by_text("Showing t = ").first.wait_for(timeout=5_000)
-    if SHOT:
-        time.sleep(1.0)
-        page.screenshot(path=SHOT)
+    if TEST_SHOTS:
+        time.sleep(1.0)  # the nodes fade in (a picture for people)
+        keep_picture(page, "replay/flip.png")
 
     # Slow motion, then Replay: the recording plays at 0.1× from the moment shown.
     scale = slider_thumb(page, scene.transport.gui_time_scale)
@@ -75,8 +74,7 @@ def test_stop_at_a_flip_scrub_back_replay_slowly_resume_and_branch(wait_until, a
     wait_until(lambda: room.mode == REPLAYING and room.shown_t > shown + 0.02, timeout=10.0)
     page.get_by_text("Replaying t = ").first.wait_for(timeout=5_000)
     assert room.shown_t < shown + 0.5  # 0.1×: a tenth of the wall time
-    if SHOT:
-        page.screenshot(path=SHOT.replace(".png", "_replaying.png"))
+    keep_picture(page, "replay/flip_replaying.png")
 
     # Resume: the live moment back, bit for bit, paused as it was.
     page.get_by_role("button", name="Resume").click()
@@ -128,8 +126,7 @@ def test_constrained_particles_scrub_back_resume_and_branch(wait_until, app: App
         np.testing.assert_array_equal(room.sim.snapshot().values, history.snapshot(index).values)
     assert room.sim.samples.mark() <= history.snapshot(history.index_at(t_live)).values[-1 - 2 * len(room.sim.paths)]
     page.get_by_text("Showing t = ").first.wait_for(timeout=5_000)
-    if SHOT:
-        page.screenshot(path=SHOT.replace(".png", "_constrained.png"))
+    keep_picture(page, "replay/flip_constrained.png")
 
     page.get_by_role("button", name="Resume").click()
     wait_until(lambda: room.mode == LIVE, timeout=30.0)

@@ -4,20 +4,19 @@ One test (a browser test costs ~10-20 s on 2 cores), acting through the page onl
 `Single rotation` checkbox is clicked, the scene changes (clipped screenshots differ) and the
 readout appears; the `half turn` preset is clicked and the θ slider dragged with the mouse
 through half turns (Φ = 180° throughout) without the drawn axis flipping; `D = 1` (Φ = 0) says
-the axis is undefined.  ROTATION_SCREENSHOTS=<folder>: screenshots (generic mid-animation, half
-turn, Φ = 0) are written there for a person to look at.
+the axis is undefined.  Pictures for people under $RBL_TEST_SHOTS/rotation/ (generic
+mid-animation, half turn, Φ = 0).
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
 
 import math
-import os
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import TEST_SHOTS, keep_picture
 from test_browser import open_app, picture_changes, slider_thumb, still_picture
 
 from app.main import App
@@ -25,15 +24,13 @@ from app.main import App
 pytestmark = pytest.mark.browser
 
 MIN_CHANGED_FRACTION = 0.005  # the axis, the arc and the outlines: far more than 0.5 % of pixels
-SHOTS = os.environ.get("ROTATION_SCREENSHOTS")
 
 
 def shot(page, name: str) -> None:  # type: ignore[no-untyped-def]
-    """The page as `name` under ROTATION_SCREENSHOTS (if set), once its picture holds still."""
-    if SHOTS:
+    """The page as `name` under $RBL_TEST_SHOTS/rotation (if set), once its picture holds still."""
+    if TEST_SHOTS:
         still_picture(page)
-        Path(SHOTS).mkdir(parents=True, exist_ok=True)
-        (Path(SHOTS) / name).write_bytes(page.screenshot(timeout=60_000))
+        keep_picture(page, f"rotation/{name}", timeout=60_000)
 
 
 def drawn_axis(view) -> np.ndarray:  # type: ignore[no-untyped-def]
