@@ -317,8 +317,7 @@ def test_arrows_and_segments_sent_inline_draw_as_the_raw_buffers_do(wait_until, 
             else:
                 set_points(node_a, arrows)
                 set_points(node_s, segments)
-            time.sleep(2.0)
-            shots.append(page.screenshot(clip=SCENE_CLIP, timeout=60_000))
+            shots.append(still_picture(page))  # drawn, the nodes faded in: not a fixed wait
         finally:
             server.stop()
     # Each frame the first server's wire encoded (one, or more when the page was slow to take the

@@ -221,8 +221,10 @@ def test_the_phones_screen_moves_with_the_camera_the_lectern_sends_it(hall: Lect
         turned, stayed = tuple(presenter.client.camera.position), tuple(phone.client.camera.position)
         raise AssertionError(f"the lectern did not send the presenter's camera {turned} to the phone "
                              f"within 20 s: it stayed at {stayed}") from None
-    now = hall.app.lectern.follower_screens()[0].view.position
-    assert np.allclose(now, phone.client.camera.position, atol=1e-9), (now, phone.client.camera.position, before)
+    kept = lambda: hall.app.lectern.follower_screens()[0].view.position  # noqa: E731 - the screen the labels use
+    poll_until(lambda: np.allclose(kept(), phone.client.camera.position, atol=1e-9), timeout=20.0,
+               what="the phone's kept screen at the camera sent to it",
+               seen=lambda: (kept(), tuple(phone.client.camera.position), before))
 
 
 def test_the_pointers_label_shows_and_g_makes_room(hall: LectureHall) -> None:
