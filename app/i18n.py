@@ -30,7 +30,7 @@ import gettext as _gettext
 import io
 import re
 import threading
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from importlib import resources
 from importlib.resources.abc import Traversable
 from pathlib import Path
@@ -181,17 +181,18 @@ class Translator:
         return f"Translator({self.language!r})"
 
 
-def refusal_text(error: BaseException, tr: Translator) -> str:
+def refusal_text(error: BaseException, tr: Translator, fields: Mapping[str, Any] | None = None) -> str:
     """What `error` says, in the language of `tr`: a refusal from `physics` (`physics.refusal.Refusal`:
-    an English template marked where it is raised, and its fields) translated and filled in; any
-    other error's own words (English)."""
-    template, fields = getattr(error, "template", None), getattr(error, "fields", None)
-    if not (isinstance(template, str) and isinstance(fields, dict)):
+    an English template marked where it is raised, and its fields) translated and filled in, with
+    `fields` in place of its own where given (some already written in `tr`'s language); any other
+    error's own words (English)."""
+    template, own = getattr(error, "template", None), getattr(error, "fields", None)
+    if not (isinstance(template, str) and isinstance(own, dict)):
         return str(error)
-    if not fields:  # the template is the message as it is (no placeholders filled)
+    if not own:  # the template is the message as it is (no placeholders filled)
         return tr.gettext(template)
     try:
-        return tr.gettext(template).format(**fields)
+        return tr.gettext(template).format(**(own if fields is None else fields))
     except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: physics' words
         return str(error)
 

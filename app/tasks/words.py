@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 from app.ask.verdict_words import judge_refusal_words, verdict_in_language
-from app.i18n import N_, Translator
+from app.i18n import N_, Translator, refusal_text
 from app.sharestore import format_code
 from app.tasks.model import Submission, Task, iso_time
 
@@ -23,23 +23,17 @@ FIELD_NAMES = (N_("Name"), N_("Student number"))
 
 
 def refusal_words(error: BaseException, tr: Translator) -> str:
-    """What `error` says, in `tr`'s language: a store's refusal (a `template` msgid and its
-    `fields`) translated and filled in, its `error` field (an answer's check or a judge's words)
-    and `where` (a field's name) too; any other error's own words."""
-    template, fields = getattr(error, "template", None), getattr(error, "fields", None)
-    if not (isinstance(template, str) and isinstance(fields, dict)):
-        return str(error)
-    if not fields:
-        return tr.gettext(template)
+    """What `error` says, in `tr`'s language (`app.i18n.refusal_text`), its `error` field (an
+    answer's check or a judge's words) and `where` (a field's name) translated too."""
+    fields = getattr(error, "fields", None)
+    if not isinstance(fields, dict):
+        return refusal_text(error, tr)
     shown = dict(fields)
     if "error" in shown:
         shown["error"] = judge_refusal_words(str(shown["error"]), tr)
     if "where" in shown:
         shown["where"] = tr.gettext(str(shown["where"]))
-    try:
-        return tr.gettext(template).format(**shown)
-    except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: the English words
-        return str(error)
+    return refusal_text(error, tr, shown)
 
 
 def receipt_words(found: Submission, task: Task, tr: Translator) -> str:
