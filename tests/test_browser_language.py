@@ -81,18 +81,28 @@ def shot(page: Any, name: str) -> None:
     keep_picture(page, f"i18n/{name}")
 
 
-def settled_boxes(page: Any, timeout: float = 20.0) -> dict[str, Any]:
-    """The panel's text boxes (TEXT_BOXES_JS) once two reads 0.25 s apart agree (a folder opening
-    or the panel scrolling has finished); AssertionError naming the last two reads if not."""
+RUNNING_JS = ("document.getAnimations().filter(a => a.playState === 'running')"
+              ".map(a => a.transitionProperty || a.animationName || a.constructor.name)")
+"""The page's CSS transitions and animations running now (a folder opening: its max-height, opacity)."""
+
+
+def settled_boxes(page: Any, timeout: float = 30.0) -> dict[str, Any]:
+    """The panel's text boxes (TEXT_BOXES_JS) once no transition runs on the page and two reads
+    0.25 s apart agree (a folder opening or the panel scrolling has finished); AssertionError
+    naming the last two reads and what still ran if not.  Two equal reads alone prove nothing on
+    a busy machine: a transition's time moves only when Chromium draws a frame, and frames can be
+    seconds apart there."""
     deadline = time.monotonic() + timeout
     previous = None
     while True:
         found = page.evaluate(TEXT_BOXES_JS)
         assert found is not None, "no panel on the page"
-        if found == previous:
+        running = page.evaluate(RUNNING_JS)
+        if found == previous and not running:
             return found
         if time.monotonic() > deadline:
-            raise AssertionError(f"the panel's text kept moving for {timeout} s: {previous} then {found}")
+            raise AssertionError(f"the panel's text kept moving for {timeout} s (running: {running}): "
+                                 f"{previous} then {found}")
         previous = found
         page.wait_for_timeout(250)
 

@@ -285,7 +285,15 @@ def test_lecture_notes_stay_true_and_a_followers_keys_bring_one_toast(browser, h
     present = page.get_by_role("button", name="Present", exact=True)
     present.click()
     busy = page.get_by_text("Someone else is presenting")
-    busy.first.wait_for(state="visible", timeout=10_000)
+    try:
+        busy.first.wait_for(state="visible", timeout=30_000)
+    except Exception:  # noqa: BLE001 - say what the server had of the press
+        lecture = follower.lecture
+        raise AssertionError(
+            f"no 'Someone else is presenting' 30 s after Present: the follower's note on the server "
+            f"{lecture.gui_note.content!r} (visible: {lecture.gui_note.visible}), its refusal on record "
+            f"{hall_app.lectern.presenter_lock._refused.get(follower.client_id)!r}, mode {follower.mode}, "
+            f"last error {follower.last_error!r}") from None
     presenter_page.get_by_role("button", name="Stop presenting").click()
     busy.first.wait_for(state="hidden", timeout=10_000)  # true no more
 

@@ -169,10 +169,17 @@ def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
         return bool(np.allclose(camera.position, position, atol=1e-9))
 
     poll_until(fitted)
-    hall.frames(20)  # the lectern fits the phone's camera; the labels lay out (a layer's next layout
-    # comes PERIOD plus its phase, up to another PERIOD, after its first: 0.2 s at most)
     scene = hall.app.server.scene
     live = presenter.scene.root + "/"
+
+    def counts() -> list[int]:
+        return [len(_shown(scene, _screen_of_session(session), live)) for session in (presenter, phone)]
+
+    def laid_out() -> bool:  # a layer's next layout comes PERIOD plus its phase after its first (wall time)
+        hall.frames(1)
+        return min(counts()) >= 6
+
+    poll_until(laid_out, timeout=30.0, interval=0.02, what="six labels laid out on both screens", seen=counts)
     for moment in range(8):
         for session in (presenter, phone):
             screen = _screen_of_session(session)

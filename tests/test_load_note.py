@@ -45,3 +45,30 @@ def test_a_slow_loop_is_said_in_the_panel_and_the_note_goes_when_it_keeps_up() -
     finally:
         client.close()
         app.stop()
+
+
+def test_the_load_note_and_the_error_line_speak_the_browsers_language() -> None:
+    """The note the loop writes (English) is shown in each browser's language, and written anew
+    when the browser changes language; so is the error line's headline and its button."""
+    app = create_server("127.0.0.1", 0, verbose=False, start_loop=False)
+    clients = [RawClient(app.port), RawClient(app.port)]
+    try:
+        english, german = app.wait_for_sessions(2).values()
+        german.languages.choose("de")
+        app._show_load(load_note(48, 48, 0, 2.0, 60.0))
+        assert english.gui_load.content.startswith("**Server busy: 24 frames a second** (of 60)")
+        assert german.gui_load.content.startswith("**Server ausgelastet: 24 Bilder pro Sekunde** (von 60)")
+        german.errors.report("a test", ValueError("the error's own words"))
+        assert german.errors.gui_error.content.startswith("**⚠ Etwas ist schiefgegangen**")
+        assert "`a test: ValueError: the error's own words`" in german.errors.gui_error.content
+        assert german.errors.gui_error_dismiss.label == "Meldung schließen"
+        german.languages.choose("nl")
+        assert german.gui_load.content.startswith("**Server druk: 24 beelden per seconde** (van 60)")
+        assert german.errors.gui_error.content.startswith("**⚠ Er ging iets mis**")
+        assert german.errors.gui_error_dismiss.label == "Melding sluiten"
+        app._show_load("")
+        assert not german.gui_load.visible and not english.gui_load.visible
+    finally:
+        for client in clients:
+            client.close()
+        app.stop()

@@ -17,14 +17,21 @@ from typing import Any, TypeVar
 
 import viser
 
+from app.i18n import N_, Phrases, Translator, for_gui
 from app.kit.core.room import Room
 from app.kit.panel.gui import writing_quietly
 
-__all__ = ["ErrorLine", "Guard"]
+__all__ = ["LOAD_PHRASES", "ErrorLine", "Guard"]
 
 R = TypeVar("R")
 
 logger = logging.getLogger("app.session")
+
+LOAD_PHRASES = Phrases(
+    (r"\*\*Server busy: (?P<fps>\d+) frames a second\*\* \(of (?P<hz>\d+)\): the motion is computed as always, "
+     r"shown less often\.",
+     N_("**Server busy: {fps} frames a second** (of {hz}): the motion is computed as always, shown less often.")))
+"""The app loop's load note (`app.main.load_note`, English) and its msgid."""
 
 
 class ErrorLine:
@@ -46,10 +53,12 @@ class ErrorLine:
                  *, last_order: float) -> None:
         gui = client.gui
         self.client = client
+        self.tr: Translator = for_gui(gui)
         self.last_error: str | None = None
         self.error_count = 0
+        self.load_note = ""  # the load note in English, as the app loop wrote it
         self.gui_error = gui.add_markdown("", visible=False)
-        self.gui_error_dismiss = gui.add_button("Dismiss message", color="red", visible=False)
+        self.gui_error_dismiss = gui.add_button(self.tr.gettext("Dismiss message"), color="red", visible=False)
         self.gui_error_dismiss.on_click(guard("dismiss", lambda _event: self.clear()))
         self.gui_load = gui.add_markdown("", visible=False, order=last_order)
 
@@ -67,21 +76,35 @@ class ErrorLine:
         self.last_error = message
         logger.error("client %d: error in %s", self.client.client_id, where, exc_info=error)
         try:
-            self.gui_error.content = f"**⚠ Something went wrong** (the app keeps running)\n\n`{message}`"
+            self._write_error()
             self.gui_error.visible = True
             self.gui_error_dismiss.visible = True
-            self.client.add_notification("Error", message, color="red", auto_close_seconds=10.0,
+            self.client.add_notification(self.tr.gettext("Error"), message, color="red", auto_close_seconds=10.0,
                                          with_close_button=True)
         except Exception:  # noqa: BLE001 - e.g. the client has just disconnected
             logger.exception("client %d: could not show the error message", self.client.client_id)
 
+    def _write_error(self) -> None:
+        """The error line's words in this browser's language (the error's own text as raised)."""
+        headline = self.tr.gettext("**⚠ Something went wrong** (the app keeps running)")
+        self.gui_error.content = f"{headline}\n\n`{self.last_error}`" if self.last_error else ""
+
     def show_load(self, note: str) -> None:
-        """Say (or stop saying) that the server cannot keep its frame rate ("" stops)."""
+        """Say (or stop saying) that the server cannot keep its frame rate: `note` as the app loop
+        writes it (English, `LOAD_PHRASES`; "" stops), shown in this browser's language."""
+        self.load_note = note
         try:
-            self.gui_load.content = note
+            self.gui_load.content = LOAD_PHRASES.in_language(note, self.tr)
             self.gui_load.visible = bool(note)
         except Exception:  # noqa: BLE001 - the client has just gone
             logger.debug("load note not shown", exc_info=True)
+
+    def relabel(self, tr: Translator) -> None:
+        """Write the error line, its button and the load note in `tr`'s language."""
+        self.tr = tr
+        self.gui_error_dismiss.label = tr.gettext("Dismiss message")
+        self._write_error()
+        self.show_load(self.load_note)
 
     def clear(self) -> None:
         """Hide the error message."""

@@ -69,10 +69,11 @@ class Language:
             self.relabel(code)
 
     def parts(self) -> list[Any]:
-        """The panel's parts that relabel themselves (`relabel(tr)`): the live bar and Lecture
-        folder, Ask the class, the Lesson, notes, Share, Task and Mine folders (those built)."""
+        """The panel's parts that relabel themselves (`relabel(tr)`): the error line and load note,
+        the live bar and Lecture folder, Ask the class, the Lesson, notes, Share, Task and Mine
+        folders (those built)."""
         browser: Any = self.browser
-        names = ("lecture", "ask_panel", "lesson_runner", "notes", "share", "task_panel", "own_panel")
+        names = ("errors", "lecture", "ask_panel", "lesson_runner", "notes", "share", "task_panel", "own_panel")
         return [part for name in names if hasattr(part := getattr(browser, name, None), "relabel")]
 
     def relabel(self, language: str) -> None:
