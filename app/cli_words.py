@@ -8,8 +8,9 @@ started from (scripts and tests that read it see English), and one option says i
 (`rigid-body-lab --language nl --help`).  `python -m physics` (a library's CLI) stays English.
 
 `Parser` is an `argparse.ArgumentParser` whose own words (the usage line, the options' heading,
-`-h`'s help, "error:") come from the app's catalogs too; argparse's messages about a bad value
-("invalid choice: ...") stay Python's.
+`-h`'s help, "error:") come from the app's catalogs too, and so do argparse's messages about
+a bad command line ("invalid choice: ...", matched in Python's English by `ARGPARSE_ERRORS`; a
+message of another Python that no entry matches stays as argparse wrote it).
 """
 
 from __future__ import annotations
@@ -19,9 +20,25 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, N_, Translator, translator
+from app.i18n import DEFAULT_LANGUAGE, LANGUAGES, N_, Phrases, Translator, translator
 
-__all__ = ["Parser", "cli_language", "cli_translator"]
+__all__ = ["ARGPARSE_ERRORS", "Parser", "cli_language", "cli_translator"]
+
+_ARGPARSE_ENTRIES = (
+    (r"invalid choice: (?P<value>.+) \(choose from (?P<choices>.+)\)",
+     N_("invalid choice: {value} (choose from {choices})")),
+    (r"invalid (?P<type>\w+) value: (?P<value>.+)", N_("invalid {type} value: {value}")),
+    (r"expected one argument", N_("expected one argument")),
+    (r"unrecognized arguments: (?P<arguments>.+)", N_("unrecognized arguments: {arguments}")),
+    (r"the following arguments are required: (?P<arguments>.+)",
+     N_("the following arguments are required: {arguments}")),
+    (r"ambiguous option: (?P<option>\S+) could match (?P<matches>.+)",
+     N_("ambiguous option: {option} could match {matches}")),
+)
+ARGPARSE_ERRORS = Phrases((r"argument (?P<argument>\S+): (?P<message>.+)", N_("argument {argument}: {message}")),
+                          *_ARGPARSE_ENTRIES, nested={"message": Phrases(*_ARGPARSE_ENTRIES)})
+"""argparse's messages about a bad command line (Python 3.11's English) and their msgids."""
+
 
 def cli_language(argv: Sequence[str]) -> str:
     """The code of the CLI's language: X of `--language X` (or `--language=X`) in `argv` if it is
@@ -59,4 +76,5 @@ class Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         """Print the usage and the error (its prefix translated) to stderr; exit 2."""
         self.print_usage(sys.stderr)
+        message = ARGPARSE_ERRORS.in_language(message, self.tr)
         self.exit(2, self.tr.gettext("{prog}: error: {message}").format(prog=self.prog, message=message) + "\n")

@@ -149,6 +149,22 @@ def test_the_command_lines_errors_in_its_language(capsys: pytest.CaptureFixture[
     assert err.startswith("Aufruf: ") and "rigid-body-lab: Fehler: --workers braucht mindestens 1" in err
 
 
+@pytest.mark.parametrize(("argv", "said"), [
+    (["--language", "de", "--port", "x"], "rigid-body-lab: Fehler: Argument --port: ungültiger int-Wert: 'x'"),
+    (["--language", "nl", "--port"], "rigid-body-lab: fout: argument --port: verwacht één argument"),
+    (["--language=nl", "--scene", "x"], "rigid-body-lab: fout: onbekende argumenten: --scene x"),
+    (["--language", "de", "--language", "fr"],
+     "rigid-body-lab: Fehler: Argument --language: ungültige Auswahl: 'fr' (wähle aus 'en', 'nl', 'de')"),
+    (["--port", "x"], "rigid-body-lab: error: argument --port: invalid int value: 'x'"),
+])
+def test_argparses_own_messages_in_the_command_lines_language(capsys: pytest.CaptureFixture[str], argv: list[str],
+                                                               said: str) -> None:
+    with pytest.raises(SystemExit) as caught:
+        _parse_args(argv)
+    assert caught.value.code == 2
+    assert said in capsys.readouterr().err
+
+
 def test_workers_get_the_language_too(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     import app.launch as launch
 
