@@ -176,8 +176,17 @@ def play_and_present(page, session, title: str) -> None:  # type: ignore[no-unty
     choose(page, session.gui_scene, title)
     poll_until(lambda: session.scene.title == title, 15.0, 0.05, what=f"the scene {title!r} chosen",
                seen=lambda: session.scene.title)
-    button(page, "Play").click()
+    press_play(page, session)
     present_in_page(page, session)
+
+
+def press_play(page, session) -> None:  # type: ignore[no-untyped-def]
+    """Press the Play of the view `session` shows now (by its id: right after a scene is chosen,
+    the old scene's Play is still on the page until the new panel arrives, and a press on it
+    reaches nobody); waits until the room plays."""
+    page.locator(f'[id="{session.scene.transport.gui_play._impl.uuid}"]').click(timeout=30_000)
+    poll_until(lambda: session.room.playing, 30.0, 0.05, what=f"{session.scene.title!r} playing after Play",
+               seen=lambda: (session.room.sim.t, session.last_error))
 
 
 def present_and_follow(browser, app: App, presenter_page, presenter, wait_until):  # type: ignore[no-untyped-def]

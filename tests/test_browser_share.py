@@ -15,7 +15,7 @@ import re
 import pytest
 from conftest import keep_picture
 from test_browser import choose
-from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, received, text_input  # noqa: F401
+from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, press_play, received, text_input  # noqa: F401
 
 from app.main import App
 from app.sharestore import DEFAULT_TTL_S
@@ -42,7 +42,7 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
     sharer_page, sharer = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
     choose(sharer_page, sharer.gui_scene, "Heavy top")
     wait_until(lambda: sharer.scene.title == "Heavy top", timeout=15.0)
-    sharer_page.get_by_role("button", name="Play", exact=True).click()
+    press_play(sharer_page, sharer)
     wait_until(lambda: sharer.room.sim.t > 0.5, timeout=15.0)
     sharer_page.get_by_role("button", name="Pause", exact=True).click()
     wait_until(lambda: not sharer.room.playing, timeout=10.0)
