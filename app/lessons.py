@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib.resources.abc import Traversable
@@ -203,14 +204,18 @@ def _questions(entry: dict[str, Any], where: str, scene: str, scenes: dict[str, 
     return asks
 
 
+_FIELD_NAMED = re.compile(r"[A-Za-z_][\w\[\]]*: ")  # a question's fault that begins with its field: "options[1]: "
+
+
 def _question(spec: Any, where: str, scene: str, scenes: dict[str, Any]) -> Question:
     """A step's "ask" in one language, checked (a state question's scene defaults to the step's, and must be one)."""
     if isinstance(spec, dict) and spec.get("kind") == "state" and "scene" not in spec:
         spec = {**spec, "scene": scene}
     try:
         question = question_from_dict(spec)
-    except ValueError as error:
-        raise LessonError(f"{where}.ask.{error}") from None
+    except ValueError as error:  # "prompt: ..." names the field; a sentence that names none is the ask's
+        named = _FIELD_NAMED.match(str(error)) is not None
+        raise LessonError(f"{where}.ask.{error}" if named else f"{where}.ask: {error}") from None
     if isinstance(question, State) and question.scene not in scenes:
         raise LessonError(f"{where}.ask.scene: {question.scene!r} is not a scene ({', '.join(scenes)})")
     return question

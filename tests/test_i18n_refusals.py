@@ -213,7 +213,10 @@ def test_every_judge_and_lesson_file_pattern_matches_its_english_and_has_a_trans
 
     class Sample(dict[str, str]):
         def __missing__(self, name: str) -> str:
-            samples = {"where": "steps[0].camera", "preset": "'Spin'", "rate": "1000", "type": "int"}
+            samples = {"where": "steps[0].camera", "preset": "'Spin'", "rate": "1000", "type": "int",
+                       "most": "80", "count": "81", "least": "2", "last": "1", "number": "1e+13", "lo": "0.1",
+                       "hi": "179", "kind": "choice", "judge": "attitude", "key": "within_deg",
+                       "example": '{"angles_deg": [φ, θ, ψ]}'}
             return samples.get(name, "Heavy top")
 
     tr = translator(language)

@@ -41,6 +41,7 @@ from app.kit.draw.labels import LabelLayer
 from app.kit.panel.binding import Binding, Clock, bind, install_typing_guard
 from app.kit.panel.gui import MessageLine, Quiet, Tabs, Transport
 from app.kit.panel.timeline import Timeline
+from app.kit.run_words import RUN_MESSAGES
 from app.viser_internals import panel_checkboxes, panel_inputs, remove_under
 
 __all__ = ["PLOT_TABS", "SceneView", "nth"]
@@ -283,8 +284,9 @@ class SceneView:
         raise NotImplementedError
 
     def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
-        """Say `text` in the message line, until `stale()` says it no longer holds."""
-        self.message.show(text, stale)
+        """Say `text` in the message line, until `stale()` says it no longer holds; a run's stop
+        the room says in English (`app.kit.run_words.RUN_MESSAGES`) in this view's language."""
+        self.message.show(RUN_MESSAGES.in_language(text, self.tr), stale)
 
     gizmos_hidden = False
     """True while the browser renders a screenshot: the drag gizmos stay hidden (`hide_gizmos`)."""

@@ -24,6 +24,7 @@ from app.kit.rigid.hand import HandControls
 from app.kit.rigid.lagrange_arrows import GeneralizedForceArrows
 from app.kit.rigid.scene import RigidBodyScene
 from app.kit.rigid.text import accuracy_text, integrator_hint, lagrange_text, readout_text, status_text
+from app.kit.run_words import METHOD_REFUSALS
 from app.kit.view import nth
 from physics.dynamics import State
 from physics.euler import GimbalLockError, matrix_from_euler_zxz
@@ -258,8 +259,8 @@ class RigidBodyPanel(RigidBodyScene):
     # ------------------------------------------------------------------ actions
     def set_integrator(self, name: str) -> None:
         message = self.sim.set_integrator(name)
-        if message is not None:
-            self.message.show(message)
+        if message is not None:  # the simulation's English words, in this browser's language
+            self.message.show(METHOD_REFUSALS.in_language(message, self.tr))
         self.room.refresh()
 
     # ------------------------------------------------------------------ text
