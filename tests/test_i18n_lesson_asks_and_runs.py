@@ -7,41 +7,18 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
+from test_i18n_refusals import hall  # noqa: F401 - the fixture: the app and join(language)
 
 from app.i18n import translator
 from app.lessons import LessonError, load_lesson
-from app.main import create_server
-from tests.conftest import RawClient, poll_until
+from tests.conftest import poll_until
 
 STEP = {"scene": "Heavy top", "text": "t"}
 ATTITUDE = {"kind": "state", "prompt": "Where?", "judge": "attitude"}
-
-
-@pytest.fixture
-def hall(tmp_path: Path) -> Iterator[Any]:
-    """The app without its loop, its data folder a temporary one; (app, join(language) -> session)."""
-    running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, data_dir=tmp_path)
-    clients: list[RawClient] = []
-
-    def join(language: str = "en") -> Any:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        session = poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                             timeout=20.0, what="the new browser's session")
-        session.set_language(language)
-        return session
-
-    try:
-        yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
 
 
 def _imported(session: Any, name: str, ask: Any) -> str:
@@ -55,7 +32,7 @@ def _imported(session: Any, name: str, ask: Any) -> str:
     return str(mine.gui_status.content)
 
 
-def test_a_lesson_steps_bad_question_and_target_are_said_in_dutch_and_german(hall: Any) -> None:
+def test_a_lesson_steps_bad_question_and_target_are_said_in_dutch_and_german(hall: Any) -> None:  # noqa: F811
     """A Dutch and a German lecturer import lessons whose step's `ask` is broken (the question's
     words, its options, a State question's judge and target): each reads the file, the field and
     the fault in their language, the values the file must hold as the file spells them."""
@@ -141,7 +118,7 @@ def _heavy_top(join: Any, language: str, preset: str) -> tuple[Any, Any]:
     return session, session.scene
 
 
-def test_the_euler_angle_lagrangian_stopping_at_the_vertical_is_said_in_german(hall: Any) -> None:
+def test_the_euler_angle_lagrangian_stopping_at_the_vertical_is_said_in_german(hall: Any) -> None:  # noqa: F811
     """A German browser runs the heavy top through the vertical with the Euler-angle Lagrangian:
     the stop (the singular Lagrangian, going on with the splitting) is said in German, the
     numbers with a decimal comma, the methods' names as the dropdown shows them."""
@@ -162,7 +139,7 @@ def test_the_euler_angle_lagrangian_stopping_at_the_vertical_is_said_in_german(h
     assert session.error_count == 0, session.last_error
 
 
-def test_choosing_the_euler_angle_lagrangian_at_the_vertical_is_refused_in_dutch(hall: Any) -> None:
+def test_choosing_the_euler_angle_lagrangian_at_the_vertical_is_refused_in_dutch(hall: Any) -> None:  # noqa: F811
     """A Dutch browser sets θ = 0 and picks the Euler-angle Lagrangian: refused in Dutch, the
     method in use kept; an English browser reads the simulation's own words."""
     _app, join = hall
