@@ -19,7 +19,9 @@ session; `app.main` calls it for every new browser).
 Every action checks who may do it on the server (a hostile page can press hidden buttons and
 send any value): a student reads only their own submissions, the lecturer's buttons need the
 presenter code checked in this browser, `Make a task` needs this browser to present.  A refusal
-is said in the folder and changes nothing.
+is said in the folder and changes nothing; a `Make a task` form filled wrongly (the due time, the
+attempts, the words, the Ask form's question) is said under its button in the browser's language,
+the field named as the form names it (`MAKER_FIELDS`).
 """
 
 from __future__ import annotations
