@@ -31,12 +31,15 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 from app.ask.tally_text import TallyView as Tally
+from app.i18n import N_
+from physics.refusal import Refusal
 
 if TYPE_CHECKING:
     from app.ask.judges import Judged
 
 __all__ = ["DIRECTION_RIGHT_DEG", "KINDS", "MAX_NUMBER", "MAX_OPTIONS", "MAX_OPTION_CHARS", "MAX_PROMPT_CHARS",
-           "MIN_OPTIONS", "Choice", "Direction", "Number", "Question", "QuestionKind", "State", "finite_number",
+           "MIN_OPTIONS", "Choice", "Direction", "Number", "Question", "QuestionKind", "QuestionRefused", "State",
+           "finite_number",
            "question_from_dict", "question_to_dict", "unit_vector"]
 
 MIN_OPTIONS = 2
@@ -50,19 +53,27 @@ MAX_UNIT_CHARS = 20
 BAR_CHARS = 16  # the longest bar of a histogram (text)
 
 
+class QuestionRefused(Refusal):
+    """A question (or an answer) that is not one: a ValueError naming the field (`where`), its
+    English words a msgid template with its fields (said in a reader's language by
+    `app.i18n.refusal_text`)."""
+
+
 def finite_number(value: Any, where: str = "answer") -> float:
     """`value` (an int or float, not a bool or a text) as a finite float of size at most
     MAX_NUMBER; ValueError naming `where` otherwise (NaN, inf, 1e400, "3")."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ValueError(f"{where}: a number wanted, got {_short(value)}")
+        raise QuestionRefused(N_("{where}: a number wanted, got {got}"), where=where, got=_short(value))
     try:
         number = float(value)
     except OverflowError:
-        raise ValueError(f"{where}: a number of size at most {MAX_NUMBER:g} wanted, got a huge one") from None
+        raise QuestionRefused(N_("{where}: a number of size at most {most} wanted, got a huge one"), where=where,
+                              most=f"{MAX_NUMBER:g}") from None
     if not math.isfinite(number):
-        raise ValueError(f"{where}: a finite number wanted, got {_short(value)}")
+        raise QuestionRefused(N_("{where}: a finite number wanted, got {got}"), where=where, got=_short(value))
     if abs(number) > MAX_NUMBER:
-        raise ValueError(f"{where}: a number of size at most {MAX_NUMBER:g} wanted, got {number:g}")
+        raise QuestionRefused(N_("{where}: a number of size at most {most} wanted, got {got}"), where=where,
+                              most=f"{MAX_NUMBER:g}", got=f"{number:g}")
     return number
 
 
@@ -132,16 +143,17 @@ class QuestionKind(Protocol):
 def unit_vector(value: Any, where: str = "direction") -> tuple[float, float, float]:
     """`value` (three finite numbers, not all zero) normalized to a unit 3-vector; ValueError otherwise."""
     if isinstance(value, str | bytes) or not hasattr(value, "__len__") or len(value) != 3:
-        raise ValueError(f"{where}: three numbers wanted, got {_short(value)}")
+        raise QuestionRefused(N_("{where}: three numbers wanted, got {got}"), where=where, got=_short(value))
     try:
         x, y, z = (float(v) for v in value)
     except (TypeError, ValueError):
-        raise ValueError(f"{where}: three numbers wanted, got {_short(value)}") from None
+        raise QuestionRefused(N_("{where}: three numbers wanted, got {got}"), where=where,
+                              got=_short(value)) from None
     if any(isinstance(v, bool) for v in value) or not all(map(math.isfinite, (x, y, z))):
-        raise ValueError(f"{where}: three finite numbers wanted, got {_short(value)}")
+        raise QuestionRefused(N_("{where}: three finite numbers wanted, got {got}"), where=where, got=_short(value))
     norm = math.sqrt(x * x + y * y + z * z)
     if norm < 1e-9:
-        raise ValueError(f"{where}: a direction needs a nonzero vector")
+        raise QuestionRefused(N_("{where}: a direction needs a nonzero vector"), where=where)
     return x / norm, y / norm, z / norm
 
 
@@ -152,9 +164,10 @@ def _short(value: Any) -> str:
 
 def _prompt(value: Any) -> str:
     if not isinstance(value, str) or not value.strip():
-        raise ValueError("prompt: the question's words are missing")
+        raise QuestionRefused(N_("{where}: the question's words are missing"), where="prompt")
     if len(value) > MAX_PROMPT_CHARS:
-        raise ValueError(f"prompt: at most {MAX_PROMPT_CHARS} characters (got {len(value)})")
+        raise QuestionRefused(N_("{where}: at most {most} characters (got {count})"), where="prompt",
+                              most=MAX_PROMPT_CHARS, count=len(value))
     return value.strip()
 
 
@@ -177,9 +190,11 @@ class Choice:
         object.__setattr__(self, "prompt", _prompt(self.prompt))
         options = self.options
         if isinstance(options, str) or not isinstance(options, tuple | list):
-            raise ValueError("options: a list of 2 to 6 texts wanted")
+            raise QuestionRefused(N_("{where}: a list of {least} to {most} texts wanted"), where="options",
+                                  least=MIN_OPTIONS, most=MAX_OPTIONS)
         if not MIN_OPTIONS <= len(options) <= MAX_OPTIONS:
-            raise ValueError(f"options: {MIN_OPTIONS} to {MAX_OPTIONS} options wanted (got {len(options)})")
+            raise QuestionRefused(N_("{where}: {least} to {most} options wanted (got {count})"), where="options",
+                                  least=MIN_OPTIONS, most=MAX_OPTIONS, count=len(options))
         cleaned = []
         for k, option in enumerate(options):
             if not isinstance(option, str) or not option.strip():
@@ -188,12 +203,13 @@ class Choice:
                 raise ValueError(f"options[{k}]: at most {MAX_OPTION_CHARS} characters")
             cleaned.append(option.strip())
         if len(set(cleaned)) != len(cleaned):
-            raise ValueError("options: two options are the same")
+            raise QuestionRefused(N_("{where}: two options are the same"), where="options")
         object.__setattr__(self, "options", tuple(cleaned))
         correct = self.correct
         if correct is not None and (isinstance(correct, bool) or not isinstance(correct, int)
                                     or not 0 <= correct < len(cleaned)):
-            raise ValueError(f"correct: an option's index 0..{len(cleaned) - 1} or none, got {_short(correct)}")
+            raise QuestionRefused(N_("{where}: an option's index 0..{last} or none, got {got}"), where="correct",
+                                  last=len(cleaned) - 1, got=_short(correct))
 
     def check(self, value: Any) -> int:
         """An answer as an option's index; ValueError for anything else."""
@@ -435,11 +451,13 @@ class Number:
         if self.value is not None:
             object.__setattr__(self, "value", finite_number(self.value, "value"))
         if not isinstance(self.unit, str) or len(self.unit.strip()) > MAX_UNIT_CHARS:
-            raise ValueError(f"unit: a text of at most {MAX_UNIT_CHARS} characters wanted, got {_short(self.unit)}")
+            raise QuestionRefused(N_("{where}: a text of at most {most} characters wanted, got {got}"), where="unit",
+                                  most=MAX_UNIT_CHARS, got=_short(self.unit))
         object.__setattr__(self, "unit", self.unit.strip())
         tolerance = finite_number(self.tolerance, "tolerance")
         if tolerance < 0.0:
-            raise ValueError(f"tolerance: zero or more wanted, got {tolerance:g}")
+            raise QuestionRefused(N_("{where}: zero or more wanted, got {got}"), where="tolerance",
+                                  got=f"{tolerance:g}")
         object.__setattr__(self, "tolerance", tolerance)
 
     def check(self, value: Any) -> float:

@@ -20,7 +20,7 @@ import viser
 
 from app.ask import JUDGES, Question, State, question_from_dict
 from app.ask.judges import MOTION_WORDS
-from app.ask.questions import MAX_OPTIONS
+from app.ask.questions import MAX_OPTION_CHARS, MAX_OPTIONS, QuestionRefused
 from app.i18n import N_, Translator, for_gui
 from app.kit.core.common import Wrap, show_if_changed
 
@@ -40,6 +40,7 @@ STATE_HINT = N_("your copy's state as it is now")
 ANSWER_LABEL, ANSWER_HINT = N_("Your answer"), N_("a number in the question's unit")
 NUMBER_HINT = N_("the number in the box")
 NONE = N_("none")  # a form dropdown's "nothing chosen" (the right option, the judge)
+TARGET = N_("Target")  # the State form's target field (a refusal names it)
 ARROW_LENGTH = 2.2  # [scene units] a student's arrow (out of the scenes' bodies)
 ARROW_COLOR = (0, 150, 150)  # teal: no axis, vector or pointer of the scenes has it
 ASK_ROOT = "/ask"  # the presenter's sphere and a student's arrow, each in its own browser's scene
@@ -83,19 +84,22 @@ def target_of(judge_name: str, text: str) -> dict[str, Any] | None:
         try:
             angles = [float(part) for part in text.replace("(", "").replace(")", "").replace(";", ",").split(",")]
         except ValueError:
-            raise ValueError(f"Target: φ, θ, ψ in degrees wanted, got {text!r}") from None
+            raise QuestionRefused(N_("{where}: φ, θ, ψ in degrees wanted, got {got}"), where=TARGET,
+                                  got=repr(text)) from None
         if len(angles) != 3:
-            raise ValueError(f"Target: three angles φ, θ, ψ [deg] wanted, got {len(angles)}")
+            raise QuestionRefused(N_("{where}: three angles φ, θ, ψ [deg] wanted, got {count}"), where=TARGET,
+                                  count=len(angles))
         return {"angles_deg": angles}
     if judge_name == "top_motion":
         if text not in MOTION_WORDS.values():
-            raise ValueError(f"Target: one of {', '.join(MOTION_WORDS.values())}, got {text!r}")
+            raise QuestionRefused(N_("{where}: one of {choices}, got {got}"), where=TARGET,
+                                  choices=", ".join(MOTION_WORDS.values()), got=repr(text))
         return {"motion": text}
     if judge_name == "axis_stays":
         if text not in ("stays", "flips"):
-            raise ValueError(f"Target: stays or flips, got {text!r}")
+            raise QuestionRefused(N_("{where}: stays or flips, got {got}"), where=TARGET, got=repr(text))
         return {"stays": text == "stays"}
-    raise ValueError("Target: choose a judge first")
+    raise QuestionRefused(N_("{where}: choose a judge first"), where=TARGET)
 
 
 def direction_of(azimuth_deg: float, elevation_deg: float) -> tuple[float, float, float]:
@@ -134,7 +138,7 @@ def _float_or_none(text: str, where: str) -> float | None:
     try:
         return float(text)
     except ValueError:
-        raise ValueError(f"{where}: a number wanted, got {text!r}") from None
+        raise QuestionRefused(N_("{where}: a number wanted, got {got}"), where=where, got=repr(text)) from None
 
 
 # ---------------------------------------------------------------------- the protocols
@@ -195,10 +199,15 @@ class ChoiceForm:
 
     def question(self, prompt: str) -> Question:
         options = [o.strip() for o in str(self.gui_options.value).split("|") if o.strip()]
+        for number, option in enumerate(options, start=1):
+            if len(option) > MAX_OPTION_CHARS:
+                raise QuestionRefused(N_("{where}: option {number} is longer than {most} characters"),
+                                      where=N_("Options"), number=number, most=MAX_OPTION_CHARS)
         chosen = for_gui(self.gui).english(str(self.gui_correct.value), (NONE,))
         correct = None if chosen == NONE else int(chosen) - 1
         if correct is not None and correct >= len(options):
-            raise ValueError(f"the right option {correct + 1} is not one of the {len(options)} options")
+            raise QuestionRefused(N_("{where}: option {number} is not one of the {count} options"),
+                                  where=N_("Right option"), number=correct + 1, count=len(options))
         return question_from_dict({"kind": "choice", "prompt": prompt, "options": options, "correct": correct})
 
     def fill(self, question: Any) -> None:
@@ -221,7 +230,8 @@ class DirectionForm:
             try:
                 truth = [float(part) for part in text.replace(";", ",").split(",")]
             except ValueError:
-                raise ValueError(f"True direction: three numbers x, y, z wanted, got {text!r}") from None
+                raise QuestionRefused(N_("{where}: three numbers x, y, z wanted, got {got}"),
+                                      where=N_("True direction"), got=repr(text)) from None
         return question_from_dict({"kind": "direction", "prompt": prompt, "truth": truth})
 
     def fill(self, question: Any) -> None:
@@ -268,8 +278,8 @@ class NumberForm:
         self.with_options: tuple[Any, ...] = ()
 
     def question(self, prompt: str) -> Question:
-        value = _float_or_none(str(self.gui_value.value), "Right value")
-        tolerance = _float_or_none(str(self.gui_tolerance.value), "Tolerance")
+        value = _float_or_none(str(self.gui_value.value), N_("Right value"))
+        tolerance = _float_or_none(str(self.gui_tolerance.value), N_("Tolerance"))
         return question_from_dict({"kind": "number", "prompt": prompt, "value": value,
                                    "unit": str(self.gui_unit.value), "tolerance": tolerance or 0.0})
 

@@ -86,7 +86,7 @@ def _clean_text(value: Any, where: str, most: int, *, allow_newlines: bool = Fal
     if value is None:
         return ""
     if not isinstance(value, str):
-        raise TaskRefused(f"{where}: a text wanted")
+        raise TaskRefused(N_("{where}: a text wanted"), where=where)
     if len(value) > most:
         raise TaskRefused(N_("{where}: at most {most} characters, got {count}"), where=where, most=most,
                           count=len(value))
@@ -110,9 +110,11 @@ class Policy:
     def __post_init__(self) -> None:
         a = self.attempts
         if a is not None and (isinstance(a, bool) or not isinstance(a, int) or not 1 <= a <= MAX_ATTEMPTS):
-            raise TaskRefused(f"attempts: 1 to {MAX_ATTEMPTS}, or unlimited, got {a!r}")
+            raise TaskRefused(N_("{where}: 1 to {most}, or unlimited, got {got}"), where="attempts", most=MAX_ATTEMPTS,
+                              got=repr(a))
         if self.counts not in COUNTS:
-            raise TaskRefused(f"counts: one of {', '.join(COUNTS)}, got {self.counts!r}")
+            raise TaskRefused(N_("{where}: one of {choices}, got {got}"), where="counts", choices=", ".join(COUNTS),
+                              got=repr(self.counts))
 
     def words(self) -> str:
         """"1 attempt", "3 attempts, the best counts", "unlimited attempts, the last counts"."""
@@ -192,19 +194,21 @@ def make_task(code: str, questions: Any, *, due: float, now: float, attempts: in
     TaskRefused (or ValueError from a question) naming what is wrong."""
     items = list(questions) if isinstance(questions, list | tuple) else [questions]
     if not 1 <= len(items) <= MAX_QUESTIONS:
-        raise TaskRefused(f"questions: 1 to {MAX_QUESTIONS} wanted, got {len(items)}")
+        raise TaskRefused(N_("{where}: 1 to {most} wanted, got {count}"), where="questions", most=MAX_QUESTIONS,
+                          count=len(items))
     checked = tuple(question_from_dict(q) for q in items)
     if isinstance(due, bool) or not isinstance(due, int | float) or not math.isfinite(due):
-        raise TaskRefused("due: a time wanted")
+        raise TaskRefused(N_("{where}: a time wanted"), where="due")
     if due <= now:
-        raise TaskRefused("due: the due time has passed already")
+        raise TaskRefused(N_("{where}: the due time has passed already"), where="due")
     if due > now + MAX_DUE_AHEAD_S:
-        raise TaskRefused(f"due: at most {MAX_DUE_AHEAD_S / 86400:.0f} days ahead")
+        raise TaskRefused(N_("{where}: at most {days} days ahead"), where="due", days=f"{MAX_DUE_AHEAD_S / 86400:.0f}")
     if not math.isfinite(expire_after_s) or expire_after_s <= 0:
-        raise TaskRefused("expire_after_s: a positive number of seconds wanted")
+        raise TaskRefused(N_("{where}: a positive number of seconds wanted"), where="expire_after_s")
     given = tuple(places or ())
     if given and len(given) != len(checked):
-        raise TaskRefused(f"places: one (scene, preset) per question wanted, got {len(given)} for {len(checked)}")
+        raise TaskRefused(N_("{where}: one (scene, preset) per question wanted, got {count} for {questions}"),
+                          where="places", count=len(given), questions=len(checked))
     cleaned = tuple((_clean_text(scene_, "scene", MAX_SCENE_CHARS) or None,
                      _clean_text(preset_, "preset", MAX_SCENE_CHARS) or None) for scene_, preset_ in given)
     return Task(code=code, questions=checked, places=cleaned, due=float(due), created=float(now),

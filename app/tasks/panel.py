@@ -19,7 +19,9 @@ session; `app.main` calls it for every new browser).
 Every action checks who may do it on the server (a hostile page can press hidden buttons and
 send any value): a student reads only their own submissions, the lecturer's buttons need the
 presenter code checked in this browser, `Make a task` needs this browser to present.  A refusal
-is said in the folder and changes nothing.
+is said in the folder and changes nothing; a `Make a task` form filled wrongly (the due time, the
+attempts, the words, the Ask form's question) is said under its button in the browser's language,
+the field named as the form names it (`MAKER_FIELDS`).
 """
 
 from __future__ import annotations
@@ -188,11 +190,28 @@ def _verdict_cell(row: GradebookRow) -> str:
     return " · ".join(marks)
 
 
-def _hours(value: Any) -> float:
-    hours = float(value)
-    if not math.isfinite(hours) or not 0.0 < hours <= 24 * 400:
-        raise TaskRefused("Due in [h]: a number of hours, more than 0 and at most 9600")
+MAX_DUE_HOURS = 24 * 400  # [h] `Due in [h]` and `New due in [h]` at most this (model.MAX_DUE_AHEAD_S)
+
+
+def _hours(value: Any, where: str = N_("Due in [h]")) -> float:
+    """[h] a due time typed in the field `where` (a msgid); TaskRefused naming it unless a number
+    more than 0 and at most MAX_DUE_HOURS."""
+    try:
+        hours = float(value)
+    except (TypeError, ValueError):
+        hours = math.nan
+    if not math.isfinite(hours) or not 0.0 < hours <= MAX_DUE_HOURS:
+        raise TaskRefused(N_("{where}: a number of hours, more than 0 and at most {most}"), where=where,
+                          most=MAX_DUE_HOURS)
     return hours
+
+
+MAKER_FIELDS = {"due": N_("Due in [h]"), "attempts": N_("Attempts"), "counts": N_("Counts"),
+                "words": N_("Words for the task"), "prompt": N_("Question"), "options": N_("Options"),
+                "correct": N_("Right option"), "value": N_("Right value"), "unit": N_("Unit"),
+                "tolerance": N_("Tolerance"), "truth": N_("True direction")}
+"""A task's or a question's field a refusal names (`model.make_task`'s, `app.ask.questions`'
+`where`) -> the field of `Make a task` or the Ask form the lecturer fills (a msgid)."""
 
 
 def attach_tasks(session: Any, store: TaskRules) -> TaskPanel:
@@ -248,39 +267,64 @@ class TaskMaking:
             raise PermissionError("only the presenter can make a task")
 
     def add_to_worksheet(self) -> None:
-        """The Ask form's question joins the worksheet of the next task made here."""
+        """The Ask form's question joins the worksheet of the next task made here; a form filled
+        wrongly is said under the button in this browser's language (`_refused`), nothing added."""
         self._presenting()
         assert self.ask is not None
-        if len(self.worksheet) >= MAX_QUESTIONS:
-            raise TaskRefused(f"a worksheet has at most {MAX_QUESTIONS} questions")
-        scene, preset = self._place_now()
-        self.worksheet.append((self.ask.form_question(), scene, preset))
         tr = for_gui(self.session.client.gui)
+        try:
+            if len(self.worksheet) >= MAX_QUESTIONS:
+                raise TaskRefused(N_("A worksheet has at most {most} questions."), most=MAX_QUESTIONS)
+            question = self.ask.form_question()
+        except ValueError as error:
+            self._said_made(self._refused(error, tr))
+            return
+        scene, preset = self._place_now()
+        self.worksheet.append((question, scene, preset))
         self._said_made(tr.ngettext("{count} question in the worksheet; *{make}* makes the task of them.",
                                     "{count} questions in the worksheet; *{make}* makes the task of them.",
                                     len(self.worksheet)).format(count=len(self.worksheet), make=tr.gettext(MAKE_LABEL)))
 
-    def make_from_form(self) -> Task:
+    def make_from_form(self) -> Task | None:
         """`Make a task`: the worksheet's questions (or the Ask form's question alone), the scene
-        and preset shown, due `Due in [h]` from now: a task; its code said under the button."""
+        and preset shown, due `Due in [h]` from now: a task; its code said under the button.  A
+        form filled wrongly is said there instead, in this browser's language (None, nothing made)."""
         self._presenting()
         assert self.ask is not None
-        entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
-        words = self.maker_words
-        attempts = (None if words.english(self.gui_attempts.value) == "unlimited"
-                    else int(words.english(self.gui_attempts.value)))
-        task = self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * _hours(self.gui_due.value),
-                                 attempts=attempts, counts=words.english(self.gui_counts.value), scene=entries[0][1],
-                                 preset=entries[0][2], words=str(self.gui_words.value),
-                                 places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
+        tr = for_gui(self.session.client.gui)
+        try:
+            task = self._task_of_form()
+        except ValueError as error:  # a TaskRefused, or the Ask form's question check
+            self._said_made(self._refused(error, tr))
+            return None
         self.worksheet = []
         self.made = task
-        tr = for_gui(self.session.client.gui)
         self._said_made(tr.gettext("Task code **{code}** · due {due} · {policy}: students type it in the {folder} "
                                    "folder and open it.").format(code=task.shown_code, due=iso_time(task.due),
                                                                   policy=policy_words(task, tr),
                                                                   folder=tr.gettext(TASK_FOLDER)))
         return task
+
+    def _task_of_form(self) -> Task:
+        """The task the form and the worksheet describe, kept in the store; ValueError (a
+        TaskRefused, or a question's check) naming what is wrong, nothing kept."""
+        assert self.ask is not None
+        entries = list(self.worksheet) or [(self.ask.form_question(), *self._place_now())]
+        words = self.maker_words
+        chosen = words.english(self.gui_attempts.value)
+        if chosen not in ATTEMPT_CHOICES:  # a client can send anything
+            raise TaskRefused(N_("{where}: choose one of the options"), where="attempts")
+        hours = _hours(self.gui_due.value)
+        return self.store.create([q for q, _, _ in entries], due=self.clock() + 3600.0 * hours,
+                                 attempts=None if chosen == "unlimited" else int(chosen),
+                                 counts=words.english(self.gui_counts.value), scene=entries[0][1],
+                                 preset=entries[0][2], words=str(self.gui_words.value),
+                                 places=[(scene, preset) for _, scene, preset in entries] if len(entries) > 1 else ())
+
+    @staticmethod
+    def _refused(error: ValueError, tr: Translator) -> str:
+        """What the form's refusal `error` says, in `tr`'s language, the field named as the form names it."""
+        return refusal_words(error, tr, MAKER_FIELDS)
 
     def _place_now(self) -> tuple[str | None, str | None]:
         """(scene, preset) of the room shown now."""
@@ -674,7 +718,7 @@ class TaskPanel(TaskMaking):
         self.refresh_table()
 
     def extend(self, hours: Any) -> None:
-        self.store.extend(self._lecturers().code, self.clock() + 3600.0 * _hours(hours))
+        self.store.extend(self._lecturers().code, self.clock() + 3600.0 * _hours(hours, N_("New due in [h]")))
         self.refresh_table()
 
     def _store_changed(self, code: str) -> None:

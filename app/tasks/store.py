@@ -262,7 +262,7 @@ class TaskRules:
         task = self.task(text)
         now = self.clock()
         if due <= now:
-            raise TaskRefused("the new due time has passed already")
+            raise TaskRefused(N_("the new due time has passed already"))
         extended = dataclasses.replace(task, due=float(due), closed=False)
         self._save_task(extended)
         self._changed(task.code)

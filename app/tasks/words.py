@@ -9,6 +9,7 @@ name ("Name: at most 80 characters, got 95") translated; codes, dates and number
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from app.ask.verdict_words import judge_refusal_words, verdict_in_language
@@ -22,9 +23,10 @@ FIELD_NAMES = (N_("Name"), N_("Student number"))
 """The fields a student types whose name a refusal says (`model.check_student`'s `where`)."""
 
 
-def refusal_words(error: BaseException, tr: Translator) -> str:
+def refusal_words(error: BaseException, tr: Translator, names: Mapping[str, str] | None = None) -> str:
     """What `error` says, in `tr`'s language (`app.i18n.refusal_text`), its `error` field (an
-    answer's check or a judge's words) and `where` (a field's name) translated too."""
+    answer's check or a judge's words) and `where` (a field's name) translated too; `names`: a
+    field's name -> the msgid a form calls it ("words" -> "Words for the task")."""
     fields = getattr(error, "fields", None)
     if not isinstance(fields, dict):
         return refusal_text(error, tr)
@@ -32,7 +34,8 @@ def refusal_words(error: BaseException, tr: Translator) -> str:
     if "error" in shown:
         shown["error"] = judge_refusal_words(str(shown["error"]), tr)
     if "where" in shown:
-        shown["where"] = tr.gettext(str(shown["where"]))
+        where = str(shown["where"])
+        shown["where"] = tr.gettext((names or {}).get(where, where))
     return refusal_text(error, tr, shown)
 
 
