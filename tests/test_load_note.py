@@ -72,3 +72,32 @@ def test_the_load_note_and_the_error_line_speak_the_browsers_language() -> None:
         for client in clients:
             client.close()
         app.stop()
+
+
+def test_a_refused_form_is_said_in_the_browsers_words_and_other_errors_as_raised() -> None:
+    """A German presenter's `Ask the class` with a right option that is none of the options: the
+    error line says the refusal (a `Refusal`) in German, the form's label too, under "Nicht
+    angenommen"; `last_error` keeps the English for logs and tests; an error that is no refusal
+    is shown as raised."""
+    app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code="864277")
+    client = RawClient(app.port)
+    try:
+        (presenter,) = app.wait_for_sessions(1).values()
+        presenter.languages.choose("de")
+        presenter.present("864277")
+        panel = presenter.ask_panel
+        panel.gui_prompt.value = "Welche?"
+        panel.gui_options.value = "a | b"
+        panel.gui_correct.value = "3"
+        presenter.guard("ask the class", panel.ask_from_form)()
+        assert app.lectern.rounds.current is None  # nothing asked
+        shown = presenter.errors.gui_error.content
+        assert shown.startswith("**⚠ Nicht angenommen**"), shown
+        assert "Richtige Option: Option 3 ist keine der 2 Optionen" in shown
+        assert "QuestionRefused" not in shown and "option 3 is not one of the 2 options" in presenter.last_error
+        presenter.guard("a test", lambda: 1 / 0)()
+        assert presenter.errors.gui_error.content.startswith("**⚠ Etwas ist schiefgegangen**")
+        assert "`a test: ZeroDivisionError: division by zero`" in presenter.errors.gui_error.content
+    finally:
+        client.close()
+        app.stop()

@@ -17,9 +17,10 @@ from typing import Any, TypeVar
 
 import viser
 
-from app.i18n import N_, Phrases, Translator, for_gui
+from app.i18n import N_, Phrases, Translator, for_gui, refusal_text
 from app.kit.core.room import Room
 from app.kit.panel.gui import writing_quietly
+from physics.refusal import Refusal
 
 __all__ = ["LOAD_PHRASES", "ErrorLine", "Guard"]
 
@@ -55,6 +56,7 @@ class ErrorLine:
         self.client = client
         self.tr: Translator = for_gui(gui)
         self.last_error: str | None = None
+        self._refusal: Refusal | None = None  # the error shown, when it is a refusal
         self.error_count = 0
         self.load_note = ""  # the load note in English, as the app loop wrote it
         self.gui_error = gui.add_markdown("", visible=False)
@@ -68,26 +70,43 @@ class ErrorLine:
         return float(self.gui_error_dismiss.order)
 
     def report(self, where: str, error: BaseException) -> None:
-        """Log `error` (with traceback, once per distinct message) and show it in the GUI."""
+        """Log `error` (with traceback, once per distinct message) and show it in the GUI: a
+        refusal of what was typed or sent (`physics.refusal.Refusal`) in the browser's words,
+        any other error as `where: Type: message`."""
         self.error_count += 1
         message = f"{where}: {type(error).__name__}: {error}"
         if message == self.last_error:
             return  # a frame failing at 60 Hz: log and notify once, not 60 times a second
         self.last_error = message
+        self._refusal = error if isinstance(error, Refusal) else None
         logger.error("client %d: error in %s", self.client.client_id, where, exc_info=error)
         try:
             self._write_error()
             self.gui_error.visible = True
             self.gui_error_dismiss.visible = True
-            self.client.add_notification(self.tr.gettext("Error"), message, color="red", auto_close_seconds=10.0,
+            shown = message if self._refusal is None else self._refused_words(self._refusal)
+            self.client.add_notification(self.tr.gettext("Error"), shown, color="red", auto_close_seconds=10.0,
                                          with_close_button=True)
         except Exception:  # noqa: BLE001 - e.g. the client has just disconnected
             logger.exception("client %d: could not show the error message", self.client.client_id)
 
+    def _refused_words(self, refusal: Refusal) -> str:
+        """`refusal` in this browser's language, its fields too where they are words of the panel
+        (a form's label: "Right option")."""
+        return refusal_text(refusal, self.tr, {name: self.tr.gettext(value) if value else value
+                                              for name, value in refusal.fields.items()})
+
     def _write_error(self) -> None:
-        """The error line's words in this browser's language (the error's own text as raised)."""
-        headline = self.tr.gettext("**⚠ Something went wrong** (the app keeps running)")
-        self.gui_error.content = f"{headline}\n\n`{self.last_error}`" if self.last_error else ""
+        """The error line's words in this browser's language: a refusal's own words under "Not
+        accepted", another error's text as raised under "Something went wrong"."""
+        if self.last_error is None:
+            self.gui_error.content = ""
+        elif self._refusal is not None:
+            headline = self.tr.gettext("**⚠ Not accepted**")
+            self.gui_error.content = f"{headline}\n\n{self._refused_words(self._refusal)}"
+        else:
+            headline = self.tr.gettext("**⚠ Something went wrong** (the app keeps running)")
+            self.gui_error.content = f"{headline}\n\n`{self.last_error}`"
 
     def show_load(self, note: str) -> None:
         """Say (or stop saying) that the server cannot keep its frame rate: `note` as the app loop
