@@ -139,3 +139,24 @@ def test_turning_rod_played_for_a_minute_ends_when_the_bead_flies_off_without_a_
     assert session.error_count == 0, session.last_error
     session.reset()
     assert view.message.text == "" and view.sim.t == 0.0
+
+
+def test_the_bead_flying_off_is_said_in_the_browsers_language(manual) -> None:  # type: ignore[no-untyped-def]
+    """The same end in a German browser: the room says it in English, the view writes it in
+    German with a decimal comma; the replay's end line (the room's too) in Dutch."""
+    from app.i18n import translator
+    from app.kit.run_words import RUN_MESSAGES
+
+    session = manual.session
+    session.languages.choose("de")
+    session.select_scene("Constrained particles")
+    session.apply_preset("Turning rod")
+    view = session.scene
+    session.play()
+    manual.tick(60.0, dt=1.0 / 30.0)
+    assert not session.room.playing
+    text = view.message.text
+    assert text.startswith("**■ Die Perle erreichte das Ende des Stabs (|r| = ℓ = 2 m) kurz nach t = 2,7"), text
+    assert "flew off" not in text and session.error_count == 0, session.last_error
+    said = RUN_MESSAGES.in_language("**Replay reached the live moment, t = 3.25 s.**", translator("nl"))
+    assert said == "**De herhaling heeft het live moment bereikt, t = 3,25 s.**"

@@ -6,6 +6,7 @@ body's "euler_lagrange stopped: ... Press Play to go on with splitting4."
 (`app.kit.rigid.simulation.RigidBodySimulation`, where the Euler-angle Lagrangian reaches gimbal
 lock) and "euler_lagrange cannot go on from here: ... Staying with splitting4." (its
 `set_integrator`, the Integrator dropdown at a state the method cannot start from).
+The room's "Replay reached the live moment, t = ... s." too.
 `RUN_MESSAGES.in_language` writes them in a view's language; the methods' names (as the dropdown
 shows them) stay, the numbers take the language's decimal sign.
 
@@ -55,6 +56,8 @@ METHOD_REFUSALS = Phrases(
 RUN_MESSAGES = Phrases(
     (r"The simulation stopped: (?P<error>.+)", N_("The simulation stopped: {error}")),
     (rf"(?P<error>{_METHOD} (?:cannot go on from here|stopped): .+)", "{error}"),
-    nested={"error": METHOD_REFUSALS},
+    (rf"\*\*Replay reached the live moment, t = (?P<t>{_NUMBER}) s\.\*\*",
+     N_("**Replay reached the live moment, t = {t} s.**")),
+    nested={"error": METHOD_REFUSALS}, numbers=("t",),
 )
 """What a view's message line says about its run, matched in English (`SceneView.show_message`)."""

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from app.i18n import N_
+from app.i18n import N_, Phrases
 from app.kit.core.common import RunEnded, SliderSpec
 from app.kit.core.history import Snapshot
 from app.kit.core.presets import PRESETS_DIR, Preset, PresetError, preset_entries
@@ -52,6 +52,18 @@ _MASS = SliderSpec("m", N_("m [kg]"), 0.1, 5.0, 0.1, N_("the particle's mass"))
 _G = SliderSpec("g", N_("g [m/s²]"), 0.0, 20.0, 0.01, N_("gravity, along −z"))
 _FORCE_SCALE = SliderSpec("force_scale", N_("arrow scale [m/N]"), 0.005, 0.5, 0.005,
                           N_("length of a force arrow per newton"))
+
+
+ROD_END = N_("The bead reached the end of the rod (|r| = ℓ = {limit} m) just after t = {t} s and flew off it: "
+             "on a turning rod r grows like cosh Ωt, so the motion on the rod ends there. ⟲ Reset to watch it again.")
+"""The run's natural end (`RunEnded`): the bead leaves the rod; {limit} [m] and {t} [s] as numbers."""
+ROD_END_WORDS = Phrases(
+    (r"The bead reached the end of the rod \(\|r\| = ℓ = (?P<limit>[-0-9.e+]+) m\) just after t = (?P<t>[-0-9.]+) s "
+     r"and flew off it: on a turning rod r grows like cosh Ωt, so the motion on the rod ends there\. "
+     r"⟲ Reset to watch it again\.", ROD_END),
+    numbers=("limit", "t"),
+)
+"""ROD_END as the room says it (English), matched whole and written in a reader's language."""
 
 
 @dataclass(frozen=True)
@@ -232,9 +244,7 @@ class ConstrainedSimulation:
             self.integrator.advance(dt)
         except LeftTheConstraint:
             limit = self.system.limit
-            raise RunEnded(f"The bead reached the end of the rod (|r| = ℓ = {limit:g} m) just after "
-                           f"t = {self.t:.2f} s and flew off it: on a turning rod r grows like cosh Ωt, so "
-                           "the motion on the rod ends there. ⟲ Reset to watch it again.") from None
+            raise RunEnded(ROD_END.format(limit=f"{limit:g}", t=f"{self.t:.2f}")) from None
         self._evaluation = None
         self._record()
         self.version += 1

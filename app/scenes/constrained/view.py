@@ -52,6 +52,7 @@ from app.kit.view import SceneView, nth
 from app.scenes.constrained.readouts import conserved_text, key_numbers_of, readout_text, status_text
 from app.scenes.constrained.simulation import (
     GUIDE_POINTS,
+    ROD_END_WORDS,
     ConstrainedSetup,
     ConstrainedSimulation,
     load_constrained_presets,
@@ -319,6 +320,13 @@ class ConstrainedView(SceneView):
         return apply
 
     # ------------------------------------------------------------------ the view protocol
+    def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
+        """Say `text` (`SceneView.show_message`); the room's "■ <the bead left the rod>" in this
+        view's language (`ROD_END_WORDS`)."""
+        inner = text[len("**■ "):-len("**")] if text.startswith("**■ ") and text.endswith("**") else ""
+        said = ROD_END_WORDS.words(inner, self.tr) if inner else None
+        super().show_message(text if said is None else f"**■ {said}**", stale)
+
     def frame(self, dt: float) -> None:
         if self.sim.version == self._drawn_version:
             self.labels.update(dt)  # the camera may have moved
