@@ -69,6 +69,11 @@ EULER_DE = "§1 Euler-Winkel und ω"
 FIRST_STEP_DE = "Eine Rotation ist eine einzige Drehung"
 
 
+def field_value(page: Any, handle: Any) -> str:
+    """What the page's field of `handle` (a dropdown) shows now."""
+    return str(page.locator(f'[id="{handle._impl.uuid}"]').input_value(timeout=5_000))
+
+
 def _unfold(page: Any, session: Any) -> None:
     """A phone's folded panel unfolded with its `Details` button (as a person taps it); nothing
     where the panel is not folded."""
@@ -141,7 +146,9 @@ def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_over
             if session.room.scene.title != title:
                 choose(page, session.gui_scene, label)
                 _wait(page, f"the scene {title!r}", lambda title=title: session.room.scene.title == title,
-                      seen=lambda: (session.room.scene.title, session.gui_scene.value, session.last_error))
+                      seen=lambda: (session.room.scene.title, session.gui_scene.value, session.last_error,
+                                    f"session closed: {session.closed}, sessions: {len(english_app.sessions)}",
+                                    f"the page's field: {field_value(page, session.gui_scene)!r}"))
             _unfold(page, session)
             close_toasts(page)
             for part, to in (("top", 0.0), ("middle", 0.5), ("bottom", 1.0)):  # the whole panel, scrolled through
