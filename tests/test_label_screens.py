@@ -175,11 +175,17 @@ def test_a_phone_follower_sees_no_two_labels_overlap(hall: LectureHall) -> None:
     def counts() -> list[int]:
         return [len(_shown(scene, _screen_of_session(session), live)) for session in (presenter, phone)]
 
-    def laid_out() -> bool:  # a layer's next layout comes PERIOD plus its phase after its first (wall time)
-        hall.frames(1)
-        return min(counts()) >= 6
+    layer = presenter.scene.labels
 
-    poll_until(laid_out, timeout=30.0, interval=0.02, what="six labels laid out on both screens", seen=counts)
+    def laid_out() -> bool:  # the layer's last layout was for the phone's fitted screen (PERIOD apart, wall time)
+        hall.frames(1)
+        phone_screen = _screen_of_session(phone)
+        return min(counts()) >= 6 and any(
+            (s.view, s.width, s.height) == (phone_screen.view, phone_screen.width, phone_screen.height)
+            for s in layer._last_screens or ())
+
+    poll_until(laid_out, timeout=30.0, interval=0.02, what="the labels laid out for the phone's fitted screen",
+               seen=lambda: (counts(), layer.layouts))
     for moment in range(8):
         for session in (presenter, phone):
             screen = _screen_of_session(session)
