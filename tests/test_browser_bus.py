@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
-from conftest import TEST_SHOTS, keep_picture
+from conftest import DESK, TEST_SHOTS, keep_picture
 from test_browser import choose
 from test_browser_lecture import _CONTEXTS, close_toasts, open_folder, open_page, received, text_input
 from test_codec import assert_rooms_equal
@@ -51,7 +51,7 @@ def two_workers() -> Iterator[tuple[App, App]]:
 def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: ignore[no-untyped-def]
         browser, two_workers, wait_until) -> None:
     a, b = two_workers
-    presenter_page, presenter = open_page(browser, a, viewport={"width": 1280, "height": 800})
+    presenter_page, presenter = open_page(browser, a, **DESK)
     close_toasts(presenter_page)
     choose(presenter_page, presenter.gui_scene, "Free body")
     wait_until(lambda: presenter.room.scene.title == "Free body", timeout=30.0)
@@ -62,7 +62,7 @@ def test_a_follower_on_another_worker_follows_explores_and_comes_back(  # type: 
     presenter_page.get_by_role("button", name="Present").click()
     wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
 
-    follower_page, follower = open_page(browser, b, viewport={"width": 1280, "height": 800})
+    follower_page, follower = open_page(browser, b, **DESK)
     wait_until(lambda: follower.mode == "following", timeout=30.0)
     follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
     follower_page.get_by_text("Free body").first.wait_for(timeout=30_000)  # the presenter's scene, in its panel

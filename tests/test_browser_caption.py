@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import keep_picture
+from conftest import DESK, keep_picture
 from test_browser_lecture import _CONTEXTS, CODE, close_toasts, hall_app, open_page, project
 
 from app.lecture.caption import CAPTION_CLASS, PROJECTOR_CAPTION_PX
@@ -96,7 +96,7 @@ def test_the_room_reads_the_lesson_and_the_presenters_plot(browser, hall_app: Ap
     _assert_clear_of_body(presenter_page, presenter.client.camera, presenter.room.sim, "projector")
 
     # A laptop follower: the caption, clear of the body; the presenter's Plots tab, moving with it.
-    laptop, follower = open_page(browser, app, 120.0, viewport={"width": 1280, "height": 800})
+    laptop, follower = open_page(browser, app, 120.0, **DESK)
     wait_until(lambda: follower.mode == "following", timeout=15.0)
     reads_the_step(laptop, "laptop")
     time.sleep(1.0)  # the presenter's camera has reached it

@@ -15,7 +15,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import keep_picture
+from conftest import DESK, keep_picture
 from test_browser import choose
 from test_browser_lecture import close_toasts, hall_app, open_page, present_and_follow
 
@@ -52,7 +52,7 @@ def _reading(page, follower) -> tuple[float, float] | None:  # type: ignore[no-u
 def test_followers_key_numbers_move_while_the_presenter_shows_the_energy_tab(  # type: ignore[no-untyped-def]
         browser, hall_app: App, wait_until) -> None:
     app = hall_app
-    presenter_page, presenter = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    presenter_page, presenter = open_page(browser, app, **DESK)
     presenter_page.get_by_text("Euler angles, z-x-z convention").wait_for(timeout=30_000)
     close_toasts(presenter_page)
     follower_page, follower = present_and_follow(browser, app, presenter_page, presenter, wait_until)

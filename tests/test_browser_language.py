@@ -88,7 +88,7 @@ RUNNING_JS = ("document.getAnimations().filter(a => a.playState === 'running')"
 
 def settled_boxes(page: Any, timeout: float = 30.0) -> dict[str, Any]:
     """The panel's text boxes (TEXT_BOXES_JS) once no transition runs on the page and two reads
-    0.25 s apart agree (a folder opening or the panel scrolling has finished); AssertionError
+    0.1 s apart agree (a folder opening or the panel scrolling has finished); AssertionError
     naming the last two reads and what still ran if not.  Two equal reads alone prove nothing on
     a busy machine: a transition's time moves only when Chromium draws a frame, and frames can be
     seconds apart there."""
@@ -104,7 +104,7 @@ def settled_boxes(page: Any, timeout: float = 30.0) -> dict[str, Any]:
             raise AssertionError(f"the panel's text kept moving for {timeout} s (running: {running}): "
                                  f"{previous} then {found}")
         previous = found
-        page.wait_for_timeout(250)
+        page.wait_for_timeout(100)
 
 
 def text_problems(page: Any) -> tuple[list[str], dict[str, Any]]:

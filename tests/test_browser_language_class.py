@@ -1,6 +1,6 @@
 """A lecture in three languages, in Debian's Chromium, through the pages only (issue 38's "Done when"):
 
-A lecturer presents in English (1024×768) while a Dutch and a German student (1280×800), each
+A lecturer presents in English (1024×768) while a Dutch and a German student (800×600), each
 having picked their language in the page's Language dropdown (the Dutch one before the lecture,
 the German one while already following), follow: their follower panel reads Dutch / German
 ("De presentator volgen", "Zelf verkennen" / "Dem Vortragenden folgen", "Selbst erkunden"), the
@@ -25,7 +25,7 @@ from typing import Any
 
 import pytest
 from babel.messages.pofile import read_po
-from conftest import keep_picture
+from conftest import DESK, keep_picture
 from test_browser_lecture import button, close_toasts, hall_app, open_page, present_in_page, type_into  # noqa: F401
 
 from app.i18n import translator
@@ -33,7 +33,7 @@ from app.main import App
 
 pytestmark = pytest.mark.browser
 
-LAPTOP = {"viewport": {"width": 1280, "height": 800}}
+LAPTOP = DESK
 ROOT = Path(__file__).resolve().parents[1]
 WRAPPED_IN = ("app/lecture/follower.py", "app/hall/lecture_panel.py", "app/hall/ask_student.py",
               "app/hall/ask_kinds.py")

@@ -9,15 +9,16 @@ Chromium through the pages (issue 38):
    `app.scenes.SCENES` in the Scene dropdown, as a person does; in each, the panel's text is
    neither cut, nor past the panel's edge, nor overlapping another text, and the panel does not
    scroll sideways (`test_browser_language.text_problems`); no field's text (a dropdown's value)
-   is wider than its box; at the panel's top, middle and bottom (scrolled through).  The check needs no particular
+   is wider than its box; scrolled through from the panel's top to its bottom, a visible height at a time.  The check needs no particular
    translation: a scene whose panel is still English is checked as it is.
 
-Pictures ($RBL_TEST_SHOTS, none when unset): `<size>_<language>_<scene>_<top|middle|bottom>.png`, `lesson_de.png`.
+Pictures ($RBL_TEST_SHOTS, none when unset): `<size>_<language>_<scene>_<top|partN|bottom>.png`, `lesson_de.png`.
 Needs Debian's Chromium: `apt-get install chromium`.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Any
 
@@ -57,16 +58,27 @@ FIELDS_JS = r"""(panel) => {
 }"""
 """The texts of the panel's fields (a dropdown's value, a number) cut by their box [CSS px]."""
 SCROLL_JS = r"""(to) => {
-  // The panel's own scroll area (the tallest one) scrolled to `to` [0..1 of its height]; whether it scrolls.
+  // The panel's own scroll area (the tallest one) scrolled to `to` [0..1 of its height]; how many
+  // of its visible heights its content spans (1 when it has nothing to scroll).
   const areas = [...document.querySelectorAll('.mantine-ScrollArea-viewport')]
     .filter(v => v.scrollHeight > v.clientHeight + 1).sort((a, b) => b.scrollHeight - a.scrollHeight);
-  if (!areas.length) return false;
+  if (!areas.length) return 1;
   areas[0].scrollTop = to * (areas[0].scrollHeight - areas[0].clientHeight);
-  return true;
+  return areas[0].scrollHeight / areas[0].clientHeight;
 }"""
-"""Scroll the panel (to 0: the top, 1: the bottom); False when it has nothing to scroll."""
+"""Scroll the panel (to 0: the top, 1: the bottom); the content's height in visible heights."""
 EULER_DE = "§1 Euler-Winkel und ω"
 FIRST_STEP_DE = "Eine Rotation ist eine einzige Drehung"
+
+
+def scroll_stops(heights: float) -> list[tuple[str, float]]:
+    """Where to stop scrolling a panel whose content is `heights` visible heights tall so that every
+    line is seen once at least: (name, fraction scrolled); the top alone when it does not scroll."""
+    count = max(1, math.ceil(heights - 0.01))
+    if count == 1:
+        return [("top", 0.0)]
+    return [("top" if i == 0 else "bottom" if i == count - 1 else f"part{i + 1}", i / (count - 1))
+            for i in range(count)]
 
 
 def field_value(page: Any, handle: Any) -> str:
@@ -151,9 +163,8 @@ def test_every_scene_in_every_language_shows_its_panel_text_neither_cut_nor_over
                                     f"the page's field: {field_value(page, session.gui_scene)!r}"))
             _unfold(page, session)
             close_toasts(page)
-            for part, to in (("top", 0.0), ("middle", 0.5), ("bottom", 1.0)):  # the whole panel, scrolled through
-                if to and not page.evaluate(SCROLL_JS, to):
-                    break
+            for part, to in scroll_stops(page.evaluate(SCROLL_JS, 0.0)):  # the whole panel, scrolled through
+                page.evaluate(SCROLL_JS, to)
                 problems, boxes = text_problems(page)
                 problems += [f"a field's text cut: {field}" for field in page.evaluate(FIELDS_JS, boxes["panel"])]
                 assert len(boxes["texts"]) >= 5, f"{size} {code} {title}: too few texts in the panel: {boxes['texts']}"

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import poll_until
+from conftest import DESK, poll_until
 from PIL import Image
 from test_browser import app_url, choose  # noqa: F401 - choose: for the browser tests that import from here
 
@@ -193,7 +193,7 @@ def present_and_follow(browser, app: App, presenter_page, presenter, wait_until)
     """The presenter types the code and presents, through its page; a laptop follower joins and
     sees the shared scene.  (follower page, follower session)."""
     present_in_page(presenter_page, presenter)
-    follower_page, follower = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    follower_page, follower = open_page(browser, app, **DESK)
     wait_until(lambda: follower.mode == "following", timeout=15.0)
     follower_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
     close_toasts(follower_page)

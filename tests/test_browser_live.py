@@ -1,6 +1,6 @@
 """The room is live, on the lecturer's screen and on the explorers': one lecture in Debian's
 Chromium, through the pages (clicks, taps, typing), a presenter on a 1024×768 projector, a phone
-follower (390×844, touch) and a laptop follower (1280×800).
+follower (390×844, touch) and a desk follower (800×600).
 
 1. The presenter plays the heavy top, presents and ticks `Projector`: `Stop presenting`,
    `Pointer` and the badge ("● Live · 0 following · 0 exploring") stay in view in the docked
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import TEST_SHOTS, keep_picture
+from conftest import DESK, TEST_SHOTS, keep_picture
 from PIL import Image
 from test_browser_lecture import close_toasts, hall_app, play_and_present, project  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
@@ -126,7 +126,7 @@ def test_the_room_is_live_and_explorers_keep_their_way_back(browser, hall_app: A
 
     # 3. The laptop follows, then explores: "Lecture on" tops its panel; it scrubs 10 s back.
     with frozen(phone):
-        laptop_page, laptop = open_page(browser, hall, viewport={"width": 1280, "height": 800})
+        laptop_page, laptop = open_page(browser, hall, **DESK)
         wait_until(lambda: laptop.mode == "following", timeout=30.0)
         badge(presenter_page, 1, 1)
         laptop_page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)

@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import keep_picture
+from conftest import DESK, keep_picture
 from PIL import Image
 from playwright.sync_api import Error as PlaywrightError
 from test_browser import choose, open_app, slider_thumb, still_picture
@@ -260,13 +260,13 @@ def test_single_rotation_outlines_have_a_legend_and_a_binary_obj_is_refused_in_p
 
 def test_lecture_notes_stay_true_and_a_followers_keys_bring_one_toast(browser, hall_app: App,  # noqa: F811
                                                                      wait_until) -> None:
-    presenter_page, presenter = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
+    presenter_page, presenter = open_page(browser, hall_app, **DESK)
     close_toasts(presenter_page)
     open_folder(presenter_page, "Lecture", "Presenter code")
     text_input(presenter_page, "Presenter code").fill(CODE)
     presenter_page.get_by_role("button", name="Present").click()
     wait_until(lambda: presenter.mode == "presenting", timeout=15.0)
-    page, follower = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
+    page, follower = open_page(browser, hall_app, **DESK)
     wait_until(lambda: follower.mode == "following", timeout=15.0)
     page.get_by_text("Following the presenter").first.wait_for(timeout=30_000)
     close_toasts(page)

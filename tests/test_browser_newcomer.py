@@ -12,7 +12,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from conftest import TEST_SHOTS, keep_picture
+from conftest import DESK, TEST_SHOTS, keep_picture
 from test_browser_lecture import close_toasts, hall_app, play_and_present  # noqa: F401 - hall_app: a fixture
 from test_browser_lecture import open_page as lecture_open_page
 from test_browser_typing import number_box
@@ -23,7 +23,7 @@ from app.scenes import DEFAULT_SCENE
 
 pytestmark = pytest.mark.browser
 
-LAPTOP = {"viewport": {"width": 1280, "height": 800}}
+LAPTOP = DESK
 
 
 def open_page(browser, hall: App, **context):  # type: ignore[no-untyped-def]

@@ -1,7 +1,7 @@
 """A question round ends with the presenter who asked it, and its CSV downloads at once (issue 34,
 rows 1 and 4), in Debian's Chromium, through the pages only.
 
-The presenter (a laptop, 1280×800) types the code and presents, asks a choice; a student
+The presenter (a desk page, 800×600) types the code and presents, asks a choice; a student
 answers by clicking its option; the presenter's `Download answers (CSV)` is saved by the browser
 at once (Playwright's download event, no toast link clicked).  Then the presenter closes its
 tab: the student's page loses the question; a newcomer's page shows no question and gets the
@@ -18,14 +18,14 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from conftest import keep_picture
+from conftest import DESK, keep_picture
 from test_browser_lecture import button, close_toasts, hall_app, open_page, present_in_page, text_input, type_into  # noqa: F401
 
 from app.main import App
 
 pytestmark = pytest.mark.browser
 
-LAPTOP = {"viewport": {"width": 1280, "height": 800}}
+LAPTOP = DESK
 
 
 def _shot(page, name: str) -> None:  # type: ignore[no-untyped-def]

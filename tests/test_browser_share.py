@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from conftest import keep_picture
+from conftest import DESK, keep_picture
 from test_browser import choose
 from test_browser_lecture import close_toasts, hall_app, open_folder_to, open_page, press_play, received, text_input  # noqa: F401
 
@@ -39,7 +39,7 @@ def _open_code(page, session, text: str) -> None:  # type: ignore[no-untyped-def
 
 def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, hall_app: App,  # noqa: F811
                                                                       wait_until) -> None:
-    sharer_page, sharer = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
+    sharer_page, sharer = open_page(browser, hall_app, **DESK)
     choose(sharer_page, sharer.gui_scene, "Heavy top")
     wait_until(lambda: sharer.scene.title == "Heavy top", timeout=15.0)
     press_play(sharer_page, sharer)
@@ -55,7 +55,7 @@ def test_a_moment_shared_in_one_browser_opens_bit_for_bit_in_another(browser, ha
     assert code == sharer.share.last_code
     keep_picture(sharer_page, "share_shared.png")
 
-    other_page, other = open_page(browser, hall_app, viewport={"width": 1280, "height": 800})
+    other_page, other = open_page(browser, hall_app, **DESK)
     close_toasts(other_page)
     open_folder_to(other_page, "Share", "Shared code")
     before_room, before = other.room, fingerprint(other.room.sim)
