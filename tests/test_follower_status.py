@@ -65,7 +65,7 @@ def _lectern_showing(room: Room, *, presenting: bool) -> Lectern:
     lectern.live_view = SimpleNamespace(key_numbers=lambda: KEY_NUMBERS)
     lectern._live_room = room
     if presenting:
-        lectern.presenter = SimpleNamespace(lesson_text=lambda: LESSON,  # type: ignore[assignment]
+        lectern.presenter = SimpleNamespace(lesson_text=lambda: LESSON, lesson_words=dict,  # type: ignore[assignment]
                                             caption_words=lambda: ("", ""))
         lectern.hall = Hall.LIVE
     else:
