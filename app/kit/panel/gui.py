@@ -141,8 +141,8 @@ class MessageLine:
 
     Languages: a message given as `Words` (a function of a translator: `app.i18n.Said`, a
     `Phrases` sentence) is written in the browser's language (`app.i18n.for_gui`) and kept, so
-    the line says it again in another (`relabel`; a view built again in the browser's new
-    language takes the old view's message over, `take_over`); a plain text stays as given."""
+    that a view built again in the browser's new language says it in that language (`take_over`);
+    a plain text stays as given."""
 
     def __init__(self, gui: Any) -> None:
         self.gui = gui
@@ -171,11 +171,6 @@ class MessageLine:
         if self.handle.content != content or not self.handle.visible:
             self.handle.content = content
             self.handle.visible = True
-
-    def relabel(self) -> None:
-        """The message shown here said again in the browser's language now (`app.i18n.for_gui`)."""
-        if self._words is not None and self.handle.visible:
-            self.show(self._words, self._stale)
 
     def take_over(self, old: MessageLine) -> None:
         """Say what `old` (the line of a view this one replaces) says here, in this line's
