@@ -30,7 +30,7 @@ import gettext as _gettext
 import io
 import re
 import threading
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from importlib import resources
 from importlib.resources.abc import Traversable
 from pathlib import Path
@@ -44,6 +44,8 @@ __all__ = [
     "Labels",
     "N_",
     "Phrases",
+    "Said",
+    "Words",
     "Translator",
     "catalog_bytes",
     "compile_po",
@@ -195,6 +197,39 @@ def refusal_text(error: BaseException, tr: Translator, fields: Mapping[str, Any]
         return tr.gettext(template).format(**(own if fields is None else fields))
     except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: physics' words
         return str(error)
+
+
+class Said:
+    """Words on a person's screen kept as data, so that they are said again in another language
+    when the browser changes its language (`app.kit.panel.gui.MessageLine`): `msgid` (English with
+    `{name}` placeholders, marked `N_` where it is written) and its fields, filled in as given.
+    Called with a translator, it is the words in that language.
+
+        said = Said(N_("No preset named {name}."), name="'spin'")
+        said(translator("de"))  # 'Keine Voreinstellung namens 'spin'.'
+    """
+
+    __slots__ = ("fields", "msgid")
+
+    def __init__(self, msgid: str, **fields: object) -> None:
+        self.msgid = msgid
+        self.fields = {name: str(value) for name, value in fields.items()}
+
+    def __call__(self, tr: Translator) -> str:
+        text = tr.gettext(self.msgid)
+        try:
+            return text.format(**self.fields) if self.fields else text
+        except (KeyError, IndexError, ValueError):  # a catalog entry that lost a placeholder: the English
+            return self.msgid.format(**self.fields)
+
+    def __repr__(self) -> str:
+        return f"Said({self.msgid!r}, **{self.fields!r})"
+
+
+Words = str | Callable[[Translator], str]
+"""Words for a person kept so that they can be written in any language: a function of a
+translator writing them in its language (`Said`, `functools.partial(PHRASES.in_language,
+english)`), or a text that stays as it is."""
 
 
 class Phrases:

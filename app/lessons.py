@@ -45,7 +45,7 @@ from app.kit.core.common import CameraView
 from physics.methods import methods
 
 __all__ = ["LESSONS_DIR", "Lesson", "LessonError", "Step", "Texts", "lessons", "load_lesson", "load_lessons",
-           "caption_head", "in_language", "remember", "step_line", "texts_of"]
+           "caption_head", "in_language", "step_line", "step_words", "texts_of"]
 
 LESSONS_DIR = lessons_dir()  # the shipped lessons (app.data: the checkout's or the installed ones)
 
@@ -275,22 +275,31 @@ def caption_head(lesson: Lesson, k: int, tr: Translator) -> str:
                                                          n=len(lesson.steps))
 
 
-_REMEMBERED: list[Lesson] = []  # lessons besides the shipped ones a follower may be sent (`remember`)
 _INDEX: dict[str, dict[str, str]] = {}  # by language: English step line, caption head or text -> that language's
 
 
-def remember(more: Any) -> None:
-    """`more` (lessons, e.g. a lecturer's own) are known to `in_language` too."""
-    added = [lesson for lesson in more if lesson not in _REMEMBERED]
-    if added:
-        _REMEMBERED.extend(added)
-        _INDEX.clear()
+def step_words(lesson: Lesson, k: int) -> dict[str, dict[str, str]]:
+    """What a presenter on step `k` (0-based) sends its followers in English (the step's line,
+    its caption's head, its text) in every other language: {code: {English: words}}.  The words
+    travel with what the followers are sent (`app.lecture.follower.FollowerStatus.lesson_words`),
+    so a follower on any process reads a lesson no process but the presenter's knows (a
+    lecturer's own) in its language."""
+    en = translator(DEFAULT_LANGUAGE)
+    step = lesson.steps[k]
+    english = (step_line(lesson, k, en), caption_head(lesson, k, en), step.text)
+    words: dict[str, dict[str, str]] = {}
+    for code in LANGUAGES:
+        if code != DEFAULT_LANGUAGE:
+            tr = translator(code)
+            said = (step_line(lesson, k, tr), caption_head(lesson, k, tr), step.text_in(code))
+            words[code] = dict(zip(english, said))
+    return words
 
 
 def in_language(english: str, language: str) -> str:
     """A lesson's words a presenter sent its followers in English (`step_line`, `caption_head`,
-    a step's text or a lesson's title) in `language`, where a known lesson (the shipped ones,
-    `remember`) has them; `english` itself otherwise (another lesson, a text cut short)."""
+    a step's text or a lesson's title) in `language`, where a shipped lesson has them; `english`
+    itself otherwise (another lesson, a text cut short: its words travel with it, `step_words`)."""
     if not english or language == DEFAULT_LANGUAGE:
         return english
     index = _INDEX.get(language)
@@ -300,12 +309,9 @@ def in_language(english: str, language: str) -> str:
 
 
 def _index(language: str) -> dict[str, str]:
-    en, tr = translator(DEFAULT_LANGUAGE), translator(language)
     index: dict[str, str] = {}
-    for lesson in (*lessons(), *_REMEMBERED):
+    for lesson in lessons():
         index[lesson.title] = lesson.title_in(language)
-        for k, step in enumerate(lesson.steps):
-            index[step.text] = step.text_in(language)
-            index[step_line(lesson, k, en)] = step_line(lesson, k, tr)
-            index[caption_head(lesson, k, en)] = caption_head(lesson, k, tr)
+        for k in range(len(lesson.steps)):
+            index.update(step_words(lesson, k)[language])
     return index

@@ -320,6 +320,11 @@ class Session:
         """The current step's text in English, as followers are sent it (`app.lessons.in_language`)."""
         return self.lesson_runner.text(english=True)
 
+    def lesson_words(self) -> dict[str, dict[str, str]]:
+        """The current step's words followers are sent in English, in every other language
+        ({code: {English: words}}; `LessonRunner.followers_words`)."""
+        return self.lesson_runner.followers_words()
+
     def caption_words(self) -> tuple[str, str]:
         """(head, words) of the lesson caption in English, as followers are sent it (`LessonRunner`)."""
         return self.lesson_runner.caption_words(english=True)

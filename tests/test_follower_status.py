@@ -65,7 +65,7 @@ def _lectern_showing(room: Room, *, presenting: bool) -> Lectern:
     lectern.live_view = SimpleNamespace(key_numbers=lambda: KEY_NUMBERS)
     lectern._live_room = room
     if presenting:
-        lectern.presenter = SimpleNamespace(lesson_text=lambda: LESSON,  # type: ignore[assignment]
+        lectern.presenter = SimpleNamespace(lesson_text=lambda: LESSON, lesson_words=dict,  # type: ignore[assignment]
                                             caption_words=lambda: ("", ""))
         lectern.hall = Hall.LIVE
     else:
@@ -93,7 +93,8 @@ def test_the_status_crosses_workers_as_the_same_value_and_words(looking_back: bo
     {"key_numbers": ["k = 1"]}, {"key_numbers": [{"label": "k", "values": [1.0]}] * 1000},
     {"key_numbers": [{"label": "k", "values": ["one"]}]}, {"key_numbers": [{"label": "k" * 5000, "values": []}]},
     {"key_numbers": [{"label": "k", "values": [1.0] * 1000}]}, {"transport": {"mode": "flying"}},
-    {"transport": {"t": "soon"}},
+    {"transport": {"t": "soon"}}, {"lesson_words": {"de": "Schritt"}}, {"lesson_words": {"de": {"a": "b" * 5000}}},
+    {"lesson_words": {f"l{k}": {} for k in range(100)}},
 ])
 def test_a_status_that_is_not_one_is_refused(change: dict[str, Any]) -> None:
     plain = _through_the_bus(FollowerStatus.of_room(_room(False), Hall.LIVE, LESSON, KEY_NUMBERS)).to_dict()

@@ -209,9 +209,12 @@ class LecturePanel:
                                             order=next(orders), hint=LAST_ROOM_HINT)
 
     def relabel(self, tr: Translator) -> None:
-        """The folder's and the live bar's words in `tr`'s language (the browser chose another)."""
+        """The folder's and the live bar's words in `tr`'s language (the browser chose another), a
+        refusal of its code shown under the buttons too."""
         self.words.relabel(tr)
         self.refresh()
+        if self.gui_note.visible:
+            self.show_refusal()
 
     def note(self, text: str) -> None:
         """Say `text` (Markdown) under the buttons ("": nothing)."""

@@ -9,8 +9,8 @@ or pause).  A scene chosen by hand ends the lesson (`scene_changed`).
 
 Languages: the dropdown's titles, the step's text and caption are in the browser's language
 (`app.i18n.for_gui`; English where the lesson lacks it, `app.lessons.Texts`); what a presenter
-sends its followers is English (`text(english=True)`), and each follower's panel shows it in its
-own language (`app.lessons.in_language`).
+sends its followers is English (`text(english=True)`) with the step's words in the other languages
+(`followers_words`), and each follower's panel shows it in its own language, on any process.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.core.common import Wrap, apply_camera
 from app.kit.core.room import Room
 from app.lecture.caption import Caption
-from app.lessons import Lesson, caption_head, lessons, remember, step_line
+from app.lessons import Lesson, caption_head, lessons, step_line, step_words
 
 __all__ = ["NO_LESSON", "LessonRunner", "Stage"]
 
@@ -105,7 +105,6 @@ class LessonRunner:
         """The lecturer's own lessons (`app.own`) in the dropdown after the shipped ones, marked ★."""
         shipped = {lesson.title: lesson for lesson in lessons()}
         self.lessons = {**shipped, **{OWN_MARK + title: lesson for title, lesson in own.items()}}
-        remember(own.values())  # a follower in this process reads them in its language too
         self._show_options()
 
     @property
@@ -160,6 +159,14 @@ class LessonRunner:
         if self.lesson is None or self.step < 0:
             return ""
         return step_line(self.lesson, self.step, translator("en") if english else self.tr)
+
+    def followers_words(self) -> dict[str, dict[str, str]]:
+        """The current step's words a presenter's followers are sent in English (its line, its
+        caption) in every other language, {code: {English: words}} ({} with no lesson running:
+        `app.lessons.step_words`)."""
+        if self.lesson is None or self.step < 0:
+            return {}
+        return step_words(self.lesson, self.step)
 
     def caption_words(self, *, english: bool = False) -> tuple[str, str]:
         """(head, words) of the caption over the 3D view: the lesson and step, and the step's

@@ -18,12 +18,13 @@ changes nothing.
 
 from __future__ import annotations
 
+import functools
 import json
 from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Labels, Phrases, Translator, for_gui
+from app.i18n import N_, Labels, Phrases, Said, Translator, Words, for_gui
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.kit.panel.download import save_download
@@ -106,6 +107,7 @@ class OwnPanel:
         self.last_export: bytes | None = None
         self.gui = gui
         self._status_is_where = True  # the status line says where the data folder is (nothing done yet)
+        self._status: tuple[Words, bool] | None = None  # what the status line said last (`say`), None: nothing yet
         self.folder = gui.add_folder(N_("Mine"), expand_by_default=False)
         with self.folder:
             self.gui_status = gui.add_markdown(self._where())
@@ -137,17 +139,22 @@ class OwnPanel:
             folder=self.library.data_dir)
 
     def relabel(self, tr: Translator) -> None:
-        """The folder's words in `tr`'s language (the browser chose another)."""
+        """The folder's words in `tr`'s language (the browser chose another), its status line's too."""
         self.words.relabel(tr)
         if self._status_is_where:
             self.gui_status.content = self._where()
+        elif self._status is not None:
+            self.say(*self._status)
 
     def _(self, message: str) -> str:
         return for_gui(self.gui).gettext(message)
 
     # ------------------------------------------------------------------ status
-    def say(self, text: str, refused: bool = False) -> None:
+    def say(self, words: Words, refused: bool = False) -> None:
+        """Say `words` in the status line, in the browser's language (kept: `relabel` says them again)."""
         self._status_is_where = False
+        self._status = (words, refused)
+        text = words if isinstance(words, str) else words(for_gui(self.gui))
         self.gui_status.content = f"**⚠ {text}**" if refused else text
 
     def _said(self, action: Any, *args: Any) -> None:
@@ -155,9 +162,9 @@ class OwnPanel:
         try:
             action(*args)
         except LessonError as error:  # a lesson file imported that does not load: its file, field and fault
-            self.say(lesson_error_words(str(error), for_gui(self.gui)), refused=True)
+            self.say(functools.partial(lesson_error_words, str(error)), refused=True)
         except (ValueError, PermissionError) as error:
-            self.say(own_refusal_words(str(error), for_gui(self.gui)), refused=True)
+            self.say(functools.partial(own_refusal_words, str(error)), refused=True)
 
     def _allowed(self) -> None:
         why_not = self.stage.may_save()
@@ -189,8 +196,8 @@ class OwnPanel:
         room.sim.preset = preset.name  # the run shown is now that preset's (a lesson step names it)
         self.stage.own_changed()
         self.gui_mine.value = MINE_MARK + preset.name
-        self.say(self._("Saved **{name}** ({scene}): {note}").format(name=preset.name, scene=self._(scene.title),
-                                                                      note=preset.note))
+        self.say(lambda tr: tr.gettext("Saved **{name}** ({scene}): {note}").format(
+            name=preset.name, scene=tr.gettext(scene.title), note=preset.note))
 
     def act(self, action: str) -> None:
         name = self._chosen()
@@ -199,7 +206,7 @@ class OwnPanel:
             room = self.stage.controlled_room()
             self.stage.start_preset(room, name)
             room.play()
-            self.say(self._("Playing **{name}**.").format(name=name))
+            self.say(Said(N_("Playing **{name}**."), name=name))
             return
         self._allowed()
         if action == "Rename":
@@ -207,11 +214,11 @@ class OwnPanel:
             self.library.rename_preset(title, name, new)
             self.stage.own_changed()
             self.gui_mine.value = MINE_MARK + new
-            self.say(self._("Renamed **{name}** to **{new}**.").format(name=name, new=new))
+            self.say(Said(N_("Renamed **{name}** to **{new}**."), name=name, new=new))
         elif action == "Delete":
             self.library.delete_preset(title, name)
             self.stage.own_changed()
-            self.say(self._("Deleted **{name}**.").format(name=name))
+            self.say(Said(N_("Deleted **{name}**."), name=name))
         else:
             raise ValueError(f"no action {action!r}")
 
@@ -237,9 +244,10 @@ class OwnPanel:
         self.stage.controlled_room()
         lesson = self.library.add_step(str(self.gui_lesson_title.value), self.step_here())
         self.stage.own_changed()
-        self.say(for_gui(self.gui).ngettext("**{title}**: {count} step (in the Lesson folder, marked ★).",
-                                            "**{title}**: {count} steps (in the Lesson folder, marked ★).",
-                                            len(lesson.steps)).format(title=lesson.title, count=len(lesson.steps)))
+        count = len(lesson.steps)
+        self.say(lambda tr: tr.ngettext("**{title}**: {count} step (in the Lesson folder, marked ★).",
+                                        "**{title}**: {count} steps (in the Lesson folder, marked ★).",
+                                        count).format(title=lesson.title, count=count))
 
     def export_lesson(self) -> None:
         title = " ".join(str(self.gui_lesson_title.value).split())
@@ -247,7 +255,7 @@ class OwnPanel:
         name = "".join(c if c.isalnum() or c in "-_" else "_" for c in title) + ".json"
         save_download(self.stage.client, name, data)
         self.last_export = data
-        self.say(self._("Exported **{title}** as {name}.").format(title=title, name=name))
+        self.say(Said(N_("Exported **{title}** as {name}."), title=title, name=name))
 
     def import_uploaded(self) -> None:
         upload = self.gui_import.value
@@ -255,10 +263,11 @@ class OwnPanel:
         lesson = self.library.import_lesson(upload.name, bytes(upload.content))
         self.stage.own_changed()
         self.gui_lesson_title.value = lesson.title
-        self.say(for_gui(self.gui).ngettext(
+        count = len(lesson.steps)
+        self.say(lambda tr: tr.ngettext(
             "Imported **{title}** ({count} step; in the Lesson folder, marked ★).",
             "Imported **{title}** ({count} steps; in the Lesson folder, marked ★).",
-            len(lesson.steps)).format(title=lesson.title, count=len(lesson.steps)))
+            count).format(title=lesson.title, count=count))
 
     @staticmethod
     def lesson_json(data: bytes) -> dict[str, Any]:

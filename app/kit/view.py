@@ -25,13 +25,14 @@ and its followers' for a target with `screens`), nor cover the panel there.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
 from weakref import WeakKeyDictionary
 
 import viser
 
-from app.i18n import for_gui
+from app.i18n import N_, Said, for_gui
 from app.kit.core.common import CameraView, SliderSpec, Wrap, apply_camera
 from app.kit.core.key_number import KeyNumber
 from app.kit.core.presets import PRESETS_DIR, Preset, load_presets
@@ -256,17 +257,17 @@ class SceneView:
     def choose_own_preset(self, name: str) -> None:
         """A button of the ★ Mine row."""
         if self.start_own_preset is None:
-            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
+            self.message.show(Said(N_("No preset named {name}."), name=repr(name)))
             return
         try:
             self.start_own_preset(name)
         except ValueError:  # a name a client made up, or one deleted meanwhile
-            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
+            self.message.show(Said(N_("No preset named {name}."), name=repr(name)))
 
     def choose_preset(self, name: str) -> None:
         """A preset button: a name the scene does not have (a client can send any) is refused."""
         if name not in {p.name for p in self.presets()}:
-            self.message.show(self.tr.gettext("No preset named {name}.").format(name=repr(name)))
+            self.message.show(Said(N_("No preset named {name}."), name=repr(name)))
             return
         self.message.clear()
         self.apply_preset(self.room, name)
@@ -286,7 +287,7 @@ class SceneView:
     def show_message(self, text: str, stale: Callable[[], bool] | None = None) -> None:
         """Say `text` in the message line, until `stale()` says it no longer holds; a run's stop
         the room says in English (`app.kit.run_words.RUN_MESSAGES`) in this view's language."""
-        self.message.show(RUN_MESSAGES.in_language(text, self.tr), stale)
+        self.message.show(functools.partial(RUN_MESSAGES.in_language, text), stale)
 
     gizmos_hidden = False
     """True while the browser renders a screenshot: the drag gizmos stay hidden (`hide_gizmos`)."""

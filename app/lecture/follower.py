@@ -24,7 +24,7 @@ folders, which a collapsed panel hides; the lectern hands it the status (`show_s
 from __future__ import annotations
 
 import enum
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Annotated, Any, Literal, cast
 
 import msgspec
@@ -46,6 +46,7 @@ DEFAULT_ASPECT = 1.6  # a browser whose view size is not known yet
 MAX_LINE_CHARS = 400  # a title or preset in a status read from another worker
 MAX_TEXT_CHARS = 4000  # the lesson step's text in it
 MAX_KEY_NUMBERS = 64  # its key numbers
+MAX_LESSON_WORDS = 8  # languages of the lesson step's words, and words in each (its line, caption head, text)
 FOLLOWING_TITLE = N_("Following the presenter")
 DETAILS_LABEL = N_("Details")
 HIDE_DETAILS_LABEL = N_("Hide details")
@@ -127,6 +128,13 @@ def transport_words(transport: Transport, tr: Translator | None = None) -> str:
 
 _Line = Annotated[str, msgspec.Meta(max_length=MAX_LINE_CHARS)]
 _Text = Annotated[str, msgspec.Meta(max_length=MAX_TEXT_CHARS)]
+_Code = Annotated[str, msgspec.Meta(max_length=16)]
+_Words = Annotated[dict[_Text, _Text], msgspec.Meta(max_length=MAX_LESSON_WORDS)]
+
+
+def _cut(text: object) -> str:
+    """`text` cut to the length of a status's text (`MAX_TEXT_CHARS`)."""
+    return str(text)[:MAX_TEXT_CHARS]
 
 
 class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
@@ -139,6 +147,10 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         title: the scene's title ("": nothing on the shared screen).  preset: its preset or "".
         transport: the presenter's transport (`Transport`), None before it is known.
         lesson: the presenter's lesson step ("" for none; shown only while LIVE).
+        lesson_words: the words of the step the presenter sends in English (`lesson`, the
+            caption's head and words) in the other languages: {code: {English: words}}
+            (`app.lessons.step_words`).  They travel with the status, so a follower on any
+            process reads the step in its language, a lesson only the presenter's process knows too.
         key_numbers: the scene's key numbers (`KeyNumber`: English labels, numbers), written
             in the words of the browser that shows them.
     """
@@ -148,20 +160,33 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
     preset: _Line = ""
     transport: Transport | None = None
     lesson: _Text = ""
+    lesson_words: Annotated[dict[_Code, _Words], msgspec.Meta(max_length=MAX_LESSON_WORDS)] = msgspec.field(
+        default_factory=dict)
     key_numbers: Annotated[tuple[KeyNumber, ...], msgspec.Meta(max_length=MAX_KEY_NUMBERS)] = ()
 
     @classmethod
     def of_room(cls, room: Room | None, hall: Hall, lesson: str = "",
-                key_numbers: Sequence[KeyNumber] = ()) -> FollowerStatus:
+                key_numbers: Sequence[KeyNumber] = (),
+                lesson_words: Mapping[str, Mapping[str, str]] | None = None) -> FollowerStatus:
         """The status of `room` (the room on the shared screen, None if there is none) in `hall`;
-        its texts cut to the lengths `from_dict` accepts (a long lesson step is not refused)."""
+        its texts cut to the lengths `from_dict` accepts (a long lesson step is not refused; its
+        words in another language then match the English cut the same way)."""
         if room is None:
             return cls(hall=hall)
         preset = getattr(room.sim, "preset", None)
+        words = {str(code)[:16]: {_cut(english): _cut(said)
+                                  for english, said in list(by_english.items())[:MAX_LESSON_WORDS]}
+                 for code, by_english in list((lesson_words or {}).items())[:MAX_LESSON_WORDS]}
         return cls(hall=hall, title=str(room.scene.title)[:MAX_LINE_CHARS],
                    preset=str(preset)[:MAX_LINE_CHARS] if preset else "", transport=Transport.of_room(room),
-                   lesson=str(lesson)[:MAX_TEXT_CHARS],
+                   lesson=_cut(lesson), lesson_words=words,
                    key_numbers=tuple(key_numbers[:MAX_KEY_NUMBERS]))
+
+    def lesson_in(self, english: str, language: str) -> str:
+        """Words of the lesson the presenter sent in English (the step's line, its caption's head
+        or words) in `language`: as the status carries them, else as a shipped lesson has them
+        (`app.lessons.in_language`), else `english` itself."""
+        return self.lesson_words.get(language, {}).get(english) or in_language(english, language)
 
     def ended(self, hall: Hall) -> FollowerStatus:
         """The same status once the presenter stopped (`hall` STOPPED) or left (LEFT)."""
@@ -203,7 +228,7 @@ class FollowerStatus(msgspec.Struct, frozen=True, kw_only=True):
         if transport is not None and (transport.mode == LIVE or not live):
             lines.append(f"t = {tr.decimal(transport.t, 1)} s · {tr.general(transport.time_scale)}×")
         if self.lesson and live:
-            lines.append(in_language(self.lesson, tr.language))  # the lesson's words where it has them
+            lines.append(self.lesson_in(self.lesson, tr.language))  # the lesson's words where it has them
         lines.extend(number.words(tr) for number in self.key_numbers)
         return "  \n".join(lines)
 
@@ -370,8 +395,9 @@ class Follower:
         """The presenter's caption (`app.hall.lesson_runner.LessonRunner.caption_words`; "" words:
         none), over this screen's 3D view unless its `Caption` checkbox is off."""
         self._caption_words = (head, words)
-        language = self.tr.language  # the presenter sends English: the lesson's words in this browser's
-        head, words = in_language(head, language), in_language(words, language)
+        language = self.tr.language  # the presenter sends English: the lesson's words in this browser's,
+        status = self._status or FollowerStatus()  # as the status last shown carries them
+        head, words = status.lesson_in(head, language), status.lesson_in(words, language)
         shown = self.gui_caption.value is True  # a client can send anything
         self.caption.show(head if shown else "", words if shown else "")
 

@@ -73,8 +73,13 @@ class OwnRoom:
 
     def rebuild_view(self) -> None:
         """The view of the room shown built again (the browser's language changed): the same
-        room, its state and its other views untouched."""
+        room, its state and its other views untouched; the message the old view's line said, said
+        in the new language (`MessageLine.take_over`)."""
+        old = self.showing.view
         self.show(self.showing.room)
+        new = self.showing.view
+        if isinstance(old, SceneView) and isinstance(new, SceneView) and new is not old:
+            new.message.take_over(old.message)
 
     def scene_label(self, title: str) -> str:
         """The scene dropdown's option for the scene `title` (a key of SCENES), in the browser's language."""

@@ -21,7 +21,7 @@ from typing import Any
 
 import viser
 
-from app.i18n import N_, Translator, translator
+from app.i18n import N_, Said, Translator, Words, for_gui, translator
 from app.kit.core.common import SliderSpec, Wrap, checked_value
 from app.kit.core.presets import Preset
 from app.kit.panel.binding import Clock, Refused, bind
@@ -137,30 +137,46 @@ class MessageLine:
     after that (the Timeline rechecks whenever it shows the room's state).  The same message
     shown again is one message (nothing is sent).  A message said elsewhere on the page (a
     refusal under its own control, `app.kit.panel.binding.ControlNote`) is the view's message
-    (`text`) but the line stays hidden, so the page says it once."""
+    (`text`) but the line stays hidden, so the page says it once.
+
+    Languages: a message given as `Words` (a function of a translator: `app.i18n.Said`, a
+    `Phrases` sentence) is written in the browser's language (`app.i18n.for_gui`) and kept, so
+    that a view built again in the browser's new language says it in that language (`take_over`);
+    a plain text stays as given."""
 
     def __init__(self, gui: Any) -> None:
+        self.gui = gui
         self.handle = gui.add_markdown("", visible=False)
         self._stale: Callable[[], bool] | None = None
         self._elsewhere = ""  # the message said elsewhere on the page (the line hidden)
+        self._words: Words | None = None  # the message shown here, as given
 
     @property
     def text(self) -> str:
         """The view's message now ("" for none), wherever the page says it."""
         return str(self.handle.content) if self.handle.visible else self._elsewhere
 
-    def show(self, text: str, stale: Callable[[], bool] | None = None, *, here: bool = True) -> None:
-        """Say `text` (until `stale()`, if given); `here=False`: it is said elsewhere on the page."""
+    def show(self, words: Words, stale: Callable[[], bool] | None = None, *, here: bool = True) -> None:
+        """Say `words` (a text, or a function of the browser's translator giving it) until
+        `stale()`, if given; `here=False`: it is said elsewhere on the page."""
+        text = words if isinstance(words, str) else words(for_gui(self.gui))
         content = text if text.startswith("**") else f"**⚠ {text}**"
         self._stale = stale
         if not here:
-            self._elsewhere = content
+            self._elsewhere, self._words = content, None
             self._hide()
             return
         self._elsewhere = ""
+        self._words = words
         if self.handle.content != content or not self.handle.visible:
             self.handle.content = content
             self.handle.visible = True
+
+    def take_over(self, old: MessageLine) -> None:
+        """Say what `old` (the line of a view this one replaces) says here, in this line's
+        browser's language; nothing if it says nothing here."""
+        if old._words is not None and old.handle.visible:
+            self.show(old._words, old._stale)
 
     def recheck(self) -> None:
         """Clear the message if it was shown with a `stale` test that now says it no longer holds."""
@@ -170,6 +186,7 @@ class MessageLine:
     def clear(self) -> None:
         self._stale = None
         self._elsewhere = ""
+        self._words = None
         self._hide()
 
     def _hide(self) -> None:
@@ -260,7 +277,7 @@ class Transport:
                 if self.quiet.active:
                     return
                 if menu.value not in menu.options:  # a client can send any string
-                    message.show(_("Integrator {name} refused.").format(name=repr(menu.value)))
+                    message.show(Said(N_("Integrator {name} refused."), name=repr(menu.value)))
                     self.quiet.write(menu, self._integrator)
                     return
                 on_integrator(str(menu.value))

@@ -28,7 +28,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from app.i18n import N_, Translator
+from app.i18n import N_, Said, Translator
 from app.kit.core.common import SliderSpec
 from app.kit.panel.gui import add_slider
 from physics._types import Vec3
@@ -187,8 +187,8 @@ class HandControls:
         view = self.view
         k = AXES.index(axis) if axis in AXES else axis if axis in (0, 1, 2) else None
         if k is None:
-            view.message.show(view.tr.gettext("Kick about {axis} refused: the axes are {axes}.").format(
-                axis=repr(axis), axes=", ".join(AXES)))
+            view.message.show(Said(N_("Kick about {axis} refused: the axes are {axes}."), axis=repr(axis),
+                                   axes=", ".join(AXES)))
             return False
         J = KICK_SPEC.check(impulse)
         if J is None:

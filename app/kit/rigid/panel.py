@@ -6,6 +6,7 @@ edits of the sliders turned into calls on the room, and the panel's texts at the
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -260,7 +261,7 @@ class RigidBodyPanel(RigidBodyScene):
     def set_integrator(self, name: str) -> None:
         message = self.sim.set_integrator(name)
         if message is not None:  # the simulation's English words, in this browser's language
-            self.message.show(METHOD_REFUSALS.in_language(message, self.tr))
+            self.message.show(functools.partial(METHOD_REFUSALS.in_language, message))
         self.room.refresh()
 
     # ------------------------------------------------------------------ text

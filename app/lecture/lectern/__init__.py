@@ -111,7 +111,8 @@ Each piece, as *owner* → *what ends it*:
   removes them when the bus takes it that the presenter left.
 - **shared plot** (`room_plot`, `app.lecture.room_plot`): the presenter's open plot tab → ("", [])
   once `presenter` is None or the remote hall is not LIVE: cleared on every follower.
-- **lesson step** (`Seat.lesson_text` in `FollowerStatus.lesson`): the presenter's session → not
+- **lesson step** (`Seat.lesson_text` in `FollowerStatus.lesson`, its words in the other languages,
+  `Seat.lesson_words`, in `FollowerStatus.lesson_words`): the presenter's session → not
   in the followers' status once `presenter` is None or the hall is not LIVE (`markdown` shows
   it only while LIVE: also on another worker, whatever the last status heard said).
 - **the followers' status** (`FollowerStatus`, made by `Followers.status`; another worker's:

@@ -98,8 +98,10 @@ class Followers:
         presenter, remote = stage.presenter, stage.remote
         if remote is not None and presenter is None:
             return remote.shown_status()
-        lesson = presenter.lesson_text() if presenter is not None and stage.hall is Hall.LIVE else ""
-        return FollowerStatus.of_room(stage.live_room, stage.hall, lesson, self._key_numbers())
+        lesson, words = "", {}  # the lesson step while live: in English, and its words in the other languages
+        if presenter is not None and stage.hall is Hall.LIVE:
+            lesson, words = presenter.lesson_text(), presenter.lesson_words()
+        return FollowerStatus.of_room(stage.live_room, stage.hall, lesson, self._key_numbers(), words)
 
     def caption(self) -> tuple[str, str]:
         """(head, words) of the lesson caption over every follower's 3D view: the presenter's

@@ -62,6 +62,10 @@ class Seat(Protocol):
         """The presenter's current lesson step, or ""."""
         ...
 
+    def lesson_words(self) -> dict[str, dict[str, str]]:
+        """Its lesson step's line and caption in the other languages: {code: {English: words}} ({} for none)."""
+        ...
+
     def stop_presenting(self) -> None:
         """Stop presenting (the lectern calls it when this browser's lock was lost)."""
         ...
