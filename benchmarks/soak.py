@@ -58,17 +58,19 @@ class SoakResult:
     browsers: int
     joins: int
     rss_mib: list[tuple[float, float]]  # (seconds since start, VmRSS [MiB]) of the first process
-    settled_mib: float  # the first sample at or after one minute
+    settled_mib: float  # the first sample at or after `settle_s`
     end_mib: float
     steady_fps: float  # frames/s received by a follower that stayed all along
     errors: list[str]
     processes: dict[str, list[tuple[float, float]]] = dataclasses.field(default_factory=dict)
     """Every process's samples by name ("server", or "worker 1", "worker 2", ...)."""
+    settle_s: float = 60.0
+    """When memory counts as settled [s after the start]: growth is measured from there."""
 
     @property
     def growth_mib(self) -> float:
         """End memory minus the settled memory [MiB], the largest over the processes."""
-        return max((s[-1][1] - rss_at(s, 60.0) for s in self.processes.values()),
+        return max((s[-1][1] - rss_at(s, self.settle_s) for s in self.processes.values()),
                    default=self.end_mib - self.settled_mib)
 
     def growth_after_mib(self, minutes: float) -> dict[str, float]:
@@ -83,7 +85,7 @@ class SoakResult:
 
     def summary(self) -> str:
         return (f"{self.minutes:g} min, {self.browsers} browsers, {self.joins} joins: RSS settled "
-                f"{self.settled_mib:.1f} MiB after 1 min, {self.end_mib:.1f} MiB at the end "
+                f"{self.settled_mib:.1f} MiB after {self.settle_s:g} s, {self.end_mib:.1f} MiB at the end "
                 f"({self.growth_mib:+.1f} MiB, the most of {len(self.processes) or 1} process(es)); "
                 f"a follower that stayed got {self.steady_fps:.1f} fps; "
                 f"{len(self.errors)} error line(s) logged")
@@ -131,7 +133,7 @@ def _sample(target: Target, samples: dict[str, list[tuple[float, float]]], secon
 
 
 async def _soak(target: Target, minutes: float, browsers: int, churn: float,
-                hostile: bool = False) -> SoakResult:
+                hostile: bool = False, settle_s: float = 60.0) -> SoakResult:
     presenter = await AsyncViserClient.connect(target.port, keep_messages=100)
     await presenter.wait_for_label("Presenter code", 30.0)
     await presenter.set_value("Presenter code", target.code)
@@ -182,8 +184,8 @@ async def _soak(target: Target, minutes: float, browsers: int, churn: float,
         await asyncio.gather(*(c.close() for c in [presenter, steady, *crowd]), return_exceptions=True)
     first = next(iter(samples.values()))
     errors = [line for line in target.log().splitlines() if "ERROR" in line or "Traceback" in line]
-    return SoakResult(minutes, browsers, joins, first, rss_at(first, 60.0), first[-1][1], fps, errors,
-                      samples)
+    return SoakResult(minutes, browsers, joins, first, rss_at(first, settle_s), first[-1][1], fps, errors,
+                      samples, settle_s)
 
 
 def _worker_log(worker: Any) -> str:
@@ -192,11 +194,12 @@ def _worker_log(worker: Any) -> str:
 
 
 def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, hostile: bool = False,
-             workers: int = 0) -> SoakResult:
+             workers: int = 0, settle_s: float = 60.0) -> SoakResult:
     """Run the soak (see the module docstring) against a fresh server subprocess (`workers` 0),
-    or `workers` worker processes behind nginx with the lecture's Redis bus."""
-    if minutes <= 0 or browsers < 1 or churn <= 0 or workers < 0:
-        raise ValueError("need minutes > 0, browsers >= 1, churn > 0, workers >= 0")
+    or `workers` worker processes behind nginx with the lecture's Redis bus; memory counts as
+    settled `settle_s` [s] after the start."""
+    if minutes <= 0 or browsers < 1 or churn <= 0 or workers < 0 or not 0 <= settle_s < 60.0 * minutes:
+        raise ValueError("need minutes > 0, browsers >= 1, churn > 0, workers >= 0, 0 <= settle_s < the run")
     lifetime = 60.0 * minutes + 120.0
     if workers:
         from benchmarks.cluster_load import WORKER_CODE, Cluster
@@ -206,13 +209,13 @@ def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, host
             target = Target(cluster.port, WORKER_CODE,
                             {f"worker {i + 1}": w.pid for i, w in enumerate(cluster.workers)},
                             lambda: "\n".join(_worker_log(w) for w in cluster.workers))
-            return run_async(_soak(target, minutes, browsers, churn, hostile))
+            return run_async(_soak(target, minutes, browsers, churn, hostile, settle_s))
         finally:
             cluster.stop()
     server = ServerProcess(max_lifetime=lifetime)
     try:
         target = Target(server.port, PRESENTER_CODE, {"server": server.pid}, lambda: server.log_tail(1_000_000))
-        return run_async(_soak(target, minutes, browsers, churn, hostile))
+        return run_async(_soak(target, minutes, browsers, churn, hostile, settle_s))
     finally:
         server.stop()
 

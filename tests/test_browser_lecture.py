@@ -244,7 +244,7 @@ def test_followers_cannot_move_the_presenters_masses_and_explore_copies_them(bro
     # The follower drags across every ball and the gizmo's place, clicks, presses keys.
     fcam = follower.client.camera
     for point in [*sim.positions, sim.positions[1] + np.array([0.3, 0.0, 0.0])]:
-        fx, fy = project(fcam, point, 1280, 800)
+        fx, fy = project(fcam, point, DESK["viewport"]["width"], DESK["viewport"]["height"])
         follower_page.mouse.click(fx, fy)
         follower_page.mouse.move(fx, fy)
         follower_page.mouse.down()
@@ -342,7 +342,7 @@ def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser,
     follower_page.screenshot(path=str(before))
 
     # The follower clicks and shift-clicks the body: nothing appears; it has no Pointer box.
-    fx, fy = project(follower.client.camera, (0.0, 0.0, 0.0), 1280, 800)
+    fx, fy = project(follower.client.camera, (0.0, 0.0, 0.0), DESK["viewport"]["width"], DESK["viewport"]["height"])
     follower_page.mouse.click(fx, fy)
     follower_page.keyboard.down("Shift")
     follower_page.mouse.click(fx, fy)

@@ -188,6 +188,11 @@ def test_a_refusal_far_down_the_panel_is_said_beside_the_box_and_goes_with_a_goo
     assert session.error_count == 0
 
 
+BOX_STATE_JS = """el => ({focused: el === document.activeElement, selection: [el.selectionStart, el.selectionEnd],
+               text: el.value})"""
+"""What a number box holds and whether its text is selected (the typing guard holds server writes then)."""
+
+
 def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_replay_shows_one_time(
         wait_until, app: App, page) -> None:
     session = open_app(page, app)
@@ -202,7 +207,7 @@ def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_r
         if not playing:
             page.get_by_role("button", name="Pause", exact=True).click()
             wait_until(lambda: not session.room.playing, timeout=10.0)
-        typed = time.monotonic()
+        typed, refused_before = time.monotonic(), timeline.binding.refused
         type_into(page, box, "999", delay=20, end="Enter", whole=True)
         try:
             said = refusal_beside(page, box, refused)  # under the slider, with the stretch
@@ -213,8 +218,15 @@ def test_a_time_typed_into_the_timeline_is_refused_alike_playing_or_paused_and_r
                                  f"the server: message {view.message.text!r}, refused {timeline.binding.refused}, "
                                  f"applied {timeline.binding.applied}, t shown {session.room.shown_t:.2f}, "
                                  f"errors {session.error_count} {session.last_error!r}") from error
-        shown = wait_for_page(page, "the box showing the slider's value", lambda: box_shows_slider(
-            page, box, timeline.gui_slider), same_number)
+        try:
+            shown = wait_for_page(page, "the box showing the slider's value", lambda: box_shows_slider(
+                page, box, timeline.gui_slider), same_number)
+        except AssertionError as error:
+            raise AssertionError(f"{'playing' if playing else 'paused'}: {error}; the page's box "
+                                 f"{box.evaluate(BOX_STATE_JS)}; the server: slider {timeline.gui_slider.value}, "
+                                 f"refused {refused_before} before the keys and {timeline.binding.refused} now, "
+                                 f"applied {timeline.binding.applied}, t shown {session.room.shown_t:.2f}, "
+                                 f"playing {session.room.playing}") from error
         print(f"{'playing' if playing else 'paused'}: the box showed {shown[0]} "
               f"{time.monotonic() - typed:.2f} s after the keys were typed")
         shot(page, f"after_row6_timeline_999_{'playing' if playing else 'paused'}.png")

@@ -1,6 +1,7 @@
-"""A 90-second soak (benchmarks/soak.py; longer runs from its command line): a presenter plays
-while 20 browsers join and leave every 3 s, with three hostile ones (never reads, guesses codes,
-sends foreign GUI updates); memory is compared between the first minute and the end."""
+"""A one-minute soak (benchmarks/soak.py; the hour-long runs from its command line): a presenter
+plays while 20 browsers join and leave every 3 s, with three hostile ones (never reads, guesses
+codes, sends foreign GUI updates); memory is compared between the first half minute (SETTLE_S)
+and the end.  A property, not a capacity: the hour's growth is measured by the benchmark."""
 
 from __future__ import annotations
 
@@ -10,12 +11,13 @@ from benchmarks.soak import run_soak
 
 pytestmark = pytest.mark.slow
 
-MAX_GROWTH_MIB = 10.0  # memory at the end against where it settled after the first minute
+MAX_GROWTH_MIB = 10.0  # memory at the end against where it settled (SETTLE_S)
+SETTLE_S = 30.0  # [s] memory counts as settled this long after the start
 MIN_STEADY_FPS = 20.0  # a follower that stayed all along (~57 fps measured on 2 cores)
 
 
-def test_ninety_seconds_of_browsers_coming_and_going_with_hostile_ones() -> None:
-    result = run_soak(minutes=1.5, browsers=20, churn=3.0, hostile=True)
+def test_a_minute_of_browsers_coming_and_going_with_hostile_ones() -> None:
+    result = run_soak(minutes=1.0, browsers=20, churn=3.0, hostile=True, settle_s=SETTLE_S)
     print(result.summary())
     assert result.joins >= 35
     assert result.errors == []
