@@ -45,7 +45,8 @@ LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 PROJECTOR = {"viewport": {"width": 1024, "height": 768}}
 
 PANEL_JS = """() => {
-  const at = [...document.querySelectorAll('*')].find(e => e.childElementCount === 0 && e.textContent === 'Rigid-body lab');
+  const at = [...document.querySelectorAll('*')]
+    .find(e => e.childElementCount === 0 && e.textContent === 'Rigid-body lab');
   for (let e = at; e; e = e.parentElement) {
     const style = getComputedStyle(e);
     if (style.position === 'fixed' || style.position === 'absolute') {
