@@ -69,6 +69,7 @@ from scipy.special import elliprf, elliprj
 
 from physics._types import Array, Mat3, Vec3
 from physics.quaternion import matrices_from_wxyz, wxyz_from_matrix
+from physics.refusal import N_, Refusal
 
 __all__ = ["HeavySymmetricTopExact", "steady_precession_rate"]
 
@@ -292,6 +293,9 @@ class HeavySymmetricTopExact:
             `self.R0` holds the rotation actually used).
         omega0_body: (3,) ω_b at t = 0 [rad/s], usual sign (hat(ω_b) = Rᵀ Ṙ).
 
+    Raises:
+        Refusal (a ValueError, `physics.refusal`): input no top has (its msgid and fields).
+
     Evaluation is vectorised over times: `attitude(t)`, `omega_body(t)`, `self(t)` (both),
     `cos_theta(t)`, `axis_space(t)` take a scalar or an (N,) array of times [s] (any sign, any
     size; about 2.5 µs per time, construction about 1 ms).
@@ -310,15 +314,15 @@ class HeavySymmetricTopExact:
         R0a = np.asarray(R0, dtype=float)
         om = np.asarray(omega0_body, dtype=float)
         if not (math.isfinite(I1) and math.isfinite(I3) and I1 > 0.0 and I3 > 0.0):
-            raise ValueError(f"moments must be finite and positive, got I1={I1}, I3={I3}")
+            raise Refusal(N_("moments must be finite and positive, got I1={I1}, I3={I3}"), I1=I1, I3=I3)
         if not (math.isfinite(mgl) and mgl >= 0.0):
-            raise ValueError(f"mgl must be finite and >= 0, got {mgl}")
+            raise Refusal(N_("mgl must be finite and >= 0, got {mgl}"), mgl=mgl)
         if R0a.shape != (3, 3) or not np.all(np.isfinite(R0a)):
-            raise ValueError("R0 must be a finite (3, 3) matrix")
+            raise Refusal(N_("R0 must be a finite (3, 3) matrix"))
         if np.linalg.norm(R0a.T @ R0a - np.eye(3)) > _ORTHO_TOL or np.linalg.det(R0a) < 0.0:
-            raise ValueError("R0 is not a rotation (orthogonal with det +1 to 1e-9)")
+            raise Refusal(N_("R0 is not a rotation (orthogonal with det +1 to 1e-9)"))
         if om.shape != (3,) or not np.all(np.isfinite(om)):
-            raise ValueError("omega0_body must be a finite (3,) vector")
+            raise Refusal(N_("omega0_body must be a finite (3,) vector"))
 
         self.I1, self.I3, self.mgl = I1, I3, mgl
         w0, x0, y0, z0 = wxyz_from_matrix(R0a)

@@ -121,15 +121,15 @@ def validate_inertia_tensor(I: ArrayLike) -> Mat3:
     """
     A = np.array(I, dtype=float)
     if A.shape != (3, 3):
-        raise InertiaError(f"inertia tensor must have shape (3, 3), got {A.shape}")
+        raise InertiaError(N_("inertia tensor must have shape (3, 3), got {shape}"), shape=A.shape)
     if not np.all(np.isfinite(A)):
-        raise InertiaError(f"inertia tensor must be finite, got {A.tolist()}")
+        raise InertiaError(N_("inertia tensor must be finite, got {tensor}"), tensor=A.tolist())
     scale = float(np.max(np.abs(A)))
     asym = float(np.max(np.abs(A - A.T)))
     if asym > SYMMETRY_RTOL * scale:
         raise InertiaError(
-            f"inertia tensor is not symmetric: max |I - I^T| = {asym:.3g} "
-            f"> {SYMMETRY_RTOL:g} * max |I| = {SYMMETRY_RTOL * scale:.3g}"
+            N_("inertia tensor is not symmetric: max |I - I^T| = {asymmetry} > {rtol} * max |I| = {allowed}"),
+            asymmetry=f"{asym:.3g}", rtol=f"{SYMMETRY_RTOL:g}", allowed=f"{SYMMETRY_RTOL * scale:.3g}",
         )
     A = 0.5 * (A + A.T)
     eigenvalues = np.linalg.eigvalsh(A)  # ascending
@@ -373,24 +373,23 @@ def mesh_mass_properties(
     v = np.asarray(vertices, dtype=float)
     f_in = np.asarray(faces)
     if v.ndim != 2 or v.shape[1] != 3 or v.shape[0] == 0:
-        raise MeshError(f"vertices must have shape (V, 3) with V > 0, got {v.shape}")
+        raise MeshError(N_("vertices must have shape (V, 3) with V > 0, got {shape}"), shape=v.shape)
     if f_in.ndim != 2 or f_in.shape[1] != 3 or f_in.shape[0] == 0:
-        raise MeshError(f"faces must have shape (F, 3) with F > 0, got {f_in.shape}")
+        raise MeshError(N_("faces must have shape (F, 3) with F > 0, got {shape}"), shape=f_in.shape)
     if not np.issubdtype(f_in.dtype, np.integer):
-        raise MeshError(f"faces must be integer indices, got dtype {f_in.dtype}")
+        raise MeshError(N_("faces must be integer indices, got dtype {dtype}"), dtype=f_in.dtype)
     if not (math.isfinite(density) and density > 0.0):
-        raise MeshError(f"density must be finite and > 0, got {density}")
+        raise MeshError(N_("density must be finite and > 0, got {density}"), density=density)
     bad_vertex = ~np.all(np.isfinite(v), axis=1)
     if np.any(bad_vertex):
         k = int(np.argmax(bad_vertex))
-        raise MeshError(f"vertex {k} is not finite: {v[k].tolist()}")
+        raise MeshError(N_("vertex {k} is not finite: {vertex}"), k=k, vertex=v[k].tolist())
     f = f_in.astype(np.int64)
     out_of_range = (f < 0) | (f >= v.shape[0])
     if np.any(out_of_range):
         k = int(np.argmax(np.any(out_of_range, axis=1)))
-        raise MeshError(
-            f"face {k} = {f[k].tolist()} has an index outside [0, {v.shape[0] - 1}]"
-        )
+        raise MeshError(N_("face {k} = {face} has an index outside [0, {last}]"), k=k, face=f[k].tolist(),
+                        last=v.shape[0] - 1)
     repeated = (f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0])
     if np.any(repeated):
         k = int(np.argmax(repeated))
@@ -518,11 +517,12 @@ def cylinder_dimensions_from_moments(I1: float, I3: float, mass: float = 1.0) ->
     m = _positive("mass", mass)
     i1, i3 = float(I1), float(I3)
     if not (math.isfinite(i1) and math.isfinite(i3) and i1 > 0.0 and i3 > 0.0):
-        raise InertiaError(f"moments must be finite and > 0, got I1 = {_fmt(i1)}, I3 = {_fmt(i3)}")
+        raise InertiaError(N_("moments must be finite and > 0, got I1 = {I1}, I3 = {I3}"), I1=_fmt(i1), I3=_fmt(i3))
     height_squared = (12.0 * i1 - 6.0 * i3) / m
     if height_squared < -1e-15 * 12.0 * i1 / m:
         raise InertiaError(
-            f"no uniform cylinder has I1 = {_fmt(i1)} < I3/2 = {_fmt(i3 / 2)} (the flat disc has I1 = I3/2)"
+            N_("no uniform cylinder has I1 = {I1} < I3/2 = {half_I3} (the flat disc has I1 = I3/2)"),
+            I1=_fmt(i1), half_I3=_fmt(i3 / 2),
         )
     return math.sqrt(2.0 * i3 / m), math.sqrt(max(height_squared, 0.0))
 

@@ -8,6 +8,8 @@
    than its box, past the panel's edge, or a word broken across lines where it has no hyphen) nor
    overlapping another, and the panel does not scroll sideways; the same check on a German
    1280×800 laptop with its `Darstellung` folder open.
+3. The control panel's header names the app in German (in Dutch after choosing Nederlands), never
+   viser's "Connected" once the name showed (needs the catalogs' entry for "Rigid-body lab").
 
 Pictures for people: $RBL_TEST_SHOTS/i18n/ (none when unset).
 Needs Debian's Chromium: `apt-get install chromium`.
@@ -15,15 +17,19 @@ Needs Debian's Chromium: `apt-get install chromium`.
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
 from conftest import keep_picture
+from test_browser import app_url
 from test_browser_lecture import CODE, close_toasts, open_folder, open_page, received, serving, text_input
 
+from app.i18n import translator
 from app.main import App
+from app.roles.language import APP_NAME
 
 pytestmark = pytest.mark.browser
 
@@ -286,3 +292,57 @@ def test_a_german_presenter_asking_the_class_and_the_folders_fit_the_laptop_and_
     close_toasts(phone)
     folders_fit(phone, "phone")
     assert phone_session.error_count == 0, phone_session.last_error
+
+
+STATUS_WATCH = """
+window.__statusAfterName = [];
+(() => {
+  // viser's own status words ("Connected", ...) in the page once the app's name (any language) showed.
+  const shown = (word) => document.evaluate(`boolean(//*[normalize-space(text())='${word}'])`, document, null,
+                                            XPathResult.BOOLEAN_TYPE, null).booleanValue;
+  const names = %s;
+  let named = false;
+  new MutationObserver(() => {
+    named = named || names.some(shown);
+    if (!named) return;
+    for (const word of ['Connected', 'Connecting...', 'Inactive'])
+      if (shown(word) && !window.__statusAfterName.includes(word)) window.__statusAfterName.push(word);
+  }).observe(document, {childList: true, subtree: true, characterData: true});
+})();
+"""
+"""An init script (its %s: the app's names, a JSON list): `window.__statusAfterName` lists viser's
+status words seen in the page after one of the names showed."""
+
+
+def test_a_german_panel_header_names_the_app_in_german_and_never_says_connected(browser, german_app: App,
+                                                                               wait_until) -> None:
+    """The header of the control panel (viser's "Connected" when no label is set): the app's name
+    in German from the first panel on, in Dutch after choosing Nederlands, never viser's status
+    words once it showed.  Needs the catalogs' entry for "Rigid-body lab"."""
+    german, dutch = translator("de").gettext(APP_NAME), translator("nl").gettext(APP_NAME)
+    assert german != APP_NAME and dutch != APP_NAME, f"the catalogs name the app {german!r}, {dutch!r}"
+    context = browser.new_context(**LAPTOP)
+    try:
+        context.add_init_script(STATUS_WATCH % json.dumps([APP_NAME, german, dutch]))
+        before = set(german_app.sessions)
+        page = context.new_page()
+        page.goto(app_url(page, german_app.port), timeout=90_000)
+        session = wait_until(lambda: next((s for cid, s in dict(german_app.sessions).items() if cid not in before),
+                                          None), timeout=90.0)
+        header = page.get_by_text(german, exact=True)
+        try:
+            header.first.wait_for(timeout=90_000)
+        except Exception:  # noqa: BLE001 - say what the page showed instead
+            raise AssertionError(f"the page never showed {german!r}; it shows: "
+                                 f"{page.locator('body').inner_text()[:800]!r}") from None
+        button(page, "Abspielen").wait_for(timeout=90_000)
+        close_toasts(page)
+        shot(page, "header_de.png")
+        assert page.get_by_text("Connected", exact=True).count() == 0
+        choose(page, session.gui_language, "Nederlands")
+        page.get_by_text(dutch, exact=True).first.wait_for(timeout=30_000)
+        assert header.count() == 0, f"{german!r} still shown after choosing Nederlands"
+        assert page.evaluate("window.__statusAfterName") == [], "viser's status words came back"
+        assert session.error_count == 0, session.last_error
+    finally:
+        context.close()

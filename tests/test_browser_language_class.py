@@ -10,8 +10,9 @@ in their own page, whose question panel speaks their language ("Vraag 1", "Jouw 
 "Wijzig mijn antwoord" / "Frage 1", "Deine Antwort", "Meine Antwort ändern"); then the Dutch
 student explores and reads the live bar in Dutch ("College bezig", "Volg presentator").  At each
 step the student's page holds none of the English words wrapped for these panels (the catalog's
-msgids of app/lecture/follower.py, app/hall/lecture_panel.py, app/hall/ask_student.py and
-app/hall/ask_kinds.py that the language writes otherwise), and the lecturer's page stays English.
+msgids of app/lecture/follower.py, app/hall/lecture_panel.py, app/hall/ask_student.py,
+app/hall/ask_kinds.py and app/roles/language.py that the language writes otherwise) nor viser's
+own header words ("Connected"), and the lecturer's page stays English.
 
 Pictures for people: $RBL_TEST_SHOTS/i18n2/ (none when unset).
 """
@@ -36,7 +37,9 @@ pytestmark = pytest.mark.browser
 LAPTOP = DESK
 ROOT = Path(__file__).resolve().parents[1]
 WRAPPED_IN = ("app/lecture/follower.py", "app/hall/lecture_panel.py", "app/hall/ask_student.py",
-              "app/hall/ask_kinds.py")
+              "app/hall/ask_kinds.py", "app/roles/language.py")
+VISER_STATUS = ("Connected", "Connecting...", "Inactive")
+"""viser's own words in the panel's header when the app sets no label there: none on any page."""
 PROMPT = "A book spins about its middle axis. What does it do?"  # the lecturer's words: stay as typed
 OPTIONS = ("spins steadily", "wobbles", "flips again and again")
 
@@ -67,8 +70,9 @@ def english_left(page: Any, language: str) -> list[str]:
     text = page.locator("body").inner_text()
     for typed in (PROMPT, *OPTIONS):
         text = text.replace(typed, "")
-    return [f"{piece!r} (of {msgid!r})" for piece, msgid in wrapped_english(language).items()
+    left = [f"{piece!r} (of {msgid!r})" for piece, msgid in wrapped_english(language).items()
             if re.search(rf"(?<![A-Za-z]){re.escape(piece)}(?![A-Za-z])", text)]
+    return left + [f"{status!r} (viser's header)" for status in VISER_STATUS if status in text.splitlines()]
 
 
 def shows(page: Any, words: str, timeout: float = 30.0) -> None:

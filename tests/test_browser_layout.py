@@ -45,7 +45,8 @@ LAPTOP = {"viewport": {"width": 1280, "height": 800}}
 PROJECTOR = {"viewport": {"width": 1024, "height": 768}}
 
 PANEL_JS = """() => {
-  const at = [...document.querySelectorAll('*')].find(e => e.childElementCount === 0 && e.textContent === 'Connected');
+  const at = [...document.querySelectorAll('*')]
+    .find(e => e.childElementCount === 0 && e.textContent === 'Rigid-body lab');
   for (let e = at; e; e = e.parentElement) {
     const style = getComputedStyle(e);
     if (style.position === 'fixed' || style.position === 'absolute') {
@@ -55,7 +56,8 @@ PANEL_JS = """() => {
   }
   return null;
 }"""
-"""The panel's box on the page [CSS px] (the element holding "Connected" that floats over the canvas)."""
+"""The panel's box on the page [CSS px] (the box floating over the canvas that holds its header, the app's name
+in English: `app.roles.language.APP_NAME`)."""
 
 NO_PLAY_YET = """
 window.__playSeen = false;

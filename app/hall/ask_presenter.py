@@ -32,6 +32,7 @@ from app.hall.ask_kinds import ASK_ROOT, PANELS, KindForm
 from app.i18n import N_, Labels, Phrases, Translator, for_gui, translator
 from app.kit.core.common import Wrap, show_if_changed, write_if_changed
 from app.kit.panel.download import save_download
+from app.refusals import NotAllowed
 
 __all__ = ["ASK_LABEL", "CLOSE_LABEL", "CSV_LABEL", "EARLIER_LABEL", "LABELS", "NEW_LABEL", "REVEAL_LABEL",
            "SPHERE_RADIUS", "VOTE_AGAIN_LABEL", "AnswerSphere", "AskPanel", "count_text", "histogram_text",
@@ -242,7 +243,7 @@ class AskPanel:
 
     def _check(self) -> None:
         if not self.presenting():
-            raise PermissionError("only the presenter can ask the class and see its answers")
+            raise NotAllowed(N_("only the presenter can ask the class and see its answers"))
 
     # ------------------------------------------------------------------ the form
     def _alias_fields(self) -> None:

@@ -6,20 +6,27 @@ and Language dropdowns) relabelled, and the scene's panel built again for the sa
 state and its other views untouched), unless it follows a presenter (then the follower's panel,
 the lectern's, is relabelled; the next view it builds, exploring, is in its language); the live
 bar and the student's question panel are written again in it.
+
+The panel's header names the app in the browser's language (`APP_NAME`, viser's panel label) in
+place of viser's own English "Connected" / "Connecting..." (its icon beside it still shows the
+connection's state).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from app.i18n import LANGUAGES, Translator, language_named, set_translator, translator
+from app.i18n import LANGUAGES, N_, Translator, language_named, set_translator, translator
 from app.kit.view import SceneView
 from app.lecture.follower import Follower
 from app.lecture.lectern import Mode
 from app.roles.own_room import OwnRoom
 from app.roles.showing import Browser
 
-__all__ = ["Language"]
+__all__ = ["APP_NAME", "Language"]
+
+APP_NAME = N_("Rigid-body lab")
+"""The app's name: the panel's header, in each browser's language."""
 
 
 class Language:
@@ -36,6 +43,7 @@ class Language:
         self.tr: Translator = translator(language)
         """This browser's words (`app.i18n.Translator`): its panel's translated parts speak it."""
         set_translator(browser.client.gui, self.tr)
+        browser.client.gui.set_panel_label(self.tr.gettext(APP_NAME))
         self.dropdown: Any = None
 
     @property
@@ -83,6 +91,7 @@ class Language:
         set_translator(browser.client.gui, self.tr)
         _ = self.tr.gettext
         with browser.client.atomic():
+            browser.client.gui.set_panel_label(_(APP_NAME))
             self.dropdown.label = _("Language")
             self.dropdown.hint = _("the language of this browser's panel")
             browser.projector_layout.relabel(self.tr)

@@ -215,9 +215,9 @@ class HeavyTopView(RigidBodyView):
             self._energy_run = sim.restarts
             try:
                 picture: TopEnergyPicture | None = self.energy_picture_of(sim)
-                failure = ""
+                failure: BaseException | str = ""
             except (ValueError, ArithmeticError) as error:
-                picture, failure = None, str(error)
+                picture, failure = None, error  # said in the viewer's language by the plot
             self.energy_plot.show(picture, theta, failure)
         else:
             self.energy_plot.mark(theta, throttled=self.room.playing)

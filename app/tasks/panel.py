@@ -45,6 +45,7 @@ from app.hall.ask_presenter import tally_in_language
 from app.i18n import N_, Labels, Translator, for_gui, translator
 from app.kit.panel.download import save_download
 from app.lecture.gate import code_matches
+from app.refusals import NotAllowed
 from app.scenes import SCENES
 from app.sharestore import EXAMPLE, format_code
 from app.tasks.model import (
@@ -264,7 +265,7 @@ class TaskMaking:
     def _presenting(self) -> None:
         ask = self.ask
         if ask is None or not ask.presenting():
-            raise PermissionError("only the presenter can make a task")
+            raise NotAllowed(N_("only the presenter can make a task"))
 
     def add_to_worksheet(self) -> None:
         """The Ask form's question joins the worksheet of the next task made here; a form filled

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 import viser.uplot
 
-from app.i18n import DEFAULT_LANGUAGE, Translator, translator
+from app.i18n import DEFAULT_LANGUAGE, Translator, refusal_text, translator
 from physics.top_energy import TopEnergyPicture
 
 ENGLISH = translator(DEFAULT_LANGUAGE)
@@ -121,12 +121,15 @@ class EnergyPlot:
         return {"x": viser.uplot.Scale(time=False, auto=False, range=(x_lo, x_hi)),
                 "y": viser.uplot.Scale(auto=False, range=(y_lo, y_hi))}
 
-    def show(self, picture: TopEnergyPicture | None, theta_now: float, failure: str = "") -> None:
-        """Draw `picture` with the current θ [rad] marked; None: say `failure` instead."""
+    def show(self, picture: TopEnergyPicture | None, theta_now: float, failure: BaseException | str = "") -> None:
+        """Draw `picture` with the current θ [rad] marked; None: say `failure` instead (an error
+        that made none: a refusal from physics said in this plot's language, `app.i18n.refusal_text`,
+        another error's own words; or a reason already written)."""
         self.picture = picture
         _ = self.tr.gettext
         if picture is None:
-            self.gui_motion.content = _("**No energy picture:** {reason}").format(reason=failure)
+            reason = failure if isinstance(failure, str) else refusal_text(failure, self.tr)
+            self.gui_motion.content = _("**No energy picture:** {reason}").format(reason=reason)
             self.gui_readout.content = ""
             return
         window = plot_window(picture)

@@ -144,6 +144,7 @@ import numpy as np
 import viser
 
 from app.ask import Rounds
+from app.i18n import N_
 from app.kit.core.room import Room
 from app.kit.draw.labels import Screen
 from app.kit.draw.screen import BODY_WIDTH_SHARE, NARROW_MARGIN
@@ -164,6 +165,7 @@ from app.lecture.lectern.followers import CAMERA_PERIOD, MAX_LABEL_SCREENS, Foll
 from app.lecture.lectern.lock import MAX_TRIES, PresenterLock
 from app.lecture.lectern.seat import FOLLOW_PERIOD, Mode, RemoteShow, Seat
 from app.lecture.lectern.seating import Seating
+from app.refusals import NotAllowed
 
 __all__ = ["BODY_WIDTH_SHARE", "CALL_BACK_SECONDS", "CAMERA_PERIOD", "FOLLOW_PERIOD", "LIVE_ROOT", "MAX_LABEL_SCREENS",
            "MAX_TRIES", "NARROW_MARGIN", "POINTER_ROOT", "POINTER_SECONDS", "Broadcast", "Lectern", "Mode", "Pointer",
@@ -338,7 +340,7 @@ class Lectern:
         look-at point (`pointed_at`), for every follower.  PermissionError for anyone else,
         ValueError for a ray that is not one; the point [scene units]."""
         if seat is not self.presenter or self.pointer is None:
-            raise PermissionError("only the presenter can point")
+            raise NotAllowed(N_("only the presenter can point"))
         point = pointed_at(ray_origin, ray_direction, seat.client.camera.look_at)
         text = str(label).strip()[:POINTER_LABEL_CHARS]
         with self._lock:
@@ -497,7 +499,7 @@ class Lectern:
         it presses Stay (`stay`); the number asked.  PermissionError for anyone but the presenter."""
         with self._lock:
             if seat is not self.presenter:
-                raise PermissionError("only the presenter can call everyone back")
+                raise NotAllowed(N_("only the presenter can call everyone back"))
             called = self.seating.call_back([other for other in self.seats() if other is not seat], CALL_BACK_SECONDS)
             self.seating.refresh_later([seat])  # shown by the loop, not from the presenter's callback
         self._tell("call_back")

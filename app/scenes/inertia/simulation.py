@@ -273,7 +273,7 @@ def spin_moments(moments: Vec3) -> tuple[tuple[float, float, float], float]:
     InertiaError if the moments are no rigid body (a zero moment: masses on a line)."""
     I = validate_principal_moments(np.asarray(moments, dtype=float))
     if float(I.min()) <= ZERO_RTOL * float(I.max()):
-        raise InertiaError(f"a principal moment is zero ({float(I.min()):.3g} kg m²)")
+        raise InertiaError(N_("a principal moment is zero ({moment} kg m²)"), moment=f"{float(I.min()):.3g}")
     lo, hi = FREE_BODY_MOMENTS
     k = 1.0
     if I.min() < lo or I.max() > hi:
