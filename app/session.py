@@ -171,10 +171,6 @@ class Session:
         """Connected after a lecture ended (`Showing.came_after_lecture`)."""
         return self.showing.came_after_lecture
 
-    @came_after_lecture.setter
-    def came_after_lecture(self, came: bool) -> None:
-        self.showing.came_after_lecture = came
-
     @property
     def lock(self) -> threading.RLock:
         """Held for the whole of each of this session's callbacks and actions (`guard`)."""
@@ -321,8 +317,7 @@ class Session:
         return self.lesson_runner.text(english=True)
 
     def lesson_words(self) -> dict[str, dict[str, str]]:
-        """The current step's words followers are sent in English, in every other language
-        ({code: {English: words}}; `LessonRunner.followers_words`)."""
+        """The words followers are sent in English, in every other language (`LessonRunner.followers_words`)."""
         return self.lesson_runner.followers_words()
 
     def caption_words(self) -> tuple[str, str]:

@@ -492,6 +492,28 @@ def browser() -> Iterator[Any]:
             chromium.close()
 
 
+RUNNING_JS = ("document.getAnimations().filter(a => a.playState === 'running')"
+              ".map(a => a.transitionProperty || a.animationName || a.constructor.name)")
+"""The page's CSS transitions and animations running now (a folder opening: its max-height, opacity)."""
+
+
+def settled_box(page: Any, locator: Any, timeout: float = 30.0) -> dict[str, float]:
+    """`locator`'s bounding box [CSS px] once no transition runs on the page and two reads 0.1 s
+    apart agree: a panel that has just appeared may still slide in, and a tap at its first box
+    lands beside its control.  AssertionError naming the last two reads if not."""
+    deadline = time.monotonic() + timeout
+    previous = None
+    while True:
+        box = locator.bounding_box()
+        running = page.evaluate(RUNNING_JS)
+        if box is not None and box == previous and not running:
+            return dict(box)
+        if time.monotonic() > deadline:
+            raise AssertionError(f"the box kept moving for {timeout} s (running: {running}): {previous} then {box}")
+        previous = box
+        page.wait_for_timeout(100)
+
+
 DESK = {"viewport": {"width": 800, "height": 600}}
 """A desktop page whose size no assertion reads (the laptops, projectors and phones whose layout a
 test checks keep their sizes): playing, it costs SwiftShader 0.52 cores where a 1280×800 page

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import settled_box
 from test_browser import choose
 from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, type_into  # noqa: F401 - a fixture
 
@@ -80,10 +81,11 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     button(laptop, "Send my direction").click()
     button(students[1][0], "Send my direction").click()  # as it was: azimuth 0°, elevation 45°
     phone, phone_student = students[2]
-    track = phone.locator(f'[id="{phone_student.question.gui_azimuth._impl.uuid}"]').bounding_box()
-    assert track is not None
+    track = settled_box(phone, phone.locator(f'[id="{phone_student.question.gui_azimuth._impl.uuid}"]'))
     phone.touchscreen.tap(track["x"] + 0.25 * track["width"], track["y"] + 0.5 * track["height"])
-    wait_until(lambda: phone_student.question.gui_azimuth.value < -45.0, timeout=10.0)
+    wait_until(lambda: phone_student.question.gui_azimuth.value < -45.0, timeout=30.0,
+               what="the phone's azimuth below -45° after a tap at a quarter of its track",
+               seen=lambda: (phone_student.question.gui_azimuth.value, track))
     button(phone, "Send my direction").tap()
     projector.get_by_text("3 tips on the sphere", exact=False).wait_for(timeout=15_000)
     button(projector, "Reveal the answer").click()

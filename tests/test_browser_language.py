@@ -23,7 +23,7 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from conftest import keep_picture
+from conftest import RUNNING_JS, keep_picture
 from test_browser import app_url
 from test_browser_lecture import CODE, close_toasts, open_folder, open_page, received, serving, text_input
 
@@ -85,11 +85,6 @@ it) and how far each of its scroll areas scrolls sideways [px]."""
 
 def shot(page: Any, name: str) -> None:
     keep_picture(page, f"i18n/{name}")
-
-
-RUNNING_JS = ("document.getAnimations().filter(a => a.playState === 'running')"
-              ".map(a => a.transitionProperty || a.animationName || a.constructor.name)")
-"""The page's CSS transitions and animations running now (a folder opening: its max-height, opacity)."""
 
 
 def settled_boxes(page: Any, timeout: float = 30.0) -> dict[str, Any]:

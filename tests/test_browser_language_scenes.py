@@ -9,8 +9,9 @@ Chromium through the pages (issue 38):
    `app.scenes.SCENES` in the Scene dropdown, as a person does; in each, the panel's text is
    neither cut, nor past the panel's edge, nor overlapping another text, and the panel does not
    scroll sideways (`test_browser_language.text_problems`); no field's text (a dropdown's value)
-   is wider than its box; scrolled through from the panel's top to its bottom, a visible height at a time.  The check needs no particular
-   translation: a scene whose panel is still English is checked as it is.
+   is wider than its box; scrolled through from the panel's top to its bottom, a visible height
+   at a time.  The check needs no particular translation: a scene whose panel is still English is
+   checked as it is.
 
 Pictures ($RBL_TEST_SHOTS, none when unset): `<size>_<language>_<scene>_<top|partN|bottom>.png`, `lesson_de.png`.
 Needs Debian's Chromium: `apt-get install chromium`.

@@ -206,7 +206,8 @@ def test_the_shared_labels_are_laid_out_for_a_phone_on_another_worker(workers: W
     phone, phone_client = workers.connect("b", ViserClient)
     _window(phone_client, *PHONE[:2])
     poll_until(lambda: phone.mode == "following" and phone.client.camera.image_width == PHONE[0], timeout=10.0)
-    assert b.lectern.follower_screens() and all(s.width != PHONE[0] for s in a.lectern.follower_screens())
+    poll_until(b.lectern.follower_screens, timeout=10.0, what="B's follower screens (kept up to a period)")
+    assert all(s.width != PHONE[0] for s in a.lectern.follower_screens())
     poll_until(lambda: any((s.width, s.height) == PHONE[:2] for s in a.lectern.label_screens()), timeout=10.0)
     (remote,) = [s for s in a.lectern.label_screens() if (s.width, s.height) == PHONE[:2]]
     assert remote.panel == b.lectern.follower_screens()[0].panel  # the phone's bottom sheet, through Redis

@@ -28,6 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS = {
     "app.viser_internals": -1,  # the one seam to viser's private names (below everything that uses them)
     "app.data": 0, "app.userdata": 0, "app.sweep": 0, "app.i18n": 0,  # i18n: the translation layer (Babel)
+    "app.refusals": 0,  # NotAllowed: a refusal (physics.refusal) that is a PermissionError
     "app.cli_words": 0.5,  # the command line's words (app.i18n)
     "app.backpressure": 0, "app.wire": 0,
     "app.sharestore": 0.5, "app.lesson_errors": 0.5,  # their refusals in the reader's words (app.i18n)

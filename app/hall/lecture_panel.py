@@ -129,8 +129,10 @@ def ended_text(hall: Hall, scene: str, tr: Translator | None = None) -> str:
 class Lecturer(Seat, Protocol):
     """What the lecture's panel drives: a browser's session (`app.session.Session` is one)."""
 
-    came_after_lecture: bool
-    """It connected after a lecture ended (and has not followed or presented since)."""
+    @property
+    def came_after_lecture(self) -> bool:
+        """It connected after a lecture ended (and has not followed or presented since)."""
+        ...
 
     def open_last_lecture(self) -> None:
         """Show a copy of the room the last presenter left, in place of its own."""
