@@ -19,6 +19,7 @@ import re
 import numpy as np
 import pytest
 import test_browser_lecture
+from conftest import DESK
 from test_browser import choose
 from test_browser_lecture import CODE, open_folder, open_page, received, text_input
 
@@ -89,7 +90,7 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
     assert (question.scene, question.judge, question.target) == ("Heavy top", "top_motion", {"motion": "loops"})
 
     # A laptop student: its own copy, dφ/dt typed, its state sent; the verdict in its panel.
-    laptop_page, laptop = open_page(browser, app, viewport={"width": 1280, "height": 800})
+    laptop_page, laptop = open_page(browser, app, **DESK)
     laptop_page.get_by_role("button", name="Answer from my copy").click()
     wait_until(lambda: laptop.mode == "own" and hasattr(laptop.scene, "gui_rates"), timeout=15.0)
     box = _number_box(laptop_page, laptop.scene.gui_rates[1])  # dφ/dt [deg/s] of its own copy

@@ -11,7 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import keep_picture, keep_words
+from conftest import DESK, keep_picture, keep_words
 from test_browser import choose
 from test_browser_lecture import CODE, close_toasts, hall_app, open_folder_to, open_page, type_into  # noqa: F401 - hall_app: a fixture
 
@@ -84,7 +84,7 @@ def test_a_lecturer_makes_a_task_students_do_it_and_the_table_shows_them(browser
     code = made.group(1)
     assert app.task_store.task(code).policy.attempts == 2
 
-    laptop, ann = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
+    laptop, ann = open_page(browser, app, timeout=90.0, **DESK)
     close_toasts(laptop)
     _open_task(laptop, ann, code.lower().replace("-", " "))  # as read aloud
     wait_text(laptop, "The book flips: its flip period?", "Ann's question", ann)
@@ -176,7 +176,7 @@ def test_a_worksheet_of_three_judged_questions_from_a_lesson_through_the_pages(b
     task = app.task_store.task(code)
     assert [q.judge for q in task.questions] == ["attitude", "axis_stays", "top_motion"]
 
-    laptop, cem = open_page(browser, app, timeout=90.0, viewport={"width": 1024, "height": 768})
+    laptop, cem = open_page(browser, app, timeout=90.0, **DESK)
     close_toasts(laptop)
     _open_task(laptop, cem, code)
     wait_text(laptop, "Question 1 of 3", "Cem's first question", cem)

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import keep_picture, keep_words, poll_until
+from conftest import DESK, keep_picture, keep_words, poll_until
 from test_browser import choose
 from test_browser_lecture import _CONTEXTS, CODE, close_toasts, open_page
 from test_browser_tasks import (
@@ -42,7 +42,7 @@ pytestmark = pytest.mark.browser
 
 SUBMIT = "Submit the state of my room"
 WRONG, RIGHT = "✗ not what was asked", "✓ as asked"
-LAPTOP = {"viewport": {"width": 1024, "height": 768}}
+LAPTOP = DESK
 PHONE = {"viewport": {"width": 390, "height": 844}, "is_mobile": True, "has_touch": True}
 LECTURER = {"viewport": {"width": 1280, "height": 900}}
 DAY_S = 24 * 3600.0

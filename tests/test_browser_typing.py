@@ -13,6 +13,7 @@ whom a follower watches too.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -20,10 +21,20 @@ import pytest
 from app.kit.panel.binding import TYPED_PAUSE_MS
 from app.main import App, create_server
 from benchmarks.drag_latency import busy_cores
-from tests.conftest import RawClient
+from tests.conftest import DESK, RawClient
 from tests.test_browser import open_app
 
 pytestmark = pytest.mark.browser
+
+@pytest.fixture
+def page(browser: Any) -> Iterator[Any]:
+    """A fresh DESK page (800×600: no assertion here reads the page's size); closed after the test."""
+    context = browser.new_context(**DESK)
+    try:
+        yield context.new_page()
+    finally:
+        context.close()
+
 
 
 def number_box(page, handle):
