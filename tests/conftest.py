@@ -348,6 +348,31 @@ class RawClient:
         self._reader.join(timeout=5.0)
 
 
+@contextlib.contextmanager
+def browsers_joining(app: Any, timeout: float = 20.0) -> Iterator[Callable[..., Any]]:
+    """For an app started without its loop: `join(language=None)` opens a raw websocket browser
+    (`RawClient`, kept in `join.clients`) and returns its new session, in `language` if given; on
+    exit every browser joined closes and the app stops."""
+    clients: list[RawClient] = []
+
+    def join(language: str | None = None) -> Any:
+        before = set(app.sessions)
+        clients.append(RawClient(app.port))
+        session = poll_until(lambda: next((s for c, s in dict(app.sessions).items() if c not in before), None),
+                             timeout=timeout, what="the new browser's session")
+        if language is not None:
+            session.set_language(language)
+        return session
+
+    join.clients = clients  # type: ignore[attr-defined]
+    try:
+        yield join
+    finally:
+        for client in clients:
+            client.close()
+        app.stop()
+
+
 @pytest.fixture
 def connect(app: App) -> Iterator[Callable[[], RawClient]]:
     """Factory of raw websocket clients to `app`; all are closed after the test."""
@@ -521,9 +546,10 @@ costs 0.80 (10 frames a second, Chromium's CPU over 10 s, measured)."""
 
 
 @pytest.fixture
-def page(browser: Any) -> Iterator[Any]:
-    """A fresh 1280x800 page; closed after the test."""
-    context = browser.new_context(viewport={"width": 1280, "height": 800})
+def page(browser: Any, request: pytest.FixtureRequest) -> Iterator[Any]:
+    """A fresh page, 1280x800 or the test module's `PAGE` (a context's options, e.g. DESK);
+    closed after the test."""
+    context = browser.new_context(**getattr(request.module, "PAGE", {"viewport": {"width": 1280, "height": 800}}))
     try:
         yield context.new_page()
     finally:

@@ -6,8 +6,6 @@ Debian's Chromium); the state is read back on the server.  ~20 s on 2 cores.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
-from typing import Any
 
 import numpy as np
 import pytest
@@ -19,15 +17,7 @@ from app.main import App
 from tests.test_browser import open_app, slider_thumb, wait_for_gui
 
 pytestmark = pytest.mark.browser
-
-@pytest.fixture
-def page(browser: Any) -> Iterator[Any]:
-    """A fresh DESK page (800×600: no assertion here reads the page's size); closed after the test."""
-    context = browser.new_context(**DESK)
-    try:
-        yield context.new_page()
-    finally:
-        context.close()
+PAGE = DESK  # the `page` fixture: no assertion here reads the page's size
 
 
 

@@ -13,7 +13,6 @@ whom a follower watches too.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -25,15 +24,7 @@ from tests.conftest import DESK, RawClient
 from tests.test_browser import open_app
 
 pytestmark = pytest.mark.browser
-
-@pytest.fixture
-def page(browser: Any) -> Iterator[Any]:
-    """A fresh DESK page (800×600: no assertion here reads the page's size); closed after the test."""
-    context = browser.new_context(**DESK)
-    try:
-        yield context.new_page()
-    finally:
-        context.close()
+PAGE = DESK  # the `page` fixture: no assertion here reads the page's size
 
 
 

@@ -27,7 +27,7 @@ from app.scenes import SCENES
 from physics.inertia import InertiaError, validate_principal_moments
 from physics.methods import methods
 from scripts import i18n_catalogs
-from tests.conftest import RawClient, poll_until
+from tests.conftest import RawClient, browsers_joining, poll_until
 
 ROOT = Path(__file__).resolve().parents[1]
 LOCALE = ROOT / "app" / "locale"
@@ -707,20 +707,8 @@ def task_hall(tmp_path: Path) -> Iterator[Any]:
     """The app without its loop, its data folder a temporary one, the presenter code known."""
     running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code="24681357",
                             data_dir=tmp_path)
-    clients: list[RawClient] = []
-
-    def join() -> Any:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        return poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                          timeout=20.0)
-
-    try:
+    with browsers_joining(running) as join:
         yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
 
 
 def test_a_task_made_read_and_downloaded_in_german_and_its_csv_stays_machine_readable(

@@ -33,7 +33,7 @@ from physics.inertia import (
     validate_inertia_tensor,
 )
 from physics.refusal import Refusal
-from tests.conftest import RawClient, poll_until
+from tests.conftest import browsers_joining
 
 CODE = "24681357"
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,22 +56,8 @@ MARKED = Translator("de", Marked())
 def hall() -> Iterator[Any]:
     """The app without its loop, the presenter code known; (app, join): join(language) opens a browser."""
     running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE)
-    clients: list[RawClient] = []
-
-    def join(language: str = "en") -> Any:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        session = poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                             timeout=20.0, what="the new browser's session")
-        session.set_language(language)
-        return session
-
-    try:
-        yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
+    with browsers_joining(running) as join:
+        yield running, lambda language="en": join(language)
 
 
 @pytest.fixture

@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 import redis
-from conftest import RawClient, poll_until, redis_url  # noqa: F401 - redis_url: the workers' fixture needs it
+from conftest import browsers_joining, poll_until, redis_url  # noqa: F401 - redis_url: the workers' fixture needs it
 from test_bus import Workers, workers_fixture
 
 from app.cluster.messages import LIVE_DECODER, HallState, SceneBatch, encode
@@ -47,20 +47,8 @@ def own_hall(tmp_path: Path) -> Iterator[Any]:
     (tmp_path / "lessons").mkdir()
     (tmp_path / "lessons" / "Spinning the book.json").write_text(json.dumps(OWN_LESSON), encoding="utf-8")
     running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE, data_dir=tmp_path)
-    clients: list[RawClient] = []
-
-    def join() -> Any:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        return poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                          timeout=20.0, what="a new session")
-
-    try:
+    with browsers_joining(running) as join:
         yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
 
 
 def test_the_hall_message_of_an_own_lesson_carries_the_step_in_every_language(own_hall: Any) -> None:

@@ -17,7 +17,7 @@ from app.ask.judges import AnswerState
 from app.ask.round import Refused
 from app.i18n import translator
 from app.main import create_server
-from tests.conftest import RawClient, poll_until
+from tests.conftest import browsers_joining, poll_until
 
 CODE = "24681357"
 
@@ -26,22 +26,8 @@ CODE = "24681357"
 def hall(tmp_path: Path) -> Iterator[Any]:
     """The app without its loop, its data folder a temporary one, the presenter code known; (app, join)."""
     running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE, data_dir=tmp_path)
-    clients: list[RawClient] = []
-
-    def join(language: str = "en") -> Any:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        session = poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                             timeout=20.0, what="the new browser's session")
-        session.set_language(language)
-        return session
-
-    try:
-        yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
+    with browsers_joining(running) as join:
+        yield running, lambda language="en": join(language)
 
 
 def _number_task(lecturer: Any, attempts: str = "1") -> Any:

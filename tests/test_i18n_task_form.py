@@ -14,7 +14,7 @@ import pytest
 
 from app.i18n import translator
 from app.main import create_server
-from tests.conftest import RawClient, poll_until
+from tests.conftest import RawClient, browsers_joining, poll_until
 
 CODE = "24681357"
 DEADLINE_S = 30.0  # a busy machine
@@ -25,22 +25,12 @@ ENGLISH_VIEWS = ("none", "sphere of tips", "gallery")
 def hall(tmp_path: Path) -> Iterator[Any]:
     """The app without its loop, its data folder a temporary one, the presenter code known; (app, join)."""
     running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE, data_dir=tmp_path)
-    clients: list[RawClient] = []
+    with browsers_joining(running, timeout=DEADLINE_S) as join:
+        def join_with_client(language: str = "en") -> tuple[RawClient, Any]:
+            session = join(language)
+            return join.clients[-1], session
 
-    def join(language: str = "en") -> tuple[RawClient, Any]:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        session = poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                             timeout=DEADLINE_S, what="the new browser's session")
-        session.set_language(language)
-        return clients[-1], session
-
-    try:
-        yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
+        yield running, join_with_client
 
 
 def _views_task(app: Any) -> Any:
