@@ -9,13 +9,16 @@ these pass with any catalog."""
 from __future__ import annotations
 
 import ast
+import math
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 import app.roles.language as language_role
+from app.i18n import N_, Said
 from app.main import create_server
 from app.refusals import NotAllowed
 from app.scenes import SCENES
@@ -116,3 +119,46 @@ def test_a_follower_choosing_a_scene_is_refused_through_gettext(hall: Any, monke
     other = next(title for title in SCENES if title != student.room.scene.title)
     student.select_scene(other)
     assert f"«{words}»" in _marked_error_line(student)
+
+
+# ------------------------------------------------------------------ the message line's refusals, said again
+def _click(timeline: Any, label: str) -> None:
+    """A press of the Timeline's button `label`, as the browser sends it."""
+    for callback in timeline.gui_buttons._impl.update_cb:
+        callback(type("Event", (), {"target": type("T", (), {"value": label})(), "client": None})())
+
+
+def test_a_refused_branch_is_said_again_through_gettext_when_the_browser_changes_language(
+        hall: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    _app, join = hall
+    session = join("en")
+    session.select_scene("Free body")
+    words = "Branch here continues from a moment in the past: move the Timeline back first."
+    _click(session.scene.timeline, "Branch here")  # the live moment is shown: nothing to branch from
+    assert session.scene.message.text == f"**⚠ {words}**", session.scene.message.text
+    monkeypatch.setattr(language_role, "translator", lambda _code: MARKED)
+    session.set_language("de")
+    assert session.scene.message.text == f"**⚠ «{words}»**", session.scene.message.text
+    assert session.error_count == 0, session.last_error
+
+
+def test_refused_hand_edits_are_said_again_through_gettext_when_the_browser_changes_language(
+        hall: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    _app, join = hall
+    kicked, dragged = join("en"), join("en")
+    for session in (kicked, dragged):
+        session.select_scene("Free body")
+    assert not kicked.scene.hand.kick(0, 99.0)  # beyond the kick slider's range
+    assert kicked.scene.message.text == "**⚠ Kick J [N m s] = 99.0 refused: the range is -5 to 5.**", \
+        kicked.scene.message.text
+    assert not dragged.scene.hand.set_omega_body(np.full(3, math.nan), Said(N_("{arrow} dragged"), arrow="ω"))
+    assert dragged.scene.message.text == "**⚠ ω dragged: ω = array([nan, nan, nan]) refused: not finite.**", \
+        dragged.scene.message.text
+    monkeypatch.setattr(language_role, "translator", lambda _code: MARKED)
+    for session in (kicked, dragged):
+        session.set_language("de")
+    assert kicked.scene.message.text == "**⚠ ««Kick J [N m s]» = 99.0 refused: the range is -5 to 5.»**", \
+        kicked.scene.message.text
+    assert dragged.scene.message.text == "**⚠ «ω dragged»: «ω = array([nan, nan, nan]) refused: not finite.»**", \
+        dragged.scene.message.text
+    assert kicked.error_count == 0 and dragged.error_count == 0, (kicked.last_error, dragged.last_error)
