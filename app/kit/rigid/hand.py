@@ -144,7 +144,7 @@ class HandControls:
     def refusal(self, omega_body: Vec3) -> str | None:
         """Why ω_b cannot be set (not finite, a rate slider out of range) in the view's language, or None."""
         words = self.refused_words(omega_body)
-        return None if words is None else words(self.view.tr)
+        return None if words is None else _words(words, self.view.tr)
 
     def refused_words(self, omega_body: Vec3) -> Words | None:
         """Why ω_b cannot be set now, as words for any language (a function of a translator), or None."""
