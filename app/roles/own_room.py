@@ -13,10 +13,11 @@ import contextlib
 from collections.abc import Callable
 from typing import Any, cast
 
-from app.i18n import for_gui
+from app.i18n import N_, for_gui
 from app.kit.core.room import Room
 from app.kit.view import SceneView
 from app.lecture.lectern import Mode
+from app.refusals import NotAllowed
 from app.roles.showing import FOLLOWING_REFUSAL, Browser
 from app.scenes import SCENES
 
@@ -146,7 +147,7 @@ class OwnRoom:
         if title not in SCENES or self.showing.mode is Mode.FOLLOWING:  # a client can send anything
             browser.gui_scene.value = self.scene_label(self.showing.room.scene.title)  # viser's setter
             if self.showing.mode is Mode.FOLLOWING:
-                raise PermissionError(FOLLOWING_REFUSAL)
+                raise NotAllowed(FOLLOWING_REFUSAL)
             return
         if title != self.showing.room.scene.title:
             browser.lesson_runner.scene_changed()  # by hand: the lesson (and its text) ends
@@ -159,7 +160,7 @@ class OwnRoom:
         presenting)."""
         showing, browser = self.showing, self.browser
         if showing.mode is Mode.FOLLOWING:
-            raise PermissionError(FOLLOWING_REFUSAL)
+            raise NotAllowed(FOLLOWING_REFUSAL)
         with showing.switch_lock:
             old_view, old_room = showing.view, showing.room
             with old_room.lock:
@@ -200,9 +201,9 @@ class OwnRoom:
         if lectern is None:
             raise RuntimeError("this app has no lecture hall")
         if self.showing.mode is not Mode.OWN:
-            raise PermissionError("only a browser in its own room opens the last lecture's room")
+            raise NotAllowed(N_("only a browser in its own room opens the last lecture's room"))
         if lectern.someone_presents:
-            raise PermissionError("a lecture is on: press 'Follow presenter' to see it")
+            raise NotAllowed(N_("a lecture is on: press 'Follow presenter' to see it"))
         if not lectern.live:
             raise RuntimeError("no lecture has left a room to open")
         copy, note = lectern.live_copy_noted()

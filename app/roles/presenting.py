@@ -17,8 +17,10 @@ from app.ask.gallery import play_answer
 from app.ask.state_tally import gallery_entries
 from app.hall.ask import AskPanel
 from app.hall.lecture_panel import LecturePanel
+from app.i18n import N_
 from app.kit.core.room import Room
 from app.lecture.lectern import Lectern, Mode
+from app.refusals import NotAllowed
 from app.roles.following import Following
 from app.roles.own_room import OwnRoom
 from app.roles.showing import Browser
@@ -133,27 +135,28 @@ class Presenting:
             raise RuntimeError("this app has no lecture hall")
         return self.browser.lectern.rounds
 
-    def _presenter_only(self, what: str) -> Rounds:
+    def _presenter_only(self, refusal: str) -> Rounds:
+        """The app's rounds while this browser presents; `NotAllowed(refusal)` (a msgid) otherwise."""
         if self.showing.mode is not Mode.PRESENTING:
-            raise PermissionError(f"only the presenter can {what}")
+            raise NotAllowed(refusal)
         return self.rounds()
 
     def ask(self, question: Question | dict[str, Any]) -> Round:
         """Ask the class `question` (a question or its dict, `app.ask.question_from_dict`): the
         new round.  PermissionError unless presenting; ValueError for a bad question."""
-        round_ = self._presenter_only("ask the class").ask(question)
+        round_ = self._presenter_only(N_("only the presenter can ask the class")).ask(question)
         self._questions_shown()
         return round_
 
     def close_round(self) -> Round:
         """Close the current round (presenter only); the round."""
-        round_ = self._presenter_only("close the round").close_round()
+        round_ = self._presenter_only(N_("only the presenter can close the round")).close_round()
         self._questions_shown()
         return round_
 
     def vote_again(self) -> Round:
         """The same question again, the closed round beside the new one (presenter only); the new round."""
-        round_ = self._presenter_only("vote again").vote_again()
+        round_ = self._presenter_only(N_("only the presenter can vote again")).vote_again()
         self._questions_shown()
         return round_
 
@@ -164,14 +167,14 @@ class Presenting:
 
     def play_state(self, answer: Any) -> None:
         """The gallery's `Play this answer`: only the presenter's room plays a student's state."""
-        self._presenter_only("play an answer")
+        self._presenter_only(N_("only the presenter can play an answer"))
         play_answer(self.showing.room, answer)
 
     def play_answer(self, number: int) -> None:
         """Play the current State round's anonymous answer `number` (1.. as in its CSV) in the
         presenter's room (presenter only); LookupError for no such answer, ValueError for
         another scene's body."""
-        round_ = self._presenter_only("play an answer").current
+        round_ = self._presenter_only(N_("only the presenter can play an answer")).current
         entries = {} if round_ is None else {e.number: e for e in gallery_entries(round_)}
         if number not in entries:
             raise LookupError(f"no state answer number {number}")

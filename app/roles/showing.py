@@ -20,18 +20,21 @@ from app.hall.lesson_runner import LessonRunner
 from app.hall.narrow import NarrowPanel
 from app.hall.own_panel import OwnPanel
 from app.hall.projector import ProjectorLayout
+from app.i18n import N_
 from app.kit.core.room import Room
 from app.kit.view import SceneView
 from app.lecture.follower import Follower
 from app.lecture.lectern import LIVE_ROOT, Lectern, Mode, Seat
 from app.own import OwnLibrary
+from app.refusals import NotAllowed
 
 __all__ = ["Browser", "ShownView", "Showing"]
 
 ShownView = SceneView | Follower
 """What a browser shows its room through: a scene view (own room, presenting) or a follower's panel."""
 
-FOLLOWING_REFUSAL = "this browser follows the presenter: press 'Explore on my own' first"
+FOLLOWING_REFUSAL = N_("this browser follows the presenter: press 'Explore on my own' first")
+"""The refusal of a change to the room while following (a msgid: `NotAllowed(FOLLOWING_REFUSAL)`)."""
 
 
 class Showing:
@@ -78,7 +81,7 @@ class Showing:
     def controlled_room(self) -> Room:
         """The room this browser may change (PermissionError while it follows the presenter)."""
         if self.mode is Mode.FOLLOWING:
-            raise PermissionError(FOLLOWING_REFUSAL)
+            raise NotAllowed(FOLLOWING_REFUSAL)
         return self.room
 
     def scene_view(self) -> SceneView:

@@ -14,8 +14,10 @@ from typing import Any
 from app.ask import new_token
 from app.ask.judges import read_state
 from app.hall.ask import AnswerPanel
+from app.i18n import N_
 from app.lecture.follower import Follower
 from app.lecture.lectern import Mode
+from app.refusals import NotAllowed
 from app.roles.following import Following
 from app.roles.showing import Browser
 
@@ -59,7 +61,7 @@ class Student:
         reason) for a refused answer; PermissionError for the presenter."""
         lectern = self.browser.lectern
         if self.showing.mode is Mode.PRESENTING:
-            raise PermissionError("the presenter asks; the class answers")
+            raise NotAllowed(N_("the presenter asks; the class answers"))
         if lectern is None:
             raise RuntimeError("this app has no lecture hall")
         return lectern.rounds.answer(self.answer_token, value)
@@ -72,7 +74,7 @@ class Student:
     def state_answer(self) -> Any:
         """This browser's own room's state, as a State question takes it (`app.ask.judges.read_state`)."""
         if self.showing.mode is not Mode.OWN:
-            raise PermissionError("answer from your own copy: press 'Answer from my copy' first")
+            raise NotAllowed(N_("answer from your own copy: press 'Answer from my copy' first"))
         return read_state(self.showing.own_room)
 
     def answer_from_copy(self) -> None:

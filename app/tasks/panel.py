@@ -667,7 +667,7 @@ class TaskPanel(TaskMaking):
         self._lecturers()
         session, answer = self.session, entry.answer
         if getattr(session, "mode", None) == "following":
-            raise PermissionError("press Explore on my own first: an answer plays in your own room")
+            raise NotAllowed(N_("press Explore on my own first: an answer plays in your own room"))
         if session.room.scene.title != answer.scene and answer.scene in SCENES:  # its scene opened first
             session.own_room.open_scene(answer.scene, lambda room: play_answer(room, answer))
         else:
@@ -678,7 +678,7 @@ class TaskPanel(TaskMaking):
 
     def _lecturers(self) -> Task:
         if self.lecturer_task is None:
-            raise PermissionError("only the lecturer, with the presenter code, can see or change a task")
+            raise NotAllowed(N_("only the lecturer, with the presenter code, can see or change a task"))
         return self.lecturer_task
 
     def refresh_table(self) -> str:

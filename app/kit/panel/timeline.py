@@ -28,10 +28,11 @@ adds one under the transport of every scene whose simulation can be replayed (th
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
-from app.i18n import N_, Translator, translator
+from app.i18n import N_, Phrases, Translator, translator
 from app.kit.core.common import Throttle, Wrap
 from app.kit.core.history import HISTORY_SECONDS
 from app.kit.core.room import LIVE, REPLAYING, Room
@@ -39,7 +40,7 @@ from app.kit.panel.binding import Binding, Clock, Refused, bind
 from app.kit.panel.gui import MessageLine, Quiet
 
 __all__ = ["BRANCH_LABEL", "REPLAY_LABEL", "RESUME_LABEL", "STALE_S", "TIMELINE_LABEL", "TIMELINE_STEP", "Timeline",
-           "stretch_moved", "timeline_text"]
+           "TIMELINE_REFUSALS", "stretch_moved", "timeline_text"]
 
 ENGLISH = translator("en")
 TIMELINE_LABEL = N_("Timeline [s]")
@@ -50,6 +51,20 @@ TIMELINE_STEP = 0.01  # [s] the slider's step
 FOLLOW_PERIOD = 0.2  # [s] of wall time between the slider's updates while replaying (5 Hz)
 LIVE_FOLLOW_PERIOD = 1.0  # [s] ... while live (1 Hz): the recorded stretch only grows, nobody reads it closely
 STALE_S = 0.5  # [s] a refusal quoting the stretch goes once either end has moved this far
+
+TIMELINE_REFUSALS = Phrases(
+    (r"Time (?P<t>.+) refused: nothing is recorded yet \(play first\)\.",
+     N_("Time {t} refused: nothing is recorded yet (play first).")),
+    (r"Time (?P<t>.+) s refused: only (?P<lo>\S+) s to (?P<hi>\S+) s is recorded \(the last (?P<seconds>\S+) s of "
+     r"this run\)\.",
+     N_("Time {t} s refused: only {lo} s to {hi} s is recorded (the last {seconds} s of this run).")),
+    (r"Branch here continues from a moment in the past: move the Timeline back first\.",
+     N_("Branch here continues from a moment in the past: move the Timeline back first.")),
+    (r"(?P<scene>.+) has no motion to replay\.", N_("{scene} has no motion to replay.")),
+    translated=("scene",), numbers=("lo", "hi", "seconds"),
+)
+"""The refusals of the Timeline's buttons and slider (`app.kit.core.room`, `app.kit.core.history`:
+English), matched whole, and their msgids."""
 
 
 def stretch_moved(then: tuple[float, float] | None, now: tuple[float, float] | None) -> bool:
@@ -114,7 +129,8 @@ class Timeline:
             try:
                 room.scrub(value)
             except ValueError as error:
-                raise Refused(str(error), stale_now(), lambda: self._refusal_now(value)) from None
+                raise Refused(TIMELINE_REFUSALS.in_language(str(error), tr), stale_now(),
+                              lambda: self._refusal_now(value)) from None
             message.clear()
 
         def check(value: Any) -> float:
@@ -143,8 +159,8 @@ class Timeline:
                     room.branch()
                 else:  # a client can send any string
                     return
-            except ValueError as error:
-                message.show(str(error), stale_now())
+            except ValueError as error:  # the room's English words, said in the browser's language
+                message.show(functools.partial(TIMELINE_REFUSALS.in_language, str(error)), stale_now())
                 return
             message.clear()
             self.binding.taken()  # the Timeline moved on: the refusal under its slider goes
@@ -162,7 +178,7 @@ class Timeline:
         history, stretch = self.room.history, self.room.stretch()
         if history is None or stretch is None or stretch[0] - TIMELINE_STEP <= t <= stretch[1] + TIMELINE_STEP:
             return None
-        return str(history.outside_message(t))
+        return TIMELINE_REFUSALS.in_language(str(history.outside_message(t)), self.tr)
 
     def _shown_value(self) -> float:
         lo, hi = self._range

@@ -23,12 +23,13 @@ their range (at gimbal lock, where the Euler rates are undefined, |ω| above GIM
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any, Protocol
 
 import numpy as np
 
-from app.i18n import N_, Said, Translator
+from app.i18n import N_, Said, Translator, Words
 from app.kit.core.common import SliderSpec
 from app.kit.panel.gui import add_slider
 from physics._types import Vec3
@@ -141,34 +142,34 @@ class HandControls:
 
     # ------------------------------------------------------------------ edits
     def refusal(self, omega_body: Vec3) -> str | None:
-        """Why ω_b cannot be set (not finite, a rate slider out of range), or None."""
+        """Why ω_b cannot be set (not finite, a rate slider out of range) in the view's language, or None."""
+        words = self.refused_words(omega_body)
+        return None if words is None else _words(words, self.view.tr)
+
+    def refused_words(self, omega_body: Vec3) -> Words | None:
+        """Why ω_b cannot be set now, as words for any language (a function of a translator), or None."""
         view = self.view
-        _ = view.tr.gettext
         if not np.all(np.isfinite(omega_body)):
-            return _("ω = {omega} refused: not finite.").format(omega=repr(omega_body))
+            return Said(N_("ω = {omega} refused: not finite."), omega=repr(omega_body))
         state = State(view.sim.state.R_space_body, omega_body, 0.0)
         try:
             rates = view.rates_from_state(view.sim.angles, state)
         except GimbalLockError:
             norm = float(np.linalg.norm(omega_body))
-            if norm > GIMBAL_OMEGA_MAX:
-                return _("|ω| = {norm} rad/s refused: at most {most} rad/s near gimbal lock.").format(
-                    norm=f"{norm:.3g}", most=view.tr.general(GIMBAL_OMEGA_MAX))
-            return None
+            return functools.partial(_gimbal_refusal, norm) if norm > GIMBAL_OMEGA_MAX else None
         for spec, rate in zip(view.rate_specs, rates):
             if spec.check(rate) is None:
-                return _("{label} would be {rate}, outside its range {lo} to {hi}: refused.").format(
-                    label=_(spec.label), rate=f"{rate:.4g}", lo=view.tr.general(spec.lo), hi=view.tr.general(spec.hi))
+                return functools.partial(_rate_refusal, spec, float(rate))
         return None
 
-    def set_omega_body(self, omega_body: Vec3, what: str) -> bool:
+    def set_omega_body(self, omega_body: Vec3, what: Words) -> bool:
         """Restart the run from the current attitude with ω_b [rad/s] (3,), keeping the room's
-        transport; False (and a message, nothing changed) if refused."""
+        transport; False (and a message "what: why", in the browser's language, nothing changed) if refused."""
         view = self.view
         omega_body = np.asarray(omega_body, dtype=float)
-        refusal = self.refusal(omega_body)
+        refusal = self.refused_words(omega_body)
         if refusal is not None:
-            view.message.show(f"{what}: {refusal}")
+            view.message.show(functools.partial(_what_refused, what, refusal))
             return False
         sim = view.sim
         sim.preset = None
@@ -192,11 +193,10 @@ class HandControls:
             return False
         J = KICK_SPEC.check(impulse)
         if J is None:
-            view.message.show(self.kick_spec.refusal(impulse))
+            view.message.show(functools.partial(_spec_refusal, KICK_SPEC, impulse))
             return False
         omega = omega_after_kick(view.sim.model.inertia, view.sim.state.omega_body, int(k), J)
-        return self.set_omega_body(omega, view.tr.gettext("Kick J = {J} N m s about {axis}").format(
-            J=view.tr.general(J), axis=AXES[int(k)]))
+        return self.set_omega_body(omega, functools.partial(_kick_words, J, AXES[int(k)]))
 
     def _gizmo_event(self, kind: str, event: Any) -> None:
         """viser's gizmo callback: event.phase is "start", "update" or "end" of a drag."""
@@ -227,8 +227,7 @@ class HandControls:
         held, self.dragging = self.dragging, kind  # an update without its drag start (a raw client)
         try:
             view.room.playing = False
-            self.set_omega_body(omega_body, self.view.tr.gettext("{arrow} dragged").format(
-                arrow="ω" if kind == "omega" else "L"))
+            self.set_omega_body(omega_body, Said(N_("{arrow} dragged"), arrow="ω" if kind == "omega" else "L"))
         finally:
             self.dragging = held if held is not None else None
 
@@ -236,3 +235,33 @@ class HandControls:
         self.dragging = None
         self.view.fit_arrows()
         self.view.room.refresh()
+
+
+# ------------------------------------------------------------------ words said in the message line
+def _words(words: Words, tr: Translator) -> str:
+    return words if isinstance(words, str) else words(tr)
+
+
+def _what_refused(what: Words, refusal: Words, tr: Translator) -> str:
+    """"what: why" in `tr`'s language (the hand's refused edit)."""
+    return f"{_words(what, tr)}: {_words(refusal, tr)}"
+
+
+def _gimbal_refusal(norm: float, tr: Translator) -> str:
+    return tr.gettext(N_("|ω| = {norm} rad/s refused: at most {most} rad/s near gimbal lock.")).format(
+        norm=f"{norm:.3g}", most=tr.general(GIMBAL_OMEGA_MAX))
+
+
+def _rate_refusal(spec: Any, rate: float, tr: Translator) -> str:
+    """A rate slider's range refused (`spec` its English `SliderSpec`, `rate` the value it would take)."""
+    return tr.gettext(N_("{label} would be {rate}, outside its range {lo} to {hi}: refused.")).format(
+        label=tr.gettext(spec.label), rate=f"{rate:.4g}", lo=tr.general(spec.lo), hi=tr.general(spec.hi))
+
+
+def _spec_refusal(spec: SliderSpec, value: Any, tr: Translator) -> str:
+    """A slider's value refused, in `tr`'s language (`SliderSpec.refusal`)."""
+    return spec.translated(tr).refusal(value)
+
+
+def _kick_words(J: float, axis: str, tr: Translator) -> str:  # noqa: N803 - J is the impulse's symbol
+    return tr.gettext(N_("Kick J = {J} N m s about {axis}")).format(J=tr.general(J), axis=axis)
