@@ -58,7 +58,8 @@ def test_a_refused_choice_in_the_moving_frame_is_said_again_in_the_new_language(
 
 
 def test_the_note_on_a_copied_room_is_said_again_in_the_new_language(browser: Any) -> None:
-    note = "The presenter's worker is gone: this is the last state of its room that this server saw (t = 3.25 s), paused."
+    note = ("The presenter's worker is gone: this is the last state of its room that this server saw "
+            "(t = 3.25 s), paused.")
     browser.scene.show_message(note)  # as OwnRoom.open_last_lecture shows the copy's note
     assert browser.scene.message.text == f"**⚠ {note}**", browser.scene.message.text
     browser.languages.choose("de")
