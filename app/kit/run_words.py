@@ -6,7 +6,8 @@ body's "euler_lagrange stopped: ... Press Play to go on with splitting4."
 (`app.kit.rigid.simulation.RigidBodySimulation`, where the Euler-angle Lagrangian reaches gimbal
 lock) and "euler_lagrange cannot go on from here: ... Staying with splitting4." (its
 `set_integrator`, the Integrator dropdown at a state the method cannot start from).
-The room's "Replay reached the live moment, t = ... s." too.
+The room's "Replay reached the live moment, t = ... s." too, and the note on a copy of a lecture's
+room that is not exact (`app.lecture.bus.rooms.RemoteRooms._orphan_copy`: "The presenter's worker ...").
 `RUN_MESSAGES.in_language` writes them in a view's language; the methods' names (as the dropdown
 shows them) stay, the numbers take the language's decimal sign.
 
@@ -58,6 +59,22 @@ RUN_MESSAGES = Phrases(
     (rf"(?P<error>{_METHOD} (?:cannot go on from here|stopped): .+)", "{error}"),
     (rf"\*\*Replay reached the live moment, t = (?P<t>{_NUMBER}) s\.\*\*",
      N_("**Replay reached the live moment, t = {t} s.**")),
+    (rf"The presenter's worker is gone: this is the last state of its room that this server saw "
+     rf"\(t = (?P<t>{_NUMBER}) s\), paused\.",
+     N_("The presenter's worker is gone: this is the last state of its room that this server saw "
+        "(t = {t} s), paused.")),
+    (rf"The presenter's worker does not answer: this is the last state of its room that this server saw "
+     rf"\(t = (?P<t>{_NUMBER}) s\), paused\.",
+     N_("The presenter's worker does not answer: this is the last state of its room that this server saw "
+        "(t = {t} s), paused.")),
+    (r"The presenter's worker is gone and none of its room reached this server: only the scene "
+     r"\((?P<title>.+)\) could be kept, in a fresh room\.",
+     N_("The presenter's worker is gone and none of its room reached this server: only the scene "
+        "({title}) could be kept, in a fresh room.")),
+    (r"The presenter's worker does not answer and none of its room reached this server: only the scene "
+     r"\((?P<title>.+)\) could be kept, in a fresh room\.",
+     N_("The presenter's worker does not answer and none of its room reached this server: only the scene "
+        "({title}) could be kept, in a fresh room.")),
     nested={"error": METHOD_REFUSALS}, numbers=("t",),
 )
 """What a view's message line says about its run, matched in English (`SceneView.show_message`)."""

@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from app.i18n import DEFAULT_LANGUAGE, N_, Translator, translator
+from app.i18n import DEFAULT_LANGUAGE, N_, Said, Translator, translator
 from app.kit.core.common import Wrap
 from app.kit.draw.labels import LabelLayer
 from app.kit.draw.widgets import Body
@@ -127,7 +127,7 @@ class ExactGhost:
             return
         value = self.gui_toggle.value
         if not isinstance(value, bool):  # a client can send anything
-            self._message.show(self._tr.gettext("Exact ghost = {value} refused: on or off.").format(value=repr(value)))
+            self._message.show(Said(N_("Exact ghost = {value} refused: on or off."), value=repr(value)))
             self._quiet.write(self.gui_toggle, self.body is not None and bool(self.body.node.visible))
             return
         self.set(value)
@@ -137,8 +137,8 @@ class ExactGhost:
             return
         label = self.gui_k.value
         if label not in self._options:
-            self._message.show(self._tr.gettext("Magnification {label} refused: choose one of {options}.").format(
-                label=repr(label), options=", ".join(self._options)))
+            self._message.show(Said(N_("Magnification {label} refused: choose one of {options}."),
+                                    label=repr(label), options=", ".join(self._options)))
             self.set_k(self.k)
             return
         self.set_k(self._options[label])

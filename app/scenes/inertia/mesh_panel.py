@@ -11,13 +11,14 @@ default (1 kg, 1000 kg/m³) while there is no mesh; a value typed there reweighs
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
 import viser
 
 from app.data import files_in, meshes_dir
-from app.i18n import N_, refusal_text
+from app.i18n import N_, Said, Translator, refusal_text
 from app.kit.core.common import Wrap, checked_value
 from app.kit.panel.binding import Refused
 from app.kit.view import SceneView
@@ -143,7 +144,7 @@ class MeshPanel:
         """One of the meshes of assets/meshes/ (a button; a client can send any name)."""
         path = self.shipped.get(name)
         if path is None:
-            self.view.message.show(self.view.tr.gettext("No shipped mesh named {name}.").format(name=repr(name)))
+            self.view.message.show(Said(N_("No shipped mesh named {name}."), name=repr(name)))
             return
         self.load_mesh(path.name, path.read_bytes())
 
@@ -154,12 +155,16 @@ class MeshPanel:
             vertices, faces = read_mesh(name, content)
             self.sim.set_mesh(name, vertices, faces, **self._weight())
         except (MeshError, ValueError) as error:
-            tr = self.view.tr
-            words = refusal_text(error, tr)
-            text = words if words.startswith(name) else f"{name}: {words}"
-            message.show(tr.gettext("Mesh refused: {reason}. The last valid body stays.").format(reason=text))
+            message.show(functools.partial(mesh_refused, name, error))
             return
         message.clear()
         self.sim.set_about(None)
         self.sim.preset = None
         self.view.room.refresh()
+
+
+def mesh_refused(name: str, error: Exception, tr: Translator) -> str:
+    """The message on a refused mesh file `name` in `tr`'s language: `error`'s reason, named by the file."""
+    words = refusal_text(error, tr)
+    text = words if words.startswith(name) else f"{name}: {words}"
+    return tr.gettext(N_("Mesh refused: {reason}. The last valid body stays.")).format(reason=text)

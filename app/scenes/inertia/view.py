@@ -38,7 +38,7 @@ import numpy as np
 import trimesh
 import viser
 
-from app.i18n import N_, refusal_text
+from app.i18n import N_, Said, Translator, refusal_text
 from app.kit.core.common import BODY_AXIS_COLORS, CameraView, Wrap, axis_segments
 from app.kit.core.key_number import KeyNumber
 from app.kit.core.presets import PRESETS_DIR, Preset
@@ -247,7 +247,7 @@ class InertiaView(SceneView):
         except ValueError:
             k = -1
         if self.sim.mesh is not None or not 0 <= k < len(self.sim.masses):
-            self.message.show(self.tr.gettext("No mass {value}.").format(value=repr(value)))
+            self.message.show(Said(N_("No mass {value}."), value=repr(value)))
             self.quiet.write(self.gui_selected, str(self.selected + 1))
             return
         self.selected = k
@@ -270,8 +270,8 @@ class InertiaView(SceneView):
         except (TypeError, ValueError):
             x = np.full(3, np.nan)
         if x.shape != (3,) or not np.all(np.isfinite(x)):
-            self.message.show(self.tr.gettext("{what} dragged to {position}: refused, not a point.").format(
-                what=what, position=repr(handle.position)))
+            self.message.show(Said(N_("{what} dragged to {position}: refused, not a point."),
+                                   what=what, position=repr(handle.position)))
             return None
         return np.clip(x, -COORD_LIMIT, COORD_LIMIT)
 
@@ -294,14 +294,14 @@ class InertiaView(SceneView):
         masses, positions = list(self.sim.masses), list(self.sim.positions)
         if choice == "Add mass":
             if len(masses) >= MAX_MASSES:
-                self.message.show(self.tr.gettext("At most {n} masses.").format(n=MAX_MASSES))
+                self.message.show(Said(N_("At most {n} masses."), n=MAX_MASSES))
                 return
             masses.append(1.0)
             positions.append(np.array([0.5, 0.5, 0.5]))
             self.selected = len(masses) - 1
         elif choice == "Remove mass":
             if len(masses) <= 1:
-                self.message.show(self.tr.gettext("At least one mass."))
+                self.message.show(Said(N_("At least one mass.")))
                 return
             del masses[self.selected], positions[self.selected]
             self.selected = min(self.selected, len(masses) - 1)
@@ -337,12 +337,15 @@ class InertiaView(SceneView):
         try:
             handed, k = spin_moments(moments)
         except InertiaError as error:
-            self.message.show(self.tr.gettext("Nothing to spin: {reason} — masses on one line are no rigid body "
-                                              "to spin (add a mass off the line).").format(
-                reason=refusal_text(error, self.tr)))
+            def nothing_to_spin(tr: Translator, error: InertiaError = error) -> str:
+                """The refusal in `tr`'s language (said again when the browser changes language)."""
+                return tr.gettext(N_("Nothing to spin: {reason} — masses on one line are no rigid body "
+                                     "to spin (add a mass off the line).")).format(reason=refusal_text(error, tr))
+
+            self.message.show(nothing_to_spin)
             return
         if self.open_scene is None:
-            self.message.show(self.tr.gettext("This browser cannot open another scene."))
+            self.message.show(Said(N_("This browser cannot open another scene.")))
             return
         mesh = self.sim.mesh
         com = properties["com"]

@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 import viser
 
-from app.i18n import N_
+from app.i18n import N_, Said
 from app.kit.core.common import CameraView, Throttle, Wrap
 from app.kit.core.presets import Preset
 from app.kit.core.room import Room
@@ -334,8 +334,8 @@ class MovingFrameView(SceneView):
             return
         choice = self.gui_forces_on.value
         if choice not in self.particles_shown:  # a client can send any string
-            self.message.show(self.tr.gettext("Forces on {choice} refused: choose one of {options}.").format(
-                choice=repr(choice), options=", ".join(self.particles_shown)))
+            self.message.show(Said(N_("Forces on {choice} refused: choose one of {options}."),
+                                   choice=repr(choice), options=", ".join(self.particles_shown)))
             self.quiet.write(self.gui_forces_on, self.particles_shown[self.sim.setup.focus])
             return
         params = list(self.sim.setup.params)
