@@ -22,7 +22,7 @@ from app.i18n import N_, Said
 from app.main import create_server
 from app.refusals import NotAllowed
 from app.scenes import SCENES
-from tests.conftest import RawClient, poll_until
+from tests.conftest import browsers_joining, poll_until
 from tests.test_i18n_last_english import MARKED
 
 CODE = "24681357"
@@ -61,22 +61,8 @@ def test_no_bare_permission_error_is_raised_in_the_app() -> None:
 def hall() -> Iterator[Any]:
     """The app without its loop, the presenter code known; (app, join): join(language) opens a browser."""
     running = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE)
-    clients: list[RawClient] = []
-
-    def join(language: str = "en") -> Any:
-        before = set(running.sessions)
-        clients.append(RawClient(running.port))
-        session = poll_until(lambda: next((s for c, s in dict(running.sessions).items() if c not in before), None),
-                             timeout=20.0, what="the new browser's session")
-        session.set_language(language)
-        return session
-
-    try:
-        yield running, join
-    finally:
-        for client in clients:
-            client.close()
-        running.stop()
+    with browsers_joining(running) as join:
+        yield running, lambda language="en": join(language)
 
 
 def _marked_error_line(session: Any) -> str:

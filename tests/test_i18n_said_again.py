@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import RawClient, poll_until
+from conftest import browsers_joining
 
 from app.main import create_server
 
@@ -22,56 +22,52 @@ CODE = "24681357"
 
 
 @pytest.fixture
-def browser(tmp_path: Path) -> Iterator[Any]:
+def session(tmp_path: Path) -> Iterator[Any]:
     """One English browser's session on the app without its loop (its data folder a temporary one)."""
     app = create_server("127.0.0.1", 0, verbose=False, start_loop=False, presenter_code=CODE, data_dir=tmp_path)
-    client = RawClient(app.port)
-    try:
-        yield poll_until(lambda: next(iter(dict(app.sessions).values()), None), timeout=20.0, what="a session")
-    finally:
-        client.close()
-        app.stop()
+    with browsers_joining(app) as join:
+        yield join()
 
 
-def test_a_refusal_on_the_error_line_is_said_again_in_the_new_language(browser: Any) -> None:
-    browser.present(CODE)
-    panel = browser.ask_panel
+def test_a_refusal_on_the_error_line_is_said_again_in_the_new_language(session: Any) -> None:
+    session.present(CODE)
+    panel = session.ask_panel
     panel.gui_prompt.value = "Which?"
     panel.gui_options.value = "a | b"
     panel.gui_correct.value = "3"
-    browser.guard("ask the class", panel.ask_from_form)()
-    shown = browser.errors.gui_error.content
+    session.guard("ask the class", panel.ask_from_form)()
+    shown = session.errors.gui_error.content
     assert shown.startswith("**⚠ Not accepted**") and "option 3 is not one of the 2 options" in shown, shown
-    browser.languages.choose("de")
-    shown = browser.errors.gui_error.content
+    session.languages.choose("de")
+    shown = session.errors.gui_error.content
     assert shown.startswith("**⚠ Nicht angenommen**"), shown
     assert "Option 3 ist keine der 2 Optionen" in shown and "not one of" not in shown, shown
 
 
-def test_the_message_under_the_scene_panel_is_said_again_in_the_new_language(browser: Any) -> None:
-    browser.guard("test", browser.scene.choose_preset)("nope")
-    assert browser.scene.message.text == "**⚠ No preset named 'nope'.**"
-    browser.languages.choose("de")  # the scene's panel is built again in German: the message goes on in it
-    assert browser.scene.message.text == "**⚠ Keine Voreinstellung namens 'nope'.**", browser.scene.message.text
-    browser.room.notify("The simulation stopped: non-finite state")  # the room's words (English), said in German
-    assert browser.scene.message.text.startswith("**⚠ Die Simulation wurde angehalten: non-finite state")
-    browser.languages.choose("nl")
-    assert browser.scene.message.text == "**⚠ De simulatie is gestopt: non-finite state**", browser.scene.message.text
-    assert browser.error_count == 0, browser.last_error
+def test_the_message_under_the_scene_panel_is_said_again_in_the_new_language(session: Any) -> None:
+    session.guard("test", session.scene.choose_preset)("nope")
+    assert session.scene.message.text == "**⚠ No preset named 'nope'.**"
+    session.languages.choose("de")  # the scene's panel is built again in German: the message goes on in it
+    assert session.scene.message.text == "**⚠ Keine Voreinstellung namens 'nope'.**", session.scene.message.text
+    session.room.notify("The simulation stopped: non-finite state")  # the room's words (English), said in German
+    assert session.scene.message.text.startswith("**⚠ Die Simulation wurde angehalten: non-finite state")
+    session.languages.choose("nl")
+    assert session.scene.message.text == "**⚠ De simulatie is gestopt: non-finite state**", session.scene.message.text
+    assert session.error_count == 0, session.last_error
 
 
-def test_the_mine_folders_status_is_said_again_in_the_new_language(browser: Any) -> None:
-    panel = browser.own_panel
+def test_the_mine_folders_status_is_said_again_in_the_new_language(session: Any) -> None:
+    panel = session.own_panel
     panel.gui_lesson_title.value = "nope"
-    browser.guard("export lesson", lambda: panel._said(panel.export_lesson))()
+    session.guard("export lesson", lambda: panel._said(panel.export_lesson))()
     assert panel.gui_status.content == "**⚠ no lesson of yours named 'nope'**", panel.gui_status.content
-    browser.languages.choose("de")
+    session.languages.choose("de")
     assert panel.gui_status.content == "**⚠ keine eigene Lektion namens 'nope'**", panel.gui_status.content
 
 
-def test_a_refused_code_is_said_again_in_the_new_language(browser: Any) -> None:
-    browser.present("11111111")
-    note = browser.lecture.gui_note
+def test_a_refused_code_is_said_again_in_the_new_language(session: Any) -> None:
+    session.present("11111111")
+    note = session.lecture.gui_note
     assert note.visible and note.content.startswith("**⚠ Wrong presenter code ("), note.content
-    browser.languages.choose("de")
+    session.languages.choose("de")
     assert note.visible and note.content.startswith("**⚠ Falscher Vortragscode (noch "), note.content
