@@ -55,6 +55,7 @@ __all__ = [
     "refusal_text",
     "set_translator",
     "translator",
+    "written",
 ]
 
 LANGUAGES: dict[str, str] = {"en": "English", "nl": "Nederlands", "de": "Deutsch"}
@@ -230,6 +231,11 @@ Words = str | Callable[[Translator], str]
 """Words for a person kept so that they can be written in any language: a function of a
 translator writing them in its language (`Said`, `functools.partial(PHRASES.in_language,
 english)`), or a text that stays as it is."""
+
+
+def written(words: Words, tr: Translator) -> str:
+    """`words` written in `tr`'s language (a plain text as it is)."""
+    return words if isinstance(words, str) else words(tr)
 
 
 class Phrases:

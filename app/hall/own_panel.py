@@ -24,7 +24,7 @@ from typing import Any, Protocol
 
 import viser
 
-from app.i18n import N_, Labels, Phrases, Said, Translator, Words, for_gui
+from app.i18n import N_, Labels, Phrases, Said, Translator, Words, for_gui, written
 from app.kit.core.common import Wrap
 from app.kit.core.room import Room
 from app.kit.panel.download import save_download
@@ -154,7 +154,7 @@ class OwnPanel:
         """Say `words` in the status line, in the browser's language (kept: `relabel` says them again)."""
         self._status_is_where = False
         self._status = (words, refused)
-        text = words if isinstance(words, str) else words(for_gui(self.gui))
+        text = written(words, for_gui(self.gui))
         self.gui_status.content = f"**⚠ {text}**" if refused else text
 
     def _said(self, action: Any, *args: Any) -> None:

@@ -21,7 +21,7 @@ from typing import Any
 
 import viser
 
-from app.i18n import N_, Said, Translator, Words, for_gui, translator
+from app.i18n import N_, Said, Translator, Words, for_gui, translator, written
 from app.kit.core.common import SliderSpec, Wrap, checked_value
 from app.kit.core.presets import Preset
 from app.kit.panel.binding import Clock, Refused, bind
@@ -159,7 +159,7 @@ class MessageLine:
     def show(self, words: Words, stale: Callable[[], bool] | None = None, *, here: bool = True) -> None:
         """Say `words` (a text, or a function of the browser's translator giving it) until
         `stale()`, if given; `here=False`: it is said elsewhere on the page."""
-        text = words if isinstance(words, str) else words(for_gui(self.gui))
+        text = written(words, for_gui(self.gui))
         content = text if text.startswith("**") else f"**⚠ {text}**"
         self._stale = stale
         if not here:

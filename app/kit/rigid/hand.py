@@ -29,7 +29,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from app.i18n import N_, Said, Translator, Words
+from app.i18n import N_, Said, Translator, Words, written
 from app.kit.core.common import SliderSpec
 from app.kit.panel.gui import add_slider
 from physics._types import Vec3
@@ -144,7 +144,7 @@ class HandControls:
     def refusal(self, omega_body: Vec3) -> str | None:
         """Why ω_b cannot be set (not finite, a rate slider out of range) in the view's language, or None."""
         words = self.refused_words(omega_body)
-        return None if words is None else _words(words, self.view.tr)
+        return None if words is None else written(words, self.view.tr)
 
     def refused_words(self, omega_body: Vec3) -> Words | None:
         """Why ω_b cannot be set now, as words for any language (a function of a translator), or None."""
@@ -238,13 +238,9 @@ class HandControls:
 
 
 # ------------------------------------------------------------------ words said in the message line
-def _words(words: Words, tr: Translator) -> str:
-    return words if isinstance(words, str) else words(tr)
-
-
 def _what_refused(what: Words, refusal: Words, tr: Translator) -> str:
     """"what: why" in `tr`'s language (the hand's refused edit)."""
-    return f"{_words(what, tr)}: {_words(refusal, tr)}"
+    return f"{written(what, tr)}: {written(refusal, tr)}"
 
 
 def _gimbal_refusal(norm: float, tr: Translator) -> str:
