@@ -143,7 +143,8 @@ class OwnRoom:
         browser = self.browser
         if self._relabelling:
             return
-        title = self.scene_title(str(browser.gui_scene.value))
+        label = str(browser.gui_scene.value)  # (a later choice changes it; its callback runs next)
+        title = self.scene_title(label)
         if title not in SCENES or self.showing.mode is Mode.FOLLOWING:  # a client can send anything
             browser.gui_scene.value = self.scene_label(self.showing.room.scene.title)  # viser's setter
             if self.showing.mode is Mode.FOLLOWING:
@@ -152,15 +153,19 @@ class OwnRoom:
         if title != self.showing.room.scene.title:
             browser.lesson_runner.scene_changed()  # by hand: the lesson (and its text) ends
             scene = SCENES[title]
-            self.show(Room(scene, scene.new_simulation()))
+            self.show(Room(scene, scene.new_simulation()), chosen=label)
             browser.reset_camera()
 
-    def show(self, room: Room) -> None:
+    def show(self, room: Room, chosen: str | None = None) -> None:
         """Leave the current room and show `room` (a new view of it for this client; live while
-        presenting)."""
+        presenting); the scene dropdown then shows its scene, unless the browser chose another
+        scene while the view was built (its callback, waiting for this one, switches to it).
+
+        chosen: the dropdown's value this switch answers (None: its value as the switch starts)."""
         showing, browser = self.showing, self.browser
         if showing.mode is Mode.FOLLOWING:
             raise NotAllowed(FOLLOWING_REFUSAL)
+        chosen = str(browser.gui_scene.value) if chosen is None else chosen
         with showing.switch_lock:
             old_view, old_room = showing.view, showing.room
             with old_room.lock:
@@ -169,7 +174,8 @@ class OwnRoom:
             with room.lock:
                 showing.own_room = room
                 showing.view = self._view_for_mode(room)
-            self.show_title(room.scene.title)  # the titles match now
+            if str(browser.gui_scene.value) == chosen:  # no newer choice: the titles match now
+                self.show_title(room.scene.title)
         browser.narrow.refresh()  # a narrow explorer's new scene panel folds too
         self.refresh_preset_commands()
         if browser.own_panel is not None:
