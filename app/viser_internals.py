@@ -19,9 +19,11 @@ Features and what the app does without them:
   no walker (`app.kit.draw.labels` shows every wanted label, with no layout), `remove_under` removes
   a subtree by replacing its root, `node_removed` is False.
 - `PANEL_INPUTS`: a panel's inputs (and checkboxes) below given top-level handles (`panel_inputs`,
-  `panel_checkboxes`), and the folder or tab a control is in (`add_beside`: a refusal note goes
-  right under its control); off: None (`app.kit.view` looks through the view's attributes), and
-  `add_beside` adds in the container being built (the root, for a control bound after its folder).
+  `panel_checkboxes`), the folder or tab a control is in (`add_beside`: a refusal note goes
+  right under its control), and each value a browser sends as it arrives (`on_browser_value`);
+  off: None (`app.kit.view` looks through the view's attributes), `add_beside` adds in the
+  container being built (the root, for a control bound after its folder), and nothing arrives
+  (a bound control reads its handle when its callback runs).
 - `FRAME_CAPTURE`: `app.wire` (a frame encoded once, in viser's wire format, written to the
   sockets): `divert_queue`, the interfaces, buffers, connections and event loop, the window
   envelope (`pack_window`); needs viser `SUPPORTED` (the wire builds viser's frames itself); off:
@@ -58,7 +60,7 @@ __all__ = ["FAST_SETTERS", "FEATURES", "FRAME_CAPTURE", "NEEDS", "PANEL_INPUTS",
            "configure", "connection_closed", "divert_queue", "event_loop", "flush_all", "frame_capture",
            "in_frame_capture",
            "input_handle", "interface_of", "label_props", "live_connections", "message_buffer", "message_from_dict",
-           "node_pose", "node_removed",
+           "node_pose", "node_removed", "on_browser_value",
            "node_world", "pack_window", "panel_checkboxes", "panel_inputs", "pending_messages", "remove_under",
            "report",
            "scene_nodes", "set_points", "set_position", "set_scale", "set_wxyz", "unsent_bytes", "world_point",
@@ -84,8 +86,9 @@ class Feature:
 FAST_SETTERS = Feature("fast setters", "poses, points and scales go through viser's public setters")
 SCENE_NODES = Feature("scene nodes", "labels are shown as wanted (no layout); a view's controls go with a "
                                      "replaced root")
-PANEL_INPUTS = Feature("panel inputs", "a view's checkboxes are looked for in its own attributes, and a "
-                                      "control's refusal note sits where the view's panel is being built")
+PANEL_INPUTS = Feature("panel inputs", "a view's checkboxes are looked for in its own attributes, a "
+                                      "control's refusal note sits where the view's panel is being built, and "
+                                      "a bound control reads its handle's value when its callback runs")
 FRAME_CAPTURE = Feature("frame capture", "frames go through viser's own sender, one atomic() block a view")
 SEND_QUEUE = Feature("send queue", "the pacer goes by time alone; flushes are client.flush()")
 FEATURES = (FAST_SETTERS, SCENE_NODES, PANEL_INPUTS, FRAME_CAPTURE, SEND_QUEUE)
@@ -142,6 +145,7 @@ NEEDS: tuple[Need, ...] = (
     Need(PANEL_INPUTS, _GUI_STATE, "uuid", "an element's id"),
     Need(PANEL_INPUTS, _GUI_STATE, "removed", "the element was removed"),
     Need(PANEL_INPUTS, _GUI_STATE, "parent_container_id", "the folder or tab an element is in"),
+    Need(PANEL_INPUTS, _GUI_STATE, "sync_cb", "called with a browser's update as it arrives, before the callbacks"),
     Need(FRAME_CAPTURE, "viser._viser.ViserServer", "_websock_server", "the shared scene's interface"),
     Need(FRAME_CAPTURE, "viser._viser.ClientHandle", "_websock_connection", "a browser's own interface"),
     Need(FRAME_CAPTURE, _HANDLER, "queue_message", "what every message goes through (diverted by a wire)"),
@@ -484,6 +488,27 @@ def add_beside(gui: Any, handle: Any, add: Callable[[float], Any]) -> Any:
         return add(order)
     finally:
         container.__exit__(None, None, None)
+
+
+def on_browser_value(handle: Any, take: Callable[[Any], None]) -> bool:
+    """Call `take(value)` with each new value a browser sends for the input `handle`, on viser's
+    event loop as the message arrives: before the handle's callbacks run on viser's thread pool,
+    and whatever the server writes to the handle in between.  viser's own `sync_cb` (it shares a
+    server-wide handle with the other browsers) still runs after it.  False (nothing will be
+    taken) when PANEL_INPUTS is off."""
+    state: Any = getattr(handle, "_impl", None)
+    if not PANEL_INPUTS.on or not hasattr(state, "sync_cb"):
+        return False
+    shared = state.sync_cb
+
+    def arrived(client_id: Any, updates: dict[str, Any]) -> None:
+        if "value" in updates:
+            take(updates["value"])
+        if shared is not None:
+            shared(client_id, updates)
+
+    state.sync_cb = arrived
+    return True
 
 
 def panel_checkboxes(gui: Any, roots: Iterable[Any]) -> list[Any] | None:

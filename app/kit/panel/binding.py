@@ -37,7 +37,9 @@ The two sides split the work where each thing is known:
   plays) says them anew at `Binding.restate()` (`Refused.restate`), so it holds the same while
   the motion plays or stands.  For HANDS_OFF_S after a browser's last update, the server's
   quiet writes (a slider following the motion) skip the field, so a thumb under the hand is not
-  pulled back.
+  pulled back.  What is decided is the value as the browser sent it (taken as it arrives,
+  `app.viser_internals.on_browser_value`), not the handle's value when the callback runs: a frame
+  drawn in between writes the handle.
 
 A page without the guard (a raw websocket client) gets each value it sends checked and applied
 in its own room like any other: nothing it sends skips the check.  The time is a `Clock`
@@ -49,11 +51,12 @@ from __future__ import annotations
 import html
 import math
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any, Protocol
 
 from app.kit.core.common import SliderSpec
-from app.viser_internals import add_beside
+from app.viser_internals import add_beside, on_browser_value
 
 __all__ = [
     "BOX_DIGITS",
@@ -201,6 +204,8 @@ class Binding:
         self.refused = 0
         self._last_update = -math.inf  # [s] clock time of the last browser update
         self._active = True
+        self._arrived: deque[Any] = deque()  # values browsers sent, oldest first, not yet decided
+        on_browser_value(handle, self._arrived.append)
         quiet.guard(handle, self.editing)
         handle.on_update(wrap(where, self._received))
 
@@ -254,10 +259,18 @@ class Binding:
     def _received(self, event: Any) -> None:
         if self._quiet.active or not self._active:
             return  # the server itself is showing a value on the control
-        if getattr(event, "client", None) is not None:
-            self._last_update = self.clock.now()
-            self._quiet.forget(self.handle)  # a value the server skipped meanwhile is older than this one
-        self.decide(self.handle.value)
+        if getattr(event, "client", None) is None:
+            self.decide(self.handle.value)
+            return
+        self._last_update = self.clock.now()
+        self._quiet.forget(self.handle)  # a value the server skipped meanwhile is older than this one
+        # The value as it arrived: a server write between its arrival and this callback (the loop
+        # following the motion, under the session's lock this callback waits for) replaced the
+        # handle's, and deciding on that would drop what the browser sent without a word.
+        sent = self._arrived.popleft() if self._arrived else self.handle.value
+        self.decide(sent)
+        if not _same(self.handle.value, sent):  # written meanwhile: the field shows the value in force
+            self.revert()
 
     def decide(self, value: Any) -> None:
         """Check and apply `value`; a refusal is said and the field goes back to the value in force."""
