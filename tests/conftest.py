@@ -201,11 +201,31 @@ class ChromiumCpu:
             if table[pid][2].startswith("chrom"):
                 self.seen[pid] = table[pid][1]
 
+    def total(self) -> float:
+        """The CPU seconds [s] seen so far (sampled now)."""
+        self.sample()
+        return sum(self.seen.values())
+
     def stop(self) -> float:
         """Stop sampling; the CPU seconds seen."""
-        self.sample()
         self._stop.set()
-        return sum(self.seen.values())
+        return self.total()
+
+
+_CHROMIUM_NOW: list[ChromiumCpu] = []  # the sampler of this process's Chromium while it runs
+_CHROMIUM_BY_MODULE: dict[str, float] = {}  # test module -> the CPU seconds Chromium used in its tests
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> Iterator[None]:
+    """The CPU Chromium used during each test (its setup, call and teardown), summed by module."""
+    cpu = _CHROMIUM_NOW[0] if _CHROMIUM_NOW else None
+    before = cpu.total() if cpu is not None else 0.0
+    yield
+    cpu = cpu or (_CHROMIUM_NOW[0] if _CHROMIUM_NOW else None)
+    if cpu is not None:
+        module = item.nodeid.split("::")[0]
+        _CHROMIUM_BY_MODULE[module] = _CHROMIUM_BY_MODULE.get(module, 0.0) + cpu.total() - before
 
 
 def pytest_sessionfinish(session: pytest.Session) -> None:
@@ -213,6 +233,7 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
     output = getattr(session.config, "workeroutput", None)
     if output is not None:
         output["chromium_cpu_s"] = sum(_CHROMIUM_CPU_S)
+        output["chromium_by_module"] = dict(_CHROMIUM_BY_MODULE)
 
 
 def pytest_testnodedown(node: Any, error: Any) -> None:
@@ -221,6 +242,8 @@ def pytest_testnodedown(node: Any, error: Any) -> None:
     worker = getattr(getattr(node, "gateway", None), "id", "?")
     _WORKER_SECONDS.setdefault(worker, [0.0, 0.0])
     _CHROMIUM_BY_WORKER[worker] = seconds
+    for module, cpu_s in getattr(node, "workeroutput", {}).get("chromium_by_module", {}).items():
+        _CHROMIUM_BY_MODULE[module] = _CHROMIUM_BY_MODULE.get(module, 0.0) + cpu_s
 
 
 _CHROMIUM_BY_WORKER: dict[str, float] = {}
@@ -234,6 +257,10 @@ def pytest_terminal_summary(terminalreporter: Any) -> None:
                                     f"Chromium {_CHROMIUM_BY_WORKER.get(worker, 0.0):.0f} CPU-s")
     if not _WORKER_SECONDS and _CHROMIUM_CPU_S:
         terminalreporter.write_line(f"Chromium: {sum(_CHROMIUM_CPU_S):.0f} CPU-s")
+    top = sorted(_CHROMIUM_BY_MODULE.items(), key=lambda item: -item[1])[:10]
+    if top:
+        terminalreporter.write_line("Chromium CPU-s by module (the 10 most): "
+                                    + ", ".join(f"{Path(module).stem} {cpu_s:.0f}" for module, cpu_s in top))
 
 
 HEAVY_MODULES = ("tests/test_fork.py", "tests/test_soak.py", "tests/test_replay.py", "tests/test_cli.py",
@@ -438,13 +465,14 @@ def _browser_missing() -> str | None:
     return None
 
 
-BROWSER_FPS = float(os.environ.get("RBL_BROWSER_FPS", "10"))
+BROWSER_FPS = float(os.environ.get("RBL_BROWSER_FPS", "6"))
 """The most frames a second a test page draws (RBL_BROWSER_FPS; 0: as many as it can).  SwiftShader
-draws a 1280×800 view on the CPU: uncapped, one playing page takes 1.8 of the 2 cores, capped at
-10 it takes 0.7–0.86 (measured; turning WebGL's antialiasing off saved nothing more).  Two whole
-quiet runs at 10 passed every test (11:14 on two processes, 11:06 on three), where uncapped runs
-took 12:27–12:41; at 5, with two browser groups, three tests that wait for the camera or a
-frame failed."""
+draws WebGL on the CPU, and a playing page's cost grows with the frames it draws: an 800×600 page
+playing the Euler scene took 0.81 cores at 10 frames a second and 0.34 at 3 (2026-11-29, Chromium's
+CPU over 10 s; idle, 0.1 at any rate).  The whole suite, quiet, on one machine the same hour: 19:22
+at 10, 16:30 at 6 (Chromium 1,368 → 1,176 CPU-s), every test passed at both.  Older: uncapped, one
+playing 1280×800 page took 1.8 of the 2 cores; at 5, with two browser groups, three tests that
+wait for the camera or a frame failed."""
 _FPS_CAP_JS = """(() => {
   // At most %s frames a second: a requestAnimationFrame callback runs in the next due frame, and
   // every callback of that frame runs in it (they share its timestamp); cancelAnimationFrame kept true.
@@ -510,9 +538,11 @@ def browser() -> Iterator[Any]:
     with sync_playwright() as p:
         cpu = ChromiumCpu()
         chromium = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
+        _CHROMIUM_NOW.append(cpu)
         try:
             yield CappedBrowser(chromium)
         finally:
+            _CHROMIUM_NOW.remove(cpu)
             _CHROMIUM_CPU_S.append(cpu.stop())  # before close: its processes end with it
             chromium.close()
 
