@@ -51,6 +51,11 @@ def own_hall(tmp_path: Path) -> Iterator[Any]:
         yield running, join
 
 
+def status_line(session: Any) -> str:
+    """A follower's status line now ("" while its view is being switched: `scene` None, or not a follower's)."""
+    return str(getattr(getattr(session.scene, "gui_status", None), "content", ""))
+
+
 def test_the_hall_message_of_an_own_lesson_carries_the_step_in_every_language(own_hall: Any) -> None:
     app, join = own_hall
     presenter = join()
@@ -93,17 +98,17 @@ def test_a_german_follower_on_another_worker_reads_a_lesson_no_process_there_kno
 
     def heard() -> bool:  # said again until B has it (also the source's heartbeat)
         client.publish(CHANNEL, encode(hall))
-        return german.mode == "following" and "Buch" in str(german.scene.gui_status.content)
+        return german.mode == "following" and "Buch" in status_line(german)
 
     poll_until(heard, timeout=30.0, interval=0.1,
                what="B's German follower showing the step in German",
-               seen=lambda: (german.mode, getattr(getattr(german.scene, "gui_status", None), "content", None)))
+               seen=lambda: (german.mode, status_line(german)))
     status_de = german.scene.gui_status.content
     assert "**Eine Lektion von mir**, Schritt 1/1: Das Buch überschlägt sich." in status_de, status_de
     assert "tumbles" not in status_de
     caption = german.scene.caption
     assert (caption.head, caption.text) == ("Eine Lektion von mir · Schritt 1 von 1", "Das Buch überschlägt sich.")
-    poll_until(lambda: english.mode == "following" and line_en in str(english.scene.gui_status.content),
+    poll_until(lambda: english.mode == "following" and line_en in status_line(english),
                timeout=30.0, what="B's English follower showing the step in English",
-               seen=lambda: english.scene.gui_status.content if english.mode == "following" else english.mode)
+               seen=lambda: (english.mode, status_line(english)))
     assert (english.scene.caption.head, english.scene.caption.text) == (head_en, text_en)
