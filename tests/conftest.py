@@ -469,8 +469,9 @@ BROWSER_FPS = float(os.environ.get("RBL_BROWSER_FPS", "6"))
 """The most frames a second a test page draws (RBL_BROWSER_FPS; 0: as many as it can).  SwiftShader
 draws WebGL on the CPU, and a playing page's cost grows with the frames it draws: an 800×600 page
 playing the Euler scene took 0.81 cores at 10 frames a second and 0.34 at 3 (2026-11-29, Chromium's
-CPU over 10 s; idle, 0.1 at any rate).  The whole suite, quiet, on one machine the same hour: 19:22
-at 10, 16:30 at 6 (Chromium 1,368 → 1,176 CPU-s), every test passed at both.  Older: uncapped, one
+CPU over 10 s; idle, 0.1 at any rate).  The whole suite, quiet, on one machine the same day: 19:22
+at 10 (Chromium 1,368 CPU-s), then 16:30 and 23:32 at 6 (1,176 and 1,661): that machine's speed
+varied more than the frame rate saves, every test passed in all three.  Older: uncapped, one
 playing 1280×800 page took 1.8 of the 2 cores; at 5, with two browser groups, three tests that
 wait for the camera or a frame failed."""
 _FPS_CAP_JS = """(() => {
