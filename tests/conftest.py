@@ -570,6 +570,31 @@ def settled_box(page: Any, locator: Any, timeout: float = 30.0) -> dict[str, flo
         page.wait_for_timeout(100)
 
 
+_AT_POINT_JS = """([element, x, y]) => {
+  const hit = document.elementFromPoint(x, y);
+  if (hit !== null && element.contains(hit)) return '';
+  return hit === null ? 'nothing' : hit.tagName.toLowerCase() + (hit.className ? '.' + String(hit.className).split(' ')[0] : '')
+      + ' "' + (hit.innerText || '').slice(0, 40) + '"';
+}"""
+
+
+def point_on(page: Any, locator: Any, fx: float, fy: float, timeout: float = 30.0) -> tuple[float, float]:
+    """The page point [CSS px] at fractions (fx, fy) of `locator`'s settled box, once that point is
+    on the element itself: scrolled into view, and no toast or sheet lies over it (a tap by
+    coordinates goes to whatever is on top).  AssertionError naming what lay there if not."""
+    deadline = time.monotonic() + timeout
+    while True:
+        locator.scroll_into_view_if_needed()
+        box = settled_box(page, locator, timeout=max(1.0, deadline - time.monotonic()))
+        x, y = box["x"] + fx * box["width"], box["y"] + fy * box["height"]
+        over = locator.evaluate(f"(element) => ({_AT_POINT_JS})([element, {x}, {y}])")
+        if not over:
+            return x, y
+        if time.monotonic() > deadline:
+            raise AssertionError(f"({x:.0f}, {y:.0f}) in {box} stayed under {over} for {timeout} s")
+        page.wait_for_timeout(200)
+
+
 DESK = {"viewport": {"width": 800, "height": 600}}
 """A desktop page whose size no assertion reads (the laptops, projectors and phones whose layout a
 test checks keep their sizes): playing, it costs SwiftShader 0.52 cores where a 1280×800 page

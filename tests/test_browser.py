@@ -197,6 +197,31 @@ def test_free_body_invalid_moments_keep_it_moving_and_contexts_are_independent(
             context.close()
 
 
+def playback_time(page) -> float:  # type: ignore[no-untyped-def]
+    """The time [s] on an exported page's playback bar (its slider)."""
+    return float(page.locator('[role="slider"]').first.get_attribute("aria-valuenow") or "nan")
+
+
+def toggle_playback(page, until: float, timeout: float = 60.0) -> float:  # type: ignore[no-untyped-def]
+    """On an exported page that plays: once its time reaches `until` [s], press Space (pause) and
+    wait until the time stands still; that time.  If it is paused, Space first (play)."""
+    def stands_still() -> float | None:
+        before = playback_time(page)
+        page.wait_for_timeout(300)
+        return before if playback_time(page) == before else None
+
+    deadline = time.monotonic() + timeout
+    if stands_still() is not None:
+        page.keyboard.press("Space")
+    while playback_time(page) < until:
+        assert time.monotonic() < deadline, f"the playback stood at {playback_time(page)} s, waiting for {until}"
+        page.wait_for_timeout(100)
+    page.keyboard.press("Space")
+    while (still := stands_still()) is None:
+        assert time.monotonic() < deadline, f"the playback went on after Space, at {playback_time(page)} s"
+    return still
+
+
 def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_large(page, tmp_path) -> None:
     """3. `python -m app export` writes a page that plays the motion from file:// (the picture
     changes while it plays); and the projector layout's panel text measures >= 18 px at 1024 px."""
@@ -208,11 +233,16 @@ def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_l
                     "--seconds", "10", "--out", str(out)], check=True, timeout=120, capture_output=True)
     page.goto(out.as_uri())
     page.locator("canvas").first.wait_for(timeout=30_000)
-    time.sleep(4.0)
+    # The pictures are taken paused (the Space key, as a viewer would): playing, the page moves
+    # its time bar 120 times a second, and a starved page took over 60 s for one screenshot.
     clip = {"x": 0, "y": 200, "width": 800, "height": 400}
+    played = playback_time(page)
+    assert 0.0 <= played < 5.0, f"the playback bar's time: {played}"  # NaN fails too
+    t_first = toggle_playback(page, played + 2.0)
     first = page.screenshot(clip=clip, timeout=60_000)
-    time.sleep(1.5)
-    assert changed_fraction(first, page.screenshot(clip=clip, timeout=60_000)) > MIN_CHANGED_FRACTION
+    t_second = toggle_playback(page, t_first + 1.5)
+    assert changed_fraction(first, page.screenshot(clip=clip, timeout=60_000)) > MIN_CHANGED_FRACTION, \
+        (t_first, t_second)
 
     from app.main import create_server
 

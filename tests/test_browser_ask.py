@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import settled_box
+from conftest import point_on
 from test_browser import choose
 from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, type_into  # noqa: F401 - a fixture
 
@@ -81,11 +81,13 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     button(laptop, "Send my direction").click()
     button(students[1][0], "Send my direction").click()  # as it was: azimuth 0°, elevation 45°
     phone, phone_student = students[2]
-    track = settled_box(phone, phone.locator(f'[id="{phone_student.question.gui_azimuth._impl.uuid}"]'))
-    phone.touchscreen.tap(track["x"] + 0.25 * track["width"], track["y"] + 0.5 * track["height"])
+    track = phone.locator(f'[id="{phone_student.question.gui_azimuth._impl.uuid}"]')
+    close_toasts(phone)
+    at = point_on(phone, track, 0.25, 0.5)
+    phone.touchscreen.tap(*at)
     wait_until(lambda: phone_student.question.gui_azimuth.value < -45.0, timeout=30.0,
                what="the phone's azimuth below -45° after a tap at a quarter of its track",
-               seen=lambda: (phone_student.question.gui_azimuth.value, track))
+               seen=lambda: (phone_student.question.gui_azimuth.value, at, track.bounding_box()))
     button(phone, "Send my direction").tap()
     projector.get_by_text("3 tips on the sphere", exact=False).wait_for(timeout=15_000)
     button(projector, "Reveal the answer").click()
