@@ -45,6 +45,7 @@ from benchmarks.ws_client import AsyncViserClient  # noqa: E402
 __all__ = ["SoakResult", "main", "run_soak"]
 
 SAMPLE_PERIOD = 10.0  # [s] between memory samples
+START_TIMEOUT_S = 120.0  # [s] for the presenter's motion and a browser's first scene: generous for a busy machine
 
 
 def rss_at(samples: list[tuple[float, float]], seconds: float) -> float:
@@ -61,6 +62,7 @@ class SoakResult:
     settled_mib: float  # the first sample at or after `settle_s`
     end_mib: float
     steady_fps: float  # frames/s received by a follower that stayed all along
+    presenter_fps: float  # frames/s the presenter received over the same time: what the room drew
     errors: list[str]
     processes: dict[str, list[tuple[float, float]]] = dataclasses.field(default_factory=dict)
     """Every process's samples by name ("server", or "worker 1", "worker 2", ...)."""
@@ -87,7 +89,8 @@ class SoakResult:
         return (f"{self.minutes:g} min, {self.browsers} browsers, {self.joins} joins: RSS settled "
                 f"{self.settled_mib:.1f} MiB after {self.settle_s:g} s, {self.end_mib:.1f} MiB at the end "
                 f"({self.growth_mib:+.1f} MiB, the most of {len(self.processes) or 1} process(es)); "
-                f"a follower that stayed got {self.steady_fps:.1f} fps; "
+                f"a follower that stayed got {self.steady_fps:.1f} fps, the presenter "
+                f"{self.presenter_fps:.1f}; "
                 f"{len(self.errors)} error line(s) logged")
 
 
@@ -133,19 +136,19 @@ def _sample(target: Target, samples: dict[str, list[tuple[float, float]]], secon
 
 
 async def _soak(target: Target, minutes: float, browsers: int, churn: float,
-                hostile: bool = False, settle_s: float = 60.0) -> SoakResult:
+                hostile: bool = False, settle_s: float = 60.0, min_joins: int = 0) -> SoakResult:
     presenter = await AsyncViserClient.connect(target.port, keep_messages=100)
     await presenter.wait_for_label("Presenter code", 30.0)
     await presenter.set_value("Presenter code", target.code)
     await asyncio.sleep(0.2)
     await presenter.click("Present")
     await asyncio.sleep(0.5)
-    await start_playing(presenter, "Free body", timeout=30.0)
+    await start_playing(presenter, "Free body", timeout=START_TIMEOUT_S)
     presenter.state.count_only = True
 
     async def join() -> AsyncViserClient:
         client = await AsyncViserClient.connect(target.port, keep_messages=20)
-        await client.wait_for(lambda: client.state.replay_done, 60.0)
+        await client.wait_for(lambda: client.state.replay_done, START_TIMEOUT_S)
         client.state.count_only = True
         return client
 
@@ -155,13 +158,13 @@ async def _soak(target: Target, minutes: float, browsers: int, churn: float,
     crowd: collections.deque[AsyncViserClient] = collections.deque([await join() for _ in range(browsers - 1)])
     joins = browsers
     start = time.monotonic()
-    frames0 = steady.state.frames
+    frames0, presenter_frames0 = steady.state.frames, presenter.state.frames
     samples: dict[str, list[tuple[float, float]]] = {name: [] for name in target.pids}
     _sample(target, samples, 0.0)
     next_sample, next_churn, next_minute = start + SAMPLE_PERIOD, start + churn, 1
     end = start + 60.0 * minutes
     try:
-        while (now := time.monotonic()) < end:
+        while (now := time.monotonic()) < end or joins < min_joins:
             if now >= next_churn:
                 await crowd.popleft().close()
                 crowd.append(await join())
@@ -176,7 +179,9 @@ async def _soak(target: Target, minutes: float, browsers: int, churn: float,
                     next_minute += 1
             await asyncio.sleep(0.05)
         _sample(target, samples, time.monotonic() - start)
-        fps = (steady.state.frames - frames0) / (time.monotonic() - start)
+        elapsed = time.monotonic() - start
+        fps = (steady.state.frames - frames0) / elapsed
+        presenter_fps = (presenter.state.frames - presenter_frames0) / elapsed
     finally:
         stop.set()
         if hostiles is not None:
@@ -184,7 +189,7 @@ async def _soak(target: Target, minutes: float, browsers: int, churn: float,
         await asyncio.gather(*(c.close() for c in [presenter, steady, *crowd]), return_exceptions=True)
     first = next(iter(samples.values()))
     errors = [line for line in target.log().splitlines() if "ERROR" in line or "Traceback" in line]
-    return SoakResult(minutes, browsers, joins, first, rss_at(first, settle_s), first[-1][1], fps, errors,
+    return SoakResult(minutes, browsers, joins, first, rss_at(first, settle_s), first[-1][1], fps, presenter_fps, errors,
                       samples, settle_s)
 
 
@@ -194,10 +199,11 @@ def _worker_log(worker: Any) -> str:
 
 
 def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, hostile: bool = False,
-             workers: int = 0, settle_s: float = 60.0) -> SoakResult:
+             workers: int = 0, settle_s: float = 60.0, min_joins: int = 0) -> SoakResult:
     """Run the soak (see the module docstring) against a fresh server subprocess (`workers` 0),
     or `workers` worker processes behind nginx with the lecture's Redis bus; memory counts as
-    settled `settle_s` [s] after the start."""
+    settled `settle_s` [s] after the start.  The run lasts `minutes`, and on until `min_joins`
+    browsers have joined (a busy machine joins fewer a minute)."""
     if minutes <= 0 or browsers < 1 or churn <= 0 or workers < 0 or not 0 <= settle_s < 60.0 * minutes:
         raise ValueError("need minutes > 0, browsers >= 1, churn > 0, workers >= 0, 0 <= settle_s < the run")
     lifetime = 60.0 * minutes + 120.0
@@ -209,13 +215,13 @@ def run_soak(minutes: float = 60.0, browsers: int = 20, churn: float = 3.0, host
             target = Target(cluster.port, WORKER_CODE,
                             {f"worker {i + 1}": w.pid for i, w in enumerate(cluster.workers)},
                             lambda: "\n".join(_worker_log(w) for w in cluster.workers))
-            return run_async(_soak(target, minutes, browsers, churn, hostile, settle_s))
+            return run_async(_soak(target, minutes, browsers, churn, hostile, settle_s, min_joins))
         finally:
             cluster.stop()
     server = ServerProcess(max_lifetime=lifetime)
     try:
         target = Target(server.port, PRESENTER_CODE, {"server": server.pid}, lambda: server.log_tail(1_000_000))
-        return run_async(_soak(target, minutes, browsers, churn, hostile, settle_s))
+        return run_async(_soak(target, minutes, browsers, churn, hostile, settle_s, min_joins))
     finally:
         server.stop()
 

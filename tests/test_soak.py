@@ -13,13 +13,13 @@ pytestmark = pytest.mark.slow
 
 MAX_GROWTH_MIB = 10.0  # memory at the end against where it settled (SETTLE_S)
 SETTLE_S = 30.0  # [s] memory counts as settled this long after the start
-MIN_STEADY_FPS = 20.0  # a follower that stayed all along (~57 fps measured on 2 cores)
+MIN_STEADY_SHARE = 0.5  # a follower that stayed all along: its frames a second over the presenter's
 
 
 def test_a_minute_of_browsers_coming_and_going_with_hostile_ones() -> None:
-    result = run_soak(minutes=1.0, browsers=20, churn=3.0, hostile=True, settle_s=SETTLE_S)
+    result = run_soak(minutes=1.0, browsers=20, churn=3.0, hostile=True, settle_s=SETTLE_S, min_joins=40)
     print(result.summary())
-    assert result.joins >= 35
+    assert result.joins >= 40
     assert result.errors == []
     assert result.growth_mib <= MAX_GROWTH_MIB, result.rss_mib
-    assert result.steady_fps >= MIN_STEADY_FPS
+    assert result.steady_fps >= MIN_STEADY_SHARE * result.presenter_fps > 0, result.summary()
