@@ -189,8 +189,8 @@ async def _soak(target: Target, minutes: float, browsers: int, churn: float,
         await asyncio.gather(*(c.close() for c in [presenter, steady, *crowd]), return_exceptions=True)
     first = next(iter(samples.values()))
     errors = [line for line in target.log().splitlines() if "ERROR" in line or "Traceback" in line]
-    return SoakResult(minutes, browsers, joins, first, rss_at(first, settle_s), first[-1][1], fps, presenter_fps, errors,
-                      samples, settle_s)
+    return SoakResult(minutes, browsers, joins, first, rss_at(first, settle_s), first[-1][1], fps, presenter_fps,
+                      errors, samples, settle_s)
 
 
 def _worker_log(worker: Any) -> str:

@@ -573,8 +573,9 @@ def settled_box(page: Any, locator: Any, timeout: float = 30.0) -> dict[str, flo
 _AT_POINT_JS = """([element, x, y]) => {
   const hit = document.elementFromPoint(x, y);
   if (hit !== null && element.contains(hit)) return '';
-  return hit === null ? 'nothing' : hit.tagName.toLowerCase() + (hit.className ? '.' + String(hit.className).split(' ')[0] : '')
-      + ' "' + (hit.innerText || '').slice(0, 40) + '"';
+  if (hit === null) return 'nothing';
+  const kind = hit.className ? '.' + String(hit.className).split(' ')[0] : '';
+  return hit.tagName.toLowerCase() + kind + ' "' + (hit.innerText || '').slice(0, 40) + '"';
 }"""
 
 
