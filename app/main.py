@@ -190,8 +190,10 @@ class App:
         self.sweep.left(session)
         logger.info("client %d: session ended (%d open)", client.client_id, len(self.sessions))
 
-    def wait_for_sessions(self, count: int, timeout: float = 10.0) -> dict[int, Session]:
-        """Block until exactly `count` sessions exist; a copy of them.  TimeoutError if not."""
+    def wait_for_sessions(self, count: int, timeout: float = 60.0) -> dict[int, Session]:
+        """Block until exactly `count` sessions exist (a browser's session is built as it
+        connects: its panels, a second or more on a busy machine); a copy of them.  TimeoutError
+        if not within `timeout` [s]."""
         with self._sessions_changed:
             if not self._sessions_changed.wait_for(lambda: len(self.sessions) == count, timeout):
                 raise TimeoutError(f"{len(self.sessions)} sessions after {timeout} s, wanted {count}")

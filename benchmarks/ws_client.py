@@ -365,7 +365,7 @@ class ClientState:
         with self.lock:
             return [e.label for e in self.gui.values()]
 
-    def wait_for(self, predicate: Callable[[], Any], timeout: float = 10.0) -> Any:
+    def wait_for(self, predicate: Callable[[], Any], timeout: float = 30.0) -> Any:
         """Block until `predicate()` (called without the lock held) is truthy; its value.
 
         Raises:
@@ -425,7 +425,7 @@ class ViserClient(_GuiSender):
     """
 
     def __init__(self, port: int, host: str = "127.0.0.1", *, keep_messages: int = 2000,
-                 open_timeout: float = 10.0) -> None:
+                 open_timeout: float = 30.0) -> None:
         from websockets.sync.client import connect
 
         self.state = ClientState(keep_messages)
@@ -454,7 +454,7 @@ class ViserClient(_GuiSender):
         with self._send_lock:
             self._ws.send(data)
 
-    def wait_for_label(self, label: str, timeout: float = 10.0, type_contains: str | None = None
+    def wait_for_label(self, label: str, timeout: float = 30.0, type_contains: str | None = None
                        ) -> GuiElement:
         """Block until a GUI element labelled `label` exists; that element."""
         return self.state.wait_for(lambda: self.state.find_gui(label, type_contains), timeout)
@@ -494,7 +494,7 @@ class AsyncViserClient(_GuiSender):
 
     @classmethod
     async def connect(cls, port: int, host: str = "127.0.0.1", *, keep_messages: int = 2000,
-                      open_timeout: float = 10.0) -> AsyncViserClient:
+                      open_timeout: float = 30.0) -> AsyncViserClient:
         """Connect, start the reader task, send the ViewerCameraMessage."""
         from websockets.asyncio.client import connect
 
@@ -518,7 +518,7 @@ class AsyncViserClient(_GuiSender):
         """Send a viser `_messages.Message` (client -> server)."""
         await self._ws.send(encode_message(message))
 
-    async def wait_for(self, predicate: Callable[[], Any], timeout: float = 10.0) -> Any:
+    async def wait_for(self, predicate: Callable[[], Any], timeout: float = 30.0) -> Any:
         """Poll `predicate()` every 10 ms until truthy; its value.  TimeoutError if not."""
         deadline = time.monotonic() + timeout
         while True:
@@ -529,7 +529,7 @@ class AsyncViserClient(_GuiSender):
                 raise TimeoutError(f"condition not met within {timeout} s")
             await asyncio.sleep(0.01)
 
-    async def wait_for_label(self, label: str, timeout: float = 10.0,
+    async def wait_for_label(self, label: str, timeout: float = 30.0,
                              type_contains: str | None = None) -> GuiElement:
         """Wait until a GUI element labelled `label` exists; that element."""
         return await self.wait_for(lambda: self.state.find_gui(label, type_contains), timeout)

@@ -29,8 +29,13 @@ if TYPE_CHECKING:  # imported lazily below, so the physics tests never load vise
 from scripts.chromium import CHROMIUM, CHROMIUM_ARGS, INSTALL_HINT  # noqa: E402
 from scripts.flake_hunt import browser_marked  # noqa: E402 - the browser tests of a module, read from its source
 
+WAIT_S = 30.0
+"""[s] The default deadline of a wait for something the server does asynchronously: a poll
+returns as soon as it holds, and a busy machine (two `yes`, load average 13) takes many times a
+quiet one's second."""
 
-def poll_until(predicate: Callable[[], Any], timeout: float = 5.0, interval: float = 0.01, *,
+
+def poll_until(predicate: Callable[[], Any], timeout: float = WAIT_S, interval: float = 0.01, *,
                what: str = "condition", seen: Callable[[], Any] | None = None) -> Any:
     """Poll `predicate` until it returns a truthy value; that value, or AssertionError naming
     `what` was waited for and, if `seen` is given, what `seen()` returned at the deadline."""
@@ -296,7 +301,7 @@ def _data_folder(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
 
 @pytest.fixture
 def wait_until() -> Callable[..., Any]:
-    """`poll_until(predicate, timeout=5.0)`: wait for something the server does asynchronously."""
+    """`poll_until(predicate, timeout=WAIT_S)`: wait for something the server does asynchronously."""
     return poll_until
 
 
@@ -423,7 +428,7 @@ class Manual:
         self.client = RawClient(app.port)
         self.session = next(iter(app.wait_for_sessions(1).values()))
 
-    def wait(self, predicate: Callable[[], Any], timeout: float = 5.0) -> Any:
+    def wait(self, predicate: Callable[[], Any], timeout: float = WAIT_S) -> Any:
         """Poll until `predicate` holds, then until the session's callback that made it hold
         (on viser's thread pool, under the session lock) has finished."""
         value = poll_until(predicate, timeout)

@@ -166,7 +166,8 @@ def test_sessions_are_ticked_by_a_paced_60hz_loop(app: App, connect) -> None:
     # may give fewer, so the count is awaited, not timed.
     assert ticks / seconds <= 70, (ticks, seconds)
     assert max(dts) <= app_main.MAX_TICK_DT
-    assert 1 / 75 < float(np.median(dts)) < 1 / 30
+    assert float(np.median(dts)) > 1 / 75, dts  # paced at 60 Hz at most: slower only on a busy machine
+    assert sum(dts) <= seconds + app_main.MAX_TICK_DT, (sum(dts), seconds)  # each tick: the wall time since the last
 
 
 # ---------------------------------------------------------------------------- Euler angles

@@ -198,7 +198,7 @@ def _frames(hall: Any, count: int = 2) -> None:
         hall.app.frame(1.0 / 60.0)
 
 
-def _frames_until(hall: Any, predicate: Any, timeout: float = 10.0) -> None:
+def _frames_until(hall: Any, predicate: Any, timeout: float = 30.0) -> None:
     """Frames of the loop until `predicate()` (a browser's callback may hold its panel a moment)."""
     from conftest import poll_until
 
@@ -285,7 +285,7 @@ def test_the_tally_is_the_same_whichever_worker_the_students_are_on(workers: Wor
     poll_until(lambda: apps[0].rounds.tally().answered == 3, timeout=10.0)
     time.sleep(3 * 0.1)  # three more polls: nothing more arrives
     assert apps[0].rounds.tally().counts == (1, 0, 2)
-    poll_until(lambda: "3 of 3 answered" in presenter.ask_panel.gui_count.content, timeout=5.0)
+    poll_until(lambda: "3 of 3 answered" in presenter.ask_panel.gui_count.content)
     presenter.close_round()
     poll_until(lambda: "closed" in b.question.gui_prompt.content, timeout=10.0)
     with pytest.raises(Refused, match="closed"):

@@ -129,7 +129,7 @@ def _same(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
-def _wait_for_cameras(presenter: Any, followers: dict[str, Any], timeout: float = 10.0) -> None:
+def _wait_for_cameras(presenter: Any, followers: dict[str, Any], timeout: float = 30.0) -> None:
     """Wait until every follower's camera (by its worker) looks at what the presenter's does (the
     lectern's `send_camera`, through the bus on another worker); the failure names who does not."""
     look_at = np.asarray(presenter.client.camera.look_at, float)
@@ -139,7 +139,7 @@ def _wait_for_cameras(presenter: Any, followers: dict[str, Any], timeout: float 
           f"not: {away()}", timeout)
 
 
-def _poll(predicate: Any, message: Any, timeout: float = 10.0) -> None:
+def _poll(predicate: Any, message: Any, timeout: float = 30.0) -> None:
     """poll_until, its failure saying `message()`: what it waited for and what it saw."""
     try:
         poll_until(predicate, timeout=timeout, interval=0.05)

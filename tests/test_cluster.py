@@ -25,7 +25,7 @@ def _note(session: Any) -> str:
     return str(session.lecture.gui_note.content)
 
 
-def _try(client: Any, session: Any, code: str, expect: str, timeout: float = 10.0) -> str:
+def _try(client: Any, session: Any, code: str, expect: str, timeout: float = 30.0) -> str:
     """Type `code` into the browser's `Presenter code`, press `Present`; the panel's note once the
     server has answered (it must contain `expect`; "": the browser presents)."""
     if not hasattr(session, "tries_answered"):  # count the server's answers (the button calls `present`)

@@ -198,13 +198,13 @@ def test_a_round_on_another_worker_ends_when_its_presenter_stops(workers: Worker
     student.answer(2)
     poll_until(lambda: apps[0].rounds.tally() is not None and apps[0].rounds.tally().answered == 1, timeout=10.0)
     presenter.stop_presenting()
-    poll_until(lambda: not student.question.folder.visible, timeout=5.0)
+    poll_until(lambda: not student.question.folder.visible)
     poll_until(lambda: apps[0].ask_bus.redis.get(ROUND_KEY) is None, timeout=2.0)  # the source deletes it
     with pytest.raises(Refused):
         student.answer(1)
     newcomer = _join(workers, "w2")
     newcomer.present(CODE)
-    poll_until(lambda: newcomer.ask_panel.folder.visible, timeout=5.0)
+    poll_until(lambda: newcomer.ask_panel.folder.visible)
     assert newcomer.ask_panel.gui_ask.visible and not newcomer.ask_panel.gui_count.visible
     assert apps[1].rounds.shown() is None
     (ended,) = apps[0].rounds.earlier
@@ -260,7 +260,7 @@ def test_a_round_ends_on_the_other_workers_when_its_worker_is_killed(workers: Wo
         print(f"killed worker's round: hidden on w2 after {hidden_after:.2f} s, key gone after {gone_after:.2f} s")
         poll_until(lambda: w2.lectern.gate.presenter() is None, timeout=2 * LEASE_S)
         successor.present(CODE)
-        poll_until(lambda: successor.ask_panel.folder.visible, timeout=5.0)
+        poll_until(lambda: successor.ask_panel.folder.visible)
         assert successor.ask_panel.gui_ask.visible and not successor.ask_panel.gui_count.visible
 
 
@@ -290,7 +290,7 @@ def test_a_killed_workers_pointer_marker_leaves_the_other_workers_screens(worker
     a.stop()
     del workers.apps["a"]
     poll_until(lambda: b.lectern.hall is Hall.LEFT, timeout=10.0)
-    poll_until(lambda: not markers(), timeout=5.0)
+    poll_until(lambda: not markers())
     assert _live_nodes(mirror_b), "the last state stays on b's screens"
 
 

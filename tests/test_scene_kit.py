@@ -371,7 +371,7 @@ def test_the_loop_writing_a_slider_does_not_wait_for_a_callback_that_waits_for_t
     def loop() -> None:
         with room.lock:
             room_held.set()
-            poll_until(lambda: not _free(session._busy), timeout=5.0)  # the callback below holds it
+            poll_until(lambda: not _free(session._busy))  # the callback below holds it
             view.quiet.write(slider, float(slider.value) + 1.0)  # runs the slider's guarded callback
             written.set()
 

@@ -247,7 +247,7 @@ def test_a_narrow_follower_sees_one_line_and_its_camera_is_fitted(hall: Hall) ->
     _presenter_for(hall, "Heavy top")
     follower, client = hall.join()
     client.send(camera_message(width=780, height=1688))  # a phone, portrait, device pixels
-    panel = poll_until(lambda: follower.scene if follower.scene.narrow else None, timeout=5.0)
+    panel = poll_until(lambda: follower.scene if follower.scene.narrow else None)
     with follower.lock:  # the layout callback that set `narrow` has finished
         pass
     assert not panel.expanded and panel.gui_line.visible and not panel.gui_status.visible
@@ -352,7 +352,7 @@ def test_a_hostile_browser_cannot_press_the_presenters_lecture_buttons(hall: Hal
     from viser import _messages  # its own (hidden) Call everyone back, pressed: refused in its own panel
 
     hostile.send(_messages.GuiUpdateMessage(hostile_session.gui_call_back._impl.uuid, {"value": True}))
-    poll_until(lambda: "only the presenter can call everyone back" in str(hostile_session.last_error), timeout=5.0)
+    poll_until(lambda: "only the presenter can call everyone back" in str(hostile_session.last_error))
     assert hostile_session.error_count > errors_before and lectern.call_back_left(bystander) is None
     # The presenter's button does call back, and counts change with it.
     presenter.call_back()
@@ -396,7 +396,7 @@ def test_a_narrow_explorer_keeps_one_line_and_its_camera(hall: Hall) -> None:
     _presenter_for(hall, "Heavy top")
     explorer, client = hall.join()
     client.send(camera_message(width=780, height=1688))  # a phone, portrait, device pixels
-    poll_until(lambda: explorer.scene if explorer.scene.narrow else None, timeout=5.0)
+    poll_until(lambda: explorer.scene if explorer.scene.narrow else None)
     with explorer.lock:
         pass
     hall.frames(31)  # the lectern fits the follower's camera to the phone (every CAMERA_PERIOD): then look
