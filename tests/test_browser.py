@@ -102,7 +102,7 @@ def open_app(page, app: App, sessions: int = 1, wait: bool = True):
     """Load the app; its session (the newest one); the software-WebGL toast closed."""
     before = set(app.sessions)
     page.goto(app_url(page, app.port))
-    current = app.wait_for_sessions(sessions, timeout=30.0)
+    current = app.wait_for_sessions(sessions, timeout=90.0)
     (session,) = (s for cid, s in current.items() if cid not in before)
     if wait:
         wait_for_gui(page)
@@ -250,7 +250,7 @@ def test_an_exported_recording_plays_offline_from_a_file_and_projector_text_is_l
     try:
         page.set_viewport_size({"width": 1024, "height": 768})
         page.goto(app_url(page, app.port))
-        session = next(iter(app.wait_for_sessions(1, timeout=30.0).values()))
+        session = next(iter(app.wait_for_sessions(1, timeout=90.0).values()))
         page.get_by_text("Euler angles, z-x-z").wait_for(timeout=30_000)
         time.sleep(1.0)
         sizes = page.evaluate("() => Array.from(document.querySelectorAll('label')).map("

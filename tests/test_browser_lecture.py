@@ -64,7 +64,7 @@ def project(camera, point, width: float, height: float) -> tuple[float, float]: 
     return 0.5 * width + f * float(d @ right) / z, 0.5 * height - f * float(d @ up) / z
 
 
-def open_page(browser, app: App, timeout: float = 30.0, **context):  # type: ignore[no-untyped-def]
+def open_page(browser, app: App, timeout: float = 90.0, **context):  # type: ignore[no-untyped-def]
     """A new context and page on the app, its session and canvas awaited up to `timeout` [s]; (page, session)."""
     before = set(app.sessions)
     opened = browser.new_context(**context)
@@ -72,7 +72,8 @@ def open_page(browser, app: App, timeout: float = 30.0, **context):  # type: ign
     page = opened.new_page()
     page.goto(app_url(page, app.port), timeout=timeout * 1000)
     session = poll_until(lambda: next((s for cid, s in dict(app.sessions).items() if cid not in before), None),
-                         timeout=timeout, interval=0.2)
+                         timeout=timeout, interval=0.2, what="the new page's session",
+                         seen=lambda: f"{len(app.sessions)} sessions, {len(before)} before")
     page.locator("canvas").first.wait_for(timeout=timeout * 1000)
     return page, session
 
