@@ -575,7 +575,7 @@ def settled_box(page: Any, locator: Any, timeout: float = 30.0) -> dict[str, flo
         page.wait_for_timeout(100)
 
 
-_AT_POINT_JS = """([element, x, y]) => {
+_AT_POINT_JS = """(element, [x, y]) => {
   const hit = document.elementFromPoint(x, y);
   if (hit !== null && element.contains(hit)) return '';
   if (hit === null) return 'nothing';
@@ -593,7 +593,7 @@ def point_on(page: Any, locator: Any, fx: float, fy: float, timeout: float = 30.
         locator.scroll_into_view_if_needed()
         box = settled_box(page, locator, timeout=max(1.0, deadline - time.monotonic()))
         x, y = box["x"] + fx * box["width"], box["y"] + fy * box["height"]
-        over = locator.evaluate(f"(element) => ({_AT_POINT_JS})([element, {x}, {y}])")
+        over = locator.evaluate(_AT_POINT_JS, [x, y])
         if not over:
             return x, y
         if time.monotonic() > deadline:
