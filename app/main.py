@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import gc
 import logging
+import math
 import os
 import signal
 import sys
@@ -51,7 +52,7 @@ from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals
 from app.wire import Wire, capturing, end_frames
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "LOAD_HOLD_S", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
 
 logger = logging.getLogger(__name__)
 
@@ -64,6 +65,10 @@ REDIS_ENV = "RBL_REDIS_URL"  # a worker's Redis URL (with its password) when not
 CODE_ENV = "RBL_PRESENTER_CODE"  # the presenter code when not given as --presenter-code (out of `ps`)
 ASK_PERIOD = 0.25  # [s] the presenter's count of answers refreshes this often
 BUSY_SHARE = 0.85  # below this share of tick_hz the panels say the server is busy
+LOAD_HOLD_S = 10.0
+"""[s] the busy note stays this long after the last busy measure: a rate near BUSY_SHARE does not
+make it come and go every LOAD_PERIOD, which would move a phone's panel, scrolled to its foot,
+under the finger."""
 
 
 def load_note(frames: int, drawn: int, skipped: int, seconds: float, tick_hz: float) -> str:
@@ -226,6 +231,7 @@ class App:
         """
         pacer = FramePacer(self.tick_hz, sleep=self._stop.wait, wake=self._wake)
         window = (time.monotonic(), 0, 0, 0)  # start, frames, drawn, skipped at the start
+        busy_at = -math.inf  # [s] the end of the last window measured busy
         while not self._stop.is_set():
             self.sweep.run_if_due()  # between frames: what browsers that left held
             drawn = self.frame(min(pacer.begin(), MAX_TICK_DT), pacer)
@@ -233,8 +239,12 @@ class App:
             now = time.monotonic()
             if now - window[0] >= LOAD_PERIOD:
                 start, frames, drawn_before, skipped = window
-                self._show_load(load_note(stats.frames - frames, stats.drawn - drawn_before, stats.skipped - skipped,
-                                          now - start, self.tick_hz))
+                note = load_note(stats.frames - frames, stats.drawn - drawn_before, stats.skipped - skipped,
+                                 now - start, self.tick_hz)
+                if note:
+                    busy_at = now
+                if note or now - busy_at >= LOAD_HOLD_S:
+                    self._show_load(note)
                 window = (now, stats.frames, stats.drawn, stats.skipped)
             pacer.end(drawn, busy=self._wires_busy)
 
