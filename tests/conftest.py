@@ -553,9 +553,15 @@ def browser() -> Iterator[Any]:
             chromium.close()
 
 
-RUNNING_JS = ("document.getAnimations().filter(a => a.playState === 'running')"
-              ".map(a => a.transitionProperty || a.animationName || a.constructor.name)")
-"""The page's CSS transitions and animations running now (a folder opening: its max-height, opacity)."""
+RUNNING_JS = """async () => {
+  await new Promise((drawn) => requestAnimationFrame(() => requestAnimationFrame(drawn)));
+  return document.getAnimations().filter(a => a.playState === 'running')
+    .map(a => a.transitionProperty || a.animationName || a.constructor.name);
+}"""
+"""The page's CSS transitions and animations running once it has drawn two more frames (a folder
+opening: its height, opacity).  A folder starts its transition in the frame after the click: on
+a busy page that frame can come seconds later, and until then the open folder's rows lie, still
+clipped, under the rows that follow it."""
 
 
 def settled_box(page: Any, locator: Any, timeout: float = 30.0) -> dict[str, float]:
@@ -599,6 +605,23 @@ def point_on(page: Any, locator: Any, fx: float, fy: float, timeout: float = 30.
         if time.monotonic() > deadline:
             raise AssertionError(f"({x:.0f}, {y:.0f}) in {box} stayed under {over} for {timeout} s")
         page.wait_for_timeout(200)
+
+
+def tap(locator: Any, timeout: float = 90.0) -> None:
+    """Tap `locator` as a finger does: Playwright's tap, which taps nothing while the element moves
+    or something lies over it, tried again until `timeout` [s].  A phone's panel scrolled to its
+    foot moves when the busy note there comes or goes, and a busy page draws the move seconds
+    later.  AssertionError with Playwright's last words if not."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            locator.tap(timeout=10_000)
+            return
+        except PlaywrightTimeout as error:  # the tap was not made: aim again
+            if time.monotonic() > deadline:
+                raise AssertionError(f"could not tap {locator} for {timeout} s: {error}") from None
 
 
 DESK = {"viewport": {"width": 800, "height": 600}}

@@ -47,12 +47,18 @@ def picture_changes(page, before: bytes, clip: dict = SCENE_CLIP, timeout: float
     return poll_until(fraction, timeout=timeout, interval=0.2)
 
 
+FONTS_MS = 180_000  # [ms] a page's fonts loaded: a page load on a busy machine
+
+
 def still_picture(page, clip: dict = SCENE_CLIP, timeout: float = 30.0) -> bytes:
     """A screenshot of `clip` once the picture holds still (the nodes have faded in): one that
     differs from the one before it (0.2 s earlier) in under MIN_CHANGED_FRACTION / 5 of its
     pixels (AssertionError after `timeout` [s], naming the last difference)."""
     from conftest import poll_until
 
+    # A screenshot first waits for the page's fonts: a page just loaded on a busy machine has
+    # taken more than a minute for them (the wait is the load's, so its deadline is generous).
+    page.wait_for_function("document.fonts.status === 'loaded'", timeout=FONTS_MS)
     shots = [page.screenshot(clip=clip, timeout=60_000)]
     changes: list[float] = []
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import point_on
+from conftest import point_on, tap
 from test_browser import choose
 from test_browser_lecture import CODE, button, close_toasts, hall_app, open_page, type_into  # noqa: F401 - a fixture
 
@@ -48,7 +48,7 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
         close_toasts(page)
     button(students[0][0], "1. spins steadily").click()
     button(students[1][0], "3. flips again and again").click()
-    button(students[2][0], "3. flips again and again").tap()
+    tap(button(students[2][0], "3. flips again and again"))
     projector.get_by_text("3 of 3 answered", exact=False).wait_for(timeout=15_000)
     assert app.rounds.tally().counts == (1, 0, 2)
     assert "█" in projector.locator("body").inner_text()  # the histogram's bars
@@ -58,7 +58,7 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     button(projector, "Vote again").click()
     button(students[0][0], "3. flips again and again").wait_for(timeout=15_000)
     button(students[0][0], "3. flips again and again").click()
-    button(students[2][0], "3. flips again and again").tap()
+    tap(button(students[2][0], "3. flips again and again"))
     projector.get_by_text("2 of 3 answered", exact=False).wait_for(timeout=15_000)
     projector.get_by_text("round 1: 2", exact=False).first.wait_for(timeout=10_000)
     tally = app.rounds.tally()
@@ -88,7 +88,7 @@ def test_a_class_answers_a_choice_and_a_direction_through_its_pages(browser, hal
     wait_until(lambda: phone_student.question.gui_azimuth.value < -45.0, timeout=30.0,
                what="the phone's azimuth below -45° after a tap at a quarter of its track",
                seen=lambda: (phone_student.question.gui_azimuth.value, at, track.bounding_box()))
-    button(phone, "Send my direction").tap()
+    tap(button(phone, "Send my direction"))
     projector.get_by_text("3 tips on the sphere", exact=False).wait_for(timeout=15_000)
     button(projector, "Reveal the answer").click()
     projector.get_by_text("within 15° of the true direction", exact=False).wait_for(timeout=10_000)

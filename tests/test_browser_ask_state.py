@@ -19,7 +19,7 @@ import re
 import numpy as np
 import pytest
 import test_browser_lecture
-from conftest import DESK
+from conftest import DESK, tap
 from test_browser import choose
 from test_browser_lecture import CODE, open_folder, open_page, received, text_input
 
@@ -45,18 +45,6 @@ def ask_app():  # type: ignore[no-untyped-def]
 def _number_box(page, handle):  # type: ignore[no-untyped-def]
     """The number box beside a slider (its root's id is the handle's uuid)."""
     return page.locator(f'[id="{handle._impl.uuid}"]').locator("xpath=..").locator("input.mantine-NumberInput-input")
-
-
-def _tap(page, name: str) -> None:  # type: ignore[no-untyped-def]
-    """Tap the button `name` once it holds still (a busy server's message moves the panel's rows)."""
-    button = page.get_by_role("button", name=name)
-    for _ in range(5):
-        try:
-            button.tap(timeout=6_000)
-            return
-        except Exception:  # noqa: BLE001 - moved while the tap was aimed: aim again
-            continue
-    raise AssertionError(f"could not tap {name!r}")
 
 
 def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one(  # type: ignore[no-untyped-def]
@@ -103,9 +91,9 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
 
     # A phone student: taps its way to its copy and sends it as it is (the presenter's waves).
     phone_page, phone = open_page(browser, app, **PHONE)
-    _tap(phone_page, "Answer from my copy")
+    tap(phone_page.get_by_role("button", name="Answer from my copy"))
     wait_until(lambda: phone.mode == "own", timeout=15.0)
-    _tap(phone_page, "Send my state")
+    tap(phone_page.get_by_role("button", name="Send my state"))
     phone_page.get_by_text(re.compile(r"waves — .*not what was asked")).first.wait_for(timeout=15_000)
 
     # The presenter sees the judged tally and walks the gallery.
