@@ -52,7 +52,8 @@ from app.userdata import default_data_dir
 from app.viser_internals import report as report_viser_internals
 from app.wire import Wire, capturing, end_frames
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "LOAD_HOLD_S", "TICK_HZ", "App", "configure_scene", "create_server", "load_note", "main"]
+__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "LOAD_HOLD_S", "TICK_HZ", "App", "configure_scene", "create_server",
+           "load_note", "main"]
 
 logger = logging.getLogger(__name__)
 
