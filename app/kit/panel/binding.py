@@ -20,10 +20,8 @@ The two sides split the work where each thing is known:
   sends is written into that box (it is shown after the commit, or when the box loses focus):
   a slider following the motion would otherwise replace the selection, and the keys typed next
   would be appended to the new value ("5.03" + "999" taken as 5.03999 s).  Nor does the box's
-  own script move the caret meanwhile: after each value it renders, it puts the caret back on a
-  zero-delay timer, and on a busy page a Ctrl+A can come before that timer, whose caret then
-  undoes the selection (the same 5.03999 s, seen once in about 20 tries with the page's CPU
-  slowed 8 times).  The slider's
+  own script move the caret meanwhile: it puts the caret back on a zero-delay timer after each
+  value it renders, and on a busy page that timer can fire after a Ctrl+A.  The slider's
   clamp-on-blur is skipped: an out-of-range value reaches the server, which says why it is
   refused.  Thumb drags, arrow keys on a thumb and the number boxes' step buttons are not
   touched: they send complete values.
