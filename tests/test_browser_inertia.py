@@ -12,13 +12,12 @@ and hidden: nearly as many must show through it (the old ellipsoid left 0 % of t
 from __future__ import annotations
 
 import io
-import time
 
 import numpy as np
 import pytest
 import trimesh
 from PIL import Image
-from test_browser import choose, open_app
+from test_browser import SCENE_CLIP, choose, open_app, still_picture
 
 from app.kit.draw.screen import project
 from app.scenes.inertia import InertiaView
@@ -42,14 +41,15 @@ def _orange_fraction(png: bytes, centre: tuple[float, float]) -> float:
 
 
 def _shot_pair(page, view) -> tuple[float, float]:  # type: ignore[no-untyped-def]
-    """Orange fraction at the centre of mass with the ellipsoid shown, and hidden (the reference)."""
-    time.sleep(1.5)  # objects fade in
+    """Orange fraction at the centre of mass with the ellipsoid shown, and hidden (the reference),
+    each in a picture that holds still (the objects have faded in: on a busy page that takes
+    longer than any fixed wait)."""
     (centre,), _ = project(InertiaView.view, view.sim.properties()["com"] * view.sim.display_scale(), WIDTH, HEIGHT)
-    shown = _orange_fraction(page.screenshot(), (centre[0], centre[1]))
+    assert centre[0] + PATCH < SCENE_CLIP["width"], f"the centre of mass {centre} is not left of the panel"
+    shown = _orange_fraction(still_picture(page, SCENE_CLIP, timeout=60.0), (centre[0], centre[1]))
     with view.room.lock:
         view._ellipsoid.visible = False  # the reference picture (an instrument, not a user action)
-    time.sleep(1.0)
-    hidden = _orange_fraction(page.screenshot(), (centre[0], centre[1]))
+    hidden = _orange_fraction(still_picture(page, SCENE_CLIP, timeout=60.0), (centre[0], centre[1]))
     with view.room.lock:
         view._ellipsoid.visible = True
     return shown, hidden
