@@ -290,7 +290,7 @@ def test_lecture_notes_stay_true_and_a_followers_keys_bring_one_toast(browser, h
         page.wait_for_timeout(300)
     toasts.first.wait_for(state="visible", timeout=30_000)
     counts = []
-    for _ in range(20):  # read every 0.1 s over the first toast's 3 s: never two at once
+    for _ in range(20):  # read 20 times 0.1 s apart while the first toast shows (3 s): never two at once
         counts.append(toasts.count())
         page.wait_for_timeout(100)
     assert max(counts) <= 1, f"toasts on the page, read every 0.1 s after the first: {counts}"
