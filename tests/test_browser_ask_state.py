@@ -105,7 +105,13 @@ def test_students_answer_a_state_from_their_copies_and_the_presenter_plays_one( 
     presenter_page.get_by_role("button", name="Play this answer").click()
     first = AnswerState.from_dict(lectern.rounds.current.answers()[0].value)
     room = presenter.room
-    wait_until(lambda: np.array_equal(room.sim.initial_state.R_space_body, first.R_space_body)
-               and np.array_equal(room.sim.initial_state.omega_body, first.omega_body), timeout=10.0)
-    assert room.playing and room.sim.model.inertia == first.inertia and room.sim.model.mgl == first.mgl
+
+    def plays_the_first() -> bool:  # read under the room's lock: the press restarts, then plays, under it
+        with room.lock:
+            start = room.sim.initial_state
+            return (room.playing and np.array_equal(start.R_space_body, first.R_space_body)
+                    and np.array_equal(start.omega_body, first.omega_body))
+
+    wait_until(plays_the_first, timeout=30.0)
+    assert room.sim.model.inertia == first.inertia and room.sim.model.mgl == first.mgl
     assert presenter.error_count == 0 and phone.error_count == 0

@@ -25,6 +25,7 @@ from app.kit.core.samples import SampleBuffer
 from app.kit.core.trace import Trace
 from app.kit.panel.timeline import BRANCH_LABEL, REPLAY_LABEL, RESUME_LABEL, timeline_text
 from app.scenes import SCENES
+from physics.dynamics import State
 from tests.test_fork import assert_equal_values, assert_same, build_view, picture
 
 DT = 1.0 / 60.0
@@ -212,6 +213,21 @@ def test_a_new_run_while_scrubbing_drops_the_past() -> None:
     assert stretch is not None and stretch[0] == 0.0 and stretch[1] == room.sim.t
     room.reset()
     assert room.mode == LIVE and room.stretch() == (0.0, 0.0)
+
+
+def test_play_right_after_a_new_run_while_scrubbing_plays_the_new_run_live() -> None:
+    """A new run and play in one step while the past is shown (the gallery's `Play this answer`
+    restarts and plays under the room's lock): the new run plays, live, from its start."""
+    room, _ = played("Free body", frames=300)
+    room.scrub(1.0)
+    start = room.sim.initial_state
+    with room.lock:
+        room.sim.restart(State(start.R_space_body.copy(), -start.omega_body, 0.0))
+        room.play()
+    assert room.playing and room.mode == LIVE
+    for _ in range(10):
+        room.tick(DT)
+    assert room.playing and room.mode == LIVE and room.sim.t == pytest.approx(10 * DT * room.time_scale, rel=1e-9)
 
 
 def test_inertia_has_no_motion_and_no_timeline(server: viser.ViserServer) -> None:

@@ -349,7 +349,9 @@ class Room:
 
     # ------------------------------------------------------------------ transport
     def play(self) -> None:
+        """Play: a new run from its start, live; the same run while the past is shown, a replay."""
         with self.lock:
+            self._sync_run()  # a new run since the past was shown: that past is gone first
             self.playing = True
             self.refresh()
 
