@@ -90,6 +90,20 @@ STILL_PAGE_MODULES = ("tests/test_browser_language_scenes.py", "tests/test_brows
 group, on the other process, beside the first (`pytest_xdist_make_scheduler`)."""
 
 
+BROWSER_TIMEOUT_S = 900.0
+"""[s] pytest-timeout's limit for a browser test that sets none (pyproject's `timeout`, 300 s, is
+for the rest): a hang guard, not a speed check.  With two `yes` and a second Chromium beside the
+suite, the slowest browser tests took 4.5-6 times their quiet time (the four-page ask test 66 s
+quiet, past 300 s busy; a scene's pictures 49 s and 290 s)."""
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Each browser test without its own `timeout` mark gets BROWSER_TIMEOUT_S."""
+    for item in items:
+        if item.get_closest_marker("browser") and not item.get_closest_marker("timeout"):
+            item.add_marker(pytest.mark.timeout(BROWSER_TIMEOUT_S))
+
+
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """The suite on 2 processes (pyproject's addopts: `-n 2 --dist loadgroup`): xdist's scope
     scheduling with these groups, each run by one process in collection order:
@@ -607,6 +621,12 @@ def point_on(page: Any, locator: Any, fx: float, fy: float, timeout: float = 30.
         page.wait_for_timeout(200)
 
 
+BUTTONS_JS = """() => [...document.querySelectorAll('button')]
+    .map((b) => [(b.innerText || b.getAttribute('aria-label') || '').trim(), b.checkVisibility()])
+    .filter(([name]) => name).map(([name, shown]) => (shown ? name : `${name} (hidden)`)).join(' | ')"""
+"""The names of a page's buttons, hidden ones marked: what a failed tap saw instead."""
+
+
 def tap(locator: Any, timeout: float = 90.0) -> None:
     """Tap `locator` as a finger does: Playwright's tap, which taps nothing while the element moves
     or something lies over it, tried again until `timeout` [s].  A phone's panel scrolled to its
@@ -621,7 +641,9 @@ def tap(locator: Any, timeout: float = 90.0) -> None:
             return
         except PlaywrightTimeout as error:  # the tap was not made: aim again
             if time.monotonic() > deadline:
-                raise AssertionError(f"could not tap {locator} for {timeout} s: {error}") from None
+                buttons = locator.page.evaluate(BUTTONS_JS)
+                raise AssertionError(f"could not tap {locator} for {timeout} s: {error}\n"
+                                     f"the page's buttons: {buttons}") from None
 
 
 DESK = {"viewport": {"width": 800, "height": 600}}

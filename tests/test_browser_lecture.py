@@ -13,6 +13,8 @@ Needs Debian's Chromium: `apt-get install chromium`.
 
 from __future__ import annotations
 
+import base64
+import io
 import math
 import time
 
@@ -325,6 +327,32 @@ def _magenta_share(png_path, x: float, y: float, half: int = 45) -> float:  # ty
     return float(np.mean((r > 150) & (g < 80) & (b > 70) & (b < 200) & (r - b > 50)))
 
 
+def _drawn_shares(page, x: float, y: float, lives, after_s: float = 2.0) -> list[float]:  # type: ignore[no-untyped-def]
+    """`_magenta_share` around (x, y) of every frame `page` draws while `lives()` holds and for
+    `after_s` [s] more (a frame drawn then may arrive later), caught by Chromium's screencast (a
+    screenshot of a starved page takes longer than a marker lives; the screencast misses no frame
+    the page draws)."""
+    viewport = page.viewport_size
+    cdp = page.context.new_cdp_session(page)
+    shares: list[float] = []
+
+    def on_frame(frame) -> None:  # type: ignore[no-untyped-def]
+        cdp.send("Page.screencastFrameAck", {"sessionId": frame["sessionId"]})
+        shares.append(_magenta_share(io.BytesIO(base64.b64decode(frame["data"])), x, y))
+
+    cdp.on("Page.screencastFrame", on_frame)
+    cdp.send("Page.startScreencast", {"format": "png", "maxWidth": viewport["width"],
+                                       "maxHeight": viewport["height"], "everyNthFrame": 1})
+    try:
+        while lives():
+            page.wait_for_timeout(100)  # the frames' events come in here
+        page.wait_for_timeout(after_s * 1000)
+    finally:
+        cdp.send("Page.stopScreencast")
+        cdp.detach()
+    return shares
+
+
 def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser, hall_app: App, wait_until,
                                                                         tmp_path) -> None:
     from app.lecture.lectern import LIVE_ROOT
@@ -358,10 +386,8 @@ def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser,
     px, py = project(presenter.client.camera, (0.0, 0.0, 0.0), 1280, 800)
     presenter_page.mouse.click(px, py)
     wait_until(lambda: len(markers()) == 1, timeout=10.0)
-    # The follower's pictures while the marker lives (it fades and goes): one shows it.
-    after, shares = tmp_path / "after.png", [_magenta_share(before, fx, fy)]
-    while shares[-1] <= shares[0] + 0.01 and (markers() or len(shares) == 1):
-        follower_page.screenshot(path=str(after), timeout=60_000)
-        shares.append(_magenta_share(after, fx, fy))
-    assert shares[-1] > shares[0] + 0.01, f"the follower never showed the marker while it lived: {shares}"
+    # Every frame the follower's page draws while the marker lives (it fades and goes): one shows it.
+    baseline = _magenta_share(before, fx, fy)
+    shares = [baseline, *_drawn_shares(follower_page, fx, fy, lambda: bool(markers()))]
+    assert max(shares) > baseline + 0.01, f"the follower never showed the marker while it lived: {shares}"
     wait_until(lambda: markers() == [], timeout=15.0)  # it fades and goes
