@@ -628,22 +628,20 @@ BUTTONS_JS = """() => [...document.querySelectorAll('button')]
 
 
 def tap(locator: Any, timeout: float = 90.0) -> None:
-    """Tap `locator` as a finger does: Playwright's tap, which taps nothing while the element moves
-    or something lies over it, tried again until `timeout` [s].  A phone's panel scrolled to its
-    foot moves when the busy note there comes or goes, and a busy page draws the move seconds
-    later.  AssertionError with Playwright's last words if not."""
+    """Tap `locator` as a finger does, once: Playwright's tap, which waits up to `timeout` [s]
+    while the element moves or something lies over it (a phone's panel scrolled to its foot moves
+    when the busy note there comes or goes, and a busy page draws the move seconds later).  Never
+    tried again: on a starved page a tap can land and its call still time out, and a second tap
+    would press what the first one brought.  AssertionError with Playwright's last words and the
+    page's buttons if not."""
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
-    deadline = time.monotonic() + timeout
-    while True:
-        try:
-            locator.tap(timeout=10_000)
-            return
-        except PlaywrightTimeout as error:  # the tap was not made: aim again
-            if time.monotonic() > deadline:
-                buttons = locator.page.evaluate(BUTTONS_JS)
-                raise AssertionError(f"could not tap {locator} for {timeout} s: {error}\n"
-                                     f"the page's buttons: {buttons}") from None
+    try:
+        locator.tap(timeout=timeout * 1000)
+    except PlaywrightTimeout as error:
+        buttons = locator.page.evaluate(BUTTONS_JS)
+        raise AssertionError(f"could not tap {locator} in {timeout} s: {error}\n"
+                             f"the page's buttons: {buttons}") from None
 
 
 DESK = {"viewport": {"width": 800, "height": 600}}

@@ -264,6 +264,7 @@ def test_the_scenes_left_out_are_scenes() -> None:
     assert not stale, f"ELSEWHERE of tests/test_in_the_picture.py names no scene of app.scenes.SCENES: {stale}"
 
 
+@pytest.mark.timeout(900)  # a minute of every preset: Constrained particles 49 s quiet, past 300 s beside two `yes`
 @pytest.mark.parametrize("title", OTHER_SCENES)
 def test_the_other_scenes_keep_their_bodies_in_the_view_and_off_the_panel(manual, title: str) -> None:
     """Every preset of the scene, played for up to a minute of simulated time in coarse frames
