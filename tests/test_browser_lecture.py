@@ -319,12 +319,16 @@ def test_a_phone_follower_sees_the_body_not_the_panel(browser, hall_app: App, wa
     phone.get_by_role("button", name="Explore on my own").wait_for(timeout=10_000)
 
 
-def _magenta_share(png_path, x: float, y: float, half: int = 45) -> float:  # type: ignore[no-untyped-def]
-    """Share of pixels of the pointer's colour (235, 0, 140, shaded) around (x, y) [px]."""
-    pixels = np.asarray(Image.open(png_path).convert("RGB"), dtype=int)[int(y) - half:int(y) + half,
+def _magenta_share(png, x: float, y: float, half: int = 45) -> float:  # type: ignore[no-untyped-def]
+    """Share of pixels of the pointer's colour (235, 0, 140, shaded) around (x, y) [px] in `png`
+    (a path or a file)."""
+    pixels = np.asarray(Image.open(png).convert("RGB"), dtype=int)[int(y) - half:int(y) + half,
                                                                           int(x) - half:int(x) + half]
     r, g, b = pixels[..., 0], pixels[..., 1], pixels[..., 2]
     return float(np.mean((r > 150) & (g < 80) & (b > 70) & (b < 200) & (r - b > 50)))
+
+
+POINT_AGAIN_S = 2.0  # [s] half a marker's life (POINTER_SECONDS = 4 s): one lives while the next comes
 
 
 def _drawn_shares(page, x: float, y: float, until, point, timeout: float = 120.0) -> list[float]:  # type: ignore[no-untyped-def]
@@ -354,9 +358,6 @@ def _drawn_shares(page, x: float, y: float, until, point, timeout: float = 120.0
         cdp.send("Page.stopScreencast")
         cdp.detach()
     return shares
-
-
-POINT_AGAIN_S = 2.0  # [s] half a marker's life (POINTER_SECONDS = 4 s): one lives while the next comes
 
 
 def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser, hall_app: App, wait_until,
