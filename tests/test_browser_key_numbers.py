@@ -65,7 +65,10 @@ def test_followers_key_numbers_move_while_the_presenter_shows_the_energy_tab(  #
     presenter_page.get_by_role("button", name="Energy", exact=True).click()
     wait_until(lambda: presenter.scene.tabs.shown == "Energy" and presenter.room.playing, timeout=15.0)
     follower_page.get_by_text("preset Loop").first.wait_for(timeout=30_000)
-    phi_widget = float(presenter.scene.gui_angles[0].value)
+    # The tab's callback sets `shown` and then refreshes the whole panel, sliders too, under the
+    # room's lock: read the slider once that callback has ended.
+    with presenter.room.lock:
+        phi_widget = float(presenter.scene.gui_angles[0].value)
 
     # Playing on the Energy tab: the follower's φ moves as its t does.
     readings: list[tuple[float, float]] = []
