@@ -156,6 +156,32 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
 
         _ordered = False
 
+        def remove_node(self, node: Any) -> str | None:
+            """A worker gone: its unfinished work back on the queue, and only that.  xdist 3.8 puts
+            back its whole workload: its finished modules became empty units that left the last
+            workers waiting for ever (pytest-xdist#1378), and the test it died in was run again
+            (#1371), where xdist has already reported it failed."""
+            workload = self.assigned_work.pop(node)
+            pending = [(scope, nodeid) for scope, unit in workload.items() for nodeid, done in unit.items() if not done]
+            if not pending:
+                return None
+            scope, crashed = pending[0]  # a worker runs its units and their tests in order
+            workload[scope][crashed] = True
+            for scope, unit in workload.items():
+                if not all(unit.values()):
+                    self.workqueue[scope] = unit
+            for other in self.assigned_work:
+                self._reschedule(other)
+            return crashed
+
+        def _reschedule(self, node: Any) -> None:
+            """xdist's, and a node that took the last unit is told to end after it: a worker runs
+            a test only once it holds the next one or the end (a replacement worker given a unit
+            of one test waited for ever, pytest-xdist#1327)."""
+            super()._reschedule(node)
+            if not self.workqueue and not node.shutting_down:
+                node.shutdown()
+
     return ModulesAndTheBrowser(config, log)
 
 

@@ -145,7 +145,11 @@ def test_euler_lagrange_through_the_pole_fails_clearly(tmp_path):
 def test_wall_s_counts_the_computation_not_imports_or_set_up(tmp_path):
     """wall_s of an exact free-body run against the same solve timed in this process once the
     modules are imported and warm.  Timing the imports and first-use set-up as well gave ~9 ms
-    for a ~0.5 ms solve; allowed here: 2x the in-process time + 1 ms (best of 3 each)."""
+    for a ~0.5 ms solve; allowed here: 2x the in-process time + 1 ms, each the best of its runs.
+
+    A busy machine only adds time to a run (the process waits for a core), so the best of several
+    runs is the solve's own time: the CLI runs until one run is within the bound, 10 runs at
+    most (beside two `yes` and a Chromium, the best of 3 was once 15 ms against 1.8 ms)."""
     from physics.casefile import load_case
     from physics.methods import simulate
 
@@ -153,6 +157,8 @@ def test_wall_s_counts_the_computation_not_imports_or_set_up(tmp_path):
     case_path.write_text(json.dumps({**EXAMPLE, "n_samples": 101}))
     case = load_case(case_path)
     simulate(case.model, case.state0, case.t)  # imports and first use, untimed
-    in_process = min(simulate(case.model, case.state0, case.t).wall_s for _ in range(3))
-    cli = min(float(np.load(run_cli(tmp_path, json.loads(case_path.read_text()))[1])["wall_s"]) for _ in range(3))
-    assert cli <= 2.0 * in_process + 1e-3, (cli, in_process)
+    in_process = min(simulate(case.model, case.state0, case.t).wall_s for _ in range(10))
+    cli_runs: list[float] = []
+    while len(cli_runs) < 10 and not (cli_runs and min(cli_runs) <= 2.0 * in_process + 1e-3):
+        cli_runs.append(float(np.load(run_cli(tmp_path, json.loads(case_path.read_text()))[1])["wall_s"]))
+    assert min(cli_runs) <= 2.0 * in_process + 1e-3, (cli_runs, in_process)

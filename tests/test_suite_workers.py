@@ -1,0 +1,55 @@
+"""The suite's own scheduler (tests/conftest.py, `pytest_xdist_make_scheduler`) when a worker dies
+mid-test: the run ends, the test it died in is reported failed once and not run again, and every
+other test runs once.  A small suite in a temporary folder, run by `python -m pytest -n 2` with
+this scheduler as a plugin: six modules of quick tests, one of which ends its worker's process."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+TESTS = Path(__file__).resolve().parent
+PLUGIN = f'''
+import importlib.util
+spec = importlib.util.spec_from_file_location("rbl_suite_conftest", {str(TESTS / "conftest.py")!r})
+module = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(module)
+pytest_xdist_make_scheduler = module.pytest_xdist_make_scheduler
+'''
+"""Only the scheduler hook of the suite's conftest, as a plugin (`-p rbl_scheduler`)."""
+MODULE = '''
+import os, pathlib
+def _ran(name):
+    with open(pathlib.Path(__file__).parent / "ran.txt", "a") as out:
+        out.write(name + "\\n")
+def test_one():
+    _ran("{name}::test_one")
+def test_two():
+    _ran("{name}::test_two")
+    if {dies}:
+        os._exit(3)  # the worker's process ends here, as a crash does
+def test_three():
+    _ran("{name}::test_three")
+'''
+
+
+@pytest.mark.timeout(180)
+def test_a_worker_that_dies_costs_one_failed_test_and_the_run_ends(tmp_path: Path) -> None:
+    (tmp_path / "rbl_scheduler.py").write_text(PLUGIN)
+    names = [f"test_m{i}" for i in range(6)]
+    for name in names:
+        (tmp_path / f"{name}.py").write_text(textwrap.dedent(MODULE.format(name=name, dies=name == "test_m3")))
+    run = subprocess.run([sys.executable, "-m", "pytest", "-p", "rbl_scheduler", "-n", "2", "--dist", "loadgroup",
+                          "-p", "no:cacheprovider", "-p", "no:randomly", "-o", "addopts=", "-q", "."],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=150,
+                         env={"PYTHONPATH": f"{tmp_path}:{TESTS.parent}:{TESTS}", "PATH": "/usr/bin:/bin"})
+    tail = run.stdout[-1500:] + run.stderr[-1500:]
+    assert "1 failed, 17 passed" in run.stdout, tail
+    assert "test_m3.py::test_two" in run.stdout and "crashed" in run.stdout, tail
+    ran = (tmp_path / "ran.txt").read_text().split()
+    assert sorted(ran) == sorted(f"{name}::{test}" for name in names for test in ("test_one", "test_two", "test_three")), \
+        f"every test once, the one that died too: {sorted(ran)}"
