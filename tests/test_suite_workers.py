@@ -51,5 +51,5 @@ def test_a_worker_that_dies_costs_one_failed_test_and_the_run_ends(tmp_path: Pat
     assert "1 failed, 17 passed" in run.stdout, tail
     assert "test_m3.py::test_two" in run.stdout and "crashed" in run.stdout, tail
     ran = (tmp_path / "ran.txt").read_text().split()
-    assert sorted(ran) == sorted(f"{name}::{test}" for name in names for test in ("test_one", "test_two", "test_three")), \
-        f"every test once, the one that died too: {sorted(ran)}"
+    expected = [f"{name}::{test}" for name in names for test in ("test_one", "test_two", "test_three")]
+    assert sorted(ran) == sorted(expected), f"every test once, the one that died too: {sorted(ran)}"
