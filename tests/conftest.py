@@ -175,11 +175,15 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
             return crashed
 
         def _reschedule(self, node: Any) -> None:
-            """xdist's, and a node that took the last unit is told to end after it: a worker runs
-            a test only once it holds the next one or the end (a replacement worker given a unit
-            of one test waited for ever, pytest-xdist#1327)."""
-            super()._reschedule(node)
-            if not self.workqueue and not node.shutting_down:
+            """Units for `node` until it holds more than 2 tests (xdist gives one unit a call), and
+            the end once the queue is empty: a worker runs a test only once it holds the next one
+            or the end, so a replacement worker given one unit of one test waited for ever
+            (pytest-xdist#1327)."""
+            if node.shutting_down:
+                return
+            while self.workqueue and self._pending_of(self.assigned_work[node]) <= 2:
+                self._assign_work_unit(node)
+            if not self.workqueue:
                 node.shutdown()
 
     return ModulesAndTheBrowser(config, log)

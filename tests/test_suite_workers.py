@@ -1,7 +1,8 @@
 """The suite's own scheduler (tests/conftest.py, `pytest_xdist_make_scheduler`) when a worker dies
 mid-test: the run ends, the test it died in is reported failed once and not run again, and every
 other test runs once.  A small suite in a temporary folder, run by `python -m pytest -n 2` with
-this scheduler as a plugin: six modules of quick tests, one of which ends its worker's process."""
+this scheduler as a plugin: six modules of quick tests, one of which (the first, one in the middle or
+the last) ends its worker's process."""
 
 from __future__ import annotations
 
@@ -38,18 +39,19 @@ def test_three():
 
 
 @pytest.mark.timeout(180)
-def test_a_worker_that_dies_costs_one_failed_test_and_the_run_ends(tmp_path: Path) -> None:
+@pytest.mark.parametrize("dying", ["test_m0", "test_m3", "test_m5"])
+def test_a_worker_that_dies_costs_one_failed_test_and_the_run_ends(tmp_path: Path, dying: str) -> None:
     (tmp_path / "rbl_scheduler.py").write_text(PLUGIN)
     names = [f"test_m{i}" for i in range(6)]
     for name in names:
-        (tmp_path / f"{name}.py").write_text(textwrap.dedent(MODULE.format(name=name, dies=name == "test_m3")))
+        (tmp_path / f"{name}.py").write_text(textwrap.dedent(MODULE.format(name=name, dies=name == dying)))
     run = subprocess.run([sys.executable, "-m", "pytest", "-p", "rbl_scheduler", "-n", "2", "--dist", "loadgroup",
                           "-p", "no:cacheprovider", "-p", "no:randomly", "-o", "addopts=", "-q", "."],
                          cwd=tmp_path, capture_output=True, text=True, timeout=150,
                          env={"PYTHONPATH": f"{tmp_path}:{TESTS.parent}:{TESTS}", "PATH": "/usr/bin:/bin"})
     tail = run.stdout[-1500:] + run.stderr[-1500:]
     assert "1 failed, 17 passed" in run.stdout, tail
-    assert "test_m3.py::test_two" in run.stdout and "crashed" in run.stdout, tail
+    assert f"{dying}.py::test_two" in run.stdout and "crashed" in run.stdout, tail
     ran = (tmp_path / "ran.txt").read_text().split()
     expected = [f"{name}::{test}" for name in names for test in ("test_one", "test_two", "test_three")]
     assert sorted(ran) == sorted(expected), f"every test once, the one that died too: {sorted(ran)}"
