@@ -162,17 +162,18 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
             workers waiting for ever (pytest-xdist#1378), and the test it died in was run again
             (#1371), where xdist has already reported it failed."""
             workload = self.assigned_work.pop(node)
-            pending = [(scope, nodeid) for scope, unit in workload.items() for nodeid, done in unit.items() if not done]
-            if not pending:
+            # a worker runs its units, and their tests, in order: the first not done is where it died
+            crashed = next(((scope, nodeid) for scope, unit in workload.items()
+                            for nodeid, done in unit.items() if not done), None)
+            if crashed is None:
                 return None
-            scope, crashed = pending[0]  # a worker runs its units and their tests in order
-            workload[scope][crashed] = True
+            workload[crashed[0]][crashed[1]] = True
             for scope, unit in workload.items():
                 if not all(unit.values()):
                     self.workqueue[scope] = unit
             for other in self.assigned_work:
                 self._reschedule(other)
-            return crashed
+            return crashed[1]
 
         def _reschedule(self, node: Any) -> None:
             """Units for `node` until it holds more than 2 tests (xdist gives one unit a call), and
