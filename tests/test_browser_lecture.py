@@ -396,7 +396,9 @@ def test_the_presenter_points_and_the_follower_sees_it_but_cannot_point(browser,
     # Every frame the follower's page draws, the presenter pointing again while none shows a marker
     # (a starved page may draw none in a marker's 4 s): one shows it.
     baseline = _magenta_share(before, fx, fy)
-    shares = _drawn_shares(follower_page, fx, fy, lambda drawn: any(s > baseline + 0.01 for s in drawn),
-                           lambda: presenter_page.mouse.click(px, py))
-    assert any(s > baseline + 0.01 for s in shares), f"the follower never showed a marker: {baseline}, {shares}"
+    def marked(drawn: list[float]) -> bool:
+        return any(share > baseline + 0.01 for share in drawn)
+
+    shares = _drawn_shares(follower_page, fx, fy, marked, lambda: presenter_page.mouse.click(px, py))
+    assert marked(shares), f"the follower never showed a marker: {baseline}, {shares}"
     wait_until(lambda: markers() == [], timeout=15.0)  # it fades and goes

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pytest
@@ -44,9 +43,9 @@ def test_a_worker_that_dies_costs_one_failed_test_and_the_run_ends(tmp_path: Pat
     (tmp_path / "rbl_scheduler.py").write_text(PLUGIN)
     names = [f"test_m{i}" for i in range(6)]
     for name in names:
-        (tmp_path / f"{name}.py").write_text(textwrap.dedent(MODULE.format(name=name, dies=name == dying)))
+        (tmp_path / f"{name}.py").write_text(MODULE.format(name=name, dies=name == dying))
     run = subprocess.run([sys.executable, "-m", "pytest", "-p", "rbl_scheduler", "-n", "2", "--dist", "loadgroup",
-                          "-p", "no:cacheprovider", "-p", "no:randomly", "-o", "addopts=", "-q", "."],
+                          "-p", "no:cacheprovider", "-o", "addopts=", "-q", "."],
                          cwd=tmp_path, capture_output=True, text=True, timeout=150,
                          env={"PYTHONPATH": f"{tmp_path}:{TESTS.parent}:{TESTS}", "PATH": "/usr/bin:/bin"})
     tail = run.stdout[-1500:] + run.stderr[-1500:]
